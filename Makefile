@@ -1,0 +1,43 @@
+# crslab developer entry points. Every target that needs Python creates or reuses .venv and
+# installs the package (editable, with its test extra) first, so a fresh clone needs only
+# Python 3.11+, gcc and make.
+
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.crslab-installed
+# Anything that changes what the install builds or pulls in.
+DEPS   := pyproject.toml setup.py $(wildcard csrc/*.py csrc/kin/*.c csrc/kin/*.h)
+
+.DEFAULT_GOAL := help
+.PHONY: help sim test bench lint clean venv
+
+help: ## list the targets
+	@echo "crslab targets:"
+	@grep -E '^[a-z]+:.*## ' $(MAKEFILE_LIST) | sed -E 's/:.*## /\t/' | awk -F'\t' '{printf "  make %-7s %s\n", $$1, $$2}'
+
+$(STAMP): $(DEPS)
+	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e '.[test]'
+	@touch $@
+
+venv: $(STAMP) ## create .venv and install crslab (editable) with its test tools
+
+sim: $(STAMP) ## run the simulator on its built-in default lab and scenario
+	@echo "crslab sim is not built yet; showing the kinematics instead:"
+	$(VENV)/bin/crslab fk --motor-deg 0 90 0
+
+test: $(STAMP) ## run the whole test suite (C core under -Werror, ASan and UBSan included)
+	$(PY) -m pytest -q
+
+bench: $(STAMP) ## run the benchmarks and print the ratios the issues ask for
+	$(PY) -m pip install --quiet -e '.[test,bench]'
+	$(PY) tools/bench.py
+
+lint: $(STAMP) ## ruff over the Python sources
+	$(VENV)/bin/ruff check crslab tests tools csrc
+
+clean: ## remove the venv, build products and caches
+	rm -rf $(VENV) build *.egg-info crslab/_core.* .pytest_cache .ruff_cache .hypothesis .crslab-cache
+	find . -name __pycache__ -type d -prune -exec rm -rf {} +

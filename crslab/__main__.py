@@ -1,0 +1,5 @@
+"""``python -m crslab`` is the ``crslab`` command."""
+
+from crslab.cli import main
+
+raise SystemExit(main())

@@ -1,0 +1,101 @@
+/* C-level tests of the CRS arm kinematics; built with -Werror and under ASan/UBSan by
+ * tests/test_c_core.py. Exit status 0 when every check passes. */
+#include <math.h>
+#include <stdio.h>
+
+#include "crs_arm.h"
+
+static int failures = 0;
+
+static void check_close(const char *what, double got, double want, double tol)
+{
+    if (!(fabs(got - want) <= tol)) {
+        printf("FAIL %s: got %.12g want %.12g\n", what, got, want);
+        ++failures;
+    }
+}
+
+static const double DEG = 3.14159265358979323846 / 180.0;
+
+static void test_known_poses(void)
+{
+    const double motor_deg[3][3] = {{0, 0, 0}, {0, 90, 0}, {0, 0, -90}};
+    const double xyz_in[3][3] = {{10, 0, 20}, {20, 0, 10}, {0, 0, 30}};
+    for (int i = 0; i < 3; ++i) {
+        double m[3] = {motor_deg[i][0] * DEG, motor_deg[i][1] * DEG, motor_deg[i][2] * DEG};
+        double p[3], dh[3], pose[16];
+        crs_fk_motor(m, p);
+        crs_motor_to_dh(m, dh);
+        crs_fk_pose_dh(dh, pose);
+        for (int k = 0; k < 3; ++k) {
+            check_close("fk_motor", p[k], xyz_in[i][k], 1e-12);
+            check_close("fk_pose_dh", pose[4 * k + 3], xyz_in[i][k], 1e-12);
+        }
+    }
+}
+
+static void test_ik_round_trip(void)
+{
+    int n = 0;
+    for (double x = -19.0; x <= 19.0; x += 1.9) {
+        for (double z = -5.0; z <= 29.0; z += 1.7) {
+            const double p[3] = {x, 0.37 * x - 1.0, z};
+            for (int up = 0; up <= 1; ++up) {
+                double m[3], back[3];
+                if (crs_ik_motor(p, up, m) != CRS_IK_OK) continue;
+                crs_fk_motor(m, back);
+                for (int k = 0; k < 3; ++k) check_close("fk(ik(p))", back[k], p[k], 1e-9);
+                ++n;
+            }
+        }
+    }
+    if (n < 200) {
+        printf("FAIL only %d reachable samples\n", n);
+        ++failures;
+    }
+}
+
+static void test_unreachable_is_defined(void)
+{
+    const double far[3] = {0, 0, 31}, centre[3] = {0, 0, 10};
+    double m[3];
+    if (crs_ik_motor(far, 1, m) != CRS_IK_UNREACHABLE) ++failures;
+    for (int k = 0; k < 3; ++k) check_close("unreachable not NaN", isnan(m[k]), 0, 0);
+    if (crs_ik_motor(centre, 1, m) != CRS_IK_SHOULDER) ++failures;
+    for (int k = 0; k < 3; ++k) check_close("shoulder not NaN", isnan(m[k]), 0, 0);
+}
+
+static void test_batch_and_jacobian(void)
+{
+    double q[6] = {0.1, 0.2, 0.3, -0.4, 1.0, -0.5}, p[6], j[18];
+    crs_fk_motor_batch(q, p, 2);
+    crs_jacobian_motor_batch(q, j, 2);
+    for (int r = 0; r < 2; ++r) {
+        for (int c = 0; c < 3; ++c) {
+            double qp[3] = {q[3 * r], q[3 * r + 1], q[3 * r + 2]};
+            double qm[3] = {q[3 * r], q[3 * r + 1], q[3 * r + 2]};
+            double pp[3], pm[3];
+            qp[c] += 1e-6;
+            qm[c] -= 1e-6;
+            crs_fk_motor(qp, pp);
+            crs_fk_motor(qm, pm);
+            for (int k = 0; k < 3; ++k) {
+                check_close("jacobian", j[9 * r + 3 * k + c], (pp[k] - pm[k]) / 2e-6, 1e-6);
+            }
+        }
+    }
+}
+
+int main(void)
+{
+    test_known_poses();
+    test_ik_round_trip();
+    test_unreachable_is_defined();
+    test_batch_and_jacobian();
+    if (failures) {
+        printf("%d failures\n", failures);
+        return 1;
+    }
+    printf("test_crs_arm: all passed\n");
+    return 0;
+}

@@ -1,0 +1,42 @@
+"""``make bench``: run every tools/benchmarks/bench_*.py in one process and print its ratios.
+
+Each benchmark module has ``run() -> list[str]`` returning the lines to print. A benchmark
+that fails prints its error and the run exits non-zero after the others have run.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+import time
+import traceback
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+def main() -> int:
+    only = sys.argv[1:]
+    failed = 0
+    for path in sorted((HERE / "benchmarks").glob("bench_*.py")):
+        name = path.stem.removeprefix("bench_")
+        if only and name not in only:
+            continue
+        spec = importlib.util.spec_from_file_location(path.stem, path)
+        module = importlib.util.module_from_spec(spec)
+        assert spec.loader is not None
+        print(f"== {name}", flush=True)
+        start = time.perf_counter()
+        try:
+            spec.loader.exec_module(module)
+            for line in module.run():
+                print(f"   {line}", flush=True)
+        except Exception:  # noqa: BLE001 - report and go on with the other benchmarks
+            traceback.print_exc()
+            failed += 1
+        print(f"   ({time.perf_counter() - start:.1f} s)", flush=True)
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
