@@ -1,15 +1,15 @@
 """cffi (API mode, out of line) build of the crslab C core into ``crslab._core``.
 
-The Python-visible declarations are read from the public headers listed in ``HEADERS``:
-preprocessor lines are dropped and ``static const`` initialisers are cut, so every fact
+The Python-visible declarations are read from the public headers listed in ``HEADERS``
+(crslab/cheaders.py drops preprocessor lines and ``static const`` initialisers), so every fact
 and every prototype is written once, in its header. Every ``*.c`` file under ``csrc/kin``
 is compiled in.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import platform
-import re
 import sys
 from pathlib import Path
 
@@ -25,16 +25,16 @@ C_FLAGS = ["-std=c11", "-O3", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", 
 LIBRARIES = ["m", "mvec"] if platform.machine() == "x86_64" and sys.platform == "linux" else ["m"]
 
 
-def cdef_from_header(text: str) -> str:
-    """Turn a C header into cffi cdef text (no preprocessor, no constant values)."""
-    out = []
-    for line in text.splitlines():
-        if line.lstrip().startswith("#"):
-            continue
-        line = re.sub(r"^(\s*static const [\w ]+?\s+\w+)\s*=[^;]*;", r"\1;", line)
-        out.append(line)
-    return "\n".join(out)
+def _load_cheaders():
+    """crslab/cheaders.py by path: the build must not import the package it builds."""
+    spec = importlib.util.spec_from_file_location("crslab_cheaders", HERE.parent / "crslab" / "cheaders.py")
+    module = importlib.util.module_from_spec(spec)
+    assert spec.loader is not None
+    spec.loader.exec_module(module)
+    return module
 
+
+cdef_from_header = _load_cheaders().cdef_from_header
 
 ffibuilder = FFI()
 ffibuilder.cdef("\n".join(cdef_from_header(h.read_text()) for h in HEADERS))

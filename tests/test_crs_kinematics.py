@@ -133,6 +133,8 @@ def test_unreachable_on_axis_and_boundary_are_defined():
     np.testing.assert_allclose(crs.fk(q[2]), [0, 0, 10], atol=1e-12)
     # on the base axis th1 = 0 by convention; boundary points are exact
     assert q[3, 0] == 0.0
+    # rounding dust next to the axis does not swing joint 1 around (straight up prints 0, not -180)
+    assert crs.ik([-1e-15, -1e-15, 30.0])[0] == 0.0
     np.testing.assert_allclose(crs.fk(q[3:]), [[0, 0, 30], [20, 0, 10]], atol=1e-9)
     with pytest.raises(crs.UnreachableError, match=r"row 0: target \(0, 0, 31\).*2 of 5 rows"):
         crs.ik([[0, 0, 31], [0, 0, 30], [25, 0, 10], [10, 0, 20], [11, 0, 20]])

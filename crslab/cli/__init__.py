@@ -12,7 +12,10 @@ import importlib
 import sys
 from collections.abc import Sequence
 
-COMMANDS = ["crslab.cli.kinematics_commands"]
+COMMANDS = [
+    "crslab.cli.kinematics_commands",
+    "crslab.cli.sim_commands",
+]
 
 
 class CliError(Exception):

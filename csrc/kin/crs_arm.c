@@ -82,7 +82,8 @@ static inline int ik_dh_core(const double xyz_in[3], int elbow_up, double dh_rad
     const double s3 = (elbow_up ? 1.0 : -1.0) * sqrt(one_minus * one_plus);
     /* psi1 = atan2(s, r) - atan2(l3 sin psi2, l2 + l3 cos psi2), as one atan2 */
     const double k1 = l2 + l3 * c3, k2 = -l3 * s3;
-    dh_rad[0] = atan2(y, x); /* atan2(0, 0) = 0: the on-axis convention */
+    /* on the base axis (closer than 1e-9 in) any th1 works: 0 is the documented convention */
+    dh_rad[0] = (r > 1e-9) ? atan2(y, x) : 0.0;
     dh_rad[1] = -atan2(s * k1 - r * k2, r * k1 + s * k2);
     dh_rad[2] = atan2(s3, c3);
     return far ? CRS_IK_UNREACHABLE

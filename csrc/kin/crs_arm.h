@@ -36,7 +36,7 @@ void crs_fk_dh(const double dh_rad[3], double xyz_in[3]);
 void crs_fk_motor(const double motor_rad[3], double xyz_in[3]);
 
 /* Closed-form IK. elbow_up != 0 picks th3 DH >= 0 (the lab's choice), else th3 DH <= 0.
- * On the base axis (x = y = 0) th1 = 0 is returned (any th1 is a solution).
+ * On the base axis (x, y within 1e-9 in of 0) th1 = 0 is returned (any th1 is a solution).
  * Never writes NaN: see crs_ik_status for what unreachable targets return. */
 crs_ik_status crs_ik_dh(const double xyz_in[3], int elbow_up, double dh_rad[3]);
 crs_ik_status crs_ik_motor(const double xyz_in[3], int elbow_up, double motor_rad[3]);

@@ -1,0 +1,174 @@
+"""``crslab sim``: run a lab file at 1 kHz against the simulated arm, printing like Tera Term."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+from crslab.cli import CliError
+from crslab.lab.build import LabBuildError
+from crslab.scenario.events import seconds_to_tick
+from crslab.scenario.load import ScenarioError
+from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
+from crslab.sim.session import DEFAULT_DEADLINE_S, RunResult, SimError, Simulation
+from crslab.sim.sinks import Sink, StdoutSink, TranscriptSink
+
+# exit statuses (also in the README)
+EXIT_OK, EXIT_BAD_INPUT, EXIT_CRASHED, EXIT_HUNG, EXIT_NAN, EXIT_INTERRUPTED = 0, 2, 3, 4, 5, 130
+STATUS_EXIT = {"ok": EXIT_OK, "crashed": EXIT_CRASHED, "exited": EXIT_CRASHED, "hung": EXIT_HUNG,
+               "nan": EXIT_NAN, "interrupted": EXIT_INTERRUPTED}
+
+
+def positive(text: str) -> float:
+    """argparse type: a number > 0."""
+    value = float(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
+
+
+def add_run_options(p: argparse.ArgumentParser) -> None:
+    """Options shared by every command that runs a lab (sim, record, check, grade)."""
+    p.add_argument("--lab", type=Path, metavar="FILE",
+                   help="the lab file (.c, or a .cpp holding C); default: crslab's Lab 1 kinematics lab")
+    p.add_argument("--scenario", metavar="NAME|FILE",
+                   help="built-in scenario name or TOML file (default: tour; see 'crslab scenarios')")
+    p.add_argument("--duration", type=positive, metavar="SECONDS",
+                   help="simulated seconds to run (default: until the scenario ends)")
+    p.add_argument("--offsets", type=float, nargs=2, metavar=("O2", "O3"),
+                   help="the arm's true resting motor angles 2 and 3 in rad (default: {:g} {:g})".format(
+                       *DEFAULT_REST_MOTOR_RAD[1:]))
+    p.add_argument("--no-startup-delay", action="store_true",
+                   help="call lab() from the first tick instead of at 4.1 s")
+    p.add_argument("--deadline", type=positive, default=DEFAULT_DEADLINE_S, metavar="SECONDS",
+                   help="wall-clock time one lab() or printing() call may take before it counts as hung "
+                   "(default: %(default)s)")
+    p.add_argument("--budget-us", type=positive, default=1000.0, metavar="US",
+                   help="lab() time budget per call, as on the DSP (default: %(default)s)")
+    p.add_argument("--strict", action="store_true", help="a NaN or Inf torque ends the run with an error")
+    p.add_argument("--sanitize", action="store_true",
+                   help="build the lab with AddressSanitizer and UBSan and report memory errors")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``sim`` subcommand."""
+    p = sub.add_parser(
+        "sim",
+        help="run a lab file against the simulated CRS arm",
+        description="Compile a lab file unmodified, call its lab() every simulated millisecond "
+        "against a MuJoCo model of the CRS arm, and show what the board prints to Tera Term. "
+        "With no arguments: crslab's Lab 1 kinematics lab on the built-in tour.",
+    )
+    add_run_options(p)
+    pace = p.add_mutually_exclusive_group()
+    pace.add_argument("--speed", type=positive, default=1.0, metavar="X",
+                      help="simulated seconds per wall-clock second (default: 1, real time)")
+    pace.add_argument("--fast", action="store_true", help="run as fast as the machine can")
+    p.add_argument("--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
+    p.add_argument("--json", action="store_true", help="print the end-of-run summary as JSON on stderr")
+    p.set_defaults(func=run_sim)
+
+
+def config_from_args(args: argparse.Namespace, *, log: bool = False) -> object:
+    """Build the lab and load the scenario, turning bad input into one-line errors."""
+    rest = (DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None
+    try:
+        return make_config(args.lab, args.scenario, startup_delay=not args.no_startup_delay,
+                           rest_motor_rad=rest, log=log, strict=args.strict,
+                           budget_us=args.budget_us, sanitize=args.sanitize)
+    except LabBuildError as exc:
+        if exc.diagnostics:
+            sys.stderr.write(exc.diagnostics)
+        raise CliError(str(exc)) from None
+    except ScenarioError as exc:
+        raise CliError(str(exc)) from None
+
+
+def summary(result: RunResult, wall_s: float, budget_us: float) -> dict:
+    """The end-of-run numbers: time, lab() timing, NaN and long-line notices."""
+    st = result.stats
+    calls = st.get("lab_calls", 0)
+    return {
+        "status": result.status,
+        "message": result.message,
+        "simulated_s": result.end_tick / 1000.0,
+        "wall_s": round(wall_s, 3),
+        "lab_calls": calls,
+        "lab_us_mean": round(st.get("lab_ns_total", 0) / calls / 1000.0, 3) if calls else 0.0,
+        "lab_us_max": round(st.get("lab_ns_max", 0) / 1000.0, 3),
+        "lab_max_tick": st.get("lab_max_tick", 0),
+        "budget_us": budget_us,
+        "over_budget": st.get("over_budget", 0),
+        "over_budget_ticks": st.get("first_over_tick", []),
+        "nan_first_tick": st.get("nan_first_tick", -1),
+        "nan_first_tau": st.get("nan_first_joint", 0),
+        "nan_count": st.get("nan_count", 0),
+    }
+
+
+def notices(lab_name: str, stats: dict, limit: int) -> list[str]:
+    """One-line warnings about the run (printed on stderr)."""
+    out = []
+    if stats.get("nan_first_tick", -1) >= 0:
+        t = stats["nan_first_tick"]
+        out.append(f"warning: {lab_name} returned a NaN or Inf in tau{stats['nan_first_joint']} at tick {t} "
+                   f"(t = {t / 1000:.3f} s); no torque was applied on that joint for that tick "
+                   f"({stats['nan_count']} such torques in all)")
+    if stats.get("long_line_tick", -1) >= 0:
+        t = stats["long_line_tick"]
+        out.append(f"warning: {lab_name} printed a {stats['long_line_bytes']}-byte serial_printf "
+                   f"at tick {t}; "
+                   f"the real board's buffer holds {limit} bytes and would overflow")
+    return out
+
+
+def run_sim(args: argparse.Namespace) -> int:
+    """``crslab sim``."""
+    config = config_from_args(args)
+    end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
+    sinks: list[Sink] = [StdoutSink()]
+    if args.transcript:
+        try:
+            sinks.append(TranscriptSink(args.transcript))
+        except OSError as exc:
+            raise CliError(f"{args.transcript}: cannot write the transcript ({exc.strerror})") from None
+    lab_name = config.build.source.name
+
+    def on_serial(tick: int, data: bytes) -> None:
+        for s in sinks:
+            s.on_serial(tick, data)
+
+    def on_behind(rate: float) -> None:
+        print(f"crslab sim: this machine keeps up only {rate:.2f}x real time; running as fast as it can",
+              file=sys.stderr)
+
+    start = time.monotonic()
+    try:
+        with Simulation(config, deadline_s=args.deadline) as sim:
+            if not sim.symbols & 1:
+                raise CliError(f"{lab_name} defines no lab() function")
+            result = sim.run(end_tick, speed=None if args.fast else args.speed, on_serial=on_serial,
+                             on_behind=on_behind)
+            for s in sinks:
+                getattr(s, "flush", lambda: None)()
+    except SimError as exc:
+        raise CliError(str(exc), status=EXIT_CRASHED) from None
+    finally:
+        for s in sinks:
+            s.close()
+    wall = time.monotonic() - start
+    for line in notices(lab_name, result.stats, config.build.serial_line_limit):
+        print(f"crslab sim: {line}", file=sys.stderr)
+    info = summary(result, wall, args.budget_us)
+    if args.json:
+        print(json.dumps(info), file=sys.stderr)
+    if result.message:
+        print(f"crslab sim: {result.message}", file=sys.stderr)
+    elif result.status == "nan":
+        t = info["nan_first_tick"]
+        print(f"crslab sim: {lab_name} returned a NaN or Inf in tau{info['nan_first_tau']} at tick {t} "
+              f"(t = {t / 1000:.3f} s) and --strict is on", file=sys.stderr)
+    return STATUS_EXIT[result.status]

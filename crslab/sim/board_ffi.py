@@ -1,0 +1,27 @@
+"""cffi declarations of the emulated board (csrc/sim/sim.h), for the worker and the reader.
+
+ABI mode: the worker dlopens a lab's shared object with these declarations; the crslab process
+uses the same declarations, without loading any lab code, to read the shared-memory block.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+from cffi import FFI
+
+from crslab.cheaders import cdef_from_header
+from crslab.lab.build import SIM
+
+
+@cache
+def board_ffi() -> FFI:
+    """The FFI holding every declaration of sim.h."""
+    ffi = FFI()
+    ffi.cdef(cdef_from_header((SIM / "sim.h").read_text()))
+    return ffi
+
+
+def shared_size() -> int:
+    """Bytes of the shared block (``crs_shared``)."""
+    return board_ffi().sizeof("crs_shared")

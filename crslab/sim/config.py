@@ -1,0 +1,38 @@
+"""What a simulation run is told: everything that decides its transcript, and nothing else."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from crslab.lab.build import LabBuild
+from crslab.scenario.load import Scenario
+
+STARTUP_TICKS = 4100  # the first lab() call is at 4.1 s (the brake releases at 4.0 s)
+
+
+@dataclass(frozen=True)
+class HandGains:
+    """The hand's bounded PID on the DH joints (N.m/rad, N.m/(rad.s), N.m.s/rad, N.m).
+
+    The bound beats the framework's hold controller (5 units = 30 N.m on each motor, so up to
+    60 N.m on joint 2) plus gravity, as a student's hands do.
+    """
+
+    kp: float = 3000.0
+    ki: float = 30000.0
+    kd: float = 40.0
+    max_nm: float = 120.0
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """One run: the lab, the scenario, and the options that change what it prints."""
+
+    build: LabBuild
+    scenario: Scenario
+    rest_motor_rad: tuple[float, float, float] = (0.0, -0.42, 0.24)
+    startup_ticks: int = STARTUP_TICKS
+    strict_nan: bool = False
+    budget_ns: int = 1_000_000
+    log_signals: bool = False
+    hand: HandGains = HandGains()

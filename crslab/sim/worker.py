@@ -1,0 +1,176 @@
+"""The worker process: owns the MuJoCo plant and the lab's code, and runs ticks on request.
+
+Messages from the crslab process (tuples): ``("run", until_tick)``, ``("stop",)``. Replies:
+``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of numpy columns. Serial
+bytes never travel through the pipe: the board writes them into the shared block, where the
+crslab process reads them even if this process dies.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import mmap
+from multiprocessing.connection import Connection
+from pathlib import Path
+
+import numpy as np
+
+from crslab import crs
+from crslab.sim.board_ffi import board_ffi
+from crslab.sim.config import SimConfig
+
+LOG_ROWS = 2000  # rows per scope-log block
+
+_LOG_COLUMNS = {  # name: (width, dtype)
+    "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
+    "tau_applied": (3, np.float64), "plot": (4, np.float64), "safety": (1, np.int32),
+    "leds": (1, np.uint32), "qpos_dh_rad": (3, np.float64),
+}
+_C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
+
+
+def mj_step_address() -> int:
+    """Address of MuJoCo's C ``mj_step`` in the library the mujoco package loaded."""
+    import mujoco
+
+    libs = sorted(Path(mujoco.__file__).parent.glob("libmujoco.so*"))
+    if not libs:
+        raise RuntimeError("libmujoco was not found in the mujoco package")
+    return ctypes.cast(ctypes.CDLL(str(libs[0])).mj_step, ctypes.c_void_p).value
+
+
+STAT_FIELDS = (
+    "lab_calls", "lab_ns_total", "lab_ns_max", "lab_max_tick", "over_budget", "nan_first_tick",
+    "nan_first_joint", "nan_count", "long_line_tick", "long_line_bytes", "printing_runs",
+    "safety_flag", "leds", "estop_latched",
+)
+
+
+class Worker:
+    """The plant, the board and the lab, stepped in chunks."""
+
+    def __init__(self, config: SimConfig, shared: mmap.mmap) -> None:
+        import mujoco
+
+        from crslab.plant.model import load_model, motor_to_qpos
+
+        self.config = config
+        self.ffi = ffi = board_ffi()
+        self.lib = ffi.dlopen(str(config.build.shared_object))
+        self.model = load_model()
+        self.data = mujoco.MjData(self.model)
+        rest = np.asarray(config.rest_motor_rad, dtype=float)
+        self.data.qpos[:3] = motor_to_qpos(rest)
+        mujoco.mj_forward(self.model, self.data)
+        self.rest_dh = crs.motor_to_dh(rest)
+
+        sim = self.sim = ffi.new("crs_sim *")
+        self.lib.crs_sim_init(sim)
+        self._keep = [shared]
+        sim.shared = ffi.cast("crs_shared *", ffi.from_buffer(shared))
+        sim.mj_model = ffi.cast("void *", self.model._address)
+        sim.mj_data = ffi.cast("void *", self.data._address)
+        sim.mj_step = ffi.cast("crs_mj_step_fn", mj_step_address())
+        sim.qpos = self._ptr("double *", self.data.qpos)
+        sim.qvel = self._ptr("double *", self.data.qvel)
+        sim.ctrl = self._ptr("double *", self.data.ctrl)
+        sim.qfrc_applied = self._ptr("double *", self.data.qfrc_applied)
+        sim.generation = config.build.generation
+        sim.serial_line_limit = config.build.serial_line_limit
+        sim.strict_nan = int(config.strict_nan)
+        sim.startup_ticks = config.startup_ticks
+        sim.budget_ns = config.budget_ns
+        for j in range(3):
+            sim.rest_motor_rad[j] = rest[j]
+        h = sim.hand
+        h.kp_nm_per_rad, h.ki_nm_per_rad_s = config.hand.kp, config.hand.ki
+        h.kd_nm_s_per_rad, h.max_nm = config.hand.kd, config.hand.max_nm
+        self.events = list(config.scenario.events)
+        self.log_blocks: list[dict[str, np.ndarray]] = []
+        if config.log_signals:
+            self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in _LOG_COLUMNS.items()}
+            sim.log.capacity = LOG_ROWS
+            for k, arr in self._log_arrays.items():
+                setattr(sim.log, k, self._ptr(_C_TYPE[_LOG_COLUMNS[k][1]], arr))
+
+    def _ptr(self, ctype: str, arr: np.ndarray) -> object:
+        self._keep.append(arr)
+        return self.ffi.cast(ctype, arr.ctypes.data)
+
+    # -- scenario events -------------------------------------------------------------------
+    def _apply(self, event: object) -> None:
+        kind = event.kind  # type: ignore[attr-defined]
+        h = self.sim.hand
+        if kind == "hand":
+            target = self.rest_dh if event.target_dh_rad is None else event.target_dh_rad  # type: ignore[attr-defined]
+            h.active = 1
+            h.start_tick = self.sim.tick
+            h.duration_ticks = event.duration_ticks  # type: ignore[attr-defined]
+            for j in range(3):
+                h.start_dh_rad[j] = float(self.data.qpos[j])
+                h.target_dh_rad[j] = float(target[j])
+        elif kind == "release":
+            h.active = 0
+            for j in range(3):
+                h.integral_rad_s[j] = 0.0
+        else:  # pragma: no cover - the loader only makes known kinds
+            raise ValueError(f"unknown event kind {kind}")
+
+    def _drain_log(self) -> None:
+        log = self.sim.log
+        n = int(log.count)
+        if n:
+            self.log_blocks.append({k: a[:n].copy() for k, a in self._log_arrays.items()})
+            log.count = 0
+
+    def run(self, until_tick: int) -> int:
+        """Run to ``until_tick`` (events applied on their tick); returns a CRS_RUN_* code."""
+        lib, sim = self.lib, self.sim
+        while True:
+            while self.events and self.events[0].tick <= sim.tick:
+                self._apply(self.events.pop(0))
+            if sim.tick >= until_tick:
+                return lib.CRS_RUN_DONE
+            stop_at = min(until_tick, self.events[0].tick) if self.events else until_tick
+            code = lib.crs_sim_run(sim, stop_at)
+            if code == lib.CRS_RUN_LOG_FULL or (self.config.log_signals and code != lib.CRS_RUN_DONE):
+                self._drain_log()
+            if code not in (lib.CRS_RUN_DONE, lib.CRS_RUN_LOG_FULL):
+                return code
+
+    def stats(self) -> dict[str, int]:
+        """The board's counters, as plain ints."""
+        s = self.sim
+        out = {name: int(getattr(s, name)) for name in STAT_FIELDS}
+        out["tick"] = int(s.tick)
+        out["first_over_tick"] = [int(s.first_over_tick[i]) for i in range(min(8, int(s.over_budget)))]
+        return out
+
+    def take_log(self) -> dict[str, np.ndarray] | None:
+        """The scope rows gathered since the last call (None when logging is off)."""
+        if not self.config.log_signals:
+            return None
+        self._drain_log()
+        blocks, self.log_blocks = self.log_blocks, []
+        if not blocks:
+            return {k: np.zeros((0, w), dt) for k, (w, dt) in _LOG_COLUMNS.items()}
+        return {k: np.concatenate([b[k] for b in blocks]) for k in _LOG_COLUMNS}
+
+
+def serve(conn: Connection, config: SimConfig, shared_path: str) -> None:
+    """Worker entry point: answer ``run`` requests until ``stop`` or the pipe closes."""
+    with open(shared_path, "r+b") as f:
+        shared = mmap.mmap(f.fileno(), 0)
+    worker = Worker(config, shared)
+    conn.send(("ready", worker.lib.crs_lab_symbols()))
+    while True:
+        try:
+            msg = conn.recv()
+        except EOFError:
+            return
+        if msg[0] == "run":
+            code = worker.run(int(msg[1]))
+            conn.send(("ran", code, int(worker.sim.tick), worker.stats(), worker.take_log()))
+        elif msg[0] == "stop":
+            conn.send(("stopped", worker.stats(), worker.take_log()))
+            return

@@ -1,0 +1,29 @@
+/* crslab host stand-in for coecsl.h of the Gen A "CRSRobot" framework (DSP/BIOS era):
+ * constants, the serial port, the printing SWI, and the device registers.
+ * PI, TWOPI, HALFPI and GRAV use the exact token strings of the real header, so a lab that also
+ * #defines them (as Gen B files do) gets an identical, silent redefinition. */
+#ifndef CRSLAB_COECSL_H
+#define CRSLAB_COECSL_H
+
+#include "DSP2833x_Device.h"
+#include "crslab_serial.h"
+#include "tistdtypes.h"
+
+#define PI 3.1415926535897932384626433832795
+#define TWOPI 6.283185307179586476925286766559
+#define HALFPI 1.5707963267948966192313216916398
+#define GRAV 9.81
+
+typedef struct crs_serial_port serial_t;
+extern serial_t SerialA; /* real buffer: 2048 bytes */
+
+/* DSP/BIOS software interrupt: SWI_post(&SWI_printf) makes the framework run printing() once,
+ * after lab() returns; several posts in one tick run it once. */
+typedef struct {
+    int posted;
+} SWI_Obj;
+typedef SWI_Obj *SWI_Handle;
+extern SWI_Obj SWI_printf;
+void SWI_post(SWI_Handle swi);
+
+#endif

@@ -1,0 +1,111 @@
+/* The real framework's 1 ms duties, as crs-facts section 2 describes them. */
+#include "framework.h"
+
+#include <math.h>
+
+#include "board.h"
+#include "crs_arm.h"
+
+static const double PI = 3.14159265358979323846;
+static const double RAD_PER_COUNT = 3.14159265358979323846 / 144000.0; /* 288 000 counts/rev */
+
+int64_t crs_encoder_counts(double motor_rad, double rest_motor_rad)
+{
+    return llround((motor_rad - rest_motor_rad) / RAD_PER_COUNT);
+}
+
+/* xorshift64* and Box-Muller: seeded encoder noise */
+static double uniform01(uint64_t *state)
+{
+    uint64_t x = *state;
+    x ^= x >> 12;
+    x ^= x << 25;
+    x ^= x >> 27;
+    *state = x;
+    return ((x * 2685821657736338717ULL) >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static double gaussian(uint64_t *state)
+{
+    const double u1 = uniform01(state), u2 = uniform01(state);
+    return sqrt(-2.0 * log(u1 > 1e-300 ? u1 : 1e-300)) * cos(2.0 * PI * u2);
+}
+
+void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3])
+{
+    crs_faults *f = &sim->faults;
+    const double offset[3] = {
+        0.0,
+        &offset_Enc2_rad != NULL ? (double)offset_Enc2_rad : 0.0,
+        &offset_Enc3_rad != NULL ? (double)offset_Enc3_rad : 0.0,
+    };
+    for (int j = 0; j < 3; ++j) {
+        int64_t counts = crs_encoder_counts(motor_rad[j], sim->rest_motor_rad[j]);
+        if (f->stuck_encoder[j]) {
+            counts = f->stuck_counts[j];
+        } else {
+            f->stuck_counts[j] = counts;
+        }
+        if (f->noise_counts[j] > 0.0) counts += llround(f->noise_counts[j] * gaussian(&f->rng_state));
+        if (sim->tick == f->glitch_tick) counts += f->glitch_counts[j];
+        /* encoder 2 is mounted reversed: the chip counts down and the framework negates it */
+        const int64_t raw = (j == 1) ? -counts : counts;
+        const double angle = (double)((j == 1) ? -raw : raw) * RAD_PER_COUNT;
+        /* the framework works in float, as the DSP does */
+        enc_rad[j] = (double)(float)(angle + offset[j]);
+    }
+}
+
+int crs_outside_envelope(const double enc_rad[3])
+{
+    const double th1 = enc_rad[0];
+    const double th2 = enc_rad[1] - PI / 2.0;
+    const double th3 = enc_rad[2] - enc_rad[1] + PI / 2.0;
+    const double z_in = CRS_BASE_HEIGHT_IN + CRS_UPPER_ARM_IN * cos(enc_rad[1])
+                      - CRS_FOREARM_IN * sin(enc_rad[2]);
+    return fabs(th1) > 0.6667 * PI || th2 < -2.3 || th2 > 0.15 || th3 < 0.15 || th3 > 2.3
+        || z_in < 4.0;
+}
+
+void crs_hold_controller(const crs_sim *sim, double out[3])
+{
+    for (int j = 0; j < 3; ++j) {
+        const double err = sim->hold_motor_rad[j] - sim->enc_rad[j];
+        const double vel = (sim->enc_rad[j] - sim->prev_enc_rad[j]) * 1000.0; /* rad/s */
+        const double kp = fabs(err) > 0.1 ? 15.0 : 25.0;                     /* units/rad */
+        out[j] = kp * err - 1.0 * vel;                                         /* Kd 1 unit.s/rad */
+    }
+}
+
+void crs_hand_step(crs_sim *sim)
+{
+    crs_hand *h = &sim->hand;
+    if (!h->active) {
+        for (int j = 0; j < 3; ++j) h->force_nm[j] = 0.0;
+        return;
+    }
+    /* minimum-jerk path from start to target */
+    double s = 1.0, sd = 0.0;
+    if (h->duration_ticks > 0) {
+        const double T = (double)h->duration_ticks * 1e-3;
+        double tau = (double)(sim->tick - h->start_tick) * 1e-3 / T;
+        tau = tau < 0.0 ? 0.0 : (tau > 1.0 ? 1.0 : tau);
+        s = tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau);
+        sd = 30.0 * tau * tau * (1.0 - tau) * (1.0 - tau) / T;
+    }
+    for (int j = 0; j < 3; ++j) {
+        const double span = h->target_dh_rad[j] - h->start_dh_rad[j];
+        const double err = h->start_dh_rad[j] + s * span - sim->qpos[j];
+        const double derr = sd * span - sim->qvel[j];
+        double f = h->kp_nm_per_rad * err + h->ki_nm_per_rad_s * h->integral_rad_s[j]
+                 + h->kd_nm_s_per_rad * derr;
+        if (f > h->max_nm) {
+            f = h->max_nm;
+        } else if (f < -h->max_nm) {
+            f = -h->max_nm;
+        } else {
+            h->integral_rad_s[j] += err * 1e-3; /* integrate only when not saturated */
+        }
+        h->force_nm[j] = f;
+    }
+}
