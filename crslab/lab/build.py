@@ -14,8 +14,10 @@ import os
 import re
 import subprocess
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+
+from crslab.lab.watched import WatchedVar, find_watched
 
 ROOT = Path(__file__).resolve().parents[2]
 CSRC = ROOT / "csrc"
@@ -55,6 +57,7 @@ class LabBuild:
     generation: int
     sanitized: bool
     digest: str
+    watched: tuple[WatchedVar, ...] = field(default=())
 
     @property
     def serial_line_limit(self) -> int:
@@ -128,7 +131,8 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False) -> LabBuild
         text_bytes = src.read_bytes()
     except OSError as exc:
         raise LabBuildError(f"{src}: cannot be read ({exc.strerror})") from None
-    generation = detect_generation(text_bytes.decode("utf-8", "replace"))
+    text = text_bytes.decode("utf-8", "replace")
+    generation = detect_generation(text)
     flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else [])
     objects = _board_objects(sanitize)
     digest = _digest([text_bytes, " ".join(flags).encode(), src.suffix.encode()]
@@ -145,4 +149,5 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False) -> LabBuild
             _gcc(["-shared", "-Wl,-Bsymbolic", *(["-fsanitize=address,undefined"] if sanitize else []),
                   "-o", str(tmp_so), str(obj), *map(str, objects), *LINK_LIBS], f"{src.name} (link)")
             tmp_so.replace(so)
-    return LabBuild(source=src, shared_object=so, generation=generation, sanitized=sanitize, digest=digest)
+    return LabBuild(source=src, shared_object=so, generation=generation, sanitized=sanitize, digest=digest,
+                    watched=tuple(find_watched(text)))

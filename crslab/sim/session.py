@@ -136,6 +136,24 @@ class Simulation:
         sh.serial_len = 0
         sh.mark_count = 0
 
+    # -- watched variables -------------------------------------------------------------------
+    def _ask(self, msg: tuple) -> object:
+        self._conn.send(msg)
+        reply = self._wait_reply(None)
+        if isinstance(reply, RunResult):
+            raise SimError(reply.message)
+        if reply[0] == "error":
+            raise KeyError(reply[1])
+        return reply[1]
+
+    def get(self, name: str) -> float | list[float]:
+        """Read a watched variable of the running lab (between ticks)."""
+        return self._ask(("get", name))  # type: ignore[return-value]
+
+    def set(self, name: str, value: float, index: int | None = None) -> None:
+        """Write a watched variable (or one array element) of the running lab, between ticks."""
+        self._ask(("set", name, index, float(value)))
+
     # -- running -----------------------------------------------------------------------------
     def _diagnose_death(self) -> RunResult:
         self.process.join(1.0)

@@ -1,7 +1,8 @@
 """The worker process: owns the MuJoCo plant and the lab's code, and runs ticks on request.
 
-Messages from the crslab process (tuples): ``("run", until_tick)``, ``("stop",)``. Replies:
-``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of numpy columns. Serial
+Messages from the crslab process (tuples): ``("run", until_tick)``, ``("get", name)``,
+``("set", name, index, value)``, ``("stop",)``. Replies: ``("ran", code, tick, stats, log)``
+where ``log`` is None or a dict of numpy columns; ``("value", v)`` or ``("error", message)``. Serial
 bytes never travel through the pipe: the board writes them into the shared block, where the
 crslab process reads them even if this process dies.
 """
@@ -14,6 +15,7 @@ from multiprocessing.connection import Connection
 from pathlib import Path
 
 import numpy as np
+from cffi import FFI
 
 from crslab import crs
 from crslab.sim.board_ffi import board_ffi
@@ -85,6 +87,13 @@ class Worker:
         h = sim.hand
         h.kp_nm_per_rad, h.ki_nm_per_rad_s = config.hand.kp, config.hand.ki
         h.kd_nm_s_per_rad, h.max_nm = config.hand.kd, config.hand.max_nm
+        self.watched = {v.name: v for v in config.build.watched}
+        self.var_lib = None
+        if self.watched:
+            var_ffi = FFI()
+            var_ffi.cdef("\n".join(v.cdecl for v in self.watched.values()))
+            self._keep.append(var_ffi)
+            self.var_lib = var_ffi.dlopen(str(config.build.shared_object))
         self.events = list(config.scenario.events)
         self.log_blocks: list[dict[str, np.ndarray]] = []
         if config.log_signals:
@@ -96,6 +105,34 @@ class Worker:
     def _ptr(self, ctype: str, arr: np.ndarray) -> object:
         self._keep.append(arr)
         return self.ffi.cast(ctype, arr.ctypes.data)
+
+    # -- watched variables -------------------------------------------------------------------
+    def _var(self, name: str) -> object:
+        if name not in self.watched:
+            known = ", ".join(self.watched) or "none"
+            raise KeyError(f"{name} is not a watched (#pragma DATA_SECTION) variable (watched: {known})")
+        return self.watched[name]
+
+    def get_var(self, name: str) -> float | list[float]:
+        """Current value of a watched variable (a list for arrays)."""
+        var = self._var(name)
+        value = getattr(self.var_lib, name)
+        if var.length is not None:
+            return [float(value[i]) for i in range(var.length)]
+        return float(value)
+
+    def set_var(self, name: str, index: int | None, value: float) -> None:
+        """Write a watched variable (or one element of a watched array) between ticks."""
+        var = self._var(name)
+        v = int(round(value)) if var.is_integer else float(value)
+        if var.length is None:
+            if index is not None:
+                raise KeyError(f"{name} is not an array")
+            setattr(self.var_lib, name, v)
+            return
+        if index is None or not 0 <= index < var.length:
+            raise KeyError(f"{name} has {var.length} elements: give an index 0..{var.length - 1}")
+        getattr(self.var_lib, name)[index] = v
 
     # -- scenario events -------------------------------------------------------------------
     def _apply(self, event: object) -> None:
@@ -171,6 +208,17 @@ def serve(conn: Connection, config: SimConfig, shared_path: str) -> None:
         if msg[0] == "run":
             code = worker.run(int(msg[1]))
             conn.send(("ran", code, int(worker.sim.tick), worker.stats(), worker.take_log()))
+        elif msg[0] == "get":
+            try:
+                conn.send(("value", worker.get_var(msg[1])))
+            except KeyError as exc:
+                conn.send(("error", str(exc.args[0])))
+        elif msg[0] == "set":
+            try:
+                worker.set_var(msg[1], msg[2], msg[3])
+                conn.send(("value", None))
+            except KeyError as exc:
+                conn.send(("error", str(exc.args[0])))
         elif msg[0] == "stop":
             conn.send(("stopped", worker.stats(), worker.take_log()))
             return
