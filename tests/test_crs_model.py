@@ -1,0 +1,277 @@
+"""The MuJoCo model of the CRS arm (models/crs_arm) against the course's kinematics and dynamics."""
+
+import importlib.util
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from crslab import crs
+from crslab.plant import model as crs_model
+from crslab.plant.model import (
+    COURSE_END_MASS_KG,
+    REST_MOTOR_RAD,
+    SCENE_XML,
+    load_model,
+    motor_to_qpos,
+    qpos_to_motor,
+    set_end_mass,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+G = 9.81
+NM_PER_UNIT = 6.0  # crs-facts 2.6
+# The course's 2-link model in motor angles and command units (crs-facts 4).
+P_BARE = (0.0300, 0.0128, 0.0076, 0.0753, 0.0298)
+P_END_MASS = (0.0466, 0.0388, 0.0284, 0.1405, 0.1298)
+
+MOTOR_ZERO = (0.0, 0.0, 0.0)
+DH_ZERO = (0.0, np.pi / 2, 0.0)
+STRAIGHT_UP = (0.0, 0.0, -np.pi / 2)
+
+
+@pytest.fixture(scope="module")
+def model():
+    return load_model()
+
+
+def fresh(model, motor_rad, ctrl=(0.0, 0.0, 0.0)):
+    """A new MjData at rest in the given motor pose, with constant controls."""
+    data = mujoco.MjData(model)
+    data.qpos[:] = motor_to_qpos(motor_rad)
+    data.ctrl[:] = ctrl
+    mujoco.mj_forward(model, data)
+    return data
+
+
+def run(model, data, seconds):
+    """Step for a whole number of 1 ms steps; return the motor angles after each step."""
+    steps = int(round(seconds / model.opt.timestep))
+    out = np.empty((steps, 3))
+    for k in range(steps):
+        mujoco.mj_step(model, data)
+        out[k] = qpos_to_motor(data.qpos)
+    return out
+
+
+def warnings(data):
+    return {mujoco.mjtWarning(i).name: w.number for i, w in enumerate(data.warning) if w.number}
+
+
+def motor_space_gravity(model, data):
+    """Gravity's term G of D qdd + G = tau, in motor coordinates for motors 2 and 3 (N.m).
+
+    At zero velocity qfrc_bias is G in DH coordinates. With q2 = th2M - pi/2 and
+    q3 = th3M - th2M + pi/2, virtual work gives G2M = G2 - G3 and G3M = G3.
+    """
+    assert not data.qvel.any()
+    g2, g3 = data.qfrc_bias[1], data.qfrc_bias[2]
+    return np.array([g2 - g3, g3])
+
+
+def motor_space_inertia(model, data):
+    """The 2x2 mass matrix of motors 2 and 3 in motor coordinates (kg.m^2): A^T M A."""
+    full = np.zeros((model.nv, model.nv))
+    mujoco.mj_fullM(model, data, full)
+    a = np.array([[1.0, 0.0], [-1.0, 1.0]])  # d(q2, q3) / d(th2M, th3M)
+    return a.T @ full[1:, 1:] @ a
+
+
+# --- the files and names others code against -------------------------------------------------
+
+def test_scene_loads_with_the_course_timestep_and_steps_without_warnings(model):
+    assert SCENE_XML.is_file() and SCENE_XML.parent == crs_model.MODEL_DIR
+    assert model.opt.timestep == 0.001
+    assert model.opt.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    np.testing.assert_array_equal(model.opt.gravity, [0, 0, -9.81])
+    data = fresh(model, REST_MOTOR_RAD)
+    rng = np.random.default_rng(3)
+    for _ in range(20):  # random clamped commands, 100 ms each: big swings, limits hit
+        data.ctrl[:] = rng.uniform(-5, 5, 3)
+        run(model, data, 0.1)
+    assert warnings(data) == {}
+    assert np.isfinite(data.qpos).all() and np.isfinite(data.qvel).all()
+
+
+def test_joints_actuators_and_tendon_are_named_and_ordered_as_documented(model):
+    assert [model.joint(i).name for i in range(model.njnt)] == ["j1", "j2", "j3"]
+    assert [int(model.joint(n).qposadr[0]) for n in ("j1", "j2", "j3")] == [0, 1, 2]
+    assert [int(model.joint(n).dofadr[0]) for n in ("j1", "j2", "j3")] == [0, 1, 2]
+    assert all(model.jnt_type == mujoco.mjtJoint.mjJNT_HINGE) and all(model.jnt_limited)
+    assert [model.actuator(i).name for i in range(model.nu)] == ["motor1", "motor2", "motor3"]
+    assert model.actuator("motor3").trntype[0] == mujoco.mjtTrn.mjTRN_TENDON
+    assert model.tendon(int(model.actuator("motor3").trnid[0])).name == "forearm"
+    np.testing.assert_array_equal(model.actuator_gear[:, 0], [NM_PER_UNIT] * 3)
+    assert not model.actuator_ctrllimited.any()  # the framework clamps, not the plant
+    assert model.site("ee").id >= 0 and model.body("payload").id >= 0
+    # no contacts anywhere: every geom is a visual
+    assert not model.geom_contype.any() and not model.geom_conaffinity.any()
+
+
+def test_actuators_give_the_course_torque_relations(model):
+    # crs-facts 3: tau2DH = tau2M + tau3M, tau3DH = tau3M, with 6 N.m per command unit.
+    data = fresh(model, REST_MOTOR_RAD, ctrl=(0.5, -1.25, 2.0))
+    np.testing.assert_allclose(data.qfrc_actuator, NM_PER_UNIT * np.array([0.5, -1.25 + 2.0, 2.0]),
+                               atol=1e-12)
+    # the tendon's length is motor angle 3, whatever the pose
+    rng = np.random.default_rng(5)
+    for motor in rng.uniform(-1.5, 1.5, (20, 3)):
+        data = fresh(model, motor)
+        assert data.ten_length[0] == pytest.approx(motor[2], abs=1e-12)
+
+
+def test_rest_keyframe_and_lab_poses_lie_inside_the_joint_ranges(model):
+    rest_key = model.key("rest")
+    np.testing.assert_allclose(rest_key.qpos, motor_to_qpos(REST_MOTOR_RAD), atol=1e-10)
+    margin = np.radians(5)
+    lo, hi = model.jnt_range[:, 0], model.jnt_range[:, 1]
+    for name, motor in [("rest", REST_MOTOR_RAD), ("motor zero", MOTOR_ZERO), ("DH zero", DH_ZERO),
+                        ("straight up", STRAIGHT_UP), ("template rest", (0.0, -0.37, 0.27))]:
+        q = motor_to_qpos(motor)
+        assert (q > lo + margin).all() and (q < hi - margin).all(), name
+    for key in ("motor_zero", "dh_zero", "straight_up"):
+        expected = {"motor_zero": MOTOR_ZERO, "dh_zero": DH_ZERO, "straight_up": STRAIGHT_UP}[key]
+        np.testing.assert_allclose(qpos_to_motor(model.key(key).qpos), expected, atol=1e-10)
+
+
+# --- kinematics -------------------------------------------------------------------------------
+
+def test_model_fk_equals_the_c_core_fk_at_random_poses(model):
+    data = mujoco.MjData(model)
+    site = model.site("ee").id
+    rng = np.random.default_rng(2024)
+    motor = rng.uniform(-np.pi, np.pi, (200, 3))
+    expected_m = crs.fk(motor) * crs.M_PER_IN
+    poses = crs.fk_pose_dh(crs.motor_to_dh(motor))
+    for i in range(len(motor)):
+        data.qpos[:] = motor_to_qpos(motor[i])
+        mujoco.mj_kinematics(model, data)
+        np.testing.assert_allclose(data.site_xpos[site], expected_m[i], rtol=0, atol=1e-9)
+        # the site's frame is DH frame 3, so the body frames really follow the DH table
+        np.testing.assert_allclose(data.site_xmat[site].reshape(3, 3), poses[i, :3, :3], atol=1e-9)
+
+
+def test_course_check_poses_in_metres(model):
+    site = model.site("ee").id
+    for motor, xyz_in in [(MOTOR_ZERO, (10, 0, 20)), (DH_ZERO, (20, 0, 10)), (STRAIGHT_UP, (0, 0, 30))]:
+        data = fresh(model, motor)
+        np.testing.assert_allclose(data.site_xpos[site], np.array(xyz_in) * 0.0254, atol=1e-9)
+
+
+# --- dynamics ---------------------------------------------------------------------------------
+
+def test_gravity_torques_match_the_course_p_values(model):
+    # Course: G = [-p4 g sin th2M, -p5 g cos th3M] in command units (crs-facts 4).
+    rng = np.random.default_rng(11)
+    for motor in rng.uniform(-1.5, 1.5, (50, 3)):
+        data = fresh(model, motor)
+        course = NM_PER_UNIT * G * np.array([-P_BARE[3] * np.sin(motor[1]), -P_BARE[4] * np.cos(motor[2])])
+        amplitude = NM_PER_UNIT * G * np.array([P_BARE[3], P_BARE[4]])
+        np.testing.assert_array_less(np.abs(motor_space_gravity(model, data) - course), 0.01 * amplitude)
+
+
+def test_inertia_matches_the_course_d_matrix(model):
+    # Course: D = [[p1, -p3 sin(th3M - th2M)], [., p2]] in command units, rotor inertia included.
+    rng = np.random.default_rng(12)
+    p1, p2, p3 = (NM_PER_UNIT * p for p in P_BARE[:3])
+    for motor in rng.uniform(-1.5, 1.5, (50, 3)):
+        data = fresh(model, motor)
+        s = np.sin(motor[2] - motor[1])
+        np.testing.assert_allclose(motor_space_inertia(model, data), [[p1, -p3 * s], [-p3 * s, p2]],
+                                   rtol=0, atol=0.02 * p2)
+
+
+def test_course_end_mass_reproduces_the_course_p_values_with_end_mass():
+    model = load_model()
+    set_end_mass(model, COURSE_END_MASS_KG)
+    p1, p2, p3, p4 = (NM_PER_UNIT * p for p in P_END_MASS[:4])
+    for motor in [REST_MOTOR_RAD, DH_ZERO, (0.3, 0.8, -0.6)]:
+        data = fresh(model, motor)
+        s = np.sin(motor[2] - motor[1])
+        np.testing.assert_allclose(motor_space_inertia(model, data), [[p1, -p3 * s], [-p3 * s, p2]],
+                                   rtol=0, atol=0.02 * p1)
+        assert motor_space_gravity(model, data)[0] == pytest.approx(-p4 * G * np.sin(motor[1]),
+                                                                    abs=0.02 * p4 * G)
+    # p5 (0.1298) is the one value the fit leaves out: a 1.54 kg lump gives about 0.112 (README).
+    data = fresh(model, MOTOR_ZERO)
+    assert -motor_space_gravity(model, data)[1] / (NM_PER_UNIT * G) == pytest.approx(0.112, abs=0.002)
+    set_end_mass(model, 0.0)
+    data = fresh(model, DH_ZERO)
+    assert motor_space_gravity(model, data)[0] == pytest.approx(-NM_PER_UNIT * P_BARE[3] * G, rel=0.01)
+    assert model.body_subtreemass[0] == pytest.approx(load_model().body_subtreemass[0])
+
+
+def test_friction_and_rotor_inertia_come_from_the_course_table(model):
+    # crs-facts 4, means of the positive and negative branches, times 6 N.m per unit.
+    def mean(pos, neg):
+        return NM_PER_UNIT * (pos + neg) / 2
+
+    np.testing.assert_allclose(model.dof_frictionloss, [mean(0.3637, 0.2948), mean(0.4759, 0.5031), 0])
+    np.testing.assert_allclose(model.dof_damping, [mean(0.2513, 0.2477), mean(0.2500, 0.2870), 0])
+    np.testing.assert_allclose(model.tendon_frictionloss, [mean(0.5339, 0.5190)])
+    np.testing.assert_allclose(model.tendon_damping, [mean(0.1922, 0.2132)])
+    np.testing.assert_allclose(model.dof_armature, [0, 0.075, 0])
+    np.testing.assert_allclose(model.tendon_armature, [0.0375])
+
+
+def test_with_zero_torque_the_arm_stays_at_its_resting_pose(model):
+    data = fresh(model, REST_MOTOR_RAD)
+    path = run(model, data, 10.0)
+    assert np.abs(path - REST_MOTOR_RAD).max() < 0.01
+    assert warnings(data) == {}
+
+
+def test_released_level_arm_falls_shoulder_down_and_forearm_keeps_its_angle(model):
+    # Derivation. In motor angles the course's model is D qdd + G = u, G2 = -p4 g sin th2M, so
+    # gravity pushes motor 2 with +p4 g sin th2M: at DH zero (th2M = pi/2, arm level) that is
+    # 0.0753 * 9.81 = 0.74 units = 4.43 N.m, more than motor 2's Coulomb friction (0.49 units,
+    # 2.94 N.m). So th2M grows: the upper arm swings down and z = 10 (1 + cos th2M - sin th3M)
+    # falls. Motor 3 feels p5 g cos th3M = 0.29 units = 1.75 N.m, less than its friction
+    # (0.53 units, 3.16 N.m): the forearm keeps its absolute angle th3M = 0 (level).
+    data = fresh(model, DH_ZERO)
+    z0 = data.site_xpos[model.site("ee").id, 2]
+    path = run(model, data, 0.3)
+    assert path[-1, 1] > DH_ZERO[1] + 0.1
+    assert np.all(np.diff(path[:, 1]) >= -1e-9)  # monotone: it only falls
+    assert abs(path[-1, 2] - DH_ZERO[2]) < 0.02
+    assert data.site_xpos[model.site("ee").id, 2] < z0 - 0.02
+
+
+@pytest.mark.parametrize("motor", [0, 1, 2])
+@pytest.mark.parametrize("sign", [+1, -1])
+def test_ctrl_turns_its_motor_angle_the_same_way(model, motor, sign):
+    ctrl = np.zeros(3)
+    ctrl[motor] = 1.5 * sign
+    data = fresh(model, REST_MOTOR_RAD, ctrl)
+    moved = run(model, data, 0.2)[-1] - REST_MOTOR_RAD
+    assert sign * moved[motor] > 0.05
+
+
+def test_motor3_drives_the_forearm_absolute_angle_and_leaves_the_shoulder(model):
+    # Motor 3's torque enters motor 2's equation only through the inertial coupling
+    # -p3 sin(th3M - th2M), which friction mostly absorbs. A joint-3 (relative) drive would
+    # push the shoulder back with the full reaction torque instead.
+    def moved(ctrl):
+        data = fresh(model, REST_MOTOR_RAD, ctrl)
+        return run(model, data, 0.3)[-1] - REST_MOTOR_RAD
+
+    by_motor2 = moved((0.0, 1.0, 0.0))
+    by_motor3 = moved((0.0, 0.0, 1.0))
+    assert by_motor3[2] > 0.2
+    assert by_motor2[1] > 0.1
+    assert abs(by_motor3[1]) < 0.25 * by_motor2[1]
+    assert abs(by_motor2[2]) < 0.01  # and motor 2 alone leaves the forearm's absolute angle
+
+
+# --- the generated files ------------------------------------------------------------------------
+
+def test_generator_reproduces_the_committed_files():
+    path = ROOT / "tools" / "gen_crs_model.py"
+    spec = importlib.util.spec_from_file_location("gen_crs_model", path)
+    gen = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gen)
+    files = gen.build()
+    assert {p.name for p in files} == {"crs_arm.xml", "scene.xml"}
+    for file, text in files.items():
+        assert file.read_text() == text, f"{file.name} is stale: run python tools/gen_crs_model.py"
