@@ -18,6 +18,7 @@ import numpy as np
 from cffi import FFI
 
 from crslab import crs
+from crslab.scenario.apply import apply_event
 from crslab.sim.board_ffi import board_ffi
 from crslab.sim.config import SimConfig
 
@@ -134,25 +135,6 @@ class Worker:
             raise KeyError(f"{name} has {var.length} elements: give an index 0..{var.length - 1}")
         getattr(self.var_lib, name)[index] = v
 
-    # -- scenario events -------------------------------------------------------------------
-    def _apply(self, event: object) -> None:
-        kind = event.kind  # type: ignore[attr-defined]
-        h = self.sim.hand
-        if kind == "hand":
-            target = self.rest_dh if event.target_dh_rad is None else event.target_dh_rad  # type: ignore[attr-defined]
-            h.active = 1
-            h.start_tick = self.sim.tick
-            h.duration_ticks = event.duration_ticks  # type: ignore[attr-defined]
-            for j in range(3):
-                h.start_dh_rad[j] = float(self.data.qpos[j])
-                h.target_dh_rad[j] = float(target[j])
-        elif kind == "release":
-            h.active = 0
-            for j in range(3):
-                h.integral_rad_s[j] = 0.0
-        else:  # pragma: no cover - the loader only makes known kinds
-            raise ValueError(f"unknown event kind {kind}")
-
     def _drain_log(self) -> None:
         log = self.sim.log
         n = int(log.count)
@@ -165,7 +147,7 @@ class Worker:
         lib, sim = self.lib, self.sim
         while True:
             while self.events and self.events[0].tick <= sim.tick:
-                self._apply(self.events.pop(0))
+                apply_event(self, self.events.pop(0))
             if sim.tick >= until_tick:
                 return lib.CRS_RUN_DONE
             stop_at = min(until_tick, self.events[0].tick) if self.events else until_tick
