@@ -14,13 +14,14 @@ from pathlib import Path
 import numpy as np
 
 from crslab.lab.build import build_lab
+from crslab.plant.params import REST_MOTOR_RAD
 from crslab.scenario.events import seconds_to_tick
 from crslab.scenario.load import Scenario, load_scenario
 from crslab.sim.config import STARTUP_TICKS, SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, RunResult, Simulation
 from crslab.sim.sinks import MemorySink, Sink
 
-DEFAULT_REST_MOTOR_RAD = (0.0, -0.42, 0.24)
+DEFAULT_REST_MOTOR_RAD = REST_MOTOR_RAD
 
 
 @dataclass

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from crslab.lab.build import LabBuild
+from crslab.plant.params import REST_MOTOR_RAD
 from crslab.scenario.load import Scenario
 
 STARTUP_TICKS = 4100  # the first lab() call is at 4.1 s (the brake releases at 4.0 s)
@@ -30,7 +31,7 @@ class SimConfig:
 
     build: LabBuild
     scenario: Scenario
-    rest_motor_rad: tuple[float, float, float] = (0.0, -0.42, 0.24)
+    rest_motor_rad: tuple[float, float, float] = REST_MOTOR_RAD
     startup_ticks: int = STARTUP_TICKS
     strict_nan: bool = False
     budget_ns: int = 1_000_000
