@@ -136,11 +136,20 @@ traj_status traj_plan_synchronized(traj_profile *profiles, size_t n_joints, traj
 {
     traj_status status = TRAJ_OK;
     size_t j = n_joints; /* "no joint in particular" for a bad duration */
-    double T = duration_s;
     if (!(duration_s >= 0.0) || isinf(duration_s)) {
         status = TRAJ_BAD_ARGUMENT;
         goto fail;
     }
+    /* every joint in duration_s, if each can */
+    for (j = 0; j < n_joints; ++j) {
+        status = traj_plan(&profiles[j], kind, q0_rad[j], qf_rad[j], duration_s,
+                           vmax_rad_s ? vmax_rad_s[j] : 0.0, amax_rad_s2 ? amax_rad_s2[j] : 0.0);
+        if (status != TRAJ_OK) break;
+    }
+    if (status == TRAJ_OK) return TRAJ_OK;
+    if (status == TRAJ_BAD_ARGUMENT) goto fail;
+    /* else as long as the slowest joint needs */
+    double T = duration_s;
     for (j = 0; j < n_joints; ++j) {
         double t_min;
         status = traj_min_duration(kind, q0_rad[j], qf_rad[j], vmax_rad_s ? vmax_rad_s[j] : 0.0,

@@ -89,11 +89,12 @@ traj_status traj_plan(traj_profile *p, traj_kind kind, double q0_rad, double qf_
 traj_status traj_min_duration(traj_kind kind, double q0_rad, double qf_rad, double vmax_rad_s,
                               double amax_rad_s2, double *duration_s);
 
-/* Plan n_joints moves of one kind that start together and end together: the common duration is
- * the larger of duration_s and the slowest joint's traj_min_duration, so no joint exceeds its
- * limits. vmax_rad_s and amax_rad_s2 hold one limit per joint, or are NULL for none. On failure
- * *failed_joint (if not NULL) is the first joint that failed and every profile is a rest at its
- * q0. */
+/* Plan n_joints moves of one kind that start together and end together, no joint exceeding its
+ * limits: in duration_s if every joint can make its move in that time, else in the slowest
+ * joint's traj_min_duration (so duration_s = 0 means "as fast as the limits allow"). Whether the
+ * move was stretched shows in profiles[0].duration_s. vmax_rad_s and amax_rad_s2 hold one limit
+ * per joint, or are NULL for none. On failure *failed_joint (if not NULL) is the first joint that
+ * failed (n_joints for a bad duration) and every profile is a rest at its q0. */
 traj_status traj_plan_synchronized(traj_profile *profiles, size_t n_joints, traj_kind kind,
                                    const double *q0_rad, const double *qf_rad, double duration_s,
                                    const double *vmax_rad_s, const double *amax_rad_s2,

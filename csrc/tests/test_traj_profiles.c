@@ -189,6 +189,13 @@ static void test_synchronized(void)
     check("longer asked, longer given",
           traj_plan_synchronized(p, 3, TRAJ_CUBIC, q0, qf, 9.0, vmax, NULL, &bad) == TRAJ_OK
               && p[0].duration_s == 9.0);
+    /* joint 2 can cruise at its limit to make 2 rad in 3 s; in 1.5 s it cannot, so 4 s it is */
+    check("feasible duration kept",
+          traj_plan_synchronized(p, 3, TRAJ_LI, q0, qf, 3.0, vmax, NULL, &bad) == TRAJ_OK
+              && p[2].duration_s == 3.0 && fabs(traj_eval(&p[1], 1.5).qd_rad_s) == 1.0);
+    check("too short stretched",
+          traj_plan_synchronized(p, 3, TRAJ_LI, q0, qf, 1.5, vmax, NULL, &bad) == TRAJ_OK
+              && p[0].duration_s == 4.0);
     const double broken[3] = {0.0, NAN, 0.0};
     check("bad joint named", traj_plan_synchronized(p, 3, TRAJ_LI, q0, broken, 1.0, NULL, NULL, &bad)
                                      == TRAJ_BAD_ARGUMENT
