@@ -1,4 +1,4 @@
-/* Test lab: a missing semicolon on line 9, as students make them. */
+/* Test lab: line 9 uses a gain the student never declared. */
 #include <tistdtypes.h>
 #include <coecsl.h>
 #include "user_includes.h"
@@ -6,7 +6,7 @@
 void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2,
          float *tau3, int error)
 {
-    *tau1 = 0
+    *tau1 = Kp_gain * theta1motor;
     *tau2 = 0;
     *tau3 = 0;
 }

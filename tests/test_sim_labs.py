@@ -1,0 +1,60 @@
+"""Lab files in both framework generations' styles, with the quirks of real ones (crs-facts 6),
+compile unmodified and print what they should."""
+
+from pathlib import Path
+
+import numpy as np
+
+from crslab.lab.build import GEN_A, GEN_B, build_lab
+from crslab.sim.api import simulate
+
+LABS = Path(__file__).parent / "labs"
+
+
+def test_gen_a_file_with_libc_named_globals():
+    build = build_lab(LABS / "gen_a_libc_names.c")
+    assert build.generation == GEN_A and build.serial_line_limit == 2048
+    run = simulate(LABS / "gen_a_libc_names.c", "hands_off", duration_s=6.2)
+    assert run.result.ok
+    lines = run.lines()
+    # serial_printf straight from lab(), then printing() after lab() returns, in the same tick
+    assert lines[0] == "hello from lab() gen A"
+    assert run.calls[0][0] == run.calls[1][0] == 4100
+    # printing() ran once per double SWI_post, every 1000 calls; the lab's globals named time,
+    # step, gamma, y0 and j1 kept their own values (libc's functions did not take their place)
+    assert lines[1:] == [
+        f"count {c} time {c} step {7 * c} gamma 2.50 y0 1.0 j1 3.0" for c in (1, 1001, 2001)
+    ]
+
+
+def test_gen_b_2024_file_in_a_cpp_with_uartprint_and_main():
+    build = build_lab(LABS / "gen_b_2024.cpp")
+    assert build.generation == GEN_B and build.serial_line_limit == 136
+    run = simulate(LABS / "gen_b_2024.cpp", "hands_off", duration_s=5.2, log=True)
+    assert run.result.ok
+    ticks = [t for t, _ in run.calls]
+    assert ticks == [4100, 4600, 5100]  # UARTprint polled after lab(): printing() in the same tick
+    first = [float(v) for v in run.lines()[0].split()]
+    np.testing.assert_allclose(first[:3], np.degrees([0.0, -0.42, 0.24]), atol=0.01)
+    assert first[3] == 1  # bool from <stdbool.h> works
+    # the LEDs toggle on every print: GPIO34 and GPIO60 change together
+    leds = run.log["leds"][:, 0]
+    assert leds[run.log["tick"][:, 0] == 4100][0] == 3
+    assert leds[run.log["tick"][:, 0] == 4600][0] == 0
+
+
+def test_default_lab_is_gen_a_and_watches_whattoprint():
+    build = build_lab()
+    assert build.generation == GEN_A
+    assert [v.name for v in build.watched] == ["whattoprint", "theta1array", "theta2array"]
+
+
+def test_build_is_cached_by_content(tmp_path, monkeypatch):
+    monkeypatch.setenv("CRSLAB_CACHE_DIR", str(tmp_path / "cache"))
+    lab = tmp_path / "lab.c"
+    lab.write_text((LABS / "persistent_tau.c").read_text())
+    first = build_lab(lab)
+    again = build_lab(lab)
+    assert again.shared_object == first.shared_object
+    lab.write_text(lab.read_text() + "\n/* edited */\n")
+    assert build_lab(lab).shared_object != first.shared_object
