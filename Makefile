@@ -25,8 +25,7 @@ $(STAMP): $(DEPS)
 venv: $(STAMP) ## create .venv and install crslab (editable) with its test tools
 
 sim: $(STAMP) ## run the simulator on its built-in default lab and scenario
-	@echo "crslab sim is not built yet; showing the kinematics instead:"
-	$(VENV)/bin/crslab fk --motor-deg 0 90 0
+	$(VENV)/bin/crslab sim
 
 test: $(STAMP) ## run the whole test suite (C core under -Werror, ASan and UBSan included)
 	$(PY) -m pytest -q
