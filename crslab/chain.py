@@ -75,12 +75,14 @@ class Chain:
         n = self.a.size
         self.alpha_rad = np.ascontiguousarray(alpha_rad, dtype=np.float64)
         self.d = np.ascontiguousarray(d, dtype=np.float64)
-        self.theta_rad = np.ascontiguousarray(np.zeros(n) if theta_rad is None else theta_rad, dtype=np.float64)
+        theta = np.zeros(n) if theta_rad is None else theta_rad
+        self.theta_rad = np.ascontiguousarray(theta, dtype=np.float64)
         types = [REVOLUTE] * n if joint_types is None else list(joint_types)
         for name, col in (("alpha_rad", self.alpha_rad), ("d", self.d), ("theta_rad", self.theta_rad),
                           ("joint_types", types)):
             if len(col) != n or self.a.ndim != 1:
-                raise ValueError(f"DH columns must be 1-D and equally long: a has {n} rows, {name} {len(col)}")
+                raise ValueError(f"DH columns must be 1-D and equally long: a has {n} rows, "
+                                 f"{name} {len(col)}")
         bad = [t for t in types if t not in JOINT_TYPES]
         if bad:
             raise ValueError(f"joint type {bad[0]!r} is not one of {', '.join(JOINT_TYPES)}")
@@ -115,7 +117,8 @@ class Chain:
             return np.full(self.n_joints, default)
         arr = np.ascontiguousarray(values, dtype=np.float64)
         if arr.shape != (self.n_joints,):
-            raise ValueError(f"{name} limits need one value per joint ({self.n_joints}), got shape {arr.shape}")
+            raise ValueError(f"{name} limits need one value per joint ({self.n_joints}), "
+                             f"got shape {arr.shape}")
         return arr
 
     @property

@@ -74,7 +74,8 @@ def check_rotation(r: object, tol: float = CHECK_TOL) -> np.ndarray:
         code = int(status.ravel()[i])
         why = {
             lib.ROT_NOT_FINITE: "an entry is not a finite number",
-            lib.ROT_NOT_ORTHONORMAL: f"R R^T differs from I by {deviation.ravel()[i]:.3g} (tolerance {tol:g})",
+            lib.ROT_NOT_ORTHONORMAL: f"R R^T differs from I by {deviation.ravel()[i]:.3g} "
+            f"(tolerance {tol:g})",
             lib.ROT_REFLECTION: "det = -1 (a reflection)",
         }[code]
         raise RotationError(f"not a rotation matrix{where}: {why}")
