@@ -15,6 +15,7 @@ from collections.abc import Sequence
 COMMANDS = [
     "crslab.cli.kinematics_commands",
     "crslab.cli.sim_commands",
+    "crslab.cli.traj_commands",
 ]
 
 

@@ -1,0 +1,87 @@
+"""``crslab traj`` as a user runs it (a real subprocess, so exit codes and streams are real)."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from crslab import crs
+
+SQUARE = "# four corners\nx_in,y_in,z_in,t_s\n10,0,20,0\n12,-3,16,1.5\n12,3,16,2.5\n10,0,20,4\n"
+
+
+def crslab(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "crslab", *map(str, args)], capture_output=True, text=True,
+                          timeout=120, cwd=cwd)
+
+
+def test_traj_writes_a_1khz_csv_and_a_png(tmp_path):
+    pts = tmp_path / "pts.csv"
+    pts.write_text(SQUARE)
+    out, png = tmp_path / "traj.csv", tmp_path / "traj.png"
+    r = crslab("traj", "crs", "--waypoints", pts, "--profile", "li", "-o", out, "--plot", png)
+    assert r.returncode == 0, r.stderr
+    assert r.stderr == ""
+    header = out.read_text().splitlines()[0].split(",")
+    assert header == ["t_s", "q1_rad", "q2_rad", "q3_rad", "qd1_rad_s", "qd2_rad_s", "qd3_rad_s",
+                      "qdd1_rad_s2", "qdd2_rad_s2", "qdd3_rad_s2", "jerk1_rad_s3", "jerk2_rad_s3",
+                      "jerk3_rad_s3"]
+    table = np.loadtxt(out, delimiter=",", skiprows=1)
+    t, q, qd, qdd, jerk = table[:, 0], table[:, 1:4], table[:, 4:7], table[:, 7:10], table[:, 10:13]
+    np.testing.assert_array_equal(t, np.arange(4001) / 1000)  # 0 to 4 s, every millisecond
+    # at each row's time the arm is at rest on that row's point (FK of the written angles)
+    rows = [0, 1500, 2500, 4000]
+    np.testing.assert_allclose(crs.fk(q[rows]), [[10, 0, 20], [12, -3, 16], [12, 3, 16], [10, 0, 20]],
+                               atol=1e-9)
+    assert np.abs(qd[rows]).max() < 1e-9 and np.abs(qdd[rows]).max() < 1e-6
+    assert np.abs(jerk[rows]).max() < 1e-3  # Li: zero jerk at both ends of every segment
+    # the written columns are each other's derivatives (central differences at 1 ms)
+    np.testing.assert_allclose((q[2:] - q[:-2]) / 0.002, qd[1:-1], atol=2e-5)
+    np.testing.assert_allclose((qd[2:] - qd[:-2]) / 0.002, qdd[1:-1], atol=2e-3)
+    png_bytes = png.read_bytes()
+    assert png_bytes[:8] == b"\x89PNG\r\n\x1a\n" and len(png_bytes) > 20_000
+    assert "li profile through 4 waypoints" in r.stdout and "4001 rows at 1000 Hz" in r.stdout
+
+
+@pytest.mark.parametrize("profile", ["quintic", "cubic", "trapezoid"])
+def test_every_profile_reaches_the_points(tmp_path, profile):
+    pts = tmp_path / "pts.csv"
+    pts.write_text("x_in,y_in,z_in\n10,0,20\n12,-3,16\n")
+    out = tmp_path / "t.csv"
+    r = crslab("traj", "crs", "--waypoints", pts, "--profile", profile, "-o", out, "--vmax", "0.5")
+    assert r.returncode == 0, r.stderr
+    table = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(crs.fk(table[-1, 1:4]), [12, -3, 16], atol=1e-9)
+    assert np.abs(table[:, 4:7]).max() <= 0.5 * (1 + 1e-9)  # the speed limit holds
+
+
+def test_an_unreachable_row_is_one_line_naming_file_and_line_with_status_2(tmp_path):
+    pts = tmp_path / "pts.csv"
+    pts.write_text("x_in,y_in,z_in\n10,0,20\n12,0,16\n0,0,31\n")
+    r = crslab("traj", "crs", "--waypoints", "pts.csv", "-o", "out.csv", cwd=tmp_path)
+    assert r.returncode == 2
+    assert r.stdout == ""
+    assert r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
+    assert r.stderr.startswith("crslab traj: pts.csv line 4: waypoint (0, 0, 31) in is out of reach")
+    assert not (tmp_path / "out.csv").exists()
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--waypoints", "nope.csv", "-o", "o.csv"], "nope.csv: no such file"),
+    (["--waypoints", "pts.csv", "-o", "o.csv", "--vmax", "-1"], "--vmax must be a finite number >= 0"),
+    (["--waypoints", "pts.csv", "-o", "o.csv", "--vmax", "0"], "give a duration or a speed limit"),
+    (["--waypoints", "pts.csv", "-o", "no/such/dir/o.csv"], "cannot write no/such/dir/o.csv"),
+    (["--waypoints", "pts.csv", "-o", "o.csv", "--profile", "sine"], "invalid choice: 'sine'"),
+])
+def test_user_errors_are_one_line_with_status_2(tmp_path, args, words):
+    (tmp_path / "pts.csv").write_text("x_in,y_in,z_in\n10,0,20\n12,0,16\n")
+    r = crslab("traj", "crs", *args, cwd=tmp_path)
+    assert r.returncode == 2
+    assert r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
+    assert words in r.stderr
+
+
+def test_an_unknown_robot_is_a_usage_error(tmp_path):
+    r = crslab("traj", "puma", "--waypoints", "p.csv", "-o", "o.csv", cwd=tmp_path)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "invalid choice: 'puma'" in r.stderr
