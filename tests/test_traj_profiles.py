@@ -2,6 +2,8 @@
 numpy re-implementations written here from the formulas, and against their own invariants."""
 
 import math
+import subprocess
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -270,3 +272,46 @@ def test_random_moves_meet_the_references_and_their_limits(kind, q0, L, T, cap):
     assert steps.min() >= -1e-12 * scale  # every profile moves one way only
     if vmax is not None:
         assert np.abs(s.qd).max() <= vmax * (1 + 1e-9)
+
+
+# ---- a lab file can use the profiles ----
+
+LAB_USING_PROFILES = r"""
+#include <tistdtypes.h>
+#include <coecsl.h>
+#include "user_includes.h"
+#include "math.h"
+#include "traj_profiles.h"
+
+float offset_Enc2_rad = -0.37;
+float offset_Enc3_rad = 0.27;
+long mycount = 0;
+static traj_profile move[3];
+float qdes1 = 0;
+
+void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2, float *tau3,
+         int error)
+{
+    const double q0[3] = {theta1motor, theta2motor, theta3motor}, qf[3] = {0.5, 0.3, 0.2};
+    if (mycount == 0) traj_plan_synchronized(move, 3, TRAJ_LI, q0, qf, 2.0, NULL, NULL, NULL);
+    traj_sample d = traj_eval(&move[0], mycount * 0.001);
+    qdes1 = d.q_rad;
+    *tau1 = 0; *tau2 = 0; *tau3 = 0;
+    (void)error;
+    mycount++;
+}
+
+void printing(void) { serial_printf(&SerialA, "%.3f\n\r", qdes1); }
+"""
+
+
+def test_a_gen_a_lab_file_can_include_the_profiles_header(tmp_path):
+    """What the tracking lab will do: include traj_profiles.h beside the framework's headers
+    (compiled here for syntax and types only, as C11 with every warning an error)."""
+    root = Path(__file__).resolve().parents[1]
+    src = tmp_path / "lab_traj.c"
+    src.write_text(LAB_USING_PROFILES)
+    r = subprocess.run(["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-fsyntax-only",
+                        "-I", str(root / "csrc" / "board" / "include"), "-I", str(root / "csrc" / "kin"),
+                        str(src)], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
