@@ -2,4 +2,5 @@
 
 from crslab.cli import main
 
-raise SystemExit(main())
+if __name__ == "__main__":  # guarded: a spawned worker process imports this module
+    raise SystemExit(main())

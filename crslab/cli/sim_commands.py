@@ -13,13 +13,15 @@ from crslab.lab.build import LabBuildError
 from crslab.scenario.events import seconds_to_tick
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
-from crslab.sim.session import DEFAULT_DEADLINE_S, RunResult, SimError, Simulation
+from crslab.sim.session import DEFAULT_DEADLINE_S, Limits, RunResult, SimError, Simulation
 from crslab.sim.sinks import Sink, StdoutSink, TranscriptSink
 
 # exit statuses (also in the README)
-EXIT_OK, EXIT_BAD_INPUT, EXIT_CRASHED, EXIT_HUNG, EXIT_NAN, EXIT_INTERRUPTED = 0, 2, 3, 4, 5, 130
+EXIT_OK, EXIT_BAD_INPUT, EXIT_CRASHED, EXIT_HUNG, EXIT_NAN, EXIT_OUTPUT = 0, 2, 3, 4, 5, 6
+EXIT_INTERRUPTED = 130
 STATUS_EXIT = {"ok": EXIT_OK, "crashed": EXIT_CRASHED, "exited": EXIT_CRASHED, "hung": EXIT_HUNG,
-               "nan": EXIT_NAN, "interrupted": EXIT_INTERRUPTED}
+               "nan": EXIT_NAN, "output-limit": EXIT_OUTPUT, "interrupted": EXIT_INTERRUPTED}
+NEAR_BUDGET = 0.8  # warn when a lab() call took this share of the budget
 
 
 def positive(text: str) -> float:
@@ -51,6 +53,17 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--strict", action="store_true", help="a NaN or Inf torque ends the run with an error")
     p.add_argument("--sanitize", action="store_true",
                    help="build the lab with AddressSanitizer and UBSan and report memory errors")
+    p.add_argument("--max-output-mb", type=positive, default=16.0, metavar="MB",
+                   help="cut the run off when the lab has printed this much (default: %(default)g)")
+    p.add_argument("--mem-limit-mb", type=int, metavar="MB", help="memory limit of the lab's process")
+    p.add_argument("--cpu-limit", type=positive, metavar="SECONDS",
+                   help="CPU-time limit of the lab's process")
+
+
+def limits_from_args(args: argparse.Namespace) -> Limits:
+    """The worker limits the run options ask for."""
+    return Limits(memory_mb=args.mem_limit_mb, cpu_s=args.cpu_limit,
+                  output_bytes=int(args.max_output_mb * 1e6))
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -109,6 +122,25 @@ def summary(result: RunResult, wall_s: float, budget_us: float) -> dict:
     }
 
 
+def summary_line(info: dict) -> str:
+    """The end-of-run summary in one line.
+
+    >>> summary_line({"simulated_s": 25.0, "wall_s": 0.5, "lab_calls": 10, "lab_us_mean": 0.12,
+    ...               "lab_us_max": 3.4, "lab_max_tick": 4100, "over_budget": 2,
+    ...               "over_budget_ticks": [5000, 6000], "budget_us": 1000.0})
+    '25.000 s simulated in 0.50 s; lab() x10: mean 0.1 us, max 3.4 us (tick 4100); 2 over the 1000 us ...'
+
+    """
+    line = f"{info['simulated_s']:.3f} s simulated in {info['wall_s']:.2f} s"
+    if info["lab_calls"]:
+        line += (f"; lab() x{info['lab_calls']}: mean {info['lab_us_mean']:.1f} us, "
+                 f"max {info['lab_us_max']:.1f} us (tick {info['lab_max_tick']}); "
+                 f"{info['over_budget']} over the {info['budget_us']:g} us budget")
+        if info["over_budget"]:
+            line += f" (ticks {', '.join(map(str, info['over_budget_ticks']))})"
+    return line
+
+
 def notices(lab_name: str, stats: dict, limit: int) -> list[str]:
     """One-line warnings about the run (printed on stderr)."""
     out = []
@@ -147,7 +179,7 @@ def run_sim(args: argparse.Namespace) -> int:
 
     start = time.monotonic()
     try:
-        with Simulation(config, deadline_s=args.deadline) as sim:
+        with Simulation(config, deadline_s=args.deadline, limits=limits_from_args(args)) as sim:
             if not sim.symbols & 1:
                 raise CliError(f"{lab_name} defines no lab() function")
             result = sim.run(end_tick, speed=None if args.fast else args.speed, on_serial=on_serial,
@@ -165,6 +197,11 @@ def run_sim(args: argparse.Namespace) -> int:
     info = summary(result, wall, args.budget_us)
     if args.json:
         print(json.dumps(info), file=sys.stderr)
+    else:
+        print(f"crslab sim: {summary_line(info)}", file=sys.stderr)
+    if info["over_budget"] == 0 and info["lab_us_max"] > NEAR_BUDGET * args.budget_us:
+        print(f"crslab sim: warning: {lab_name}'s slowest lab() call took {info['lab_us_max']:.0f} us, "
+              f"close to the {args.budget_us:g} us budget", file=sys.stderr)
     if result.message:
         print(f"crslab sim: {result.message}", file=sys.stderr)
     elif result.status == "nan":

@@ -18,7 +18,7 @@ from crslab.plant.params import REST_MOTOR_RAD
 from crslab.scenario.events import seconds_to_tick
 from crslab.scenario.load import Scenario, load_scenario
 from crslab.sim.config import STARTUP_TICKS, SimConfig
-from crslab.sim.session import DEFAULT_DEADLINE_S, RunResult, Simulation
+from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, RunResult, Simulation
 from crslab.sim.sinks import MemorySink, Sink
 
 DEFAULT_REST_MOTOR_RAD = REST_MOTOR_RAD
@@ -75,6 +75,7 @@ def simulate(
     duration_s: float | None = None,
     speed: float | None = None,
     deadline_s: float = DEFAULT_DEADLINE_S,
+    limits: Limits = NO_LIMITS,
     sinks: Sequence[Sink] = (),
     **options: object,
 ) -> SimRun:
@@ -96,6 +97,6 @@ def simulate(
         for s in every:
             s.on_log(cols)
 
-    with Simulation(config, deadline_s=deadline_s) as sim:
+    with Simulation(config, deadline_s=deadline_s, limits=limits) as sim:
         result = sim.run(end_tick, speed=speed, on_serial=on_serial, on_log=on_log)
     return SimRun(result=result, calls=memory.calls, log=memory.log)

@@ -9,14 +9,19 @@ any speed.
 from __future__ import annotations
 
 import ctypes
+import faulthandler
 import multiprocessing as mp
 import os
+import re
+import resource
 import signal
+import subprocess
 import sys
 import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -29,8 +34,43 @@ LogSink = Callable[[dict[str, np.ndarray]], None]
 PHASE_WHERE = {0: "between ticks", 1: "in lab()", 2: "in printing()", 3: "in the physics step"}
 DEFAULT_DEADLINE_S = 2.0
 READY_TIMEOUT_S = 60.0
+SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
 REALTIME_SLICE_TICKS = 20
 FAST_SLICE_TICKS = 20_000
+
+
+def _asan_runtime() -> str:
+    """Path of gcc's AddressSanitizer runtime, to preload into the sanitized worker."""
+    out = subprocess.run(["gcc", "-print-file-name=libasan.so"], capture_output=True, text=True, check=True)
+    return out.stdout.strip()
+
+
+_ASAN = re.compile(r"ERROR: AddressSanitizer: ([\w-]+)")
+_ASAN_ACCESS = re.compile(r"^(READ|WRITE) of size (\d+)", re.MULTILINE)
+_FRAME = re.compile(r"#\d+ 0x[0-9a-f]+ in (\w+) (\S+?):(\d+)")
+_UBSAN = re.compile(r"^(\S+?):(\d+):\d+: runtime error: (.+)$", re.MULTILINE)
+
+
+def summarize_sanitizer_report(text: str, lab_file: str) -> str | None:
+    """One phrase for the first AddressSanitizer or UBSan finding in ``lab_file``.
+
+    >>> summarize_sanitizer_report(
+    ...     "==1==ERROR: AddressSanitizer: global-buffer-overflow on address 0x1\\n"
+    ...     "WRITE of size 4 at 0x1 thread T0\\n    #0 0x7f in lab /x/mylab.c:31\\n", "mylab.c")
+    'AddressSanitizer: global-buffer-overflow (WRITE of size 4) at mylab.c:31 in lab()'
+    """
+    m = _ASAN.search(text)
+    if m:
+        access = _ASAN_ACCESS.search(text)
+        what = f" ({access.group(1)} of size {access.group(2)})" if access else ""
+        frames = _FRAME.findall(text)
+        mine = [f for f in frames if Path(f[1]).name == lab_file] or frames
+        where = f" at {Path(mine[0][1]).name}:{mine[0][2]} in {mine[0][0]}()" if mine else ""
+        return f"AddressSanitizer: {m.group(1)}{what}{where}"
+    u = _UBSAN.search(text)
+    if u:
+        return f"UBSan: {u.group(3)} at {Path(u.group(1)).name}:{u.group(2)}"
+    return None
 
 
 class SimError(Exception):
@@ -39,7 +79,7 @@ class SimError(Exception):
 
 @dataclass
 class RunResult:
-    """How a run ended: ``status`` is ok, crashed, exited, hung, nan or interrupted."""
+    """How a run ended: ``status`` is ok, crashed, exited, hung, nan, output-limit or interrupted."""
 
     status: str
     end_tick: int
@@ -52,12 +92,36 @@ class RunResult:
         return self.status == "ok"
 
 
-def _child(conn: object, config: SimConfig, shared_path: str) -> None:
+@dataclass(frozen=True)
+class Limits:
+    """What one run may use: worker memory and CPU time (None: no limit), printed bytes."""
+
+    memory_mb: int | None = None
+    cpu_s: float | None = None
+    output_bytes: int = 16 * 1024 * 1024
+
+
+NO_LIMITS = Limits()
+
+
+def _child(conn: object, config: SimConfig, shared_path: str, limits: Limits = NO_LIMITS) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
+    faulthandler.disable()  # a crash is diagnosed by the crslab process, not dumped here
     try:  # die with the crslab process, whatever kills it
         ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):
         pass
+    report = os.environ.pop(SANITIZER_REPORT_ENV, None)
+    if report:  # the sanitizers write to stderr: keep it for the crslab process to read
+        fd = os.open(report, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+        os.dup2(fd, 2)
+        os.close(fd)
+    if limits.memory_mb is not None:
+        size = limits.memory_mb * 1024 * 1024
+        resource.setrlimit(resource.RLIMIT_AS, (size, size))
+    if limits.cpu_s is not None:
+        cpu = int(limits.cpu_s) + 1
+        resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
     from crslab.sim.worker import serve
 
     serve(conn, config, shared_path)  # type: ignore[arg-type]
@@ -67,9 +131,12 @@ def _child(conn: object, config: SimConfig, shared_path: str) -> None:
 class Simulation:
     """A running lab: ``with Simulation(config) as sim: sim.run(end_tick, ...)``."""
 
-    def __init__(self, config: SimConfig, *, deadline_s: float = DEFAULT_DEADLINE_S) -> None:
+    def __init__(self, config: SimConfig, *, deadline_s: float = DEFAULT_DEADLINE_S,
+                 limits: Limits = NO_LIMITS) -> None:
         self.config = config
         self.deadline_s = deadline_s
+        self.limits = limits
+        self.sanitizer_dir: str | None = None
         self.lab_name = config.build.source.name
         self.ffi = board_ffi()
         shm_dir = "/dev/shm" if os.path.isdir("/dev/shm") else None
@@ -85,10 +152,33 @@ class Simulation:
         self.symbols = 0
         sys.stdout.flush()
         sys.stderr.flush()
-        ctx = mp.get_context("fork")
-        self._conn, child_conn = ctx.Pipe()
-        self.process = ctx.Process(target=_child, args=(child_conn, config, self.shared_path), daemon=True)
-        self.process.start()
+        if config.build.sanitized:
+            # the sanitizer runtime must be loaded first: a fresh interpreter with it preloaded
+            ctx = mp.get_context("spawn")
+            self.sanitizer_dir = tempfile.mkdtemp(prefix="crslab-sanitize-")
+            env = {
+                "LD_PRELOAD": _asan_runtime(),
+                "ASAN_OPTIONS": "detect_leaks=0:halt_on_error=1",
+                "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1",
+                SANITIZER_REPORT_ENV: os.path.join(self.sanitizer_dir, "report.txt"),
+            }
+            limits = Limits(None, limits.cpu_s, limits.output_bytes)  # ASan reserves terabytes
+        else:
+            ctx = mp.get_context("fork")
+            env = {}
+        saved = {k: os.environ.get(k) for k in env}
+        os.environ.update(env)
+        try:
+            self._conn, child_conn = ctx.Pipe()
+            self.process = ctx.Process(target=_child, args=(child_conn, config, self.shared_path, limits),
+                                       daemon=True)
+            self.process.start()
+        finally:
+            for k, v in saved.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
         child_conn.close()
         reply = self._wait_reply(READY_TIMEOUT_S, during_setup=True)
         if isinstance(reply, RunResult):
@@ -122,6 +212,10 @@ class Simulation:
             os.unlink(self.shared_path)
         except FileNotFoundError:
             pass
+        if self.sanitizer_dir:
+            for p in Path(self.sanitizer_dir).glob("*"):
+                p.unlink()
+            os.rmdir(self.sanitizer_dir)
 
     # -- serial ------------------------------------------------------------------------------
     def drain_serial(self, sink: SerialSink | None) -> None:
@@ -161,10 +255,28 @@ class Simulation:
         tick = int(self.shared.tick)
         where = PHASE_WHERE.get(int(self.shared.phase), "")
         at = f"at tick {tick} (t = {tick / 1000:.3f} s)"
+        report = self._sanitizer_report()
+        if report is not None:
+            where = "" if report.endswith("()") else f" {where}"
+            return RunResult("crashed", tick, f"{self.lab_name}: {report}{where} {at}", self.stats)
+        if code == -signal.SIGXCPU:
+            return RunResult("crashed", tick, f"{self.lab_name} used up its CPU-time limit "
+                             f"({self.limits.cpu_s:g} s) {where} {at}", self.stats)
         if code is not None and code < 0:
             name = signal.Signals(-code).name
             return RunResult("crashed", tick, f"{self.lab_name} crashed ({name}) {where} {at}", self.stats)
         return RunResult("exited", tick, f"{self.lab_name} called exit({code}) {where} {at}", self.stats)
+
+    def _sanitizer_report(self) -> str | None:
+        """The first sanitizer finding, as one phrase naming the user's file and line."""
+        if not self.sanitizer_dir:
+            return None
+        for path in sorted(Path(self.sanitizer_dir).glob("report.txt")):
+            text = path.read_text(errors="replace")
+            found = summarize_sanitizer_report(text, self.config.build.source.name)
+            if found:
+                return found
+        return None
 
     def _wait_reply(self, timeout_s: float | None, during_setup: bool = False) -> tuple | RunResult:
         start = time.monotonic()
@@ -210,6 +322,16 @@ class Simulation:
         """Run to ``end_tick``; ``speed`` None is as fast as possible, else x real time."""
         wall0, tick0 = time.monotonic(), self.tick
         warned = False
+        printed = 0
+        cap = self.limits.output_bytes
+
+        def counted(tick: int, data: bytes) -> None:
+            nonlocal printed
+            keep = data[: max(0, cap - printed)]
+            printed += len(data)
+            if keep and on_serial is not None:
+                on_serial(tick, keep)
+
         try:
             while self.tick < end_tick:
                 step = FAST_SLICE_TICKS if speed is None else max(1, int(REALTIME_SLICE_TICKS * speed))
@@ -217,10 +339,15 @@ class Simulation:
                 self._conn.send(("run", target))
                 reply = self._wait_reply(None)
                 if isinstance(reply, RunResult):
-                    self.drain_serial(on_serial)
+                    self.drain_serial(counted)
                     return reply
                 _, code, self.tick, self.stats, log = reply
-                self.drain_serial(on_serial)
+                self.drain_serial(counted)
+                if printed > cap:
+                    return RunResult(
+                        "output-limit", self.tick,
+                        f"{self.lab_name} printed more than {cap / 1e6:g} MB; the run was cut off at tick "
+                        f"{self.tick} (t = {self.tick / 1000:.3f} s)", self.stats)
                 if log is not None and on_log is not None:
                     on_log(log)
                 if code == 3:  # CRS_RUN_NAN_STRICT
@@ -237,7 +364,7 @@ class Simulation:
         except KeyboardInterrupt:
             self.process.kill()
             self.process.join()
-            self.drain_serial(on_serial)
+            self.drain_serial(counted)
             tick = int(self.shared.tick)
             return RunResult("interrupted", tick, f"interrupted at t = {tick / 1000:.3f} s", self.stats)
         return RunResult("ok", self.tick, "", self.stats)

@@ -16,6 +16,7 @@ void crs_sim_init(crs_sim *sim)
     sim->generation = 1;
     sim->startup_ticks = 4100;
     sim->budget_ns = 1000000;
+    sim->time_lab = 1;
     sim->serial_line_limit = 2048;
     sim->nan_first_tick = -1;
     sim->long_line_tick = -1;
@@ -26,13 +27,19 @@ void crs_sim_init(crs_sim *sim)
 static void call_lab(crs_sim *sim)
 {
     crs_shared *sh = sim->shared;
+    sim->lab_calls++;
+    if (!sim->time_lab) {
+        sh->phase = CRS_PHASE_LAB;
+        lab((float)sim->enc_rad[0], (float)sim->enc_rad[1], (float)sim->enc_rad[2], &sim->tau[0],
+            &sim->tau[1], &sim->tau[2], sim->safety_flag);
+        return;
+    }
     const int64_t t0 = crs_now_ns();
     sh->phase_start_ns = t0;
     sh->phase = CRS_PHASE_LAB;
     lab((float)sim->enc_rad[0], (float)sim->enc_rad[1], (float)sim->enc_rad[2], &sim->tau[0],
         &sim->tau[1], &sim->tau[2], sim->safety_flag);
     const int64_t dt = crs_now_ns() - t0;
-    sim->lab_calls++;
     sim->lab_ns_total += dt;
     if (dt > sim->lab_ns_max) {
         sim->lab_ns_max = dt;

@@ -94,7 +94,7 @@ typedef struct {
     double rest_motor_rad[3];    /* true resting pose the encoders were zeroed at */
     int64_t budget_ns;           /* lab() time budget for the overrun count */
     uint32_t serial_line_limit;  /* real serial buffer of this generation, bytes */
-    int32_t pad;
+    int32_t time_lab;            /* 1: time every lab() call (and let a hang be seen); 0: don't */
 
     /* framework state */
     int64_t tick;                /* next tick to run */
