@@ -16,6 +16,7 @@ COMMANDS = [
     "crslab.cli.kinematics_commands",
     "crslab.cli.sim_commands",
     "crslab.cli.traj_commands",
+    "crslab.cli.toolbox_commands",
 ]
 
 
