@@ -10,19 +10,31 @@ from crslab.sim.board_ffi import board_ffi, shared_size
 from crslab.sim.config import SimConfig
 
 
-def run_in_process(config: SimConfig, end_tick: int, *, chunk_ticks: int = 20_000) -> bytes:
-    """Run ``config`` to ``end_tick`` in this process; returns the serial bytes."""
-    from crslab.sim.worker import Worker
+class InProcessRun:
+    """The worker's plant, board and lab, set up in this process."""
 
-    shared = mmap.mmap(-1, shared_size())
-    worker = Worker(config, shared)
-    worker.sim.time_lab = 0
-    ffi = board_ffi()
-    sh = ffi.cast("crs_shared *", ffi.from_buffer(shared))
-    out = bytearray()
-    while worker.sim.tick < end_tick:
-        worker.run(min(end_tick, worker.sim.tick + chunk_ticks))
-        out += ffi.buffer(sh.serial, sh.serial_len)
-        sh.serial_len = 0
-        sh.mark_count = 0
-    return bytes(out)
+    def __init__(self, config: SimConfig) -> None:
+        from crslab.sim.worker import Worker
+
+        self._shared = mmap.mmap(-1, shared_size())
+        self.worker = Worker(config, self._shared)
+        self.worker.sim.time_lab = 0
+        ffi = board_ffi()
+        self._ffi = ffi
+        self._sh = ffi.cast("crs_shared *", ffi.from_buffer(self._shared))
+
+    def run(self, end_tick: int, chunk_ticks: int = 20_000) -> bytes:
+        """Run to ``end_tick`` in chunks as ``crslab sim --fast`` does; returns the serial bytes."""
+        out = bytearray()
+        sh, worker = self._sh, self.worker
+        while worker.sim.tick < end_tick:
+            worker.run(min(end_tick, worker.sim.tick + chunk_ticks))
+            out += self._ffi.buffer(sh.serial, sh.serial_len)
+            sh.serial_len = 0
+            sh.mark_count = 0
+        return bytes(out)
+
+
+def run_in_process(config: SimConfig, end_tick: int) -> bytes:
+    """Run ``config`` to ``end_tick`` in this process; returns the serial bytes."""
+    return InProcessRun(config).run(end_tick)

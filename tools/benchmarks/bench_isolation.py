@@ -1,0 +1,47 @@
+"""Issue 5: what isolation (the worker process) and lab() timing cost: the same ticks of the
+default lab on the tour, run by ``crslab sim --fast``'s code path and in-process with timing
+off (crslab.sim.inprocess), in one run. Target: isolated at least 0.95 of in-process."""
+
+from __future__ import annotations
+
+import time
+
+from crslab.sim.api import make_config
+from crslab.sim.inprocess import InProcessRun
+from crslab.sim.session import Simulation
+
+REPEATS = 5
+TICKS = 25_000
+
+
+def isolated_rate(config) -> float:
+    with Simulation(config) as sim:
+        t = time.perf_counter()
+        result = sim.run(TICKS, speed=None, on_serial=lambda tick, data: None)
+        dt = time.perf_counter() - t
+    assert result.ok
+    return TICKS / dt
+
+
+def in_process_rate(config) -> float:
+    # the same work, minus the worker; set-up is outside the timed part on both sides
+    runner = InProcessRun(config)
+    t = time.perf_counter()
+    out = runner.run(TICKS)
+    dt = time.perf_counter() - t
+    assert out
+    return TICKS / dt
+
+
+def run() -> list[str]:
+    config = make_config()
+    iso, inp = [], []
+    for _ in range(REPEATS):  # interleaved, best of each
+        iso.append(isolated_rate(config))
+        inp.append(in_process_rate(config))
+    a, b = max(iso), max(inp)
+    return [
+        f"isolated worker + lab() timing: {a:,.0f} ticks/s",
+        f"in-process, no timing:          {b:,.0f} ticks/s",
+        f"ratio {a / b:.3f} (target >= 0.95)",
+    ]
