@@ -1,12 +1,23 @@
 """The kinds of scenario event. Each is a frozen dataclass with the tick it happens at (integer
-ms) and a ``kind`` name used in TOML files; the worker applies it between ticks.
+ms), a ``kind`` name used in TOML files and the scenario-file ``line`` it came from (0 when made
+in Python); the worker applies it between ticks (:func:`crslab.scenario.apply.apply_event`).
 
-Times in scenario files are simulated seconds; they are converted once, here, to ticks.
+Times in scenario files are simulated seconds; they are converted once, here, to ticks. Joints
+are numbered 1..3 as in the course (``joints`` fields hold those numbers).
+
+>>> SetVariable(tick=6000, name="whattoprint", value=1.0).kind
+'set'
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+SIMULINK_INPUTS = 7
+"""Simulink sends the board seven int16 values (crs-facts 1)."""
+INT16_MIN, INT16_MAX = -32768, 32767
+WRIST_ESTOP_RAD = 0.11
+"""The framework latches every output to zero when the wrist turns more than this (crs-facts 2.7)."""
 
 
 def seconds_to_tick(seconds: float) -> int:
@@ -29,6 +40,7 @@ class HandMove:
     target_dh_rad: tuple[float, float, float] | None
     duration_ticks: int
     kind: str = "hand"
+    line: int = field(default=0, compare=False)
 
 
 @dataclass(frozen=True)
@@ -37,6 +49,110 @@ class HandRelease:
 
     tick: int
     kind: str = "release"
+    line: int = field(default=0, compare=False)
 
 
-Event = HandMove | HandRelease
+@dataclass(frozen=True)
+class SetVariable:
+    """Write ``value`` to the lab's watched variable ``name`` (element ``index`` of an array), as
+    the course's ``ME446_serialwrite`` does while the DSP runs. Integer variables get the value
+    rounded."""
+
+    tick: int
+    name: str
+    value: float
+    index: int | None = None
+    kind: str = "set"
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class SimulinkInput:
+    """Simulink sends values down: ``values`` holds ``(input, value)`` pairs, input 1..7, value an
+    int16. The lab sees them in ``int SIMU_Var1_fromSIMU_16bit`` .. ``SIMU_Var7_fromSIMU_16bit``
+    (declared ``extern`` in the lab file); inputs not named keep their value."""
+
+    tick: int
+    values: tuple[tuple[int, int], ...]
+    kind: str = "simulink"
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class EndMass:
+    """Carry ``kg`` at the end effector from now on (0 removes it; the course's is 1.54 kg)."""
+
+    tick: int
+    kg: float
+    kind: str = "end_mass"
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class FrictionScale:
+    """Scale the model's friction (frictionloss and damping of every joint and of the forearm
+    tendon) to ``scale`` times the identified values (absolute, not cumulative)."""
+
+    tick: int
+    scale: float
+    kind: str = "friction"
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class EncoderNoise:
+    """Gaussian encoder noise from now on: standard deviation ``counts`` per joint (0: none),
+    drawn from a generator seeded with ``rng_state`` (derived from the scenario's seed)."""
+
+    tick: int
+    counts: tuple[float, float, float]
+    rng_state: int
+    kind: str = "noise"
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class EncoderGlitch:
+    """For this one tick the encoders read ``counts`` more than the truth (per joint)."""
+
+    tick: int
+    counts: tuple[int, int, int]
+    kind: str = "glitch"
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class StuckEncoder:
+    """The encoders of ``joints`` freeze at their last reading (``stuck`` False frees them)."""
+
+    tick: int
+    joints: tuple[int, ...]
+    stuck: bool = True
+    kind: str = "stuck_encoder"
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class DeadMotor:
+    """The amplifiers of ``joints`` output nothing (``dead`` False brings them back)."""
+
+    tick: int
+    joints: tuple[int, ...]
+    dead: bool = True
+    kind: str = "dead_motor"
+    line: int = field(default=0, compare=False)
+
+
+@dataclass(frozen=True)
+class WristEstop:
+    """Someone turns the wrist by ``wrist_rad``; past 0.11 rad the framework latches every motor
+    output to zero for the rest of the run (the wrist e-stop)."""
+
+    tick: int
+    wrist_rad: float
+    kind: str = "estop"
+    line: int = field(default=0, compare=False)
+
+
+Event = (HandMove | HandRelease | SetVariable | SimulinkInput | EndMass | FrictionScale | EncoderNoise
+         | EncoderGlitch | StuckEncoder | DeadMotor | WristEstop)

@@ -16,7 +16,7 @@ import numpy as np
 from crslab.lab.build import build_lab
 from crslab.plant.params import REST_MOTOR_RAD
 from crslab.scenario.events import seconds_to_tick
-from crslab.scenario.load import Scenario, load_scenario
+from crslab.scenario.load import Scenario, check_lab, load_scenario
 from crslab.sim.config import STARTUP_TICKS, SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, RunResult, Simulation
 from crslab.sim.sinks import MemorySink, Sink
@@ -54,11 +54,17 @@ def make_config(
     budget_us: float = 1000.0,
     sanitize: bool = False,
 ) -> SimConfig:
-    """Build the lab (cached) and load the scenario into one run's configuration."""
+    """Build the lab (cached) and load the scenario into one run's configuration.
+
+    The arm's true resting pose is ``rest_motor_rad``, else the scenario's, else the default.
+    Raises ``ScenarioError`` when the scenario writes a variable the lab does not watch.
+    """
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
-    rest = tuple(float(v) for v in (rest_motor_rad or DEFAULT_REST_MOTOR_RAD))
+    rest = tuple(float(v) for v in (rest_motor_rad or sc.rest_motor_rad or DEFAULT_REST_MOTOR_RAD))
+    build = build_lab(Path(lab) if lab is not None else None, sanitize=sanitize)
+    check_lab(sc, build)
     return SimConfig(
-        build=build_lab(Path(lab) if lab is not None else None, sanitize=sanitize),
+        build=build,
         scenario=sc,
         rest_motor_rad=rest,  # type: ignore[arg-type]
         startup_ticks=STARTUP_TICKS if startup_delay else 0,
