@@ -248,6 +248,11 @@ class Simulation:
         """Write a watched variable (or one array element) of the running lab, between ticks."""
         self._ask(("set", name, index, float(value)))
 
+    def push(self, body_forces: np.ndarray) -> None:
+        """Apply a force and torque to each body (MuJoCo ``xfrc_applied``, world frame, N and N.m)
+        from the next tick on, until the next push: MuJoCo's viewer passes the mouse's drag."""
+        self._ask(("push", np.asarray(body_forces, dtype=float).tolist()))
+
     # -- running -----------------------------------------------------------------------------
     def _diagnose_death(self) -> RunResult:
         self.process.join(1.0)
@@ -318,8 +323,14 @@ class Simulation:
         on_serial: SerialSink | None = None,
         on_log: LogSink | None = None,
         on_behind: Callable[[float], None] | None = None,
+        between: Callable[[], None] | None = None,
     ) -> RunResult:
-        """Run to ``end_tick``; ``speed`` None is as fast as possible, else x real time."""
+        """Run to ``end_tick``; ``speed`` None is as fast as possible, else x real time.
+
+        ``between()`` is called after every chunk of ticks, once its serial bytes and scope rows
+        were handed on: the worker is idle then, so it may call :meth:`get`, :meth:`set` and
+        :meth:`push` (live variables, the viewer's mouse).
+        """
         wall0, tick0 = time.monotonic(), self.tick
         warned = False
         printed = 0
@@ -350,6 +361,8 @@ class Simulation:
                         f"{self.tick} (t = {self.tick / 1000:.3f} s)", self.stats)
                 if log is not None and on_log is not None:
                     on_log(log)
+                if between is not None:
+                    between()
                 if code == 3:  # CRS_RUN_NAN_STRICT
                     return RunResult("nan", self.tick, "", self.stats)
                 if speed is not None:

@@ -1,10 +1,11 @@
 """The worker process: owns the MuJoCo plant and the lab's code, and runs ticks on request.
 
 Messages from the crslab process (tuples): ``("run", until_tick)``, ``("get", name)``,
-``("set", name, index, value)``, ``("stop",)``. Replies: ``("ran", code, tick, stats, log)``
-where ``log`` is None or a dict of numpy columns; ``("value", v)`` or ``("error", message)``. Serial
-bytes never travel through the pipe: the board writes them into the shared block, where the
-crslab process reads them even if this process dies.
+``("set", name, index, value)``, ``("push", body_forces)``, ``("stop",)``. Replies:
+``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of numpy columns;
+``("value", v)`` or ``("error", message)``. Serial bytes never travel through the pipe: the
+board writes them into the shared block, where the crslab process reads them even if this
+process dies.
 """
 
 from __future__ import annotations
@@ -199,8 +200,12 @@ def serve(conn: Connection, config: SimConfig, shared_path: str) -> None:
             try:
                 worker.set_var(msg[1], msg[2], msg[3])
                 conn.send(("value", None))
-            except KeyError as exc:
+            except (KeyError, OverflowError) as exc:
                 conn.send(("error", str(exc.args[0])))
+        elif msg[0] == "push":
+            push = worker.data.xfrc_applied  # MuJoCo's viewer: the mouse's force on each body
+            push[:] = np.asarray(msg[1], dtype=float).reshape(push.shape)
+            conn.send(("value", None))
         elif msg[0] == "stop":
             conn.send(("stopped", worker.stats(), worker.take_log()))
             return
