@@ -55,3 +55,20 @@ def test_bad_option_and_bad_value():
     assert r.returncode == 2 and "--speed" in r.stderr.decode()
     r = crslab("sim", "--scenario", "nowhere")
     assert r.returncode == 2 and one_line(r.stderr).startswith("crslab sim: nowhere: no such scenario")
+
+
+def test_ctrl_c_stops_cleanly_and_keeps_what_was_printed(tmp_path):
+    import signal
+    import time
+
+    t = tmp_path / "t.txt"
+    cmd = [sys.executable, "-m", "crslab", "sim", "--no-startup-delay", "--transcript", str(t)]
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    time.sleep(2.5)  # real time: prints at 0, 0.5, 1.0 ... s
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=30)
+    assert p.returncode == 130
+    assert err.decode().strip().splitlines()[-1].startswith("crslab sim: interrupted at t = ")
+    raw = t.read_bytes()
+    assert raw.count(b"\n\r") >= 6
+    assert out == raw.replace(b"\n\r", b"\n")
