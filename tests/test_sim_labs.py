@@ -1,6 +1,8 @@
 """Lab files in both framework generations' styles, with the quirks of real ones (crs-facts 6),
 compile unmodified and print what they should."""
 
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -58,3 +60,18 @@ def test_build_is_cached_by_content(tmp_path, monkeypatch):
     assert again.shared_object == first.shared_object
     lab.write_text(lab.read_text() + "\n/* edited */\n")
     assert build_lab(lab).shared_object != first.shared_object
+
+
+def test_line_longer_than_the_gen_b_buffer_warns_once(tmp_path):
+    src = (LABS / "gen_b_2024.cpp").read_text().replace(
+        'serial_printf(&SerialA, "%.2f %.2f %.2f   %d\\n\\r",',
+        'serial_printf(&SerialA, "%.2f %.2f %.2f %0140d\\n\\r",')
+    lab = tmp_path / "long_line.c"
+    lab.write_text(src)
+    cmd = [sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(lab), "--duration", "5.2"]
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0
+    warnings = [ln for ln in r.stderr.splitlines() if "serial_printf" in ln]
+    assert warnings == ["crslab sim: warning: long_line.c printed a 160-byte serial_printf at tick 4100; "
+                        "the real board's buffer holds 136 bytes and would overflow"]
+    assert r.stdout.count("\n") == 3  # the line still comes through, three times
