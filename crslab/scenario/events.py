@@ -156,3 +156,44 @@ class WristEstop:
 
 Event = (HandMove | HandRelease | SetVariable | SimulinkInput | EndMass | FrictionScale | EncoderNoise
          | EncoderGlitch | StuckEncoder | DeadMotor | WristEstop)
+
+
+def describe(event: Event) -> str:
+    """What an event does, in a few words (``crslab scenarios FILE`` prints these).
+
+    >>> describe(SetVariable(tick=5000, name="table", value=-7.0, index=2))
+    'set table[2] = -7'
+    >>> describe(WristEstop(tick=9000, wrist_rad=0.05))
+    'estop: wrist turned 0.05 rad (within 0.11: no e-stop)'
+    """
+    import math
+
+    e = event
+    if isinstance(e, HandMove):
+        to = "rest" if e.target_dh_rad is None else (
+            "DH (" + ", ".join(f"{math.degrees(v):.2f}" for v in e.target_dh_rad) + ") deg")
+        return f"hand to {to} over {e.duration_ticks / 1000:g} s"
+    if isinstance(e, HandRelease):
+        return "release"
+    if isinstance(e, SetVariable):
+        where = e.name if e.index is None else f"{e.name}[{e.index}]"
+        return f"set {where} = {e.value:g}"
+    if isinstance(e, SimulinkInput):
+        return "simulink " + ", ".join(f"input {i} = {v}" for i, v in e.values)
+    if isinstance(e, EndMass):
+        return f"end_mass {e.kg:g} kg"
+    if isinstance(e, FrictionScale):
+        return f"friction x{e.scale:g}"
+    if isinstance(e, EncoderNoise):
+        if not any(e.counts):
+            return "noise off"
+        return "noise std " + " ".join(f"{c:g}" for c in e.counts) + " counts"
+    if isinstance(e, EncoderGlitch):
+        return "glitch " + " ".join(str(c) for c in e.counts) + " counts"
+    if isinstance(e, StuckEncoder):
+        return f"stuck_encoder joints {', '.join(map(str, e.joints))} {'stuck' if e.stuck else 'freed'}"
+    if isinstance(e, DeadMotor):
+        return f"dead_motor joints {', '.join(map(str, e.joints))} {'dead' if e.dead else 'back'}"
+    if abs(e.wrist_rad) > WRIST_ESTOP_RAD:
+        return f"estop: wrist turned {e.wrist_rad:g} rad: every output latches to zero"
+    return f"estop: wrist turned {e.wrist_rad:g} rad (within {WRIST_ESTOP_RAD:g}: no e-stop)"

@@ -1,0 +1,260 @@
+"""``crslab record``, ``crslab check`` and ``crslab grade``: golden transcripts and regression.
+
+Exit statuses: 0 match (every submission passes), 1 mismatch, 2 bad input; ``record`` and
+``check`` give ``crslab sim``'s statuses when the lab itself crashes (3), hangs (4), ...
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+import time
+from pathlib import Path
+
+from crslab.cli import CliError
+from crslab.cli.sim_commands import (
+    EXIT_BAD_INPUT,
+    EXIT_CRASHED,
+    STATUS_EXIT,
+    add_run_options,
+    config_from_args,
+    limits_from_args,
+    positive,
+)
+from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
+from crslab.regress.junit import Case, write_junit
+from crslab.regress.runner import NO_LAB_FUNCTION, LabRun, run_header, run_lab
+from crslab.regress.transcript import GoldenError, read_golden, sha256_of, split_lines, write_golden
+from crslab.scenario.events import seconds_to_tick
+from crslab.sim.config import SimConfig
+from crslab.sim.session import SimError
+
+EXIT_MATCH, EXIT_MISMATCH = 0, 1
+
+
+def non_negative(text: str) -> float:
+    """argparse type: a number >= 0."""
+    value = float(text)
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text}")
+    return value
+
+
+def add_tolerance_options(p: argparse.ArgumentParser) -> None:
+    """--abs-tol and --rel-tol."""
+    p.add_argument("--abs-tol", type=non_negative, default=DEFAULT_ABS_TOL, metavar="X",
+                   help="numbers match when they differ by at most this (default: %(default)g, one unit "
+                   "in the last digit of %%.2f)")
+    p.add_argument("--rel-tol", type=non_negative, default=DEFAULT_REL_TOL, metavar="X",
+                   help="... or by at most this fraction of the larger (default: %(default)g)")
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``record``, ``check`` and ``grade`` subcommands."""
+    p = sub.add_parser("record", help="run a lab on a scenario and save its transcript as a golden file",
+                       description="Run a lab file on a scenario as fast as possible and write what it "
+                       "printed, exactly, after a small header naming the lab (and its hash), the "
+                       "scenario and crslab's version.")
+    add_run_options(p)
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="FILE",
+                   help="the golden file to write")
+    p.set_defaults(func=run_record)
+
+    p = sub.add_parser("check", help="run a lab and compare what it prints with a golden file",
+                       description="Run a lab file and compare its transcript with a golden file, line by "
+                       "line: numbers match within the tolerances, all other text exactly. The scenario, "
+                       "duration, resting pose and startup delay default to the golden file's. Exit 0 on "
+                       "a match, 1 on a mismatch, 2 on bad input.")
+    add_run_options(p)
+    p.add_argument("--golden", type=Path, required=True, metavar="FILE",
+                   help="the golden file (from 'crslab record', or a transcript from 'crslab sim')")
+    add_tolerance_options(p)
+    p.add_argument("--junit", type=Path, metavar="FILE", help="also write a JUnit XML report")
+    p.add_argument("--max-report", type=int, default=5, metavar="N",
+                   help="differing lines to show (default: %(default)s)")
+    p.set_defaults(func=run_check)
+
+    p = sub.add_parser("grade", help="grade a folder of lab files against a reference lab",
+                       description="Run every lab file (.c, .cpp) in a folder on a scenario, each in a "
+                       "process of its own and several at once, compare each transcript with the "
+                       "reference lab's, and class each as pass, mismatch, does not compile, crashed "
+                       "or hung. Writes a summary table (stdout and summary.txt), grades.csv, "
+                       "junit.xml, and every transcript and report, into --out.")
+    p.add_argument("submissions", type=Path, metavar="SUBMISSIONS_DIR", help="folder of lab files")
+    p.add_argument("--reference", type=Path, required=True, metavar="FILE", help="the reference lab file")
+    add_run_options(p)
+    for action in p._actions:  # the reference is the lab here
+        if action.dest == "lab":
+            action.help = argparse.SUPPRESS
+    add_tolerance_options(p)
+    p.add_argument("--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
+                   help="where the reports go (default: %(default)s)")
+    p.add_argument("--jobs", type=int, metavar="N", help="submissions run at once (default: every core)")
+    p.add_argument("--timeout", type=positive, default=300.0, metavar="SECONDS",
+                   help="wall-clock time one submission may take in all, building included "
+                   "(default: %(default)g)")
+    p.set_defaults(func=run_grade)
+
+
+def _end_tick(args: argparse.Namespace, config: SimConfig) -> int:
+    return seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
+
+
+def _run(config: SimConfig, args: argparse.Namespace, end_tick: int) -> LabRun:
+    try:
+        run = run_lab(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
+    except SimError as exc:
+        raise CliError(str(exc), status=EXIT_CRASHED) from None
+    if run.status == NO_LAB_FUNCTION:
+        raise CliError(run.run.result.message, status=EXIT_BAD_INPUT)
+    return run
+
+
+def run_record(args: argparse.Namespace) -> int:
+    """``crslab record``."""
+    config = config_from_args(args)
+    end_tick = _end_tick(args, config)
+    run = _run(config, args, end_tick)
+    result = run.run.result
+    if not result.ok:
+        print(f"crslab record: {result.message or result.status}; nothing was written", file=sys.stderr)
+        return STATUS_EXIT.get(result.status, EXIT_CRASHED)
+    try:
+        write_golden(args.output, run_header(config, end_tick, args.scenario), run.run.transcript)
+    except OSError as exc:
+        raise CliError(f"{args.output}: cannot write the golden file ({exc.strerror})") from None
+    lines = len(split_lines(run.run.transcript))
+    print(f"crslab record: {lines} lines ({end_tick / 1000:.3f} s simulated) written to {args.output}",
+          file=sys.stderr)
+    return EXIT_MATCH
+
+
+def _defaults_from_header(args: argparse.Namespace, header: dict[str, str], golden: Path) -> None:
+    """Fill the run options the user left out with the golden file's."""
+    if args.scenario is None and header.get("scenario"):
+        name = header["scenario"]
+        beside = golden.parent / name
+        args.scenario = str(beside) if not Path(name).exists() and beside.is_file() else name
+    if args.duration is None and header.get("end_s"):
+        try:
+            args.duration = float(header["end_s"])
+        except ValueError:
+            raise CliError(f"{golden}: header end_s must be a number of seconds, "
+                           f"got {header['end_s']!r}") from None
+    if not args.no_startup_delay and header.get("startup_delay") == "no":
+        args.no_startup_delay = True
+
+
+def _header_rest(header: dict[str, str], golden: Path) -> tuple[float, float, float] | None:
+    if "rest_motor_rad" not in header:
+        return None
+    try:
+        values = tuple(float(v) for v in header["rest_motor_rad"].split())
+    except ValueError:
+        values = ()
+    if len(values) != 3:
+        raise CliError(f"{golden}: header rest_motor_rad must be three numbers, "
+                       f"got {header['rest_motor_rad']!r}")
+    return values  # type: ignore[return-value]
+
+
+def run_check(args: argparse.Namespace) -> int:
+    """``crslab check``."""
+    try:
+        golden = read_golden(args.golden)
+    except GoldenError as exc:
+        raise CliError(str(exc)) from None
+    if args.max_report < 1:
+        raise CliError(f"--max-report must be at least 1, got {args.max_report}")
+    header = golden.header
+    _defaults_from_header(args, header, args.golden)
+    config = config_from_args(args)
+    rest = _header_rest(header, args.golden)
+    if args.offsets is None and rest is not None and rest != config.rest_motor_rad:
+        config = dataclasses.replace(config, rest_motor_rad=rest)
+    recorded = header.get("scenario_sha256")
+    if recorded and recorded != sha256_of(Path(config.scenario.source).read_bytes()):
+        print(f"crslab check: note: scenario {config.scenario.name} has changed since {args.golden} was "
+              "recorded", file=sys.stderr)
+    end_tick = _end_tick(args, config)
+    start = time.monotonic()
+    run = _run(config, args, end_tick)
+    result = run.run.result
+    comparison = compare(split_lines(golden.body), split_lines(run.run.transcript, run.run.calls),
+                         abs_tol=args.abs_tol, rel_tol=args.rel_tol)
+    report = comparison.report(max_lines=args.max_report)
+    if not result.ok:
+        report = f"{result.message or result.status}\n{report}"
+    print(report)
+    status = STATUS_EXIT.get(result.status, EXIT_CRASHED) if not result.ok else (
+        EXIT_MATCH if comparison.ok else EXIT_MISMATCH)
+    if args.junit:
+        name = f"{config.build.source.name} on {config.scenario.name}"
+        outcome = "pass" if status == EXIT_MATCH else ("failure" if status == EXIT_MISMATCH else "error")
+        message = report.splitlines()[0]
+        try:
+            write_junit(args.junit, "crslab check", [Case(name, "crslab.check", time.monotonic() - start,
+                                                          outcome, message, report)])
+        except OSError as exc:
+            raise CliError(f"{args.junit}: cannot write the JUnit report ({exc.strerror})") from None
+    return status
+
+
+def run_grade(args: argparse.Namespace) -> int:
+    """``crslab grade``."""
+    from crslab.regress import grade as g
+
+    folder: Path = args.submissions
+    if not folder.is_dir():
+        raise CliError(f"{folder}: no such folder of submissions")
+    jobs = args.jobs if args.jobs is not None else g.default_jobs()
+    if jobs < 1:
+        raise CliError(f"--jobs must be at least 1, got {jobs}")
+    args.lab = args.reference
+    config = config_from_args(args)
+    end_tick = _end_tick(args, config)
+    limits = limits_from_args(args)
+    reference_path = args.reference.resolve()
+    subs = [p for p in g.find_submissions(folder) if p.resolve() != reference_path]
+    if not subs:
+        raise CliError(f"{folder}: no lab files (.c, .cpp) to grade")
+    try:
+        for sub_dir in ("transcripts", "reports"):
+            (args.out / sub_dir).mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise CliError(f"{args.out}: cannot write the reports there ({exc.strerror})") from None
+
+    [reference] = g.run_many([args.reference], config, end_tick, jobs=1, deadline_s=args.deadline,
+                             limits=limits, timeout_s=args.timeout)
+    if reference.status != "ok":
+        raise CliError(f"the reference lab did not run: {reference.message or reference.status}")
+    print(f"crslab grade: {len(subs)} submissions against {args.reference.name} on {config.scenario.name} "
+          f"({end_tick / 1000:.3f} s), {jobs} at a time", file=sys.stderr)
+
+    progress = g.Progress(len(subs))
+    grades: dict[Path, g.Grade] = {}
+
+    def on_done(outcome: g.Outcome) -> None:
+        grade = g.grade_outcome(outcome, reference, abs_tol=args.abs_tol, rel_tol=args.rel_tol)
+        grades[outcome.path] = grade
+        progress.update(outcome.path.name, grade.grade)
+
+    g.run_many(subs, config, end_tick, jobs=jobs, deadline_s=args.deadline, limits=limits,
+               timeout_s=args.timeout, on_done=on_done)
+    ordered = [grades[p] for p in subs]
+    out = args.out
+    (out / "transcripts" / f"{args.reference.name}.reference.txt").write_bytes(reference.transcript)
+    for grade in ordered:
+        (out / "transcripts" / f"{grade.path.name}.txt").write_bytes(grade.outcome.transcript)
+        if grade.grade != g.PASS:
+            (out / "reports" / f"{grade.path.name}.txt").write_text(f"{grade.grade}: {grade.detail}\n\n"
+                                                                   f"{grade.report}\n")
+    g.write_csv(out / "grades.csv", ordered)
+    g.write_junit_grades(out / "junit.xml", ordered, f"crslab.grade.{config.scenario.name}")
+    with (out / "summary.txt").open("w") as f:
+        g.summary_table(ordered, f)
+    g.summary_table(ordered, sys.stdout)
+    print(f"crslab grade: reports in {out}/ (summary.txt, grades.csv, junit.xml, transcripts/, reports/)",
+          file=sys.stderr)
+    return EXIT_MATCH if all(x.grade == g.PASS for x in ordered) else EXIT_MISMATCH

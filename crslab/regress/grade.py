@@ -1,0 +1,306 @@
+"""Grade a folder of lab files against a reference lab: every submission is built and run in a
+process of its own (several at once), its transcript compared with the reference's, and the
+outcome classed as pass, mismatch, does not compile, crashed or hung. One broken submission
+never stops the others: its process may crash, hang or be killed, and grading goes on.
+
+>>> classify("ok", matched=True), classify("exited", matched=False), classify("no-lab", matched=False)
+('pass', 'crashed', 'does not compile')
+"""
+
+from __future__ import annotations
+
+import csv
+import ctypes
+import dataclasses
+import multiprocessing as mp
+import os
+import signal
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from multiprocessing.connection import Connection, wait
+from pathlib import Path
+from typing import TextIO
+
+from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, Comparison, compare
+from crslab.regress.junit import Case, write_junit
+from crslab.regress.transcript import split_lines
+from crslab.sim.config import SimConfig
+from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
+
+PASS, MISMATCH, NO_COMPILE, CRASHED, HUNG = "pass", "mismatch", "does not compile", "crashed", "hung"
+CLASSES = (PASS, MISMATCH, NO_COMPILE, CRASHED, HUNG)
+LAB_SUFFIXES = (".c", ".cpp")
+DEFAULT_TIMEOUT_S = 300.0
+_UNFIT = "unfit"  # the scenario writes a variable the submission does not watch
+
+
+def classify(status: str, *, matched: bool) -> str:
+    """The grade of a run that ended with ``status`` (a ``RunResult.status``, ``no-lab``,
+    ``build-error``, ``unfit`` or ``timeout``) and whose transcript did or did not match."""
+    if status == "ok":
+        return PASS if matched else MISMATCH
+    if status in ("build-error", "no-lab"):
+        return NO_COMPILE
+    if status in ("hung", "timeout"):
+        return HUNG
+    if status == _UNFIT:
+        return MISMATCH
+    return CRASHED
+
+
+def find_submissions(folder: Path) -> list[Path]:
+    """The lab files (``.c``, ``.cpp``) directly in ``folder``, by name."""
+    return sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in LAB_SUFFIXES)
+
+
+@dataclass
+class Outcome:
+    """What running one lab file gave (sent back from its process)."""
+
+    path: Path
+    status: str
+    message: str = ""
+    details: str = ""
+    calls: list[tuple[int, bytes]] = field(default_factory=list)
+    seconds: float = 0.0
+
+    @property
+    def transcript(self) -> bytes:
+        """Every byte printed."""
+        return b"".join(d for _, d in self.calls)
+
+
+@dataclass
+class Grade:
+    """One submission's grade."""
+
+    path: Path
+    grade: str
+    detail: str
+    outcome: Outcome
+    comparison: Comparison | None = None
+
+    @property
+    def report(self) -> str:
+        """The full explanation: the mismatch report or the diagnostics."""
+        if self.comparison is not None and not self.comparison.ok:
+            return self.comparison.report(max_lines=10)
+        return "\n".join(x for x in (self.outcome.message, self.outcome.details) if x)
+
+
+def _first_error(diagnostics: str, name: str) -> str:
+    """gcc's first ``error:`` line, naming the file rather than its full path."""
+    for line in diagnostics.splitlines():
+        if "error:" in line:
+            head, _, rest = line.partition(name)
+            return (name + rest) if rest else line.strip()
+    return ""
+
+
+def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, limits: Limits) -> Outcome:
+    """Build ``path`` with ``config``'s flags and run it on ``config``'s scenario (in this process;
+    the lab itself runs in a worker process of its own)."""
+    from crslab.lab.build import LabBuildError, build_lab
+    from crslab.regress.runner import run_lab
+    from crslab.scenario.load import ScenarioError, check_lab
+    from crslab.sim.session import SimError
+
+    start = time.monotonic()
+    try:
+        build = build_lab(path, sanitize=config.build.sanitized)
+    except LabBuildError as exc:
+        first = _first_error(exc.diagnostics, path.name)
+        return Outcome(path, "build-error", first or str(exc), exc.diagnostics,
+                       seconds=time.monotonic() - start)
+    try:
+        check_lab(config.scenario, build)
+    except ScenarioError as exc:
+        return Outcome(path, _UNFIT, str(exc), seconds=time.monotonic() - start)
+    try:
+        run = run_lab(dataclasses.replace(config, build=build), end_tick, deadline_s=deadline_s,
+                      limits=limits)
+    except SimError as exc:
+        return Outcome(path, "crashed", str(exc), seconds=time.monotonic() - start)
+    result = run.run.result
+    return Outcome(path, result.status, result.message, calls=run.run.calls, seconds=time.monotonic() - start)
+
+
+def _child(conn: Connection, path: Path, config: SimConfig, end_tick: int, deadline_s: float,
+           limits: Limits) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the grading process's to handle
+    try:  # die with the grading process
+        ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+    try:
+        outcome = run_one(path, config, end_tick, deadline_s, limits)
+    except Exception as exc:  # noqa: BLE001 - reported as this submission's crash, never raised
+        outcome = Outcome(path, "crashed", f"{path.name}: grading failed: {type(exc).__name__}: {exc}")
+    conn.send(outcome)
+    conn.close()
+
+
+def _context() -> mp.context.BaseContext:
+    # forkserver: each submission's process starts from a clean single-threaded server, which may
+    # then fork the lab's own worker safely
+    if "forkserver" in mp.get_all_start_methods():
+        ctx = mp.get_context("forkserver")
+        ctx.set_forkserver_preload(["crslab.regress.grade", "crslab.regress.runner", "crslab.lab.build"])
+        return ctx
+    return mp.get_context("spawn")
+
+
+def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: int,
+             deadline_s: float = DEFAULT_DEADLINE_S, limits: Limits = NO_LIMITS,
+             timeout_s: float = DEFAULT_TIMEOUT_S,
+             on_done: Callable[[Outcome], None] | None = None) -> list[Outcome]:
+    """Run every lab file in ``paths``, ``jobs`` processes at a time; outcomes in ``paths`` order.
+
+    A process that dies without answering counts as crashed; one that takes longer than
+    ``timeout_s`` in all (building included) is killed and counts as hung.
+    """
+    ctx = _context()
+    pending = list(enumerate(paths))
+    running: dict[Connection, tuple[int, Path, mp.process.BaseProcess, float]] = {}
+    outcomes: dict[int, Outcome] = {}
+
+    def finish(conn: Connection, outcome: Outcome) -> None:
+        index, _, proc, _ = running.pop(conn)
+        conn.close()
+        proc.join(5.0)
+        if proc.is_alive():
+            proc.kill()
+            proc.join()
+        outcomes[index] = outcome
+        if on_done is not None:
+            on_done(outcome)
+
+    try:
+        while pending or running:
+            while pending and len(running) < max(1, jobs):
+                index, path = pending.pop(0)
+                parent, child = ctx.Pipe(duplex=False)
+                proc = ctx.Process(target=_child, args=(child, path, config, end_tick, deadline_s, limits))
+                proc.start()
+                child.close()
+                running[parent] = (index, path, proc, time.monotonic())
+            ready = wait(list(running), timeout=0.2)
+            for conn in ready:
+                _, path, proc, started = running[conn]  # type: ignore[index]
+                try:
+                    outcome = conn.recv()  # type: ignore[union-attr]
+                except (EOFError, OSError):
+                    proc.join(1.0)
+                    outcome = Outcome(path, "crashed", f"{path.name}: its grading process died "
+                                      f"(exit status {proc.exitcode})", seconds=time.monotonic() - started)
+                finish(conn, outcome)  # type: ignore[arg-type]
+            now = time.monotonic()
+            for conn, (_, path, proc, started) in list(running.items()):
+                if now - started > timeout_s:
+                    proc.kill()
+                    finish(conn, Outcome(path, "timeout", f"{path.name} took longer than {timeout_s:g} s "
+                                         "in all and was stopped", seconds=now - started))
+    finally:
+        for conn, (_, _, proc, _) in running.items():
+            proc.kill()
+            proc.join()
+            conn.close()
+    return [outcomes[i] for i in range(len(paths))]
+
+
+def grade_outcome(outcome: Outcome, reference: Outcome, *, abs_tol: float = DEFAULT_ABS_TOL,
+                  rel_tol: float = DEFAULT_REL_TOL) -> Grade:
+    """Grade one submission's outcome against the reference's transcript."""
+    if outcome.status not in ("ok",):
+        grade = classify(outcome.status, matched=False)
+        return Grade(outcome.path, grade, outcome.message.splitlines()[0] if outcome.message else grade,
+                     outcome)
+    comparison = compare(split_lines(reference.transcript, reference.calls),
+                         split_lines(outcome.transcript, outcome.calls), abs_tol=abs_tol, rel_tol=rel_tol)
+    grade = classify("ok", matched=comparison.ok)
+    if comparison.ok:
+        detail = f"{comparison.got_count} lines match"
+    else:
+        first = comparison.diffs[0]
+        when = f" ({first.got.time})" if first.got is not None and first.got.tick is not None else ""
+        detail = f"{len(comparison.diffs)} lines differ; line {first.number}{when}: {first.reason}"
+    return Grade(outcome.path, grade, detail, outcome, comparison)
+
+
+def summary_table(grades: Sequence[Grade], stream: TextIO, *, width: int = 100) -> None:
+    """The table a TA reads: one row per submission, then the counts."""
+    name_w = max([len("submission")] + [len(g.path.name) for g in grades])
+    grade_w = max(len(c) for c in CLASSES)
+    stream.write(f"{'submission':<{name_w}}  {'result':<{grade_w}}  detail\n")
+    for g in grades:
+        detail = g.detail if len(g.detail) <= width else g.detail[:width - 3] + "..."
+        stream.write(f"{g.path.name:<{name_w}}  {g.grade:<{grade_w}}  {detail}\n")
+    stream.write(counts_line(grades) + "\n")
+
+
+def counts_line(grades: Sequence[Grade]) -> str:
+    """``N submissions: a pass, b mismatch, ...``."""
+    counts = ", ".join(f"{sum(g.grade == c for g in grades)} {c}" for c in CLASSES)
+    return f"{len(grades)} submissions: {counts}"
+
+
+def write_csv(path: Path, grades: Sequence[Grade]) -> None:
+    """One row per submission: file, result, detail, lines, first differing line and its time."""
+    with path.open("w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["submission", "result", "detail", "lines", "first_diff_line", "first_diff_t_s",
+                    "seconds"])
+        for g in grades:
+            lines = len(split_lines(g.outcome.transcript))
+            first_line = first_t = ""
+            if g.comparison is not None and g.comparison.diffs:
+                d = g.comparison.diffs[0]
+                first_line = str(d.number)
+                if d.got is not None and d.got.tick is not None:
+                    first_t = f"{d.got.tick / 1000:.3f}"
+            w.writerow([g.path.name, g.grade, g.detail, lines, first_line, first_t,
+                        f"{g.outcome.seconds:.2f}"])
+
+
+def write_junit_grades(path: Path, grades: Sequence[Grade], suite: str) -> None:
+    """A JUnit report: a mismatch is a failure; does not compile, crashed and hung are errors."""
+    cases = []
+    for g in grades:
+        status = {PASS: "pass", MISMATCH: "failure"}.get(g.grade, "error")
+        cases.append(Case(g.path.name, suite, g.outcome.seconds, status, f"{g.grade}: {g.detail}", g.report))
+    write_junit(path, "crslab grade", cases)
+
+
+class Progress:
+    """A progress bar on a terminal (one line per submission otherwise)."""
+
+    def __init__(self, total: int, stream: TextIO | None = None) -> None:
+        self.total, self.done = total, 0
+        self.stream = stream if stream is not None else sys.stderr
+        self.tty = self.stream.isatty()
+        self.start = time.monotonic()
+
+    def update(self, name: str, grade: str) -> None:
+        """One more submission finished."""
+        self.done += 1
+        if self.tty:
+            width = 30
+            filled = width * self.done // max(1, self.total)
+            elapsed = time.monotonic() - self.start
+            self.stream.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} "
+                              f"{elapsed:5.1f} s  {name[:30]:<30} {grade:<16}")
+            if self.done == self.total:
+                self.stream.write("\n")
+        else:
+            self.stream.write(f"[{self.done}/{self.total}] {name}: {grade}\n")
+        self.stream.flush()
+
+
+def default_jobs() -> int:
+    """Every core this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
