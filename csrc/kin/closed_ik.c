@@ -5,6 +5,8 @@
 static const double PI = 3.14159265358979323846;
 /* Relative slack on the reach boundary: a target this close outside still counts as reached. */
 static const double REACH_SLACK = 1e-12;
+/* An angle this close outside a limit (rad) is rounding, and is moved onto the limit. */
+static const double LIMIT_SLACK_RAD = 1e-9;
 
 /* Angle into (-pi, pi]. */
 static double wrap(double a)
@@ -39,6 +41,8 @@ static int fit_limits(const double *lower, const double *upper, double *q)
     int inside = 1;
     for (int j = 0; j < 3; ++j) {
         const double lo = lower ? lower[j] : -INFINITY, hi = upper ? upper[j] : INFINITY;
+        if (q[j] < lo && q[j] >= lo - LIMIT_SLACK_RAD) q[j] = lo;
+        if (q[j] > hi && q[j] <= hi + LIMIT_SLACK_RAD) q[j] = hi;
         if (q[j] >= lo && q[j] <= hi) continue;
         if (q[j] - 2.0 * PI >= lo && q[j] - 2.0 * PI <= hi) {
             q[j] -= 2.0 * PI;

@@ -2,6 +2,23 @@
 
 #include <math.h>
 
+/* |v|, and v / |v| in unit (when |v| > 0), scaled first so that neither the squares nor the
+ * quotient underflow or overflow (tiny angles give tiny, even subnormal, skew parts). */
+static double normalize3(const double v[3], double unit[3])
+{
+    const double m = fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2])));
+    unit[0] = 0.0;
+    unit[1] = 0.0;
+    unit[2] = 0.0;
+    if (!(m > 0.0) || !isfinite(m)) return m;
+    const double x = v[0] / m, y = v[1] / m, z = v[2] / m;
+    const double len = sqrt(x * x + y * y + z * z);
+    unit[0] = x / len;
+    unit[1] = y / len;
+    unit[2] = z / len;
+    return m * len;
+}
+
 rot_status rot_check(const double r[9], double tol, double *deviation)
 {
     double worst = 0.0;
@@ -52,12 +69,13 @@ int rot_matrix_to_euler_zyx(const double r[9], double zyx_rad[3])
 
 rot_status rot_axis_angle_to_matrix(const double axis[3], double angle_rad, double r[9])
 {
-    const double len = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    double n[3];
+    const double len = normalize3(axis, n);
     if (!(len > 0.0) || !isfinite(len) || !isfinite(angle_rad)) {
         for (int i = 0; i < 9; ++i) r[i] = (i % 4 == 0);
         return ROT_ZERO_AXIS;
     }
-    const double x = axis[0] / len, y = axis[1] / len, z = axis[2] / len;
+    const double x = n[0], y = n[1], z = n[2];
     const double c = cos(angle_rad), s = sin(angle_rad), v = 1.0 - c;
     r[0] = c + x * x * v;     r[1] = x * y * v - z * s; r[2] = x * z * v + y * s;
     r[3] = y * x * v + z * s; r[4] = c + y * y * v;     r[5] = y * z * v - x * s;
@@ -69,13 +87,14 @@ void rot_matrix_to_axis_angle(const double r[9], double axis[3], double *angle_r
 {
     /* v = 2 sin(theta) n from the skew part, cos(theta) from the trace */
     const double v[3] = {r[7] - r[5], r[2] - r[6], r[3] - r[1]};
-    const double two_sin = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    double unit[3];
+    const double two_sin = normalize3(v, unit);
     double c = 0.5 * (r[0] + r[4] + r[8] - 1.0);
     c = c > 1.0 ? 1.0 : (c < -1.0 ? -1.0 : c);
     *angle_rad = atan2(0.5 * two_sin, c);
     if (c > -0.5) { /* theta < 120 deg: the skew part is well conditioned */
         if (two_sin > 0.0) {
-            for (int i = 0; i < 3; ++i) axis[i] = v[i] / two_sin;
+            for (int i = 0; i < 3; ++i) axis[i] = unit[i];
         } else {
             axis[0] = 0.0; axis[1] = 0.0; axis[2] = 1.0;
         }
