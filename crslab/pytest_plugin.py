@@ -1,0 +1,110 @@
+"""pytest plugin: check what a lab prints against a golden file, in a student's own repository.
+
+Installed with crslab (a ``pytest11`` entry point), so any test can ask for the
+``crslab_check`` fixture. This lab, this scenario, this golden file::
+
+    def test_lab1_prints_the_tour(crslab_check):
+        crslab_check("lab1.c", scenario="tour", golden="golden/lab1_tour.txt")
+
+Paths are relative to the test file's folder (a scenario is a built-in name or a TOML file).
+The run is compared number-aware, as ``crslab check`` does (``abs_tol``, ``rel_tol``); a
+mismatch fails the test with the report naming the first differing lines, their simulated
+time and the numbers that differ. A lab that crashes or hangs fails it too.
+
+To write the golden files, record once with ``pytest --crslab-record`` (it rewrites every golden
+file the tests name, with a header naming the lab, the scenario and crslab's version) and commit
+them. When a test names no scenario, the golden file's own is used.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    """``--crslab-record``: write the golden files instead of checking against them."""
+    group = parser.getgroup("crslab")
+    group.addoption("--crslab-record", action="store_true", default=False,
+                    help="crslab_check: run each lab and (re)write its golden file instead of comparing")
+
+
+class CrslabCheckFailed(AssertionError):
+    """The lab's transcript does not match its golden file (or the lab did not run)."""
+
+
+def check_lab(lab: str | Path, *, golden: str | Path, scenario: str | None = None, base: Path | None = None,
+              record: bool = False, abs_tol: float | None = None, rel_tol: float | None = None,
+              duration_s: float | None = None, rest_motor_rad: tuple[float, float, float] | None = None,
+              startup_delay: bool = True, deadline_s: float | None = None) -> str:
+    """Run ``lab`` on ``scenario`` and compare with (or, with ``record``, write) ``golden``.
+
+    Returns the one-line verdict; raises :class:`CrslabCheckFailed` with the full report when the
+    transcript differs or the lab does not run, and ``FileNotFoundError`` for a missing golden.
+    """
+    from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
+    from crslab.regress.runner import run_header, run_lab
+    from crslab.regress.transcript import read_golden, split_lines, write_golden
+    from crslab.scenario.events import seconds_to_tick
+    from crslab.sim.api import make_config
+    from crslab.sim.session import DEFAULT_DEADLINE_S
+
+    base = base or Path.cwd()
+    lab_path = base / lab
+    golden_path = base / golden
+    header: dict[str, str] = {}
+    if not record:
+        if not golden_path.is_file():
+            raise FileNotFoundError(f"{golden_path}: no golden file yet; record it with "
+                                    "'pytest --crslab-record' and commit it")
+        gold = read_golden(golden_path)
+        header = gold.header
+    name = scenario if scenario is not None else header.get("scenario")
+    if name is not None and (base / name).is_file():
+        name = str(base / name)
+    config = make_config(lab_path, name, startup_delay=startup_delay, rest_motor_rad=rest_motor_rad)
+    if duration_s is None and header.get("end_s") and scenario is None:
+        duration_s = float(header["end_s"])
+    end_tick = seconds_to_tick(duration_s) if duration_s is not None else config.scenario.end_tick
+    run = run_lab(config, end_tick, deadline_s=deadline_s or DEFAULT_DEADLINE_S)
+    result = run.run.result
+    if not result.ok:
+        why = result.message or result.status
+        raise CrslabCheckFailed(f"{lab_path.name} on {config.scenario.name}: {why}")
+    if record:
+        golden_path.parent.mkdir(parents=True, exist_ok=True)
+        write_golden(golden_path, run_header(config, end_tick, scenario), run.run.transcript)
+        return f"recorded {golden_path}"
+    comparison = compare(split_lines(gold.body), split_lines(run.run.transcript, run.run.calls),
+                         abs_tol=DEFAULT_ABS_TOL if abs_tol is None else abs_tol,
+                         rel_tol=DEFAULT_REL_TOL if rel_tol is None else rel_tol)
+    if not comparison.ok:
+        raise CrslabCheckFailed(f"{lab_path.name} on {config.scenario.name} against {golden_path.name}: "
+                                + comparison.report(max_lines=5))
+    return comparison.headline()
+
+
+@pytest.fixture
+def crslab_check(request: pytest.FixtureRequest) -> Callable[..., str]:
+    """``crslab_check(lab, scenario=None, golden=..., **options)``: run the lab on the scenario and
+    fail the test unless it prints what the golden file holds (see the module's docs). Options:
+    ``abs_tol``, ``rel_tol``, ``duration_s``, ``rest_motor_rad``, ``startup_delay``, ``deadline_s``."""
+    base = Path(str(request.path)).parent
+    record = bool(request.config.getoption("crslab_record", default=False))
+
+    def check(lab: str | Path, scenario: str | None = None, *, golden: str | Path, **options: object) -> str:
+        from crslab.lab.build import LabBuildError
+        from crslab.scenario.load import ScenarioError
+
+        try:
+            return check_lab(lab, golden=golden, scenario=scenario, base=base, record=record,
+                             **options)  # type: ignore[arg-type]
+        except (CrslabCheckFailed, FileNotFoundError, ScenarioError) as exc:
+            failure = str(exc)
+        except LabBuildError as exc:  # a bad lab file: gcc's words, not a traceback
+            failure = f"{exc}\n{exc.diagnostics}".rstrip()
+        pytest.fail(failure, pytrace=False)
+
+    return check
