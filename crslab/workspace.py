@@ -72,10 +72,11 @@ def plot(robot: Robot, path: str | Path, n: int = 20000, dextrous: bool = False,
     else:
         if dextrous:
             raise ValueError("--dextrous is available for the planar 3R arm only")
-        fig = plt.figure(figsize=(13, 4.5))
+        fig = plt.figure(figsize=(15, 4.8))
         ax3 = fig.add_subplot(1, 3, 1, projection="3d")
-        ax3.scatter(points[:, 0], points[:, 1], points[:, 2], s=0.5, alpha=0.2)
-        ax3.set(xlabel=f"x ({unit})", ylabel=f"y ({unit})", zlabel=f"z ({unit})")
+        ax3.scatter(points[:, 0], points[:, 1], points[:, 2], s=1, alpha=0.5, c=points[:, 2], cmap="viridis")
+        ax3.set(xlabel=f"x ({unit})", ylabel=f"y ({unit})", zlabel=f"z ({unit})", title="3-D view")
+        ax3.set_box_aspect(None, zoom=0.85)
         for k, (i, j, name) in enumerate(((0, 1, "top view"), (0, 2, "side view"))):
             ax = fig.add_subplot(1, 3, k + 2)
             ax.scatter(points[:, i], points[:, j], s=0.5, alpha=0.2)

@@ -177,21 +177,22 @@ def run_fk(args: argparse.Namespace) -> int:
     return 0
 
 
-def _crs_ik(xyz: list[float], elbow: str, as_json: bool) -> int:
+def _crs_ik(xyz: list[float], elbow: str, as_json: bool, rad: bool = False) -> int:
     if len(xyz) != 3:
         raise CliError(f"the CRS arm's IK takes X Y Z in inches; got {len(xyz)} number(s)")
     try:
         motor = crs.ik(xyz, elbow=elbow)
     except crs.UnreachableError as exc:
         raise CliError(str(exc)) from None
-    dh_deg = np.degrees(crs.motor_to_dh(motor))
-    motor_deg = np.degrees(motor)
+    unit = "rad" if rad else "deg"
+    dh = crs.motor_to_dh(motor)
+    dh_out, motor_out = (dh, motor) if rad else (np.degrees(dh), np.degrees(motor))
     if as_json:
-        print(json.dumps({"xyz_in": list(xyz), "elbow": elbow, "dh_deg": dh_deg.tolist(),
-                          "motor_deg": motor_deg.tolist()}))
+        print(json.dumps({"xyz_in": list(xyz), "elbow": elbow, f"dh_{unit}": dh_out.tolist(),
+                          f"motor_{unit}": motor_out.tolist()}))
     else:
-        print(f"DH (deg)    {_fmt(dh_deg)}")
-        print(f"motor (deg) {_fmt(motor_deg)}")
+        print(f"DH ({unit})    {_fmt(dh_out)}")
+        print(f"motor ({unit}) {_fmt(motor_out)}")
     return 0
 
 
@@ -264,7 +265,7 @@ def run_ik(args: argparse.Namespace) -> int:
     """Print IK of the given target, or why it has none."""
     robot_name, target = split_robot(args.values)
     if robot_name in (None, "crs"):
-        return _crs_ik(target, args.elbow, args.json)
+        return _crs_ik(target, args.elbow, args.json, args.rad)
     robot = load_robot(robot_name, args.param)
     if robot.closed_form is not None:
         return _closed_ik(robot, target, args)
