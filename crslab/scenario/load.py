@@ -373,6 +373,7 @@ class _Parser:
         if not _IDENTIFIER.match(name):
             raise r.fail("var", f"must be a C variable name, got {name!r}")
         index = r.integer("index", minimum=0) if "index" in r.table else None
+        line = r.line_of("var") or line  # what check_lab's errors point at
         return [SetVariable(tick=at, name=name, value=r.number("value"), index=index, line=line)]
 
     def _simulink(self, r: _Reader, at: int, line: int) -> list[Event]:
