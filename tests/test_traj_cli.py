@@ -85,3 +85,19 @@ def test_user_errors_are_one_line_with_status_2(tmp_path, args, words):
 def test_an_unknown_robot_is_a_usage_error(tmp_path):
     r = crslab("traj", "puma", "--waypoints", "p.csv", "-o", "o.csv", cwd=tmp_path)
     assert r.returncode == 2 and r.stderr.count("\n") == 1 and "invalid choice: 'puma'" in r.stderr
+
+
+def test_traj_plans_for_the_rrr_arm_in_its_own_length_unit(tmp_path):
+    from crslab.robots import load
+
+    (tmp_path / "rrr.csv").write_text("x_units,y_units,z_units,t_s\n17.85,2.698,5.219,0\n12,0,-3,3.5\n")
+    r = crslab("traj", "rrr", "--waypoints", "rrr.csv", "--profile", "cubic", "-o", "o.csv", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    table = np.loadtxt(tmp_path / "o.csv", delimiter=",", skiprows=1)
+    assert table.shape == (3501, 13)
+    ends = load("rrr").fk(table[[0, -1], 1:4])[:, :3, 3]
+    np.testing.assert_allclose(ends, [[17.85, 2.698, 5.219], [12, 0, -3]], atol=1e-9)
+    (tmp_path / "crs.csv").write_text("x_in,y_in,z_in\n10,0,20\n12,0,16\n")
+    wrong_unit = crslab("traj", "rrr", "--waypoints", "crs.csv", "-o", "o.csv", cwd=tmp_path)
+    assert wrong_unit.returncode == 2 and wrong_unit.stderr.count("\n") == 1
+    assert "crs.csv line 1: the header must name the columns x_units, y_units, z_units" in wrong_unit.stderr

@@ -166,3 +166,42 @@ def test_the_envelope_matches_the_simulated_frameworks(tmp_path):
     ours = crs_outside_envelope(q)
     assert 0.2 < ours.mean() < 0.9  # the sample straddles the boundary
     np.testing.assert_array_equal(ours, theirs)
+
+
+# ---- the spatial RRR arm of seed 003 ----
+
+def plan_rrr(text, **kw):
+    return plan_waypoints(read_waypoints(io.StringIO(text), length_unit="units", name="rrr.csv"), "rrr", **kw)
+
+
+def test_rrr_rows_are_reached_with_the_elbow_above_the_line_to_the_target():
+    from crslab.robots import load
+
+    rrr = load("rrr")
+    # seed 003's check point first, then points in other quadrants, one straight below the
+    # first link's end
+    pts = [[17.85, 2.698, 5.219], [12, 0, -3], [8, 6, -6], [-9, -9, -4]]
+    text = "x_units,y_units,z_units\n" + "\n".join(",".join(map(str, p)) for p in pts) + "\n"
+    plan = plan_rrr(text, profile="quintic", vmax_rad_s=2.0)
+    q = plan.trajectory.evaluate(plan.arrival_s).q
+    np.testing.assert_allclose(rrr.fk(q)[:, :3, 3], pts, atol=1e-9)
+    # elbow up: in the arm's plane the elbow (a2 cos q2, a2 sin q2) lies counter-clockwise of (above)
+    # the direction from the shoulder to the target
+    a2 = rrr.chain.a[1]
+    target_u = np.hypot(np.array(pts)[:, 0], np.array(pts)[:, 1]) - rrr.chain.a[0]
+    target_w = np.array(pts)[:, 2] - rrr.chain.d[0]
+    cross = target_u * a2 * np.sin(q[:, 1]) - target_w * a2 * np.cos(q[:, 1])
+    assert np.all(cross > 0)
+    down = plan_rrr("x_units,y_units,z_units\n17.85,2.698,5.219\n15,0,4\n", elbow="down")
+    assert down.q_rad[0].round(2).tolist() == [0.15, 0.29, 0.57]  # seed 003's own solution
+
+
+def test_rrr_rows_out_of_reach_or_outside_the_joint_limits_are_named():
+    err = pytest.raises(WaypointError, plan_rrr, "x_units,y_units,z_units\n17.85,2.698,5.219\n30,0,0\n")
+    assert str(err.value).startswith("rrr.csv line 3: waypoint (30, 0, 0) units is out of reach")
+    # elbow down to a point below the first link: the shoulder would have to turn to -125 deg
+    err = pytest.raises(WaypointError, plan_rrr, "x_units,y_units,z_units\n17.85,2.698,5.219\n12,0,-3\n",
+                        elbow="down")
+    assert err.value.line == 3
+    assert ("outside the rrr arm's joint limits: joint 2 = -125.2 deg is outside [-90, 90] deg"
+            in str(err.value))

@@ -2,8 +2,8 @@
 
 The CSV it writes has one row per 1 ms tick (t = k ms, from 0 to the first tick at or after the
 end) and the columns ``t_s``, then ``q1_rad .. qN_rad`` (joint angles; for the CRS arm the motor
-angles that ``lab()`` receives), ``qd1_rad_s ..`` (velocities), ``qdd1_rad_s2 ..``
-(accelerations) and ``jerk1_rad_s3 ..``.
+angles that ``lab()`` receives, for the RRR arm its DH angles), ``qd1_rad_s ..`` (velocities),
+``qdd1_rad_s2 ..`` (accelerations) and ``jerk1_rad_s3 ..``.
 """
 
 from __future__ import annotations
@@ -32,10 +32,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Plan rest-to-rest joint moves through the Cartesian points of a waypoint "
         "file (IK with the chosen elbow; reachability and joint limits checked, for the CRS arm "
         "its safety envelope at every tick) and write the trajectory at 1 kHz. The waypoint file "
-        "is a CSV with the header x_in,y_in,z_in (inches for the CRS arm) and optionally t_s "
-        "(time at each point, s) or speed_in_s (average speed from the previous point); '#' lines "
-        "are comments. Rows without a time go as fast as --vmax/--amax allow.",
-        epilog="Output columns: t_s, q1_rad..qN_rad (CRS: motor angles, as lab() receives them), "
+        "is a CSV with the header x_in,y_in,z_in (inches, for the CRS arm; x_units,y_units,z_units "
+        "for the RRR arm of seed 003) and optionally t_s (time at each point, s) or speed_in_s "
+        "(average speed from the previous point); '#' lines are comments. Rows without a time go "
+        "as fast as --vmax/--amax allow.",
+        epilog="Output columns: t_s, q1_rad..qN_rad (CRS: motor angles, as lab() receives them; "
+        "RRR: DH joint angles), "
         "qd1_rad_s.., qdd1_rad_s2.., jerk1_rad_s3..; one row per 1 ms tick.",
     )
     traj.add_argument("robot", choices=sorted(ARMS), metavar="ROBOT",

@@ -3,7 +3,9 @@ elbow choice, and the joint limits a trajectory must respect.
 
 ``ARMS`` maps the names ``crslab traj`` takes to :class:`ArmForWaypoints`. The CRS arm plans in
 motor angles (what ``lab()`` receives) and its limits are the framework's safety envelope: a
-trajectory that leaves it would be overridden by the hold controller on the real board.
+trajectory that leaves it would be overridden by the hold controller on the real board. The
+spatial RRR arm of seed 003 plans in its DH joint angles, within the limits of its robot file
+(``crslab/robots/rrr.toml``; lengths in that file's unit).
 
 >>> q, problems = ARMS["crs"].solve([[10, 0, 20], [0, 0, 31]], "up")
 >>> np.degrees(q[0]).round(9) + 0.0, problems
@@ -21,6 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from crslab import crs
+from crslab.closed_ik import OK, OUT_OF_LIMITS
+from crslab.robots import load
 
 # The CRS framework's safety envelope (crs-facts section 2, item 4), on the angles it computes
 # from the encoders. The same numbers drive the simulated framework in csrc/sim/framework.c
@@ -105,5 +109,37 @@ CRS = ArmForWaypoints(
     why_outside=crs_why_outside,
 )
 
-ARMS: dict[str, ArmForWaypoints] = {"crs": CRS}
+def _rrr_arm() -> ArmForWaypoints:
+    """The spatial RRR arm of seed 003, from its robot file (crslab/robots/rrr.toml)."""
+    robot = load("rrr")
+    lower, upper = robot.chain.lower, robot.chain.upper
+    # Of the four closed-form slots the planner uses the two in front (q1 = atan2(y, x)). There
+    # q2 raises the arm (alpha1 = +pi/2), so q3 <= 0 puts the elbow above the line from the
+    # shoulder to the target: elbow up, as on the CRS arm (whose th3 DH >= 0 means the same,
+    # its alpha1 being -pi/2). Seed 003's own formula, q3 = acos(...) >= 0, is elbow down.
+    slot = {"up": 1, "down": 0}
+
+    def solve(xyz: np.ndarray, elbow: str) -> tuple[np.ndarray, list[str | None]]:
+        if elbow not in slot:
+            raise ValueError(f"elbow must be 'up' or 'down', got {elbow!r}")
+        sol = robot.closed_ik(np.asarray(xyz, dtype=float).reshape(-1, 3))
+        q = sol.q[:, slot[elbow], :]
+        status = sol.status[:, slot[elbow]]
+        return q, [None if s in (OK, OUT_OF_LIMITS) else "out of reach" for s in status]
+
+    def outside(q: np.ndarray) -> np.ndarray:
+        return ~robot.chain.within_limits(q)
+
+    def why_outside(q_row: np.ndarray) -> str:
+        reasons = [f"joint {j + 1} = {math.degrees(v):.4g} deg is outside "
+                   f"[{math.degrees(lo):.4g}, {math.degrees(hi):.4g}] deg"
+                   for j, (v, lo, hi) in enumerate(zip(q_row, lower, upper)) if not lo <= v <= hi]
+        return "; ".join(reasons) or "inside the joint limits"
+
+    return ArmForWaypoints(name="rrr", length_unit=robot.length_unit, joint_label="joint",
+                           limits_name="joint limits", n_joints=3, solve=solve, outside=outside,
+                           why_outside=why_outside)
+
+
+ARMS: dict[str, ArmForWaypoints] = {"crs": CRS, "rrr": _rrr_arm()}
 """The robots ``crslab traj`` plans for, by name."""
