@@ -31,6 +31,15 @@ FOREARM_IN: float = lib.CRS_FOREARM_IN
 M_PER_IN: float = lib.CRS_M_PER_IN
 """Metres per inch (exact)."""
 
+ENVELOPE_TH1_MAX_RAD: float = lib.CRS_ENVELOPE_TH1_MAX_RAD
+"""The framework's safety envelope: |th1 DH| at most this (rad), ..."""
+ENVELOPE_TH2_RAD: tuple[float, float] = (lib.CRS_ENVELOPE_TH2_MIN_RAD, lib.CRS_ENVELOPE_TH2_MAX_RAD)
+"""... th2 DH within this range (rad), ..."""
+ENVELOPE_TH3_RAD: tuple[float, float] = (lib.CRS_ENVELOPE_TH3_MIN_RAD, lib.CRS_ENVELOPE_TH3_MAX_RAD)
+"""... th3 DH within this range (rad), ..."""
+ENVELOPE_Z_MIN_IN: float = lib.CRS_ENVELOPE_Z_MIN_IN
+"""... and the end effector at least this high (in)."""
+
 IK_OK = lib.CRS_IK_OK
 IK_UNREACHABLE = lib.CRS_IK_UNREACHABLE
 IK_SHOULDER = lib.CRS_IK_SHOULDER
@@ -182,6 +191,18 @@ def ik_dh(xyz_in: object, elbow: str = "up") -> np.ndarray:
     out, status = _ik(lib.crs_ik_dh_batch, xyz_in, elbow)
     _raise_if_bad(xyz_in, status)
     return out
+
+
+def outside_envelope(motor_rad: object) -> np.ndarray:
+    """True where motor angles (rad) lie outside the framework's safety envelope.
+
+    >>> outside_envelope([[0.0, 0.0, 0.0], [0.0, np.pi / 2, 0.0]])   # motor zero, DH zero
+    array([False,  True])
+    """
+    src = as_rows(motor_rad, 3, "motor_rad")
+    out = np.empty(src.shape[:-1], dtype=np.int32)
+    lib.crs_outside_envelope_motor_batch(dptr(src), iptr(out), src.size // 3)
+    return out.astype(bool)
 
 
 def jacobian(motor_rad: object) -> np.ndarray:

@@ -153,3 +153,25 @@ def test_jacobian_matches_finite_differences():
 def test_dimensions_come_from_the_c_core():
     assert (crs.BASE_HEIGHT_IN, crs.UPPER_ARM_IN, crs.FOREARM_IN) == (10.0, 10.0, 10.0)
     assert crs.M_PER_IN == 0.0254
+
+
+def test_safety_envelope_by_hand():
+    # crs-facts section 2: |th1| <= 0.6667 pi, th2 in [-2.3, 0.15], th3 in [0.15, 2.3], z >= 4 in
+    rest = [0.0, -0.42, 0.24]
+    th3_edge = crs.dh_to_motor([0.0, -1.0, 0.1501])  # th3 DH just above its lower bound: inside
+    cases = {
+        "rest": (rest, False),
+        "motor zero": ([0.0, 0.0, 0.0], False),
+        "DH zero (th3 = 0)": ([0.0, np.pi / 2, 0.0], True),
+        "straight up (th3 = 0)": ([0.0, 0.0, -np.pi / 2], True),
+        "th1 just inside": ([0.6666 * np.pi, 0.0, 0.0], False),
+        "th1 just outside": ([-0.6668 * np.pi, 0.0, 0.0], True),
+        "th3 just inside": (th3_edge, False),
+        "th3 below its bound": (crs.dh_to_motor([0.0, -1.0, 0.149]), True),
+        # th2 DH = 0.1, th3 DH = 2.0: inside the angle ranges, but the hand is at z < 4 in
+        "below 4 in": (crs.dh_to_motor([0.0, 0.1, 2.0]), True),
+    }
+    for name, (motor, outside) in cases.items():
+        assert bool(crs.outside_envelope(motor)) == outside, name
+    assert crs.fk(crs.dh_to_motor([0.0, 0.1, 2.0]))[2] < 4.0
+    assert crs.ENVELOPE_TH1_MAX_RAD == pytest.approx(0.6667 * np.pi)

@@ -104,6 +104,21 @@ crs_ik_status crs_ik_motor(const double xyz_in[3], int elbow_up, double motor_ra
     return status;
 }
 
+int crs_outside_envelope_motor(const double motor_rad[3])
+{
+    double dh[3], xyz[3];
+    crs_motor_to_dh(motor_rad, dh);
+    crs_fk_motor(motor_rad, xyz);
+    return fabs(dh[0]) > CRS_ENVELOPE_TH1_MAX_RAD || dh[1] < CRS_ENVELOPE_TH2_MIN_RAD
+        || dh[1] > CRS_ENVELOPE_TH2_MAX_RAD || dh[2] < CRS_ENVELOPE_TH3_MIN_RAD
+        || dh[2] > CRS_ENVELOPE_TH3_MAX_RAD || xyz[2] < CRS_ENVELOPE_Z_MIN_IN;
+}
+
+void crs_outside_envelope_motor_batch(const double *motor_rad, int *outside, size_t n)
+{
+    for (size_t i = 0; i < n; ++i) outside[i] = crs_outside_envelope_motor(motor_rad + 3 * i);
+}
+
 void crs_jacobian_motor(const double motor_rad[3], double jac[9])
 {
     const double c1 = cos(motor_rad[0]), s1 = sin(motor_rad[0]);

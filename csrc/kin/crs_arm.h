@@ -16,6 +16,15 @@ static const double CRS_UPPER_ARM_IN = 10.0;   /* a2: shoulder axis to elbow axi
 static const double CRS_FOREARM_IN = 10.0;     /* a3: elbow axis to the end-effector point */
 static const double CRS_M_PER_IN = 0.0254;     /* exact */
 
+/* The course framework's safety envelope (crs-facts section 2), on DH angles from the motor
+ * angles and the end-effector height: outside it the framework holds the arm itself. */
+static const double CRS_ENVELOPE_TH1_MAX_RAD = 0.6667 * 3.14159265358979323846; /* 0.6667 pi */
+static const double CRS_ENVELOPE_TH2_MIN_RAD = -2.3;
+static const double CRS_ENVELOPE_TH2_MAX_RAD = 0.15;
+static const double CRS_ENVELOPE_TH3_MIN_RAD = 0.15;
+static const double CRS_ENVELOPE_TH3_MAX_RAD = 2.3;
+static const double CRS_ENVELOPE_Z_MIN_IN = 4.0;
+
 /* IK status, one per target. */
 typedef enum {
     CRS_IK_OK = 0,          /* exact solution */
@@ -40,6 +49,10 @@ void crs_fk_motor(const double motor_rad[3], double xyz_in[3]);
  * Never writes NaN: see crs_ik_status for what unreachable targets return. */
 crs_ik_status crs_ik_dh(const double xyz_in[3], int elbow_up, double dh_rad[3]);
 crs_ik_status crs_ik_motor(const double xyz_in[3], int elbow_up, double motor_rad[3]);
+
+/* 1 when motor angles (rad) lie outside the framework's safety envelope, else 0. */
+int crs_outside_envelope_motor(const double motor_rad[3]);
+void crs_outside_envelope_motor_batch(const double *motor_rad, int *outside, size_t n);
 
 /* d(xyz_in)/d(motor_rad), row-major 3x3, inches per radian. */
 void crs_jacobian_motor(const double motor_rad[3], double jac_in_per_rad[9]);

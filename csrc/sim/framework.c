@@ -56,16 +56,7 @@ void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3
     }
 }
 
-int crs_outside_envelope(const double enc_rad[3])
-{
-    const double th1 = enc_rad[0];
-    const double th2 = enc_rad[1] - PI / 2.0;
-    const double th3 = enc_rad[2] - enc_rad[1] + PI / 2.0;
-    const double z_in = CRS_BASE_HEIGHT_IN + CRS_UPPER_ARM_IN * cos(enc_rad[1])
-                      - CRS_FOREARM_IN * sin(enc_rad[2]);
-    return fabs(th1) > 0.6667 * PI || th2 < -2.3 || th2 > 0.15 || th3 < 0.15 || th3 > 2.3
-        || z_in < 4.0;
-}
+int crs_outside_envelope(const double enc_rad[3]) { return crs_outside_envelope_motor(enc_rad); }
 
 void crs_hold_controller(const crs_sim *sim, double out[3])
 {
