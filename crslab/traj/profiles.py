@@ -89,8 +89,9 @@ def min_duration(profile: str, q0: object, qf: object, vmax: object = None,
                  amax: object = None) -> np.ndarray:
     """The shortest duration (s) of each joint's move within its speed and acceleration limits.
 
-    With only a speed limit, ``li`` and ``trapezoid`` keep their unlimited shape (their peak
-    velocity is then exactly ``vmax``); with both, they cruise at ``vmax`` when the move is long.
+    With both limits, ``li`` and ``trapezoid`` cruise at ``vmax`` when the move is long. With only
+    a speed limit they have no shortest duration (any T > L/vmax works by cruising, with ever
+    harder ramps), so this is where their unlimited shape just reaches ``vmax``.
 
     >>> min_duration("li", [0.0, 0.0], [1.0, -3.0], vmax=2.0).tolist()    # 2L/vmax
     [1.0, 3.0]

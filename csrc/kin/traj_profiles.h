@@ -84,8 +84,10 @@ traj_status traj_plan(traj_profile *p, traj_kind kind, double q0_rad, double qf_
                       double vmax_rad_s, double amax_rad_s2);
 
 /* The shortest duration for which traj_plan succeeds under these limits: with both limits, the
- * Li and trapezoid profiles cruise at vmax when the move is long enough; with only a speed limit
- * they keep their unlimited shape (peak velocity exactly vmax). No limit at all gives 0. */
+ * Li and trapezoid profiles cruise at vmax when the move is long enough. With only a speed limit
+ * there is no shortest one for them (any T > L/vmax works, cruising, but the acceleration grows
+ * without bound as T approaches L/vmax), so this returns the duration at which their unlimited
+ * shape just reaches vmax (2L/vmax for Li, 1.5L/vmax for the trapezoid). No limit at all gives 0. */
 traj_status traj_min_duration(traj_kind kind, double q0_rad, double qf_rad, double vmax_rad_s,
                               double amax_rad_s2, double *duration_s);
 
