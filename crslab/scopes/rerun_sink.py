@@ -1,0 +1,252 @@
+"""Rerun scopes of a running lab: what Simulink, the scopes and Tera Term show, and the arm in 3D.
+
+Everything is on the ``sim_time`` timeline (simulated time: tick k is k ms):
+
+=========================  ===================================================================
+entity                     holds
+=========================  ===================================================================
+``/scopes/simulink``       Simulink_PlotVar1..4 as Simulink receives them: every 5 ms, in steps
+                           of 1e-4 (see :func:`crslab.scopes.signals.simulink_samples`)
+``/scopes/motor_angle``    theta1motor..theta3motor, what lab() received (rad), every tick
+``/scopes/torque/lab``     the lab's tau1..tau3 after lab() (command units), every tick
+``/scopes/torque/applied`` what reached the motors (after the safety override and the clamp)
+``/scopes/digital``        the safety flag and the GPIO34 / GPIO60 LED pin levels, every tick
+``/serial``                the serial lines (TextLog), at the tick that ended each line
+``/arm/<body>``            each body's world pose (Transform3D), every 10 ms; its link shapes
+                           from the MuJoCo model are static children (``/arm/<body>/shapes``)
+=========================  ===================================================================
+
+A blueprint puts the 3D view and the serial log on the left and one scope per group on the right.
+Every chunk of ticks the simulation hands over is sent with a few ``send_columns`` calls. Rerun
+(whose import starts threads) is imported after the worker process was forked: on the first
+data, or in a background thread from :meth:`RerunSink.prepare` so that its half-second import
+overlaps the first ticks.
+"""
+
+from __future__ import annotations
+
+import sys
+import threading
+from pathlib import Path
+
+import numpy as np
+
+from crslab.scopes.arm3d import quat_rotate
+from crslab.scopes.signals import DIGITAL, MOTOR, SIMULINK, TORQUE, SerialLines, simulink_samples
+from crslab.sim.sinks import Sink
+
+TIMELINE = "sim_time"
+ARM_PERIOD_TICKS = 10
+"""The 3D view's frame period: the arm's pose is logged every 10 ms (100 frames per second)."""
+
+SCALAR_ENTITIES = {  # entity: (log column, series names)
+    "/scopes/motor_angle": ("enc_rad", ["theta1motor", "theta2motor", "theta3motor"]),
+    "/scopes/torque/lab": ("tau_lab", ["tau1", "tau2", "tau3"]),
+    "/scopes/torque/applied": ("tau_applied", ["tau1 applied", "tau2 applied", "tau3 applied"]),
+}
+SIMULINK_ENTITY = "/scopes/simulink"
+DIGITAL_ENTITY = "/scopes/digital"
+DIGITAL_NAMES = ["safety", "GPIO34", "GPIO60"]
+SERIAL_ENTITY = "/serial"
+ARM_ENTITY = "/arm"
+
+
+def _time_column(ticks: np.ndarray) -> object:
+    import rerun as rr
+
+    return rr.TimeColumn(TIMELINE, duration=np.asarray(ticks, dtype=np.int64).astype("timedelta64[ms]"))
+
+
+def blueprint() -> object:
+    """The layout: 3D view over the serial log on the left, the scopes stacked on the right."""
+    import rerun.blueprint as rrb
+
+    def scope(origin: str, group: object) -> object:
+        return rrb.TimeSeriesView(origin=origin, name=f"{group.title} ({group.unit})")  # type: ignore[attr-defined]
+
+    return rrb.Blueprint(
+        rrb.Horizontal(
+            rrb.Vertical(
+                rrb.Spatial3DView(origin=ARM_ENTITY, name="arm"),
+                rrb.TextLogView(origin=SERIAL_ENTITY, name="Tera Term"),
+                row_shares=[3, 2],
+            ),
+            rrb.Vertical(
+                scope(SIMULINK_ENTITY, SIMULINK),
+                scope("/scopes/motor_angle", MOTOR),
+                scope("/scopes/torque", TORQUE),
+                scope(DIGITAL_ENTITY, DIGITAL),
+            ),
+            column_shares=[2, 3],
+        ),
+        rrb.TimePanel(state="collapsed"),
+        collapse_panels=True,
+    )
+
+
+class RerunSink(Sink):
+    """Send a run's scopes to a rerun viewer (``spawn=True``), an ``.rrd`` file, or both.
+
+    ``on_status(line)`` receives the one-line notices (no display, viewer not started).
+    """
+
+    def __init__(self, *, rrd_path: Path | None = None, spawn: bool = False, name: str = "crslab",
+                 on_status: object = None) -> None:
+        if rrd_path is None and not spawn:
+            raise ValueError("RerunSink needs an rrd_path, spawn=True or both")
+        self.rrd_path = rrd_path
+        self.spawn = spawn
+        self.name = name
+        self.on_status = on_status or (lambda line: print(line, file=sys.stderr))
+        self.rec = None
+        self.arm = None
+        self.lines = SerialLines()
+        self._pending: list[tuple[int, str]] = []
+        self._closed = False
+        self._loader: threading.Thread | None = None
+        self._loaded: list[object] = []
+
+    # -- start-up ----------------------------------------------------------------------------
+    def prepare(self) -> None:
+        """Import rerun and read the arm's model in the background (call after the fork)."""
+        if self._loader is None:
+            self._loader = threading.Thread(target=self._load, name="crslab-rerun-import", daemon=True)
+            self._loader.start()
+
+    def _load(self) -> None:
+        try:
+            import rerun  # noqa: F401 - the slow import, done here
+            import rerun.blueprint  # noqa: F401
+
+            from crslab.scopes.arm3d import ArmModel
+
+            self._loaded.append(ArmModel())
+        except Exception as exc:  # noqa: BLE001 - re-raised where the data arrives
+            self._loaded.append(exc)
+
+    def _start(self) -> None:
+        self.prepare()
+        self._loader.join()
+        loaded = self._loaded[0]
+        if isinstance(loaded, Exception):
+            raise loaded
+        import rerun as rr
+
+        from crslab.scopes.display import missing_display
+
+        rec = rr.RecordingStream("crslab", send_properties=False)
+        sinks: list[object] = []
+        if self.spawn:
+            why = missing_display()
+            if why:
+                self.on_status(f"--rerun: {why}; running without the rerun viewer"
+                               + ("" if self.rrd_path else " (--rrd FILE saves a recording to open later)"))
+            else:
+                try:
+                    rec.spawn(connect=False)
+                    sinks.append(rr.GrpcSink())
+                except Exception as exc:  # noqa: BLE001 - any failure to start it is one line
+                    self.on_status(f"--rerun: the rerun viewer did not start ({exc}); running without it")
+        if self.rrd_path is not None:
+            sinks.append(rr.FileSink(str(self.rrd_path)))
+        self.rec = rec
+        if not sinks:
+            return
+        rec.set_sinks(*sinks, default_blueprint=blueprint())
+        rec.send_recording_name(self.name)
+        self.arm = loaded
+        self._log_static(rr)
+
+    def _log_static(self, rr: object) -> None:
+        rec = self.rec
+        for entity, (_, names) in SCALAR_ENTITIES.items():
+            rec.log(entity, rr.SeriesLines(names=names), static=True)
+        rec.log(SIMULINK_ENTITY, rr.SeriesLines(names=[f"Simulink_PlotVar{k}" for k in range(1, 5)]),
+                static=True)
+        rec.log(DIGITAL_ENTITY, rr.SeriesLines(names=DIGITAL_NAMES), static=True)
+        rec.log(ARM_ENTITY, rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
+        for body in self.arm.bodies:
+            for kind in ("capsule", "cylinder", "sphere", "box"):
+                shapes = [s for s in body.shapes if s.kind == kind]
+                if shapes:
+                    rec.log(f"{ARM_ENTITY}/{body.name}/shapes/{kind}", _shapes(rr, kind, shapes), static=True)
+
+    def _ready(self) -> bool:
+        if self.rec is None and not self._closed:
+            self._start()
+        return self.arm is not None
+
+    # -- data --------------------------------------------------------------------------------
+    def on_serial(self, tick: int, data: bytes) -> None:
+        self._pending.extend(self.lines.feed(tick, data))
+
+    def _send_lines(self) -> None:
+        import rerun as rr
+
+        if self._pending and self._ready():
+            ticks = np.array([t for t, _ in self._pending])
+            self.rec.send_columns(SERIAL_ENTITY, indexes=[_time_column(ticks)],
+                                  columns=rr.TextLog.columns(text=[line for _, line in self._pending],
+                                                             level=["INFO"] * len(ticks)))
+        self._pending = []
+
+    def on_log(self, columns: dict[str, np.ndarray]) -> None:
+        import rerun as rr
+
+        tick = columns["tick"][:, 0]
+        if not len(tick) or not self._ready():
+            self._pending = []
+            return
+        rec = self.rec
+        self._send_lines()
+        every = [_time_column(tick)]
+        for entity, (key, _) in SCALAR_ENTITIES.items():
+            rec.send_columns(entity, indexes=every, columns=rr.Scalars.columns(scalars=columns[key]))
+        leds = columns["leds"][:, 0]
+        digital = np.stack([columns["safety"][:, 0], leds & 1, (leds >> 1) & 1], axis=1).astype(np.float64)
+        rec.send_columns(DIGITAL_ENTITY, indexes=every, columns=rr.Scalars.columns(scalars=digital))
+        sim_ticks, sim_values = simulink_samples(tick, columns["plot"])
+        if len(sim_ticks):
+            rec.send_columns(SIMULINK_ENTITY, indexes=[_time_column(sim_ticks)],
+                             columns=rr.Scalars.columns(scalars=sim_values))
+        frames = tick % ARM_PERIOD_TICKS == 0
+        if frames.any():
+            pos, quat = self.arm.poses(columns["qpos_dh_rad"][frames])
+            at = [_time_column(tick[frames])]
+            for b, body in enumerate(self.arm.moving):
+                rec.send_columns(f"{ARM_ENTITY}/{body.name}", indexes=at,
+                                 columns=rr.Transform3D.columns(translation=pos[:, b], quaternion=quat[:, b]))
+
+    def close(self) -> None:
+        if self._closed:
+            return
+        self._pending.extend(self.lines.finish())
+        if self._pending:
+            self._send_lines()
+        self._closed = True
+        if self.rec is not None:
+            self.rec.flush()
+            self.rec.disconnect()
+
+
+def _shapes(rr: object, kind: str, shapes: list) -> object:
+    """One rerun archetype for all shapes of one kind on a body (MuJoCo sizes are half-sizes)."""
+    pos = np.array([s.pos for s in shapes])
+    quat = np.array([s.quat_xyzw for s in shapes])
+    size = np.array([s.size for s in shapes])
+    colors = (np.array([s.rgba for s in shapes]) * 255).round().astype(np.uint8)
+    names = [s.name for s in shapes]
+    if kind == "capsule":  # rerun's capsule runs from its origin along +z; MuJoCo's is centred
+        axis = quat_rotate(np.roll(quat, 1, axis=1), np.array([0.0, 0.0, 1.0]))  # x y z w -> w x y z
+        start = pos - axis * size[:, 1:2]
+        return rr.Capsules3D(lengths=2 * size[:, 1], radii=size[:, 0], translations=start, quaternions=quat,
+                             colors=colors, labels=names, show_labels=False, fill_mode="Solid")
+    if kind == "cylinder":
+        return rr.Cylinders3D(lengths=2 * size[:, 1], radii=size[:, 0], centers=pos, quaternions=quat,
+                              colors=colors, labels=names, show_labels=False, fill_mode="Solid")
+    if kind == "sphere":
+        return rr.Ellipsoids3D(half_sizes=np.repeat(size[:, :1], 3, axis=1), centers=pos, colors=colors,
+                               labels=names, show_labels=False, fill_mode="Solid")
+    return rr.Boxes3D(half_sizes=size, centers=pos, quaternions=quat, colors=colors, labels=names,
+                      show_labels=False, fill_mode="Solid")
+

@@ -1,0 +1,149 @@
+"""The signals a scope shows, named once: CSV columns, plot panels and rerun entities read them here.
+
+A run's scope log (``SimConfig.log_signals``) has one row per tick. Each :class:`Signal` is one
+column of that table with its name, unit and the panel (:class:`Group`) it is drawn in.
+
+>>> [g.title for g in GROUPS]
+['motor angles', 'torques', 'Simulink_PlotVar1..4', 'safety flag and LEDs', 'arm pose (true DH angles)']
+>>> csv_header()[:4]
+['tick', 't [s]', 'theta1motor [rad]', 'theta2motor [rad]']
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+SIMULINK_PERIOD_TICKS = 5
+"""The board sends the four ``Simulink_PlotVar`` to Simulink every 5 ms (crs-facts 1)."""
+SIMULINK_SCALE = 10000
+"""... as ``int32(10000 * value)``: Simulink sees them in steps of 1e-4."""
+
+
+@dataclass(frozen=True)
+class Group:
+    """One scope panel: a title and the unit its signals share."""
+
+    key: str
+    title: str
+    unit: str
+
+
+@dataclass(frozen=True)
+class Signal:
+    """One scope trace: log column ``column``, element ``index`` (for LEDs: the bit), in ``group``."""
+
+    name: str
+    column: str
+    index: int
+    group: Group
+
+    @property
+    def unit(self) -> str:
+        """The unit, from the signal's group."""
+        return self.group.unit
+
+    @property
+    def csv_name(self) -> str:
+        """The CSV header cell: name and unit, e.g. ``tau1 [command units]``."""
+        return f"{self.name} [{self.unit}]"
+
+
+MOTOR = Group("motor", "motor angles", "rad")
+TORQUE = Group("torque", "torques", "command units")
+SIMULINK = Group("simulink", "Simulink_PlotVar1..4", "lab units")
+DIGITAL = Group("digital", "safety flag and LEDs", "0/1")
+POSE = Group("pose", "arm pose (true DH angles)", "rad")
+GROUPS: tuple[Group, ...] = (MOTOR, TORQUE, SIMULINK, DIGITAL, POSE)
+
+SIGNALS: tuple[Signal, ...] = (
+    *(Signal(f"theta{j + 1}motor", "enc_rad", j, MOTOR) for j in range(3)),
+    *(Signal(f"tau{j + 1}", "tau_lab", j, TORQUE) for j in range(3)),
+    *(Signal(f"tau{j + 1}_applied", "tau_applied", j, TORQUE) for j in range(3)),
+    *(Signal(f"Simulink_PlotVar{k + 1}", "plot", k, SIMULINK) for k in range(4)),
+    Signal("safety", "safety", 0, DIGITAL),
+    Signal("GPIO34", "leds", 0, DIGITAL),   # LED on the control card: pin level
+    Signal("GPIO60", "leds", 1, DIGITAL),   # LED on the e-stop box (active low): pin level
+    *(Signal(f"th{j + 1}_dh", "qpos_dh_rad", j, POSE) for j in range(3)),
+)
+"""Every signal, in CSV column order (after ``tick`` and ``t [s]``)."""
+C_FLOAT_COLUMNS = frozenset({"enc_rad", "tau_lab", "plot"})
+"""Log columns that are C ``float`` variables in the lab (logged widened to double)."""
+
+
+def csv_header() -> list[str]:
+    """The CSV header: ``tick``, ``t [s]``, then every signal with its unit."""
+    return ["tick", "t [s]", *(s.csv_name for s in SIGNALS)]
+
+
+def signal_values(log: dict[str, np.ndarray], signal: Signal) -> np.ndarray:
+    """One signal's values, one per logged row (LEDs as 0/1 pin levels; the lab's C floats as
+    float32, so they print as the lab's values do).
+
+    >>> log = {"leds": np.array([[0], [1], [2], [3]], np.uint32)}
+    >>> signal_values(log, SIGNALS[-4]).tolist()      # GPIO60, bit 1
+    [0, 0, 1, 1]
+    """
+    col = log[signal.column]
+    if signal.column == "leds":
+        return ((col[:, 0] >> signal.index) & 1).astype(np.int32)
+    if signal.column in C_FLOAT_COLUMNS:
+        return col[:, signal.index].astype(np.float32)
+    return col[:, signal.index]
+
+
+def simulink_samples(tick: np.ndarray, plot: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """What Simulink receives: the rows at every 5th tick, each value sent as int32(10000 * value).
+
+    The board computes ``10000 * value`` in single precision and stores it in a 32-bit integer,
+    which truncates toward zero; Simulink divides by 10000 again.
+
+    >>> t, v = simulink_samples(np.arange(11), np.linspace(-1, 1, 44).reshape(11, 4) / 3)
+    >>> t.tolist()
+    [0, 5, 10]
+    >>> v[0].tolist()
+    [-0.3333, -0.3178, -0.3023, -0.2868]
+    """
+    tick = np.asarray(tick).reshape(-1)
+    keep = tick % SIMULINK_PERIOD_TICKS == 0
+    scaled = np.asarray(plot)[keep].astype(np.float32) * np.float32(SIMULINK_SCALE)
+    sent = np.trunc(scaled).astype(np.int32)
+    return tick[keep], sent.astype(np.float64) / SIMULINK_SCALE
+
+
+class SerialLines:
+    r"""Cuts serial bytes into the lines Tera Term shows, each with the tick that completed it.
+
+    ``\n\r`` (the course's line end), ``\r\n`` and ``\n`` end a line, also when the two bytes
+    of a line end come from two serial_printf calls.
+
+    >>> lines = SerialLines()
+    >>> lines.feed(4100, b"1.00 2.00\n\r3.0")
+    [(4100, '1.00 2.00')]
+    >>> lines.feed(4101, b"0\n")
+    [(4101, '3.00')]
+    >>> lines.feed(4102, b"\rok\n\r"), lines.finish()
+    ([(4102, 'ok')], [])
+    """
+
+    def __init__(self) -> None:
+        self._partial = ""
+        self._pending_cr = False
+        self._last_tick = 0
+
+    def feed(self, tick: int, data: bytes) -> list[tuple[int, str]]:
+        """The lines completed by one serial_printf call's bytes."""
+        if self._pending_cr and data.startswith(b"\r"):
+            data = data[1:]
+        if data:
+            self._pending_cr = data.endswith(b"\n")
+        self._last_tick = tick
+        text = self._partial + data.replace(b"\n\r", b"\n").replace(b"\r\n", b"\n").decode("latin-1")
+        *done, self._partial = text.split("\n")
+        return [(tick, line) for line in done]
+
+    def finish(self) -> list[tuple[int, str]]:
+        """A last line that never got its line end (at the tick of its last bytes)."""
+        rest, self._partial = self._partial, ""
+        return [(self._last_tick, rest)] if rest else []

@@ -1,0 +1,86 @@
+"""--csv writes the scope signals one row per tick with units; `crslab plot` draws them, a panel per group."""
+
+import csv
+
+import matplotlib.image
+import numpy as np
+import pytest
+
+from crslab.cli import main
+from crslab.scopes.csv_sink import CsvSink
+from crslab.scopes.plot import read_scope_csv, scope_figure
+from crslab.scopes.signals import GROUPS, SIGNALS
+from crslab.sim.api import simulate
+
+
+@pytest.fixture(scope="module")
+def csv_run(tmp_path_factory):
+    path = tmp_path_factory.mktemp("csv") / "run.csv"
+    sink = CsvSink(path)
+    run = simulate(duration_s=6.0, log=True, sinks=[sink])
+    sink.close()
+    return path, run
+
+
+def test_one_row_per_tick_with_units_in_the_header(csv_run):
+    path, run = csv_run
+    with path.open() as f:
+        rows = list(csv.reader(f))
+    header = rows[0]
+    assert header[:5] == ["tick", "t [s]", "theta1motor [rad]", "theta2motor [rad]", "theta3motor [rad]"]
+    assert "tau1 [command units]" in header and "tau3_applied [command units]" in header
+    assert "Simulink_PlotVar4 [lab units]" in header and "GPIO60 [0/1]" in header and "th2_dh [rad]" in header
+    assert all(h.endswith("]") for h in header[1:])
+    body = np.array(rows[1:], dtype=float)
+    assert body[:, 0].tolist() == list(range(6000)) and np.allclose(body[:, 1], body[:, 0] / 1000)
+    log = run.log
+    col = {h: i for i, h in enumerate(header)}
+    # the lab's C floats read back as the same floats, the plant's doubles as the same doubles
+    f32 = np.float32
+    np.testing.assert_array_equal(body[:, col["theta2motor [rad]"]].astype(f32),
+                                  log["enc_rad"][:, 1].astype(f32))
+    np.testing.assert_array_equal(body[:, col["Simulink_PlotVar4 [lab units]"]].astype(f32),
+                                  log["plot"][:, 3].astype(f32))
+    np.testing.assert_array_equal(body[:, col["th3_dh [rad]"]], log["qpos_dh_rad"][:, 2])
+    np.testing.assert_array_equal(body[:, col["GPIO34 [0/1]"]], log["leds"][:, 0] & 1)
+
+
+def test_plot_writes_a_png_with_one_labelled_panel_per_group(csv_run, tmp_path, capsys):
+    path, _ = csv_run
+    out = tmp_path / "fig.png"
+    assert main(["plot", str(path), "-o", str(out), "--from", "3"]) == 0
+    assert "5 panels (motor angles, torques, Simulink_PlotVar1..4" in capsys.readouterr().err
+    image = matplotlib.image.imread(out)
+    assert image.shape[0] > 1000 and image.shape[1] > 1000 and image[..., :3].std() > 0.05  # not blank
+    t, values = read_scope_csv(path)
+    fig = scope_figure(t, values, "run")
+    titles = [ax.get_title(loc="left") for ax in fig.axes]
+    assert titles == [g.title for g in GROUPS]
+    units = [ax.get_ylabel() for ax in fig.axes]
+    assert units == ["rad", "command units", "lab units", "0/1 (a lane each)", "rad"]
+    assert [len(ax.get_lines()) for ax in fig.axes] == [sum(s.group == g for s in SIGNALS) for g in GROUPS]
+    assert fig.axes[-1].get_xlabel() == "time (s)"
+
+
+def test_plot_only_draws_the_groups_a_csv_holds(tmp_path):
+    path = tmp_path / "cut.csv"
+    path.write_text("tick,t [s],tau1 [command units],safety [0/1]\n0,0,1.5,0\n1,0.001,2,1\n")
+    t, values = read_scope_csv(path)
+    fig = scope_figure(t, values, "cut")
+    assert [ax.get_title(loc="left") for ax in fig.axes] == ["torques", "safety flag and LEDs"]
+
+
+def test_plot_bad_input_is_one_line_and_status_2(tmp_path, capsys):
+    other = tmp_path / "other.csv"
+    other.write_text("a,b\n1,2\n")
+    empty = tmp_path / "empty.csv"
+    empty.write_text("tick,t [s],tau1 [command units]\n")
+    good = tmp_path / "good.csv"
+    good.write_text("tick,t [s],tau1 [command units]\n0,0,1\n")
+    for args, why in [([str(tmp_path / "none.csv")], "no such file"),
+                      ([str(other)], "not a crslab scope CSV"), ([str(empty)], "holds no rows"),
+                      ([str(good), "--from", "5"], "no rows between"),
+                      ([str(good), "-o", str(tmp_path / "no" / "f.png")], "cannot write the figure")]:
+        assert main(["plot", *args]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and why in err, err
