@@ -19,6 +19,7 @@ COMMANDS = [
     "crslab.cli.regress_commands",
     "crslab.cli.traj_commands",
     "crslab.cli.toolbox_commands",
+    "crslab.cli.scope_commands",
 ]
 
 

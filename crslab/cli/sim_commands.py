@@ -9,6 +9,7 @@ import time
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.cli.live_options import LiveRun, add_live_options, live_needs_log
 from crslab.lab.build import LabBuildError
 from crslab.scenario.events import seconds_to_tick
 from crslab.scenario.load import ScenarioError
@@ -82,6 +83,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     pace.add_argument("--fast", action="store_true", help="run as fast as the machine can")
     p.add_argument("--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
     p.add_argument("--json", action="store_true", help="print the end-of-run summary as JSON on stderr")
+    add_live_options(p)
     p.set_defaults(func=run_sim)
 
 
@@ -159,7 +161,8 @@ def notices(lab_name: str, stats: dict, limit: int) -> list[str]:
 
 def run_sim(args: argparse.Namespace) -> int:
     """``crslab sim``."""
-    config = config_from_args(args)
+    config = config_from_args(args, log=live_needs_log(args))
+    live = LiveRun(args, config)
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
     sinks: list[Sink] = [StdoutSink()]
     if args.transcript:
@@ -172,6 +175,12 @@ def run_sim(args: argparse.Namespace) -> int:
     def on_serial(tick: int, data: bytes) -> None:
         for s in sinks:
             s.on_serial(tick, data)
+        for s in live.sinks:
+            s.on_serial(tick, data)
+
+    def on_log(columns: dict) -> None:
+        for s in live.sinks:
+            s.on_log(columns)
 
     def on_behind(rate: float) -> None:
         print(f"crslab sim: this machine keeps up only {rate:.2f}x real time; running as fast as it can",
@@ -182,8 +191,9 @@ def run_sim(args: argparse.Namespace) -> int:
         with Simulation(config, deadline_s=args.deadline, limits=limits_from_args(args)) as sim:
             if not sim.symbols & 1:
                 raise CliError(f"{lab_name} defines no lab() function")
+            live.start(sim, sinks)
             result = sim.run(end_tick, speed=None if args.fast else args.speed, on_serial=on_serial,
-                             on_behind=on_behind)
+                             on_behind=on_behind, on_log=on_log, between=live.between)
             for s in sinks:
                 getattr(s, "flush", lambda: None)()
     except SimError as exc:
@@ -191,6 +201,7 @@ def run_sim(args: argparse.Namespace) -> int:
     finally:
         for s in sinks:
             s.close()
+        live.close()
     wall = time.monotonic() - start
     for line in notices(lab_name, result.stats, config.build.serial_line_limit):
         print(f"crslab sim: {line}", file=sys.stderr)

@@ -1,0 +1,155 @@
+"""The options of ``crslab sim`` that open windows into the running lab.
+
+``--rerun`` / ``--rrd FILE`` (rerun scopes and 3D), ``--csv FILE`` (the same signals as a table),
+``--pty`` / ``--pty-link PATH`` (the serial line on a pseudo-terminal), ``--viewer`` (MuJoCo's
+viewer), and the live-variable commands read from standard input while the run goes on.
+
+:class:`LiveRun` checks the options before the worker starts (bad paths are one-line errors),
+starts everything that spawns threads or windows only after the worker was forked
+(:meth:`LiveRun.start`), and serves typed commands and the viewer between chunks of ticks
+(:meth:`LiveRun.between`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from crslab.cli import CliError
+from crslab.sim.sinks import Sink
+
+
+def add_live_options(p: argparse.ArgumentParser) -> None:
+    """Add the scope, terminal and viewer options to a run command's parser."""
+    g = p.add_argument_group("scopes and live windows")
+    g.add_argument("--rerun", action="store_true",
+                   help="open the rerun viewer on the run: Simulink_PlotVar1..4, motor angles, torques, "
+                   "safety flag, LEDs, serial lines and the arm in 3D")
+    g.add_argument("--rrd", type=Path, metavar="FILE",
+                   help="save the same rerun recording to FILE (headless)")
+    g.add_argument("--csv", type=Path, metavar="FILE",
+                   help="write the scope signals, one row per tick, to FILE (see 'crslab plot')")
+    g.add_argument("--pty", action="store_true",
+                   help="also send the serial output to a pseudo-terminal (its path is printed on stderr) "
+                   "for miniterm, picocom or screen; bytes sent while no terminal is attached are dropped")
+    g.add_argument("--pty-link", type=Path, metavar="PATH",
+                   help="keep a symlink at PATH to the pseudo-terminal (implies --pty)")
+    g.add_argument("--viewer", action="store_true",
+                   help="open MuJoCo's viewer on the arm (Ctrl + right-drag on a link pushes it)")
+    g.add_argument("--no-stdin", action="store_true",
+                   help="do not read live-variable commands (get, set, list) from standard input")
+
+
+def live_needs_log(args: argparse.Namespace) -> bool:
+    """Whether the options ask for the run's scope signals (rerun, CSV, the viewer's pose)."""
+    return bool(args.rerun or args.rrd or args.csv or args.viewer)
+
+
+def _writable(path: Path, what: str) -> None:
+    """Fail early, in one line, when ``path`` cannot be written."""
+    if path.is_dir():
+        raise CliError(f"{path}: is a directory; give a file name for {what}")
+    try:
+        with open(path, "ab"):
+            pass
+    except OSError as exc:
+        raise CliError(f"{path}: cannot write {what} ({exc.strerror})") from None
+
+
+def stdin_commands_possible() -> bool:
+    """True when standard input can carry commands without stopping a background job."""
+    stream = sys.stdin
+    if stream is None or stream.closed:
+        return False
+    try:
+        fd = stream.fileno()
+        if os.isatty(fd) and os.tcgetpgrp(fd) != os.getpgrp():
+            return False  # a background job reading its terminal would be stopped (SIGTTIN)
+    except (OSError, ValueError):
+        return False
+    return True
+
+
+class LiveRun:
+    """The live windows one ``crslab sim`` run asked for."""
+
+    def __init__(self, args: argparse.Namespace, config: object, status: object = None) -> None:
+        self.args = args
+        self.config = config
+        self.status = status or (lambda line: print(f"crslab sim: {line}", file=sys.stderr, flush=True))
+        self.sinks: list[Sink] = []
+        self.console = None
+        self.viewer = None
+        self.pty = None
+        self.sim = None
+        for path, what in ((args.rrd, "the rerun recording"), (args.csv, "the CSV")):
+            if path is not None:
+                _writable(path, what)
+        if args.pty_link is not None:
+            link = args.pty_link
+            if link.exists() and not link.is_symlink():
+                raise CliError(f"--pty-link {link}: exists and is not a symlink; not replacing it")
+            if not link.parent.is_dir():
+                raise CliError(f"--pty-link {link}: no such directory {link.parent}")
+
+    def start(self, sim: object, stdout_sinks: list[Sink]) -> list[Sink]:
+        """Open everything (after the worker was forked); returns the sinks to feed."""
+        from crslab.live.console import VarConsole
+
+        a = self.args
+        self.sim = sim
+        self._flushable = [s for s in stdout_sinks if hasattr(s, "flush")]
+        if a.pty or a.pty_link:
+            from crslab.live.pty_sink import PtyError, PtySink
+
+            try:
+                self.pty = PtySink(a.pty_link)
+            except PtyError as exc:
+                raise CliError(str(exc)) from None
+            where = f" (linked at {self.pty.link})" if self.pty.link else ""
+            self.status(f"serial port on {self.pty.path}{where}: attach a terminal, "
+                        f"e.g. python -m serial.tools.miniterm {self.pty.link or self.pty.path} 115200")
+            self.sinks.append(self.pty)
+        if a.csv:
+            from crslab.scopes.csv_sink import CsvSink
+
+            self.sinks.append(CsvSink(a.csv))
+        if a.rerun or a.rrd:
+            from crslab.scopes.rerun_sink import RerunSink
+
+            name = self.config.build.source.name  # type: ignore[attr-defined]
+            rerun_sink = RerunSink(rrd_path=a.rrd, spawn=a.rerun, name=name, on_status=self.status)
+            rerun_sink.prepare()
+            self.sinks.append(rerun_sink)
+        if a.viewer:
+            from crslab import crs
+            from crslab.live.viewer import MujocoViewer
+
+            viewer = MujocoViewer(crs.motor_to_dh(self.config.rest_motor_rad),  # type: ignore[attr-defined]
+                                  on_status=self.status)
+            if viewer.start():
+                self.viewer = viewer
+                self.sinks.append(viewer)
+        if not a.no_stdin and stdin_commands_possible():
+            self.console = VarConsole(self.config.build.watched)  # type: ignore[attr-defined]
+            self.console.start()
+        return self.sinks
+
+    def between(self) -> None:
+        """Between chunks: show what was printed, run typed commands, update the viewer."""
+        for s in self._flushable:
+            s.flush()
+        if self.console is not None:
+            self.console.serve(self.sim)
+        if self.viewer is not None:
+            self.viewer.serve(self.sim)
+
+    def close(self) -> None:
+        """Let a terminal read the last bytes, then close every window and file."""
+        if self.pty is not None:
+            self.pty.drain()
+        for s in self.sinks:
+            s.close()
+        self.sinks = []

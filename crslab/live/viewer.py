@@ -1,0 +1,79 @@
+"""``--viewer``: MuJoCo's own viewer on the running arm; the mouse pushes it like a hand.
+
+The physics runs in the worker process; the viewer runs in the crslab process on its own copy of
+the model. After every chunk of ticks the copy takes the arm's latest pose from the scope log,
+the viewer draws it, and the force of a mouse drag (double-click a link, then Ctrl + right-drag
+to pull it, Ctrl + left-drag to twist it) goes to the worker, which applies it to that link
+until it changes. At real-time speed a chunk is 20 ms, so the drag acts with that delay.
+Without a display, the run goes on without a viewer and one line says so.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+
+import numpy as np
+
+from crslab.sim.sinks import Sink
+
+
+class MujocoViewer(Sink):
+    """MuJoCo's passive viewer following a run; call :meth:`start` once the simulation exists."""
+
+    def __init__(self, rest_dh_rad: np.ndarray, on_status: Callable[[str], None] | None = None) -> None:
+        self.on_status = on_status or (lambda line: print(line, file=sys.stderr))
+        self.rest_dh_rad = np.asarray(rest_dh_rad, dtype=float)
+        self.handle = None
+        self._qpos: np.ndarray | None = None
+        self._sent = None
+
+    def start(self) -> bool:
+        """Open the window; False (after one line on why) when it cannot open."""
+        from crslab.scopes.display import missing_display
+
+        why = missing_display()
+        if why:
+            self.on_status(f"--viewer: {why}; running without MuJoCo's viewer")
+            return False
+        try:
+            import mujoco
+            import mujoco.viewer
+
+            from crslab.plant.model import load_model
+
+            self.model = load_model()
+            self.data = mujoco.MjData(self.model)
+            self.data.qpos[:] = self.rest_dh_rad
+            self._forward = mujoco.mj_forward
+            self.handle = mujoco.viewer.launch_passive(self.model, self.data)
+        except Exception as exc:  # noqa: BLE001 - no OpenGL, no mjpython on macOS...: one line
+            self.on_status(f"--viewer: MuJoCo's viewer did not open ({str(exc).splitlines()[0]}); "
+                           "running without it")
+            self.handle = None
+            return False
+        self._sent = np.zeros_like(self.data.xfrc_applied)
+        return True
+
+    def on_log(self, columns: dict[str, np.ndarray]) -> None:
+        if len(columns["qpos_dh_rad"]):
+            self._qpos = columns["qpos_dh_rad"][-1]
+
+    def serve(self, sim: object) -> None:
+        """Show the latest pose and pass the mouse's push to the simulation (between chunks)."""
+        if self.handle is None or not self.handle.is_running():
+            return
+        with self.handle.lock():
+            if self._qpos is not None:
+                self.data.qpos[:] = self._qpos
+            self._forward(self.model, self.data)
+        self.handle.sync()  # draws, and turns a mouse drag into data.xfrc_applied
+        push = self.data.xfrc_applied.copy()
+        if not np.array_equal(push, self._sent):
+            sim.push(push)  # type: ignore[attr-defined]
+            self._sent = push
+
+    def close(self) -> None:
+        if self.handle is not None:
+            self.handle.close()
+            self.handle = None
