@@ -168,13 +168,17 @@ def run_check(args: argparse.Namespace) -> int:
     if args.max_report < 1:
         raise CliError(f"--max-report must be at least 1, got {args.max_report}")
     header = golden.header
+    chosen = args.scenario
     _defaults_from_header(args, header, args.golden)
     config = config_from_args(args)
     rest = _header_rest(header, args.golden)
     if args.offsets is None and rest is not None and rest != config.rest_motor_rad:
         config = dataclasses.replace(config, rest_motor_rad=rest)
     recorded = header.get("scenario_sha256")
-    if recorded and recorded != sha256_of(Path(config.scenario.source).read_bytes()):
+    if chosen is not None and header.get("scenario") not in (None, chosen):
+        print(f"crslab check: note: {args.golden} was recorded on scenario {header['scenario']}, "
+              f"not {chosen}", file=sys.stderr)
+    elif recorded and recorded != sha256_of(Path(config.scenario.source).read_bytes()):
         print(f"crslab check: note: scenario {config.scenario.name} has changed since {args.golden} was "
               "recorded", file=sys.stderr)
     end_tick = _end_tick(args, config)

@@ -1,0 +1,96 @@
+"""`crslab grade` over a class: a good lab, a wrong one, one that does not compile, one that
+crashes and one that hangs are each reported correctly, and grading finishes."""
+
+import csv
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from crslab.regress.transcript import read_golden
+
+LABS = Path(__file__).parent / "labs"
+REFERENCE = Path(__file__).resolve().parents[1] / "csrc" / "labs" / "lab1_kinematics.c"
+
+
+def crslab(*args, timeout=180):
+    return subprocess.run([sys.executable, "-m", "crslab", *map(str, args)], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory):
+    subs = tmp_path_factory.mktemp("submissions")
+    shutil.copy(LABS / "lab1_own_ik.c", subs / "good.c")
+    text = (LABS / "lab1_own_ik.c").read_text()
+    (subs / "wrong.c").write_text(text.replace("atan2(-s_in, r_in)", "atan2(s_in, r_in)"))
+    shutil.copy(LABS / "does_not_compile.c", subs / "broken.c")
+    shutil.copy(LABS / "crash_after_5s.c", subs / "crash.c")
+    shutil.copy(LABS / "hang_after_5s.c", subs / "hang.cpp")
+    (subs / "notes.txt").write_text("not a lab")
+    out = tmp_path_factory.mktemp("grades")
+    r = crslab("grade", subs, "--reference", REFERENCE, "--scenario", "tour", "--duration", "8",
+               "--deadline", "0.5", "--out", out)
+    return r, out
+
+
+def test_each_submission_is_classed_and_grading_finishes(graded):
+    r, out = graded
+    assert r.returncode == 1, r.stderr
+    rows = {line.split()[0]: line for line in r.stdout.splitlines()[1:-1]}
+    assert sorted(rows) == ["broken.c", "crash.c", "good.c", "hang.cpp", "wrong.c"]
+    assert rows["good.c"].split()[1] == "pass"
+    assert " mismatch " in rows["wrong.c"] and "line 3 (t = 4.100 s): number 2 is 76.25" in rows["wrong.c"]
+    assert " does not compile " in rows["broken.c"] and "broken.c:9:13: error:" in rows["broken.c"]
+    assert " crashed " in rows["crash.c"] and "SIGSEGV) in lab() at tick 5100" in rows["crash.c"]
+    assert " hung " in rows["hang.cpp"]
+    assert "lab() did not return within 0.5 s at tick 5100" in rows["hang.cpp"]
+    assert r.stdout.splitlines()[-1] == (
+        "5 submissions: 1 pass, 1 mismatch, 1 does not compile, 1 crashed, 1 hung")
+    assert (out / "summary.txt").read_text() == r.stdout
+    assert "[5/5]" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_csv_and_junit_reports(graded):
+    _, out = graded
+    with (out / "grades.csv").open() as f:
+        rows = {row["submission"]: row for row in csv.DictReader(f)}
+    assert {k: v["result"] for k, v in rows.items()} == {
+        "broken.c": "does not compile", "crash.c": "crashed", "good.c": "pass", "hang.cpp": "hung",
+        "wrong.c": "mismatch"}
+    assert (rows["wrong.c"]["first_diff_line"], rows["wrong.c"]["first_diff_t_s"]) == ("3", "4.100")
+    # 8 s: eight prints of three lines; the crash at 5.1 s comes before its third print's printing()
+    assert rows["good.c"]["lines"] == "24" and rows["crash.c"]["lines"] == "2"  # partial transcript kept
+    suite = ET.parse(out / "junit.xml").getroot()
+    assert (suite.get("tests"), suite.get("failures"), suite.get("errors")) == ("5", "1", "3")
+    cases = {c.get("name"): c for c in suite.iter("testcase")}
+    assert cases["good.c"].find("failure") is None and cases["good.c"].find("error") is None
+    assert "expected: 0.00 -24.06 13.75" in cases["wrong.c"].find("failure").text
+    assert "Kp_gain" in cases["broken.c"].find("error").text
+    assert (out / "reports" / "wrong.c.txt").is_file() and not (out / "reports" / "good.c.txt").exists()
+
+
+def test_grade_transcripts_are_byte_identical_to_sim_and_record(graded, tmp_path):
+    _, out = graded
+    t, g = tmp_path / "t.txt", tmp_path / "g.txt"
+    assert crslab("sim", "--fast", "--lab", LABS / "lab1_own_ik.c", "--duration", "8", "--transcript", t) \
+        .returncode == 0
+    assert crslab("record", "--lab", LABS / "lab1_own_ik.c", "--duration", "8", "-o", g).returncode == 0
+    assert (out / "transcripts" / "good.c.txt").read_bytes() == t.read_bytes() == read_golden(g).body
+
+
+def test_grade_bad_input(tmp_path):
+    r = crslab("grade", tmp_path / "nowhere", "--reference", REFERENCE)
+    assert r.returncode == 2 and r.stderr.strip().endswith("nowhere: no such folder of submissions")
+    r = crslab("grade", tmp_path, "--reference", REFERENCE)
+    assert r.returncode == 2 and r.stderr.strip().endswith("no lab files (.c, .cpp) to grade")
+    shutil.copy(LABS / "lab1_own_ik.c", tmp_path / "a.c")
+    r = crslab("grade", tmp_path, "--reference", LABS / "does_not_compile.c", "--out", tmp_path / "o")
+    assert r.returncode == 2 and r.stderr.strip().splitlines()[-1] == (
+        "crslab grade: does_not_compile.c does not compile")
+    r = crslab("grade", tmp_path, "--reference", LABS / "crash_after_5s.c", "--out", tmp_path / "o")
+    assert r.returncode == 2 and r.stderr.strip().splitlines()[-1].startswith(
+        "crslab grade: the reference lab did not run: crash_after_5s.c crashed (SIGSEGV)")
