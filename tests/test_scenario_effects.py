@@ -201,6 +201,12 @@ counts = 50
 joint = 2
 until = 5.0
 [[event]]
+at = 4.2
+kind = "noise"
+counts = 20
+joint = 1
+until = 5.1
+[[event]]
 at = 5.2
 kind = "glitch"
 joint = 1
@@ -219,12 +225,16 @@ duration = 1.5
     return simulate(None, str(path), log=True)
 
 
-def test_noise_on_one_joint_for_a_while(encoder_faults):
+def test_noise_on_chosen_joints_for_a_while(encoder_faults):
     run = encoder_faults
     t, enc = run.log["tick"][:, 0], run.log["enc_rad"]
-    during, after = (t >= 4200) & (t < 5000), (t >= 5000) & (t < 5200)
-    assert enc[during, 1].std() / RAD_PER_COUNT == pytest.approx(50, rel=0.2)
-    assert enc[during, 0].std() == 0 and enc[during, 2].std() == 0 and enc[after, 1].std() == 0
+    both, first_only, none = (t >= 4200) & (t < 5000), (t >= 5000) & (t < 5100), (t >= 5100) & (t < 5200)
+    assert enc[both, 1].std() / RAD_PER_COUNT == pytest.approx(50, rel=0.2)
+    assert enc[both, 0].std() / RAD_PER_COUNT == pytest.approx(20, rel=0.2)
+    assert enc[both, 2].std() == 0
+    # joint 2's noise ends at 5.0 s; joint 1's goes on until 5.1 s
+    assert enc[first_only, 1].std() == 0 and enc[first_only, 0].std() / RAD_PER_COUNT > 10
+    assert enc[none].std(axis=0).max() == 0
 
 
 def test_a_glitch_lasts_exactly_one_tick(encoder_faults):

@@ -101,9 +101,10 @@ def apply_event(worker: Worker, event: Event) -> None:
         m.tendon_frictionloss[:] = state.tendon_frictionloss * event.scale
         m.tendon_damping[:] = state.tendon_damping * event.scale
     elif isinstance(event, EncoderNoise):
-        faults.rng_state = event.rng_state
-        for j in range(3):
-            faults.noise_counts[j] = float(event.counts[j])
+        if event.rng_state:
+            faults.rng_state = event.rng_state
+        for j in event.joints:
+            faults.noise_counts[j - 1] = float(event.counts[j - 1])
     elif isinstance(event, EncoderGlitch):
         if faults.glitch_tick != sim.tick:  # a new glitch; two at one tick add up
             faults.glitch_tick = sim.tick

@@ -101,12 +101,14 @@ class FrictionScale:
 
 @dataclass(frozen=True)
 class EncoderNoise:
-    """Gaussian encoder noise from now on: standard deviation ``counts`` per joint (0: none),
-    drawn from a generator seeded with ``rng_state`` (derived from the scenario's seed)."""
+    """Gaussian encoder noise from now on on ``joints``: standard deviation ``counts[j - 1]`` for
+    joint j (0: none); other joints keep theirs. Drawn from a generator seeded with ``rng_state``
+    (derived from the scenario's seed; 0 keeps the generator as it is)."""
 
     tick: int
     counts: tuple[float, float, float]
     rng_state: int
+    joints: tuple[int, ...] = (1, 2, 3)
     kind: str = "noise"
     line: int = field(default=0, compare=False)
 
@@ -186,8 +188,8 @@ def describe(event: Event) -> str:
         return f"friction x{e.scale:g}"
     if isinstance(e, EncoderNoise):
         if not any(e.counts):
-            return "noise off"
-        return "noise std " + " ".join(f"{c:g}" for c in e.counts) + " counts"
+            return "noise off on joint " + ", ".join(map(str, e.joints))
+        return "noise " + ", ".join(f"joint {j} std {e.counts[j - 1]:g}" for j in e.joints) + " counts"
     if isinstance(e, EncoderGlitch):
         return "glitch " + " ".join(str(c) for c in e.counts) + " counts"
     if isinstance(e, StuckEncoder):

@@ -406,11 +406,13 @@ class _Parser:
     def _noise(self, r: _Reader, at: int, line: int) -> list[Event]:
         r.check_keys({"at", "kind", "counts", "joint", "joints", "until"})
         counts = _per_joint(r, "counts", whole=False, minimum=0.0)
+        joints = (1, 2, 3) if isinstance(r.table["counts"], list) else _joints(r)
         until = _until(r, at)
         out: list[Event] = [EncoderNoise(tick=at, counts=counts, rng_state=self._next_state(),
-                                         line=line)]
-        if until is not None:
-            out.append(EncoderNoise(tick=until, counts=(0.0, 0.0, 0.0), rng_state=1, line=line))
+                                         joints=joints, line=line)]
+        if until is not None:  # only these joints go quiet, and the generator runs on
+            out.append(EncoderNoise(tick=until, counts=(0.0, 0.0, 0.0), rng_state=0, joints=joints,
+                                    line=line))
         return out
 
     def _glitch(self, r: _Reader, at: int, line: int) -> list[Event]:
