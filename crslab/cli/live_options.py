@@ -18,6 +18,8 @@ import sys
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.scopes.display import missing_display
+from crslab.scopes.threaded import ThreadedSink
 from crslab.sim.sinks import Sink
 
 
@@ -115,14 +117,19 @@ class LiveRun:
         if a.csv:
             from crslab.scopes.csv_sink import CsvSink
 
-            self.sinks.append(CsvSink(a.csv))
-        if a.rerun or a.rrd:
+            self.sinks.append(ThreadedSink(CsvSink(a.csv)))
+        spawn = a.rerun
+        if spawn and missing_display():
+            self.status(f"--rerun: {missing_display()}; running without the rerun viewer"
+                        + ("" if a.rrd else " (--rrd FILE saves a recording to open later)"))
+            spawn = False
+        if spawn or a.rrd:
             from crslab.scopes.rerun_sink import RerunSink
 
             name = self.config.build.source.name  # type: ignore[attr-defined]
-            rerun_sink = RerunSink(rrd_path=a.rrd, spawn=a.rerun, name=name, on_status=self.status)
+            rerun_sink = RerunSink(rrd_path=a.rrd, spawn=spawn, name=name, on_status=self.status)
             rerun_sink.prepare()
-            self.sinks.append(rerun_sink)
+            self.sinks.append(ThreadedSink(rerun_sink))
         if a.viewer:
             from crslab import crs
             from crslab.live.viewer import MujocoViewer
@@ -150,6 +157,12 @@ class LiveRun:
         """Let a terminal read the last bytes, then close every window and file."""
         if self.pty is not None:
             self.pty.drain()
+        failed = []
         for s in self.sinks:
-            s.close()
+            try:
+                s.close()
+            except OSError as exc:  # a full disk, a removed directory: one line, not a traceback
+                failed.append(f"{exc.filename or 'output'}: {exc.strerror or exc}")
         self.sinks = []
+        if failed:
+            raise CliError(f"could not finish writing {'; '.join(failed)}")

@@ -11,6 +11,7 @@ Without a display, the run goes on without a viewer and one line says so.
 from __future__ import annotations
 
 import sys
+import threading
 from collections.abc import Callable
 
 import numpy as np
@@ -27,9 +28,11 @@ class MujocoViewer(Sink):
         self.handle = None
         self._qpos: np.ndarray | None = None
         self._sent = None
+        self._threads: list[threading.Thread] = []
 
     def start(self) -> bool:
         """Open the window; False (after one line on why) when it cannot open."""
+        before = set(threading.enumerate())
         from crslab.scopes.display import missing_display
 
         why = missing_display()
@@ -53,6 +56,7 @@ class MujocoViewer(Sink):
             self.handle = None
             return False
         self._sent = np.zeros_like(self.data.xfrc_applied)
+        self._threads = [t for t in threading.enumerate() if t not in before]  # the window's thread
         return True
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
@@ -74,6 +78,9 @@ class MujocoViewer(Sink):
             self._sent = push
 
     def close(self) -> None:
+        """Close the window and wait for its thread (exiting while it tears down would crash)."""
         if self.handle is not None:
             self.handle.close()
             self.handle = None
+            for thread in self._threads:
+                thread.join(5.0)

@@ -36,6 +36,7 @@ from crslab.scopes.signals import DIGITAL, MOTOR, SIMULINK, TORQUE, SerialLines,
 from crslab.sim.sinks import Sink
 
 TIMELINE = "sim_time"
+FLUSH_TIMEOUT_S = 10.0
 ARM_PERIOD_TICKS = 10
 """The 3D view's frame period: the arm's pose is logged every 10 ms (100 frames per second)."""
 
@@ -49,6 +50,13 @@ DIGITAL_ENTITY = "/scopes/digital"
 DIGITAL_NAMES = ["safety", "GPIO34", "GPIO60"]
 SERIAL_ENTITY = "/serial"
 ARM_ENTITY = "/arm"
+
+
+def viewer_executable() -> str | None:
+    """The rerun viewer installed with rerun-sdk beside this Python (a venv's bin/), if there is one;
+    None lets rerun search the PATH."""
+    here = Path(sys.executable).parent / "rerun"
+    return str(here) if here.is_file() else None
 
 
 def _time_column(ticks: np.ndarray) -> object:
@@ -143,10 +151,11 @@ class RerunSink(Sink):
                                + ("" if self.rrd_path else " (--rrd FILE saves a recording to open later)"))
             else:
                 try:
-                    rec.spawn(connect=False)
+                    rr.spawn(connect=False, executable_path=viewer_executable(), recording=rec)
                     sinks.append(rr.GrpcSink())
                 except Exception as exc:  # noqa: BLE001 - any failure to start it is one line
-                    self.on_status(f"--rerun: the rerun viewer did not start ({exc}); running without it")
+                    why = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+                    self.on_status(f"--rerun: the rerun viewer did not start ({why}); running without it")
         if self.rrd_path is not None:
             sinks.append(rr.FileSink(str(self.rrd_path)))
         self.rec = rec
@@ -225,7 +234,11 @@ class RerunSink(Sink):
             self._send_lines()
         self._closed = True
         if self.rec is not None:
-            self.rec.flush()
+            try:
+                self.rec.flush(timeout_sec=FLUSH_TIMEOUT_S)
+            except Exception as exc:  # noqa: BLE001 - a viewer that went away: one line, the file is kept
+                why = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+                self.on_status(f"--rerun: the rerun viewer did not take the whole recording ({why})")
             self.rec.disconnect()
 
 

@@ -1,0 +1,74 @@
+"""A sink that does its work in a thread of its own, so the simulation does not wait for it.
+
+The crslab process asks the worker for the next chunk of ticks only after every sink has taken
+the last one. Writing a rerun recording or a CSV takes a while per chunk; in a thread, that work
+overlaps the worker's next chunk. Calls reach the wrapped sink in the order they were made; at
+most ``depth`` chunks wait, after which the simulation waits for the sink (memory stays bounded).
+
+>>> from crslab.sim.sinks import MemorySink
+>>> inner = MemorySink()
+>>> sink = ThreadedSink(inner)
+>>> sink.on_serial(5, b"hi\\n\\r"); sink.close()
+>>> inner.calls
+[(5, b'hi\\n\\r')]
+"""
+
+from __future__ import annotations
+
+import queue
+import threading
+
+import numpy as np
+
+from crslab.sim.sinks import Sink
+
+_STOP = object()
+
+
+class ThreadedSink(Sink):
+    """Hand every call to ``inner`` from a background thread (started on the first call)."""
+
+    def __init__(self, inner: Sink, depth: int = 4) -> None:
+        self.inner = inner
+        self._queue: queue.Queue = queue.Queue(maxsize=depth)
+        self._thread: threading.Thread | None = None
+        self._error: BaseException | None = None
+
+    def _run(self) -> None:
+        while True:
+            item = self._queue.get()
+            if item is _STOP:
+                return
+            if self._error is not None:
+                continue  # keep draining so the simulation never blocks on a dead sink
+            method, args = item
+            try:
+                method(*args)
+            except BaseException as exc:  # noqa: BLE001 - re-raised in close()
+                self._error = exc
+
+    def _put(self, method: object, *args: object) -> None:
+        if self._thread is None:
+            self._thread = threading.Thread(target=self._run, name="crslab-sink", daemon=True)
+            self._thread.start()
+        self._queue.put((method, args))
+
+    def on_serial(self, tick: int, data: bytes) -> None:
+        self._put(self.inner.on_serial, tick, data)
+
+    def on_log(self, columns: dict[str, np.ndarray]) -> None:
+        self._put(self.inner.on_log, columns)
+
+    def close(self) -> None:
+        """Wait for the queued work, close the wrapped sink, and raise what went wrong in the thread."""
+        if self._thread is not None:
+            self._queue.put(_STOP)
+            self._thread.join()
+            self._thread = None
+        error, self._error = self._error, None
+        try:
+            self.inner.close()
+        except BaseException as exc:  # noqa: BLE001 - the first error is the one to report
+            error = error or exc
+        if error is not None:
+            raise error

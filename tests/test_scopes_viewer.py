@@ -1,0 +1,82 @@
+"""--viewer and --rerun: without a display one line says so and the run goes on; with one (a virtual
+X server, when Xvfb is installed) MuJoCo's viewer follows the arm and a mouse drag pushes it."""
+
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def headless_env():
+    return {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+
+
+def test_without_a_display_viewer_and_rerun_say_so_in_one_line_and_the_run_goes_on(tmp_path):
+    transcript = tmp_path / "t.bin"
+    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--duration", "5", "--no-stdin",
+                        "--viewer", "--rerun", "--transcript", str(transcript)], cwd=ROOT, env=headless_env(),
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    notes = sorted(line for line in r.stderr.splitlines() if "no display" in line)
+    assert len(notes) == 2 and notes[1].startswith("crslab sim: --viewer: no display")
+    assert notes[0].startswith("crslab sim: --rerun: no display") and "--rrd FILE" in notes[0]
+    assert transcript.read_bytes().count(b"\n\r") == 6 and r.stdout.count("\n") == 6
+
+
+DRAG = """
+import mujoco, numpy as np
+from crslab import crs
+from crslab.live.viewer import MujocoViewer
+from crslab.sim.api import make_config
+from crslab.sim.session import Simulation
+
+config = make_config(scenario="hands_off", log=True)
+with Simulation(config) as sim:
+    viewer = MujocoViewer(crs.motor_to_dh(config.rest_motor_rad))
+    assert viewer.start()
+    rows = []
+    def on_log(columns):
+        viewer.on_log(columns)
+        rows.append(columns["qpos_dh_rad"][-1].copy())
+    sim.run(1000, speed=4.0, on_log=on_log, between=lambda: viewer.serve(sim))
+    forearm = viewer.model.body("forearm").id
+    assert np.allclose(viewer.data.qpos, rows[-1])  # the viewer shows the worker's arm
+    with viewer.handle.lock():  # what a Ctrl + right-drag on the forearm sets: pull it 0.3 m up
+        pert = viewer.handle.perturb
+        pert.select, pert.active = forearm, int(mujoco.mjtPertBit.mjPERT_TRANSLATE)
+        pert.localpos[:] = 0
+        pert.localmass = 2.0
+        pert.refselpos[:] = viewer.data.xpos[forearm] + [0, 0, 0.3]
+        pert.refpos[:] = pert.refselpos
+        pert.refquat[:] = viewer.data.xquat[forearm]
+    sim.run(2000, speed=4.0, on_log=on_log, between=lambda: viewer.serve(sim))
+    viewer.close()
+    print(viewer._sent[forearm][2], rows[0][1], rows[-1][1])
+"""
+
+
+@pytest.mark.skipif(shutil.which("Xvfb") is None, reason="needs Xvfb for a virtual display")
+def test_with_a_display_a_mouse_drag_in_mujocos_viewer_pushes_the_simulated_arm(tmp_path):
+    display = f":{200 + os.getpid() % 500}"
+    xvfb = subprocess.Popen(["Xvfb", display, "-screen", "0", "800x600x24", "-nolisten", "tcp"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        socket = Path(f"/tmp/.X11-unix/X{display[1:]}")
+        end = time.monotonic() + 10
+        while not socket.exists() and time.monotonic() < end:
+            time.sleep(0.05)
+        r = subprocess.run([sys.executable, "-c", DRAG], cwd=ROOT, env={**headless_env(), "DISPLAY": display},
+                           capture_output=True, text=True, timeout=120)
+    finally:
+        xvfb.kill()
+        xvfb.wait()
+    assert r.returncode == 0, r.stderr
+    up_force_n, th2_before, th2_after = map(float, r.stdout.split())
+    assert up_force_n > 10  # the drag became an upward force on the forearm in the worker...
+    assert th2_after > th2_before + 0.05  # ...which lifted the upper arm against the friction
