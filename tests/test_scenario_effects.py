@@ -218,6 +218,12 @@ joint = 3
 until = 7.5
 [[event]]
 at = 5.5
+kind = "noise"
+joint = 3
+counts = 30
+until = 7.5
+[[event]]
+at = 5.5
 kind = "hand"
 motor_deg = [0, 0, 0]
 duration = 1.5
@@ -249,7 +255,7 @@ def test_a_stuck_encoder_keeps_its_reading_while_the_joint_moves(encoder_faults)
     t, enc = run.log["tick"][:, 0], run.log["enc_rad"]
     motor = crs.dh_to_motor(run.log["qpos_dh_rad"])
     stuck = (t >= 5500) & (t < 7500)
-    assert np.ptp(enc[stuck, 2]) == 0 and np.ptp(motor[stuck, 2]) > 0.2
+    assert np.ptp(enc[stuck, 2]) == 0 and np.ptp(motor[stuck, 2]) > 0.2  # noisy, yet frozen
     assert enc[at(run, 7.6), 2] == pytest.approx(motor[at(run, 7.6), 2], abs=2 * RAD_PER_COUNT)
     # the transcript shows it: the forearm's printed angle stays at rest while the arm reaches motor zero
     assert printed(run, 7.1) == pytest.approx([0, 0, 13.75], abs=0.05)

@@ -41,13 +41,14 @@ void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3
     };
     for (int j = 0; j < 3; ++j) {
         int64_t counts = crs_encoder_counts(motor_rad[j], sim->rest_motor_rad[j]);
+        if (f->noise_counts[j] > 0.0) counts += llround(f->noise_counts[j] * gaussian(&f->rng_state));
+        if (sim->tick == f->glitch_tick) counts += f->glitch_counts[j];
+        /* a stuck encoder repeats its last reading, noise and all, whatever the joint does */
         if (f->stuck_encoder[j]) {
             counts = f->stuck_counts[j];
         } else {
             f->stuck_counts[j] = counts;
         }
-        if (f->noise_counts[j] > 0.0) counts += llround(f->noise_counts[j] * gaussian(&f->rng_state));
-        if (sim->tick == f->glitch_tick) counts += f->glitch_counts[j];
         /* encoder 2 is mounted reversed: the chip counts down and the framework negates it */
         const int64_t raw = (j == 1) ? -counts : counts;
         const double angle = (double)((j == 1) ? -raw : raw) * RAD_PER_COUNT;
