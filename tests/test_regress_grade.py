@@ -33,7 +33,7 @@ def graded(tmp_path_factory):
     (subs / "notes.txt").write_text("not a lab")
     out = tmp_path_factory.mktemp("grades")
     r = crslab("grade", subs, "--reference", REFERENCE, "--scenario", "tour", "--duration", "8",
-               "--deadline", "0.5", "--out", out)
+               "--deadline", "1", "--out", out)
     return r, out
 
 
@@ -47,7 +47,7 @@ def test_each_submission_is_classed_and_grading_finishes(graded):
     assert " does not compile " in rows["broken.c"] and "broken.c:9:13: error:" in rows["broken.c"]
     assert " crashed " in rows["crash.c"] and "SIGSEGV) in lab() at tick 5100" in rows["crash.c"]
     assert " hung " in rows["hang.cpp"]
-    assert "lab() did not return within 0.5 s at tick 5100" in rows["hang.cpp"]
+    assert "lab() did not return within 1 s at tick 5100" in rows["hang.cpp"]
     assert r.stdout.splitlines()[-1] == (
         "5 submissions: 1 pass, 1 mismatch, 1 does not compile, 1 crashed, 1 hung")
     assert (out / "summary.txt").read_text() == r.stdout
@@ -94,3 +94,31 @@ def test_grade_bad_input(tmp_path):
     r = crslab("grade", tmp_path, "--reference", LABS / "crash_after_5s.c", "--out", tmp_path / "o")
     assert r.returncode == 2 and r.stderr.strip().splitlines()[-1].startswith(
         "crslab grade: the reference lab did not run: crash_after_5s.c crashed (SIGSEGV)")
+
+
+def test_a_submission_over_its_total_time_is_stopped_and_counts_as_hung(tmp_path):
+    from crslab.regress.grade import classify, run_many
+    from crslab.sim.api import make_config
+
+    config = make_config(REFERENCE, "tour")
+    [outcome] = run_many([LABS / "hang_after_5s.c"], config, 8000, jobs=1, deadline_s=60.0, timeout_s=1.5)
+    assert outcome.status == "timeout" and classify(outcome.status, matched=False) == "hung"
+    assert outcome.message == "hang_after_5s.c took longer than 1.5 s in all and was stopped"
+
+
+def test_the_progress_bar_on_a_terminal():
+    import io
+
+    from crslab.regress.grade import Progress
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    out = Terminal()
+    bar = Progress(2, out)
+    bar.update("good.c", "pass")
+    bar.update("wrong.c", "mismatch")
+    frames = out.getvalue().split("\r")[1:]
+    assert frames[0].startswith("[" + "#" * 15 + "." * 15 + "] 1/2") and "good.c" in frames[0]
+    assert frames[1].startswith("[" + "#" * 30 + "] 2/2") and frames[1].endswith("\n")
