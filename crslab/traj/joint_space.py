@@ -26,14 +26,6 @@ from crslab import crs
 from crslab.closed_ik import OK, OUT_OF_LIMITS
 from crslab.robots import load
 
-# The CRS framework's safety envelope (crs-facts section 2, item 4), on the angles it computes
-# from the encoders. The same numbers drive the simulated framework in csrc/sim/framework.c
-# (crs_outside_envelope); tests/test_traj_waypoints.py checks that the two agree.
-ENVELOPE_TH1_MAX_RAD = 0.6667 * math.pi
-ENVELOPE_TH2_RAD = (-2.3, 0.15)
-ENVELOPE_TH3_RAD = (0.15, 2.3)
-ENVELOPE_Z_MIN_IN = 4.0
-
 
 @dataclass(frozen=True)
 class ArmForWaypoints:
@@ -60,22 +52,14 @@ def _crs_solve(xyz_in: np.ndarray, elbow: str) -> tuple[np.ndarray, list[str | N
     return q, [None if s == crs.IK_OK else crs.IK_STATUS_TEXT[int(s)] for s in status]
 
 
-def _crs_envelope_terms(motor_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    q = np.asarray(motor_rad, dtype=float).reshape(-1, 3)
-    return crs.motor_to_dh(q), crs.fk(q)[:, 2]
-
-
 def crs_outside_envelope(motor_rad: object) -> np.ndarray:
-    """True for each row of motor angles (rad) outside the CRS framework's safety envelope.
+    """True for each row of motor angles (rad) outside the CRS framework's safety envelope
+    (:func:`crslab.crs.outside_envelope`, the C core's own test).
 
     >>> crs_outside_envelope(np.radians([[0, 0, 0], [0, 90, 0], [130, 0, 0]])).tolist()
     [False, True, True]
     """
-    dh, z = _crs_envelope_terms(np.asarray(motor_rad))
-    return ((np.abs(dh[:, 0]) > ENVELOPE_TH1_MAX_RAD)
-            | (dh[:, 1] < ENVELOPE_TH2_RAD[0]) | (dh[:, 1] > ENVELOPE_TH2_RAD[1])
-            | (dh[:, 2] < ENVELOPE_TH3_RAD[0]) | (dh[:, 2] > ENVELOPE_TH3_RAD[1])
-            | (z < ENVELOPE_Z_MIN_IN))
+    return crs.outside_envelope(np.asarray(motor_rad, dtype=float).reshape(-1, 3))
 
 
 def crs_why_outside(motor_rad: object) -> str:
@@ -84,17 +68,18 @@ def crs_why_outside(motor_rad: object) -> str:
     >>> crs_why_outside(np.radians([0, 90, 0]))
     'th3 DH = 0 deg is outside [8.59, 131.78] deg'
     """
-    dh, z = _crs_envelope_terms(np.asarray(motor_rad))
-    th1, th2, th3 = np.degrees(dh[0]) + 0.0
+    q = np.asarray(motor_rad, dtype=float).reshape(3)
+    dh, z = crs.motor_to_dh(q), float(crs.fk(q)[2])
     reasons = []
-    if abs(dh[0, 0]) > ENVELOPE_TH1_MAX_RAD:
-        reasons.append(f"th1 = {th1:.4g} deg is beyond +-{math.degrees(ENVELOPE_TH1_MAX_RAD):.2f} deg")
-    for name, value, (lo, hi) in (("th2", th2, ENVELOPE_TH2_RAD), ("th3", th3, ENVELOPE_TH3_RAD)):
-        if not lo <= math.radians(value) <= hi:
-            reasons.append(f"{name} DH = {value:.4g} deg is outside "
+    if abs(dh[0]) > crs.ENVELOPE_TH1_MAX_RAD:
+        reasons.append(f"th1 = {math.degrees(dh[0]):.4g} deg is beyond "
+                       f"+-{math.degrees(crs.ENVELOPE_TH1_MAX_RAD):.2f} deg")
+    for name, value, (lo, hi) in (("th2", dh[1], crs.ENVELOPE_TH2_RAD), ("th3", dh[2], crs.ENVELOPE_TH3_RAD)):
+        if not lo <= value <= hi:
+            reasons.append(f"{name} DH = {math.degrees(value) + 0.0:.4g} deg is outside "
                            f"[{math.degrees(lo):.2f}, {math.degrees(hi):.2f}] deg")
-    if z[0] < ENVELOPE_Z_MIN_IN:
-        reasons.append(f"z = {z[0]:.4g} in is below {ENVELOPE_Z_MIN_IN:g} in")
+    if z < crs.ENVELOPE_Z_MIN_IN:
+        reasons.append(f"z = {z:.4g} in is below {crs.ENVELOPE_Z_MIN_IN:g} in")
     return "; ".join(reasons) or "inside the envelope"
 
 
@@ -108,6 +93,7 @@ CRS = ArmForWaypoints(
     outside=crs_outside_envelope,
     why_outside=crs_why_outside,
 )
+
 
 def _rrr_arm() -> ArmForWaypoints:
     """The spatial RRR arm of seed 003, from its robot file (crslab/robots/rrr.toml)."""
