@@ -178,11 +178,13 @@ def test_writes_are_checked_against_the_labs_watched_variables(tmp_path):
     cases = [('var = "gain"\nindex = 0\n', "s.toml:5: index: gain is not an array in watch_inputs.c"),
              ('var = "table"\n', "s.toml:5: index: table has 4 elements in watch_inputs.c: give an index 0."),
              ('var = "table"\nindex = 4\n', "give an index 0..3"),
+             ('var = "mode"\nvalue = 3e9\n', "s.toml:5: value: 3e+09 does not fit mode, int in watch_inputs"),
              ('var = "mycount"\n',
               "s.toml:5: var: mycount is not a watched (#pragma DATA_SECTION) variable of watch_inputs.c "
               "(watched: gain, mode, table)")]
     for body, expected in cases:
-        s = parse('end = 9\n[[event]]\nat = 5\nkind = "set"\n' + body + "value = 1\n")
+        value = "" if "value" in body else "value = 1\n"
+        s = parse('end = 9\n[[event]]\nat = 5\nkind = "set"\n' + body + value)
         with pytest.raises(ScenarioError) as err:
             check_lab(s, build)
         assert expected in str(err.value)

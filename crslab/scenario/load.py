@@ -585,6 +585,29 @@ def check_lab(scenario: Scenario, build: LabBuild) -> None:
         if var.length is not None and (e.index is None or e.index >= var.length):
             raise ScenarioError(f"{where}: index: {e.name} has {var.length} elements in {lab}: "
                                 f"give an index 0..{var.length - 1}")
+        if var.is_integer:
+            low, high = _integer_range(var.cdecl)
+            if not low <= round(e.value) <= high:
+                raise ScenarioError(f"{where}: value: {e.value:g} does not fit {e.name}, "
+                                    f"{var.ctype} in {lab} ({low} to {high})")
+
+
+def _integer_range(cdecl: str) -> tuple[int, int]:
+    """The host range of the integer type in a watched variable's declaration.
+
+    >>> _integer_range("extern uint16_t mode;"), _integer_range("extern int count[4];")
+    ((0, 65535), (-2147483648, 2147483647))
+    """
+    from cffi import FFI
+
+    ctype = cdecl.removeprefix("extern ").rsplit(" ", 1)[0]
+    if ctype == "_Bool":
+        return 0, 1
+    ffi = FFI()
+    bits = 8 * ffi.sizeof(ctype)
+    if int(ffi.cast(ctype, -1)) < 0:
+        return -(1 << (bits - 1)), (1 << (bits - 1)) - 1
+    return 0, (1 << bits) - 1
 
 
 def describe_builtins() -> list[tuple[str, str]]:
