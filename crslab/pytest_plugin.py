@@ -35,10 +35,11 @@ class CrslabCheckFailed(AssertionError):
     """The lab's transcript does not match its golden file (or the lab did not run)."""
 
 
-def check_lab(lab: str | Path, *, golden: str | Path, scenario: str | None = None, base: Path | None = None,
-              record: bool = False, abs_tol: float | None = None, rel_tol: float | None = None,
-              duration_s: float | None = None, rest_motor_rad: tuple[float, float, float] | None = None,
-              startup_delay: bool = True, deadline_s: float | None = None) -> str:
+def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str | None = None,
+                         base: Path | None = None, record: bool = False, abs_tol: float | None = None,
+                         rel_tol: float | None = None, duration_s: float | None = None,
+                         rest_motor_rad: tuple[float, float, float] | None = None, startup_delay: bool = True,
+                         deadline_s: float | None = None) -> str:
     """Run ``lab`` on ``scenario`` and compare with (or, with ``record``, write) ``golden``.
 
     Returns the one-line verdict; raises :class:`CrslabCheckFailed` with the full report when the
@@ -99,7 +100,7 @@ def crslab_check(request: pytest.FixtureRequest) -> Callable[..., str]:
         from crslab.scenario.load import ScenarioError
 
         try:
-            return check_lab(lab, golden=golden, scenario=scenario, base=base, record=record,
+            return check_against_golden(lab, golden=golden, scenario=scenario, base=base, record=record,
                              **options)  # type: ignore[arg-type]
         except (CrslabCheckFailed, FileNotFoundError, ScenarioError) as exc:
             failure = str(exc)
