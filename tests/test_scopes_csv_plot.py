@@ -84,3 +84,12 @@ def test_plot_bad_input_is_one_line_and_status_2(tmp_path, capsys):
         assert main(["plot", *args]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and why in err, err
+
+
+def test_unwritable_scope_files_are_one_line_and_status_2(tmp_path, capsys):
+    for option, path, why in [("--csv", tmp_path / "no" / "run.csv", "cannot write the CSV"),
+                              ("--rrd", tmp_path / "no" / "run.rrd", "cannot write the rerun recording"),
+                              ("--csv", tmp_path, "is a directory")]:
+        assert main(["sim", "--fast", "--duration", "1", option, str(path)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and why in err, err

@@ -26,7 +26,8 @@ def crslab_sim(*args):
 @pytest.fixture(scope="module")
 def recorded(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("rrd")
-    crslab_sim("--rrd", tmp / "run.rrd", "--transcript", tmp / "scoped.bin", "--csv", tmp / "run.csv")
+    crslab_sim("--rrd", tmp / "run.rrd", "--transcript", tmp / "scoped.bin", "--csv", tmp / "run.csv",
+               "--pty")
     crslab_sim("--transcript", tmp / "plain.bin")
     reader = RrdReader(tmp / "run.rrd")
     entities = {}
@@ -49,7 +50,7 @@ def printed(tmp):
     return (tmp / "plain.bin").read_bytes().decode().split("\n\r")[:-1]
 
 
-def test_scopes_do_not_change_the_transcript(recorded):
+def test_scopes_and_the_pty_do_not_change_the_transcript(recorded):
     tmp, _, _ = recorded
     assert (tmp / "scoped.bin").read_bytes() == (tmp / "plain.bin").read_bytes()
 

@@ -99,11 +99,11 @@ def simulink_samples(tick: np.ndarray, plot: np.ndarray) -> tuple[np.ndarray, np
     The board computes ``10000 * value`` in single precision and stores it in a 32-bit integer,
     which truncates toward zero; Simulink divides by 10000 again.
 
-    >>> t, v = simulink_samples(np.arange(11), np.linspace(-1, 1, 44).reshape(11, 4) / 3)
+    >>> t, v = simulink_samples(np.arange(11), np.tile([2 / 3, -2 / 3, 4e-5, 1.5], (11, 1)))
     >>> t.tolist()
     [0, 5, 10]
-    >>> v[0].tolist()
-    [-0.3333, -0.3178, -0.3023, -0.2868]
+    >>> v[0].tolist()          # truncated, not rounded: 6666.67 is sent as 6666
+    [0.6666, -0.6666, 0.0, 1.5]
     """
     tick = np.asarray(tick).reshape(-1)
     keep = tick % SIMULINK_PERIOD_TICKS == 0
