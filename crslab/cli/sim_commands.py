@@ -42,8 +42,8 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--duration", type=positive, metavar="SECONDS",
                    help="simulated seconds to run (default: until the scenario ends)")
     p.add_argument("--offsets", type=float, nargs=2, metavar=("O2", "O3"),
-                   help="the arm's true resting motor angles 2 and 3 in rad (default: {:g} {:g})".format(
-                       *DEFAULT_REST_MOTOR_RAD[1:]))
+                   help="the arm's true resting motor angles 2 and 3 in rad (default: the scenario's, "
+                   "else {:g} {:g})".format(*DEFAULT_REST_MOTOR_RAD[1:]))
     p.add_argument("--no-startup-delay", action="store_true",
                    help="call lab() from the first tick instead of at 4.1 s")
     p.add_argument("--deadline", type=positive, default=DEFAULT_DEADLINE_S, metavar="SECONDS",
