@@ -10,6 +10,7 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.cli.live_options import LiveRun, add_live_options, live_needs_log
+from crslab.cli.tracking_options import TrackingRun, add_tracking_options
 from crslab.lab.build import LabBuildError
 from crslab.scenario.events import seconds_to_tick
 from crslab.scenario.load import ScenarioError
@@ -84,6 +85,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
     p.add_argument("--json", action="store_true", help="print the end-of-run summary as JSON on stderr")
     add_live_options(p)
+    add_tracking_options(p)
     p.set_defaults(func=run_sim)
 
 
@@ -161,7 +163,8 @@ def notices(lab_name: str, stats: dict, limit: int) -> list[str]:
 
 def run_sim(args: argparse.Namespace) -> int:
     """``crslab sim``."""
-    config = config_from_args(args, log=live_needs_log(args))
+    tracking = TrackingRun(args)
+    config = config_from_args(args, log=live_needs_log(args) or tracking.active)
     live = LiveRun(args, config)
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
     sinks: list[Sink] = [StdoutSink()]
@@ -181,6 +184,7 @@ def run_sim(args: argparse.Namespace) -> int:
     def on_log(columns: dict) -> None:
         for s in live.sinks:
             s.on_log(columns)
+        tracking.on_log(columns)
 
     def on_behind(rate: float) -> None:
         print(f"crslab sim: this machine keeps up only {rate:.2f}x real time; running as fast as it can",
@@ -192,6 +196,7 @@ def run_sim(args: argparse.Namespace) -> int:
             if not sim.symbols & 1:
                 raise CliError(f"{lab_name} defines no lab() function")
             live.start(sim, sinks)
+            end_tick = tracking.start(sim, end_tick, duration_given=bool(args.duration))
             result = sim.run(end_tick, speed=None if args.fast else args.speed, on_serial=on_serial,
                              on_behind=on_behind, on_log=on_log, between=live.between)
             for s in sinks:
@@ -203,6 +208,7 @@ def run_sim(args: argparse.Namespace) -> int:
             s.close()
         live.close()
     wall = time.monotonic() - start
+    tracking.finish()
     for line in notices(lab_name, result.stats, config.build.serial_line_limit):
         print(f"crslab sim: {line}", file=sys.stderr)
     info = summary(result, wall, args.budget_us)

@@ -47,6 +47,22 @@ class WatchedVar:
         return self.ctype not in ("float", "double", "float32")
 
 
+_DEFINE = re.compile(r"^\s*#\s*define\s+(\w+)\s+(\d+)\s*$", re.MULTILINE)
+_SIZE_EXPR = re.compile(r"^[\d\s*+()-]+$")
+
+
+def _array_length(expr: str, defines: dict[str, str]) -> int | None:
+    """An array size such as ``100``, ``N`` or ``3 * MAX_POINTS`` (integer #defines only).
+
+    >>> _array_length("3 * MAX_WP", {"MAX_WP": "20"})
+    60
+    """
+    text = re.sub(r"[A-Za-z_]\w*", lambda m: defines.get(m.group(0), "?"), expr)
+    if not _SIZE_EXPR.match(text):
+        return None
+    return int(eval(text, {"__builtins__": {}}))  # noqa: S307 - digits and + - * ( ) only
+
+
 def _strip_comments(text: str) -> str:
     text = re.sub(r"/\*.*?\*/", lambda m: re.sub(r"[^\n]", " ", m.group(0)), text, flags=re.DOTALL)
     return re.sub(r"//[^\n]*", "", text)
@@ -55,18 +71,21 @@ def _strip_comments(text: str) -> str:
 def find_watched(source_text: str) -> list[WatchedVar]:
     """Every variable named by a ``DATA_SECTION`` pragma, with its declaration, in file order."""
     text = _strip_comments(source_text)
+    defines = dict(_DEFINE.findall(text))
     out = []
     type_alt = "|".join(re.escape(t) for t in _TYPES)
     for m in _PRAGMA.finditer(text):
         name, section = m.group(1), m.group(2)
         decl = re.compile(
-            rf"^\s*(?:volatile\s+|static\s+)*({type_alt})\s+{re.escape(name)}\s*(\[\s*(\d+)\s*\])?"
+            rf"^\s*(?:volatile\s+|static\s+)*({type_alt})\s+{re.escape(name)}\s*(\[([^\]]+)\])?"
             rf"\s*(?:=\s*([^;{{]+|\{{[^}}]*\}}))?\s*;", re.MULTILINE)
         d = decl.search(text, m.end())
         if d is None:
             continue
         line = text.count("\n", 0, d.start()) + 1
-        length = int(d.group(3)) if d.group(3) else None
+        length = _array_length(d.group(3), defines) if d.group(3) else None
+        if d.group(3) and length is None:
+            continue
         initial = d.group(4).strip() if d.group(4) else None
         out.append(WatchedVar(name, d.group(1), length, initial, section, line))
     return out
