@@ -113,6 +113,8 @@ def test_isolation_does_not_change_the_transcript():
     isolated = simulate(duration_s=12.0).transcript
     assert isolated == run_in_process(config, 12_000)
     assert len(isolated) > 500
+    # the in-process run used a private copy of the lab: a worker forked now starts afresh
+    assert simulate(duration_s=12.0).transcript == isolated
 
 
 def test_signed_overflow_under_sanitize(tmp_path):

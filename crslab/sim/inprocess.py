@@ -4,7 +4,11 @@ here takes the calling process down; `crslab sim` never uses this."""
 
 from __future__ import annotations
 
+import dataclasses
 import mmap
+import shutil
+import tempfile
+from pathlib import Path
 
 from crslab.sim.board_ffi import board_ffi, shared_size
 from crslab.sim.config import SimConfig
@@ -16,6 +20,12 @@ class InProcessRun:
     def __init__(self, config: SimConfig) -> None:
         from crslab.sim.worker import Worker
 
+        # a private copy of the lab's shared object: loading the cached one here would leave its
+        # globals (counters, arrays) changed for every worker this process forks later
+        self._dir = tempfile.TemporaryDirectory(prefix="crslab-inprocess-")
+        private = Path(self._dir.name) / "lab.so"
+        shutil.copyfile(config.build.shared_object, private)
+        config = dataclasses.replace(config, build=dataclasses.replace(config.build, shared_object=private))
         self._shared = mmap.mmap(-1, shared_size())
         self.worker = Worker(config, self._shared)
         self.worker.sim.time_lab = 0
