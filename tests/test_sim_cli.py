@@ -64,7 +64,7 @@ def test_ctrl_c_stops_cleanly_and_keeps_what_was_printed(tmp_path):
     t = tmp_path / "t.txt"
     cmd = [sys.executable, "-m", "crslab", "sim", "--no-startup-delay", "--transcript", str(t)]
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    time.sleep(2.5)  # real time: prints at 0, 0.5, 1.0 ... s
+    time.sleep(3.0)  # real time: prints at 0, 0.5, 1.0 ... s
     p.send_signal(signal.SIGINT)
     out, err = p.communicate(timeout=30)
     assert p.returncode == 130
