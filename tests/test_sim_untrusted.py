@@ -140,3 +140,11 @@ def test_over_budget_calls_are_counted_and_cpu_limit_stops_the_lab(tmp_path):
     assert r.returncode == 3
     assert "slow_lab.c used up its CPU-time limit (1 s) in lab() at tick" in last_line(r)
     assert no_process_left("slow_lab.c")
+
+
+def test_memory_limit_stops_a_leaking_lab(tmp_path):
+    r, transcript = sim("memory_hog.c", tmp_path, "--mem-limit-mb", "600")
+    assert r.returncode == 3
+    assert last_line(r).startswith("crslab sim: memory_hog.c crashed (SIG")
+    assert " in lab() at tick " in last_line(r) and last_line(r).endswith("its memory limit was 600 MB")
+    assert no_process_left("memory_hog.c")

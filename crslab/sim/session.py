@@ -269,7 +269,9 @@ class Simulation:
                              f"({self.limits.cpu_s:g} s) {where} {at}", self.stats)
         if code is not None and code < 0:
             name = signal.Signals(-code).name
-            return RunResult("crashed", tick, f"{self.lab_name} crashed ({name}) {where} {at}", self.stats)
+            hint = f"; its memory limit was {self.limits.memory_mb} MB" if self.limits.memory_mb else ""
+            return RunResult("crashed", tick, f"{self.lab_name} crashed ({name}) {where} {at}{hint}",
+                             self.stats)
         return RunResult("exited", tick, f"{self.lab_name} called exit({code}) {where} {at}", self.stats)
 
     def _sanitizer_report(self) -> str | None:
