@@ -94,7 +94,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--timeout", type=positive, default=300.0, metavar="SECONDS",
                    help="wall-clock time one submission may take in all, building included "
                    "(default: %(default)g)")
-    p.set_defaults(func=run_grade)
+    # grading runs many untrusted labs at once: bound each one's memory and CPU by default
+    p.set_defaults(func=run_grade, mem_limit_mb=GRADE_MEM_LIMIT_MB, cpu_limit=GRADE_CPU_LIMIT_S)
+    for action in p._actions:
+        if action.dest == "mem_limit_mb":
+            action.help = f"memory limit of each lab's process (default for grade: {GRADE_MEM_LIMIT_MB})"
+        elif action.dest == "cpu_limit":
+            action.help = f"CPU-time limit of each lab's process (default for grade: {GRADE_CPU_LIMIT_S:g} s)"
+
+
+GRADE_MEM_LIMIT_MB = 2048
+GRADE_CPU_LIMIT_S = 120.0
 
 
 def _end_tick(args: argparse.Namespace, config: SimConfig) -> int:
