@@ -13,9 +13,9 @@ from crslab import crs
 from crslab.lab.build import build_lab
 from crslab.plant.params import COURSE_END_MASS_KG
 from crslab.scenario import events as ev
+from crslab.scenario.event_parser import EVENT_KINDS
 from crslab.scenario.load import (
     BUILTIN_DIR,
-    EVENT_KINDS,
     ScenarioError,
     builtin_names,
     check_lab,
