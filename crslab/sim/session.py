@@ -12,10 +12,8 @@ import ctypes
 import faulthandler
 import multiprocessing as mp
 import os
-import re
 import resource
 import signal
-import subprocess
 import sys
 import tempfile
 import time
@@ -27,6 +25,7 @@ import numpy as np
 
 from crslab.sim.board_ffi import board_ffi, shared_size
 from crslab.sim.config import SimConfig
+from crslab.sim.sanitizer import asan_runtime, summarize_sanitizer_report
 
 SerialSink = Callable[[int, bytes], None]
 LogSink = Callable[[dict[str, np.ndarray]], None]
@@ -37,40 +36,6 @@ READY_TIMEOUT_S = 60.0
 SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
 REALTIME_SLICE_TICKS = 20
 FAST_SLICE_TICKS = 20_000
-
-
-def _asan_runtime() -> str:
-    """Path of gcc's AddressSanitizer runtime, to preload into the sanitized worker."""
-    out = subprocess.run(["gcc", "-print-file-name=libasan.so"], capture_output=True, text=True, check=True)
-    return out.stdout.strip()
-
-
-_ASAN = re.compile(r"ERROR: AddressSanitizer: ([\w-]+)")
-_ASAN_ACCESS = re.compile(r"^(READ|WRITE) of size (\d+)", re.MULTILINE)
-_FRAME = re.compile(r"#\d+ 0x[0-9a-f]+ in (\w+) (\S+?):(\d+)")
-_UBSAN = re.compile(r"^(\S+?):(\d+):\d+: runtime error: (.+)$", re.MULTILINE)
-
-
-def summarize_sanitizer_report(text: str, lab_file: str) -> str | None:
-    """One phrase for the first AddressSanitizer or UBSan finding in ``lab_file``.
-
-    >>> summarize_sanitizer_report(
-    ...     "==1==ERROR: AddressSanitizer: global-buffer-overflow on address 0x1\\n"
-    ...     "WRITE of size 4 at 0x1 thread T0\\n    #0 0x7f in lab /x/mylab.c:31\\n", "mylab.c")
-    'AddressSanitizer: global-buffer-overflow (WRITE of size 4) at mylab.c:31 in lab()'
-    """
-    m = _ASAN.search(text)
-    if m:
-        access = _ASAN_ACCESS.search(text)
-        what = f" ({access.group(1)} of size {access.group(2)})" if access else ""
-        frames = _FRAME.findall(text)
-        mine = [f for f in frames if Path(f[1]).name == lab_file] or frames
-        where = f" at {Path(mine[0][1]).name}:{mine[0][2]} in {mine[0][0]}()" if mine else ""
-        return f"AddressSanitizer: {m.group(1)}{what}{where}"
-    u = _UBSAN.search(text)
-    if u:
-        return f"UBSan: {u.group(3)} at {Path(u.group(1)).name}:{u.group(2)}"
-    return None
 
 
 class SimError(Exception):
@@ -157,7 +122,7 @@ class Simulation:
             ctx = mp.get_context("spawn")
             self.sanitizer_dir = tempfile.mkdtemp(prefix="crslab-sanitize-")
             env = {
-                "LD_PRELOAD": _asan_runtime(),
+                "LD_PRELOAD": asan_runtime(),
                 "ASAN_OPTIONS": "detect_leaks=0:halt_on_error=1",
                 "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1",
                 SANITIZER_REPORT_ENV: os.path.join(self.sanitizer_dir, "report.txt"),
