@@ -81,10 +81,20 @@ def detect_generation(source_text: str) -> int:
 
 
 def cache_dir() -> Path:
-    """Where builds are kept: ``$CRSLAB_CACHE_DIR`` or ``~/.cache/crslab``."""
+    """Where builds are kept: ``$CRSLAB_CACHE_DIR``, else ``~/.cache/crslab``, else (a read-only
+    home) a folder in the system's temporary directory."""
     env = os.environ.get("CRSLAB_CACHE_DIR")
     base = Path(env) if env else Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "crslab"
-    return base
+    try:
+        base.mkdir(parents=True, exist_ok=True)
+        if os.access(base, os.W_OK):
+            return base
+    except OSError:
+        if env:
+            raise LabBuildError(f"CRSLAB_CACHE_DIR={env} cannot be created") from None
+    fallback = Path(tempfile.gettempdir()) / f"crslab-cache-{os.getuid()}"
+    fallback.mkdir(parents=True, exist_ok=True)
+    return fallback
 
 
 def _digest(parts: list[bytes]) -> str:
