@@ -84,7 +84,7 @@ def test_console_reads_and_writes_a_running_lab_between_ticks():
     assert replies[8] == "vars: gain is a float, not an array"
     assert replies[9] == "vars: call_log has 8 elements: index 0..7"
     assert replies[10] == "vars: call_log has 8 elements: set call_log[i] VALUE"
-    assert replies[11].startswith("vars: gain  float  = 2.5\nvars: mode  int  = 3")
+    assert replies[11].startswith("vars: gain  float  = 4\nvars: mode  int  = 8")  # current values
     # the lab prints `gain mode` every 100 calls: the writes show from the first print after them
     assert out == [(0, b"2.50 3\n\r"), (100, b"2.50 3\n\r"), (200, b"4.00 8\n\r")]
 

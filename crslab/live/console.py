@@ -5,7 +5,7 @@ The course lists (``ME446_serial_ListVars``), reads (``ME446_serialread``) and w
 while the DSP runs. While ``crslab sim`` runs, these commands typed on its standard input do the
 same, between two ticks (replies go to stderr, so stdout stays the Tera Term view)::
 
-    list                  the watched variables: name, C type, array length
+    list                  the watched variables: name, C type, array length, current value
     get NAME              the value (all elements of an array)
     get NAME[i]           one element
     set NAME VALUE        write a scalar (integers are rounded)
@@ -164,6 +164,13 @@ class VarConsole:
             except CommandError as exc:
                 self.reply(f"vars: {exc}")
 
+    @staticmethod
+    def _now(sim: object, var: WatchedVar) -> str:
+        """``name  type[length]`` and, for a scalar, its value in the running lab."""
+        if var.length is not None:
+            return f"{var.name}  {var.ctype}[{var.length}]"
+        return f"{var.name}  {var.ctype}  = {format_value(var, sim.get(var.name))}"  # type: ignore[attr-defined]
+
     def execute(self, sim: object, cmd: Command) -> str:
         """Run one command and return its reply line."""
         at = f"t = {sim.tick / 1000:.3f} s"  # type: ignore[attr-defined]
@@ -172,7 +179,7 @@ class VarConsole:
         if cmd.verb == "list":
             if not self.watched:
                 return "vars: this lab has no watched (#pragma DATA_SECTION) variables"
-            return "\n".join(f"vars: {describe(v)}" for v in self.watched.values())
+            return "\n".join(f"vars: {self._now(sim, v)}" for v in self.watched.values())
         var = self.watched.get(cmd.name or "")
         if var is None:
             known = ", ".join(self.watched) or "none"
