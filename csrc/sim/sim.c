@@ -99,7 +99,7 @@ static int framework_tick(crs_sim *sim)
     return stop;
 }
 
-static void log_tick(crs_sim *sim)
+static void log_tick(crs_sim *sim, int plots)
 {
     crs_log *lg = &sim->log;
     const int64_t i = lg->count++;
@@ -110,7 +110,6 @@ static void log_tick(crs_sim *sim)
         lg->tau_applied[3 * i + j] = sim->applied[j];
         lg->qpos_dh_rad[3 * i + j] = sim->qpos[j];
     }
-    const int plots = (crs_lab_symbols() & CRS_LAB_HAS_PLOTVARS) != 0;
     lg->plot[4 * i + 0] = plots ? Simulink_PlotVar1 : 0.0;
     lg->plot[4 * i + 1] = plots ? Simulink_PlotVar2 : 0.0;
     lg->plot[4 * i + 2] = plots ? Simulink_PlotVar3 : 0.0;
@@ -123,13 +122,15 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
 {
     crs_board_attach(sim);
     crs_shared *sh = sim->shared;
+    /* which symbols the lab defines never changes: look once per chunk, not every tick */
+    const int plots = (crs_lab_symbols() & CRS_LAB_HAS_PLOTVARS) != 0;
     while (sim->tick < until_tick) {
         sh->tick = sim->tick;
         const int stop = framework_tick(sim);
         for (int j = 0; j < 3; ++j) sim->ctrl[j] = sim->applied[j];
         crs_hand_step(sim);
         for (int j = 0; j < 3; ++j) sim->qfrc_applied[j] = sim->hand.force_nm[j];
-        if (sim->log.capacity > 0) log_tick(sim);
+        if (sim->log.capacity > 0) log_tick(sim, plots);
 
         sh->phase = CRS_PHASE_PHYSICS;
         sim->mj_step(sim->mj_model, sim->mj_data);
