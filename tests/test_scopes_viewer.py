@@ -2,7 +2,6 @@
 X server, when Xvfb is installed) MuJoCo's viewer follows the arm and a mouse drag pushes it."""
 
 import os
-import shutil
 import subprocess
 import sys
 import time
@@ -61,7 +60,7 @@ with Simulation(config) as sim:
 """
 
 
-@pytest.mark.skipif(shutil.which("Xvfb") is None, reason="needs Xvfb for a virtual display")
+@pytest.mark.requires("Xvfb")
 def test_with_a_display_a_mouse_drag_in_mujocos_viewer_pushes_the_simulated_arm(tmp_path):
     display = f":{200 + os.getpid() % 500}"
     xvfb = subprocess.Popen(["Xvfb", display, "-screen", "0", "800x600x24", "-nolisten", "tcp"],
