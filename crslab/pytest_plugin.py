@@ -69,16 +69,15 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
     if duration_s is None and header.get("end_s") and scenario is None:
         duration_s = float(header["end_s"])
     end_tick = seconds_to_tick(duration_s) if duration_s is not None else config.scenario.end_tick
-    run = run_lab(config, end_tick, deadline_s=deadline_s or DEFAULT_DEADLINE_S)
-    result = run.run.result
+    result = run_lab(config, end_tick, deadline_s=deadline_s or DEFAULT_DEADLINE_S)
     if not result.ok:
         why = result.message or result.status
         raise CrslabCheckFailed(f"{lab_path.name} on {config.scenario.name}: {why}")
     if record:
         golden_path.parent.mkdir(parents=True, exist_ok=True)
-        write_golden(golden_path, run_header(config, end_tick, scenario), run.run.transcript)
+        write_golden(golden_path, run_header(config, end_tick, scenario), result.transcript)
         return f"recorded {golden_path}"
-    comparison = compare(split_lines(gold.body), split_lines(run.run.transcript, run.run.calls),
+    comparison = compare(split_lines(gold.body), split_lines(result.transcript, result.calls),
                          abs_tol=DEFAULT_ABS_TOL if abs_tol is None else abs_tol,
                          rel_tol=DEFAULT_REL_TOL if rel_tol is None else rel_tol)
     if not comparison.ok:

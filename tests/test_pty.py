@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 import serial
 
-from crslab.live.pty_sink import PtyError, PtySink
+from crslab.sinks.serial_pty import PtyError, PtySink
 
 ROOT = Path(__file__).resolve().parents[1]
 

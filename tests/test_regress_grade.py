@@ -97,13 +97,14 @@ def test_grade_bad_input(tmp_path):
 
 
 def test_a_submission_over_its_total_time_is_stopped_and_counts_as_hung(tmp_path):
-    from crslab.regress.grade import classify, run_many
+    from crslab.regress.grade import run_many
     from crslab.sim.api import make_config
 
     config = make_config(REFERENCE, "tour")
-    [outcome] = run_many([LABS / "hang_after_5s.c"], config, 8000, jobs=1, deadline_s=60.0, timeout_s=1.5)
-    assert outcome.status == "timeout" and classify(outcome.status, matched=False) == "hung"
-    assert outcome.message == "hang_after_5s.c took longer than 1.5 s in all and was stopped"
+    [result] = run_many([LABS / "hang_after_5s.c"], config, 8000, jobs=1, deadline_s=60.0, timeout_s=1.5)
+    assert result.status == "timeout" and result.status.graded(matched=False) == "hung"
+    assert result.message == "hang_after_5s.c took longer than 1.5 s in all and was stopped"
+    assert result.exit_status == 4 and result.lab_file == LABS / "hang_after_5s.c"
 
 
 def test_the_progress_bar_on_a_terminal():

@@ -295,13 +295,13 @@ def test_the_wrist_estop_latches_every_output_to_zero_only_past_0_11_rad(motor_f
     run = motor_faults
     t, applied = run.log["tick"][:, 0], run.log["tau_applied"]
     assert np.any(applied[(t >= 5500) & (t < 6000)] != 0)     # 0.05 rad: nothing happens
-    assert np.all(applied[t >= 6000] == 0) and run.result.stats["estop_latched"] == 1
+    assert np.all(applied[t >= 6000] == 0) and run.stats["estop_latched"] == 1
     assert run.log["tau_lab"][-1, 0] == 1.0                    # lab() still runs
 
 
 def test_the_end_time_ends_the_run(motor_faults, writes):
-    assert motor_faults.result.end_tick == 6500 and motor_faults.log["tick"][-1, 0] == 6499
-    assert writes.result.end_tick == 5050 and writes.calls[-1][0] == 5000
+    assert motor_faults.end_tick == 6500 and motor_faults.log["tick"][-1, 0] == 6499
+    assert writes.end_tick == 5050 and writes.calls[-1][0] == 5000
 
 
 # -- seeded faults -------------------------------------------------------------------------------

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from crslab.cli import main
-from crslab.scopes.csv_sink import CsvSink
 from crslab.scopes.plot import read_scope_csv, scope_figure
 from crslab.scopes.signals import GROUPS, SIGNALS
 from crslab.sim.api import simulate
+from crslab.sinks.csv_file import CsvSink
 
 
 @pytest.fixture(scope="module")

@@ -31,19 +31,21 @@ def test_without_a_display_viewer_and_rerun_say_so_in_one_line_and_the_run_goes_
 DRAG = """
 import mujoco, numpy as np
 from crslab import crs
-from crslab.live.viewer import MujocoViewer
+from crslab.sinks.viewer import MujocoViewer
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
+from crslab.sinks.sink import FanOut, Sink
 
 config = make_config(scenario="hands_off", log=True)
 with Simulation(config) as sim:
     viewer = MujocoViewer(crs.motor_to_dh(config.rest_motor_rad))
     assert viewer.start()
     rows = []
-    def on_log(columns):
-        viewer.on_log(columns)
-        rows.append(columns["qpos_dh_rad"][-1].copy())
-    sim.run(1000, speed=4.0, on_log=on_log, between=lambda: viewer.serve(sim))
+    class Rows(Sink):
+        def on_log(self, columns):
+            rows.append(columns["qpos_dh_rad"][-1].copy())
+    out = FanOut([viewer, Rows()])
+    sim.run(1000, out, speed=4.0, controls=[viewer])
     forearm = viewer.model.body("forearm").id
     assert np.allclose(viewer.data.qpos, rows[-1])  # the viewer shows the worker's arm
     with viewer.handle.lock():  # what a Ctrl + right-drag on the forearm sets: pull it 0.3 m up
@@ -54,7 +56,7 @@ with Simulation(config) as sim:
         pert.refselpos[:] = viewer.data.xpos[forearm] + [0, 0, 0.3]
         pert.refpos[:] = pert.refselpos
         pert.refquat[:] = viewer.data.xquat[forearm]
-    sim.run(2000, speed=4.0, on_log=on_log, between=lambda: viewer.serve(sim))
+    sim.run(2000, out, speed=4.0, controls=[viewer])
     viewer.close()
     print(viewer._sent[forearm][2], rows[0][1], rows[-1][1])
 """

@@ -17,7 +17,7 @@ def test_gen_a_file_with_libc_named_globals():
     build = build_lab(LABS / "gen_a_libc_names.c")
     assert build.generation == GEN_A and build.serial_line_limit == 2048
     run = simulate(LABS / "gen_a_libc_names.c", "hands_off", duration_s=6.2)
-    assert run.result.ok
+    assert run.ok
     lines = run.lines()
     # serial_printf straight from lab(), then printing() after lab() returns, in the same tick
     assert lines[0] == "hello from lab() gen A"
@@ -33,7 +33,7 @@ def test_gen_b_2024_file_in_a_cpp_with_uartprint_and_main():
     build = build_lab(LABS / "gen_b_2024.cpp")
     assert build.generation == GEN_B and build.serial_line_limit == 136
     run = simulate(LABS / "gen_b_2024.cpp", "hands_off", duration_s=5.2, log=True)
-    assert run.result.ok
+    assert run.ok
     ticks = [t for t, _ in run.calls]
     assert ticks == [4100, 4600, 5100]  # UARTprint polled after lab(): printing() in the same tick
     first = [float(v) for v in run.lines()[0].split()]

@@ -67,8 +67,8 @@ def test_hang_is_stopped_and_named(lab, func, tick, tmp_path):
 
 def test_nan_torque_warns_and_applies_nothing_on_that_joint():
     run = simulate(FAULTY / "nan_torque.c", "hands_off", duration_s=5.2, log=True)
-    assert run.result.ok
-    st = run.result.stats
+    assert run.ok
+    st = run.stats
     assert (st["nan_first_tick"], st["nan_first_joint"]) == (5099, 2)
     log = run.log
     rows = log["tick"][:, 0] >= 5099

@@ -5,6 +5,7 @@ import pytest
 from crslab.lab.watched import find_watched
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
+from crslab.sinks.memory import MemorySink
 
 
 def test_find_watched_handles_types_arrays_and_comments():
@@ -30,9 +31,9 @@ def test_set_whattoprint_changes_the_next_print_and_get_reads_arrays():
         # the lab saves theta2motor every 50 calls: calls 0, 50, ..., 550 by tick 4700
         assert len(arr) == 100 and sum(1 for v in arr if abs(v + 0.42) < 1e-3) == 12
         sim.set("whattoprint", 1)
-        out = []
-        sim.run(5200, on_serial=lambda t, d: out.append((t, d)))
-        assert out == [(5100, b"I love robotics\n\r")]
+        out = MemorySink()
+        sim.run(5200, out)
+        assert out.calls == [(5100, b"I love robotics\n\r")]
         sim.set("theta1array", 7.5, index=3)
         assert sim.get("theta1array")[3] == 7.5
         with pytest.raises(KeyError, match="not a watched"):

@@ -9,7 +9,7 @@ import pytest
 
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
-from crslab.sim.sinks import MemorySink
+from crslab.sinks.memory import MemorySink
 from crslab.traj.tracking import TRACKING_LAB, tracking_report, write_plan
 from crslab.traj.waypoints import plan_waypoints, read_waypoints
 
@@ -31,8 +31,7 @@ def follow(csv=FIGURE):
     with Simulation(config) as sim:
         start_s = write_plan(sim, plan, 1.0)
         path_start = config.startup_ticks + int(round(start_s * 1000))
-        result = sim.run(path_start + int(plan.trajectory.end_s * 1000) + 500, on_serial=memory.on_serial,
-                         on_log=memory.on_log)
+        result = sim.run(path_start + int(plan.trajectory.end_s * 1000) + 500, memory)
     assert result.ok
     return plan, memory, tracking_report(memory.log, plan, path_start), path_start
 

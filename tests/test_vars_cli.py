@@ -15,6 +15,7 @@ from crslab.cli import main
 from crslab.live.console import CommandError, VarConsole, parse_command
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
+from crslab.sinks.memory import MemorySink
 
 ROOT = Path(__file__).resolve().parents[1]
 TYPES_LAB = ROOT / "tests" / "labs" / "watched_types.c"
@@ -71,10 +72,10 @@ def test_console_reads_and_writes_a_running_lab_between_ticks():
     console = VarConsole(config.build.watched, stream=typed, reply=replies.append)
     console.start()
     console._thread.join(5)
-    out = []
+    out = MemorySink()
     with Simulation(config) as sim:
-        sim.run(150, on_serial=lambda t, d: out.append((t, d)), between=lambda: console.serve(sim))
-        sim.run(250, on_serial=lambda t, d: out.append((t, d)))
+        sim.run(150, out, controls=[console])
+        sim.run(250, out)
     assert replies[0] == "call_log = [0 0.5 1 1.5 2 2.5 3 3.5]   (t = 0.150 s)"  # what the lab wrote
     assert replies[1:6] == ["gain = 4   (from t = 0.150 s on)", "mode = 8   (from t = 0.150 s on)",
                             "limits[2] = 30   (t = 0.150 s)", "limits[0] = -5   (from t = 0.150 s on)",
@@ -86,7 +87,7 @@ def test_console_reads_and_writes_a_running_lab_between_ticks():
     assert replies[10] == "vars: call_log has 8 elements: set call_log[i] VALUE"
     assert replies[11].startswith("vars: gain  float  = 4\nvars: mode  int  = 8")  # current values
     # the lab prints `gain mode` every 100 calls: the writes show from the first print after them
-    assert out == [(0, b"2.50 3\n\r"), (100, b"2.50 3\n\r"), (200, b"4.00 8\n\r")]
+    assert out.calls == [(0, b"2.50 3\n\r"), (100, b"2.50 3\n\r"), (200, b"4.00 8\n\r")]
 
 
 def read_until(stream, pattern, timeout_s=30.0):

@@ -5,9 +5,9 @@
 viewer), and the live-variable commands read from standard input while the run goes on.
 
 :class:`LiveRun` checks the options before the worker starts (bad paths are one-line errors),
-starts everything that spawns threads or windows only after the worker was forked
-(:meth:`LiveRun.start`), and serves typed commands and the viewer between chunks of ticks
-(:meth:`LiveRun.between`).
+and starts everything that spawns threads or windows only after the worker was forked
+(:meth:`LiveRun.start`): the sinks join the run's fan-out, and the typed commands and the viewer
+are the run's :attr:`LiveRun.controls`, served between chunks of ticks.
 """
 
 from __future__ import annotations
@@ -15,12 +15,16 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.live.console import VarConsole
 from crslab.scopes.display import missing_display
-from crslab.scopes.threaded import ThreadedSink
-from crslab.sim.sinks import Sink
+from crslab.sim.config import SimConfig
+from crslab.sim.running import LiveControl
+from crslab.sinks.sink import FanOut
+from crslab.sinks.threaded import ThreadedSink
 
 
 def add_live_options(p: argparse.ArgumentParser) -> None:
@@ -77,15 +81,13 @@ def stdin_commands_possible() -> bool:
 class LiveRun:
     """The live windows one ``crslab sim`` run asked for."""
 
-    def __init__(self, args: argparse.Namespace, config: object, status: object = None) -> None:
+    def __init__(self, args: argparse.Namespace, config: SimConfig,
+                 status: Callable[[str], None] | None = None) -> None:
         self.args = args
         self.config = config
         self.status = status or (lambda line: print(f"crslab sim: {line}", file=sys.stderr, flush=True))
-        self.sinks: list[Sink] = []
-        self.console = None
-        self.viewer = None
-        self.pty = None
-        self.sim = None
+        self.controls: list[LiveControl] = []
+        """The typed commands and the viewer, once started: served between chunks of ticks."""
         for path, what in ((args.rrd, "the rerun recording"), (args.csv, "the CSV")):
             if path is not None:
                 _writable(path, what)
@@ -96,73 +98,45 @@ class LiveRun:
             if not link.parent.is_dir():
                 raise CliError(f"--pty-link {link}: no such directory {link.parent}")
 
-    def start(self, sim: object, stdout_sinks: list[Sink]) -> list[Sink]:
-        """Open everything (after the worker was forked); returns the sinks to feed."""
-        from crslab.live.console import VarConsole
-
+    def start(self, out: FanOut) -> None:
+        """Open everything (after the worker was forked): the sinks join ``out``, which closes them."""
         a = self.args
-        self.sim = sim
-        self._flushable = [s for s in stdout_sinks if hasattr(s, "flush")]
         if a.pty or a.pty_link:
-            from crslab.live.pty_sink import PtyError, PtySink
+            from crslab.sinks.serial_pty import PtyError, PtySink
 
             try:
-                self.pty = PtySink(a.pty_link)
+                pty = PtySink(a.pty_link)
             except PtyError as exc:
                 raise CliError(str(exc)) from None
-            where = f" (linked at {self.pty.link})" if self.pty.link else ""
-            self.status(f"serial port on {self.pty.path}{where}: attach a terminal, "
-                        f"e.g. python -m serial.tools.miniterm {self.pty.link or self.pty.path} 115200")
-            self.sinks.append(self.pty)
+            where = f" (linked at {pty.link})" if pty.link else ""
+            self.status(f"serial port on {pty.path}{where}: attach a terminal, "
+                        f"e.g. python -m serial.tools.miniterm {pty.link or pty.path} 115200")
+            out.add(pty)
         if a.csv:
-            from crslab.scopes.csv_sink import CsvSink
+            from crslab.sinks.csv_file import CsvSink
 
-            self.sinks.append(ThreadedSink(CsvSink(a.csv)))
+            out.add(ThreadedSink(CsvSink(a.csv)))
         spawn = a.rerun
         if spawn and missing_display():
             self.status(f"--rerun: {missing_display()}; running without the rerun viewer"
                         + ("" if a.rrd else " (--rrd FILE saves a recording to open later)"))
             spawn = False
         if spawn or a.rrd:
-            from crslab.scopes.rerun_sink import RerunSink
+            from crslab.sinks.rerun_scopes import RerunSink
 
-            name = self.config.build.source.name  # type: ignore[attr-defined]
-            rerun_sink = RerunSink(rrd_path=a.rrd, spawn=spawn, name=name, on_status=self.status)
+            rerun_sink = RerunSink(rrd_path=a.rrd, spawn=spawn, name=self.config.build.source.name,
+                                   on_status=self.status)
             rerun_sink.prepare()
-            self.sinks.append(ThreadedSink(rerun_sink))
+            out.add(ThreadedSink(rerun_sink))
         if a.viewer:
             from crslab import crs
-            from crslab.live.viewer import MujocoViewer
+            from crslab.sinks.viewer import MujocoViewer
 
-            viewer = MujocoViewer(crs.motor_to_dh(self.config.rest_motor_rad),  # type: ignore[attr-defined]
-                                  on_status=self.status)
+            viewer = MujocoViewer(crs.motor_to_dh(self.config.rest_motor_rad), on_status=self.status)
             if viewer.start():
-                self.viewer = viewer
-                self.sinks.append(viewer)
+                out.add(viewer)
+                self.controls.append(viewer)
         if not a.no_stdin and stdin_commands_possible():
-            self.console = VarConsole(self.config.build.watched)  # type: ignore[attr-defined]
-            self.console.start()
-        return self.sinks
-
-    def between(self) -> None:
-        """Between chunks: show what was printed, run typed commands, update the viewer."""
-        for s in self._flushable:
-            s.flush()
-        if self.console is not None:
-            self.console.serve(self.sim)
-        if self.viewer is not None:
-            self.viewer.serve(self.sim)
-
-    def close(self) -> None:
-        """Let a terminal read the last bytes, then close every window and file."""
-        if self.pty is not None:
-            self.pty.drain()
-        failed = []
-        for s in self.sinks:
-            try:
-                s.close()
-            except OSError as exc:  # a full disk, a removed directory: one line, not a traceback
-                failed.append(f"{exc.filename or 'output'}: {exc.strerror or exc}")
-        self.sinks = []
-        if failed:
-            raise CliError(f"could not finish writing {'; '.join(failed)}")
+            console = VarConsole(self.config.build.watched)
+            console.start()
+            self.controls.insert(0, console)

@@ -13,24 +13,15 @@ import time
 from pathlib import Path
 
 from crslab.cli import CliError
-from crslab.cli.sim_commands import (
-    EXIT_BAD_INPUT,
-    EXIT_CRASHED,
-    STATUS_EXIT,
-    add_run_options,
-    config_from_args,
-    limits_from_args,
-    positive,
-)
+from crslab.cli.sim_commands import add_run_options, config_from_args, limits_from_args, positive
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
-from crslab.regress.runner import NO_LAB_FUNCTION, LabRun, run_header, run_lab
+from crslab.regress.runner import run_header, run_lab
 from crslab.regress.transcript import GoldenError, read_golden, sha256_of, split_lines, write_golden
 from crslab.scenario.events import seconds_to_tick
 from crslab.sim.config import SimConfig
 from crslab.sim.session import SimError
-
-EXIT_MATCH, EXIT_MISMATCH = 0, 1
+from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 
 
 def non_negative(text: str) -> float:
@@ -111,33 +102,32 @@ def _end_tick(args: argparse.Namespace, config: SimConfig) -> int:
     return seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
 
 
-def _run(config: SimConfig, args: argparse.Namespace, end_tick: int) -> LabRun:
+def _run(config: SimConfig, args: argparse.Namespace, end_tick: int) -> RunResult:
     try:
-        run = run_lab(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
+        result = run_lab(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
     except SimError as exc:
-        raise CliError(str(exc), status=EXIT_CRASHED) from None
-    if run.status == NO_LAB_FUNCTION:
-        raise CliError(run.run.result.message, status=EXIT_BAD_INPUT)
-    return run
+        raise CliError(str(exc), status=ExitStatus.CRASHED) from None
+    if result.status is RunStatus.NO_LAB:
+        raise CliError(result.message, status=result.exit_status)
+    return result
 
 
 def run_record(args: argparse.Namespace) -> int:
     """``crslab record``."""
     config = config_from_args(args)
     end_tick = _end_tick(args, config)
-    run = _run(config, args, end_tick)
-    result = run.run.result
+    result = _run(config, args, end_tick)
     if not result.ok:
         print(f"crslab record: {result.message or result.status}; nothing was written", file=sys.stderr)
-        return STATUS_EXIT.get(result.status, EXIT_CRASHED)
+        return result.exit_status
     try:
-        write_golden(args.output, run_header(config, end_tick, args.scenario), run.run.transcript)
+        write_golden(args.output, run_header(config, end_tick, args.scenario), result.transcript)
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the golden file ({exc.strerror})") from None
-    lines = len(split_lines(run.run.transcript))
+    lines = len(split_lines(result.transcript))
     print(f"crslab record: {lines} lines ({end_tick / 1000:.3f} s simulated) written to {args.output}",
           file=sys.stderr)
-    return EXIT_MATCH
+    return ExitStatus.OK
 
 
 def _defaults_from_header(args: argparse.Namespace, header: dict[str, str], golden: Path) -> None:
@@ -193,19 +183,18 @@ def run_check(args: argparse.Namespace) -> int:
               "recorded", file=sys.stderr)
     end_tick = _end_tick(args, config)
     start = time.monotonic()
-    run = _run(config, args, end_tick)
-    result = run.run.result
-    comparison = compare(split_lines(golden.body), split_lines(run.run.transcript, run.run.calls),
+    result = _run(config, args, end_tick)
+    comparison = compare(split_lines(golden.body), split_lines(result.transcript, result.calls),
                          abs_tol=args.abs_tol, rel_tol=args.rel_tol)
     report = comparison.report(max_lines=args.max_report)
     if not result.ok:
         report = f"{result.message or result.status}\n{report}"
     print(report)
-    status = STATUS_EXIT.get(result.status, EXIT_CRASHED) if not result.ok else (
-        EXIT_MATCH if comparison.ok else EXIT_MISMATCH)
+    status = result.exit_status if not result.ok else (
+        ExitStatus.OK if comparison.ok else ExitStatus.MISMATCH)
     if args.junit:
         name = f"{config.build.source.name} on {config.scenario.name}"
-        outcome = "pass" if status == EXIT_MATCH else ("failure" if status == EXIT_MISMATCH else "error")
+        outcome = {ExitStatus.OK: "pass", ExitStatus.MISMATCH: "failure"}.get(status, "error")
         message = report.splitlines()[0]
         try:
             write_junit(args.junit, "crslab check", [Case(name, "crslab.check", time.monotonic() - start,
@@ -241,7 +230,7 @@ def run_grade(args: argparse.Namespace) -> int:
 
     [reference] = g.run_many([args.reference], config, end_tick, jobs=1, deadline_s=args.deadline,
                              limits=limits, timeout_s=args.timeout)
-    if reference.status != "ok":
+    if not reference.ok:
         raise CliError(f"the reference lab did not run: {reference.message or reference.status}")
     print(f"crslab grade: {len(subs)} submissions against {args.reference.name} on {config.scenario.name} "
           f"({end_tick / 1000:.3f} s), {jobs} at a time", file=sys.stderr)
@@ -249,10 +238,10 @@ def run_grade(args: argparse.Namespace) -> int:
     progress = g.Progress(len(subs))
     grades: dict[Path, g.Grade] = {}
 
-    def on_done(outcome: g.Outcome) -> None:
-        grade = g.grade_outcome(outcome, reference, abs_tol=args.abs_tol, rel_tol=args.rel_tol)
-        grades[outcome.path] = grade
-        progress.update(outcome.path.name, grade.grade)
+    def on_done(result: RunResult) -> None:
+        grade = g.grade_result(result, reference, abs_tol=args.abs_tol, rel_tol=args.rel_tol)
+        grades[grade.path] = grade
+        progress.update(grade.path.name, grade.grade)
 
     g.run_many(subs, config, end_tick, jobs=jobs, deadline_s=args.deadline, limits=limits,
                timeout_s=args.timeout, on_done=on_done)
@@ -260,8 +249,8 @@ def run_grade(args: argparse.Namespace) -> int:
     out = args.out
     (out / "transcripts" / f"{args.reference.name}.reference.txt").write_bytes(reference.transcript)
     for grade in ordered:
-        (out / "transcripts" / f"{grade.path.name}.txt").write_bytes(grade.outcome.transcript)
-        if grade.grade != g.PASS:
+        (out / "transcripts" / f"{grade.path.name}.txt").write_bytes(grade.result.transcript)
+        if grade.grade != GradeClass.PASS:
             (out / "reports" / f"{grade.path.name}.txt").write_text(f"{grade.grade}: {grade.detail}\n\n"
                                                                    f"{grade.report}\n")
     g.write_csv(out / "grades.csv", ordered)
@@ -271,4 +260,4 @@ def run_grade(args: argparse.Namespace) -> int:
     g.summary_table(ordered, sys.stdout)
     print(f"crslab grade: reports in {out}/ (summary.txt, grades.csv, junit.xml, transcripts/, reports/)",
           file=sys.stderr)
-    return EXIT_MATCH if all(x.grade == g.PASS for x in ordered) else EXIT_MISMATCH
+    return ExitStatus.OK if all(x.grade == GradeClass.PASS for x in ordered) else ExitStatus.MISMATCH

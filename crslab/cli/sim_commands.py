@@ -15,14 +15,13 @@ from crslab.lab.build import LabBuildError
 from crslab.scenario.events import seconds_to_tick
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
-from crslab.sim.session import DEFAULT_DEADLINE_S, Limits, RunResult, SimError, Simulation
-from crslab.sim.sinks import Sink, StdoutSink, TranscriptSink
+from crslab.sim.config import SimConfig
+from crslab.sim.session import DEFAULT_DEADLINE_S, Limits, SimError, Simulation
+from crslab.sim.status import ExitStatus, RunResult, RunStatus
+from crslab.sinks.sink import FanOut, SinkError
+from crslab.sinks.stdout import StdoutSink
+from crslab.sinks.transcript_file import TranscriptSink
 
-# exit statuses (also in the README)
-EXIT_OK, EXIT_BAD_INPUT, EXIT_CRASHED, EXIT_HUNG, EXIT_NAN, EXIT_OUTPUT = 0, 2, 3, 4, 5, 6
-EXIT_INTERRUPTED = 130
-STATUS_EXIT = {"ok": EXIT_OK, "crashed": EXIT_CRASHED, "exited": EXIT_CRASHED, "hung": EXIT_HUNG,
-               "nan": EXIT_NAN, "output-limit": EXIT_OUTPUT, "interrupted": EXIT_INTERRUPTED}
 NEAR_BUDGET = 0.8  # warn when a lab() call took this share of the budget
 
 
@@ -89,7 +88,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_sim)
 
 
-def config_from_args(args: argparse.Namespace, *, log: bool = False) -> object:
+def config_from_args(args: argparse.Namespace, *, log: bool = False) -> SimConfig:
     """Build the lab and load the scenario, turning bad input into one-line errors."""
     rest = (DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None
     try:
@@ -167,24 +166,13 @@ def run_sim(args: argparse.Namespace) -> int:
     config = config_from_args(args, log=live_needs_log(args) or tracking.active)
     live = LiveRun(args, config)
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
-    sinks: list[Sink] = [StdoutSink()]
+    out = FanOut([StdoutSink()])
     if args.transcript:
         try:
-            sinks.append(TranscriptSink(args.transcript))
+            out.add(TranscriptSink(args.transcript))
         except OSError as exc:
             raise CliError(f"{args.transcript}: cannot write the transcript ({exc.strerror})") from None
     lab_name = config.build.source.name
-
-    def on_serial(tick: int, data: bytes) -> None:
-        for s in sinks:
-            s.on_serial(tick, data)
-        for s in live.sinks:
-            s.on_serial(tick, data)
-
-    def on_log(columns: dict) -> None:
-        for s in live.sinks:
-            s.on_log(columns)
-        tracking.on_log(columns)
 
     def on_behind(rate: float) -> None:
         print(f"crslab sim: this machine keeps up only {rate:.2f}x real time; running as fast as it can",
@@ -193,20 +181,21 @@ def run_sim(args: argparse.Namespace) -> int:
     start = time.monotonic()
     try:
         with Simulation(config, deadline_s=args.deadline, limits=limits_from_args(args)) as sim:
-            if not sim.symbols & 1:
-                raise CliError(f"{lab_name} defines no lab() function")
-            live.start(sim, sinks)
+            if not sim.defines_lab:
+                raise CliError(f"{lab_name} defines no lab() function", status=RunStatus.NO_LAB.exit_status)
+            live.start(out)
+            if tracking.active:
+                out.add(tracking.rows)
             end_tick = tracking.start(sim, end_tick, duration_given=bool(args.duration))
-            result = sim.run(end_tick, speed=None if args.fast else args.speed, on_serial=on_serial,
-                             on_behind=on_behind, on_log=on_log, between=live.between)
-            for s in sinks:
-                getattr(s, "flush", lambda: None)()
+            result = sim.run(end_tick, out, speed=None if args.fast else args.speed, controls=live.controls,
+                             on_behind=on_behind)
     except SimError as exc:
-        raise CliError(str(exc), status=EXIT_CRASHED) from None
+        raise CliError(str(exc), status=ExitStatus.CRASHED) from None
     finally:
-        for s in sinks:
-            s.close()
-        live.close()
+        try:
+            out.close()
+        except SinkError as exc:
+            raise CliError(str(exc)) from None
     wall = time.monotonic() - start
     tracking.finish()
     for line in notices(lab_name, result.stats, config.build.serial_line_limit):
@@ -221,8 +210,8 @@ def run_sim(args: argparse.Namespace) -> int:
               f"close to the {args.budget_us:g} us budget", file=sys.stderr)
     if result.message:
         print(f"crslab sim: {result.message}", file=sys.stderr)
-    elif result.status == "nan":
+    elif result.status is RunStatus.NAN:
         t = info["nan_first_tick"]
         print(f"crslab sim: {lab_name} returned a NaN or Inf in tau{info['nan_first_tau']} at tick {t} "
               f"(t = {t / 1000:.3f} s) and --strict is on", file=sys.stderr)
-    return STATUS_EXIT[result.status]
+    return result.exit_status

@@ -7,9 +7,9 @@ import argparse
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from crslab.cli import CliError
+from crslab.sim.running import RunningLab
+from crslab.sinks.memory import MemorySink
 from crslab.traj.profiles import PROFILES
 from crslab.traj.tracking import TRACKING_LAB, TrackingError, plot_tracking, tracking_report, write_plan
 from crslab.traj.waypoints import WaypointError, WaypointPlan, plan_waypoints, read_waypoints
@@ -36,7 +36,8 @@ class TrackingRun:
     def __init__(self, args: argparse.Namespace) -> None:
         self.args = args
         self.plan: WaypointPlan | None = None
-        self.blocks: list[dict[str, np.ndarray]] = []
+        self.rows = MemorySink()
+        """The run's scope rows, for the report: feed it the run's output when :attr:`active`."""
         self.path_start_tick = 0
         if args.waypoints is None:
             if args.plot_tracking is not None:
@@ -57,7 +58,7 @@ class TrackingRun:
         """True when the run follows waypoints (and so needs the scope log)."""
         return self.plan is not None
 
-    def start(self, sim: object, end_tick: int, duration_given: bool) -> int:
+    def start(self, sim: RunningLab, end_tick: int, duration_given: bool) -> int:
         """Write the plan into the lab; returns the run's end tick."""
         if self.plan is None:
             return end_tick
@@ -65,21 +66,16 @@ class TrackingRun:
             path_start_s = write_plan(sim, self.plan, self.args.vmax or None)
         except TrackingError as exc:
             raise CliError(str(exc)) from None
-        self.path_start_tick = sim.config.startup_ticks + int(round(path_start_s * 1000))  # type: ignore[attr-defined]
+        self.path_start_tick = sim.config.startup_ticks + int(round(path_start_s * 1000))
         if duration_given:
             return end_tick
         return self.path_start_tick + int(round((self.plan.trajectory.end_s + END_MARGIN_S) * 1000))
 
-    def on_log(self, columns: dict[str, np.ndarray]) -> None:
-        """Keep the scope rows for the report."""
-        if self.plan is not None:
-            self.blocks.append(columns)
-
     def finish(self) -> None:
         """Print the tracking report (stderr) and draw the plot."""
-        if self.plan is None or not self.blocks:
+        log = self.rows.log
+        if self.plan is None or log is None:
             return
-        log = {k: np.concatenate([b[k] for b in self.blocks]) for k in self.blocks[0]}
         try:
             report = tracking_report(log, self.plan, self.path_start_tick)
         except TrackingError as exc:

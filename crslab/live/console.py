@@ -34,6 +34,7 @@ from dataclasses import dataclass
 from typing import TextIO
 
 from crslab.lab.watched import WatchedVar
+from crslab.sim.running import RunningLab
 
 HELP = "commands: list, get NAME, get NAME[i], set NAME VALUE, set NAME[i] VALUE, help"
 _TARGET = re.compile(r"^([A-Za-z_]\w*)(?:\[\s*(\d+)\s*\])?$")
@@ -150,8 +151,8 @@ class VarConsole:
         self._thread = threading.Thread(target=read, name="crslab-vars", daemon=True)
         self._thread.start()
 
-    def serve(self, sim: object) -> None:
-        """Carry out every command typed so far on ``sim`` (between ticks)."""
+    def serve(self, lab: RunningLab) -> None:
+        """Carry out every command typed so far on the running ``lab`` (between ticks)."""
         while True:
             try:
                 line = self.lines.get_nowait()
@@ -160,26 +161,28 @@ class VarConsole:
             if not line.strip():
                 continue
             try:
-                self.reply(self.execute(sim, parse_command(line)))
+                self.reply(self.execute(lab, parse_command(line)))
             except CommandError as exc:
                 self.reply(f"vars: {exc}")
 
     @staticmethod
-    def _now(sim: object, var: WatchedVar) -> str:
+    def _now(lab: RunningLab, var: WatchedVar) -> str:
         """``name  type[length]`` and, for a scalar, its value in the running lab."""
         if var.length is not None:
             return f"{var.name}  {var.ctype}[{var.length}]"
-        return f"{var.name}  {var.ctype}  = {format_value(var, sim.get(var.name))}"  # type: ignore[attr-defined]
+        value = lab.get(var.name)
+        assert not isinstance(value, list)
+        return f"{var.name}  {var.ctype}  = {format_value(var, value)}"
 
-    def execute(self, sim: object, cmd: Command) -> str:
-        """Run one command and return its reply line."""
-        at = f"t = {sim.tick / 1000:.3f} s"  # type: ignore[attr-defined]
+    def execute(self, lab: RunningLab, cmd: Command) -> str:
+        """Run one command on the running ``lab`` and return its reply line."""
+        at = f"t = {lab.tick / 1000:.3f} s"
         if cmd.verb == "help":
             return f"vars: {HELP}"
         if cmd.verb == "list":
             if not self.watched:
                 return "vars: this lab has no watched (#pragma DATA_SECTION) variables"
-            return "\n".join(f"vars: {self._now(sim, v)}" for v in self.watched.values())
+            return "\n".join(f"vars: {self._now(lab, v)}" for v in self.watched.values())
         var = self.watched.get(cmd.name or "")
         if var is None:
             known = ", ".join(self.watched) or "none"
@@ -191,7 +194,7 @@ class VarConsole:
             raise CommandError(f"{var.name} has {var.length} elements: index 0..{var.length - 1}")
         target = var.name if cmd.index is None else f"{var.name}[{cmd.index}]"
         if cmd.verb == "get":
-            value = sim.get(var.name)  # type: ignore[attr-defined]
+            value = lab.get(var.name)
             if isinstance(value, list):
                 if cmd.index is not None:
                     return f"{target} = {format_value(var, value[cmd.index])}   ({at})"
@@ -199,10 +202,12 @@ class VarConsole:
             return f"{target} = {format_value(var, value)}   ({at})"
         if var.length is not None and cmd.index is None:
             raise CommandError(f"{var.name} has {var.length} elements: set {var.name}[i] VALUE")
-        check_range(var, cmd.value)  # type: ignore[arg-type]
+        value = cmd.value
+        assert value is not None  # parse_command gives every set a value
+        check_range(var, value)
         try:
-            sim.set(var.name, cmd.value, index=cmd.index)  # type: ignore[attr-defined]
+            lab.set(var.name, value, index=cmd.index)
         except KeyError as exc:
             raise CommandError(str(exc.args[0])) from None
-        shown = format_value(var, round(cmd.value) if var.is_integer else cmd.value)  # type: ignore[arg-type]
+        shown = format_value(var, round(value) if var.is_integer else value)
         return f"{target} = {shown}   (from {at} on)"

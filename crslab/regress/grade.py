@@ -3,8 +3,7 @@ process of its own (several at once), its transcript compared with the reference
 outcome classed as pass, mismatch, does not compile, crashed or hung. One broken submission
 never stops the others: its process may crash, hang or be killed, and grading goes on.
 
->>> classify("ok", matched=True), classify("exited", matched=False), classify("no-lab", matched=False)
-('pass', 'crashed', 'does not compile')
+Each status's grade class is attached to it (:class:`crslab.sim.status.RunStatus`).
 """
 
 from __future__ import annotations
@@ -18,7 +17,7 @@ import signal
 import sys
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from pathlib import Path
 from typing import TextIO
@@ -28,26 +27,13 @@ from crslab.regress.junit import Case, write_junit
 from crslab.regress.transcript import split_lines
 from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
+from crslab.sim.status import GradeClass, RunResult, RunStatus
 
-PASS, MISMATCH, NO_COMPILE, CRASHED, HUNG = "pass", "mismatch", "does not compile", "crashed", "hung"
-CLASSES = (PASS, MISMATCH, NO_COMPILE, CRASHED, HUNG)
+SHOWN_ALWAYS = (GradeClass.PASS, GradeClass.MISMATCH, GradeClass.DOES_NOT_COMPILE, GradeClass.CRASHED,
+                GradeClass.HUNG)
+"""The classes the summary always counts; any other (forbidden) is counted when it occurs."""
 LAB_SUFFIXES = (".c", ".cpp")
 DEFAULT_TIMEOUT_S = 300.0
-_UNFIT = "unfit"  # the scenario writes a variable the submission does not watch
-
-
-def classify(status: str, *, matched: bool) -> str:
-    """The grade of a run that ended with ``status`` (a ``RunResult.status``, ``no-lab``,
-    ``build-error``, ``unfit`` or ``timeout``) and whose transcript did or did not match."""
-    if status == "ok":
-        return PASS if matched else MISMATCH
-    if status in ("build-error", "no-lab"):
-        return NO_COMPILE
-    if status in ("hung", "timeout"):
-        return HUNG
-    if status == _UNFIT:
-        return MISMATCH
-    return CRASHED
 
 
 def find_submissions(folder: Path) -> list[Path]:
@@ -56,30 +42,13 @@ def find_submissions(folder: Path) -> list[Path]:
 
 
 @dataclass
-class Outcome:
-    """What running one lab file gave (sent back from its process)."""
-
-    path: Path
-    status: str
-    message: str = ""
-    details: str = ""
-    calls: list[tuple[int, bytes]] = field(default_factory=list)
-    seconds: float = 0.0
-
-    @property
-    def transcript(self) -> bytes:
-        """Every byte printed."""
-        return b"".join(d for _, d in self.calls)
-
-
-@dataclass
 class Grade:
     """One submission's grade."""
 
     path: Path
-    grade: str
+    grade: GradeClass
     detail: str
-    outcome: Outcome
+    result: RunResult
     comparison: Comparison | None = None
 
     @property
@@ -87,7 +56,7 @@ class Grade:
         """The full explanation: the mismatch report or the diagnostics."""
         if self.comparison is not None and not self.comparison.ok:
             return self.comparison.report(max_lines=10)
-        return "\n".join(x for x in (self.outcome.message, self.outcome.details) if x)
+        return "\n".join(x for x in (self.result.message, self.result.details) if x)
 
 
 def _first_error(diagnostics: str, name: str) -> str:
@@ -99,32 +68,35 @@ def _first_error(diagnostics: str, name: str) -> str:
     return ""
 
 
-def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, limits: Limits) -> Outcome:
+def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, limits: Limits) -> RunResult:
     """Build ``path`` with ``config``'s flags and run it on ``config``'s scenario (in this process;
-    the lab itself runs in a worker process of its own)."""
+    the lab itself runs in a worker process of its own). ``wall_s`` counts the build too."""
     from crslab.lab.build import LabBuildError, build_lab
     from crslab.regress.runner import run_lab
     from crslab.scenario.load import ScenarioError, check_lab
     from crslab.sim.session import SimError
 
     start = time.monotonic()
+
+    def ended(status: RunStatus, message: str, details: str = "") -> RunResult:
+        return RunResult(status, message=message, details=details, lab_file=path,
+                         wall_s=time.monotonic() - start)
+
     try:
         build = build_lab(path, sanitize=config.build.sanitized)
     except LabBuildError as exc:
         first = _first_error(exc.diagnostics, path.name)
-        return Outcome(path, "build-error", first or str(exc), exc.diagnostics,
-                       seconds=time.monotonic() - start)
+        return ended(RunStatus.BUILD_ERROR, first or str(exc), exc.diagnostics)
     try:
         check_lab(config.scenario, build)
     except ScenarioError as exc:
-        return Outcome(path, _UNFIT, str(exc), seconds=time.monotonic() - start)
+        return ended(RunStatus.UNFIT, str(exc))
     try:
-        run = run_lab(dataclasses.replace(config, build=build), end_tick, deadline_s=deadline_s,
-                      limits=limits)
+        result = run_lab(dataclasses.replace(config, build=build), end_tick, deadline_s=deadline_s,
+                         limits=limits)
     except SimError as exc:
-        return Outcome(path, "crashed", str(exc), seconds=time.monotonic() - start)
-    result = run.run.result
-    return Outcome(path, result.status, result.message, calls=run.run.calls, seconds=time.monotonic() - start)
+        return ended(RunStatus.CRASHED, str(exc))
+    return dataclasses.replace(result, lab_file=path, wall_s=time.monotonic() - start)
 
 
 def _child(conn: Connection, path: Path, config: SimConfig, end_tick: int, deadline_s: float,
@@ -135,10 +107,11 @@ def _child(conn: Connection, path: Path, config: SimConfig, end_tick: int, deadl
     except (OSError, AttributeError):
         pass
     try:
-        outcome = run_one(path, config, end_tick, deadline_s, limits)
+        result = run_one(path, config, end_tick, deadline_s, limits)
     except Exception as exc:  # noqa: BLE001 - reported as this submission's crash, never raised
-        outcome = Outcome(path, "crashed", f"{path.name}: grading failed: {type(exc).__name__}: {exc}")
-    conn.send(outcome)
+        why = f"{path.name}: grading failed: {type(exc).__name__}: {exc}"
+        result = RunResult(RunStatus.CRASHED, message=why, lab_file=path)
+    conn.send(result)
     conn.close()
 
 
@@ -155,8 +128,9 @@ def _context() -> mp.context.BaseContext:
 def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: int,
              deadline_s: float = DEFAULT_DEADLINE_S, limits: Limits = NO_LIMITS,
              timeout_s: float = DEFAULT_TIMEOUT_S,
-             on_done: Callable[[Outcome], None] | None = None) -> list[Outcome]:
-    """Run every lab file in ``paths``, ``jobs`` processes at a time; outcomes in ``paths`` order.
+             on_done: Callable[[RunResult], None] | None = None) -> list[RunResult]:
+    """Run every lab file in ``paths``, ``jobs`` processes at a time; results in ``paths`` order,
+    each naming its file (``lab_file``) and how long it took in all (``wall_s``).
 
     A process that dies without answering counts as crashed; one that takes longer than
     ``timeout_s`` in all (building included) is killed and counts as hung.
@@ -164,18 +138,18 @@ def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: i
     ctx = _context()
     pending = list(enumerate(paths))
     running: dict[Connection, tuple[int, Path, mp.process.BaseProcess, float]] = {}
-    outcomes: dict[int, Outcome] = {}
+    results: dict[int, RunResult] = {}
 
-    def finish(conn: Connection, outcome: Outcome) -> None:
+    def finish(conn: Connection, result: RunResult) -> None:
         index, _, proc, _ = running.pop(conn)
         conn.close()
         proc.join(5.0)
         if proc.is_alive():
             proc.kill()
             proc.join()
-        outcomes[index] = outcome
+        results[index] = result
         if on_done is not None:
-            on_done(outcome)
+            on_done(result)
 
     try:
         while pending or running:
@@ -188,51 +162,54 @@ def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: i
                 running[parent] = (index, path, proc, time.monotonic())
             ready = wait(list(running), timeout=0.2)
             for conn in ready:
-                _, path, proc, started = running[conn]  # type: ignore[index]
+                assert isinstance(conn, Connection)
+                _, path, proc, started = running[conn]
                 try:
-                    outcome = conn.recv()  # type: ignore[union-attr]
+                    result = conn.recv()
                 except (EOFError, OSError):
                     proc.join(1.0)
-                    outcome = Outcome(path, "crashed", f"{path.name}: its grading process died "
-                                      f"(exit status {proc.exitcode})", seconds=time.monotonic() - started)
-                finish(conn, outcome)  # type: ignore[arg-type]
+                    result = RunResult(RunStatus.CRASHED, message=f"{path.name}: its grading process died "
+                                       f"(exit status {proc.exitcode})", lab_file=path,
+                                       wall_s=time.monotonic() - started)
+                finish(conn, result)
             now = time.monotonic()
             for conn, (_, path, proc, started) in list(running.items()):
                 if now - started > timeout_s:
                     proc.kill()
-                    finish(conn, Outcome(path, "timeout", f"{path.name} took longer than {timeout_s:g} s "
-                                         "in all and was stopped", seconds=now - started))
+                    finish(conn, RunResult(RunStatus.TIMEOUT, message=f"{path.name} took longer than "
+                                           f"{timeout_s:g} s in all and was stopped", lab_file=path,
+                                           wall_s=now - started))
     finally:
         for conn, (_, _, proc, _) in running.items():
             proc.kill()
             proc.join()
             conn.close()
-    return [outcomes[i] for i in range(len(paths))]
+    return [results[i] for i in range(len(paths))]
 
 
-def grade_outcome(outcome: Outcome, reference: Outcome, *, abs_tol: float = DEFAULT_ABS_TOL,
-                  rel_tol: float = DEFAULT_REL_TOL) -> Grade:
-    """Grade one submission's outcome against the reference's transcript."""
-    if outcome.status not in ("ok",):
-        grade = classify(outcome.status, matched=False)
-        return Grade(outcome.path, grade, outcome.message.splitlines()[0] if outcome.message else grade,
-                     outcome)
+def grade_result(result: RunResult, reference: RunResult, *, abs_tol: float = DEFAULT_ABS_TOL,
+                 rel_tol: float = DEFAULT_REL_TOL) -> Grade:
+    """Grade one submission's run against the reference's transcript."""
+    path = result.lab_file or Path("?")
+    if not result.ok:
+        grade = result.status.graded(matched=False)
+        return Grade(path, grade, result.message.splitlines()[0] if result.message else str(grade), result)
     comparison = compare(split_lines(reference.transcript, reference.calls),
-                         split_lines(outcome.transcript, outcome.calls), abs_tol=abs_tol, rel_tol=rel_tol)
-    grade = classify("ok", matched=comparison.ok)
+                         split_lines(result.transcript, result.calls), abs_tol=abs_tol, rel_tol=rel_tol)
+    grade = result.status.graded(matched=comparison.ok)
     if comparison.ok:
         detail = f"{comparison.got_count} lines match"
     else:
         first = comparison.diffs[0]
         when = f" ({first.got.time})" if first.got is not None and first.got.tick is not None else ""
         detail = f"{len(comparison.diffs)} lines differ; line {first.number}{when}: {first.reason}"
-    return Grade(outcome.path, grade, detail, outcome, comparison)
+    return Grade(path, grade, detail, result, comparison)
 
 
 def summary_table(grades: Sequence[Grade], stream: TextIO, *, width: int = 100) -> None:
     """The table a TA reads: one row per submission, then the counts."""
     name_w = max([len("submission")] + [len(g.path.name) for g in grades])
-    grade_w = max(len(c) for c in CLASSES)
+    grade_w = max(len(c) for c in GradeClass)
     stream.write(f"{'submission':<{name_w}}  {'result':<{grade_w}}  detail\n")
     for g in grades:
         detail = g.detail if len(g.detail) <= width else g.detail[:width - 3] + "..."
@@ -242,7 +219,8 @@ def summary_table(grades: Sequence[Grade], stream: TextIO, *, width: int = 100) 
 
 def counts_line(grades: Sequence[Grade]) -> str:
     """``N submissions: a pass, b mismatch, ...``."""
-    counts = ", ".join(f"{sum(g.grade == c for g in grades)} {c}" for c in CLASSES)
+    shown = [c for c in GradeClass if c in SHOWN_ALWAYS or any(g.grade == c for g in grades)]
+    counts = ", ".join(f"{sum(g.grade == c for g in grades)} {c}" for c in shown)
     return f"{len(grades)} submissions: {counts}"
 
 
@@ -253,7 +231,7 @@ def write_csv(path: Path, grades: Sequence[Grade]) -> None:
         w.writerow(["submission", "result", "detail", "lines", "first_diff_line", "first_diff_t_s",
                     "seconds"])
         for g in grades:
-            lines = len(split_lines(g.outcome.transcript))
+            lines = len(split_lines(g.result.transcript))
             first_line = first_t = ""
             if g.comparison is not None and g.comparison.diffs:
                 d = g.comparison.diffs[0]
@@ -261,15 +239,15 @@ def write_csv(path: Path, grades: Sequence[Grade]) -> None:
                 if d.got is not None and d.got.tick is not None:
                     first_t = f"{d.got.tick / 1000:.3f}"
             w.writerow([g.path.name, g.grade, g.detail, lines, first_line, first_t,
-                        f"{g.outcome.seconds:.2f}"])
+                        f"{g.result.wall_s:.2f}"])
 
 
 def write_junit_grades(path: Path, grades: Sequence[Grade], suite: str) -> None:
     """A JUnit report: a mismatch is a failure; does not compile, crashed and hung are errors."""
     cases = []
     for g in grades:
-        status = {PASS: "pass", MISMATCH: "failure"}.get(g.grade, "error")
-        cases.append(Case(g.path.name, suite, g.outcome.seconds, status, f"{g.grade}: {g.detail}", g.report))
+        status = {GradeClass.PASS: "pass", GradeClass.MISMATCH: "failure"}.get(g.grade, "error")
+        cases.append(Case(g.path.name, suite, g.result.wall_s, status, f"{g.grade}: {g.detail}", g.report))
     write_junit(path, "crslab grade", cases)
 
 

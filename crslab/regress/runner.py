@@ -3,45 +3,28 @@ regression commands (record, check, grade) and the pytest plugin."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import dataclasses
 from pathlib import Path
 
 from crslab import __version__
 from crslab.regress.transcript import sha256_of
-from crslab.sim.api import SimRun
 from crslab.sim.config import SimConfig
-from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, RunResult, Simulation
-from crslab.sim.sinks import MemorySink
-
-NO_LAB_FUNCTION = "no-lab"
-"""Status of a run whose lab file defines no ``lab()`` (it would not link on the board)."""
-
-
-@dataclass
-class LabRun:
-    """A finished run (``SimRun``) and how long it simulated."""
-
-    run: SimRun
-    end_tick: int
-
-    @property
-    def status(self) -> str:
-        """ok, crashed, exited, hung, nan, output-limit, or no-lab."""
-        return self.run.result.status
+from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, Simulation
+from crslab.sim.status import RunResult, RunStatus
+from crslab.sinks.memory import MemorySink
 
 
 def run_lab(config: SimConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEADLINE_S,
-            limits: Limits = NO_LIMITS) -> LabRun:
-    """Run ``config`` to ``end_tick`` at full speed. Raises ``SimError`` when the worker cannot
-    start; a lab without ``lab()`` gives status ``no-lab`` and no run."""
+            limits: Limits = NO_LIMITS) -> RunResult:
+    """Run ``config`` to ``end_tick`` at full speed, keeping every serial call. Raises ``SimError``
+    when the worker cannot start; a lab without ``lab()`` ends as ``no-lab`` before any tick."""
     memory = MemorySink()
     with Simulation(config, deadline_s=deadline_s, limits=limits) as sim:
-        if not sim.symbols & 1:
-            name = config.build.source.name
-            result = RunResult(NO_LAB_FUNCTION, 0, f"{name} defines no lab() function")
-        else:
-            result = sim.run(end_tick, on_serial=memory.on_serial)
-    return LabRun(SimRun(result=result, calls=memory.calls, log=None), end_tick)
+        if not sim.defines_lab:
+            source = config.build.source
+            return RunResult(RunStatus.NO_LAB, 0, f"{source.name} defines no lab() function", lab_file=source)
+        result = sim.run(end_tick, memory)
+    return dataclasses.replace(result, calls=memory.calls)
 
 
 def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None) -> dict[str, str]:

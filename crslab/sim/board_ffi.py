@@ -1,4 +1,5 @@
-"""cffi declarations of the emulated board (csrc/sim/sim.h), for the worker and the reader.
+"""cffi declarations of the emulated board (csrc/sim/sim.h), for the worker and the reader, and
+its constants (phases, run codes, lab-symbol bits), so Python never writes them again.
 
 ABI mode: the worker dlopens a lab's shared object with these declarations; the crslab process
 uses the same declarations, without loading any lab code, to read the shared-memory block.
@@ -7,6 +8,7 @@ uses the same declarations, without loading any lab code, to read the shared-mem
 from __future__ import annotations
 
 from functools import cache
+from typing import Any
 
 from cffi import FFI
 
@@ -25,3 +27,14 @@ def board_ffi() -> FFI:
 def shared_size() -> int:
     """Bytes of the shared block (``crs_shared``)."""
     return board_ffi().sizeof("crs_shared")
+
+
+@cache
+def board_constants() -> Any:
+    """sim.h's constants as attributes (``CRS_PHASE_LAB``, ``CRS_RUN_NAN_STRICT``,
+    ``CRS_LAB_HAS_LAB``...), without loading any lab code.
+
+    >>> board_constants().CRS_PHASE_PRINTING
+    2
+    """
+    return board_ffi().dlopen(None)

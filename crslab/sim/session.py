@@ -17,20 +17,19 @@ import signal
 import sys
 import tempfile
 import time
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from crslab.sim.board_ffi import board_ffi, shared_size
+from crslab.sim.board_ffi import board_constants, board_ffi, shared_size
 from crslab.sim.config import SimConfig
+from crslab.sim.running import LiveControl
 from crslab.sim.sanitizer import asan_runtime, summarize_sanitizer_report
+from crslab.sim.status import RunResult, RunStatus
+from crslab.sinks.sink import Sink
 
-SerialSink = Callable[[int, bytes], None]
-LogSink = Callable[[dict[str, np.ndarray]], None]
-
-PHASE_WHERE = {0: "between ticks", 1: "in lab()", 2: "in printing()", 3: "in the physics step"}
 DEFAULT_DEADLINE_S = 2.0
 READY_TIMEOUT_S = 60.0
 SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
@@ -38,23 +37,19 @@ REALTIME_SLICE_TICKS = 20
 FAST_SLICE_TICKS = 20_000
 
 
+def phase_where(phase: int) -> str:
+    """Where the worker was, for a diagnosis, from the phase it wrote (``CRS_PHASE_*``).
+
+    >>> phase_where(board_constants().CRS_PHASE_PRINTING)
+    'in printing()'
+    """
+    c = board_constants()
+    return {c.CRS_PHASE_IDLE: "between ticks", c.CRS_PHASE_LAB: "in lab()",
+            c.CRS_PHASE_PRINTING: "in printing()", c.CRS_PHASE_PHYSICS: "in the physics step"}.get(phase, "")
+
+
 class SimError(Exception):
     """The run could not start (the worker failed before the first tick)."""
-
-
-@dataclass
-class RunResult:
-    """How a run ended: ``status`` is ok, crashed, exited, hung, nan, output-limit or interrupted."""
-
-    status: str
-    end_tick: int
-    message: str = ""
-    stats: dict = field(default_factory=dict)
-
-    @property
-    def ok(self) -> bool:
-        """True when the run reached its end normally."""
-        return self.status == "ok"
 
 
 @dataclass(frozen=True)
@@ -151,6 +146,11 @@ class Simulation:
             raise SimError(reply.message)
         self.symbols = reply[1]
 
+    @property
+    def defines_lab(self) -> bool:
+        """Whether the lab file defines ``lab()`` (the board would not link without one)."""
+        return bool(self.symbols & board_constants().CRS_LAB_HAS_LAB)
+
     # -- lifecycle ---------------------------------------------------------------------------
     def __enter__(self) -> Simulation:
         return self
@@ -183,15 +183,15 @@ class Simulation:
             os.rmdir(self.sanitizer_dir)
 
     # -- serial ------------------------------------------------------------------------------
-    def drain_serial(self, sink: SerialSink | None) -> None:
-        """Hand every serial_printf call's bytes since the last drain to ``sink(tick, bytes)``."""
+    def _drain_serial(self, take: Callable[[int, bytes], None]) -> None:
+        """Hand every serial_printf call's bytes since the last drain to ``take(tick, bytes)``."""
         sh = self.shared
         n_bytes, n_marks = int(sh.serial_len), int(sh.mark_count)
-        if n_bytes and sink is not None:
+        if n_bytes:
             raw = bytes(self.ffi.buffer(sh.serial, n_bytes))
             offsets = [int(sh.mark_offset[i]) for i in range(n_marks)] + [n_bytes]
             for i in range(n_marks):
-                sink(int(sh.mark_tick[i]), raw[offsets[i]:offsets[i + 1]])
+                take(int(sh.mark_tick[i]), raw[offsets[i]:offsets[i + 1]])
         sh.serial_len = 0
         sh.mark_count = 0
 
@@ -207,7 +207,9 @@ class Simulation:
 
     def get(self, name: str) -> float | list[float]:
         """Read a watched variable of the running lab (between ticks)."""
-        return self._ask(("get", name))  # type: ignore[return-value]
+        value = self._ask(("get", name))
+        assert isinstance(value, float | list)
+        return value
 
     def set(self, name: str, value: float, index: int | None = None) -> None:
         """Write a watched variable (or one array element) of the running lab, between ticks."""
@@ -223,21 +225,22 @@ class Simulation:
         self.process.join(1.0)
         code = self.process.exitcode
         tick = int(self.shared.tick)
-        where = PHASE_WHERE.get(int(self.shared.phase), "")
+        where = phase_where(int(self.shared.phase))
         at = f"at tick {tick} (t = {tick / 1000:.3f} s)"
         report = self._sanitizer_report()
         if report is not None:
             where = "" if report.endswith("()") else f" {where}"
-            return RunResult("crashed", tick, f"{self.lab_name}: {report}{where} {at}", self.stats)
+            return RunResult(RunStatus.CRASHED, tick, f"{self.lab_name}: {report}{where} {at}", self.stats)
         if code == -signal.SIGXCPU:
-            return RunResult("crashed", tick, f"{self.lab_name} used up its CPU-time limit "
+            return RunResult(RunStatus.CRASHED, tick, f"{self.lab_name} used up its CPU-time limit "
                              f"({self.limits.cpu_s:g} s) {where} {at}", self.stats)
         if code is not None and code < 0:
             name = signal.Signals(-code).name
             hint = f"; its memory limit was {self.limits.memory_mb} MB" if self.limits.memory_mb else ""
-            return RunResult("crashed", tick, f"{self.lab_name} crashed ({name}) {where} {at}{hint}",
+            return RunResult(RunStatus.CRASHED, tick, f"{self.lab_name} crashed ({name}) {where} {at}{hint}",
                              self.stats)
-        return RunResult("exited", tick, f"{self.lab_name} called exit({code}) {where} {at}", self.stats)
+        return RunResult(RunStatus.EXITED, tick, f"{self.lab_name} called exit({code}) {where} {at}",
+                         self.stats)
 
     def _sanitizer_report(self) -> str | None:
         """The first sanitizer finding, as one phrase naming the user's file and line."""
@@ -251,6 +254,7 @@ class Simulation:
         return None
 
     def _wait_reply(self, timeout_s: float | None, during_setup: bool = False) -> tuple | RunResult:
+        c = board_constants()
         start = time.monotonic()
         while True:
             try:
@@ -263,41 +267,43 @@ class Simulation:
                     self.process.join(1.0)
                     code = self.process.exitcode
                     how = signal.Signals(-code).name if code and code < 0 else f"exit status {code}"
-                    return RunResult("crashed", 0, f"{self.lab_name} could not be loaded ({how})")
+                    return RunResult(RunStatus.CRASHED, 0, f"{self.lab_name} could not be loaded ({how})")
                 return self._diagnose_death()
             phase = int(self.shared.phase)
-            if phase in (1, 2):
+            if phase in (c.CRS_PHASE_LAB, c.CRS_PHASE_PRINTING):
                 busy_s = (time.monotonic_ns() - int(self.shared.phase_start_ns)) / 1e9
                 if busy_s > self.deadline_s:
                     tick = int(self.shared.tick)
                     self.process.kill()
                     self.process.join()
-                    func = "lab()" if phase == 1 else "printing()"
+                    func = "lab()" if phase == c.CRS_PHASE_LAB else "printing()"
                     return RunResult(
-                        "hung", tick,
+                        RunStatus.HUNG, tick,
                         f"{self.lab_name} hung: {func} did not return within {self.deadline_s:g} s "
                         f"at tick {tick} (t = {tick / 1000:.3f} s)", self.stats)
             if timeout_s is not None and time.monotonic() - start > timeout_s:
                 self.process.kill()
-                return RunResult("crashed", int(self.shared.tick),
+                return RunResult(RunStatus.CRASHED, int(self.shared.tick),
                                  f"{self.lab_name}: the worker stopped answering")
 
     def run(
         self,
         end_tick: int,
+        sink: Sink | None = None,
         *,
         speed: float | None = None,
-        on_serial: SerialSink | None = None,
-        on_log: LogSink | None = None,
+        controls: Sequence[LiveControl] = (),
         on_behind: Callable[[float], None] | None = None,
-        between: Callable[[], None] | None = None,
     ) -> RunResult:
-        """Run to ``end_tick``; ``speed`` None is as fast as possible, else x real time.
+        """Run to ``end_tick``, handing what the board prints and the scope rows to ``sink``;
+        ``speed`` None is as fast as possible, else x real time.
 
-        ``between()`` is called after every chunk of ticks, once its serial bytes and scope rows
-        were handed on: the worker is idle then, so it may call :meth:`get`, :meth:`set` and
-        :meth:`push` (live variables, the viewer's mouse).
+        After every chunk of ticks, once ``sink`` took its serial bytes and scope rows and was
+        flushed, each of ``controls`` is served: the worker is idle then, so they may call
+        :meth:`get`, :meth:`set` and :meth:`push` (live variables, the viewer's mouse).
+        ``on_behind(rate)`` is called once when the machine cannot keep up with ``speed``.
         """
+        sink = sink if sink is not None else Sink()
         wall0, tick0 = time.monotonic(), self.tick
         warned = False
         printed = 0
@@ -307,8 +313,12 @@ class Simulation:
             nonlocal printed
             keep = data[: max(0, cap - printed)]
             printed += len(data)
-            if keep and on_serial is not None:
-                on_serial(tick, keep)
+            if keep:
+                sink.on_serial(tick, keep)
+
+        def ended(status: RunStatus, tick: int, message: str = "") -> RunResult:
+            return RunResult(status, tick, message, self.stats, lab_file=self.config.build.source,
+                             wall_s=time.monotonic() - wall0)
 
         try:
             while self.tick < end_tick:
@@ -317,21 +327,21 @@ class Simulation:
                 self._conn.send(("run", target))
                 reply = self._wait_reply(None)
                 if isinstance(reply, RunResult):
-                    self.drain_serial(counted)
-                    return reply
+                    self._drain_serial(counted)
+                    return ended(reply.status, reply.end_tick, reply.message)
                 _, code, self.tick, self.stats, log = reply
-                self.drain_serial(counted)
+                self._drain_serial(counted)
                 if printed > cap:
-                    return RunResult(
-                        "output-limit", self.tick,
-                        f"{self.lab_name} printed more than {cap / 1e6:g} MB; the run was cut off at tick "
-                        f"{self.tick} (t = {self.tick / 1000:.3f} s)", self.stats)
-                if log is not None and on_log is not None:
-                    on_log(log)
-                if between is not None:
-                    between()
-                if code == 3:  # CRS_RUN_NAN_STRICT
-                    return RunResult("nan", self.tick, "", self.stats)
+                    return ended(RunStatus.OUTPUT_LIMIT, self.tick,
+                                 f"{self.lab_name} printed more than {cap / 1e6:g} MB; the run was cut off "
+                                 f"at tick {self.tick} (t = {self.tick / 1000:.3f} s)")
+                if log is not None:
+                    sink.on_log(log)
+                sink.flush()
+                for control in controls:
+                    control.serve(self)
+                if code == board_constants().CRS_RUN_NAN_STRICT:
+                    return ended(RunStatus.NAN, self.tick)
                 if speed is not None:
                     due = wall0 + (self.tick - tick0) / 1000.0 / speed
                     lag = time.monotonic() - due
@@ -344,7 +354,7 @@ class Simulation:
         except KeyboardInterrupt:
             self.process.kill()
             self.process.join()
-            self.drain_serial(counted)
+            self._drain_serial(counted)
             tick = int(self.shared.tick)
-            return RunResult("interrupted", tick, f"interrupted at t = {tick / 1000:.3f} s", self.stats)
-        return RunResult("ok", self.tick, "", self.stats)
+            return ended(RunStatus.INTERRUPTED, tick, f"interrupted at t = {tick / 1000:.3f} s")
+        return ended(RunStatus.OK, self.tick)

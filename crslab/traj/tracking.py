@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab.lab.build import CSRC
+from crslab.sim.running import RunningLab
 from crslab.traj.profiles import PROFILES
 from crslab.traj.waypoints import WaypointPlan
 
@@ -30,30 +31,30 @@ class TrackingError(ValueError):
     """The lab cannot follow this waypoint file (it lacks the variables, or has too little room)."""
 
 
-def write_plan(sim: object, plan: WaypointPlan, vmax_rad_s: float | None) -> float:
+def write_plan(sim: RunningLab, plan: WaypointPlan, vmax_rad_s: float | None) -> float:
     """Write ``plan`` into the running lab's watched variables (before the first tick).
 
     Returns the time (s, after the first lab() call) at which the lab starts the waypoint path.
     """
-    watched = {v.name: v for v in sim.config.build.watched}  # type: ignore[attr-defined]
+    watched = {v.name: v for v in sim.config.build.watched}
     missing = [n for n in REQUIRED if n not in watched]
     if missing:
-        raise TrackingError(f"{sim.config.build.source.name} cannot follow waypoints: it does not watch "  # type: ignore[attr-defined]
+        raise TrackingError(f"{sim.config.build.source.name} cannot follow waypoints: it does not watch "
                             f"{', '.join(missing)} (see {TRACKING_LAB.name})")
     q = plan.q_rad
     room = watched["wp_duration_s"].length or 0
     if q.shape[0] > min(room + 1, (watched["wp_motor_rad"].length or 0) // 3):
         raise TrackingError(f"{plan.waypoints.name}: {q.shape[0]} waypoints, but the lab has room for "
                             f"{min(room + 1, (watched['wp_motor_rad'].length or 0) // 3)}")
-    sim.set("n_waypoints", q.shape[0])  # type: ignore[attr-defined]
-    sim.set("wp_profile", PROFILES[plan.trajectory.profile])  # type: ignore[attr-defined]
-    sim.set("wp_vmax_rad_s", vmax_rad_s or 0.0)  # type: ignore[attr-defined]
+    sim.set("n_waypoints", q.shape[0])
+    sim.set("wp_profile", PROFILES[plan.trajectory.profile])
+    sim.set("wp_vmax_rad_s", vmax_rad_s or 0.0)
     for i, row in enumerate(q):
         for j, value in enumerate(row):
-            sim.set("wp_motor_rad", float(value), index=3 * i + j)  # type: ignore[attr-defined]
+            sim.set("wp_motor_rad", float(value), index=3 * i + j)
     for i, d in enumerate(plan.trajectory.duration_s):
-        sim.set("wp_duration_s", float(d), index=i)  # type: ignore[attr-defined]
-    return float(sim.get("approach_s")) + float(sim.get("hold_s"))  # type: ignore[attr-defined]
+        sim.set("wp_duration_s", float(d), index=i)
+    return float(sim.get("approach_s")) + float(sim.get("hold_s"))
 
 
 @dataclass(frozen=True)

@@ -9,6 +9,7 @@ import time
 from crslab.sim.api import make_config
 from crslab.sim.inprocess import InProcessRun
 from crslab.sim.session import Simulation
+from crslab.sinks.sink import Sink
 
 REPEATS = 5
 TICKS = 25_000
@@ -17,7 +18,7 @@ TICKS = 25_000
 def isolated_rate(config) -> float:
     with Simulation(config) as sim:
         t = time.perf_counter()
-        result = sim.run(TICKS, speed=None, on_serial=lambda tick, data: None)
+        result = sim.run(TICKS, Sink(), speed=None)
         dt = time.perf_counter() - t
     assert result.ok
     return TICKS / dt

@@ -17,6 +17,7 @@ from crslab.plant.model import load_model, motor_to_qpos
 from crslab.plant.params import REST_MOTOR_RAD
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
+from crslab.sinks.sink import Sink
 
 REPEATS = 5
 
@@ -25,7 +26,7 @@ def sim_rate(config, ticks: int) -> float:
     """Ticks per second of Simulation.run over ``ticks`` ticks (the worker already running)."""
     with Simulation(config) as sim:
         t = time.perf_counter()
-        result = sim.run(ticks, speed=None, on_serial=lambda tick, data: None)
+        result = sim.run(ticks, Sink(), speed=None)
         dt = time.perf_counter() - t
     assert result.ok, result.message
     return ticks / dt

@@ -27,7 +27,7 @@ from typing import BinaryIO
 import numpy as np
 
 from crslab.scopes.signals import SIGNALS, csv_header, signal_values
-from crslab.sim.sinks import Sink
+from crslab.sinks.sink import Sink
 
 
 class CsvSink(Sink):

@@ -21,7 +21,7 @@ import termios
 import tty
 from pathlib import Path
 
-from crslab.sim.sinks import Sink
+from crslab.sinks.sink import Sink
 
 
 class PtyError(Exception):
@@ -130,7 +130,10 @@ class PtySink(Sink):
             os.close(fd)
 
     def close(self) -> None:
-        """Remove the symlink and close the terminal (an attached reader sees the port go away)."""
+        """Give an attached terminal a moment to read the last bytes (:meth:`drain`), then remove
+        the symlink and close the terminal (the reader sees the port go away)."""
+        if self._master >= 0:
+            self.drain()
         if self.link is not None:
             try:
                 if self.link.is_symlink() and os.readlink(self.link) == self.path:

@@ -16,11 +16,13 @@ from collections.abc import Callable
 
 import numpy as np
 
-from crslab.sim.sinks import Sink
+from crslab.sim.running import RunningLab
+from crslab.sinks.sink import Sink
 
 
 class MujocoViewer(Sink):
-    """MuJoCo's passive viewer following a run; call :meth:`start` once the simulation exists."""
+    """MuJoCo's passive viewer following a run: a sink (the arm's pose from the scope rows) and a
+    live control (the mouse's push, :meth:`serve`); call :meth:`start` once the worker exists."""
 
     def __init__(self, rest_dh_rad: np.ndarray, on_status: Callable[[str], None] | None = None) -> None:
         self.on_status = on_status or (lambda line: print(line, file=sys.stderr))
@@ -63,8 +65,8 @@ class MujocoViewer(Sink):
         if len(columns["qpos_dh_rad"]):
             self._qpos = columns["qpos_dh_rad"][-1]
 
-    def serve(self, sim: object) -> None:
-        """Show the latest pose and pass the mouse's push to the simulation (between chunks)."""
+    def serve(self, lab: RunningLab) -> None:
+        """Show the latest pose and pass the mouse's push to the running lab (between chunks)."""
         if self.handle is None or not self.handle.is_running():
             return
         with self.handle.lock():
@@ -74,7 +76,7 @@ class MujocoViewer(Sink):
         self.handle.sync()  # draws, and turns a mouse drag into data.xfrc_applied
         push = self.data.xfrc_applied.copy()
         if not np.array_equal(push, self._sent):
-            sim.push(push)  # type: ignore[attr-defined]
+            lab.push(push)
             self._sent = push
 
     def close(self) -> None:

@@ -5,7 +5,7 @@ the last one. Writing a rerun recording or a CSV takes a while per chunk; in a t
 overlaps the worker's next chunk. Calls reach the wrapped sink in the order they were made; at
 most ``depth`` chunks wait, after which the simulation waits for the sink (memory stays bounded).
 
->>> from crslab.sim.sinks import MemorySink
+>>> from crslab.sinks.memory import MemorySink
 >>> inner = MemorySink()
 >>> sink = ThreadedSink(inner)
 >>> sink.on_serial(5, b"hi\\n\\r"); sink.close()
@@ -20,7 +20,7 @@ import threading
 
 import numpy as np
 
-from crslab.sim.sinks import Sink
+from crslab.sinks.sink import Sink
 
 _STOP = object()
 
@@ -58,6 +58,10 @@ class ThreadedSink(Sink):
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         self._put(self.inner.on_log, columns)
+
+    def flush(self) -> None:
+        """Queue a flush after what was handed over (the simulation does not wait for it)."""
+        self._put(self.inner.flush)
 
     def close(self) -> None:
         """Wait for the queued work, close the wrapped sink, and raise what went wrong in the thread."""

@@ -27,13 +27,14 @@ from __future__ import annotations
 
 import sys
 import threading
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
 from crslab.scopes.arm3d import quat_rotate
 from crslab.scopes.signals import DIGITAL, MOTOR, SIMULINK, TORQUE, SerialLines, simulink_samples
-from crslab.sim.sinks import Sink
+from crslab.sinks.sink import Sink
 
 TIMELINE = "sim_time"
 FLUSH_TIMEOUT_S = 10.0
@@ -99,7 +100,7 @@ class RerunSink(Sink):
     """
 
     def __init__(self, *, rrd_path: Path | None = None, spawn: bool = False, name: str = "crslab",
-                 on_status: object = None) -> None:
+                 on_status: Callable[[str], None] | None = None) -> None:
         if rrd_path is None and not spawn:
             raise ValueError("RerunSink needs an rrd_path, spawn=True or both")
         self.rrd_path = rrd_path

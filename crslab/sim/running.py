@@ -1,0 +1,52 @@
+"""A running lab as the windows into it see it between two chunks of ticks.
+
+The live-variable console, MuJoCo's viewer and the waypoint tracking all act on a lab while it
+runs, through this one interface (:class:`crslab.sim.session.Simulation` has it): read and write
+its watched variables (``get``, ``set``), push the arm (``push``), and know the run's
+configuration and current tick. Each of them that acts after every chunk of ticks is a
+:class:`LiveControl`, handed to ``Simulation.run(controls=...)``.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Protocol
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from crslab.sim.config import SimConfig
+
+
+class RunningLab(Protocol):
+    """A lab running in its worker, idle between two chunks of ticks."""
+
+    @property
+    def config(self) -> SimConfig:
+        """The run's configuration: the lab's build (watched variables), the scenario, the options."""
+        ...
+
+    @property
+    def tick(self) -> int:
+        """The next tick to run (t = tick ms)."""
+        ...
+
+    def get(self, name: str) -> float | list[float]:
+        """A watched variable's value (a list for an array)."""
+        ...
+
+    def set(self, name: str, value: float, index: int | None = None) -> None:
+        """Write a watched variable, or one element of a watched array."""
+        ...
+
+    def push(self, body_forces: np.ndarray) -> None:
+        """Apply a force and torque to each body (MuJoCo ``xfrc_applied``) until the next push."""
+        ...
+
+
+class LiveControl(Protocol):
+    """Something that acts on the running lab after every chunk of ticks (typed commands, the
+    viewer's mouse)."""
+
+    def serve(self, lab: RunningLab) -> None:
+        """Act on ``lab`` now (its worker is idle)."""
+        ...

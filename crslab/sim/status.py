@@ -1,0 +1,136 @@
+"""How a run ended: its :class:`RunStatus` (with the exit status and grade class that go with it)
+and the one :class:`RunResult` every way of running a lab returns (``simulate``, ``crslab sim``,
+``record``, ``check``, ``grade``).
+
+The exit statuses are the README's table; a status's grade class is what ``crslab grade`` calls
+a submission that ended that way (an ``ok`` run passes or mismatches, by its transcript).
+
+>>> RunStatus.HUNG.exit_status, RunStatus.HUNG.grade_class
+(<ExitStatus.HUNG: 4>, <GradeClass.HUNG: 'hung'>)
+>>> RunStatus("exited").graded(matched=False), RunStatus.OK.graded(matched=True)
+(<GradeClass.CRASHED: 'crashed'>, <GradeClass.PASS: 'pass'>)
+>>> f"{RunStatus.OUTPUT_LIMIT}", RunStatus.OUTPUT_LIMIT == "output-limit"
+('output-limit', True)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import IntEnum, StrEnum
+from pathlib import Path
+
+import numpy as np
+
+
+class ExitStatus(IntEnum):
+    """The exit statuses of the ``crslab`` commands that run labs (README, "exit status")."""
+
+    OK = 0
+    MISMATCH = 1
+    BAD_INPUT = 2
+    CRASHED = 3
+    HUNG = 4
+    NAN = 5
+    OUTPUT_LIMIT = 6
+    INTERRUPTED = 130
+
+
+class GradeClass(StrEnum):
+    """What ``crslab grade`` calls a submission."""
+
+    PASS = "pass"
+    MISMATCH = "mismatch"
+    DOES_NOT_COMPILE = "does not compile"
+    CRASHED = "crashed"
+    HUNG = "hung"
+    FORBIDDEN = "forbidden"
+
+
+class RunStatus(StrEnum):
+    """How a run ended. Each status carries its exit status and its grade class."""
+
+    exit_status: ExitStatus
+    grade_class: GradeClass
+
+    def __new__(cls, value: str, exit_status: ExitStatus, grade_class: GradeClass) -> RunStatus:
+        member = str.__new__(cls, value)
+        member._value_ = value
+        member.exit_status = exit_status
+        member.grade_class = grade_class
+        return member
+
+    OK = "ok", ExitStatus.OK, GradeClass.PASS
+    """The run reached its end."""
+    CRASHED = "crashed", ExitStatus.CRASHED, GradeClass.CRASHED
+    """The lab's process died: a signal, a sanitizer finding, its CPU-time limit."""
+    EXITED = "exited", ExitStatus.CRASHED, GradeClass.CRASHED
+    """The lab called ``exit()``."""
+    HUNG = "hung", ExitStatus.HUNG, GradeClass.HUNG
+    """``lab()`` or ``printing()`` did not return within the deadline."""
+    FORBIDDEN = "forbidden", ExitStatus.CRASHED, GradeClass.FORBIDDEN
+    """The lab tried to reach outside its run (files, processes, network)."""
+    NAN = "nan", ExitStatus.NAN, GradeClass.CRASHED
+    """A NaN or Inf torque with ``--strict``."""
+    OUTPUT_LIMIT = "output-limit", ExitStatus.OUTPUT_LIMIT, GradeClass.CRASHED
+    """The lab printed more than its output limit (a flood)."""
+    INTERRUPTED = "interrupted", ExitStatus.INTERRUPTED, GradeClass.CRASHED
+    """Ctrl-C."""
+    NO_LAB = "no-lab", ExitStatus.BAD_INPUT, GradeClass.DOES_NOT_COMPILE
+    """The lab file defines no ``lab()`` (it would not link on the board)."""
+    BUILD_ERROR = "build-error", ExitStatus.BAD_INPUT, GradeClass.DOES_NOT_COMPILE
+    """The lab file does not compile."""
+    UNFIT = "unfit", ExitStatus.BAD_INPUT, GradeClass.MISMATCH
+    """The scenario writes a variable the lab does not watch."""
+    TIMEOUT = "timeout", ExitStatus.HUNG, GradeClass.HUNG
+    """The whole run (building included) took longer than allowed and was stopped."""
+
+    def graded(self, *, matched: bool) -> GradeClass:
+        """The grade of a run that ended so and whose transcript did or did not match."""
+        if self is RunStatus.OK:
+            return GradeClass.PASS if matched else GradeClass.MISMATCH
+        return self.grade_class
+
+
+@dataclass
+class RunResult:
+    """A finished run: how it ended, what the board printed (every ``serial_printf`` call with its
+    tick) and the scope log when one was kept.
+
+    ``stats`` holds the board's counters (lab() timing, NaN and long-line notices, bytes lost);
+    ``details`` the full diagnostics behind ``message`` (gcc's output); ``lab_file`` the lab that
+    ran and ``wall_s`` the wall-clock seconds it took, when the caller timed it.
+    """
+
+    status: RunStatus
+    end_tick: int = 0
+    message: str = ""
+    stats: dict = field(default_factory=dict)
+    calls: list[tuple[int, bytes]] = field(default_factory=list)
+    log: dict[str, np.ndarray] | None = None
+    details: str = ""
+    lab_file: Path | None = None
+    wall_s: float = 0.0
+
+    @property
+    def ok(self) -> bool:
+        """True when the run reached its end normally."""
+        return self.status is RunStatus.OK
+
+    @property
+    def exit_status(self) -> ExitStatus:
+        """The ``crslab`` exit status for a run that ended so."""
+        return self.status.exit_status
+
+    @property
+    def transcript(self) -> bytes:
+        """Every byte the board printed, exactly."""
+        return b"".join(d for _, d in self.calls)
+
+    def lines(self) -> list[str]:
+        r"""The printed lines as text, without their line ends.
+
+        >>> RunResult(RunStatus.OK, calls=[(0, b"a 1\n\r"), (5, b"b")]).lines()
+        ['a 1', 'b']
+        """
+        text = self.transcript.decode("latin-1").replace("\n\r", "\n").replace("\r\n", "\n")
+        return text.split("\n")[:-1] if text.endswith("\n") else text.split("\n")
