@@ -48,7 +48,7 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
     from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
     from crslab.regress.runner import run_header, run_lab
     from crslab.regress.transcript import read_golden, split_lines, write_golden
-    from crslab.scenario.events import seconds_to_tick
+    from crslab.scenario.event import seconds_to_tick
     from crslab.sim.api import make_config
     from crslab.sim.session import DEFAULT_DEADLINE_S
 

@@ -330,3 +330,10 @@ def test_seeded_faults_repeat_with_the_same_seed_and_differ_with_another(tmp_pat
     assert a.transcript != c.transcript
     jumps = np.abs(np.diff(a.log["enc_rad"], axis=0)) > 5000 * RAD_PER_COUNT
     assert jumps.any(axis=1).sum() >= 2  # the glitches are there
+
+
+def test_every_event_class_has_its_effect_on_the_simulator_side():
+    from crslab.scenario.events import EVENT_KINDS
+    from crslab.sim.event_effects import EFFECTS
+
+    assert set(EVENT_KINDS.values()) <= set(EFFECTS)

@@ -13,7 +13,7 @@ from crslab import crs
 from crslab.lab.build import build_lab
 from crslab.plant.params import COURSE_END_MASS_KG
 from crslab.scenario import events as ev
-from crslab.scenario.event_parser import EVENT_KINDS
+from crslab.scenario.events import EVENT_KINDS
 from crslab.scenario.load import (
     BUILTIN_DIR,
     ScenarioError,
@@ -235,3 +235,20 @@ def test_every_example_in_the_docs_parses():
 def test_builtin_files_load_by_path_too():
     for path in BUILTIN_DIR.glob("*.toml"):
         assert load_scenario(str(path)).source == str(path)
+
+
+def test_scenarios_are_data_that_never_import_the_simulator():
+    code = ("import sys\nfrom crslab.scenario.load import load_scenario\n"
+            "import crslab.scenario.events\ns = load_scenario('tour')\n"
+            "print(sorted(m for m in sys.modules if m.startswith(('crslab.sim', 'mujoco'))))")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == "[]"
+
+
+def test_each_kind_is_one_class_that_parses_and_describes_itself():
+    for kind, cls in EVENT_KINDS.items():
+        assert kind in (cls.kind, *cls.also_parses)
+        assert "parse" in cls.__dict__ and "describe" in cls.__dict__, cls.__name__
+    with pytest.raises(TypeError, match="'glitch' is defined by EncoderGlitch already"):
+        type("AnotherGlitch", (ev.Event,), {"kind": "glitch"})

@@ -18,7 +18,7 @@ from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.runner import run_header, run_lab
 from crslab.regress.transcript import GoldenError, read_golden, sha256_of, split_lines, write_golden
-from crslab.scenario.events import seconds_to_tick
+from crslab.scenario.event import seconds_to_tick
 from crslab.sim.config import SimConfig
 from crslab.sim.session import SimError
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus

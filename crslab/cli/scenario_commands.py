@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 
 from crslab.cli import CliError
-from crslab.scenario.events import describe
 from crslab.scenario.load import DEFAULT_SCENARIO, ScenarioError, describe_builtins, load_scenario
 
 
@@ -30,7 +29,7 @@ def timeline(name_or_path: str) -> list[str]:
     if s.rest_motor_rad is not None:
         out.append(f"   resting pose (motor, rad): {' '.join(f'{v:g}' for v in s.rest_motor_rad)}")
     for e in s.events:
-        out.append(f"{e.tick / 1000:8.3f} s  {describe(e)}" + (f"  (line {e.line})" if e.line else ""))
+        out.append(f"{e.tick / 1000:8.3f} s  {e.describe()}" + (f"  (line {e.line})" if e.line else ""))
     out.append(f"{s.end_tick / 1000:8.3f} s  end (seed {s.seed})")
     return out
 

@@ -12,7 +12,7 @@ from crslab.cli import CliError
 from crslab.cli.live_options import LiveRun, add_live_options, live_needs_log
 from crslab.cli.tracking_options import TrackingRun, add_tracking_options
 from crslab.lab.build import LabBuildError
-from crslab.scenario.events import seconds_to_tick
+from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
 from crslab.sim.config import SimConfig

@@ -18,6 +18,8 @@ array([ 0.  , -0.42,  0.24])
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import mujoco
 import numpy as np
 
@@ -97,3 +99,39 @@ def set_end_mass(model: mujoco.MjModel, kg: float) -> None:
         if body == 0:
             break
         body = int(model.body_parentid[body])
+
+
+@dataclass(frozen=True)
+class Friction:
+    """The model's friction: frictionloss (N.m) and damping (N.m.s/rad) of every joint and of the
+    forearm tendon. Read once from the identified model, so a scale is always relative to it.
+
+    >>> model = load_model()
+    >>> identified = Friction.of(model)
+    >>> identified.scaled(0.5).apply_to(model)
+    >>> bool(np.allclose(model.dof_frictionloss, 0.5 * identified.dof_frictionloss))
+    True
+    """
+
+    dof_frictionloss: np.ndarray
+    dof_damping: np.ndarray
+    tendon_frictionloss: np.ndarray
+    tendon_damping: np.ndarray
+
+    @classmethod
+    def of(cls, model: mujoco.MjModel) -> Friction:
+        """A copy of ``model``'s friction as it is now."""
+        return cls(model.dof_frictionloss.copy(), model.dof_damping.copy(), model.tendon_frictionloss.copy(),
+                   model.tendon_damping.copy())
+
+    def scaled(self, scale: float) -> Friction:
+        """Every value times ``scale``."""
+        return Friction(self.dof_frictionloss * scale, self.dof_damping * scale,
+                        self.tendon_frictionloss * scale, self.tendon_damping * scale)
+
+    def apply_to(self, model: mujoco.MjModel) -> None:
+        """Set ``model``'s friction to these values, in place (from the next step on)."""
+        model.dof_frictionloss[:] = self.dof_frictionloss
+        model.dof_damping[:] = self.dof_damping
+        model.tendon_frictionloss[:] = self.tendon_frictionloss
+        model.tendon_damping[:] = self.tendon_damping

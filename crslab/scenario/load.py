@@ -93,8 +93,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from crslab.lab.build import LabBuild
-from crslab.scenario.event_parser import EventParser, parse_plant
-from crslab.scenario.events import Event, SetVariable, seconds_to_tick
+from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
+from crslab.scenario.events import SetVariable, parse_event, parse_plant
 from crslab.scenario.table import ScenarioError, TableReader
 
 BUILTIN_DIR = Path(__file__).resolve().parents[1] / "scenarios"
@@ -149,7 +149,7 @@ def parse_scenario(text: str, path: Path) -> Scenario:
     """Check and parse scenario ``text`` read from ``path`` (named in errors).
 
     >>> parse_scenario('end = 2.0\\n[[event]]\\nat = 1\\nkind = "estop"\\n', Path("x.toml")).events
-    (WristEstop(tick=1000, wrist_rad=0.2, kind='estop', line=4),)
+    (WristEstop(tick=1000, line=4, wrist_rad=0.2),)
     >>> parse_scenario('end = 2.0\\n[[event]]\\nat = 1\\nkind = "nap"\\n', Path("x.toml"))
     Traceback (most recent call last):
     ...
@@ -179,12 +179,12 @@ def parse_scenario(text: str, path: Path) -> Scenario:
     if not isinstance(raw_events, list):
         raise top.fail("event", "must be an array of tables ([[event]])")
     headers = _header_lines(lines, "event")
-    parser = EventParser(seed)
+    faults = RandomFaults(seed)
     for i, table in enumerate(raw_events):
         if not isinstance(table, dict):
             raise top.fail("event", "must be an array of tables ([[event]])")
         r = TableReader(path, table, lines, headers[i] if i < len(headers) else None)
-        parsed = parser.parse(r)
+        parsed = parse_event(r, faults)
         if parsed and parsed[0].tick > end_tick:
             raise r.fail("at", f"{parsed[0].tick / 1000:g} s is after the end ({end_tick / 1000:g} s)")
         events.extend(parsed)

@@ -10,7 +10,7 @@ import numpy as np
 
 from crslab import crs
 from crslab.plant.params import COURSE_END_MASS_KG
-from crslab.scenario.events import seconds_to_tick
+from crslab.scenario.event import seconds_to_tick
 
 _HEADER = re.compile(r"^\s*\[")
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from crslab.lab.build import build_lab
 from crslab.plant.params import REST_MOTOR_RAD
-from crslab.scenario.events import seconds_to_tick
+from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import Scenario, check_lab, load_scenario
 from crslab.sim.config import STARTUP_TICKS, SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, Simulation

@@ -19,11 +19,15 @@ import numpy as np
 from cffi import FFI
 
 from crslab import crs
-from crslab.scenario.apply import apply_event
+from crslab.plant.model import Friction, load_model, motor_to_qpos
+from crslab.scenario.lab_events import SIMULINK_INPUTS
 from crslab.sim.board_ffi import board_ffi
 from crslab.sim.config import SimConfig
+from crslab.sim.event_effects import apply_event
 
 LOG_ROWS = 2000  # rows per scope-log block
+SIMULINK_INPUT_NAMES = tuple(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, SIMULINK_INPUTS + 1))
+"""The framework globals that hold what Simulink sent (csrc/sim/simulink_inputs.c)."""
 
 _LOG_COLUMNS = {  # name: (width, dtype)
     "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
@@ -56,8 +60,6 @@ class Worker:
     def __init__(self, config: SimConfig, shared: mmap.mmap) -> None:
         import mujoco
 
-        from crslab.plant.model import load_model, motor_to_qpos
-
         self.config = config
         self.ffi = ffi = board_ffi()
         self.lib = ffi.dlopen(str(config.build.shared_object))
@@ -67,6 +69,8 @@ class Worker:
         self.data.qpos[:3] = motor_to_qpos(rest)
         mujoco.mj_forward(self.model, self.data)
         self.rest_dh = crs.motor_to_dh(rest)
+        self.identified_friction = Friction.of(self.model)
+        """The model's friction before any scenario scaled it."""
 
         sim = self.sim = ffi.new("crs_sim *")
         self.lib.crs_sim_init(sim)
@@ -96,6 +100,10 @@ class Worker:
             var_ffi.cdef("\n".join(v.cdecl for v in self.watched.values()))
             self._keep.append(var_ffi)
             self.var_lib = var_ffi.dlopen(str(config.build.shared_object))
+        simulink_ffi = FFI()
+        simulink_ffi.cdef("\n".join(f"extern int {name};" for name in SIMULINK_INPUT_NAMES))
+        self._keep.append(simulink_ffi)
+        self._simulink = simulink_ffi.dlopen(str(config.build.shared_object))
         self.events = list(config.scenario.events)
         self.log_blocks: list[dict[str, np.ndarray]] = []
         if config.log_signals:
@@ -135,6 +143,10 @@ class Worker:
         if index is None or not 0 <= index < var.length:
             raise KeyError(f"{name} has {var.length} elements: give an index 0..{var.length - 1}")
         getattr(self.var_lib, name)[index] = v
+
+    def set_simulink_input(self, number: int, value: int) -> None:
+        """What Simulink sent on input ``number`` (1..7), as the lab sees it from the next tick."""
+        setattr(self._simulink, SIMULINK_INPUT_NAMES[number - 1], int(value))
 
     def _drain_log(self) -> None:
         log = self.sim.log

@@ -1,0 +1,99 @@
+"""What every scenario event is: a frozen value with the tick it happens at (integer ms) and the
+scenario-file ``line`` it came from (0 when made in Python), of one kind.
+
+Each kind of event is one subclass of :class:`Event` (``crslab/scenario/*_events.py``) that holds
+all there is to know about it on this side: its name in TOML files (``kind``), how a file's
+table becomes events of it (:meth:`Event.parse`) and what it does, in a few words
+(:meth:`Event.describe`). What it does to the running arm is the simulator's business: the
+worker finds the effect of each event class in :mod:`crslab.sim.event_effects`. Scenarios never
+import the simulator.
+
+Times in scenario files are simulated seconds; they are converted once, here, to ticks. Joints
+are numbered 1..3 as in the course (``joints`` fields hold those numbers).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, ClassVar
+
+if TYPE_CHECKING:
+    from crslab.scenario.table import TableReader
+
+_MASK64 = (1 << 64) - 1
+
+
+def seconds_to_tick(seconds: float) -> int:
+    """Simulated seconds to the tick (ms) at which something happens, rounded to the nearest.
+
+    >>> seconds_to_tick(4.1)
+    4100
+    """
+    return int(round(seconds * 1000.0))
+
+
+def rng_state(seed: int, ordinal: int) -> int:
+    """A non-zero 64-bit generator state for the ``ordinal``-th random fault of a scenario
+    seeded with ``seed`` (splitmix64 of both).
+
+    >>> rng_state(1, 0) == rng_state(1, 0) != rng_state(2, 0)
+    True
+    """
+    z = (seed * 0x9E3779B97F4A7C15 + (ordinal + 1) * 0xD1B54A32D192ED03) & _MASK64
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & _MASK64
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & _MASK64
+    return (z ^ (z >> 31)) or 1
+
+
+class RandomFaults:
+    """Numbers a scenario's random faults in file order, so each gets its own seeded generator:
+    a run's faults never depend on how its ticks are chunked."""
+
+    def __init__(self, seed: int) -> None:
+        self.seed = seed
+        self.count = 0
+
+    def next_state(self) -> int:
+        """The generator state of the next random fault."""
+        self.count += 1
+        return rng_state(self.seed, self.count - 1)
+
+
+_KINDS: dict[str, type[Event]] = {}
+
+
+@dataclass(frozen=True)
+class Event:
+    """One thing that happens at ``tick``. Subclasses name their ``kind`` and implement
+    :meth:`parse` and :meth:`describe`; defining one registers its kind."""
+
+    tick: int
+    line: int = field(default=0, compare=False, kw_only=True)
+    kind: ClassVar[str] = ""
+    """The event's name in scenario files."""
+    also_parses: ClassVar[tuple[str, ...]] = ()
+    """Further kinds in scenario files that :meth:`parse` turns into events of this class."""
+
+    def __init_subclass__(cls, **kwargs: object) -> None:
+        super().__init_subclass__(**kwargs)
+        for name in (cls.kind, *cls.__dict__.get("also_parses", ())):
+            known = _KINDS.get(name)
+            if known is not None and known.__qualname__ != cls.__qualname__:
+                raise TypeError(f"scenario event kind {name!r} is defined by {known.__qualname__} already")
+            _KINDS[name] = cls
+
+    @classmethod
+    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+        """The events one ``[[event]]`` table of this kind gives (at tick ``at``, from ``line``)."""
+        raise NotImplementedError
+
+    def describe(self) -> str:
+        """What the event does, in a few words (``crslab scenarios FILE`` prints these)."""
+        raise NotImplementedError
+
+
+def event_kinds() -> dict[str, type[Event]]:
+    """Every kind a scenario file may name, and the class that parses it, in definition order."""
+    import crslab.scenario.events  # noqa: F401 - defines (and so registers) every kind
+
+    return dict(_KINDS)

@@ -1,0 +1,55 @@
+"""The hand: someone moves the arm (``hand``) and lets go (``release``)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
+from crslab.scenario.table import TableReader, hand_target
+
+
+@dataclass(frozen=True)
+class HandMove(Event):
+    """The hand takes the arm to ``target_dh_rad`` over ``duration_ticks`` (a minimum-jerk path)
+    and holds it there.
+
+    ``target_dh_rad`` is None for the arm's true resting pose (known only when the run starts).
+
+    >>> HandMove(tick=5000, target_dh_rad=None, duration_ticks=2000).describe()
+    'hand to rest over 2 s'
+    """
+
+    target_dh_rad: tuple[float, float, float] | None
+    duration_ticks: int
+    kind = "hand"
+
+    @classmethod
+    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+        r.check_keys({"at", "kind", "motor_deg", "dh_deg", "xyz_in", "pose", "duration", "hold"})
+        duration = seconds_to_tick(r.number("duration", default=1.0, minimum=0.0))
+        out: list[Event] = [cls(tick=at, target_dh_rad=hand_target(r), duration_ticks=duration, line=line)]
+        if "hold" in r.table:
+            hold = seconds_to_tick(r.number("hold", minimum=0.0))
+            out.append(HandRelease(tick=at + duration + hold, line=line))
+        return out
+
+    def describe(self) -> str:
+        to = "rest" if self.target_dh_rad is None else (
+            "DH (" + ", ".join(f"{math.degrees(v):.2f}" for v in self.target_dh_rad) + ") deg")
+        return f"hand to {to} over {self.duration_ticks / 1000:g} s"
+
+
+@dataclass(frozen=True)
+class HandRelease(Event):
+    """The hand lets go of the arm."""
+
+    kind = "release"
+
+    @classmethod
+    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+        r.check_keys({"at", "kind"})
+        return [cls(tick=at, line=line)]
+
+    def describe(self) -> str:
+        return "release"

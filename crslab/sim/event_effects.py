@@ -1,0 +1,136 @@
+"""What each kind of scenario event does to the running arm, board or lab (in the worker).
+
+An event at tick k is applied before tick k runs, so tick k's encoder reading and lab() call
+already see it. Faults act in the C framework (``crs_faults`` and ``estop_latched`` of
+csrc/sim/sim.h); plant changes edit the MuJoCo model in place; writes go to the lab's globals.
+Each event class of :mod:`crslab.scenario.events` has its effect here, found from its class
+(:func:`effect_of` registers one).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, TypeVar
+
+from crslab.plant.model import set_end_mass
+from crslab.scenario.events import (
+    DeadMotor,
+    EncoderGlitch,
+    EncoderNoise,
+    EndMass,
+    Event,
+    FrictionScale,
+    HandMove,
+    HandRelease,
+    SetVariable,
+    SimulinkInput,
+    StuckEncoder,
+    WristEstop,
+)
+
+if TYPE_CHECKING:
+    from crslab.sim.worker import Worker
+
+E = TypeVar("E", bound=Event)
+Effect = Callable[["Worker", Any], None]
+EFFECTS: dict[type[Event], Effect] = {}
+"""The effect of each event class."""
+
+
+def effect_of(kind: type[E]) -> Callable[[Callable[[Worker, E], None]], Callable[[Worker, E], None]]:
+    """Register the decorated function as what an event of class ``kind`` does."""
+
+    def register(effect: Callable[[Worker, E], None]) -> Callable[[Worker, E], None]:
+        EFFECTS[kind] = effect
+        return effect
+
+    return register
+
+
+def apply_event(worker: Worker, event: Event) -> None:
+    """Carry out ``event`` on the worker's plant, board or lab at the current tick."""
+    effect = EFFECTS.get(type(event))
+    if effect is None:  # pragma: no cover - every kind has one (tests/test_scenario_effects.py)
+        raise TypeError(f"no effect is defined for scenario events of kind {event.kind!r}")
+    effect(worker, event)
+
+
+@effect_of(HandMove)
+def _hand_move(worker: Worker, e: HandMove) -> None:
+    sim = worker.sim
+    hand = sim.hand
+    target = worker.rest_dh if e.target_dh_rad is None else e.target_dh_rad
+    hand.active = 1
+    hand.start_tick = sim.tick
+    hand.duration_ticks = e.duration_ticks
+    for j in range(3):
+        hand.start_dh_rad[j] = float(worker.data.qpos[j])
+        hand.target_dh_rad[j] = float(target[j])
+
+
+@effect_of(HandRelease)
+def _hand_release(worker: Worker, e: HandRelease) -> None:
+    hand = worker.sim.hand
+    hand.active = 0
+    for j in range(3):
+        hand.integral_rad_s[j] = 0.0
+
+
+@effect_of(SetVariable)
+def _set_variable(worker: Worker, e: SetVariable) -> None:
+    worker.set_var(e.name, e.index, e.value)
+
+
+@effect_of(SimulinkInput)
+def _simulink_input(worker: Worker, e: SimulinkInput) -> None:
+    for number, value in e.values:
+        worker.set_simulink_input(number, value)
+
+
+@effect_of(EndMass)
+def _end_mass(worker: Worker, e: EndMass) -> None:
+    set_end_mass(worker.model, e.kg)
+
+
+@effect_of(FrictionScale)
+def _friction_scale(worker: Worker, e: FrictionScale) -> None:
+    worker.identified_friction.scaled(e.scale).apply_to(worker.model)
+
+
+@effect_of(EncoderNoise)
+def _encoder_noise(worker: Worker, e: EncoderNoise) -> None:
+    faults = worker.sim.faults
+    if e.rng_state:
+        faults.rng_state = e.rng_state
+    for j in e.joints:
+        faults.noise_counts[j - 1] = float(e.counts[j - 1])
+
+
+@effect_of(EncoderGlitch)
+def _encoder_glitch(worker: Worker, e: EncoderGlitch) -> None:
+    sim = worker.sim
+    faults = sim.faults
+    if faults.glitch_tick != sim.tick:  # a new glitch; two at one tick add up
+        faults.glitch_tick = sim.tick
+        for j in range(3):
+            faults.glitch_counts[j] = 0
+    for j in range(3):
+        faults.glitch_counts[j] += int(e.counts[j])
+
+
+@effect_of(StuckEncoder)
+def _stuck_encoder(worker: Worker, e: StuckEncoder) -> None:
+    for j in e.joints:
+        worker.sim.faults.stuck_encoder[j - 1] = int(e.stuck)
+
+
+@effect_of(DeadMotor)
+def _dead_motor(worker: Worker, e: DeadMotor) -> None:
+    for j in e.joints:
+        worker.sim.faults.dead_motor[j - 1] = int(e.dead)
+
+
+@effect_of(WristEstop)
+def _wrist_estop(worker: Worker, e: WristEstop) -> None:
+    if e.latches:
+        worker.sim.estop_latched = 1
