@@ -125,6 +125,18 @@ def test_hand_moves_to_an_xyz_target_through_ik(hand):
     np.testing.assert_allclose(xyz, [12, 3, 15], atol=0.05)
 
 
+def test_the_hand_follows_a_minimum_jerk_path(hand):
+    # the move at 6.5 s to DH zero over 1 s: q = start + (target - start)(10 s^3 - 15 s^4 + 6 s^5)
+    t, q = hand.log["tick"][:, 0], hand.log["qpos_dh_rad"]
+    rows = (t >= 6500) & (t <= 7600)
+    s = np.clip((t[rows] - 6500) / 1000.0, 0.0, 1.0)[:, None]
+    start = q[at(hand, 6.5)]
+    minimum_jerk = start - start * s**3 * (10 - 15 * s + 6 * s**2)
+    cubic = start - start * s**2 * (3 - 2 * s)
+    assert np.abs(start).max() > 0.5  # a real move
+    assert np.abs(q[rows] - minimum_jerk).max() < 0.01 < 0.05 < np.abs(q[rows] - cubic).max()
+
+
 def test_hold_then_release_lets_the_hold_controller_take_the_arm_back(hand):
     q = hand.log["qpos_dh_rad"]
     np.testing.assert_allclose(q[at(hand, 8.4)], [0, 0, 0], atol=0.01)  # held at DH zero

@@ -108,6 +108,25 @@ def test_flood_is_cut_off_with_bounded_output(tmp_path):
     assert no_process_left("flood.c")
 
 
+def test_bytes_printed_beyond_what_one_tick_can_keep_are_reported_and_count_toward_the_limit(tmp_path):
+    # 5000 lines of 1024 bytes at tick 0: the 4 MB block keeps 4096, the other 904 are lost
+    lost = 904 * 1024
+    run = simulate(FAULTY / "burst_in_one_tick.c", "hands_off", duration_s=0.35, startup_delay=False)
+    assert run.ok and run.stats["serial_dropped"] == lost
+    assert [t for t, _ in run.calls].count(0) == 4096 and run.lines()[4096:] == ["after 100", "after 200",
+                                                                                  "after 300"]
+    r, transcript = sim("burst_in_one_tick.c", tmp_path, "--no-startup-delay", "--duration", "0.35",
+                        "--scenario", "hands_off", "--json")
+    assert r.returncode == 0 and transcript == run.transcript
+    err = r.stderr.decode()
+    assert f"the {lost} bytes after that are missing from the transcript" in err
+    assert f'"serial_dropped": {lost}' in err
+    # 4.19 MB arrived and 0.93 MB were lost: over a 4.5 MB limit
+    r, _ = sim("burst_in_one_tick.c", tmp_path, "--no-startup-delay", "--scenario", "hands_off",
+               "--max-output-mb", "4.5")
+    assert r.returncode == 6 and "printed more than 4.5 MB" in last_line(r)
+
+
 def test_isolation_does_not_change_the_transcript():
     config = make_config()
     isolated = simulate(duration_s=12.0).transcript

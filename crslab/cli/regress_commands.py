@@ -13,7 +13,13 @@ import time
 from pathlib import Path
 
 from crslab.cli import CliError
-from crslab.cli.sim_commands import add_run_options, config_from_args, limits_from_args, positive
+from crslab.cli.sim_commands import (
+    add_run_options,
+    config_from_args,
+    limits_from_args,
+    lost_serial_notice,
+    positive,
+)
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.runner import run_header, run_lab
@@ -109,6 +115,9 @@ def _run(config: SimConfig, args: argparse.Namespace, end_tick: int) -> RunResul
         raise CliError(str(exc), status=ExitStatus.CRASHED) from None
     if result.status is RunStatus.NO_LAB:
         raise CliError(result.message, status=result.exit_status)
+    lost = lost_serial_notice(config.build.source.name, result.stats)
+    if lost:
+        print(f"crslab {args.command}: {lost}", file=sys.stderr)
     return result
 
 

@@ -15,6 +15,7 @@ from crslab.lab.build import LabBuildError
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
+from crslab.sim.board_ffi import board_constants
 from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, Limits, SimError, Simulation
 from crslab.sim.status import ExitStatus, RunResult, RunStatus
@@ -122,6 +123,7 @@ def summary(result: RunResult, wall_s: float, budget_us: float) -> dict:
         "nan_first_tick": st.get("nan_first_tick", -1),
         "nan_first_tau": st.get("nan_first_joint", 0),
         "nan_count": st.get("nan_count", 0),
+        "serial_dropped": st.get("serial_dropped", 0),
     }
 
 
@@ -144,9 +146,28 @@ def summary_line(info: dict) -> str:
     return line
 
 
+def lost_serial_notice(lab_name: str, stats: dict) -> str | None:
+    """The warning for bytes printed that never reached the transcript, if any were lost.
+
+    >>> lost_serial_notice("lab.c", {"serial_dropped": 925696}).split("; ")
+    ['warning: lab.c printed more within one tick than crslab keeps for a tick (4194304 bytes or 65536
+     serial_printf calls)', 'the 925696 bytes after that are missing from the transcript']
+    """
+    dropped = stats.get("serial_dropped", 0)
+    if not dropped:
+        return None
+    c = board_constants()
+    return (f"warning: {lab_name} printed more within one tick than crslab keeps for a tick "
+            f"({c.CRS_SERIAL_CAPACITY} bytes or {c.CRS_MARK_CAPACITY} serial_printf calls); "
+            f"the {dropped} bytes after that are missing from the transcript")
+
+
 def notices(lab_name: str, stats: dict, limit: int) -> list[str]:
     """One-line warnings about the run (printed on stderr)."""
     out = []
+    lost = lost_serial_notice(lab_name, stats)
+    if lost:
+        out.append(lost)
     if stats.get("nan_first_tick", -1) >= 0:
         t = stats["nan_first_tick"]
         out.append(f"warning: {lab_name} returned a NaN or Inf in tau{stats['nan_first_joint']} at tick {t} "

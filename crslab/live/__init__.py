@@ -1,1 +1,2 @@
-"""Windows into a running lab: the serial pseudo-terminal, live variables and MuJoCo's viewer."""
+"""Live variables: read and write a running lab's watched variables from typed commands. (The
+serial pseudo-terminal and MuJoCo's viewer are sinks: :mod:`crslab.sinks`.)"""

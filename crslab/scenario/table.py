@@ -43,9 +43,6 @@ class TableReader:
         where = f"{self.path}:{line}" if line else str(self.path)
         return ScenarioError(f"{where}: {key}: {why}")
 
-    def has(self, key: str) -> bool:
-        return key in self.table
-
     def number(self, key: str, *, default: float | None = None, minimum: float | None = None,
                maximum: float | None = None) -> float:
         if key not in self.table:

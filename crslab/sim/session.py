@@ -109,6 +109,9 @@ class Simulation:
         self.shared = self.ffi.cast("crs_shared *", self.ffi.from_buffer(self._shared_mm))
         self.tick = 0
         self.stats: dict = {}
+        self.serial_dropped = 0
+        """Bytes printed that never reached the sinks: more in one tick than the shared block
+        holds (``CRS_SERIAL_CAPACITY`` bytes, ``CRS_MARK_CAPACITY`` calls). In ``stats`` too."""
         self.symbols = 0
         sys.stdout.flush()
         sys.stderr.flush()
@@ -183,9 +186,14 @@ class Simulation:
             os.rmdir(self.sanitizer_dir)
 
     # -- serial ------------------------------------------------------------------------------
-    def _drain_serial(self, take: Callable[[int, bytes], None]) -> None:
-        """Hand every serial_printf call's bytes since the last drain to ``take(tick, bytes)``."""
+    def _drain_serial(self, take: Callable[[int, bytes], None]) -> int:
+        """Hand every serial_printf call's bytes since the last drain to ``take(tick, bytes)``;
+        returns how many bytes the board could not keep since then (more in one tick than the
+        shared block holds), which :attr:`serial_dropped` counts too."""
         sh = self.shared
+        dropped = int(sh.serial_dropped)
+        sh.serial_dropped = 0
+        self.serial_dropped += dropped
         n_bytes, n_marks = int(sh.serial_len), int(sh.mark_count)
         if n_bytes:
             raw = bytes(self.ffi.buffer(sh.serial, n_bytes))
@@ -194,6 +202,7 @@ class Simulation:
                 take(int(sh.mark_tick[i]), raw[offsets[i]:offsets[i + 1]])
         sh.serial_len = 0
         sh.mark_count = 0
+        return dropped
 
     # -- watched variables -------------------------------------------------------------------
     def _ask(self, msg: tuple) -> object:
@@ -317,7 +326,8 @@ class Simulation:
                 sink.on_serial(tick, keep)
 
         def ended(status: RunStatus, tick: int, message: str = "") -> RunResult:
-            return RunResult(status, tick, message, self.stats, lab_file=self.config.build.source,
+            stats = {**self.stats, "serial_dropped": self.serial_dropped}
+            return RunResult(status, tick, message, stats, lab_file=self.config.build.source,
                              wall_s=time.monotonic() - wall0)
 
         try:
@@ -330,7 +340,8 @@ class Simulation:
                     self._drain_serial(counted)
                     return ended(reply.status, reply.end_tick, reply.message)
                 _, code, self.tick, self.stats, log = reply
-                self._drain_serial(counted)
+                lost = self._drain_serial(counted)
+                printed += lost  # what was lost counts toward the limit too
                 if printed > cap:
                     return ended(RunStatus.OUTPUT_LIMIT, self.tick,
                                  f"{self.lab_name} printed more than {cap / 1e6:g} MB; the run was cut off "

@@ -33,7 +33,17 @@ from pathlib import Path
 import numpy as np
 
 from crslab.scopes.arm3d import quat_rotate
-from crslab.scopes.signals import DIGITAL, MOTOR, SIMULINK, TORQUE, SerialLines, simulink_samples
+from crslab.scopes.signals import (
+    DIGITAL,
+    MOTOR,
+    SIGNALS,
+    SIMULINK,
+    TORQUE,
+    Group,
+    SerialLines,
+    signal_values,
+    simulink_samples,
+)
 from crslab.sinks.sink import Sink
 
 TIMELINE = "sim_time"
@@ -48,7 +58,9 @@ SCALAR_ENTITIES = {  # entity: (log column, series names)
 }
 SIMULINK_ENTITY = "/scopes/simulink"
 DIGITAL_ENTITY = "/scopes/digital"
-DIGITAL_NAMES = ["safety", "GPIO34", "GPIO60"]
+DIGITAL_SIGNALS = [s for s in SIGNALS if s.group == DIGITAL]
+"""The safety flag and the LED pin levels, as scopes.signals reads them from the log."""
+DIGITAL_NAMES = [s.name for s in DIGITAL_SIGNALS]
 SERIAL_ENTITY = "/serial"
 ARM_ENTITY = "/arm"
 
@@ -70,8 +82,8 @@ def blueprint() -> object:
     """The layout: 3D view over the serial log on the left, the scopes stacked on the right."""
     import rerun.blueprint as rrb
 
-    def scope(origin: str, group: object) -> object:
-        return rrb.TimeSeriesView(origin=origin, name=f"{group.title} ({group.unit})")  # type: ignore[attr-defined]
+    def scope(origin: str, group: Group) -> object:
+        return rrb.TimeSeriesView(origin=origin, name=f"{group.title} ({group.unit})")
 
     return rrb.Blueprint(
         rrb.Horizontal(
@@ -212,8 +224,7 @@ class RerunSink(Sink):
         every = [_time_column(tick)]
         for entity, (key, _) in SCALAR_ENTITIES.items():
             rec.send_columns(entity, indexes=every, columns=rr.Scalars.columns(scalars=columns[key]))
-        leds = columns["leds"][:, 0]
-        digital = np.stack([columns["safety"][:, 0], leds & 1, (leds >> 1) & 1], axis=1).astype(np.float64)
+        digital = np.stack([signal_values(columns, s) for s in DIGITAL_SIGNALS], axis=1).astype(np.float64)
         rec.send_columns(DIGITAL_ENTITY, indexes=every, columns=rr.Scalars.columns(scalars=digital))
         sim_ticks, sim_values = simulink_samples(tick, columns["plot"])
         if len(sim_ticks):

@@ -5,6 +5,7 @@
 
 #include "board.h"
 #include "crs_arm.h"
+#include "traj_profiles.h"
 
 static const double PI = 3.14159265358979323846;
 static const double RAD_PER_COUNT = 3.14159265358979323846 / 144000.0; /* 288 000 counts/rev */
@@ -76,19 +77,18 @@ void crs_hand_step(crs_sim *sim)
         for (int j = 0; j < 3; ++j) h->force_nm[j] = 0.0;
         return;
     }
-    /* minimum-jerk path from start to target */
-    double s = 1.0, sd = 0.0;
-    if (h->duration_ticks > 0) {
-        const double T = (double)h->duration_ticks * 1e-3;
-        double tau = (double)(sim->tick - h->start_tick) * 1e-3 / T;
-        tau = tau < 0.0 ? 0.0 : (tau > 1.0 ? 1.0 : tau);
-        s = tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau);
-        sd = 30.0 * tau * tau * (1.0 - tau) * (1.0 - tau) / T;
-    }
+    /* a minimum-jerk path (the quintic profile) from where the move started to the target */
+    const double t_s = (double)(sim->tick - h->start_tick) * 1e-3;
+    const double duration_s = (double)h->duration_ticks * 1e-3;
     for (int j = 0; j < 3; ++j) {
-        const double span = h->target_dh_rad[j] - h->start_dh_rad[j];
-        const double err = h->start_dh_rad[j] + s * span - sim->qpos[j];
-        const double derr = sd * span - sim->qvel[j];
+        traj_sample path = {h->target_dh_rad[j], 0.0, 0.0, 0.0}; /* no duration: the target at once */
+        if (h->duration_ticks > 0) {
+            traj_profile move;
+            traj_plan(&move, TRAJ_QUINTIC, h->start_dh_rad[j], h->target_dh_rad[j], duration_s, 0.0, 0.0);
+            path = traj_eval(&move, t_s);
+        }
+        const double err = path.q_rad - sim->qpos[j];
+        const double derr = path.qd_rad_s - sim->qvel[j];
         double f = h->kp_nm_per_rad * err + h->ki_nm_per_rad_s * h->integral_rad_s[j]
                  + h->kd_nm_s_per_rad * derr;
         if (f > h->max_nm) {

@@ -23,7 +23,7 @@ typedef struct {
     int32_t pad;
     int64_t phase_start_ns; /* CLOCK_MONOTONIC when that phase began */
     uint64_t serial_len;    /* bytes in serial[] not yet taken by the reader */
-    uint64_t serial_dropped; /* bytes lost because the reader was behind (never in practice) */
+    uint64_t serial_dropped; /* bytes lost: more printed in one tick than serial[] or the marks hold */
     uint32_t mark_count;    /* entries in marks[] */
     uint32_t pad2;
     int64_t mark_tick[CRS_MARK_CAPACITY];   /* tick of each serial_printf call ... */
