@@ -165,7 +165,7 @@ def _header_rest(header: dict[str, str], golden: Path) -> tuple[float, float, fl
     if len(values) != 3:
         raise CliError(f"{golden}: header rest_motor_rad must be three numbers, "
                        f"got {header['rest_motor_rad']!r}")
-    return values  # type: ignore[return-value]
+    return values[0], values[1], values[2]
 
 
 def run_check(args: argparse.Namespace) -> int:

@@ -202,12 +202,12 @@ class VarConsole:
             return f"{target} = {format_value(var, value)}   ({at})"
         if var.length is not None and cmd.index is None:
             raise CommandError(f"{var.name} has {var.length} elements: set {var.name}[i] VALUE")
-        value = cmd.value
-        assert value is not None  # parse_command gives every set a value
-        check_range(var, value)
+        new = cmd.value
+        assert new is not None  # parse_command gives every set a value
+        check_range(var, new)
         try:
-            lab.set(var.name, value, index=cmd.index)
+            lab.set(var.name, new, index=cmd.index)
         except KeyError as exc:
             raise CommandError(str(exc.args[0])) from None
-        shown = format_value(var, round(value) if var.is_integer else value)
+        shown = format_value(var, round(new) if var.is_integer else new)
         return f"{target} = {shown}   (from {at} on)"

@@ -40,7 +40,8 @@ class EncoderNoise(Event):
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "counts", "joint", "joints", "until"})
-        counts = per_joint(r, "counts", whole=False, minimum=0.0)
+        c = per_joint(r, "counts", whole=False, minimum=0.0)
+        counts = (c[0], c[1], c[2])
         joints = (1, 2, 3) if isinstance(r.table["counts"], list) else joint_numbers(r)
         until = until_tick(r, at)
         out: list[Event] = [cls(tick=at, counts=counts, rng_state=faults.next_state(), joints=joints,

@@ -19,6 +19,7 @@ import tempfile
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from multiprocessing.connection import Connection
 from pathlib import Path
 
 import numpy as np
@@ -64,7 +65,7 @@ class Limits:
 NO_LIMITS = Limits()
 
 
-def _child(conn: object, config: SimConfig, shared_path: str, limits: Limits = NO_LIMITS) -> None:
+def _child(conn: Connection, config: SimConfig, shared_path: str, limits: Limits = NO_LIMITS) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
     faulthandler.disable()  # a crash is diagnosed by the crslab process, not dumped here
     try:  # die with the crslab process, whatever kills it
@@ -84,7 +85,7 @@ def _child(conn: object, config: SimConfig, shared_path: str, limits: Limits = N
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
     from crslab.sim.worker import serve
 
-    serve(conn, config, shared_path)  # type: ignore[arg-type]
+    serve(conn, config, shared_path)
     os._exit(0)
 
 
