@@ -13,7 +13,9 @@ time and the numbers that differ. A lab that crashes or hangs fails it too.
 
 To write the golden files, record once with ``pytest --crslab-record`` (it rewrites every golden
 file the tests name, with a header naming the lab, the scenario and crslab's version) and commit
-them. When a test names no scenario, the golden file's own is used.
+them. A golden file written by ``crslab record`` works as well. What a test leaves out (scenario,
+duration, resting pose, startup delay) is the golden file's, read exactly as ``crslab check``
+reads it (:func:`crslab.regress.transcript.recorded_run`).
 """
 
 from __future__ import annotations
@@ -38,16 +40,25 @@ class CrslabCheckFailed(AssertionError):
 def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str | None = None,
                          base: Path | None = None, record: bool = False, abs_tol: float | None = None,
                          rel_tol: float | None = None, duration_s: float | None = None,
-                         rest_motor_rad: tuple[float, float, float] | None = None, startup_delay: bool = True,
-                         deadline_s: float | None = None) -> str:
+                         rest_motor_rad: tuple[float, float, float] | None = None,
+                         startup_delay: bool | None = None, deadline_s: float | None = None) -> str:
     """Run ``lab`` on ``scenario`` and compare with (or, with ``record``, write) ``golden``.
 
+    Options left as None are the golden file's when checking (the defaults when recording).
     Returns the one-line verdict; raises :class:`CrslabCheckFailed` with the full report when the
-    transcript differs or the lab does not run, and ``FileNotFoundError`` for a missing golden.
+    transcript differs or the lab does not run, ``FileNotFoundError`` for a missing golden and
+    ``GoldenError`` for a malformed one.
     """
     from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
     from crslab.regress.runner import run_header, run_lab
-    from crslab.regress.transcript import read_golden, split_lines, write_golden
+    from crslab.regress.transcript import (
+        RecordedRun,
+        find_scenario,
+        read_golden,
+        recorded_run,
+        split_lines,
+        write_golden,
+    )
     from crslab.scenario.event import seconds_to_tick
     from crslab.sim.api import make_config
     from crslab.sim.session import DEFAULT_DEADLINE_S
@@ -55,20 +66,19 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
     base = base or Path.cwd()
     lab_path = base / lab
     golden_path = base / golden
-    header: dict[str, str] = {}
+    recorded = RecordedRun()
     if not record:
         if not golden_path.is_file():
             raise FileNotFoundError(f"{golden_path}: no golden file yet; record it with "
                                     "'pytest --crslab-record' and commit it")
         gold = read_golden(golden_path)
-        header = gold.header
-    name = scenario if scenario is not None else header.get("scenario")
-    if name is not None and (base / name).is_file():
-        name = str(base / name)
-    config = make_config(lab_path, name, startup_delay=startup_delay, rest_motor_rad=rest_motor_rad)
-    if duration_s is None and header.get("end_s") and scenario is None:
-        duration_s = float(header["end_s"])
-    end_tick = seconds_to_tick(duration_s) if duration_s is not None else config.scenario.end_tick
+        recorded = recorded_run(gold, [base])
+    given = find_scenario(scenario, [base]) if scenario is not None else None
+    options = recorded.overridden(scenario=given, duration_s=duration_s, rest_motor_rad=rest_motor_rad,
+                                  startup_delay=startup_delay)
+    config = make_config(lab_path, options.scenario, startup_delay=options.startup_delay is not False,
+                         rest_motor_rad=options.rest_motor_rad)
+    end_tick = config.scenario.end_tick if options.duration_s is None else seconds_to_tick(options.duration_s)
     result = run_lab(config, end_tick, deadline_s=deadline_s or DEFAULT_DEADLINE_S)
     if not result.ok:
         why = result.message or result.status
@@ -96,14 +106,15 @@ def crslab_check(request: pytest.FixtureRequest) -> Callable[..., str]:
 
     def check(lab: str | Path, scenario: str | None = None, *, golden: str | Path, **options: object) -> str:
         from crslab.lab.build import LabBuildError
+        from crslab.regress.transcript import GoldenError
         from crslab.scenario.load import ScenarioError
 
         try:
             return check_against_golden(lab, golden=golden, scenario=scenario, base=base, record=record,
                              **options)  # type: ignore[arg-type]
-        except (CrslabCheckFailed, FileNotFoundError, ScenarioError) as exc:
+        except (CrslabCheckFailed, FileNotFoundError, ScenarioError, GoldenError) as exc:
             failure = str(exc)
-        except LabBuildError as exc:  # a bad lab file: gcc's words, not a traceback
+        except LabBuildError as exc:  # a bad lab file: the compiler's words, not a traceback
             failure = f"{exc}\n{exc.diagnostics}".rstrip()
         pytest.fail(failure, pytrace=False)
 

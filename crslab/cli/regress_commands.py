@@ -7,13 +7,13 @@ Exit statuses: 0 match (every submission passes), 1 mismatch, 2 bad input; ``rec
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import sys
 import time
 from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.cli.sim_commands import (
+    DEFAULT_REST_MOTOR_RAD,
     add_run_options,
     config_from_args,
     limits_from_args,
@@ -23,7 +23,14 @@ from crslab.cli.sim_commands import (
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.runner import run_header, run_lab
-from crslab.regress.transcript import GoldenError, read_golden, sha256_of, split_lines, write_golden
+from crslab.regress.transcript import (
+    GoldenError,
+    read_golden,
+    recorded_run,
+    sha256_of,
+    split_lines,
+    write_golden,
+)
 from crslab.scenario.event import seconds_to_tick
 from crslab.sim.config import SimConfig
 from crslab.sim.session import SimError
@@ -139,35 +146,6 @@ def run_record(args: argparse.Namespace) -> int:
     return ExitStatus.OK
 
 
-def _defaults_from_header(args: argparse.Namespace, header: dict[str, str], golden: Path) -> None:
-    """Fill the run options the user left out with the golden file's."""
-    if args.scenario is None and header.get("scenario"):
-        name = header["scenario"]
-        beside = golden.parent / name
-        args.scenario = str(beside) if not Path(name).exists() and beside.is_file() else name
-    if args.duration is None and header.get("end_s"):
-        try:
-            args.duration = float(header["end_s"])
-        except ValueError:
-            raise CliError(f"{golden}: header end_s must be a number of seconds, "
-                           f"got {header['end_s']!r}") from None
-    if not args.no_startup_delay and header.get("startup_delay") == "no":
-        args.no_startup_delay = True
-
-
-def _header_rest(header: dict[str, str], golden: Path) -> tuple[float, float, float] | None:
-    if "rest_motor_rad" not in header:
-        return None
-    try:
-        values = tuple(float(v) for v in header["rest_motor_rad"].split())
-    except ValueError:
-        values = ()
-    if len(values) != 3:
-        raise CliError(f"{golden}: header rest_motor_rad must be three numbers, "
-                       f"got {header['rest_motor_rad']!r}")
-    return values[0], values[1], values[2]
-
-
 def run_check(args: argparse.Namespace) -> int:
     """``crslab check``."""
     try:
@@ -178,11 +156,16 @@ def run_check(args: argparse.Namespace) -> int:
         raise CliError(f"--max-report must be at least 1, got {args.max_report}")
     header = golden.header
     chosen = args.scenario
-    _defaults_from_header(args, header, args.golden)
-    config = config_from_args(args)
-    rest = _header_rest(header, args.golden)
-    if args.offsets is None and rest is not None and rest != config.rest_motor_rad:
-        config = dataclasses.replace(config, rest_motor_rad=rest)
+    try:  # the options left out are the golden file's (one reading, shared with the pytest fixture)
+        run = recorded_run(golden, [Path.cwd()]).overridden(
+            scenario=args.scenario, duration_s=args.duration,
+            rest_motor_rad=(DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None,
+            startup_delay=False if args.no_startup_delay else None)
+    except GoldenError as exc:
+        raise CliError(str(exc)) from None
+    args.scenario, args.duration = run.scenario, run.duration_s
+    args.no_startup_delay = run.startup_delay is False
+    config = config_from_args(args, rest_motor_rad=run.rest_motor_rad)
     recorded = header.get("scenario_sha256")
     if chosen is not None and header.get("scenario") not in (None, chosen):
         print(f"crslab check: note: {args.golden} was recorded on scenario {header['scenario']}, "

@@ -89,9 +89,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_sim)
 
 
-def config_from_args(args: argparse.Namespace, *, log: bool = False) -> SimConfig:
-    """Build the lab and load the scenario, turning bad input into one-line errors."""
-    rest = (DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None
+def config_from_args(args: argparse.Namespace, *, log: bool = False,
+                     rest_motor_rad: tuple[float, float, float] | None = None) -> SimConfig:
+    """Build the lab and load the scenario, turning bad input into one-line errors. The resting
+    pose is ``rest_motor_rad`` when given, else ``--offsets``', else the scenario's."""
+    rest = rest_motor_rad or ((DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None)
     try:
         return make_config(args.lab, args.scenario, startup_delay=not args.no_startup_delay,
                            rest_motor_rad=rest, log=log, strict=args.strict,

@@ -16,7 +16,9 @@ A golden file written by ``crslab record``::
     0.00 -24.06 13.75
 
 A file without this header (say one ``crslab sim --transcript`` wrote) is a golden file too: all
-of it is the transcript.
+of it is the transcript. What the header says about the run (scenario, duration, resting pose,
+startup delay) is read by one function, :func:`recorded_run`, for ``crslab check`` and the
+``crslab_check`` fixture alike.
 """
 
 from __future__ import annotations
@@ -110,6 +112,86 @@ def split_lines(data: bytes, calls: Sequence[tuple[int, bytes]] | None = None) -
     if pos < len(data):
         out.append(Line(len(out) + 1, data[pos:].decode("latin-1"), tick_at(pos)))
     return out
+
+
+@dataclass(frozen=True)
+class RecordedRun:
+    """The run options a golden file's header records; None where it records nothing."""
+
+    scenario: str | None = None
+    duration_s: float | None = None
+    rest_motor_rad: tuple[float, float, float] | None = None
+    startup_delay: bool | None = None
+
+    def overridden(self, *, scenario: str | None = None, duration_s: float | None = None,
+                   rest_motor_rad: Sequence[float] | None = None,
+                   startup_delay: bool | None = None) -> RecordedRun:
+        """The options to run with: each one given (not None) wins over the golden file's.
+
+        >>> RecordedRun("tour", 25.0, (0.0, -0.4, 0.2), False).overridden(duration_s=5.0)
+        RecordedRun(scenario='tour', duration_s=5.0, rest_motor_rad=(0.0, -0.4, 0.2), startup_delay=False)
+        """
+        rest = tuple(float(v) for v in rest_motor_rad) if rest_motor_rad is not None else self.rest_motor_rad
+        return RecordedRun(scenario if scenario is not None else self.scenario,
+                           duration_s if duration_s is not None else self.duration_s,
+                           rest,  # type: ignore[arg-type]
+                           startup_delay if startup_delay is not None else self.startup_delay)
+
+
+def find_scenario(name: str, folders: Sequence[Path]) -> str:
+    """A scenario named in a header or a test: ``folder / name`` for the first folder that has
+    such a file, else ``name`` itself (a built-in name, or a path the loader will check).
+
+    >>> find_scenario("tour", [Path("/nonexistent")])
+    'tour'
+    """
+    for folder in folders:
+        candidate = Path(folder) / name
+        if candidate.is_file():
+            return str(candidate)
+    return name
+
+
+def recorded_run(golden: Golden, scenario_folders: Sequence[Path] = ()) -> RecordedRun:
+    """What ``golden``'s header says its transcript was recorded with. A scenario file is looked
+    for in ``scenario_folders`` (then the golden file's own folder). Raises :class:`GoldenError`
+    naming the file and the field when a field is malformed.
+
+    >>> g = Golden(Path("g.txt"), {"scenario": "tour", "end_s": "6.000",
+    ...            "rest_motor_rad": "0.0 -0.35 0.3", "startup_delay": "no"})
+    >>> recorded_run(g)
+    RecordedRun(scenario='tour', duration_s=6.0, rest_motor_rad=(0.0, -0.35, 0.3), startup_delay=False)
+    >>> recorded_run(Golden(Path("g.txt"), {"end_s": "soon"}))
+    Traceback (most recent call last):
+    ...
+    crslab.regress.transcript.GoldenError: g.txt: header end_s must be a number of seconds, got 'soon'
+    """
+    h, path = golden.header, golden.path
+    scenario = h.get("scenario") or None
+    if scenario is not None:
+        scenario = find_scenario(scenario, [*scenario_folders, path.parent])
+    duration = None
+    if h.get("end_s"):
+        try:
+            duration = float(h["end_s"])
+        except ValueError:
+            duration = -1.0
+        if not duration > 0:
+            raise GoldenError(f"{path}: header end_s must be a number of seconds, got {h['end_s']!r}")
+    rest = None
+    if "rest_motor_rad" in h:
+        try:
+            values = tuple(float(v) for v in h["rest_motor_rad"].split())
+        except ValueError:
+            values = ()
+        if len(values) != 3:
+            raise GoldenError(f"{path}: header rest_motor_rad must be three numbers, "
+                              f"got {h['rest_motor_rad']!r}")
+        rest = values
+    delay = {"yes": True, "no": False, None: None}.get(h.get("startup_delay"), "bad")
+    if delay == "bad":
+        raise GoldenError(f"{path}: header startup_delay must be yes or no, got {h['startup_delay']!r}")
+    return RecordedRun(scenario, duration, rest, delay)  # type: ignore[arg-type]
 
 
 def make_header(fields: dict[str, str]) -> bytes:
