@@ -35,7 +35,7 @@ bench: $(STAMP) ## run the benchmarks and print the ratios the issues ask for
 	$(PY) tools/bench.py
 
 lint: $(STAMP) ## ruff over the Python sources
-	$(VENV)/bin/ruff check crslab tests tools csrc
+	$(VENV)/bin/ruff check crslab tests tools csrc setup.py
 
 clean: ## remove the venv, build products and caches
 	rm -rf $(VENV) build *.egg-info crslab/_core.* .pytest_cache .ruff_cache .hypothesis .crslab-cache

@@ -10,8 +10,10 @@ from __future__ import annotations
 import tomllib
 from pathlib import Path
 
-MODEL_DIR: Path = Path(__file__).resolve().parents[2] / "models" / "crs_arm"
-"""Folder of the CRS arm model (the repository's ``models/crs_arm``)."""
+from crslab import resources
+
+MODEL_DIR: Path = resources.path("models", "crs_arm")
+"""Folder of the CRS arm model (the repository's ``models/crs_arm``, shipped with the package)."""
 SCENE_XML: Path = MODEL_DIR / "scene.xml"
 """The scene to simulate: the arm, the 1 ms timestep, gravity, a floor and a light."""
 ARM_XML: Path = MODEL_DIR / "crs_arm.xml"

@@ -9,7 +9,6 @@ Each status's grade class is attached to it (:class:`crslab.sim.status.RunStatus
 from __future__ import annotations
 
 import csv
-import ctypes
 import dataclasses
 import multiprocessing as mp
 import os
@@ -22,6 +21,7 @@ from multiprocessing.connection import Connection, wait
 from pathlib import Path
 from typing import TextIO
 
+from crslab import os_support
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, Comparison, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.transcript import split_lines
@@ -102,10 +102,7 @@ def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, lim
 def _child(conn: Connection, path: Path, config: SimConfig, end_tick: int, deadline_s: float,
            limits: Limits) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the grading process's to handle
-    try:  # die with the grading process
-        ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
-    except (OSError, AttributeError):
-        pass
+    os_support.die_with_parent()  # the grading process
     try:
         result = run_one(path, config, end_tick, deadline_s, limits)
     except Exception as exc:  # noqa: BLE001 - reported as this submission's crash, never raised

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from crslab import crs
+from crslab import crs, resources
 from crslab.chain import CONVENTIONS, FIXED, JOINT_TYPES, MODIFIED, REVOLUTE, STANDARD, Chain
 from crslab.closed_ik import (
     OK,
@@ -38,7 +38,7 @@ from crslab.closed_ik import (
 )
 from crslab.rotation import euler_zyx_to_matrix
 
-HERE = Path(__file__).resolve().parent
+HERE = resources.path("robots")
 LENGTH_UNITS = ("m", "cm", "mm", "in", "units")
 CLOSED_FORMS = ("crs", "planar_3r", "spatial_rrr")
 TOP_KEYS = {"name", "title", "source", "convention", "length_unit", "closed_form", "parameters", "dh", "base",

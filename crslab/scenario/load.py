@@ -92,12 +92,13 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from crslab import resources
 from crslab.lab.build import LabBuild
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
 from crslab.scenario.events import SetVariable, parse_event, parse_plant
 from crslab.scenario.table import ScenarioError, TableReader
 
-BUILTIN_DIR = Path(__file__).resolve().parents[1] / "scenarios"
+BUILTIN_DIR = resources.path("scenarios")
 DEFAULT_SCENARIO = "tour"
 DEFAULT_SEED = 1
 

@@ -12,15 +12,15 @@ from typing import Any
 
 from cffi import FFI
 
+from crslab import resources
 from crslab.cheaders import cdef_from_header
-from crslab.lab.build import SIM
 
 
 @cache
 def board_ffi() -> FFI:
     """The FFI holding every declaration of sim.h."""
     ffi = FFI()
-    ffi.cdef(cdef_from_header((SIM / "sim.h").read_text()))
+    ffi.cdef(cdef_from_header(resources.path("csrc", "sim", "sim.h").read_text()))
     return ffi
 
 

@@ -4,14 +4,15 @@ the first finding of a sanitizer report as one phrase naming the user's file and
 from __future__ import annotations
 
 import re
-import subprocess
 from pathlib import Path
 
+from crslab.lab.compiler import Compiler, find_compiler
 
-def asan_runtime() -> str:
-    """Path of gcc's AddressSanitizer runtime, to preload into the sanitized worker."""
-    out = subprocess.run(["gcc", "-print-file-name=libasan.so"], capture_output=True, text=True, check=True)
-    return out.stdout.strip()
+
+def asan_runtime(compiler: Compiler | None = None) -> str:
+    """Path of the AddressSanitizer runtime of the compiler that built the lab (default: the one
+    labs are built with now), to preload into the sanitized worker."""
+    return (compiler or find_compiler()).asan_runtime()
 
 
 _ASAN = re.compile(r"ERROR: AddressSanitizer: ([\w-]+)")

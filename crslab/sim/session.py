@@ -8,7 +8,6 @@ any speed.
 
 from __future__ import annotations
 
-import ctypes
 import faulthandler
 import multiprocessing as mp
 import os
@@ -24,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from crslab import os_support
 from crslab.sim.board_ffi import board_constants, board_ffi, shared_size
 from crslab.sim.config import SimConfig
 from crslab.sim.running import LiveControl
@@ -68,18 +68,14 @@ NO_LIMITS = Limits()
 def _child(conn: Connection, config: SimConfig, shared_path: str, limits: Limits = NO_LIMITS) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
     faulthandler.disable()  # a crash is diagnosed by the crslab process, not dumped here
-    try:  # die with the crslab process, whatever kills it
-        ctypes.CDLL(None).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
-    except (OSError, AttributeError):
-        pass
+    os_support.die_with_parent()  # whatever kills the crslab process
     report = os.environ.pop(SANITIZER_REPORT_ENV, None)
     if report:  # the sanitizers write to stderr: keep it for the crslab process to read
         fd = os.open(report, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
         os.dup2(fd, 2)
         os.close(fd)
     if limits.memory_mb is not None:
-        size = limits.memory_mb * 1024 * 1024
-        resource.setrlimit(resource.RLIMIT_AS, (size, size))
+        os_support.limit_memory(limits.memory_mb * 1024 * 1024)
     if limits.cpu_s is not None:
         cpu = int(limits.cpu_s) + 1
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
@@ -100,8 +96,7 @@ class Simulation:
         self.sanitizer_dir: str | None = None
         self.lab_name = config.build.source.name
         self.ffi = board_ffi()
-        shm_dir = "/dev/shm" if os.path.isdir("/dev/shm") else None
-        fd, self.shared_path = tempfile.mkstemp(prefix="crslab-", dir=shm_dir)
+        fd, self.shared_path = tempfile.mkstemp(prefix="crslab-", dir=os_support.shared_memory_dir())
         os.ftruncate(fd, shared_size())
         import mmap
 
@@ -121,14 +116,14 @@ class Simulation:
             ctx = mp.get_context("spawn")
             self.sanitizer_dir = tempfile.mkdtemp(prefix="crslab-sanitize-")
             env = {
-                "LD_PRELOAD": asan_runtime(),
+                os_support.PRELOAD_ENV: asan_runtime(config.build.compiler),
                 "ASAN_OPTIONS": "detect_leaks=0:halt_on_error=1",
                 "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1",
                 SANITIZER_REPORT_ENV: os.path.join(self.sanitizer_dir, "report.txt"),
             }
             limits = Limits(None, limits.cpu_s, limits.output_bytes)  # ASan reserves terabytes
         else:
-            ctx = mp.get_context("fork")
+            ctx = mp.get_context(os_support.WORKER_START_METHOD)
             env = {}
         saved = {k: os.environ.get(k) for k in env}
         os.environ.update(env)

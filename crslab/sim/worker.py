@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 from cffi import FFI
 
-from crslab import crs
+from crslab import crs, os_support
 from crslab.plant.model import Friction, load_model, motor_to_qpos
 from crslab.scenario.lab_events import SIMULINK_INPUTS
 from crslab.sim.board_ffi import board_ffi
@@ -41,10 +41,10 @@ def mj_step_address() -> int:
     """Address of MuJoCo's C ``mj_step`` in the library the mujoco package loaded."""
     import mujoco
 
-    libs = sorted(Path(mujoco.__file__).parent.glob("libmujoco.so*"))
-    if not libs:
+    lib = os_support.mujoco_library(Path(mujoco.__file__).parent)
+    if lib is None:
         raise RuntimeError("libmujoco was not found in the mujoco package")
-    return ctypes.cast(ctypes.CDLL(str(libs[0])).mj_step, ctypes.c_void_p).value
+    return ctypes.cast(ctypes.CDLL(str(lib)).mj_step, ctypes.c_void_p).value
 
 
 STAT_FIELDS = (

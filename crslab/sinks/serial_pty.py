@@ -21,6 +21,7 @@ import termios
 import tty
 from pathlib import Path
 
+from crslab.os_support import open_pty
 from crslab.sinks.sink import Sink
 
 
@@ -33,10 +34,9 @@ class PtySink(Sink):
 
     def __init__(self, link: Path | None = None) -> None:
         try:
-            self._master, slave = os.openpty()
+            self._master, slave, self.path = open_pty()
         except OSError as exc:
             raise PtyError(f"cannot open a pseudo-terminal ({exc.strerror})") from None
-        self.path = os.ttyname(slave)
         tty.setraw(slave)  # the reader gets the bytes as sent: no echo, no CR/LF translation
         os.close(slave)  # with no slave open, the master reports POLLHUP: nobody is reading
         os.set_blocking(self._master, False)

@@ -1,0 +1,128 @@
+"""The host C compiler that labs are built with: ``$CC`` when set, else ``cc``, then ``gcc``, then
+``clang``. gcc and clang take the same flags here; what differs (the AddressSanitizer runtime to
+preload, how a shared object links to it) is asked of :class:`Compiler`.
+
+>>> c = find_compiler({"CC": "gcc", "PATH": os.environ["PATH"]})
+>>> c.family, c.command, c.argv == (shutil.which("gcc"),)
+('gcc', ('gcc',), True)
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import shlex
+import shutil
+import subprocess
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import cache
+
+DEFAULT_CANDIDATES = ("cc", "gcc", "clang")
+INSTALL_HINT = ("install one: 'sudo apt install gcc' (Debian, Ubuntu, WSL), 'sudo dnf install gcc' (Fedora), "
+                "or set CC to a C compiler")
+VERSION_TIMEOUT_S = 20.0
+
+
+class CompilerMissing(FileNotFoundError):
+    """No usable C compiler; the message is one line saying how to get one."""
+
+
+@dataclass(frozen=True)
+class Compiler:
+    """A C compiler: the command as given (``$CC`` split like a shell does), the program it found
+    on PATH, the arguments that run it (``argv``), its family and its version.
+
+    ``identity`` (the resolved program and everything ``--version`` printed) goes into the build
+    cache's key, so a lab built by gcc is never reused by clang, nor across compiler upgrades.
+    """
+
+    command: tuple[str, ...]
+    path: str
+    argv: tuple[str, ...]
+    family: str
+    version: str
+    identity: str
+
+    @property
+    def name(self) -> str:
+        """How the compiler is called, as the user would type it."""
+        return " ".join(self.command)
+
+    def describe(self) -> str:
+        """One line for messages: the command, the family and version, the program.
+
+        >>> Compiler(("cc",), "/usr/bin/cc", ("/usr/bin/cc",), "gcc", "12.2.0", "").describe()
+        'cc (gcc 12.2.0, /usr/bin/cc)'
+        """
+        return f"{self.name} ({self.family} {self.version}, {self.path})"
+
+    def asan_runtime(self) -> str:
+        """The AddressSanitizer runtime a sanitized lab's worker must preload (a path)."""
+        name = "libasan.so" if self.family == "gcc" else f"libclang_rt.asan-{platform.machine()}.so"
+        r = subprocess.run([*self.argv, f"-print-file-name={name}"], capture_output=True, text=True,
+                           timeout=VERSION_TIMEOUT_S)
+        return r.stdout.strip()
+
+    def sanitizer_link_flags(self) -> list[str]:
+        """Link flags of a sanitized shared object: clang must be told to use the shared runtime."""
+        flags = ["-fsanitize=address,undefined"]
+        return flags + (["-shared-libasan"] if self.family == "clang" else [])
+
+
+def family_of(version_text: str) -> str:
+    """``clang`` or ``gcc`` from what ``--version`` printed (anything else is treated as gcc).
+
+    >>> family_of("Debian clang version 14.0.6")
+    'clang'
+    >>> family_of("cc (Debian 12.2.0-14) 12.2.0\\nCopyright (C) 2022 Free Software Foundation, Inc.")
+    'gcc'
+    """
+    return "clang" if "clang" in version_text.splitlines()[0].lower() else "gcc"
+
+
+def version_of(version_text: str) -> str:
+    """The version number in the first line of ``--version``.
+
+    >>> version_of("Debian clang version 14.0.6")
+    '14.0.6'
+    >>> version_of("gcc (Debian 12.2.0-14+deb12u1) 12.2.0")
+    '12.2.0'
+    """
+    words = [w for w in version_text.splitlines()[0].split() if w[:1].isdigit() and "." in w]
+    return words[-1] if words else "unknown version"
+
+
+def find_compiler(environ: Mapping[str, str] | None = None) -> Compiler:
+    """The compiler labs are built with (see the module); raises :class:`CompilerMissing`."""
+    env = os.environ if environ is None else environ
+    return _find(env.get("CC", "").strip(), env.get("PATH", os.defpath))
+
+
+@cache
+def _find(cc: str, search_path: str) -> Compiler:
+    if cc:
+        command = tuple(shlex.split(cc))
+        program = shutil.which(command[0], path=search_path)
+        if program is None:
+            raise CompilerMissing(f"CC={cc}: {command[0]} was not found on PATH; {INSTALL_HINT}")
+        return _probe(command, program, f"CC={cc}")
+    for name in DEFAULT_CANDIDATES:
+        program = shutil.which(name, path=search_path)
+        if program is not None:
+            return _probe((name,), program, name)
+    raise CompilerMissing(f"no C compiler on PATH (tried {', '.join(DEFAULT_CANDIDATES)}); {INSTALL_HINT}")
+
+
+def _probe(command: tuple[str, ...], program: str, what: str) -> Compiler:
+    argv = (program, *command[1:])
+    try:
+        r = subprocess.run([*argv, "--version"], capture_output=True, text=True, timeout=VERSION_TIMEOUT_S)
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        raise CompilerMissing(f"{what}: {program} does not run ({exc}); {INSTALL_HINT}") from None
+    text = r.stdout.strip()
+    if r.returncode != 0 or not text:
+        raise CompilerMissing(f"{what}: '{program} --version' failed; {INSTALL_HINT}")
+    resolved = os.path.realpath(program)
+    return Compiler(command=command, path=program, argv=argv, family=family_of(text),
+                    version=version_of(text), identity=f"{resolved}\n{text}")

@@ -1,0 +1,124 @@
+"""Everything crslab does the Linux way, in one place, each item with what a macOS port needs.
+
+crslab supports Linux, and Windows through WSL (which runs Linux). Every use of a Linux-only
+facility goes through this module, so a port to macOS touches this file (and the one build-time
+twin named under "Math libraries"), not the simulator.
+
+>>> SHARED_OBJECT_FLAGS
+['-shared', '-Wl,-Bsymbolic']
+"""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import platform
+import resource
+import signal
+import sys
+from pathlib import Path
+
+SUPPORTED_PLATFORMS = "Linux, and Windows through WSL"
+
+
+def unsupported_platform(system: str | None = None) -> str | None:
+    """Why this operating system is not supported, or None on Linux (WSL included).
+
+    >>> unsupported_platform("linux") is None
+    True
+    >>> unsupported_platform("darwin")
+    'darwin is not supported yet: crslab runs on Linux, and Windows through WSL'
+    """
+    system = sys.platform if system is None else system
+    if system.startswith("linux"):
+        return None
+    return f"{system} is not supported yet: crslab runs on {SUPPORTED_PLATFORMS}"
+
+
+# -- The worker dies with its parent ---------------------------------------------------------
+# Linux: prctl(PR_SET_PDEATHSIG, SIGKILL) in the child; the kernel kills it when the parent dies,
+# however the parent dies (kill -9 included).
+# macOS: no prctl. The worker would watch its parent from a thread: kqueue with EVFILT_PROC and
+# NOTE_EXIT on the parent's pid (select.kqueue), then os._exit.
+PR_SET_PDEATHSIG = 1
+
+
+def die_with_parent() -> None:
+    """Ask the kernel to kill this process when its parent dies (best effort)."""
+    try:
+        ctypes.CDLL(None).prctl(PR_SET_PDEATHSIG, signal.SIGKILL)
+    except (OSError, AttributeError):
+        pass
+
+
+# -- Lab globals named like libc functions -----------------------------------------------------
+# Linux: the lab's shared object is linked -Wl,-Bsymbolic, so its references to a global named
+# time, index or step bind to the lab's own definition, not libc's. (The load-time alternative,
+# dlopen with RTLD_DEEPBIND, is not used: AddressSanitizer refuses it.)
+# macOS: link with -dynamiclib instead; ld64 has no -Bsymbolic, and needs none: its two-level
+# namespace binds an image's references to the image's own definitions. There is no RTLD_DEEPBIND.
+SHARED_OBJECT_FLAGS = ["-shared", "-Wl,-Bsymbolic"]
+
+
+# -- Math libraries ------------------------------------------------------------------------------
+# Linux on x86-64: glibc's vector math (libmvec) next to libm, for loops the compiler vectorizes.
+# csrc/cffi_build.py makes the same choice at build time (it cannot import crslab).
+# macOS: libm is part of libSystem and there is no libmvec: no flags at all.
+MATH_LIBS = ["-lm", "-lmvec"] if platform.machine() == "x86_64" and sys.platform.startswith("linux") \
+    else ["-lm"]
+
+
+# -- Shared memory between crslab and the worker ----------------------------------------------
+# Linux: a file in /dev/shm (tmpfs), mapped by both processes: the serial bytes never touch a
+# disk and outlive a worker that crashes.
+# macOS: no /dev/shm; the temporary directory works (None below), or shm_open.
+def shared_memory_dir() -> str | None:
+    """Folder for the shared block's file (None: the temporary directory)."""
+    return "/dev/shm" if os.path.isdir("/dev/shm") else None
+
+
+# -- MuJoCo's C library ----------------------------------------------------------------------------
+# Linux: libmujoco.so.X inside the mujoco package; the C tick calls its mj_step directly.
+# macOS: libmujoco.X.dylib (or mujoco.framework) inside the package.
+def mujoco_library(package_dir: Path) -> Path | None:
+    """The MuJoCo shared library the mujoco Python package loaded, or None."""
+    libs = sorted(package_dir.glob("libmujoco.so*"))
+    return libs[0] if libs else None
+
+
+# -- The sanitizer runtime of --sanitize -------------------------------------------------------------
+# Linux: the worker is a fresh interpreter with the ASan runtime in LD_PRELOAD.
+# macOS: DYLD_INSERT_LIBRARIES with libclang_rt.asan_osx_dynamic.dylib; System Integrity
+# Protection strips it for Apple's own /usr/bin/python3, so another Python is needed.
+PRELOAD_ENV = "LD_PRELOAD"
+
+
+# -- Memory limit of a lab's process ------------------------------------------------------------------
+# Linux: RLIMIT_AS; an allocation past it fails and the lab crashes, as on an overfull board.
+# macOS: RLIMIT_AS is not enforced; the crslab process would have to watch the worker's
+# resident size (task_info) and kill it.
+def limit_memory(size_bytes: int) -> None:
+    """Cap this process's address space."""
+    resource.setrlimit(resource.RLIMIT_AS, (size_bytes, size_bytes))
+
+
+# -- How the worker starts -------------------------------------------------------------------------
+# Linux: fork, fast, and the worker inherits everything already imported.
+# macOS: fork is unsafe once Apple's frameworks are loaded (the viewer's window); "spawn", slower.
+WORKER_START_METHOD = "fork"
+
+
+# -- Pseudo-terminals (--pty) -------------------------------------------------------------------------
+# Linux: os.openpty gives /dev/pts/N; with no terminal attached the master reports POLLHUP,
+# which is how crslab drops bytes no one reads (crslab/live/pty_sink.py).
+# macOS: openpty works (/dev/ttysNNN), but the "no terminal attached" test must be checked
+# there and may need another way (the master's POLLHUP is not documented for BSD ptys).
+def open_pty() -> tuple[int, int, str]:
+    """A new pseudo-terminal: (master fd, slave fd, the slave's path)."""
+    master, slave = os.openpty()
+    return master, slave, os.ttyname(slave)
+
+
+# -- /proc ----------------------------------------------------------------------------------------------
+# crslab reads nothing from /proc: the worker's tick and phase travel through the shared block,
+# so a crash or a hang is diagnosed without /proc/<pid>. Keep it that way: macOS has no /proc.
