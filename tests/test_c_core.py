@@ -1,24 +1,29 @@
 """The C core's own tests: each csrc/tests/test_*.c is built against every csrc/kin/*.c with
--Wall -Wextra -Werror, once plainly and once under AddressSanitizer and UBSan, and run."""
+-Wall -Wextra -Werror, once plainly and once under AddressSanitizer and UBSan, and run; with gcc,
+and with clang when it is installed (CI installs it)."""
 
 import subprocess
 from pathlib import Path
 
 import pytest
 
+from crslab.os_support import MATH_LIBS
+
 ROOT = Path(__file__).resolve().parents[1]
 KIN_SOURCES = sorted(str(p) for p in (ROOT / "csrc" / "kin").glob("*.c"))
 C_TESTS = sorted((ROOT / "csrc" / "tests").glob("test_*.c"))
 STRICT = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-I", str(ROOT / "csrc" / "kin")]
 SANITIZE = ["-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer"]
+COMPILERS = ["gcc", pytest.param("clang", marks=pytest.mark.requires("clang"))]
 
 
+@pytest.mark.parametrize("cc", COMPILERS)
 @pytest.mark.parametrize("sanitize", [False, True], ids=["O2", "asan-ubsan"])
 @pytest.mark.parametrize("source", C_TESTS, ids=[p.stem for p in C_TESTS])
-def test_c_core(source, sanitize, tmp_path):
+def test_c_core(source, sanitize, cc, tmp_path):
     exe = tmp_path / source.stem
     flags = STRICT + (["-O1", "-g"] + SANITIZE if sanitize else ["-O2"])
-    build = subprocess.run(["gcc", *flags, str(source), *KIN_SOURCES, "-o", str(exe), "-lm", "-lmvec"],
+    build = subprocess.run([cc, *flags, str(source), *KIN_SOURCES, "-o", str(exe), *MATH_LIBS],
                            capture_output=True, text=True)
     assert build.returncode == 0, build.stderr
     run = subprocess.run([str(exe)], capture_output=True, text=True, timeout=120,

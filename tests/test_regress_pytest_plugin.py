@@ -78,8 +78,9 @@ def test_a_golden_recorded_with_offsets_passes_check_and_the_fixture_alike(tmp_p
     shutil.copy(LABS / "lab1_own_ik.c", lab)
     golden = repo / "tests" / "golden" / "offsets.txt"
     crslab = [sys.executable, "-m", "crslab"]
-    r = subprocess.run([*crslab, "record", "--lab", str(lab), "--offsets", "-0.35", "0.3", "--no-startup-delay",
-                        "--duration", "7.5", "-o", str(golden)], capture_output=True, text=True, timeout=120)
+    r = subprocess.run([*crslab, "record", "--lab", str(lab), "--offsets", "-0.35", "0.3",
+                        "--no-startup-delay", "--duration", "7.5", "-o", str(golden)],
+                       capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     header = read_golden(golden).header
     assert header["rest_motor_rad"] == "0.0 -0.35 0.3" and header["startup_delay"] == "no"

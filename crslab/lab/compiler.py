@@ -99,7 +99,6 @@ def find_compiler(environ: Mapping[str, str] | None = None) -> Compiler:
     return _find(env.get("CC", "").strip(), env.get("PATH", os.defpath))
 
 
-@cache
 def _find(cc: str, search_path: str) -> Compiler:
     if cc:
         command = tuple(shlex.split(cc))
@@ -115,6 +114,17 @@ def _find(cc: str, search_path: str) -> Compiler:
 
 
 def _probe(command: tuple[str, ...], program: str, what: str) -> Compiler:
+    resolved = os.path.realpath(program)
+    try:
+        mtime = os.stat(resolved).st_mtime_ns
+    except OSError:
+        mtime = 0
+    return _probe_once(command, program, resolved, mtime, what)
+
+
+@cache
+def _probe_once(command: tuple[str, ...], program: str, resolved: str, mtime_ns: int, what: str) -> Compiler:
+    """``--version`` once per program and modification time (an upgrade is probed again)."""
     argv = (program, *command[1:])
     try:
         r = subprocess.run([*argv, "--version"], capture_output=True, text=True, timeout=VERSION_TIMEOUT_S)
@@ -123,6 +133,5 @@ def _probe(command: tuple[str, ...], program: str, what: str) -> Compiler:
     text = r.stdout.strip()
     if r.returncode != 0 or not text:
         raise CompilerMissing(f"{what}: '{program} --version' failed; {INSTALL_HINT}")
-    resolved = os.path.realpath(program)
     return Compiler(command=command, path=program, argv=argv, family=family_of(text),
                     version=version_of(text), identity=f"{resolved}\n{text}")
