@@ -76,8 +76,10 @@ def test_from_a_zip_the_files_are_extracted_into_the_cache_and_a_lab_builds(tmp_
 
 def test_a_package_without_its_files_says_how_to_repair_it(tmp_path):
     archive = zipped_package(tmp_path, with_data=False)
-    probe = "import sys; sys.path.insert(0, sys.argv[1]); from crslab import resources; resources.path('csrc')"
-    r = subprocess.run([sys.executable, "-c", probe, str(archive)], capture_output=True, text=True, timeout=60)
+    probe = ("import sys; sys.path.insert(0, sys.argv[1]); from crslab import resources; "
+             "resources.path('csrc')")
+    r = subprocess.run([sys.executable, "-c", probe, str(archive)], capture_output=True, text=True,
+                       timeout=60)
     assert r.returncode == 1
     assert r.stderr.strip().splitlines()[-1].endswith(
         "crslab's csrc folder is missing from its installation "
