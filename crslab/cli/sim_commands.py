@@ -10,8 +10,10 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.cli.live_options import LiveRun, add_live_options, live_needs_log
+from crslab.cli.sim_narration import Narrator, introduction
 from crslab.cli.tracking_options import TrackingRun, add_tracking_options
 from crslab.lab.build import LabBuildError
+from crslab.live.console import VarConsole
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
@@ -84,6 +86,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     pace.add_argument("--fast", action="store_true", help="run as fast as the machine can")
     p.add_argument("--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
     p.add_argument("--json", action="store_true", help="print the end-of-run summary as JSON on stderr")
+    p.add_argument("--quiet", action="store_true",
+                   help="no introduction before the first tick and no scenario events announced on stderr "
+                   "(warnings, errors and the summary stay)")
     add_live_options(p)
     add_tracking_options(p)
     p.set_defaults(func=run_sim)
@@ -189,7 +194,10 @@ def run_sim(args: argparse.Namespace) -> int:
     config = config_from_args(args, log=live_needs_log(args) or tracking.active)
     live = LiveRun(args, config)
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
-    out = FanOut([StdoutSink()])
+    stdout = StdoutSink()
+    # the narrator comes first: an event is announced before what the lab printed after it
+    narrator = Narrator(config.scenario.events, stdout, quiet=args.quiet)
+    out = FanOut([narrator, stdout])
     if args.transcript:
         try:
             out.add(TranscriptSink(args.transcript))
@@ -210,7 +218,14 @@ def run_sim(args: argparse.Namespace) -> int:
             if tracking.active:
                 out.add(tracking.rows)
             end_tick = tracking.start(sim, end_tick, duration_given=bool(args.duration))
-            result = sim.run(end_tick, out, speed=None if args.fast else args.speed, controls=live.controls,
+            speed = None if args.fast else args.speed
+            narrator.say(introduction(
+                lab=config.build.source, scenario_name=config.scenario.name,
+                scenario_description=config.scenario.description, end_tick=end_tick,
+                startup_ticks=config.startup_ticks, speed=speed,
+                console=any(isinstance(c, VarConsole) for c in live.controls), waypoints=args.waypoints))
+            narrator.reached(0)
+            result = sim.run(end_tick, out, speed=speed, controls=[narrator, *live.controls],
                              on_behind=on_behind)
     except SimError as exc:
         raise CliError(str(exc), status=ExitStatus.CRASHED) from None

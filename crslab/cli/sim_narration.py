@@ -1,0 +1,153 @@
+"""What ``crslab sim`` tells the user on stderr around the lab's own output, so that a first run
+explains itself: before the first tick, one short paragraph (which lab, which scenario, what the
+printed columns are when the lab is one of crslab's own); during the run, each scenario event
+as the simulation reaches it (``t = 5.0 s: hand to ...``). ``--quiet`` turns both off.
+
+None of it goes to stdout or into the transcript: what the board prints stays exactly what the
+board prints. An event is announced when the simulation has reached its tick, after everything
+printed before that tick was flushed to stdout, so on a terminal it sits between the lines
+printed before it and after it, at the event's simulated time at any ``--speed``.
+"""
+
+from __future__ import annotations
+
+import sys
+import textwrap
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TextIO
+
+from crslab import resources
+from crslab.scenario.event import Event
+from crslab.sim.running import RunningLab
+from crslab.sinks.sink import Sink
+
+PREFIX = "crslab sim: "
+WIDTH = 100
+
+OWN_LABS = {
+    "lab1_kinematics.c": "crslab's own Lab 1 prints three lines twice a second: the motor angles theta1 "
+    "theta2 theta3 (deg); the end effector's x y z (in) from forward kinematics; the motor angles (deg) "
+    "inverse kinematics finds for that x y z (the first line again).",
+    "lab2_tracking.c": "crslab's own tracking lab prints one line twice a second: the desired motor angles, "
+    "the measured ones and their difference (deg).",
+}
+"""What crslab's own lab files print, by file name (csrc/labs/)."""
+
+
+def own_lab_note(source: Path) -> str | None:
+    """What the columns are, when ``source`` is one of crslab's own labs (not a copy of one).
+
+    >>> own_lab_note(resources.path("csrc", "labs", "lab1_kinematics.c")).split(":")[0]
+    "crslab's own Lab 1 prints three lines twice a second"
+    >>> own_lab_note(Path("mylab.c")) is None
+    True
+    """
+    for name, note in OWN_LABS.items():
+        own = resources.path("csrc", "labs", name)
+        if Path(source).resolve() == own.resolve():
+            return note
+    return None
+
+
+def seconds(tick: int) -> str:
+    """Simulated time for messages: tenths unless the tick needs milliseconds.
+
+    >>> seconds(5000), seconds(4583)
+    ('5.0', '4.583')
+    """
+    return f"{tick / 1000:.1f}" if tick % 100 == 0 else f"{tick / 1000:.3f}"
+
+
+def pace_text(speed: float | None) -> str:
+    """How fast the run goes, in words.
+
+    >>> pace_text(None), pace_text(1.0), pace_text(2.5)
+    ('as fast as it can', 'at real time', 'at 2.5x real time')
+    """
+    if speed is None:
+        return "as fast as it can"
+    return "at real time" if speed == 1.0 else f"at {speed:g}x real time"
+
+
+def introduction(*, lab: Path, scenario_name: str, scenario_description: str, end_tick: int,
+                 startup_ticks: int, speed: float | None, console: bool,
+                 waypoints: Path | None = None) -> str:
+    """The paragraph printed before the first tick (lines end in newlines).
+
+    >>> print(introduction(lab=Path("mylab.c"), scenario_name="hands_off", scenario_description="",
+    ...                    end_tick=30000, startup_ticks=4100, speed=None, console=False), end="")
+    crslab sim: mylab.c on scenario hands_off for 30.0 s, as fast as it can.
+      The framework calls lab() every 1 ms from t = 4.1 s; what the lab prints follows on stdout
+      exactly as Tera Term shows it. Scenario events are announced here as they happen (--quiet: no
+      notes).
+    """
+    head = f"{PREFIX}{lab.name} on scenario {scenario_name} for {seconds(end_tick)} s, {pace_text(speed)}."
+    if waypoints is not None:
+        head = f"{PREFIX}{lab.name} following {waypoints.name} for {seconds(end_tick)} s, {pace_text(speed)}."
+    parts = []
+    if scenario_description and waypoints is None:
+        parts.append(f"{scenario_name}: {scenario_description}.")
+    start = f"from t = {seconds(startup_ticks)} s" if startup_ticks else "from the first tick"
+    note = own_lab_note(lab)
+    if note is None:
+        parts.append(f"The framework calls lab() every 1 ms {start}; what the lab prints follows on stdout "
+                     "exactly as Tera Term shows it.")
+    else:
+        parts.append(f"The framework calls lab() every 1 ms {start}. {note}")
+    if console:
+        parts.append("Type list, get NAME or set NAME VALUE to see and change its watched variables.")
+    parts.append("Scenario events are announced here as they happen (--quiet: no notes).")
+    body = textwrap.fill(" ".join(parts), WIDTH, initial_indent="  ", subsequent_indent="  ")
+    return f"{head}\n{body}\n"
+
+
+def announcement(event: Event) -> str:
+    """One event as announced when the run reaches it, in the event's own description.
+
+    >>> from crslab.scenario.hand_events import HandRelease
+    >>> announcement(HandRelease(tick=23000))
+    'crslab sim: t = 23.0 s: release'
+    """
+    return f"{PREFIX}t = {seconds(event.tick)} s: {event.describe()}"
+
+
+class Narrator(Sink):
+    """Announces a run's scenario events on stderr as the run reaches them (nothing when ``quiet``).
+
+    It is a sink placed before ``stdout`` in the run's fan-out: before a serial_printf call made
+    at or after an event's tick goes on, the event is announced (``stdout`` flushed first, so what
+    was printed before the event is out before it). It is also a live control: after each chunk
+    of ticks it announces the events the run reached that no print followed yet.
+    """
+
+    def __init__(self, events: Sequence[Event], stdout: Sink, *, quiet: bool,
+                 stream: TextIO | None = None) -> None:
+        self.pending = [] if quiet else sorted(events, key=lambda e: e.tick)
+        self.quiet = quiet
+        self.stdout = stdout
+        self.stream = stream if stream is not None else sys.stderr
+
+    def say(self, text: str) -> None:
+        """Print ``text`` (one or more whole lines) on stderr, unless quiet."""
+        if self.quiet:
+            return
+        self.stdout.flush()
+        self.stream.write(text if text.endswith("\n") else text + "\n")
+        self.stream.flush()
+
+    def reached(self, tick: int) -> None:
+        """The run has applied every event up to ``tick``: announce those not yet announced."""
+        if not self.pending or self.pending[0].tick > tick:
+            return
+        due = []
+        while self.pending and self.pending[0].tick <= tick:
+            due.append(announcement(self.pending.pop(0)))
+        self.say("\n".join(due))
+
+    def on_serial(self, tick: int, data: bytes) -> None:
+        self.reached(tick)
+
+    def serve(self, lab: RunningLab) -> None:
+        """After a chunk of ticks: announce what the run reached."""
+        self.reached(lab.tick)
