@@ -60,7 +60,7 @@ class Grade:
 
 
 def _first_error(diagnostics: str, name: str) -> str:
-    """gcc's first ``error:`` line, naming the file rather than its full path."""
+    """The compiler's first ``error:`` line, naming the file rather than its full path."""
     for line in diagnostics.splitlines():
         if "error:" in line:
             head, _, rest = line.partition(name)
