@@ -3,6 +3,8 @@ importlib.resources; in this checkout they are the checkout's own, and from a pa
 not a plain folder (a zip) they are extracted once into the per-user cache, so a lab still
 compiles and MuJoCo still loads the arm."""
 
+import os
+import shutil
 import subprocess
 import sys
 import zipfile
@@ -84,3 +86,15 @@ def test_a_package_without_its_files_says_how_to_repair_it(tmp_path):
     assert r.stderr.strip().splitlines()[-1].endswith(
         "crslab's csrc folder is missing from its installation "
         f"({archive}/crslab/); reinstall it: pip install --force-reinstall crslab")
+
+
+def test_crslab_from_an_installation_missing_its_files_is_one_line(tmp_path):
+    """Every command module needs the runtime files: a broken install says how to repair it."""
+    site = tmp_path / "site"
+    shutil.copytree(ROOT / "crslab", site / "crslab", ignore=shutil.ignore_patterns("__pycache__"))
+    r = subprocess.run([sys.executable, "-m", "crslab", "fk", "--motor-deg", "0", "90", "0"], cwd=tmp_path,
+                       env={**os.environ, "PYTHONPATH": str(site)}, capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode == 2 and r.stdout == ""
+    assert r.stderr == (f"crslab: crslab's csrc folder is missing from its installation ({site / 'crslab'}); "
+                        "reinstall it: pip install --force-reinstall crslab\n")

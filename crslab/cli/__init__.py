@@ -57,7 +57,13 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``crslab`` console script; returns the exit status."""
-    parser = build_parser()
+    from crslab.resources import ResourceError
+
+    try:
+        parser = build_parser()
+    except ResourceError as exc:  # a broken installation: say how to repair it
+        print(f"crslab: {exc}", file=sys.stderr)
+        return 2
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
         parser.print_help()
