@@ -82,7 +82,7 @@ def _lab_build(have_compiler: bool, folder: Path) -> tuple[Check, object]:
     if not have_compiler:
         return Check("lab build", False, "needs a C compiler", "install one (above)", skipped=True), None
     from crslab.lab.build import LabBuildError, build_lab
-    from crslab.sim.board_ffi import board_ffi
+    from crslab.sim.board_ffi import board_constants, board_ffi
 
     start = time.monotonic()
     try:
@@ -94,7 +94,7 @@ def _lab_build(have_compiler: bool, folder: Path) -> tuple[Check, object]:
                      "compiler"), None
     try:
         lib = board_ffi().dlopen(str(build.shared_object))
-        has_lab = bool(lib.crs_lab_symbols() & 1)
+        has_lab = bool(lib.crs_lab_symbols() & board_constants().CRS_LAB_HAS_LAB)
     except OSError as exc:
         return Check("lab build", False, f"the built lab does not load ({exc})",
                      "set CC to another compiler (gcc or clang)"), None
@@ -137,15 +137,16 @@ def _simulation(build: object) -> Check:
     from crslab.scenario.load import load_scenario
     from crslab.sim.config import SimConfig
     from crslab.sim.session import SimError, Simulation
+    from crslab.sinks.memory import MemorySink
 
     config = SimConfig(build=build, scenario=load_scenario("hands_off"), startup_ticks=0)  # type: ignore[arg-type]
+    printed = MemorySink()
     try:
         with Simulation(config) as sim:
-            printed: list[bytes] = []
-            result = sim.run(600, on_serial=lambda tick, data: printed.append(data))
+            result = sim.run(600, printed)
     except SimError as exc:
         return Check("simulation", False, str(exc), "run 'crslab sim' to see the whole message")
-    lines = b"".join(printed).count(b"\n")
+    lines = printed.transcript.count(b"\n")
     if not result.ok or lines < 3:
         return Check("simulation", False, f"the lab's run ended {result.status} after {lines} lines "
                      f"{result.message}".rstrip(), "run 'crslab sim' to see the whole message")
@@ -176,7 +177,7 @@ def _display() -> Check:
 
 
 def _rerun() -> Check:
-    from crslab.scopes.rerun_sink import viewer_executable
+    from crslab.sinks.rerun_scopes import viewer_executable
 
     try:
         version = metadata.version("rerun-sdk")

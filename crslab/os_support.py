@@ -110,7 +110,7 @@ WORKER_START_METHOD = "fork"
 
 # -- Pseudo-terminals (--pty) -------------------------------------------------------------------------
 # Linux: os.openpty gives /dev/pts/N; with no terminal attached the master reports POLLHUP,
-# which is how crslab drops bytes no one reads (crslab/live/pty_sink.py).
+# which is how crslab drops bytes no one reads (crslab/sinks/serial_pty.py).
 # macOS: openpty works (/dev/ttysNNN), but the "no terminal attached" test must be checked
 # there and may need another way (the master's POLLHUP is not documented for BSD ptys).
 def open_pty() -> tuple[int, int, str]:
