@@ -2,8 +2,9 @@
 
 The items ``crslab sim`` cannot run without are *required* (the platform, Python, a C compiler, a
 lab that compiles, links and runs against the board, MuJoCo, a writable build cache); the
-others (a display for ``--viewer``, the rerun viewer for ``--rerun``, pseudo-terminals for
-``--pty``) only limit what a run can show. The lab is built afresh in a temporary folder, so the
+others (the sandbox, which ``crslab grade`` needs; a display for ``--viewer``, the rerun viewer
+for ``--rerun``, pseudo-terminals for ``--pty``) only limit what crslab can do. The lab is
+built and run in the sandbox when this machine has it. The lab is built afresh in a temporary folder, so the
 check exercises the compiler even when the build cache holds the lab already.
 
 >>> Check("Python", True, "3.11.7").line()
@@ -78,7 +79,7 @@ def _compiler() -> tuple[Check, object]:
     return Check("C compiler", True, cc.describe()), cc
 
 
-def _lab_build(have_compiler: bool, folder: Path) -> tuple[Check, object]:
+def _lab_build(have_compiler: bool, folder: Path, sandboxed: bool) -> tuple[Check, object]:
     if not have_compiler:
         return Check("lab build", False, "needs a C compiler", "install one (above)", skipped=True), None
     from crslab.lab.build import LabBuildError, build_lab
@@ -86,7 +87,7 @@ def _lab_build(have_compiler: bool, folder: Path) -> tuple[Check, object]:
 
     start = time.monotonic()
     try:
-        build = build_lab(cache=folder)
+        build = build_lab(cache=folder, sandboxed=sandboxed)
     except LabBuildError as exc:
         first = next((line for line in exc.diagnostics.splitlines() if "error" in line), "")
         return Check("lab build", False, f"{exc}{': ' + first.strip() if first else ''}",
@@ -131,7 +132,7 @@ def _mujoco() -> Check:
     return Check("MuJoCo", True, f"{mujoco.__version__} loads the CRS arm and steps it (100 steps of 1 ms)")
 
 
-def _simulation(build: object) -> Check:
+def _simulation(build: object, sandboxed: bool) -> Check:
     if build is None:
         return Check("simulation", False, "needs the lab build", "see the lab build (above)", skipped=True)
     from crslab.scenario.load import load_scenario
@@ -139,7 +140,8 @@ def _simulation(build: object) -> Check:
     from crslab.sim.session import SimError, Simulation
     from crslab.sinks.memory import MemorySink
 
-    config = SimConfig(build=build, scenario=load_scenario("hands_off"), startup_ticks=0)  # type: ignore[arg-type]
+    config = SimConfig(build=build, scenario=load_scenario("hands_off"), startup_ticks=0,  # type: ignore[arg-type]
+                       sandboxed=sandboxed)
     printed = MemorySink()
     try:
         with Simulation(config) as sim:
@@ -150,7 +152,19 @@ def _simulation(build: object) -> Check:
     if not result.ok or lines < 3:
         return Check("simulation", False, f"the lab's run ended {result.status} after {lines} lines "
                      f"{result.message}".rstrip(), "run 'crslab sim' to see the whole message")
-    return Check("simulation", True, f"the lab ran 0.6 s in a worker process and printed {lines} lines")
+    where = "a sandboxed worker process" if sandboxed else "a worker process (not sandboxed)"
+    return Check("simulation", True, f"the lab ran 0.6 s in {where} and printed {lines} lines")
+
+
+def _sandbox() -> Check:
+    from crslab.sandbox import support
+
+    found = support()
+    if found.missing:
+        return Check("sandbox", False, f"this machine lacks {'; '.join(found.missing)}: crslab sim runs labs "
+                     "without it (with a warning) and crslab grade refuses to", "see docs/sandbox.md "
+                     "('What it needs'); grade --no-sandbox runs a class without it", required=False)
+    return Check("sandbox", True, found.summary().removeprefix("sandbox available: "), required=False)
 
 
 def _cache() -> Check:
@@ -210,11 +224,13 @@ def run_checks() -> Iterator[Check]:
     compiler_check, _ = _compiler()
     yield compiler_check
     yield _cache()
+    sandbox_check = _sandbox()
     with tempfile.TemporaryDirectory(prefix="crslab-doctor-") as folder:
-        build_check, build = _lab_build(compiler_check.ok, Path(folder))
+        build_check, build = _lab_build(compiler_check.ok, Path(folder), sandbox_check.ok)
         yield build_check
         yield _mujoco()
-        yield _simulation(build)
+        yield _simulation(build, sandbox_check.ok)
+    yield sandbox_check
     yield _display()
     yield _rerun()
     yield _pty()

@@ -9,7 +9,7 @@ import pytest
 
 from crslab.lab.compiler import INSTALL_HINT
 
-ITEMS = ["platform", "Python", "C compiler", "build cache", "lab build", "MuJoCo", "simulation",
+ITEMS = ["platform", "Python", "C compiler", "build cache", "lab build", "MuJoCo", "simulation", "sandbox",
          "display for --viewer", "rerun viewer", "pseudo-terminals for --pty"]
 REQUIRED = ITEMS[:7]
 
@@ -30,6 +30,8 @@ def test_doctor_exits_0_where_sim_runs(tmp_path):
         assert items[name].startswith("ok       "), items[name]
     assert "lab1_kinematics.c compiles and links against the board" in items["lab build"]
     assert "printed 6 lines" in items["simulation"]  # Lab 1 prints three lines at 0 and 0.5 s
+    assert "in a sandboxed worker process" in items["simulation"]
+    assert items["sandbox"].startswith("ok       sandbox: Landlock ABI ")
     assert r.stderr.strip() == "crslab doctor: everything 'crslab sim' needs is here"
 
 

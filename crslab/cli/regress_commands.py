@@ -81,9 +81,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = sub.add_parser("grade", help="grade a folder of lab files against a reference lab",
                        description="Run every lab file (.c, .cpp) in a folder on a scenario, each in a "
-                       "process of its own and several at once, compare each transcript with the "
-                       "reference lab's, and class each as pass, mismatch, does not compile, crashed "
-                       "or hung. Writes a summary table (stdout and summary.txt), grades.csv, "
+                       "process of its own and several at once, each compiled and run in the sandbox "
+                       "from a private copy of that one file, compare each transcript with the "
+                       "reference lab's, and class each as pass, mismatch, does not compile, crashed, "
+                       "forbidden (the sandbox stopped it) or hung. Writes a summary table (stdout and "
+                       "summary.txt), grades.csv, "
                        "junit.xml, and every transcript and report, into --out.")
     p.add_argument("submissions", type=Path, metavar="SUBMISSIONS_DIR", help="folder of lab files")
     p.add_argument("--reference", type=Path, required=True, metavar="FILE", help="the reference lab file")
@@ -119,7 +121,7 @@ def _run(config: SimConfig, args: argparse.Namespace, end_tick: int) -> RunResul
     try:
         result = run_lab(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
     except SimError as exc:
-        raise CliError(str(exc), status=ExitStatus.CRASHED) from None
+        raise CliError(str(exc), status=exc.status.exit_status) from None
     if result.status is RunStatus.NO_LAB:
         raise CliError(result.message, status=result.exit_status)
     lost = lost_serial_notice(config.build.source.name, result.stats)
@@ -221,7 +223,7 @@ def run_grade(args: argparse.Namespace) -> int:
         raise CliError(f"{args.out}: cannot write the reports there ({exc.strerror})") from None
 
     [reference] = g.run_many([args.reference], config, end_tick, jobs=1, deadline_s=args.deadline,
-                             limits=limits, timeout_s=args.timeout)
+                             limits=limits, timeout_s=args.timeout, private=False)
     if not reference.ok:
         raise CliError(f"the reference lab did not run: {reference.message or reference.status}")
     print(f"crslab grade: {len(subs)} submissions against {args.reference.name} on {config.scenario.name} "

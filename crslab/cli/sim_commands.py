@@ -12,15 +12,16 @@ from crslab.cli import CliError
 from crslab.cli.live_options import LiveRun, add_live_options, live_needs_log
 from crslab.cli.sim_narration import Narrator, introduction
 from crslab.cli.tracking_options import TrackingRun, add_tracking_options
-from crslab.lab.build import LabBuildError
+from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.live.console import VarConsole
+from crslab.sandbox import missing as sandbox_missing
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
 from crslab.sim.board_ffi import board_constants
 from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, Limits, SimError, Simulation
-from crslab.sim.status import ExitStatus, RunResult, RunStatus
+from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.stdout import StdoutSink
 from crslab.sinks.transcript_file import TranscriptSink
@@ -62,6 +63,9 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mem-limit-mb", type=int, metavar="MB", help="memory limit of the lab's process")
     p.add_argument("--cpu-limit", type=positive, metavar="SECONDS",
                    help="CPU-time limit of the lab's process")
+    p.add_argument("--no-sandbox", action="store_true",
+                   help="compile and run the lab without the sandbox, with your own permissions (it may "
+                   "then read and write your files, start programs and use the network)")
 
 
 def limits_from_args(args: argparse.Namespace) -> Limits:
@@ -94,19 +98,42 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_sim)
 
 
+def sandbox_from_args(args: argparse.Namespace) -> bool:
+    """Whether to sandbox the run: always unless ``--no-sandbox`` (with a warning). On a machine
+    without the sandbox, ``grade`` refuses to run (a class's files are untrusted) and the other
+    commands, which run the user's own file, warn and run without it."""
+    command = args.command
+    if args.no_sandbox:
+        print(f"crslab {command}: warning: --no-sandbox: the lab runs with your permissions (it may read "
+              "and write your files, start programs and use the network)", file=sys.stderr)
+        return False
+    lacking = sandbox_missing()
+    if not lacking:
+        return True
+    text = "; ".join(lacking)
+    if command == "grade":
+        raise CliError(f"the sandbox cannot run on this machine: it lacks {text}; give --no-sandbox to grade "
+                       "without it (every submission then runs with your permissions)")
+    print(f"crslab {command}: warning: running without the sandbox: this machine lacks {text}",
+          file=sys.stderr)
+    return False
+
+
 def config_from_args(args: argparse.Namespace, *, log: bool = False,
                      rest_motor_rad: tuple[float, float, float] | None = None) -> SimConfig:
     """Build the lab and load the scenario, turning bad input into one-line errors. The resting
     pose is ``rest_motor_rad`` when given, else ``--offsets``', else the scenario's."""
     rest = rest_motor_rad or ((DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None)
+    sandboxed = sandbox_from_args(args)
     try:
         return make_config(args.lab, args.scenario, startup_delay=not args.no_startup_delay,
                            rest_motor_rad=rest, log=log, strict=args.strict,
-                           budget_us=args.budget_us, sanitize=args.sanitize)
+                           budget_us=args.budget_us, sanitize=args.sanitize, sandbox=sandboxed)
     except LabBuildError as exc:
         if exc.diagnostics:
             sys.stderr.write(exc.diagnostics)
-        raise CliError(str(exc)) from None
+        status = RunStatus.FORBIDDEN if isinstance(exc, LabForbidden) else RunStatus.BUILD_ERROR
+        raise CliError(str(exc), status.exit_status) from None
     except ScenarioError as exc:
         raise CliError(str(exc)) from None
 
@@ -228,7 +255,7 @@ def run_sim(args: argparse.Namespace) -> int:
             result = sim.run(end_tick, out, speed=speed, controls=[narrator, *live.controls],
                              on_behind=on_behind)
     except SimError as exc:
-        raise CliError(str(exc), status=ExitStatus.CRASHED) from None
+        raise CliError(str(exc), status=exc.status.exit_status) from None
     finally:
         try:
             out.close()

@@ -9,6 +9,10 @@ lab's own definitions (:data:`crslab.os_support.SHARED_OBJECT_FLAGS`). The board
 from the installed package (:mod:`crslab.resources`). Builds are cached per user by the content
 of the lab, of every board source, of the flags and by the compiler's identity, so a second run
 starts at once.
+
+The lab is compiled and linked inside the compile sandbox (crslab/sandbox/compile_sandbox.py):
+the compiler reads only the lab's folder, crslab's headers and objects and the compiler's own
+files, and writes only the build folder; reading anything else is :class:`LabForbidden`.
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ from crslab import os_support, resources
 from crslab.cache import CacheError, cache_dir
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.watched import WatchedVar, find_watched
+from crslab.sandbox.compile_sandbox import CompilerSandbox, compiler_sandbox, forbidden_read
 
 CSRC = resources.path("csrc")
 SHIM_INCLUDE = CSRC / "board" / "include"
@@ -57,6 +62,15 @@ class LabBuildError(Exception):
         self.diagnostics = diagnostics
 
 
+class LabForbidden(LabBuildError):
+    """The sandboxed compiler was refused a file the lab names (an ``#include`` of a path
+    outside the lab's folder, a symbolic link out of it, an ``.incbin``): ``path`` is that file."""
+
+    def __init__(self, message: str, diagnostics: str, path: str) -> None:
+        super().__init__(message, diagnostics)
+        self.path = path
+
+
 @dataclass(frozen=True)
 class LabBuild:
     """A compiled lab: the shared object and what was learned from the source."""
@@ -87,7 +101,8 @@ def detect_generation(source_text: str) -> int:
     return GEN_B if "F28335Serial.h" in includes and "coecsl.h" not in includes else GEN_A
 
 
-def _digest(parts: list[bytes]) -> str:
+def content_digest(parts: list[bytes]) -> str:
+    """A short hash of ``parts`` (each length-prefixed), naming a cached build."""
     h = hashlib.sha256()
     for p in parts:
         h.update(len(p).to_bytes(8, "little"))
@@ -111,21 +126,41 @@ def _cache() -> Path:
         raise LabBuildError(str(exc)) from None
 
 
-def _compile(cc: Compiler, args: list[str], what: str) -> None:
+def run_compiler(cc: Compiler, args: list[str], what: str, sandbox: CompilerSandbox | None = None) -> None:
+    """Run ``cc`` with ``args`` (inside ``sandbox`` when given); a failure is a LabBuildError."""
+    rules, extra = None, {}
+    if sandbox is not None:
+        try:
+            rules = sandbox.ruleset()
+        except OSError as exc:  # Landlock missing: the caller should not have asked for the sandbox
+            raise LabBuildError(f"the compile sandbox cannot be set up ({exc}); --no-sandbox compiles "
+                                "without it") from None
+        extra = {"preexec_fn": sandbox.preexec(rules.fd), "env": sandbox.environment()}
     try:
-        r = subprocess.run([*cc.argv, *args], capture_output=True, text=True, timeout=COMPILE_TIMEOUT_S)
+        r = subprocess.run([*cc.argv, *args], capture_output=True, text=True, timeout=COMPILE_TIMEOUT_S,
+                           **extra)  # type: ignore[call-overload]
     except subprocess.TimeoutExpired:
         raise LabBuildError(f"{what}: {cc.name} took longer than {COMPILE_TIMEOUT_S:.0f} s") from None
     except OSError as exc:
         raise LabBuildError(f"{cc.name} cannot be run ({exc.strerror})") from None
+    finally:
+        if rules is not None:
+            rules.close()
     if r.returncode != 0:
+        refused = forbidden_read(r.stderr) if sandbox is not None else None
+        if refused:
+            shown = f"{refused} (a symbolic link to {os.path.realpath(refused)})" \
+                if os.path.islink(refused) else refused
+            raise LabForbidden(f"{what} was stopped by the sandbox: it tried to read {shown} while "
+                               "compiling (a lab may read only its own folder, crslab's headers and the "
+                               "compiler's files)", r.stderr, refused)
         raise LabBuildError(f"{what} does not compile", r.stderr)
 
 
 def _board_objects(cc: Compiler, sanitize: bool, cache: Path) -> list[Path]:
     """The board, framework and kinematics objects, built once per content, flags and compiler."""
     flags = BOARD_FLAGS + (SANITIZE_FLAGS if sanitize else [])
-    digest = _digest([cc.identity.encode(), " ".join(flags).encode()]
+    digest = content_digest([cc.identity.encode(), " ".join(flags).encode()]
                      + [p.read_bytes() for p in BOARD_SOURCES + BOARD_HEADERS])
     out_dir = cache / f"board-{digest}"
     objects = [out_dir / f"{p.parent.name}_{p.stem}.o" for p in BOARD_SOURCES]
@@ -134,17 +169,21 @@ def _board_objects(cc: Compiler, sanitize: bool, cache: Path) -> list[Path]:
     out_dir.mkdir(parents=True, exist_ok=True)
     for src, obj in zip(BOARD_SOURCES, objects):
         tmp = obj.with_suffix(f".{os.getpid()}.tmp")
-        _compile(cc, [*flags, *INCLUDES, "-c", str(src), "-o", str(tmp)], f"crslab's board source {src.name}")
+        run_compiler(cc, [*flags, *INCLUDES, "-c", str(src), "-o", str(tmp)],
+                     f"crslab's board source {src.name}")
         tmp.replace(obj)
     return objects
 
 
-def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path | None = None) -> LabBuild:
+def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path | None = None,
+              sandboxed: bool = True) -> LabBuild:
     """Compile ``source`` (default: crslab's Lab 1) and link it with the board; cached in
-    ``cache`` (default: the per-user cache, :func:`crslab.cache.cache_dir`).
+    ``cache`` (default: the per-user cache, :func:`crslab.cache.cache_dir`). ``sandboxed``
+    compiles it in the compile sandbox (see :func:`crslab.sandbox.resolve`).
 
     Raises :class:`LabBuildError` for a missing file, a file that does not compile or a missing
-    compiler.
+    compiler, and :class:`LabForbidden` when the sandboxed compiler was refused a file the lab
+    names.
     """
     src = Path(source) if source is not None else DEFAULT_LAB
     if not src.is_file():
@@ -159,19 +198,27 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path
     cc = compiler()
     cache = cache if cache is not None else _cache()
     objects = _board_objects(cc, sanitize, cache)
-    digest = _digest([text_bytes, " ".join(flags).encode(), src.suffix.encode()]
+    digest = content_digest([text_bytes, " ".join(flags).encode(), src.suffix.encode()]
                      + [o.parent.name.encode() for o in objects[:1]])  # the board's digest names the compiler
     out_dir = cache / f"lab-{digest}"
     so = out_dir / "lab.so"
     if not so.exists():
         out_dir.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
+            sandbox = compiler_sandbox([src], Path(tmp), [SHIM_INCLUDE, KIN, SIM, objects[0].parent],
+                                       compiler=cc.argv) if sandboxed else None
             obj = Path(tmp) / "lab.o"
             # compile the user's own path so the compiler's messages name the user's file and line
-            _compile(cc, [*flags, *INCLUDES, "-x", "c", "-c", str(src), "-o", str(obj)], src.name)
+            run_compiler(cc, [*flags, *INCLUDES, "-x", "c", "-c", str(src), "-o", str(obj)], src.name,
+                         sandbox)
             tmp_so = Path(tmp) / "lab.so"
-            _compile(cc, [*os_support.SHARED_OBJECT_FLAGS, *(cc.sanitizer_link_flags() if sanitize else []),
-                          "-o", str(tmp_so), str(obj), *map(str, objects), *LINK_LIBS], f"{src.name} (link)")
+            link_flags = [*os_support.SHARED_OBJECT_FLAGS, *(cc.sanitizer_link_flags() if sanitize else [])]
+            run_compiler(cc, [*link_flags, "-o", str(tmp_so), str(obj), *map(str, objects), *LINK_LIBS],
+                         f"{src.name} (link)", sandbox)
             tmp_so.replace(so)
+    if sandboxed:  # the worker's SIGSYS trap, built here so that no worker ever compiles
+        from crslab.sandbox.trap import helper_library
+
+        helper_library()
     return LabBuild(source=src, shared_object=so, generation=generation, sanitized=sanitize, digest=digest,
                     watched=tuple(find_watched(text)), compiler=cc)

@@ -1,7 +1,8 @@
 """Grade a folder of lab files against a reference lab: every submission is built and run in a
-process of its own (several at once), its transcript compared with the reference's, and the
-outcome classed as pass, mismatch, does not compile, crashed or hung. One broken submission
-never stops the others: its process may crash, hang or be killed, and grading goes on.
+process of its own (several at once), from a private copy of that one file (in the sandbox, it
+can read nothing else of the class folder), its transcript compared with the reference's, and
+the outcome classed as pass, mismatch, does not compile, crashed, forbidden or hung. One broken
+submission never stops the others: its process may crash, hang or be killed, and grading goes on.
 
 Each status's grade class is attached to it (:class:`crslab.sim.status.RunStatus`).
 """
@@ -12,8 +13,10 @@ import csv
 import dataclasses
 import multiprocessing as mp
 import os
+import shutil
 import signal
 import sys
+import tempfile
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -38,7 +41,8 @@ DEFAULT_TIMEOUT_S = 300.0
 
 def find_submissions(folder: Path) -> list[Path]:
     """The lab files (``.c``, ``.cpp``) directly in ``folder``, by name."""
-    return sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() in LAB_SUFFIXES)
+    return sorted(p for p in folder.iterdir()
+                  if (p.is_file() or p.is_symlink()) and p.suffix.lower() in LAB_SUFFIXES)
 
 
 @dataclass
@@ -68,22 +72,58 @@ def _first_error(diagnostics: str, name: str) -> str:
     return ""
 
 
-def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, limits: Limits) -> RunResult:
+def private_copy(path: Path, folder: Path) -> Path:
+    """Copy the one submission ``path`` into the empty ``folder`` (the sandbox then lets it read
+    that folder only); a symbolic link is copied as what it points to only when that is inside
+    the submission's own folder. Raises ``PermissionError`` for a link out of it."""
+    source = path
+    if path.is_symlink():
+        target = path.resolve()
+        if not target.is_relative_to(path.parent.resolve()):
+            raise PermissionError(f"{path.name} was stopped by the sandbox: it is a symbolic link to "
+                                  f"{target}, outside the submissions folder")
+        source = target
+    copy = folder / path.name
+    shutil.copyfile(source, copy, follow_symlinks=False)
+    return copy
+
+
+def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, limits: Limits,
+            private: bool = True) -> RunResult:
     """Build ``path`` with ``config``'s flags and run it on ``config``'s scenario (in this process;
-    the lab itself runs in a worker process of its own). ``wall_s`` counts the build too."""
-    from crslab.lab.build import LabBuildError, build_lab
+    the lab itself runs in a worker process of its own). ``wall_s`` counts the build too.
+    ``private``: build a private copy of the file, alone in a folder of its own, never the
+    folder it came from."""
+    start = time.monotonic()
+    if not private:
+        return _build_and_run(path, path, config, end_tick, deadline_s, limits, start)
+    with tempfile.TemporaryDirectory(prefix="crslab-submission-") as folder:
+        try:
+            copy = private_copy(path, Path(folder))
+        except PermissionError as exc:
+            return RunResult(RunStatus.FORBIDDEN, message=str(exc), lab_file=path,
+                             wall_s=time.monotonic() - start)
+        except OSError as exc:
+            return RunResult(RunStatus.BUILD_ERROR, message=f"{path.name} cannot be read ({exc.strerror})",
+                             lab_file=path, wall_s=time.monotonic() - start)
+        return _build_and_run(path, copy, config, end_tick, deadline_s, limits, start)
+
+
+def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, deadline_s: float,
+                   limits: Limits, start: float) -> RunResult:
+    from crslab.lab.build import LabBuildError, LabForbidden, build_lab
     from crslab.regress.runner import run_lab
     from crslab.scenario.load import ScenarioError, check_lab
     from crslab.sim.session import SimError
-
-    start = time.monotonic()
 
     def ended(status: RunStatus, message: str, details: str = "") -> RunResult:
         return RunResult(status, message=message, details=details, lab_file=path,
                          wall_s=time.monotonic() - start)
 
     try:
-        build = build_lab(path, sanitize=config.build.sanitized)
+        build = build_lab(source, sanitize=config.build.sanitized, sandboxed=config.sandboxed)
+    except LabForbidden as exc:
+        return ended(RunStatus.FORBIDDEN, str(exc), exc.diagnostics)
     except LabBuildError as exc:
         first = _first_error(exc.diagnostics, path.name)
         return ended(RunStatus.BUILD_ERROR, first or str(exc), exc.diagnostics)
@@ -95,16 +135,16 @@ def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, lim
         result = run_lab(dataclasses.replace(config, build=build), end_tick, deadline_s=deadline_s,
                          limits=limits)
     except SimError as exc:
-        return ended(RunStatus.CRASHED, str(exc))
+        return ended(exc.status, str(exc))
     return dataclasses.replace(result, lab_file=path, wall_s=time.monotonic() - start)
 
 
 def _child(conn: Connection, path: Path, config: SimConfig, end_tick: int, deadline_s: float,
-           limits: Limits) -> None:
+           limits: Limits, private: bool) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the grading process's to handle
     os_support.die_with_parent()  # the grading process
     try:
-        result = run_one(path, config, end_tick, deadline_s, limits)
+        result = run_one(path, config, end_tick, deadline_s, limits, private)
     except Exception as exc:  # noqa: BLE001 - reported as this submission's crash, never raised
         why = f"{path.name}: grading failed: {type(exc).__name__}: {exc}"
         result = RunResult(RunStatus.CRASHED, message=why, lab_file=path)
@@ -124,10 +164,11 @@ def _context() -> mp.context.BaseContext:
 
 def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: int,
              deadline_s: float = DEFAULT_DEADLINE_S, limits: Limits = NO_LIMITS,
-             timeout_s: float = DEFAULT_TIMEOUT_S,
+             timeout_s: float = DEFAULT_TIMEOUT_S, private: bool = True,
              on_done: Callable[[RunResult], None] | None = None) -> list[RunResult]:
     """Run every lab file in ``paths``, ``jobs`` processes at a time; results in ``paths`` order,
-    each naming its file (``lab_file``) and how long it took in all (``wall_s``).
+    each naming its file (``lab_file``) and how long it took in all (``wall_s``). ``private``:
+    each from a private copy of that one file (see :func:`run_one`).
 
     A process that dies without answering counts as crashed; one that takes longer than
     ``timeout_s`` in all (building included) is killed and counts as hung.
@@ -153,7 +194,8 @@ def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: i
             while pending and len(running) < max(1, jobs):
                 index, path = pending.pop(0)
                 parent, child = ctx.Pipe(duplex=False)
-                proc = ctx.Process(target=_child, args=(child, path, config, end_tick, deadline_s, limits))
+                proc = ctx.Process(target=_child, args=(child, path, config, end_tick, deadline_s, limits,
+                                                        private))
                 proc.start()
                 child.close()
                 running[parent] = (index, path, proc, time.monotonic())
@@ -240,7 +282,8 @@ def write_csv(path: Path, grades: Sequence[Grade]) -> None:
 
 
 def write_junit_grades(path: Path, grades: Sequence[Grade], suite: str) -> None:
-    """A JUnit report: a mismatch is a failure; does not compile, crashed and hung are errors."""
+    """A JUnit report: a mismatch is a failure; does not compile, crashed, forbidden and hung are
+    errors."""
     cases = []
     for g in grades:
         status = {GradeClass.PASS: "pass", GradeClass.MISMATCH: "failure"}.get(g.grade, "error")

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from crslab.lab.build import build_lab
 from crslab.plant.params import REST_MOTOR_RAD
+from crslab.sandbox import resolve as resolve_sandbox
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import Scenario, check_lab, load_scenario
 from crslab.sim.config import STARTUP_TICKS, SimConfig
@@ -34,15 +35,19 @@ def make_config(
     strict: bool = False,
     budget_us: float = 1000.0,
     sanitize: bool = False,
+    sandbox: bool | None = None,
 ) -> SimConfig:
     """Build the lab (cached) and load the scenario into one run's configuration.
 
     The arm's true resting pose is ``rest_motor_rad``, else the scenario's, else the default.
+    ``sandbox``: True requires the sandbox, False turns it off, None (default) uses it when
+    this machine has it (see :func:`crslab.sandbox.resolve`).
     Raises ``ScenarioError`` when the scenario writes a variable the lab does not watch.
     """
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     rest = tuple(float(v) for v in (rest_motor_rad or sc.rest_motor_rad or DEFAULT_REST_MOTOR_RAD))
-    build = build_lab(Path(lab) if lab is not None else None, sanitize=sanitize)
+    sandboxed = resolve_sandbox(sandbox)
+    build = build_lab(Path(lab) if lab is not None else None, sanitize=sanitize, sandboxed=sandboxed)
     check_lab(sc, build)
     return SimConfig(
         build=build,
@@ -52,6 +57,7 @@ def make_config(
         strict_nan=strict,
         budget_ns=int(budget_us * 1000),
         log_signals=log,
+        sandboxed=sandboxed,
     )
 
 

@@ -37,3 +37,4 @@ class SimConfig:
     budget_ns: int = 1_000_000
     log_signals: bool = False
     hand: HandGains = HandGains()
+    sandboxed: bool = True  # compiled and run in crslab.sandbox (it never changes the transcript)

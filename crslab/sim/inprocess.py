@@ -25,7 +25,9 @@ class InProcessRun:
         self._dir = tempfile.TemporaryDirectory(prefix="crslab-inprocess-")
         private = Path(self._dir.name) / "lab.so"
         shutil.copyfile(config.build.shared_object, private)
-        config = dataclasses.replace(config, build=dataclasses.replace(config.build, shared_object=private))
+        # never sandboxed: the sandbox would close this very process
+        config = dataclasses.replace(config, build=dataclasses.replace(config.build, shared_object=private),
+                                     sandboxed=False)
         self._shared = mmap.mmap(-1, shared_size())
         self.worker = Worker(config, self._shared)
         self.worker.sim.time_lab = 0

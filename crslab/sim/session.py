@@ -29,6 +29,7 @@ from crslab.sim.config import SimConfig
 from crslab.sim.running import LiveControl
 from crslab.sim.sanitizer import asan_runtime, summarize_sanitizer_report
 from crslab.sim.status import RunResult, RunStatus
+from crslab.sim.worker_reply import UnreadableReply, receive
 from crslab.sinks.sink import Sink
 
 DEFAULT_DEADLINE_S = 2.0
@@ -46,11 +47,17 @@ def phase_where(phase: int) -> str:
     """
     c = board_constants()
     return {c.CRS_PHASE_IDLE: "between ticks", c.CRS_PHASE_LAB: "in lab()",
-            c.CRS_PHASE_PRINTING: "in printing()", c.CRS_PHASE_PHYSICS: "in the physics step"}.get(phase, "")
+            c.CRS_PHASE_PRINTING: "in printing()", c.CRS_PHASE_PHYSICS: "in the physics step",
+            c.CRS_PHASE_LOADING: "in a constructor or static initializer"}.get(phase, "")
 
 
 class SimError(Exception):
-    """The run could not start (the worker failed before the first tick)."""
+    """The run could not start (the worker failed before the first tick); ``status`` says how
+    (crashed, or forbidden when a constructor tried what the sandbox refuses)."""
+
+    def __init__(self, message: str, status: RunStatus = RunStatus.CRASHED) -> None:
+        super().__init__(message)
+        self.status = status
 
 
 @dataclass(frozen=True)
@@ -121,6 +128,8 @@ class Simulation:
                 "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1",
                 SANITIZER_REPORT_ENV: os.path.join(self.sanitizer_dir, "report.txt"),
             }
+            # one thread, as the sandbox needs: no BLAS thread pool in the fresh interpreter
+            env.update({k: "1" for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")})
             limits = Limits(None, limits.cpu_s, limits.output_bytes)  # ASan reserves terabytes
         else:
             ctx = mp.get_context(os_support.WORKER_START_METHOD)
@@ -139,10 +148,12 @@ class Simulation:
                 else:
                     os.environ[k] = v
         child_conn.close()
-        reply = self._wait_reply(READY_TIMEOUT_S, during_setup=True)
+        reply = self._expect(self._wait_reply(READY_TIMEOUT_S, during_setup=True), ("ready", "failed"), 2)
+        if not isinstance(reply, RunResult) and (reply[0] == "failed" or not isinstance(reply[1], int)):
+            reply = RunResult(RunStatus.CRASHED, 0, f"{self.lab_name}: {reply[1]}")
         if isinstance(reply, RunResult):
             self.close()
-            raise SimError(reply.message)
+            raise SimError(reply.message, reply.status)
         self.symbols = reply[1]
 
     @property
@@ -163,9 +174,10 @@ class Simulation:
             try:
                 self._conn.send(("stop",))
                 if self._conn.poll(2.0):
-                    reply = self._conn.recv()
-                    self.stats = reply[1] or self.stats
-            except (OSError, EOFError, BrokenPipeError):
+                    reply = receive(self._conn)
+                    if isinstance(reply, tuple) and len(reply) == 3 and isinstance(reply[1], dict):
+                        self.stats = reply[1] or self.stats
+            except (OSError, EOFError, BrokenPipeError, UnreadableReply):
                 pass
             self.process.join(2.0)
             if self.process.is_alive():
@@ -185,17 +197,21 @@ class Simulation:
     def _drain_serial(self, take: Callable[[int, bytes], None]) -> int:
         """Hand every serial_printf call's bytes since the last drain to ``take(tick, bytes)``;
         returns how many bytes the board could not keep since then (more in one tick than the
-        shared block holds), which :attr:`serial_dropped` counts too."""
+        shared block holds), which :attr:`serial_dropped` counts too.
+
+        The block is the lab's to scribble on: lengths and offsets are clamped to the block, so
+        nothing but the block is ever read."""
         sh = self.shared
-        dropped = int(sh.serial_dropped)
+        dropped = max(0, int(sh.serial_dropped))
         sh.serial_dropped = 0
         self.serial_dropped += dropped
-        n_bytes, n_marks = int(sh.serial_len), int(sh.mark_count)
+        n_bytes = min(int(sh.serial_len), len(sh.serial))
+        n_marks = min(int(sh.mark_count), len(sh.mark_offset))
         if n_bytes:
             raw = bytes(self.ffi.buffer(sh.serial, n_bytes))
-            offsets = [int(sh.mark_offset[i]) for i in range(n_marks)] + [n_bytes]
+            offsets = [min(int(sh.mark_offset[i]), n_bytes) for i in range(n_marks)] + [n_bytes]
             for i in range(n_marks):
-                take(int(sh.mark_tick[i]), raw[offsets[i]:offsets[i + 1]])
+                take(int(sh.mark_tick[i]), raw[offsets[i]:max(offsets[i], offsets[i + 1])])
         sh.serial_len = 0
         sh.mark_count = 0
         return dropped
@@ -203,7 +219,7 @@ class Simulation:
     # -- watched variables -------------------------------------------------------------------
     def _ask(self, msg: tuple) -> object:
         self._conn.send(msg)
-        reply = self._wait_reply(None)
+        reply = self._expect(self._wait_reply(None), ("value", "error"), 2)
         if isinstance(reply, RunResult):
             raise SimError(reply.message)
         if reply[0] == "error":
@@ -226,6 +242,39 @@ class Simulation:
         self._ask(("push", np.asarray(body_forces, dtype=float).tolist()))
 
     # -- running -----------------------------------------------------------------------------
+    def _refusal(self, code: int | None) -> RunResult | None:
+        """The run stopped by the sandbox: what the lab tried, where and when (None if not)."""
+        record = self.shared.refusal
+        if not record.refused and code != -signal.SIGSYS:
+            return None
+        from crslab.sandbox.refusal import tried
+
+        phase = int(record.phase) if record.refused else int(self.shared.phase)
+        tick = int(record.tick) if record.refused else int(self.shared.tick)
+        what = tried(record, self.ffi, parent_pid=os.getpid()) if record.refused else \
+            "make a system call the sandbox refuses"
+        at = "before the first tick" if phase == board_constants().CRS_PHASE_LOADING else \
+            f"at tick {tick} (t = {tick / 1000:.3f} s)"
+        return RunResult(RunStatus.FORBIDDEN, tick, f"{self.lab_name} was stopped by the sandbox: it tried "
+                         f"to {what} {phase_where(phase)} {at}", self.stats)
+
+    def _expect(self, reply: object, kinds: tuple[str, ...], size: int) -> tuple | RunResult:
+        """``reply`` if it is a tuple of ``size`` whose first item is one of ``kinds``."""
+        if isinstance(reply, RunResult) or (isinstance(reply, tuple) and len(reply) == size
+                                            and reply[0] in kinds):
+            return reply
+        return self._tampered(f"it sent {type(reply).__name__} where {kinds[0]} was due")
+
+    def _tampered(self, what: str) -> RunResult:
+        """The lab wrote into the pipe to crslab (it is unpickled by nobody): the run ends. The
+        worker may have run on a little since, so the tick is an upper bound."""
+        self.process.kill()
+        self.process.join()
+        tick = int(self.shared.tick)
+        return RunResult(RunStatus.FORBIDDEN, tick, f"{self.lab_name} was stopped by the sandbox: it tried "
+                         f"to write into crslab's pipe ({what}) by tick {tick} (t = {tick / 1000:.3f} s)",
+                         self.stats)
+
     def _diagnose_death(self) -> RunResult:
         self.process.join(1.0)
         code = self.process.exitcode
@@ -233,9 +282,12 @@ class Simulation:
         where = phase_where(int(self.shared.phase))
         at = f"at tick {tick} (t = {tick / 1000:.3f} s)"
         report = self._sanitizer_report()
-        if report is not None:
+        if report is not None:  # first: a sanitizer's own report may touch what the sandbox refuses
             where = "" if report.endswith("()") else f" {where}"
             return RunResult(RunStatus.CRASHED, tick, f"{self.lab_name}: {report}{where} {at}", self.stats)
+        refused = self._refusal(code)
+        if refused is not None:
+            return refused
         if code == -signal.SIGXCPU:
             return RunResult(RunStatus.CRASHED, tick, f"{self.lab_name} used up its CPU-time limit "
                              f"({self.limits.cpu_s:g} s) {where} {at}", self.stats)
@@ -264,13 +316,18 @@ class Simulation:
         while True:
             try:
                 if self._conn.poll(0.05):
-                    return self._conn.recv()
+                    return receive(self._conn)
             except (EOFError, ConnectionResetError):
                 pass
+            except UnreadableReply as exc:
+                return self._tampered(str(exc))
             if not self.process.is_alive():
                 if during_setup:
                     self.process.join(1.0)
                     code = self.process.exitcode
+                    refused = self._refusal(code)
+                    if refused is not None:
+                        return refused
                     how = signal.Signals(-code).name if code and code < 0 else f"exit status {code}"
                     return RunResult(RunStatus.CRASHED, 0, f"{self.lab_name} could not be loaded ({how})")
                 return self._diagnose_death()
@@ -331,7 +388,10 @@ class Simulation:
                 step = FAST_SLICE_TICKS if speed is None else max(1, int(REALTIME_SLICE_TICKS * speed))
                 target = min(end_tick, self.tick + step)
                 self._conn.send(("run", target))
-                reply = self._wait_reply(None)
+                reply = self._expect(self._wait_reply(None), ("ran",), 5)
+                if not isinstance(reply, RunResult) and not (isinstance(reply[2], int)
+                                                             and isinstance(reply[3], dict)):
+                    reply = self._tampered("not the reply to a run request")
                 if isinstance(reply, RunResult):
                     self._drain_serial(counted)
                     return ended(reply.status, reply.end_tick, reply.message)

@@ -2,16 +2,24 @@
 
 Messages from the crslab process (tuples): ``("run", until_tick)``, ``("get", name)``,
 ``("set", name, index, value)``, ``("push", body_forces)``, ``("stop",)``. Replies:
-``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of numpy columns;
+``("ready", symbols)`` (or ``("failed", message)`` when the sandbox cannot be entered) first,
+then ``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of numpy columns;
 ``("value", v)`` or ``("error", message)``. Serial bytes never travel through the pipe: the
 board writes them into the shared block, where the crslab process reads them even if this
 process dies.
+
+With ``SimConfig.sandboxed`` the worker builds the plant, then closes itself in the run
+sandbox (crslab/sandbox/run_sandbox.py), then loads the lab: from the lab's first constructor
+on, it may compute and print, and nothing else. Everything this process sends is read by the
+crslab process as untrusted (crslab/sim/worker_reply.py).
 """
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import mmap
+from collections.abc import Iterable
 from multiprocessing.connection import Connection
 from pathlib import Path
 
@@ -21,7 +29,7 @@ from cffi import FFI
 from crslab import crs, os_support
 from crslab.plant.model import Friction, load_model, motor_to_qpos
 from crslab.scenario.lab_events import SIMULINK_INPUTS
-from crslab.sim.board_ffi import board_ffi
+from crslab.sim.board_ffi import board_constants, board_ffi
 from crslab.sim.config import SimConfig
 from crslab.sim.event_effects import apply_event
 
@@ -57,12 +65,11 @@ STAT_FIELDS = (
 class Worker:
     """The plant, the board and the lab, stepped in chunks."""
 
-    def __init__(self, config: SimConfig, shared: mmap.mmap) -> None:
+    def __init__(self, config: SimConfig, shared: mmap.mmap, keep_fds: Iterable[int] = ()) -> None:
         import mujoco
 
         self.config = config
         self.ffi = ffi = board_ffi()
-        self.lib = ffi.dlopen(str(config.build.shared_object))
         self.model = load_model()
         self.data = mujoco.MjData(self.model)
         rest = np.asarray(config.rest_motor_rad, dtype=float)
@@ -71,14 +78,38 @@ class Worker:
         self.rest_dh = crs.motor_to_dh(rest)
         self.identified_friction = Friction.of(self.model)
         """The model's friction before any scenario scaled it."""
+        mj_step = mj_step_address()
+        block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
+        self.watched = {v.name: v for v in config.build.watched}
+        var_ffi = None
+        if self.watched:
+            var_ffi = FFI()
+            var_ffi.cdef("\n".join(v.cdecl for v in self.watched.values()))
+        simulink_ffi = FFI()
+        simulink_ffi.cdef("\n".join(f"extern int {name};" for name in SIMULINK_INPUT_NAMES))
+
+        so = str(config.build.shared_object)
+        self.sandbox = None
+        if config.sandboxed:
+            from crslab.sandbox.run_sandbox import enter_run_sandbox
+
+            self.sandbox = enter_run_sandbox(block, config.build.shared_object, keep_fds,
+                                             sanitizer=config.build.sanitized)
+        block.phase = board_constants().CRS_PHASE_LOADING  # the lab's constructors run now
+        with self.sandbox.loading() if self.sandbox is not None else contextlib.nullcontext():
+            self.lib = ffi.dlopen(so)
+        block.phase = board_constants().CRS_PHASE_IDLE
+        # the same library again: found by its path among those loaded, never opened
+        self.var_lib = var_ffi.dlopen(so) if var_ffi is not None else None
+        self._simulink = simulink_ffi.dlopen(so)
 
         sim = self.sim = ffi.new("crs_sim *")
         self.lib.crs_sim_init(sim)
-        self._keep = [shared]
-        sim.shared = ffi.cast("crs_shared *", ffi.from_buffer(shared))
+        self._keep = [shared, var_ffi, simulink_ffi]
+        sim.shared = block
         sim.mj_model = ffi.cast("void *", self.model._address)
         sim.mj_data = ffi.cast("void *", self.data._address)
-        sim.mj_step = ffi.cast("crs_mj_step_fn", mj_step_address())
+        sim.mj_step = ffi.cast("crs_mj_step_fn", mj_step)
         sim.qpos = self._ptr("double *", self.data.qpos)
         sim.qvel = self._ptr("double *", self.data.qvel)
         sim.ctrl = self._ptr("double *", self.data.ctrl)
@@ -93,17 +124,6 @@ class Worker:
         h = sim.hand
         h.kp_nm_per_rad, h.ki_nm_per_rad_s = config.hand.kp, config.hand.ki
         h.kd_nm_s_per_rad, h.max_nm = config.hand.kd, config.hand.max_nm
-        self.watched = {v.name: v for v in config.build.watched}
-        self.var_lib = None
-        if self.watched:
-            var_ffi = FFI()
-            var_ffi.cdef("\n".join(v.cdecl for v in self.watched.values()))
-            self._keep.append(var_ffi)
-            self.var_lib = var_ffi.dlopen(str(config.build.shared_object))
-        simulink_ffi = FFI()
-        simulink_ffi.cdef("\n".join(f"extern int {name};" for name in SIMULINK_INPUT_NAMES))
-        self._keep.append(simulink_ffi)
-        self._simulink = simulink_ffi.dlopen(str(config.build.shared_object))
         self.events = list(config.scenario.events)
         self.log_blocks: list[dict[str, np.ndarray]] = []
         if config.log_signals:
@@ -191,9 +211,15 @@ class Worker:
 
 def serve(conn: Connection, config: SimConfig, shared_path: str) -> None:
     """Worker entry point: answer ``run`` requests until ``stop`` or the pipe closes."""
+    from crslab.sandbox.run_sandbox import SandboxError
+
     with open(shared_path, "r+b") as f:
         shared = mmap.mmap(f.fileno(), 0)
-    worker = Worker(config, shared)
+    try:
+        worker = Worker(config, shared, keep_fds=[conn.fileno()])
+    except SandboxError as exc:
+        conn.send(("failed", str(exc)))
+        return
     conn.send(("ready", worker.lib.crs_lab_symbols()))
     while True:
         try:

@@ -15,7 +15,21 @@
 
 /* Shared-memory block the worker writes and the crslab process reads, even after a crash. */
 enum { CRS_SERIAL_CAPACITY = 4194304, CRS_MARK_CAPACITY = 65536 };
-enum { CRS_PHASE_IDLE = 0, CRS_PHASE_LAB = 1, CRS_PHASE_PRINTING = 2, CRS_PHASE_PHYSICS = 3 };
+enum { CRS_PHASE_IDLE = 0, CRS_PHASE_LAB = 1, CRS_PHASE_PRINTING = 2, CRS_PHASE_PHYSICS = 3,
+       CRS_PHASE_LOADING = 4 /* the lab's shared object is being loaded: its constructors run */ };
+enum { CRS_REFUSAL_TEXT = 256 };
+
+/* A system call the sandbox refused: written by the worker's SIGSYS handler
+ * (csrc/sandbox/trap.c) just before it ends the worker, read by the crslab process. */
+typedef struct {
+    int32_t refused;        /* 1 once a call was refused */
+    int32_t syscall_nr;     /* its number (native architecture unless arch says otherwise) */
+    uint32_t arch;          /* AUDIT_ARCH_* the call was made with */
+    int32_t phase;          /* CRS_PHASE_* it was made in */
+    int64_t tick;           /* the tick being run */
+    uint64_t args[6];       /* its arguments */
+    char text[CRS_REFUSAL_TEXT]; /* the path it named, NUL-terminated, truncated; else empty */
+} crs_refusal;
 
 typedef struct {
     int64_t tick;       /* tick being run (or next to run when idle) */
@@ -26,6 +40,7 @@ typedef struct {
     uint64_t serial_dropped; /* bytes lost: more printed in one tick than serial[] or the marks hold */
     uint32_t mark_count;    /* entries in marks[] */
     uint32_t pad2;
+    crs_refusal refusal;    /* what the sandbox refused, if anything */
     int64_t mark_tick[CRS_MARK_CAPACITY];   /* tick of each serial_printf call ... */
     uint64_t mark_offset[CRS_MARK_CAPACITY]; /* ... and where its bytes start in serial[] */
     char serial[CRS_SERIAL_CAPACITY];

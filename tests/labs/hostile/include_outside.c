@@ -1,0 +1,34 @@
+/* Hostile test lab: includes a file by absolute path, outside the lab's folder; the compiler's
+ * error message would show its first line. The tests write the secret's path in place of
+ * SECRET_PATH before compiling. */
+#include <tistdtypes.h>
+#include <coecsl.h>
+#include "user_includes.h"
+#include "math.h"
+#include "SECRET_PATH"
+
+float offset_Enc2_rad = -0.42;
+float offset_Enc3_rad = 0.24;
+long mycount = 0;
+
+
+void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2,
+         float *tau3, int error)
+{
+    (void)theta1motor; (void)theta2motor; (void)theta3motor; (void)error;
+    *tau1 = 0;
+    *tau2 = 0;
+    *tau3 = 0;
+    if ((mycount % 500) == 0) {
+        SWI_post(&SWI_printf);
+    }
+    if (mycount == 1023) {
+        mycount = mycount;
+    }
+    mycount++;
+}
+
+void printing(void)
+{
+    serial_printf(&SerialA, "count %ld theta1 %.2f\n\r", mycount, 0.0);
+}
