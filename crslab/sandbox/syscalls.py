@@ -11,7 +11,12 @@ What is allowed is narrowed by its arguments where an argument decides the risk:
   handler cannot be replaced, and SIGSYS cannot be blocked (the handler applies such a mask
   without it);
 - file status: only of a descriptor already open (``fstat``), never of a path;
+- terminals: ``ioctl`` only to ask whether a descriptor is one (``isatty``), never to type
+  into it (``TIOCSTI``) or change it;
 - resource limits: read, never raised.
+
+A ``--sanitize`` run is allowed what the sanitizer runtime needs besides (any mapping size,
+reading its own /proc files and the lab's debug information, through the trap).
 
 No call opens a file, a socket or a process; the worker has no descriptor but its standard
 streams (input is /dev/null) and the pipe to the crslab process. Landlock refuses every file
