@@ -4,10 +4,10 @@ X server, when Xvfb is installed) MuJoCo's viewer follows the arm and a mouse dr
 import os
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
+from waiting import LineWatcher
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -64,19 +64,20 @@ with Simulation(config) as sim:
 
 @pytest.mark.requires("Xvfb")
 def test_with_a_display_a_mouse_drag_in_mujocos_viewer_pushes_the_simulated_arm(tmp_path):
-    display = f":{200 + os.getpid() % 500}"
-    xvfb = subprocess.Popen(["Xvfb", display, "-screen", "0", "800x600x24", "-nolisten", "tcp"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ready_r, ready_w = os.pipe()  # Xvfb writes its display number here once it accepts clients
+    xvfb = subprocess.Popen(["Xvfb", "-displayfd", str(ready_w), "-screen", "0", "800x600x24",
+                             "-nolisten", "tcp"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            pass_fds=(ready_w,))
+    os.close(ready_w)
+    ready = LineWatcher(os.fdopen(ready_r), "Xvfb's -displayfd pipe")
     try:
-        socket = Path(f"/tmp/.X11-unix/X{display[1:]}")
-        end = time.monotonic() + 10
-        while not socket.exists() and time.monotonic() < end:
-            time.sleep(0.05)
-        r = subprocess.run([sys.executable, "-c", DRAG], cwd=ROOT, env={**headless_env(), "DISPLAY": display},
-                           capture_output=True, text=True, timeout=120)
+        number = ready.wait_for(r"^\d+$")[-1].strip()
+        r = subprocess.run([sys.executable, "-c", DRAG], cwd=ROOT, capture_output=True, text=True,
+                           env={**headless_env(), "DISPLAY": f":{number}"}, timeout=120)
     finally:
         xvfb.kill()
         xvfb.wait()
+        ready.all()  # the pipe closed with Xvfb
     assert r.returncode == 0, r.stderr
     up_force_n, th2_before, th2_after = map(float, r.stdout.split())
     assert up_force_n > 10  # the drag became an upward force on the forearm in the worker...

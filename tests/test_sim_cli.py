@@ -1,8 +1,11 @@
 """``crslab sim`` as a student runs it: output, transcript, determinism, and bad input."""
 
+import signal
 import subprocess
 import sys
 from pathlib import Path
+
+from waiting import LineWatcher, wait_exit
 
 LABS = Path(__file__).parent / "labs"
 
@@ -58,17 +61,17 @@ def test_bad_option_and_bad_value():
 
 
 def test_ctrl_c_stops_cleanly_and_keeps_what_was_printed(tmp_path):
-    import signal
-    import time
-
     t = tmp_path / "t.txt"
     cmd = [sys.executable, "-m", "crslab", "sim", "--no-startup-delay", "--transcript", str(t)]
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    time.sleep(3.0)  # real time: prints at 0, 0.5, 1.0 ... s
-    p.send_signal(signal.SIGINT)
-    out, err = p.communicate(timeout=30)
-    assert p.returncode == 130
-    assert err.decode().strip().splitlines()[-1].startswith("crslab sim: interrupted at t = ")
+    try:
+        out, err = LineWatcher(p.stdout, "crslab sim's stdout"), LineWatcher(p.stderr, "crslab sim's stderr")
+        out.wait_for(r"\d", count=6)  # real time: prints at 0, 0.5, 1.0 ... s; the sixth is at 2.5 s
+        p.send_signal(signal.SIGINT)
+        assert wait_exit(p, "Ctrl-C (SIGINT)") == 130
+    finally:
+        p.kill()
+    assert err.all().decode().strip().splitlines()[-1].startswith("crslab sim: interrupted at t = ")
     raw = t.read_bytes()
     assert raw.count(b"\n\r") >= 6
-    assert out == raw.replace(b"\n\r", b"\n")
+    assert out.all() == raw.replace(b"\n\r", b"\n")

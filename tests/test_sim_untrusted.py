@@ -4,7 +4,6 @@ process is left behind."""
 
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -30,7 +29,7 @@ def last_line(r):
 
 
 def no_process_left(lab):
-    time.sleep(0.2)
+    """No process runs ``lab`` once crslab has exited: it stops and reaps its worker before exiting."""
     found = subprocess.run(["pgrep", "-f", str(FAULTY / lab)], capture_output=True, text=True)
     return found.stdout.strip() == ""
 
@@ -55,9 +54,7 @@ def test_crash_is_one_line_and_keeps_the_transcript(lab, diagnosis, tmp_path):
 @pytest.mark.parametrize("lab, func, tick", [("hang_in_lab.c", "lab()", 5123),
                                              ("hang_in_printing.c", "printing()", 5100)])
 def test_hang_is_stopped_and_named(lab, func, tick, tmp_path):
-    start = time.monotonic()
-    r, transcript = sim(lab, tmp_path, "--deadline", "0.5")
-    assert time.monotonic() - start < 30
+    r, transcript = sim(lab, tmp_path, "--deadline", "0.5")  # (sim's timeout guards against no stop at all)
     assert r.returncode == 4
     assert last_line(r) == (f"crslab sim: {lab} hung: {func} did not return within 0.5 s "
                             f"at tick {tick} (t = {tick / 1000:.3f} s)")

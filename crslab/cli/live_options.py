@@ -1,8 +1,9 @@
 """The options of ``crslab sim`` that open windows into the running lab.
 
 ``--rerun`` / ``--rrd FILE`` (rerun scopes and 3D), ``--csv FILE`` (the same signals as a table),
-``--pty`` / ``--pty-link PATH`` (the serial line on a pseudo-terminal), ``--viewer`` (MuJoCo's
-viewer), and the live-variable commands read from standard input while the run goes on.
+``--pty`` / ``--pty-link PATH`` / ``--pty-wait`` (the serial line on a pseudo-terminal),
+``--viewer`` (MuJoCo's viewer), and the live-variable commands read from standard input while the
+run goes on.
 
 :class:`LiveRun` checks the options before the worker starts (bad paths are one-line errors),
 and starts everything that spawns threads or windows only after the worker was forked
@@ -42,6 +43,9 @@ def add_live_options(p: argparse.ArgumentParser) -> None:
                    "for miniterm, picocom or screen; bytes sent while no terminal is attached are dropped")
     g.add_argument("--pty-link", type=Path, metavar="PATH",
                    help="keep a symlink at PATH to the pseudo-terminal (implies --pty)")
+    g.add_argument("--pty-wait", action="store_true",
+                   help="start the run only once a terminal has opened the pseudo-terminal, so it misses "
+                   "nothing printed (implies --pty)")
     g.add_argument("--viewer", action="store_true",
                    help="open MuJoCo's viewer on the arm (Ctrl + right-drag on a link pushes it)")
     g.add_argument("--no-stdin", action="store_true",
@@ -101,7 +105,8 @@ class LiveRun:
     def start(self, out: FanOut) -> None:
         """Open everything (after the worker was forked): the sinks join ``out``, which closes them."""
         a = self.args
-        if a.pty or a.pty_link:
+        pty = None
+        if a.pty or a.pty_link or a.pty_wait:
             from crslab.sinks.serial_pty import PtyError, PtySink
 
             try:
@@ -140,3 +145,7 @@ class LiveRun:
             console = VarConsole(self.config.build.watched)
             console.start()
             self.controls.insert(0, console)
+        if pty is not None and a.pty_wait:  # last: once attached, the first tick follows at once
+            self.status(f"waiting for a terminal on {pty.link or pty.path} before the first tick "
+                        "(Ctrl-C to give up)")
+            pty.wait_attached()

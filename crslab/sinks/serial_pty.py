@@ -10,6 +10,8 @@ opened the port. (A pseudo-terminal would otherwise keep up to a few kB for the 
 crslab checks for a reader before each write and discards anything left unread when the
 reader goes away.) A reader that is attached but does not keep up never slows the simulation:
 writes never block, and what does not fit in the terminal's buffer is dropped and counted.
+To see everything from the first tick on, start the run only once the terminal is attached
+(:meth:`PtySink.wait_attached`, ``--pty-wait``), as one opens Tera Term before starting the board.
 """
 
 from __future__ import annotations
@@ -76,6 +78,13 @@ class PtySink(Sink):
             self._discard_unread()
         self._attached = now
         return now
+
+    def wait_attached(self, poll_s: float = 0.05) -> None:
+        """Block until a terminal program opens the port (``--pty-wait``); Ctrl-C stops waiting."""
+        import time
+
+        while not self.attached():
+            time.sleep(poll_s)  # a pseudo-terminal signals no event when its terminal end is opened
 
     def _discard_unread(self) -> None:
         """Drop what the last reader left unread, so a new reader starts fresh."""
