@@ -1,7 +1,10 @@
 """``make bench``: run every tools/benchmarks/bench_*.py in one process and print its ratios.
 
-Each benchmark module has ``run() -> list[str]`` returning the lines to print. A benchmark
-that fails prints its error and the run exits non-zero after the others have run.
+Each benchmark module has ``run() -> list[str]`` returning the lines to print; every line says
+what it measures and, beside a ratio, the target an issue set. A benchmark that fails prints its
+error and the run exits non-zero after the others have run. Other modules in ``benchmarks/``
+(no ``bench_`` prefix) are helpers the benchmarks import. ``python tools/bench.py sim scopes``
+runs only those.
 """
 
 from __future__ import annotations
@@ -13,6 +16,7 @@ import traceback
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE / "benchmarks"))  # the benchmarks' helper modules
 
 
 def main() -> int:

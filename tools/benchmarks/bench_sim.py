@@ -1,25 +1,47 @@
-"""Issue 3: simulated throughput of ``crslab sim --fast`` on the default lab and tour against
-MuJoCo's own fastest physics-only run of the same model (``mujoco.rollout``, zero controls, no
-Python per step) for the same number of 1 ms steps (target ratio >= 0.8); and the time from
-command start to the first lab() call with a cached build (target < 1 s)."""
+"""Issues 3 and 19: the simulator's throughput against physics-only baselines doing the same
+physics, and the command as a user runs it.
+
+Everything runs crslab's default lab (Lab 1) on the default scenario (the tour, 25 000 ticks).
+
+* **crslab, API**: ticks per second of ``Simulation.run`` at ``--fast``, the worker already
+  started (not timed): per tick the framework, ``lab()`` (timed, as ``crslab sim`` does), the
+  hand, ``mj_step``; per chunk the pipe and the serial bytes. Best of ``REPEATS``, each in a
+  fresh worker.
+* **bare C loop** (``bare_mj_step.c``, see ``baselines.py``): ``mj_step`` of the same
+  ``libmujoco`` on the same model, replaying the ``ctrl`` and ``qfrc_applied`` recorded from the
+  same run tick by tick, nothing else per step; it must end in that run's state bit for bit.
+  Best of ``REPEATS`` processes x 2 passes (the later passes warm): the strongest baseline.
+  Target (issue 19): crslab >= 0.9 of it.
+* **mujoco.rollout** of the same recorded controls and forces, one call from Python (it also
+  stores every step's state), same final-state check. Best of ``REPEATS``. Target (issue 3):
+  crslab >= 0.8 of it.
+* **the command as a user runs it**: ``crslab sim --fast`` (the console script, stdin from
+  /dev/null, stdout and stderr to files), timed from process start to exit: interpreter and
+  import, lab build (cached), worker start-up, the run, shutdown. Best of ``REPEATS``.
+* **start-up**: the same, with ``--no-startup-delay --duration 0.001`` (one ``lab()`` call):
+  an upper bound on the time from command start to the first ``lab()`` call. Target (issue 3):
+  < 1 s.
+
+The measurements are interleaved, so every side sees the same machine load.
+"""
 
 from __future__ import annotations
 
 import subprocess
 import sys
+import tempfile
 import time
+from pathlib import Path
 
-import mujoco
 import numpy as np
-from mujoco import rollout
+from baselines import build_bare_loop, record_run, rollout_run, run_bare_loop, same_physics
 
-from crslab.plant.model import load_model, motor_to_qpos
-from crslab.plant.params import REST_MOTOR_RAD
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
 from crslab.sinks.sink import Sink
 
 REPEATS = 5
+CRSLAB = Path(sys.executable).with_name("crslab")  # the console script, as a user runs it
 
 
 def sim_rate(config, ticks: int) -> float:
@@ -32,43 +54,62 @@ def sim_rate(config, ticks: int) -> float:
     return ticks / dt
 
 
-def rollout_rate(ticks: int) -> float:
-    model = load_model()
-    data = mujoco.MjData(model)
-    data.qpos[:3] = motor_to_qpos(np.asarray(REST_MOTOR_RAD))
-    mujoco.mj_forward(model, data)
-    state = np.empty((1, mujoco.mj_stateSize(model, mujoco.mjtState.mjSTATE_FULLPHYSICS)))
-    mujoco.mj_getState(model, data, state[0], mujoco.mjtState.mjSTATE_FULLPHYSICS)
-    control = np.zeros((1, ticks, model.nu))
-    t = time.perf_counter()
-    rollout.rollout(model, data, state, control)
-    return ticks / (time.perf_counter() - t)
-
-
-def first_lab_call_s() -> float:
-    """Wall time of a whole `crslab sim` that makes one lab() call (upper bound on start-up)."""
-    cmd = [sys.executable, "-m", "crslab", "sim", "--fast", "--no-startup-delay", "--duration", "0.001"]
-    subprocess.run(cmd, check=True, capture_output=True)  # make sure the build is cached
-    best = np.inf
-    for _ in range(REPEATS):
+def command_s(args: list[str], out_dir: Path) -> float:
+    """Wall time of ``crslab ARGS`` from process start to exit, stdout and stderr to files."""
+    with open(out_dir / "stdout.txt", "wb") as out, open(out_dir / "stderr.txt", "wb") as err:
         t = time.perf_counter()
-        subprocess.run(cmd, check=True, capture_output=True)
-        best = min(best, time.perf_counter() - t)
-    return best
+        code = subprocess.run([str(CRSLAB), *args], stdin=subprocess.DEVNULL, stdout=out,
+                              stderr=err).returncode
+        dt = time.perf_counter() - t
+    if code != 0:
+        raise RuntimeError(f"crslab {' '.join(args)} exited {code}: {(out_dir / 'stderr.txt').read_text()}")
+    return dt
 
 
 def run() -> list[str]:
     config = make_config()  # the default lab and the tour
     ticks = config.scenario.end_tick
-    sims, rollouts = [], []
-    for _ in range(REPEATS):  # interleaved, best of each: both see the same machine load
-        sims.append(sim_rate(config, ticks))
-        rollouts.append(rollout_rate(ticks))
-    sim, physics = max(sims), max(rollouts)
-    start = first_lab_call_s()
+    rec = record_run(config, ticks)
+    fast, first_call = ["sim", "--fast"], ["sim", "--fast", "--no-startup-delay", "--duration", "0.001"]
+    with tempfile.TemporaryDirectory(prefix="crslab-bench-") as tmp:
+        tmp = Path(tmp)
+        exe = build_bare_loop(tmp)
+        controls = rec.save(tmp / "controls.bin")
+        command_s(fast, tmp)  # the lab build is cached before anything is timed
+        sims, bare, rolls, commands, starts = [], [], [], [], []
+        for _ in range(REPEATS):  # interleaved: every side sees the same machine load
+            sims.append(sim_rate(config, ticks))
+            loop = run_bare_loop(exe, controls, passes=2)
+            same_physics(rec, loop.qpos_end, loop.qvel_end, "the bare C loop")
+            assert loop.ticks == ticks
+            bare += [ticks / s for s in loop.pass_s]
+            seconds, qpos, qvel = rollout_run(rec)
+            same_physics(rec, qpos, qvel, "mujoco.rollout")
+            rolls.append(ticks / seconds)
+            commands.append(command_s(fast, tmp))
+            starts.append(command_s(first_call, tmp))
+    sim, c_loop, roll = max(sims), max(bare), max(rolls)
+    command, start = min(commands), min(starts)
     return [
-        f"crslab sim --fast (Lab 1, tour, {ticks} ticks): {sim:,.0f} ticks/s",
-        f"mujoco.rollout physics only, same model and steps: {physics:,.0f} steps/s",
-        f"ratio {sim / physics:.2f} (target >= 0.8)",
-        f"command start to first lab() call (cached build): {start:.2f} s (target < 1 s)",
+        f"same physics on both sides: Lab 1 on the tour, {ticks} ticks; the replays of the run's recorded "
+        f"ctrl and qfrc_applied end in its state bit for bit (max |qfrc_applied| "
+        f"{np.abs(rec.qfrc_applied).max():.1f} N.m)",
+        f"crslab Simulation.run --fast (API, worker started; framework + lab() + hand + mj_step + pipe), "
+        f"best of {REPEATS}: {sim:,.0f} ticks/s",
+        f"bare C loop (copy ctrl, qfrc_applied; mj_step; same libmujoco), best of {2 * REPEATS} passes: "
+        f"{c_loop:,.0f} steps/s",
+        f"  ratio crslab API / bare C loop: {sim / c_loop:.2f} (target >= 0.9, issue 19)",
+        f"mujoco.rollout of the same controls and forces (one call, stores each state), best of {REPEATS}: "
+        f"{roll:,.0f} steps/s",
+        f"  ratio crslab API / mujoco.rollout: {sim / roll:.2f} (target >= 0.8, issue 3)",
+        f"`crslab sim --fast` as a user runs it (process start to exit, stdout to a file), "
+        f"best of {REPEATS}: {command:.2f} s for the {ticks / 1000:g} s tour = "
+        f"{ticks / command:,.0f} ticks/s, {ticks / command / c_loop:.2f} of the bare C loop (no target)",
+        f"`crslab sim --fast --no-startup-delay --duration 0.001` process start to exit (bounds "
+        f"command start to first lab() call; cached build), best of {REPEATS}: {start:.2f} s "
+        f"(target < 1 s, issue 3)",
     ]
+
+
+if __name__ == "__main__":
+    print("\n".join(run()))
