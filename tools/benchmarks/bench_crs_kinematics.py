@@ -1,4 +1,6 @@
-"""Issue 2: batch FK and IK of 1,000,000 CRS points, C core vs vectorized numpy (target >= 3x)."""
+"""Issue 2: batch FK and IK of 1,000,000 CRS points in one call, crslab's C core (``crs.fk``,
+``crs.ik``) vs the same formulas in vectorized numpy, best of 3 calls each, results checked equal
+(target >= 3x)."""
 
 from __future__ import annotations
 
@@ -43,11 +45,11 @@ def run():
     t_c, p_c = best_of(crs.fk, q)
     t_np, p_np = best_of(numpy_fk, q)
     assert np.allclose(p_c, p_np, atol=1e-9)
-    lines.append(f"FK  C {N / t_c / 1e6:6.1f} M pts/s   numpy {N / t_np / 1e6:6.1f} M pts/s   "
-                 f"ratio {t_np / t_c:5.2f}x (target >= 3x)")
+    lines.append(f"FK  {N} points in one call, best of 3: C core {N / t_c / 1e6:6.1f} M pts/s, numpy "
+                 f"{N / t_np / 1e6:6.1f} M pts/s, ratio {t_np / t_c:5.2f}x (target >= 3x, issue 2)")
     t_c, q_c = best_of(crs.ik, p_c)
     t_np, q_np = best_of(numpy_ik, p_c)
     assert np.allclose(crs.fk(q_c), p_c, atol=1e-9) and np.allclose(numpy_fk(q_np), p_c, atol=1e-9)
-    lines.append(f"IK  C {N / t_c / 1e6:6.1f} M pts/s   numpy {N / t_np / 1e6:6.1f} M pts/s   "
-                 f"ratio {t_np / t_c:5.2f}x (target >= 3x)")
+    lines.append(f"IK  {N} points in one call, best of 3: C core {N / t_c / 1e6:6.1f} M pts/s, numpy "
+                 f"{N / t_np / 1e6:6.1f} M pts/s, ratio {t_np / t_c:5.2f}x (target >= 3x, issue 2)")
     return lines
