@@ -75,3 +75,25 @@ def test_ctrl_c_stops_cleanly_and_keeps_what_was_printed(tmp_path):
     raw = t.read_bytes()
     assert raw.count(b"\n\r") >= 6
     assert out.all() == raw.replace(b"\n\r", b"\n")
+
+
+def test_a_ctrl_c_while_a_chunk_goes_to_the_sinks_waits_until_every_sink_has_it():
+    from crslab.sim.api import make_config
+    from crslab.sim.session import FAST_SLICE_TICKS, Simulation
+    from crslab.sim.status import RunStatus
+    from crslab.sinks.memory import MemorySink
+    from crslab.sinks.sink import FanOut
+
+    class CtrlCAtSecondLine(MemorySink):  # as if Ctrl-C were pressed between the two sinks
+        def on_serial(self, tick, data):
+            super().on_serial(tick, data)
+            if len(self.calls) == 2:
+                signal.raise_signal(signal.SIGINT)
+
+    first, second = CtrlCAtSecondLine(), MemorySink()
+    with Simulation(make_config(startup_delay=False)) as sim:
+        result = sim.run(2 * FAST_SLICE_TICKS, FanOut([first, second]))
+    assert result.status is RunStatus.INTERRUPTED
+    # the whole first chunk reached both sinks, once: a print (three lines) every 500 ticks
+    assert first.calls == second.calls
+    assert [t for t, _ in first.calls] == [t for t in range(0, FAST_SLICE_TICKS, 500) for _ in range(3)]

@@ -15,8 +15,10 @@ import resource
 import signal
 import sys
 import tempfile
+import threading
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from pathlib import Path
@@ -90,6 +92,47 @@ def _child(conn: Connection, config: SimConfig, shared_path: str, limits: Limits
 
     serve(conn, config, shared_path)
     os._exit(0)
+
+
+class CtrlC:
+    """Ctrl-C (SIGINT) during a run, in the main thread: raised as ``KeyboardInterrupt`` at once,
+    except while a chunk's bytes are being handed to the sinks (:meth:`held`), where it waits
+    until every sink has them, so stdout and the transcript never differ. Elsewhere (another
+    thread, a handler of the caller's own) it leaves SIGINT alone."""
+
+    def __init__(self) -> None:
+        self.holding = False
+        self.pending = False
+        self._old: object = None
+
+    def __enter__(self) -> CtrlC:
+        if (threading.current_thread() is threading.main_thread()
+                and signal.getsignal(signal.SIGINT) is signal.default_int_handler):
+            self._old = signal.signal(signal.SIGINT, self._on_sigint)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._old is not None:
+            signal.signal(signal.SIGINT, self._old)
+            self._old = None
+
+    def _on_sigint(self, signum: int, frame: object) -> None:
+        if self.holding:
+            self.pending = True
+        else:
+            raise KeyboardInterrupt
+
+    @contextmanager
+    def held(self) -> Iterator[None]:
+        """Hold a Ctrl-C back until the block is done, then raise it."""
+        self.holding = True
+        try:
+            yield
+        finally:
+            self.holding = False
+        if self.pending:
+            self.pending = False
+            raise KeyboardInterrupt
 
 
 class Simulation:
@@ -383,45 +426,50 @@ class Simulation:
             return RunResult(status, tick, message, stats, lab_file=self.config.build.source,
                              wall_s=time.monotonic() - wall0)
 
-        try:
-            while self.tick < end_tick:
-                step = FAST_SLICE_TICKS if speed is None else max(1, int(REALTIME_SLICE_TICKS * speed))
-                target = min(end_tick, self.tick + step)
-                self._conn.send(("run", target))
-                reply = self._expect(self._wait_reply(None), ("ran",), 5)
-                if not isinstance(reply, RunResult) and not (isinstance(reply[2], int)
-                                                             and isinstance(reply[3], dict)):
-                    reply = self._tampered("not the reply to a run request")
-                if isinstance(reply, RunResult):
-                    self._drain_serial(counted)
-                    return ended(reply.status, reply.end_tick, reply.message)
-                _, code, self.tick, self.stats, log = reply
-                lost = self._drain_serial(counted)
-                printed += lost  # what was lost counts toward the limit too
-                if printed > cap:
-                    return ended(RunStatus.OUTPUT_LIMIT, self.tick,
-                                 f"{self.lab_name} printed more than {cap / 1e6:g} MB; the run was cut off "
-                                 f"at tick {self.tick} (t = {self.tick / 1000:.3f} s)")
-                if log is not None:
-                    sink.on_log(log)
-                sink.flush()
-                for control in controls:
-                    control.serve(self)
-                if code == board_constants().CRS_RUN_NAN_STRICT:
-                    return ended(RunStatus.NAN, self.tick)
-                if speed is not None:
-                    due = wall0 + (self.tick - tick0) / 1000.0 / speed
-                    lag = time.monotonic() - due
-                    if lag < 0:
-                        time.sleep(-lag)
-                    elif lag > 0.5 and not warned and on_behind is not None:
-                        sim_s = (self.tick - tick0) / 1000.0
-                        on_behind(sim_s / (time.monotonic() - wall0))
-                        warned = True
-        except KeyboardInterrupt:
-            self.process.kill()
-            self.process.join()
-            self._drain_serial(counted)
-            tick = int(self.shared.tick)
-            return ended(RunStatus.INTERRUPTED, tick, f"interrupted at t = {tick / 1000:.3f} s")
+        with CtrlC() as ctrl_c:
+            try:
+                while self.tick < end_tick:
+                    step = FAST_SLICE_TICKS if speed is None else max(1, int(REALTIME_SLICE_TICKS * speed))
+                    target = min(end_tick, self.tick + step)
+                    self._conn.send(("run", target))
+                    reply = self._expect(self._wait_reply(None), ("ran",), 5)
+                    if not isinstance(reply, RunResult) and not (isinstance(reply[2], int)
+                                                                 and isinstance(reply[3], dict)):
+                        reply = self._tampered("not the reply to a run request")
+                    if isinstance(reply, RunResult):
+                        with ctrl_c.held():
+                            self._drain_serial(counted)
+                        return ended(reply.status, reply.end_tick, reply.message)
+                    _, code, self.tick, self.stats, log = reply
+                    with ctrl_c.held():  # every sink gets all of the chunk, or none of it
+                        lost = self._drain_serial(counted)
+                        printed += lost  # what was lost counts toward the limit too
+                        if printed <= cap:
+                            if log is not None:
+                                sink.on_log(log)
+                            sink.flush()
+                    if printed > cap:
+                        return ended(RunStatus.OUTPUT_LIMIT, self.tick,
+                                     f"{self.lab_name} printed more than {cap / 1e6:g} MB; the run was cut "
+                                     f"off at tick {self.tick} (t = {self.tick / 1000:.3f} s)")
+                    for control in controls:
+                        control.serve(self)
+                    if code == board_constants().CRS_RUN_NAN_STRICT:
+                        return ended(RunStatus.NAN, self.tick)
+                    if speed is not None:
+                        due = wall0 + (self.tick - tick0) / 1000.0 / speed
+                        lag = time.monotonic() - due
+                        if lag < 0:
+                            time.sleep(-lag)
+                        elif lag > 0.5 and not warned and on_behind is not None:
+                            sim_s = (self.tick - tick0) / 1000.0
+                            on_behind(sim_s / (time.monotonic() - wall0))
+                            warned = True
+            except KeyboardInterrupt:
+                ctrl_c.holding = True  # another Ctrl-C now waits for the last bytes too
+                self.process.kill()
+                self.process.join()
+                self._drain_serial(counted)
+                tick = int(self.shared.tick)
+                return ended(RunStatus.INTERRUPTED, tick, f"interrupted at t = {tick / 1000:.3f} s")
         return ended(RunStatus.OK, self.tick)
