@@ -98,7 +98,7 @@ def run():
             f"(target >= {TOUR_TARGET}, issue 19) [{run_s:.2f} s vs {run0:.2f} s]; process time ratio "
             f"{process0 / process_s:.2f} [{process_s:.2f} s vs {process0:.2f} s]",
             f"{' ' * len(name)}  steady rate {rate[name]:.1f} x real time, {steady:.2f} of plain's "
-            f"(target >= {STEADY_TARGET}, issue 6); start-up +{extra_s:.2f} s over plain's",
+            f"(target >= {STEADY_TARGET}, issue 6); start-up {extra_s:+.2f} s over plain's",
         ]
     return lines
 
