@@ -16,7 +16,6 @@ import secrets
 import shutil
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
@@ -100,7 +99,6 @@ def last_line(r):
 
 
 def no_process_left(path):
-    time.sleep(0.2)
     return subprocess.run(["pgrep", "-f", str(path)], capture_output=True).stdout.strip() == b""
 
 

@@ -96,9 +96,9 @@ def test_the_compile_sandbox_builds_a_lab_and_refuses_an_outside_include(compile
 
 def test_the_worker_must_be_one_thread_to_enter_the_sandbox():
     r = run_python("""
-        import threading, time
+        import threading
         from crslab.sandbox.run_sandbox import SandboxError, enter_run_sandbox
-        threading.Thread(target=time.sleep, args=(5,), daemon=True).start()
+        threading.Thread(target=threading.Event().wait, daemon=True).start()  # a second thread
         try:
             enter_run_sandbox(None, "/nonexistent.so")
         except SandboxError as exc:
