@@ -77,7 +77,7 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
     options = recorded.overridden(scenario=given, duration_s=duration_s, rest_motor_rad=rest_motor_rad,
                                   startup_delay=startup_delay)
     config = make_config(lab_path, options.scenario, startup_delay=options.startup_delay is not False,
-                         rest_motor_rad=options.rest_motor_rad)
+                         rest_motor_rad=options.rest_motor_rad, motor_board=options.motor_board)
     end_tick = config.scenario.end_tick if options.duration_s is None else seconds_to_tick(options.duration_s)
     result = run_lab(config, end_tick, deadline_s=deadline_s or DEFAULT_DEADLINE_S)
     if not result.ok:

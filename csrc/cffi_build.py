@@ -3,7 +3,8 @@
 The Python-visible declarations are read from the public headers listed in ``HEADERS``
 (crslab/cheaders.py drops preprocessor lines and ``static const`` initialisers), so every fact
 and every prototype is written once, in its header. Every ``*.c`` file under ``csrc/kin``
-is compiled in.
+is compiled in. The course framework's numbers (``csrc/sim/framework_facts.h``, declarations
+only) come along so that Python reads them from the same header the emulated board is built with.
 """
 
 from __future__ import annotations
@@ -17,8 +18,9 @@ from cffi import FFI
 
 HERE = Path(__file__).resolve().parent
 KIN = HERE / "kin"
+SIM = HERE / "sim"
 # vector_math.h is internal (attributes, no API); every other header is the Python-visible API.
-HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h")
+HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [SIM / "framework_facts.h"]
 SOURCES = sorted(KIN.glob("*.c"))
 C_FLAGS = ["-std=c11", "-O3", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-fno-trapping-math"]
 # glibc's vector math (libmvec) backs the vectorized batch loops on x86-64 Linux.
@@ -42,7 +44,7 @@ ffibuilder.set_source(
     "crslab._core",
     "\n".join(f'#include "{h.name}"' for h in HEADERS),
     sources=[str(s.relative_to(HERE.parent)) for s in SOURCES],
-    include_dirs=[str(KIN.relative_to(HERE.parent))],
+    include_dirs=[str(KIN.relative_to(HERE.parent)), str(SIM.relative_to(HERE.parent))],
     extra_compile_args=C_FLAGS,
     libraries=LIBRARIES,
 )

@@ -68,10 +68,10 @@ def test_a_lab_with_one_sign_flipped_in_its_ik_fails_at_the_first_wrong_line_and
     assert r.returncode == 1
     report = r.stdout.splitlines()
     # the first print (t = 4.100 s): line 1 motor angles, line 2 x y z, line 3 the IK's motor angles
-    assert report[0].startswith("mismatch: ") and "first at line 3 (t = 4.100 s): number 2 is 76.25, " \
-        "expected -24.06 (off by 100.31)" in report[0]
-    assert report[1].startswith("line 3 at t = 4.100 s: number 2 is 76.25, expected -24.06")
-    assert report[2:4] == ["  expected: 0.00 -24.06 13.75", "  got:      0.00 76.25 114.06"]
+    assert report[0].startswith("mismatch: ") and "first at line 3 (t = 4.100 s): number 2 is 76.24, " \
+        "expected -24.06 (off by 100.3)" in report[0]
+    assert report[1].startswith("line 3 at t = 4.100 s: number 2 is 76.24, expected -24.06")
+    assert report[2:4] == ["  expected: 0.00 -24.06 13.75", "  got:      0.00 76.24 114.06"]
     failure = ET.parse(junit).getroot().find("testsuite/testcase/failure")
     assert failure is not None and "line 3 at t = 4.100 s" in failure.text
 

@@ -43,7 +43,7 @@ def test_each_submission_is_classed_and_grading_finishes(graded):
     rows = {line.split()[0]: line for line in r.stdout.splitlines()[1:-1]}
     assert sorted(rows) == ["broken.c", "crash.c", "good.c", "hang.cpp", "wrong.c"]
     assert rows["good.c"].split()[1] == "pass"
-    assert " mismatch " in rows["wrong.c"] and "line 3 (t = 4.100 s): number 2 is 76.25" in rows["wrong.c"]
+    assert " mismatch " in rows["wrong.c"] and "line 3 (t = 4.100 s): number 2 is 76.24" in rows["wrong.c"]
     assert " does not compile " in rows["broken.c"] and "broken.c:9:13: error:" in rows["broken.c"]
     assert " crashed " in rows["crash.c"] and "SIGSEGV) in lab() at tick 5100" in rows["crash.c"]
     assert " hung " in rows["hang.cpp"]

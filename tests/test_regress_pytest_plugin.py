@@ -44,7 +44,7 @@ def test_record_then_check_then_a_wrong_lab_fails_with_the_report(tmp_path):
     r = pytest_in(repo)
     assert r.returncode == 1
     assert "lab1.c on tour against lab1_tour.txt: mismatch:" in r.stdout
-    assert "line 3 at t = 4.100 s: number 2 is 76.25, expected -24.06" in r.stdout
+    assert "line 3 at t = 4.100 s: number 2 is 76.24, expected -24.06" in r.stdout
     assert "Traceback" not in r.stdout
 
 

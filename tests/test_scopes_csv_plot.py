@@ -67,7 +67,7 @@ def test_plot_only_draws_the_groups_a_csv_holds(tmp_path):
     path.write_text("tick,t [s],tau1 [command units],safety [0/1]\n0,0,1.5,0\n1,0.001,2,1\n")
     t, values = read_scope_csv(path)
     fig = scope_figure(t, values, "cut")
-    assert [ax.get_title(loc="left") for ax in fig.axes] == ["torques", "safety flag and LEDs"]
+    assert [ax.get_title(loc="left") for ax in fig.axes] == ["torques", "safety flag, LEDs, motor board"]
 
 
 def test_plot_bad_input_is_one_line_and_status_2(tmp_path, capsys):

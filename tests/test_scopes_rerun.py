@@ -1,7 +1,9 @@
 """--rrd: a run's rerun recording, read back with rerun's own API, holds what Simulink and Tera Term saw."""
 
+import math
 import subprocess
 import sys
+from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -89,24 +91,35 @@ def test_simulink_and_scopes_agree_with_the_printed_values(recorded):
         motor_deg = [float(v) for v in lines[3 * k].split()]
         xyz_in = [float(v) for v in lines[3 * k + 1].split()]
         plot = s_values[int(np.searchsorted(s_ticks, tick))]  # Lab 1 plots theta1..3motor and z
-        np.testing.assert_allclose(np.degrees(plot[:3]), motor_deg, atol=0.005 + np.degrees(1e-4))
-        assert abs(plot[3] - xyz_in[2]) <= 0.005 + 1e-4
+        # Lab 1 is a Gen A lab: its printf truncates, so a printed %.2f is up to 0.01 off
+        np.testing.assert_allclose(np.degrees(plot[:3]), motor_deg, atol=0.01 + np.degrees(1e-4))
+        assert abs(plot[3] - xyz_in[2]) <= 0.01 + 1e-4
         motor = m_values[int(np.searchsorted(m_ticks, tick))]  # every tick, what lab() received
-        np.testing.assert_allclose(np.degrees(motor), motor_deg, atol=0.005 + 1e-9)
-        np.testing.assert_allclose(crs.fk(np.array(motor)), xyz_in, atol=0.005 + 1e-6)
+        np.testing.assert_allclose(np.degrees(motor), motor_deg, atol=0.01 + 1e-5)
+        np.testing.assert_allclose(crs.fk(np.array(motor)), xyz_in, atol=0.01 + 1e-5)
 
 
-def test_serial_lines_are_the_transcript_at_their_tick(recorded):
+def test_serial_lines_are_the_transcript_at_the_tick_they_reach_tera_term(recorded):
     tmp, _, entities = recorded
     ticks, text = timed(entities["/serial"], "TextLog:text")
-    assert [t[0] for t in text] == printed(tmp)
-    assert ticks.tolist() == [t for t in PRINT_TICKS for _ in range(3)]
+    lines = printed(tmp)
+    assert [t[0] for t in text] == lines
+    # each print's three lines leave an idle serial line at 11.52 characters per ms: a line shows
+    # in the tick during which its "\n" has left (character c leaves at c * 10 bits / 115200 baud)
+    want = []
+    for k, tick in enumerate(PRINT_TICKS):
+        before = 0
+        for line in lines[3 * k:3 * k + 3]:
+            newline = before + len(line) + 1
+            want.append(tick + math.ceil(Fraction(newline * 10, 115200) * 1000) - 1)
+            before += len(line) + 2
+    assert ticks.tolist() == want
 
 
 def test_every_tick_has_motor_angles_torques_and_the_safety_flag(recorded):
     _, _, entities = recorded
     for entity, width in [("/scopes/motor_angle", 3), ("/scopes/torque/lab", 3),
-                          ("/scopes/torque/applied", 3), ("/scopes/digital", 3)]:
+                          ("/scopes/torque/applied", 3), ("/scopes/digital", 4)]:
         ticks, values = timed(entities[entity], "Scalars:scalars")
         assert ticks.tolist() == list(range(8000)) and {len(v) for v in values} == {width}
     _, digital = timed(entities["/scopes/digital"], "Scalars:scalars")

@@ -34,6 +34,8 @@ def test_set_whattoprint_changes_the_next_print_and_get_reads_arrays():
         out = MemorySink()
         sim.run(5200, out)
         assert out.calls == [(5100, b"I love robotics\n\r")]
+        # the line leaves the board at 11.52 characters per ms from the print's tick on
+        assert out.sent == [(5100, b"I love robo"), (5101, b"tics\n\r")]
         sim.set("theta1array", 7.5, index=3)
         assert sim.get("theta1array")[3] == 7.5
         with pytest.raises(KeyError, match="not a watched"):

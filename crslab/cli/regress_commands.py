@@ -20,6 +20,7 @@ from crslab.cli.sim_commands import (
     lost_serial_notice,
     positive,
 )
+from crslab.framework_facts import MOTOR_BOARDS
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.runner import run_header, run_lab
@@ -68,8 +69,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("check", help="run a lab and compare what it prints with a golden file",
                        description="Run a lab file and compare its transcript with a golden file, line by "
                        "line: numbers match within the tolerances, all other text exactly. The scenario, "
-                       "duration, resting pose and startup delay default to the golden file's. Exit 0 on "
-                       "a match, 1 on a mismatch, 2 on bad input.")
+                       "duration, resting pose, startup delay and motor board default to the golden "
+                       "file's. Exit 0 on a match, 1 on a mismatch, 2 on bad input.")
     add_run_options(p)
     p.add_argument("--golden", type=Path, required=True, metavar="FILE",
                    help="the golden file (from 'crslab record', or a transcript from 'crslab sim')")
@@ -162,11 +163,12 @@ def run_check(args: argparse.Namespace) -> int:
         run = recorded_run(golden, [Path.cwd()]).overridden(
             scenario=args.scenario, duration_s=args.duration,
             rest_motor_rad=(DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None,
-            startup_delay=False if args.no_startup_delay else None)
+            startup_delay=False if args.no_startup_delay else None, motor_board=args.motor_board)
     except GoldenError as exc:
         raise CliError(str(exc)) from None
     args.scenario, args.duration = run.scenario, run.duration_s
     args.no_startup_delay = run.startup_delay is False
+    args.motor_board = run.motor_board
     config = config_from_args(args, rest_motor_rad=run.rest_motor_rad)
     recorded = header.get("scenario_sha256")
     if chosen is not None and header.get("scenario") not in (None, chosen):

@@ -12,6 +12,15 @@ from crslab.cli import CliError
 from crslab.cli.live_options import LiveRun, add_live_options, live_needs_log
 from crslab.cli.sim_narration import Narrator, introduction
 from crslab.cli.tracking_options import TrackingRun, add_tracking_options
+from crslab.framework_facts import (
+    MB_LIMIT_UNITS,
+    MB_OVER_LIMIT_MS,
+    MB_TIMEOUT_MS,
+    MOTOR_BOARDS,
+    SCI_TX_FIFO_CHARS,
+    SERIAL_CHARS_PER_MS,
+    tx_ring_chars,
+)
 from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.live.console import VarConsole
 from crslab.sandbox import missing as sandbox_missing
@@ -50,6 +59,11 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
                    "else {:g} {:g})".format(*DEFAULT_REST_MOTOR_RAD[1:]))
     p.add_argument("--no-startup-delay", action="store_true",
                    help="call lab() from the first tick instead of at 4.1 s")
+    p.add_argument("--motor-board", choices=list(MOTOR_BOARDS),
+                   help="the motor board between the framework and the arm: piccolo (Gen B's hardware: "
+                   f"a joint commanded beyond {MB_LIMIT_UNITS:g} units for {MB_OVER_LIMIT_MS} ms, or "
+                   f"{MB_TIMEOUT_MS} ms without a command, cuts every output) or none (Gen A's older, "
+                   "undocumented board: commands pass through); default: the lab's generation's")
     p.add_argument("--deadline", type=positive, default=DEFAULT_DEADLINE_S, metavar="SECONDS",
                    help="wall-clock time one lab() or printing() call may take before it counts as hung "
                    "(default: %(default)s)")
@@ -128,7 +142,8 @@ def config_from_args(args: argparse.Namespace, *, log: bool = False,
     try:
         return make_config(args.lab, args.scenario, startup_delay=not args.no_startup_delay,
                            rest_motor_rad=rest, log=log, strict=args.strict,
-                           budget_us=args.budget_us, sanitize=args.sanitize, sandbox=sandboxed)
+                           budget_us=args.budget_us, sanitize=args.sanitize, sandbox=sandboxed,
+                           motor_board=args.motor_board)
     except LabBuildError as exc:
         if exc.diagnostics:
             sys.stderr.write(exc.diagnostics)
@@ -158,6 +173,10 @@ def summary(result: RunResult, wall_s: float, budget_us: float) -> dict:
         "nan_first_tau": st.get("nan_first_joint", 0),
         "nan_count": st.get("nan_count", 0),
         "serial_dropped": st.get("serial_dropped", 0),
+        "tx_ring_dropped": st.get("tx_dropped", 0),
+        "tx_ring_first_drop_tick": st.get("tx_first_drop_tick", -1),
+        "motor_board": st.get("motor_board", ""),
+        "motor_board_cutouts": st.get("motor_board_cutouts", 0),
     }
 
 
@@ -166,8 +185,12 @@ def summary_line(info: dict) -> str:
 
     >>> summary_line({"simulated_s": 25.0, "wall_s": 0.5, "lab_calls": 10, "lab_us_mean": 0.12,
     ...               "lab_us_max": 3.4, "lab_max_tick": 4100, "over_budget": 2,
-    ...               "over_budget_ticks": [5000, 6000], "budget_us": 1000.0})
+    ...               "over_budget_ticks": [5000, 6000], "budget_us": 1000.0,
+    ...               "motor_board": "piccolo", "motor_board_cutouts": 1})
     '25.000 s simulated in 0.50 s; lab() x10: mean 0.1 us, max 3.4 us (tick 4100); 2 over the 1000 us ...'
+    >>> summary_line({"simulated_s": 1.0, "wall_s": 0.1, "lab_calls": 0, "motor_board": "piccolo",
+    ...               "motor_board_cutouts": 2})
+    '1.000 s simulated in 0.10 s; motor board: 2 cut-outs'
 
     """
     line = f"{info['simulated_s']:.3f} s simulated in {info['wall_s']:.2f} s"
@@ -177,26 +200,28 @@ def summary_line(info: dict) -> str:
                  f"{info['over_budget']} over the {info['budget_us']:g} us budget")
         if info["over_budget"]:
             line += f" (ticks {', '.join(map(str, info['over_budget_ticks']))})"
+    if info.get("motor_board", "none") != "none":
+        n = info.get("motor_board_cutouts", 0)
+        line += f"; motor board: {n} cut-out{'' if n == 1 else 's'}"
     return line
 
 
 def lost_serial_notice(lab_name: str, stats: dict) -> str | None:
-    """The warning for bytes printed that never reached the transcript, if any were lost.
+    """The warning for bytes that left the board but never reached the transcript, if any were lost.
 
-    >>> lost_serial_notice("lab.c", {"serial_dropped": 925696}).split("; ")
-    ['warning: lab.c printed more within one tick than crslab keeps for a tick (4194304 bytes or 65536
-     serial_printf calls)', 'the 925696 bytes after that are missing from the transcript']
+    >>> lost_serial_notice("lab.c", {"serial_dropped": 925696}).split("; ")[1]
+    'the 925696 bytes after that are missing from the transcript'
     """
     dropped = stats.get("serial_dropped", 0)
     if not dropped:
         return None
     c = board_constants()
-    return (f"warning: {lab_name} printed more within one tick than crslab keeps for a tick "
-            f"({c.CRS_SERIAL_CAPACITY} bytes or {c.CRS_MARK_CAPACITY} serial_printf calls); "
+    return (f"warning: {lab_name}'s serial line carried more within one chunk of ticks than crslab keeps "
+            f"({c.CRS_SERIAL_CAPACITY} bytes or {c.CRS_MARK_CAPACITY} ticks); "
             f"the {dropped} bytes after that are missing from the transcript")
 
 
-def notices(lab_name: str, stats: dict, limit: int) -> list[str]:
+def notices(lab_name: str, stats: dict, generation: int) -> list[str]:
     """One-line warnings about the run (printed on stderr)."""
     out = []
     lost = lost_serial_notice(lab_name, stats)
@@ -207,12 +232,30 @@ def notices(lab_name: str, stats: dict, limit: int) -> list[str]:
         out.append(f"warning: {lab_name} returned a NaN or Inf in tau{stats['nan_first_joint']} at tick {t} "
                    f"(t = {t / 1000:.3f} s); no torque was applied on that joint for that tick "
                    f"({stats['nan_count']} such torques in all)")
-    if stats.get("long_line_tick", -1) >= 0:
-        t = stats["long_line_tick"]
-        out.append(f"warning: {lab_name} printed a {stats['long_line_bytes']}-byte serial_printf "
-                   f"at tick {t}; "
-                   f"the real board's buffer holds {limit} bytes and would overflow")
+    if stats.get("tx_dropped", 0) > 0:
+        t = stats["tx_first_drop_tick"]
+        out.append(f"warning: {lab_name} printed faster than the serial line sends "
+                   f"({SERIAL_CHARS_PER_MS:g} characters per ms): {stats['tx_dropped']} characters did not "
+                   f"fit the board's {tx_ring_chars(generation)}-byte transmit ring (and "
+                   f"{SCI_TX_FIFO_CHARS}-byte FIFO) and were dropped, as on the real board; the first at "
+                   f"tick {t} (t = {t / 1000:.3f} s)")
     return out
+
+
+def motor_board_line(tick: int, joint: int, off: bool) -> str:
+    """What ``crslab sim`` says on stderr when the motor board cuts the outputs or brings them back.
+
+    >>> motor_board_line(4600, 1, True)
+    'motor board: every output cut at tick 4600 (t = 4.600 s): joint 1 commanded beyond 4 units for 500 ms'
+    >>> motor_board_line(6100, 1, False)
+    'motor board: outputs back at tick 6100 (t = 6.100 s)'
+    """
+    at = f"at tick {tick} (t = {tick / 1000:.3f} s)"
+    if not off:
+        return f"motor board: outputs back {at}"
+    why = (f"joint {joint} commanded beyond {MB_LIMIT_UNITS:g} units for {MB_OVER_LIMIT_MS} ms" if joint
+           else f"no command for {MB_TIMEOUT_MS} ms")
+    return f"motor board: every output cut {at}: {why}"
 
 
 def run_sim(args: argparse.Namespace) -> int:
@@ -231,6 +274,9 @@ def run_sim(args: argparse.Namespace) -> int:
         except OSError as exc:
             raise CliError(f"{args.transcript}: cannot write the transcript ({exc.strerror})") from None
     lab_name = config.build.source.name
+
+    def on_motor_board(tick: int, joint: int, off: bool) -> None:
+        print(f"crslab sim: {motor_board_line(tick, joint, off)}", file=sys.stderr)
 
     def on_behind(rate: float) -> None:
         print(f"crslab sim: this machine keeps up only {rate:.2f}x real time; running as fast as it can",
@@ -253,7 +299,7 @@ def run_sim(args: argparse.Namespace) -> int:
                 console=any(isinstance(c, VarConsole) for c in live.controls), waypoints=args.waypoints))
             narrator.reached(0)
             result = sim.run(end_tick, out, speed=speed, controls=[narrator, *live.controls],
-                             on_behind=on_behind)
+                             on_behind=on_behind, on_motor_board=on_motor_board)
     except SimError as exc:
         raise CliError(str(exc), status=exc.status.exit_status) from None
     finally:
@@ -263,7 +309,7 @@ def run_sim(args: argparse.Namespace) -> int:
             raise CliError(str(exc)) from None
     wall = time.monotonic() - start
     tracking.finish()
-    for line in notices(lab_name, result.stats, config.build.serial_line_limit):
+    for line in notices(lab_name, result.stats, config.build.generation):
         print(f"crslab sim: {line}", file=sys.stderr)
     info = summary(result, wall, args.budget_us)
     if args.json:

@@ -27,6 +27,7 @@ from pathlib import Path
 
 from crslab import os_support, resources
 from crslab.cache import CacheError, cache_dir
+from crslab.framework_facts import GEN_A, GEN_B, printf_buffer_chars
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.watched import WatchedVar, find_watched
 from crslab.sandbox.compile_sandbox import CompilerSandbox, compiler_sandbox, forbidden_read
@@ -49,8 +50,6 @@ SANITIZE_FLAGS = ["-fsanitize=address,undefined", "-fno-sanitize=bounds,object-s
                   "-fno-omit-frame-pointer", "-g", "-O1"]
 LINK_LIBS = os_support.MATH_LIBS
 
-GEN_A, GEN_B = 1, 2
-SERIAL_LIMIT = {GEN_A: 2048, GEN_B: 136}  # bytes in the real serial_printf buffer
 _INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]', re.MULTILINE)
 
 
@@ -84,9 +83,10 @@ class LabBuild:
     compiler: Compiler | None = None
 
     @property
-    def serial_line_limit(self) -> int:
-        """Bytes the real board's serial buffer holds for this framework generation."""
-        return SERIAL_LIMIT[self.generation]
+    def printf_buffer_chars(self) -> int:
+        """Characters the real board's serial_printf buffer holds for this framework generation
+        (a line of this many or more overflows it)."""
+        return printf_buffer_chars(self.generation)
 
 
 def detect_generation(source_text: str) -> int:

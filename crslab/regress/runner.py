@@ -24,7 +24,7 @@ def run_lab(config: SimConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEA
             source = config.build.source
             return RunResult(RunStatus.NO_LAB, 0, f"{source.name} defines no lab() function", lab_file=source)
         result = sim.run(end_tick, memory)
-    return dataclasses.replace(result, calls=memory.calls)
+    return dataclasses.replace(result, calls=memory.calls, sent=memory.sent)
 
 
 def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None) -> dict[str, str]:
@@ -44,4 +44,5 @@ def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None) -> di
         "end_s": f"{end_tick / 1000:.3f}",
         "rest_motor_rad": " ".join(repr(float(v)) for v in config.rest_motor_rad),
         "startup_delay": "yes" if config.startup_ticks else "no",
+        "motor_board": config.motor_board_model,
     }

@@ -29,6 +29,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from crslab.framework_facts import MOTOR_BOARDS
+
 MAGIC = b"# crslab transcript"
 HEADER_END = b"# ----\n"
 _LINE_END = re.compile(rb"\n\r|\r\n|\n|\r")
@@ -122,20 +124,23 @@ class RecordedRun:
     duration_s: float | None = None
     rest_motor_rad: tuple[float, float, float] | None = None
     startup_delay: bool | None = None
+    motor_board: str | None = None
 
     def overridden(self, *, scenario: str | None = None, duration_s: float | None = None,
                    rest_motor_rad: Sequence[float] | None = None,
-                   startup_delay: bool | None = None) -> RecordedRun:
+                   startup_delay: bool | None = None, motor_board: str | None = None) -> RecordedRun:
         """The options to run with: each one given (not None) wins over the golden file's.
 
-        >>> RecordedRun("tour", 25.0, (0.0, -0.4, 0.2), False).overridden(duration_s=5.0)
-        RecordedRun(scenario='tour', duration_s=5.0, rest_motor_rad=(0.0, -0.4, 0.2), startup_delay=False)
+        >>> RecordedRun("tour", 25.0, (0.0, -0.4, 0.2), False, "none").overridden(duration_s=5.0)
+        RecordedRun(scenario='tour', duration_s=5.0, rest_motor_rad=(0.0, -0.4, 0.2), startup_delay=False, \
+motor_board='none')
         """
         rest = tuple(float(v) for v in rest_motor_rad) if rest_motor_rad is not None else self.rest_motor_rad
         return RecordedRun(scenario if scenario is not None else self.scenario,
                            duration_s if duration_s is not None else self.duration_s,
                            rest,  # type: ignore[arg-type]
-                           startup_delay if startup_delay is not None else self.startup_delay)
+                           startup_delay if startup_delay is not None else self.startup_delay,
+                           motor_board if motor_board is not None else self.motor_board)
 
 
 def find_scenario(name: str, folders: Sequence[Path]) -> str:
@@ -158,9 +163,10 @@ def recorded_run(golden: Golden, scenario_folders: Sequence[Path] = ()) -> Recor
     naming the file and the field when a field is malformed.
 
     >>> g = Golden(Path("g.txt"), {"scenario": "tour", "end_s": "6.000",
-    ...            "rest_motor_rad": "0.0 -0.35 0.3", "startup_delay": "no"})
+    ...            "rest_motor_rad": "0.0 -0.35 0.3", "startup_delay": "no", "motor_board": "piccolo"})
     >>> recorded_run(g)
-    RecordedRun(scenario='tour', duration_s=6.0, rest_motor_rad=(0.0, -0.35, 0.3), startup_delay=False)
+    RecordedRun(scenario='tour', duration_s=6.0, rest_motor_rad=(0.0, -0.35, 0.3), startup_delay=False, \
+motor_board='piccolo')
     >>> recorded_run(Golden(Path("g.txt"), {"end_s": "soon"}))
     Traceback (most recent call last):
     ...
@@ -191,7 +197,10 @@ def recorded_run(golden: Golden, scenario_folders: Sequence[Path] = ()) -> Recor
     delay = {"yes": True, "no": False, None: None}.get(h.get("startup_delay"), "bad")
     if delay == "bad":
         raise GoldenError(f"{path}: header startup_delay must be yes or no, got {h['startup_delay']!r}")
-    return RecordedRun(scenario, duration, rest, delay)  # type: ignore[arg-type]
+    board = h.get("motor_board") or None
+    if board is not None and board not in MOTOR_BOARDS:
+        raise GoldenError(f"{path}: header motor_board must be one of {', '.join(MOTOR_BOARDS)}, got {board!r}")
+    return RecordedRun(scenario, duration, rest, delay, board)  # type: ignore[arg-type]
 
 
 def make_header(fields: dict[str, str]) -> bytes:

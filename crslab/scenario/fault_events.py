@@ -9,13 +9,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from crslab.framework_facts import WRIST_ESTOP_RAD
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
 from crslab.scenario.table import TableReader, joint_numbers, per_joint, until_tick
 
 MAX_GLITCHES = 100_000
 """Most glitches one ``glitches`` event may draw."""
-WRIST_ESTOP_RAD = 0.11
-"""The framework latches every output to zero when the wrist turns more than this (crs-facts 2.7)."""
 
 
 def _joints(joints: tuple[int, ...]) -> str:

@@ -3,8 +3,8 @@
 A run's scope log (``SimConfig.log_signals``) has one row per tick. Each :class:`Signal` is one
 column of that table with its name, unit and the panel (:class:`Group`) it is drawn in.
 
->>> [g.title for g in GROUPS]
-['motor angles', 'torques', 'Simulink_PlotVar1..4', 'safety flag and LEDs', 'arm pose (true DH angles)']
+>>> [g.title for g in GROUPS][2:]
+['Simulink_PlotVar1..4', 'safety flag, LEDs, motor board', 'arm pose (true DH angles)']
 >>> csv_header()[:4]
 ['tick', 't [s]', 'theta1motor [rad]', 'theta2motor [rad]']
 """
@@ -53,7 +53,7 @@ class Signal:
 MOTOR = Group("motor", "motor angles", "rad")
 TORQUE = Group("torque", "torques", "command units")
 SIMULINK = Group("simulink", "Simulink_PlotVar1..4", "lab units")
-DIGITAL = Group("digital", "safety flag and LEDs", "0/1")
+DIGITAL = Group("digital", "safety flag, LEDs, motor board", "0/1")
 POSE = Group("pose", "arm pose (true DH angles)", "rad")
 GROUPS: tuple[Group, ...] = (MOTOR, TORQUE, SIMULINK, DIGITAL, POSE)
 
@@ -65,6 +65,7 @@ SIGNALS: tuple[Signal, ...] = (
     Signal("safety", "safety", 0, DIGITAL),
     Signal("GPIO34", "leds", 0, DIGITAL),   # LED on the control card: pin level
     Signal("GPIO60", "leds", 1, DIGITAL),   # LED on the e-stop box (active low): pin level
+    Signal("motor_board_off", "motor_board_off", 0, DIGITAL),  # 1: the motor board cut every output
     *(Signal(f"th{j + 1}_dh", "qpos_dh_rad", j, POSE) for j in range(3)),
 )
 """Every signal, in CSV column order (after ``tick`` and ``t [s]``)."""
@@ -82,7 +83,7 @@ def signal_values(log: dict[str, np.ndarray], signal: Signal) -> np.ndarray:
     float32, so they print as the lab's values do).
 
     >>> log = {"leds": np.array([[0], [1], [2], [3]], np.uint32)}
-    >>> signal_values(log, SIGNALS[-4]).tolist()      # GPIO60, bit 1
+    >>> signal_values(log, SIGNALS[-5]).tolist()      # GPIO60, bit 1
     [0, 0, 1, 1]
     """
     col = log[signal.column]

@@ -11,12 +11,13 @@ import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
 
+from crslab.framework_facts import MOTOR_BOARDS, STARTUP_TICKS
 from crslab.lab.build import build_lab
 from crslab.plant.params import REST_MOTOR_RAD
 from crslab.sandbox import resolve as resolve_sandbox
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import Scenario, check_lab, load_scenario
-from crslab.sim.config import STARTUP_TICKS, SimConfig
+from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, Simulation
 from crslab.sim.status import RunResult
 from crslab.sinks.memory import MemorySink
@@ -36,14 +37,19 @@ def make_config(
     budget_us: float = 1000.0,
     sanitize: bool = False,
     sandbox: bool | None = None,
+    motor_board: str | None = None,
 ) -> SimConfig:
     """Build the lab (cached) and load the scenario into one run's configuration.
 
     The arm's true resting pose is ``rest_motor_rad``, else the scenario's, else the default.
     ``sandbox``: True requires the sandbox, False turns it off, None (default) uses it when
-    this machine has it (see :func:`crslab.sandbox.resolve`).
-    Raises ``ScenarioError`` when the scenario writes a variable the lab does not watch.
+    this machine has it (see :func:`crslab.sandbox.resolve`). ``motor_board`` is ``none`` or
+    ``piccolo``; None takes the lab's generation's (Gen A: none, Gen B: piccolo).
+    Raises ``ScenarioError`` when the scenario writes a variable the lab does not watch,
+    ``ValueError`` for an unknown motor board.
     """
+    if motor_board is not None and motor_board not in MOTOR_BOARDS:
+        raise ValueError(f"no motor board {motor_board!r}; choose one of {', '.join(MOTOR_BOARDS)}")
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     rest = tuple(float(v) for v in (rest_motor_rad or sc.rest_motor_rad or DEFAULT_REST_MOTOR_RAD))
     sandboxed = resolve_sandbox(sandbox)
@@ -58,6 +64,7 @@ def make_config(
         budget_ns=int(budget_us * 1000),
         log_signals=log,
         sandboxed=sandboxed,
+        motor_board=motor_board,
     )
 
 
@@ -82,4 +89,4 @@ def simulate(
     memory = MemorySink()
     with Simulation(config, deadline_s=deadline_s, limits=limits) as sim:
         result = sim.run(end_tick, FanOut([memory, *sinks]), speed=speed)
-    return dataclasses.replace(result, calls=memory.calls, log=memory.log)
+    return dataclasses.replace(result, calls=memory.calls, sent=memory.sent, log=memory.log)

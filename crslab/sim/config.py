@@ -4,11 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from crslab.framework_facts import STARTUP_TICKS, default_motor_board
 from crslab.lab.build import LabBuild
 from crslab.plant.params import REST_MOTOR_RAD
 from crslab.scenario.load import Scenario
-
-STARTUP_TICKS = 4100  # the first lab() call is at 4.1 s (the brake releases at 4.0 s)
 
 
 @dataclass(frozen=True)
@@ -38,3 +37,10 @@ class SimConfig:
     log_signals: bool = False
     hand: HandGains = HandGains()
     sandboxed: bool = True  # compiled and run in crslab.sandbox (it never changes the transcript)
+    motor_board: str | None = None
+    """``none`` or ``piccolo`` (framework_facts.MOTOR_BOARDS); None: the lab's generation's."""
+
+    @property
+    def motor_board_model(self) -> str:
+        """The motor board this run uses: the one asked for, else the generation's default."""
+        return self.motor_board or default_motor_board(self.build.generation)

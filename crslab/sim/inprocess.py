@@ -36,7 +36,8 @@ class InProcessRun:
         self._sh = ffi.cast("crs_shared *", ffi.from_buffer(self._shared))
 
     def run(self, end_tick: int, chunk_ticks: int = 20_000) -> bytes:
-        """Run to ``end_tick`` in chunks as ``crslab sim --fast`` does; returns the serial bytes."""
+        """Run to ``end_tick`` in chunks as ``crslab sim --fast`` does; returns the serial bytes
+        (what is still on the serial line at the end included, as a run hands it on)."""
         out = bytearray()
         sh, worker = self._sh, self.worker
         while worker.sim.tick < end_tick:
@@ -44,6 +45,11 @@ class InProcessRun:
             out += self._ffi.buffer(sh.serial, sh.serial_len)
             sh.serial_len = 0
             sh.mark_count = 0
+            sh.print_count = 0
+        line, size = sh.line, self._ffi.sizeof(sh.line.queue)
+        queue = bytes(self._ffi.buffer(line.queue, size))
+        out += (queue[line.first:] + queue[:line.first])[:line.len]
+        line.len = 0
         return bytes(out)
 
 

@@ -3,7 +3,9 @@ turns a worker that crashes, exits or hangs into one line of diagnosis.
 
 Time: tick k is at t = k ms (tick 0 is t = 0). Chunks of ticks are requested from the worker;
 where chunks begin and end never changes what the lab sees, so the transcript is the same at
-any speed.
+any speed. Serial bytes come with the tick during which they left the board (the board's serial
+line sends 11.52 characters per ms); what is still on its way out when a run ends is handed on
+last, marked with the tick the run ended at.
 """
 
 from __future__ import annotations
@@ -39,6 +41,9 @@ READY_TIMEOUT_S = 60.0
 SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
 REALTIME_SLICE_TICKS = 20
 FAST_SLICE_TICKS = 20_000
+MotorBoardReport = Callable[[int, int, bool], None]
+"""``(tick, joint, off)``: the motor board cut every output (off True; joint 1..3 over the limit,
+0 no command) or brought them back (off False)."""
 
 
 def phase_where(phase: int) -> str:
@@ -156,8 +161,11 @@ class Simulation:
         self.tick = 0
         self.stats: dict = {}
         self.serial_dropped = 0
-        """Bytes printed that never reached the sinks: more in one tick than the shared block
-        holds (``CRS_SERIAL_CAPACITY`` bytes, ``CRS_MARK_CAPACITY`` calls). In ``stats`` too."""
+        """Bytes that left the board but never reached the sinks: more in one chunk than the shared
+        block holds (``CRS_SERIAL_CAPACITY`` bytes, ``CRS_MARK_CAPACITY`` ticks). The serial line's
+        11.52 characters per ms keep a chunk far below that. In ``stats`` too."""
+        self.motor_board_events: list[tuple[int, int, int]] = []
+        """The motor board's cut-outs so far: ``(tick, joint, off)``. In ``stats`` too."""
         self.symbols = 0
         sys.stdout.flush()
         sys.stderr.flush()
@@ -237,14 +245,18 @@ class Simulation:
             os.rmdir(self.sanitizer_dir)
 
     # -- serial ------------------------------------------------------------------------------
-    def _drain_serial(self, take: Callable[[int, bytes], None]) -> int:
-        """Hand every serial_printf call's bytes since the last drain to ``take(tick, bytes)``;
-        returns how many bytes the board could not keep since then (more in one tick than the
-        shared block holds), which :attr:`serial_dropped` counts too.
+    def _drain_serial(self, take: Callable[[int, bytes], None], sink: Sink) -> int:
+        """Hand the print marks since the last drain to ``sink.on_print(tick, offset)`` and the
+        bytes that left the board to ``take(tick, bytes)``, one call per tick that sent any;
+        returns how many bytes could not be kept since then (more in one chunk than the shared
+        block holds), which :attr:`serial_dropped` counts too.
 
         The block is the lab's to scribble on: lengths and offsets are clamped to the block, so
         nothing but the block is ever read."""
         sh = self.shared
+        for i in range(min(int(sh.print_count), len(sh.print_tick))):
+            sink.on_print(int(sh.print_tick[i]), int(sh.print_offset[i]))
+        sh.print_count = 0
         dropped = max(0, int(sh.serial_dropped))
         sh.serial_dropped = 0
         self.serial_dropped += dropped
@@ -258,6 +270,28 @@ class Simulation:
         sh.serial_len = 0
         sh.mark_count = 0
         return dropped
+
+    def _drain_line(self, take: Callable[[int, bytes], None], tick: int) -> None:
+        """Hand what is still on the board's serial line (queued, not yet sent) to ``take``, marked
+        with ``tick``: called once the run has ended, so nothing the lab printed is lost."""
+        line = self.shared.line
+        size = self.ffi.sizeof(line.queue)
+        n, first = min(int(line.len), size), int(line.first) % size  # a crashed lab may have scribbled
+        if n:
+            queue = bytes(self.ffi.buffer(line.queue, size))
+            take(tick, (queue[first:] + queue[:first])[:n])
+        line.len = 0
+
+    def _overflow(self) -> tuple[int, str]:
+        """The tick and the diagnosis of a serial_printf that overflowed the board's buffer."""
+        st = self.stats
+        tick = int(st.get("overflow_tick", self.tick))
+        where = phase_where(int(st.get("overflow_phase", 0)))
+        buffer = self.config.build.printf_buffer_chars
+        return tick, (f"{self.lab_name}: a serial_printf {where} at tick {tick} (t = {tick / 1000:.3f} s) "
+                      f"formatted {st.get('overflow_chars', 0)} characters; the board's {buffer}-byte "
+                      f"serial_printf buffer holds {buffer - 1} and a terminating NUL, so this line "
+                      "overflows it and corrupts the board's memory")
 
     # -- watched variables -------------------------------------------------------------------
     def _ask(self, msg: tuple) -> object:
@@ -399,6 +433,7 @@ class Simulation:
         speed: float | None = None,
         controls: Sequence[LiveControl] = (),
         on_behind: Callable[[float], None] | None = None,
+        on_motor_board: MotorBoardReport | None = None,
     ) -> RunResult:
         """Run to ``end_tick``, handing what the board prints and the scope rows to ``sink``;
         ``speed`` None is as fast as possible, else x real time.
@@ -406,7 +441,9 @@ class Simulation:
         After every chunk of ticks, once ``sink`` took its serial bytes and scope rows and was
         flushed, each of ``controls`` is served: the worker is idle then, so they may call
         :meth:`get`, :meth:`set` and :meth:`push` (live variables, the viewer's mouse).
-        ``on_behind(rate)`` is called once when the machine cannot keep up with ``speed``.
+        ``on_behind(rate)`` is called once when the machine cannot keep up with ``speed``;
+        ``on_motor_board(tick, joint, off)`` whenever the motor board cuts every output or brings
+        them back (the result's ``stats["motor_board_events"]`` lists them all).
         """
         sink = sink if sink is not None else Sink()
         wall0, tick0 = time.monotonic(), self.tick
@@ -422,7 +459,10 @@ class Simulation:
                 sink.on_serial(tick, keep)
 
         def ended(status: RunStatus, tick: int, message: str = "") -> RunResult:
-            stats = {**self.stats, "serial_dropped": self.serial_dropped}
+            self._drain_serial(counted, sink)
+            self._drain_line(counted, tick)
+            stats = {**self.stats, "serial_dropped": self.serial_dropped,
+                     "motor_board_events": list(self.motor_board_events)}
             return RunResult(status, tick, message, stats, lab_file=self.config.build.source,
                              wall_s=time.monotonic() - wall0)
 
@@ -437,25 +477,33 @@ class Simulation:
                                                                  and isinstance(reply[3], dict)):
                         reply = self._tampered("not the reply to a run request")
                     if isinstance(reply, RunResult):
-                        with ctrl_c.held():
-                            self._drain_serial(counted)
+                        ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
                         return ended(reply.status, reply.end_tick, reply.message)
                     _, code, self.tick, self.stats, log = reply
+                    for event in self.stats.pop("motor_board_events", []):
+                        self.motor_board_events.append(tuple(event))
+                        if on_motor_board is not None:
+                            on_motor_board(event[0], event[1], bool(event[2]))
                     with ctrl_c.held():  # every sink gets all of the chunk, or none of it
-                        lost = self._drain_serial(counted)
+                        lost = self._drain_serial(counted, sink)
                         printed += lost  # what was lost counts toward the limit too
                         if printed <= cap:
                             if log is not None:
                                 sink.on_log(log)
                             sink.flush()
                     if printed > cap:
+                        ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
                         return ended(RunStatus.OUTPUT_LIMIT, self.tick,
-                                     f"{self.lab_name} printed more than {cap / 1e6:g} MB; the run was cut "
-                                     f"off at tick {self.tick} (t = {self.tick / 1000:.3f} s)")
+                                     f"{self.lab_name} printed more than {cap / 1e6:g} MB; the run was "
+                                     f"cut off at tick {self.tick} (t = {self.tick / 1000:.3f} s)")
                     for control in controls:
                         control.serve(self)
                     if code == board_constants().CRS_RUN_NAN_STRICT:
+                        ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
                         return ended(RunStatus.NAN, self.tick)
+                    if code == board_constants().CRS_RUN_PRINTF_OVERFLOW:
+                        ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
+                        return ended(RunStatus.CRASHED, *self._overflow())
                     if speed is not None:
                         due = wall0 + (self.tick - tick0) / 1000.0 / speed
                         lag = time.monotonic() - due
@@ -469,7 +517,7 @@ class Simulation:
                 ctrl_c.holding = True  # another Ctrl-C now waits for the last bytes too
                 self.process.kill()
                 self.process.join()
-                self._drain_serial(counted)
                 tick = int(self.shared.tick)
                 return ended(RunStatus.INTERRUPTED, tick, f"interrupted at t = {tick / 1000:.3f} s")
-        return ended(RunStatus.OK, self.tick)
+            ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
+            return ended(RunStatus.OK, self.tick)

@@ -93,10 +93,13 @@ class RunStatus(StrEnum):
 
 @dataclass
 class RunResult:
-    """A finished run: how it ended, what the board printed (every ``serial_printf`` call with its
-    tick) and the scope log when one was kept.
+    """A finished run: how it ended, what the board printed and the scope log when one was kept.
 
-    ``stats`` holds the board's counters (lab() timing, NaN and long-line notices, bytes lost);
+    ``calls`` holds ``(tick, bytes)`` per serial_printf call: its tick and the bytes of it that
+    fit the board's transmit ring. ``sent`` holds the same bytes as they left the board:
+    ``(tick, bytes)`` per tick whose millisecond carried any (11.52 characters per ms).
+    ``stats`` holds the board's counters (lab() timing, NaN notices, characters the transmit ring
+    dropped, the motor board's cut-outs as ``motor_board_events``: ``(tick, joint, off)``);
     ``details`` the full diagnostics behind ``message`` (gcc's output); ``lab_file`` the lab that
     ran and ``wall_s`` the wall-clock seconds it took, when the caller timed it.
     """
@@ -106,6 +109,7 @@ class RunResult:
     message: str = ""
     stats: dict = field(default_factory=dict)
     calls: list[tuple[int, bytes]] = field(default_factory=list)
+    sent: list[tuple[int, bytes]] = field(default_factory=list)
     log: dict[str, np.ndarray] | None = None
     details: str = ""
     lab_file: Path | None = None
@@ -134,3 +138,15 @@ class RunResult:
         """
         text = self.transcript.decode("latin-1").replace("\n\r", "\n").replace("\r\n", "\n")
         return text.split("\n")[:-1] if text.endswith("\n") else text.split("\n")
+
+    def timed_lines(self) -> list[tuple[int, str]]:
+        r"""The printed lines, each with the tick of the serial_printf that printed its first byte.
+
+        >>> RunResult(RunStatus.OK, calls=[(4100, b"a 1
+b"), (4600, b"c
+")]).timed_lines()
+        [(4100, 'a 1'), (4100, 'bc')]
+        """
+        from crslab.regress.transcript import split_lines
+
+        return [(line.tick or 0, line.text) for line in split_lines(self.transcript, self.calls)]

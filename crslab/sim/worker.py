@@ -3,7 +3,9 @@
 Messages from the crslab process (tuples): ``("run", until_tick)``, ``("get", name)``,
 ``("set", name, index, value)``, ``("push", body_forces)``, ``("stop",)``. Replies:
 ``("ready", symbols)`` (or ``("failed", message)`` when the sandbox cannot be entered) first,
-then ``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of numpy columns;
+then ``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of numpy columns and
+``stats["motor_board_events"]`` lists the motor board's cut-outs starting or ending since the last
+reply as ``(tick, joint, off)`` (joint 1..3, or 0 for a missing command; off 1 starts, 0 ends);
 ``("value", v)`` or ``("error", message)``. Serial bytes never travel through the pipe: the
 board writes them into the shared block, where the crslab process reads them even if this
 process dies.
@@ -27,6 +29,7 @@ import numpy as np
 from cffi import FFI
 
 from crslab import crs, os_support
+from crslab.framework_facts import MOTOR_BOARDS
 from crslab.plant.model import Friction, load_model, motor_to_qpos
 from crslab.scenario.lab_events import SIMULINK_INPUTS
 from crslab.sim.board_ffi import board_constants, board_ffi
@@ -40,7 +43,7 @@ SIMULINK_INPUT_NAMES = tuple(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, SIM
 _LOG_COLUMNS = {  # name: (width, dtype)
     "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
     "tau_applied": (3, np.float64), "plot": (4, np.float64), "safety": (1, np.int32),
-    "leds": (1, np.uint32), "qpos_dh_rad": (3, np.float64),
+    "leds": (1, np.uint32), "motor_board_off": (1, np.int32), "qpos_dh_rad": (3, np.float64),
 }
 _C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
 
@@ -57,8 +60,8 @@ def mj_step_address() -> int:
 
 STAT_FIELDS = (
     "lab_calls", "lab_ns_total", "lab_ns_max", "lab_max_tick", "over_budget", "nan_first_tick",
-    "nan_first_joint", "nan_count", "long_line_tick", "long_line_bytes", "printing_runs",
-    "safety_flag", "leds", "estop_latched",
+    "nan_first_joint", "nan_count", "printing_runs", "safety_flag", "leds", "estop_latched",
+    "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars", "overflow_phase",
 )
 
 
@@ -115,7 +118,7 @@ class Worker:
         sim.ctrl = self._ptr("double *", self.data.ctrl)
         sim.qfrc_applied = self._ptr("double *", self.data.qfrc_applied)
         sim.generation = config.build.generation
-        sim.serial_line_limit = config.build.serial_line_limit
+        sim.motor_board.model = MOTOR_BOARDS[config.motor_board_model]
         sim.strict_nan = int(config.strict_nan)
         sim.startup_ticks = config.startup_ticks
         sim.budget_ns = config.budget_ns
@@ -125,6 +128,7 @@ class Worker:
         h.kp_nm_per_rad, h.ki_nm_per_rad_s = config.hand.kp, config.hand.ki
         h.kd_nm_s_per_rad, h.max_nm = config.hand.kd, config.hand.max_nm
         self.events = list(config.scenario.events)
+        self.motor_board_events: list[tuple[int, int, int]] = []
         self.log_blocks: list[dict[str, np.ndarray]] = []
         if config.log_signals:
             self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in _LOG_COLUMNS.items()}
@@ -187,8 +191,16 @@ class Worker:
             code = lib.crs_sim_run(sim, stop_at)
             if code == lib.CRS_RUN_LOG_FULL or (self.config.log_signals and code != lib.CRS_RUN_DONE):
                 self._drain_log()
-            if code not in (lib.CRS_RUN_DONE, lib.CRS_RUN_LOG_FULL):
+            if code == lib.CRS_RUN_EVENTS_FULL:
+                self._drain_motor_board_events()
+            if code not in (lib.CRS_RUN_DONE, lib.CRS_RUN_LOG_FULL, lib.CRS_RUN_EVENTS_FULL):
                 return code
+
+    def _drain_motor_board_events(self) -> None:
+        mb = self.sim.motor_board
+        self.motor_board_events.extend((int(mb.event_tick[i]), int(mb.event_joint[i]), int(mb.event_off[i]))
+                                       for i in range(int(mb.event_count)))
+        mb.event_count = 0
 
     def stats(self) -> dict[str, int]:
         """The board's counters, as plain ints."""
@@ -196,7 +208,15 @@ class Worker:
         out = {name: int(getattr(s, name)) for name in STAT_FIELDS}
         out["tick"] = int(s.tick)
         out["first_over_tick"] = [int(s.first_over_tick[i]) for i in range(min(8, int(s.over_budget)))]
+        out["motor_board"] = self.config.motor_board_model
+        out["motor_board_cutouts"] = int(s.motor_board.cutouts)
         return out
+
+    def take_motor_board_events(self) -> list[tuple[int, int, int]]:
+        """The motor board's cut-outs starting or ending since the last call: (tick, joint, off)."""
+        self._drain_motor_board_events()
+        events, self.motor_board_events = self.motor_board_events, []
+        return events
 
     def take_log(self) -> dict[str, np.ndarray] | None:
         """The scope rows gathered since the last call (None when logging is off)."""
@@ -228,7 +248,9 @@ def serve(conn: Connection, config: SimConfig, shared_path: str) -> None:
             return
         if msg[0] == "run":
             code = worker.run(int(msg[1]))
-            conn.send(("ran", code, int(worker.sim.tick), worker.stats(), worker.take_log()))
+            stats = worker.stats()
+            stats["motor_board_events"] = worker.take_motor_board_events()
+            conn.send(("ran", code, int(worker.sim.tick), stats, worker.take_log()))
         elif msg[0] == "get":
             try:
                 conn.send(("value", worker.get_var(msg[1])))

@@ -8,20 +8,24 @@ from crslab.sinks.sink import Sink
 
 
 class MemorySink(Sink):
-    """Keeps the serial calls with their ticks and the scope columns.
+    """Keeps the serial bytes with their ticks, the print marks and the scope columns.
 
     >>> m = MemorySink()
-    >>> m.on_serial(4100, b"1.00\\n\\r"); m.on_log({"tick": np.array([[0], [1]])})
+    >>> m.on_print(4100, 0); m.on_serial(4100, b"1.00\\n\\r"); m.on_log({"tick": np.array([[0], [1]])})
     >>> m.transcript, m.log["tick"].ravel().tolist()
     (b'1.00\\n\\r', [0, 1])
     """
 
     def __init__(self) -> None:
-        self.calls: list[tuple[int, bytes]] = []
+        self.sent: list[tuple[int, bytes]] = []
+        self.prints: list[tuple[int, int]] = []
         self.blocks: list[dict[str, np.ndarray]] = []
 
     def on_serial(self, tick: int, data: bytes) -> None:
-        self.calls.append((tick, data))
+        self.sent.append((tick, data))
+
+    def on_print(self, tick: int, offset: int) -> None:
+        self.prints.append((tick, offset))
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         self.blocks.append(columns)
@@ -29,7 +33,22 @@ class MemorySink(Sink):
     @property
     def transcript(self) -> bytes:
         """Every byte printed, in order."""
-        return b"".join(d for _, d in self.calls)
+        return b"".join(d for _, d in self.sent)
+
+    @property
+    def calls(self) -> list[tuple[int, bytes]]:
+        r"""Each serial_printf call's tick and the bytes of it the board sent (what fit its transmit
+        ring), cut from the transcript at the print marks.
+
+        >>> m = MemorySink()
+        >>> m.on_print(4100, 0); m.on_print(4100, 4); m.on_print(4600, 9)
+        >>> m.on_serial(4100, b"ab c"); m.on_serial(4101, b"12\n\r3"); m.on_serial(4600, b"4\n\r")
+        >>> m.calls
+        [(4100, b'ab c'), (4100, b'12\n\r3'), (4600, b'4\n\r')]
+        """
+        data = self.transcript
+        ends = [offset for _, offset in self.prints[1:]] + [len(data)]
+        return [(tick, data[start:end]) for (tick, start), end in zip(self.prints, ends)]
 
     @property
     def log(self) -> dict[str, np.ndarray] | None:

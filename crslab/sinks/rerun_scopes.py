@@ -9,8 +9,10 @@ entity                     holds
                            of 1e-4 (see :func:`crslab.scopes.signals.simulink_samples`)
 ``/scopes/motor_angle``    theta1motor..theta3motor, what lab() received (rad), every tick
 ``/scopes/torque/lab``     the lab's tau1..tau3 after lab() (command units), every tick
-``/scopes/torque/applied`` what reached the motors (after the safety override and the clamp)
-``/scopes/digital``        the safety flag and the GPIO34 / GPIO60 LED pin levels, every tick
+``/scopes/torque/applied`` what reached the motors (after the safety override, the clamp and the
+                           motor board)
+``/scopes/digital``        the safety flag, the GPIO34 / GPIO60 LED pin levels and whether the
+                           motor board has cut the outputs, every tick
 ``/serial``                the serial lines (TextLog), at the tick that ended each line
 ``/arm/<body>``            each body's world pose (Transform3D), every 10 ms; its link shapes
                            from the MuJoCo model are static children (``/arm/<body>/shapes``)

@@ -1,7 +1,9 @@
 """The one interface every output of a run has, and the fan-out that feeds many at once.
 
-A run hands its sink, after every chunk of ticks: each ``serial_printf`` call's bytes with the
-tick it was made in (:meth:`Sink.on_serial`), then the chunk's scope rows when the run logs them
+A run hands its sink, after every chunk of ticks: the print marks, each ``serial_printf``'s tick
+and where its bytes start in everything sent (:meth:`Sink.on_print`); the bytes that left the
+board, with the tick during whose millisecond they left (:meth:`Sink.on_serial`: the serial line
+sends 11.52 characters per ms); then the chunk's scope rows when the run logs them
 (:meth:`Sink.on_log`), then :meth:`Sink.flush`. :meth:`Sink.close` comes once at the end, also
 after a crash or Ctrl-C. A sink never feeds back into the run, so what the lab prints is the same
 whichever sinks watch it.
@@ -9,7 +11,7 @@ whichever sinks watch it.
 >>> from crslab.sinks.memory import MemorySink
 >>> a, b = MemorySink(), MemorySink()
 >>> out = FanOut([a, b])
->>> out.on_serial(4100, b"0.00 -24.06\\n\\r"); out.close()
+>>> out.on_print(4100, 0); out.on_serial(4100, b"0.00 -24.06\\n\\r"); out.close()
 >>> a.calls == b.calls == [(4100, b"0.00 -24.06\\n\\r")]
 True
 """
@@ -25,7 +27,10 @@ class Sink:
     """Where a run's output goes. A sink overrides what it takes; the rest do nothing."""
 
     def on_serial(self, tick: int, data: bytes) -> None:
-        """The bytes of one serial_printf call made during ``tick``."""
+        """Bytes that left the board during ``tick``'s millisecond (11.52 at most)."""
+
+    def on_print(self, tick: int, offset: int) -> None:
+        """A serial_printf during ``tick`` whose bytes start at ``offset`` in everything sent."""
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         """Scope rows (one per tick, see :mod:`crslab.scopes.signals`) since the last call."""
@@ -55,6 +60,10 @@ class FanOut(Sink):
     def on_serial(self, tick: int, data: bytes) -> None:
         for s in self.sinks:
             s.on_serial(tick, data)
+
+    def on_print(self, tick: int, offset: int) -> None:
+        for s in self.sinks:
+            s.on_print(tick, offset)
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         for s in self.sinks:

@@ -9,7 +9,7 @@ most ``depth`` chunks wait, after which the simulation waits for the sink (memor
 >>> inner = MemorySink()
 >>> sink = ThreadedSink(inner)
 >>> sink.on_serial(5, b"hi\\n\\r"); sink.close()
->>> inner.calls
+>>> inner.sent
 [(5, b'hi\\n\\r')]
 """
 
@@ -55,6 +55,9 @@ class ThreadedSink(Sink):
 
     def on_serial(self, tick: int, data: bytes) -> None:
         self._put(self.inner.on_serial, tick, data)
+
+    def on_print(self, tick: int, offset: int) -> None:
+        self._put(self.inner.on_print, tick, offset)
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         self._put(self.inner.on_log, columns)

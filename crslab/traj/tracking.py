@@ -17,12 +17,12 @@ from pathlib import Path
 import numpy as np
 
 from crslab import resources
+from crslab.framework_facts import CLAMP_UNITS
 from crslab.sim.running import RunningLab
 from crslab.traj.profiles import PROFILES
 from crslab.traj.waypoints import WaypointPlan
 
 TRACKING_LAB = resources.path("csrc", "labs", "lab2_tracking.c")
-CLAMP_UNITS = 5.0  # the framework's torque clamp
 REQUIRED = ("n_waypoints", "wp_profile", "wp_vmax_rad_s", "wp_motor_rad", "wp_duration_s", "approach_s",
             "hold_s")
 

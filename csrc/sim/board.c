@@ -4,12 +4,14 @@
 #include "board.h"
 
 #include <stdarg.h>
-#include <stdio.h>
-#include <string.h>
+#include <stdint.h>
 #include <time.h>
 
 #include "DSP2833x_Device.h"
 #include "coecsl.h"
+#include "framework_facts.h"
+#include "serial_format.h"
+#include "serial_line.h"
 
 serial_t SerialA;
 SWI_Obj SWI_printf;
@@ -26,6 +28,17 @@ int64_t crs_now_ns(void)
 
 void crs_board_attach(crs_sim *sim) { board_sim = sim; }
 
+void crs_board_reset(void)
+{
+    /* the control card's LEDs start high: GPIO34 is bit 2 of the GPB registers, GPIO60 bit 28 */
+    const uint32_t leds = CRS_LEDS_AT_START;
+    GpioDataRegs.GPBDAT.all = ((leds & 1u) << 2) | (((leds >> 1) & 1u) << 28);
+    GpioDataRegs.GPBSET.all = 0;
+    GpioDataRegs.GPBCLEAR.all = 0;
+    GpioDataRegs.GPBTOGGLE.all = 0;
+    SWI_printf.posted = 0;
+}
+
 void SWI_post(SWI_Handle swi) { swi->posted = 1; }
 
 void mains_code(void)
@@ -36,36 +49,38 @@ void mains_code(void)
 
 int serial_printf(struct crs_serial_port *port, char *fmt, ...)
 {
-    char line[8192];
-    va_list ap;
     (void)port;
-    va_start(ap, fmt);
-    const int n = vsnprintf(line, sizeof line, fmt, ap);
-    va_end(ap);
     crs_sim *sim = board_sim;
-    if (n <= 0 || sim == NULL || sim->shared == NULL) return n;
-    size_t len = (size_t)n < sizeof line ? (size_t)n : sizeof line - 1;
-    if ((uint32_t)n > sim->serial_line_limit && sim->long_line_tick < 0) {
-        sim->long_line_tick = sim->tick;
-        sim->long_line_bytes = (uint32_t)n;
+    if (sim == NULL || sim->shared == NULL || sim->overflow_tick >= 0) return 0;
+    const int gen_b = sim->generation == CRS_GEN_B;
+    const size_t buffer = gen_b ? CRS_GEN_B_PRINTF_BUFFER : CRS_GEN_A_PRINTF_BUFFER;
+    char line[CRS_GEN_A_PRINTF_BUFFER > CRS_GEN_B_PRINTF_BUFFER ? CRS_GEN_A_PRINTF_BUFFER
+                                                                 : CRS_GEN_B_PRINTF_BUFFER];
+    va_list ap;
+    va_start(ap, fmt);
+    const size_t n = gen_b ? crs_format_gen_b(line, sizeof line, fmt, ap)
+                           : crs_format_gen_a(line, sizeof line, fmt, ap);
+    va_end(ap);
+    if (n >= buffer) {
+        /* the characters and the terminating NUL overrun the board's buffer: memory is corrupt */
+        sim->overflow_tick = sim->tick;
+        sim->overflow_chars = n > UINT32_MAX ? UINT32_MAX : (uint32_t)n;
+        sim->overflow_phase = sim->shared->phase;
+        return 0;
     }
-    crs_shared *sh = sim->shared;
-    if (sh->serial_len + len > CRS_SERIAL_CAPACITY || sh->mark_count >= CRS_MARK_CAPACITY) {
-        sh->serial_dropped += len;
-        return n;
+    const uint32_t ring = gen_b ? CRS_GEN_B_TX_RING : CRS_GEN_A_TX_RING;
+    const uint32_t taken = crs_line_queue(sim->shared, ring, sim->tick, line, (uint32_t)n);
+    if (taken < n) {
+        if (sim->tx_first_drop_tick < 0) sim->tx_first_drop_tick = sim->tick;
+        sim->tx_dropped += (int64_t)(n - taken);
     }
-    sh->mark_tick[sh->mark_count] = sim->tick;
-    sh->mark_offset[sh->mark_count] = sh->serial_len;
-    sh->mark_count++;
-    memcpy(sh->serial + sh->serial_len, line, len);
-    sh->serial_len += len;
-    return n;
+    return (int)taken;
 }
 
 void crs_board_after_lab(crs_sim *sim)
 {
     int run = 0;
-    if (sim->generation == 2) {
+    if (sim->generation == CRS_GEN_B) {
         if (&UARTprint != NULL && UARTprint == 1) {
             UARTprint = 0;
             run = 1;

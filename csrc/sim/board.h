@@ -21,6 +21,8 @@ extern float Simulink_PlotVar4 __attribute__((weak));
 
 /* The board the serial port writes into (set by crs_sim_run). */
 void crs_board_attach(crs_sim *sim);
+/* The framework objects as at power-up: LEDs at CRS_LEDS_AT_START, nothing posted. */
+void crs_board_reset(void);
 /* After lab(): run printing() once if it was requested this tick (SWI post or UARTprint). */
 void crs_board_after_lab(crs_sim *sim);
 /* Apply the GPIO SET/CLEAR/TOGGLE writes of this tick; returns the LED bits. */

@@ -1,14 +1,16 @@
-/* The real framework's 1 ms duties, as crs-facts section 2 describes them. */
+/* The real framework's 1 ms duties, as crs-facts sections 2 and 7 describe them: the encoders,
+ * the hold controller, the scenario's hand. */
 #include "framework.h"
 
 #include <math.h>
 
 #include "board.h"
 #include "crs_arm.h"
+#include "framework_facts.h"
 #include "traj_profiles.h"
 
 static const double PI = 3.14159265358979323846;
-static const double RAD_PER_COUNT = 3.14159265358979323846 / 144000.0; /* 288 000 counts/rev */
+static const double RAD_PER_COUNT = 2.0 * 3.14159265358979323846 / CRS_ENCODER_COUNTS_PER_REV;
 
 int64_t crs_encoder_counts(double motor_rad, double rest_motor_rad)
 {
@@ -60,13 +62,37 @@ void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3
 
 int crs_outside_envelope(const double enc_rad[3]) { return crs_outside_envelope_motor(enc_rad); }
 
-void crs_hold_controller(const crs_sim *sim, double out[3])
+void crs_hold_update(crs_hold *h, const double enc_rad[3])
 {
+    const float kp_far = (float)CRS_HOLD_KP_FAR, kp_near = (float)CRS_HOLD_KP_NEAR;
+    const float kp_switch = (float)CRS_HOLD_KP_SWITCH_RAD, kd = (float)CRS_HOLD_KD;
+    const float dt = (float)CRS_TICK_S;
     for (int j = 0; j < 3; ++j) {
-        const double err = sim->hold_motor_rad[j] - sim->enc_rad[j];
-        const double vel = (sim->enc_rad[j] - sim->prev_enc_rad[j]) * 1000.0; /* rad/s */
-        const double kp = fabs(err) > 0.1 ? 15.0 : 25.0;                     /* units/rad */
-        out[j] = kp * err - 1.0 * vel;                                         /* Kd 1 unit.s/rad */
+        const float angle = (float)enc_rad[j];
+        const float e = h->ref_rad[j] - angle;
+        float v = (angle - h->prev_enc_rad[j]) / dt;
+        /* averaged with the two previous averages; the real board's joint 2 line uses the older
+         * one twice */
+        v = j == 1 ? (v + h->vel_old2_rad_s[j] + h->vel_old2_rad_s[j]) / 3.0f
+                   : (v + h->vel_old1_rad_s[j] + h->vel_old2_rad_s[j]) / 3.0f;
+        h->vel_old2_rad_s[j] = h->vel_old1_rad_s[j];
+        h->vel_old1_rad_s[j] = v;
+        h->prev_enc_rad[j] = angle;
+        const float kp = fabsf(e) > kp_switch ? kp_far : kp_near;
+        h->out[j] = kp * e - kd * v;
+    }
+}
+
+void crs_hold_follow(crs_hold *h, const double enc_rad[3])
+{
+    for (int j = 0; j < 3; ++j) h->ref_rad[j] = (float)enc_rad[j];
+}
+
+void crs_hold_reanchor(crs_hold *h, const double enc_rad[3])
+{
+    const float reach = (float)CRS_HOLD_REANCHOR_RAD;
+    for (int j = 0; j < 3; ++j) {
+        if (fabsf(h->ref_rad[j] - (float)enc_rad[j]) > reach) h->ref_rad[j] = (float)enc_rad[j];
     }
 }
 

@@ -1,4 +1,4 @@
-/* The 1 kHz loop: encoders -> framework -> lab() -> printing -> safety -> motors -> physics. */
+/* The 1 kHz loop: encoders -> framework -> lab() -> printing -> safety -> motor board -> physics. */
 #include "sim.h"
 
 #include <math.h>
@@ -7,21 +7,25 @@
 #include "board.h"
 #include "crs_arm.h"
 #include "framework.h"
-
-static const double CLAMP_UNITS = 5.0; /* the framework clamps every command to +-5 */
+#include "framework_facts.h"
+#include "motor_board.h"
+#include "serial_line.h"
 
 void crs_sim_init(crs_sim *sim)
 {
     memset(sim, 0, sizeof *sim);
-    sim->generation = 1;
-    sim->startup_ticks = 4100;
+    sim->generation = CRS_GEN_A;
+    sim->startup_ticks = CRS_STARTUP_TICKS;
     sim->budget_ns = 1000000;
     sim->time_lab = 1;
-    sim->serial_line_limit = 2048;
+    sim->leds = CRS_LEDS_AT_START;
     sim->nan_first_tick = -1;
-    sim->long_line_tick = -1;
+    sim->tx_first_drop_tick = -1;
+    sim->overflow_tick = -1;
     sim->faults.rng_state = 0x9E3779B97F4A7C15ULL;
     sim->faults.glitch_tick = -1;
+    crs_motor_board_init(&sim->motor_board, CRS_MOTOR_BOARD_NONE);
+    crs_board_reset();
 }
 
 static void call_lab(crs_sim *sim)
@@ -51,51 +55,67 @@ static void call_lab(crs_sim *sim)
     }
 }
 
-/* One tick of the framework; returns CRS_RUN_NAN_STRICT to stop, else 0. */
+/* The framework's command for this tick once the startup gate is open: lab(), printing(), the
+ * safety envelope (the hold controller's output outside it), NaN check, clamp, e-stop. Returns
+ * a CRS_RUN_* code to stop the run, else 0. */
+static int lab_tick(crs_sim *sim)
+{
+    call_lab(sim);
+    if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
+    crs_board_after_lab(sim);
+    if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
+    sim->leds = crs_board_update_gpio();
+
+    int stop = 0;
+    const float clamp = (float)CRS_CLAMP_UNITS;
+    const int outside = crs_outside_envelope(sim->enc_rad);
+    for (int j = 0; j < 3; ++j) {
+        /* outside, the lab's torques are discarded */
+        float out = outside ? sim->hold.out[j] : sim->tau[j];
+        if (!isfinite(out)) {
+            if (sim->nan_first_tick < 0) {
+                sim->nan_first_tick = sim->tick;
+                sim->nan_first_joint = j + 1;
+            }
+            sim->nan_count++;
+            out = 0.0f; /* no torque on that joint this tick */
+            if (sim->strict_nan) stop = CRS_RUN_NAN_STRICT;
+        }
+        out = out > clamp ? clamp : (out < -clamp ? -clamp : out);
+        sim->command[j] = sim->estop_latched ? 0.0 : (double)out;
+    }
+    if (outside) {
+        crs_hold_reanchor(&sim->hold, sim->enc_rad);
+    } else {
+        crs_hold_follow(&sim->hold, sim->enc_rad);
+    }
+    sim->safety_flag = outside;
+    return stop;
+}
+
+/* One tick of the framework and the motor board; returns a CRS_RUN_* code to stop, else 0. */
 static int framework_tick(crs_sim *sim)
 {
     double motor[3];
     const double dh[3] = {sim->qpos[0], sim->qpos[1], sim->qpos[2]};
     crs_dh_to_motor(dh, motor);
     crs_read_encoders(sim, motor, sim->enc_rad);
-
-    const int outside = crs_outside_envelope(sim->enc_rad);
-    if (!outside || !sim->has_hold) {
-        memcpy(sim->hold_motor_rad, sim->enc_rad, sizeof motor);
-        sim->has_hold = 1;
-    }
-    if (sim->tick < sim->startup_ticks || lab == NULL) {
-        /* before the startup gate opens nothing reaches the motors and lab() is not called */
-        memset(sim->applied, 0, sizeof sim->applied);
-        return 0;
-    }
-
-    call_lab(sim);
-    crs_board_after_lab(sim);
-    sim->leds = crs_board_update_gpio();
+    crs_hold_update(&sim->hold, sim->enc_rad);
 
     int stop = 0;
-    double out[3];
-    if (outside) {
-        crs_hold_controller(sim, out); /* the lab's torques are discarded */
+    if (sim->tick >= sim->startup_ticks && lab != NULL) {
+        stop = lab_tick(sim);
+        if (stop == CRS_RUN_PRINTF_OVERFLOW) return stop;
     } else {
-        for (int j = 0; j < 3; ++j) out[j] = (double)sim->tau[j];
+        /* before the startup gate opens lab() is not called and the commands are zero */
+        memset(sim->command, 0, sizeof sim->command);
+    }
+    if (crs_motor_board_step(&sim->motor_board, sim->tick, sim->command) && stop == 0) {
+        stop = CRS_RUN_EVENTS_FULL;
     }
     for (int j = 0; j < 3; ++j) {
-        if (!isfinite(out[j])) {
-            if (sim->nan_first_tick < 0) {
-                sim->nan_first_tick = sim->tick;
-                sim->nan_first_joint = j + 1;
-            }
-            sim->nan_count++;
-            out[j] = 0.0; /* no torque on that joint this tick */
-            if (sim->strict_nan) stop = CRS_RUN_NAN_STRICT;
-        }
-        out[j] = out[j] > CLAMP_UNITS ? CLAMP_UNITS : (out[j] < -CLAMP_UNITS ? -CLAMP_UNITS : out[j]);
-        if (sim->estop_latched || sim->faults.dead_motor[j]) out[j] = 0.0;
-        sim->applied[j] = out[j];
+        sim->applied[j] = sim->faults.dead_motor[j] ? 0.0 : sim->motor_board.out_units[j];
     }
-    sim->safety_flag = outside;
     return stop;
 }
 
@@ -116,6 +136,7 @@ static void log_tick(crs_sim *sim, int plots)
     lg->plot[4 * i + 3] = plots ? Simulink_PlotVar4 : 0.0;
     lg->safety[i] = sim->safety_flag;
     lg->leds[i] = sim->leds;
+    lg->motor_board_off[i] = sim->motor_board.off;
 }
 
 int crs_sim_run(crs_sim *sim, int64_t until_tick)
@@ -127,20 +148,22 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
     while (sim->tick < until_tick) {
         sh->tick = sim->tick;
         const int stop = framework_tick(sim);
+        if (stop == CRS_RUN_PRINTF_OVERFLOW) return stop; /* the board's memory is corrupt */
         for (int j = 0; j < 3; ++j) sim->ctrl[j] = sim->applied[j];
         crs_hand_step(sim);
         for (int j = 0; j < 3; ++j) sim->qfrc_applied[j] = sim->hand.force_nm[j];
         if (sim->log.capacity > 0) log_tick(sim, plots);
+        crs_line_send(sh, sim->tick);
 
         sh->phase = CRS_PHASE_PHYSICS;
         sim->mj_step(sim->mj_model, sim->mj_data);
-        memcpy(sim->prev_enc_rad, sim->enc_rad, sizeof sim->enc_rad);
         sim->tick++;
         sh->phase = CRS_PHASE_IDLE;
         sh->tick = sim->tick;
 
         if (stop) return stop;
-        if (sh->serial_len > CRS_SERIAL_CAPACITY / 2 || sh->mark_count > CRS_MARK_CAPACITY / 2) {
+        if (sh->serial_len > CRS_SERIAL_CAPACITY / 2 || sh->mark_count > CRS_MARK_CAPACITY / 2
+            || sh->print_count > CRS_PRINT_CAPACITY / 2) {
             return CRS_RUN_SERIAL_FULL;
         }
         if (sim->log.capacity > 0 && sim->log.count >= sim->log.capacity) return CRS_RUN_LOG_FULL;

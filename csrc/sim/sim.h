@@ -14,7 +14,10 @@
 #include <stdint.h>
 
 /* Shared-memory block the worker writes and the crslab process reads, even after a crash. */
-enum { CRS_SERIAL_CAPACITY = 4194304, CRS_MARK_CAPACITY = 65536 };
+enum {
+    CRS_SERIAL_CAPACITY = 4194304, CRS_MARK_CAPACITY = 65536, CRS_PRINT_CAPACITY = 65536,
+    CRS_LINE_QUEUE_CAPACITY = 4096
+};
 enum { CRS_PHASE_IDLE = 0, CRS_PHASE_LAB = 1, CRS_PHASE_PRINTING = 2, CRS_PHASE_PHYSICS = 3,
        CRS_PHASE_LOADING = 4 /* the lab's shared object is being loaded: its constructors run */ };
 enum { CRS_REFUSAL_TEXT = 256 };
@@ -31,19 +34,34 @@ typedef struct {
     char text[CRS_REFUSAL_TEXT]; /* the path it named, NUL-terminated, truncated; else empty */
 } crs_refusal;
 
+/* The board's serial transmit line: characters serial_printf queued (in the transmit ring, the
+ * SCI's FIFO and its shift register) that have not fully left the board yet. They leave back to
+ * back at the baud rate. Line time: 1 ms = CRS_SERIAL_BAUD units, so one character takes
+ * 1000 * CRS_SERIAL_BITS_PER_CHAR units (framework_facts.h). */
+typedef struct {
+    int64_t head_done;  /* line time at which queue[first] has fully left */
+    uint64_t taken;     /* characters the ring has taken since power-up (all of them leave, in order) */
+    uint32_t first;     /* index of the oldest queued character */
+    uint32_t len;       /* queued characters */
+    char queue[CRS_LINE_QUEUE_CAPACITY];
+} crs_serial_line;
+
 typedef struct {
     int64_t tick;       /* tick being run (or next to run when idle) */
     int32_t phase;      /* CRS_PHASE_*: where the worker is */
     int32_t pad;
     int64_t phase_start_ns; /* CLOCK_MONOTONIC when that phase began */
     uint64_t serial_len;    /* bytes in serial[] not yet taken by the reader */
-    uint64_t serial_dropped; /* bytes lost: more printed in one tick than serial[] or the marks hold */
-    uint32_t mark_count;    /* entries in marks[] */
-    uint32_t pad2;
+    uint64_t serial_dropped; /* bytes lost: more left the board in one chunk than serial[] or the marks hold */
+    uint32_t mark_count;    /* entries in mark_tick/mark_offset */
+    uint32_t print_count;   /* entries in print_tick/print_offset */
     crs_refusal refusal;    /* what the sandbox refused, if anything */
-    int64_t mark_tick[CRS_MARK_CAPACITY];   /* tick of each serial_printf call ... */
-    uint64_t mark_offset[CRS_MARK_CAPACITY]; /* ... and where its bytes start in serial[] */
-    char serial[CRS_SERIAL_CAPACITY];
+    int64_t mark_tick[CRS_MARK_CAPACITY];   /* a tick whose millisecond carried bytes off the board ... */
+    uint64_t mark_offset[CRS_MARK_CAPACITY]; /* ... and where those bytes start in serial[] */
+    int64_t print_tick[CRS_PRINT_CAPACITY];    /* the tick of a serial_printf the ring took bytes of ... */
+    uint64_t print_offset[CRS_PRINT_CAPACITY]; /* ... and where they start in everything ever sent */
+    crs_serial_line line;   /* what is still on its way out (taken by the reader when a run ends) */
+    char serial[CRS_SERIAL_CAPACITY]; /* every byte that left the board, in order */
 } crs_shared;
 
 /* Faults a scenario can inject; all off when zero. Noise is seeded (xorshift64*). */
@@ -79,15 +97,46 @@ typedef struct {
     double *plot;                /* 4 per row: Simulink_PlotVar1..4 after lab() */
     int32_t *safety;             /* safety flag */
     uint32_t *leds;              /* bit 0: GPIO34 (control card), bit 1: GPIO60 (e-stop box) */
+    int32_t *motor_board_off;    /* 1: the motor board has cut every output */
     double *qpos_dh_rad;         /* 3 per row: the true plant joint angles (DH, rad) */
 } crs_log;
+
+/* The framework's hold controller (crs-facts section 7), in the DSP's float arithmetic. */
+typedef struct {
+    float ref_rad[3];            /* references (motor angles), 0 at power-up */
+    float prev_enc_rad[3];       /* last tick's angles, 0 at power-up */
+    float vel_old1_rad_s[3];     /* the last two averaged velocities */
+    float vel_old2_rad_s[3];
+    float out[3];                /* this tick's output, command units */
+} crs_hold;
+
+/* The motor board between the framework's commands and the amplifiers (framework_facts.h). */
+enum { CRS_MB_EVENT_CAPACITY = 64 };
+typedef struct {
+    int32_t model;               /* CRS_MOTOR_BOARD_*: NONE passes commands through */
+    int32_t off;                 /* 1: every output is cut this tick */
+    int32_t cause_joint;         /* while off: 1..3, the joint over the limit; 0: no command */
+    int32_t since_command;       /* ms since the last command arrived */
+    int32_t over_ticks[3];       /* consecutive commands over the limit, per joint */
+    int32_t pad;
+    double held_units[3];        /* the last command that arrived, command units (whole counts) */
+    double out_units[3];         /* what the amplifiers get: held_units, or 0 while off */
+    int64_t cutouts;             /* cut-outs so far */
+    uint32_t event_count;        /* cut-outs starting or ending since the reader last looked */
+    uint32_t pad2;
+    int64_t event_tick[CRS_MB_EVENT_CAPACITY];
+    int32_t event_joint[CRS_MB_EVENT_CAPACITY]; /* cause_joint of the cut-out */
+    int32_t event_off[CRS_MB_EVENT_CAPACITY];   /* 1: the cut-out starts; 0: it ends */
+} crs_motor_board;
 
 /* Why crs_sim_run returned. */
 enum {
     CRS_RUN_DONE = 0,        /* reached until_tick */
     CRS_RUN_SERIAL_FULL = 1, /* serial buffer or marks more than half full: drain and go on */
     CRS_RUN_LOG_FULL = 2,    /* scope log full: drain and go on */
-    CRS_RUN_NAN_STRICT = 3   /* a NaN/Inf torque in strict mode */
+    CRS_RUN_NAN_STRICT = 3,  /* a NaN/Inf torque in strict mode */
+    CRS_RUN_PRINTF_OVERFLOW = 4, /* a serial_printf overflowed the board's format buffer */
+    CRS_RUN_EVENTS_FULL = 5  /* motor-board events full: take them and go on */
 };
 
 typedef void (*crs_mj_step_fn)(const void *model, void *data);
@@ -103,26 +152,24 @@ typedef struct {
     double *qfrc_applied;        /* hand forces on j1..j3, N.m */
 
     /* configuration */
-    int32_t generation;          /* 1: Gen A (SWI_post), 2: Gen B (UARTprint) */
+    int32_t generation;          /* CRS_GEN_A or CRS_GEN_B (framework_facts.h) */
     int32_t strict_nan;          /* 1: a NaN/Inf torque stops the run */
-    int64_t startup_ticks;       /* lab() first runs at this tick (4100, or 0) */
+    int64_t startup_ticks;       /* lab() first runs at this tick (CRS_STARTUP_TICKS, or 0) */
     double rest_motor_rad[3];    /* true resting pose the encoders were zeroed at */
     int64_t budget_ns;           /* lab() time budget for the overrun count */
-    uint32_t serial_line_limit;  /* real serial buffer of this generation, bytes */
     int32_t time_lab;            /* 1: time every lab() call (and let a hang be seen); 0: don't */
+    int32_t pad0;
 
     /* framework state */
     int64_t tick;                /* next tick to run */
     float tau[3];                /* the lab's persistent torque variables, command units */
     int32_t safety_flag;         /* this tick's envelope flag, passed as `error` next tick */
-    double hold_motor_rad[3];    /* last in-envelope encoder angles, held when outside */
-    double prev_enc_rad[3];      /* last tick's encoder angles (for the hold PD's velocity) */
     double enc_rad[3];           /* this tick's encoder angles */
-    double applied[3];           /* command units sent to the motors this tick */
+    double command[3];           /* command units the framework sent the motor board this tick */
+    double applied[3];           /* command units that reached the motors this tick */
     int32_t estop_latched;       /* wrist e-stop: every output latched to zero */
-    int32_t has_hold;            /* hold_motor_rad is valid */
     uint32_t leds;               /* bit 0: GPIO34 high, bit 1: GPIO60 high */
-    int32_t pad3;
+    crs_hold hold;
 
     /* diagnostics */
     int64_t lab_calls;
@@ -132,22 +179,26 @@ typedef struct {
     int64_t nan_first_tick;      /* -1 until a NaN/Inf torque is seen */
     int32_t nan_first_joint;     /* 1..3 */
     int32_t nan_count;
-    int64_t long_line_tick;      /* -1 until a serial line exceeds serial_line_limit */
-    uint32_t long_line_bytes;
-    int32_t printing_runs_pad;
     int64_t printing_runs;
+    int64_t tx_dropped;          /* characters the transmit ring had no room for */
+    int64_t tx_first_drop_tick;  /* -1 until one is dropped */
+    int64_t overflow_tick;       /* -1 until a serial_printf overflows the format buffer */
+    uint32_t overflow_chars;     /* how many characters that serial_printf formatted */
+    int32_t overflow_phase;      /* CRS_PHASE_LAB or CRS_PHASE_PRINTING */
 
     crs_shared *shared;
     crs_faults faults;
     crs_hand hand;
+    crs_motor_board motor_board;
     crs_log log;
 } crs_sim;
 
-/* Zero everything and set the defaults (generation 1, startup 4100, budget 1 ms, ...). */
+/* Zero everything and set the defaults (Gen A, startup gate at CRS_STARTUP_TICKS, budget 1 ms,
+ * no motor board, ...). */
 void crs_sim_init(crs_sim *sim);
 /* Run ticks until sim->tick == until_tick or an early stop (CRS_RUN_*). */
 int crs_sim_run(crs_sim *sim, int64_t until_tick);
-/* Encoder counts of a motor angle relative to the rest pose (288 000 counts per revolution). */
+/* Encoder counts of a motor angle relative to the rest pose (CRS_ENCODER_COUNTS_PER_REV). */
 int64_t crs_encoder_counts(double motor_rad, double rest_motor_rad);
 /* The framework's safety envelope on motor angles (rad): 1 when outside. */
 int crs_outside_envelope(const double enc_rad[3]);

@@ -1,5 +1,8 @@
 /* crslab: the one serial port both framework generations print through (SCI-A to Tera Term).
- * serial_printf formats like printf and appends the bytes to the board's transcript. */
+ * serial_printf formats as the lab's framework generation does (Gen A: the course's small
+ * printf, which truncates; Gen B: TI's rounding vsprintf) and queues the characters on the
+ * board's serial line (csrc/sim/serial_format.h, csrc/sim/serial_line.h). Returns how many
+ * characters the transmit ring took. No printf format attribute: Gen A knows %b, C does not. */
 #ifndef CRSLAB_SERIAL_H
 #define CRSLAB_SERIAL_H
 
@@ -8,7 +11,6 @@
 struct crs_serial_port {
     uint32_t id;
 };
-int serial_printf(struct crs_serial_port *port, char *fmt, ...)
-    __attribute__((format(printf, 2, 3)));
+int serial_printf(struct crs_serial_port *port, char *fmt, ...);
 
 #endif

@@ -1,0 +1,73 @@
+"""The course framework's numbers for Python, read through cffi from the one header that holds
+them (``csrc/sim/framework_facts.h``, compiled into ``crslab._core``): the emulated board is
+built from the same header, so no number of the framework is written twice.
+
+>>> STARTUP_TICKS, CLAMP_UNITS, HOLD_REANCHOR_RAD
+(4100, 5.0, 0.15)
+>>> printf_buffer_chars(GEN_B), tx_ring_chars(GEN_A), SERIAL_CHARS_PER_MS
+(136, 2048, 11.52)
+>>> default_motor_board(GEN_A), default_motor_board(GEN_B)
+('none', 'piccolo')
+"""
+
+from __future__ import annotations
+
+from crslab._core import lib
+
+GEN_A: int = lib.CRS_GEN_A
+"""Gen A, "CRSRobot" (DSP/BIOS): SWI_post(&SWI_printf), the course's small printf."""
+GEN_B: int = lib.CRS_GEN_B
+"""Gen B, "me446 starter" (C2000Ware): UARTprint, TI's rounding vsprintf."""
+
+STARTUP_TICKS: int = lib.CRS_STARTUP_TICKS
+"""The first lab() call is at 4.1 s (the brake releases at 4.0 s)."""
+CLAMP_UNITS: float = lib.CRS_CLAMP_UNITS
+"""Every command is clamped to +-5 command units."""
+HOLD_KP_FAR: float = lib.CRS_HOLD_KP_FAR
+HOLD_KP_NEAR: float = lib.CRS_HOLD_KP_NEAR
+HOLD_KP_SWITCH_RAD: float = lib.CRS_HOLD_KP_SWITCH_RAD
+HOLD_KD: float = lib.CRS_HOLD_KD
+HOLD_REANCHOR_RAD: float = lib.CRS_HOLD_REANCHOR_RAD
+"""The hold controller: Kp 15 beyond 0.1 rad of error, else 25; Kd 1; references re-anchored
+when more than 0.15 rad from the arm outside the envelope."""
+WRIST_ESTOP_RAD: float = lib.CRS_WRIST_ESTOP_RAD
+"""A wrist turned farther than this latches every output to zero."""
+ENCODER_COUNTS_PER_REV: int = lib.CRS_ENCODER_COUNTS_PER_REV
+
+MB_COUNTS_PER_UNIT: int = lib.CRS_MB_COUNTS_PER_UNIT
+MB_LIMIT_UNITS: float = lib.CRS_MB_LIMIT_COUNTS / lib.CRS_MB_COUNTS_PER_UNIT
+"""The motor board cuts out when one joint is commanded beyond this ..."""
+MB_OVER_LIMIT_MS: int = lib.CRS_MB_OVER_LIMIT_TICKS
+"""... for this many consecutive ms."""
+MB_TIMEOUT_MS: int = lib.CRS_MB_TIMEOUT_TICKS
+"""No command for this many ms also cuts every output."""
+MOTOR_BOARDS: dict[str, int] = {"none": lib.CRS_MOTOR_BOARD_NONE, "piccolo": lib.CRS_MOTOR_BOARD_PICCOLO}
+"""The motor-board models by name (``--motor-board``)."""
+
+SERIAL_BAUD: int = lib.CRS_SERIAL_BAUD
+SERIAL_CHARS_PER_MS: float = lib.CRS_SERIAL_BAUD / lib.CRS_SERIAL_BITS_PER_CHAR / 1000
+SCI_TX_FIFO_CHARS: int = lib.CRS_SCI_TX_FIFO
+SCI_TX_SHIFT_CHARS: int = lib.CRS_SCI_TX_SHIFT
+LEDS_AT_START: int = lib.CRS_LEDS_AT_START
+"""Bit 0: GPIO34, bit 1: GPIO60; both start high."""
+
+_PRINTF_BUFFER = {GEN_A: lib.CRS_GEN_A_PRINTF_BUFFER, GEN_B: lib.CRS_GEN_B_PRINTF_BUFFER}
+_TX_RING = {GEN_A: lib.CRS_GEN_A_TX_RING, GEN_B: lib.CRS_GEN_B_TX_RING}
+
+
+def printf_buffer_chars(generation: int) -> int:
+    """Characters the generation's serial_printf buffer holds, the terminating NUL included: a
+    line of this many characters or more overflows it."""
+    return _PRINTF_BUFFER[generation]
+
+
+def tx_ring_chars(generation: int) -> int:
+    """Characters the generation's transmit ring holds (the SCI's FIFO and shift register come on
+    top)."""
+    return _TX_RING[generation]
+
+
+def default_motor_board(generation: int) -> str:
+    """The motor board of the hardware each generation ran on: Gen B's Piccolo board; Gen A's older
+    board is not documented, so none (commands pass through)."""
+    return "piccolo" if generation == GEN_B else "none"

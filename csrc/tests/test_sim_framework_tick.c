@@ -1,0 +1,451 @@
+/* C-level tests of the framework's 1 ms tick, driven alone (no MuJoCo): crs_sim_run with a stub
+ * plant whose motor angles follow a script, and a small test lab compiled in. Built with -Werror
+ * and under ASan/UBSan by tests/test_c_core.py; exit status 0 when every check passes.
+ *
+ * The expected commands are worked by hand from crs-facts sections 2 and 7: the hold
+ * controller's u = Kp e - Kd v with its recursive velocity average, the references, the startup
+ * gate, the clamp, the one-tick delay of `error`, the print triggers, the motor board and the
+ * serial line's ring. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "coecsl.h"
+#include "crs_arm.h"
+#include "framework_facts.h"
+#include "motor_board.h"
+#include "sim.h"
+
+static int failures = 0;
+
+static void check(const char *what, int ok)
+{
+    if (!ok) {
+        printf("FAIL %s\n", what);
+        ++failures;
+    }
+}
+
+static void check_close(const char *what, double got, double want, double tol)
+{
+    if (!(fabs(got - want) <= tol)) {
+        printf("FAIL %s: got %.9g want %.9g\n", what, got, want);
+        ++failures;
+    }
+}
+
+static const double PI_D = 3.14159265358979323846;
+static const double RAD_PER_COUNT = 3.14159265358979323846 / 144000.0;
+
+/* ---- the test lab ------------------------------------------------------------------------- */
+
+float offset_Enc2_rad = -0.42f;
+float offset_Enc3_rad = 0.24f;
+int UARTprint = 0;
+
+enum { LAB_TORQUE, LAB_PRINT_TRIGGERS, LAB_BURSTS, LAB_ALTERNATE, LAB_ONE_LINE };
+enum { MAX_CALLS = 20000 };
+
+static struct {
+    int mode;
+    float torque[3];         /* LAB_TORQUE: written on every call */
+    int line_chars;          /* LAB_ONE_LINE: a line this long on call 3 (and after it: "after") */
+    long calls;
+    int error_seen[MAX_CALLS]; /* the `error` argument of each call */
+} lab_state;
+
+static crs_sim *the_sim; /* the board under test (the lab peeks at its tick) */
+
+void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2,
+         float *tau3, int error)
+{
+    (void)theta1motor, (void)theta2motor, (void)theta3motor;
+    const long call = lab_state.calls++;
+    if (call < MAX_CALLS) lab_state.error_seen[call] = error;
+    switch (lab_state.mode) {
+    case LAB_TORQUE:
+        *tau1 = lab_state.torque[0];
+        *tau2 = lab_state.torque[1];
+        *tau3 = lab_state.torque[2];
+        break;
+    case LAB_PRINT_TRIGGERS:
+        if (call == 0 || call == 2) {
+            serial_printf(&SerialA, "L%ld ", call); /* straight from lab() */
+            SWI_post(&SWI_printf);
+            SWI_post(&SWI_printf); /* two posts in one tick: printing() once */
+            UARTprint = 1;
+        }
+        break;
+    case LAB_BURSTS:
+        if (call == 0 || call == 5 || call == 1000) {
+            /* four 60-character lines: 58 letters and the course's "\n\r" */
+            const int burst = call == 0 ? 0 : (call == 5 ? 1 : 2);
+            for (int line = 0; line < 4; ++line) {
+                char text[59];
+                memset(text, 'A' + 4 * burst + line, 58);
+                text[58] = '\0';
+                serial_printf(&SerialA, "%s\n\r", text);
+            }
+        }
+        break;
+    case LAB_ONE_LINE:
+        if (call == 3) {
+            char text[4096];
+            memset(text, 'x', (size_t)lab_state.line_chars - 2);
+            text[lab_state.line_chars - 2] = '\0';
+            serial_printf(&SerialA, "%s\n\r", text);
+            serial_printf(&SerialA, "after\n\r");
+        }
+        break;
+    case LAB_ALTERNATE:
+        /* +-4.5 on joint 1 for 2 s, then 0 for 100 ms, then 1 */
+        *tau1 = call < 2000 ? (call % 2 ? -4.5f : 4.5f) : (call < 2100 ? 0.0f : 1.0f);
+        *tau2 = 0.0f;
+        *tau3 = 0.0f;
+        break;
+    }
+}
+
+long printing_calls = 0;
+
+void printing(void)
+{
+    serial_printf(&SerialA, "P%ld\n\r", printing_calls++);
+}
+
+/* ---- the stub plant ------------------------------------------------------------------------ */
+
+static double plant_motor[3];         /* the arm's motor angles, rad */
+static double qpos[3], qvel[3], ctrl[3], qfrc[3];
+static int64_t plant_steps;
+static void (*plant_script)(int64_t tick, double motor_rad[3]); /* the pose tick k sees */
+
+static void stub_step(const void *model, void *data)
+{
+    (void)model, (void)data;
+    plant_steps++;
+    if (plant_script != NULL) plant_script(plant_steps, plant_motor);
+    crs_motor_to_dh(plant_motor, qpos);
+}
+
+static const double REST_MOTOR_RAD[3] = {0.0, -0.42, 0.24};
+
+static crs_sim *new_sim(int generation, int64_t startup_ticks, void (*script)(int64_t, double *))
+{
+    crs_sim *sim = calloc(1, sizeof *sim);
+    crs_sim_init(sim);
+    sim->shared = calloc(1, sizeof(crs_shared));
+    sim->generation = generation;
+    sim->startup_ticks = startup_ticks;
+    sim->time_lab = 0;
+    memcpy(sim->rest_motor_rad, REST_MOTOR_RAD, sizeof REST_MOTOR_RAD);
+    plant_script = script;
+    plant_steps = 0;
+    memcpy(plant_motor, REST_MOTOR_RAD, sizeof plant_motor);
+    if (script != NULL) script(0, plant_motor);
+    crs_motor_to_dh(plant_motor, qpos);
+    sim->qpos = qpos;
+    sim->qvel = qvel;
+    sim->ctrl = ctrl;
+    sim->qfrc_applied = qfrc;
+    sim->mj_step = stub_step;
+    memset(&lab_state, 0, sizeof lab_state);
+    UARTprint = 0;
+    printing_calls = 0;
+    the_sim = sim;
+    return sim;
+}
+
+static void free_sim(crs_sim *sim)
+{
+    free(sim->shared);
+    free(sim);
+}
+
+/* Run exactly one tick. */
+static void tick(crs_sim *sim)
+{
+    const int code = crs_sim_run(sim, sim->tick + 1);
+    if (code != CRS_RUN_DONE && code != CRS_RUN_EVENTS_FULL) {
+        printf("FAIL crs_sim_run stopped with %d at tick %lld\n", code, (long long)sim->tick);
+        ++failures;
+    }
+}
+
+/* ---- the hold controller ------------------------------------------------------------------- */
+
+/* Joint 1 turns 23 counts per tick from tick 100 on, joint 2 11 counts per tick; joint 3 rests.
+ * Joint 1 leaves the envelope (|th1| > 0.6667 pi) after about 4170 ticks. */
+enum { RAMP_START = 100, STEP1_COUNTS = 23, STEP2_COUNTS = 11 };
+
+static void ramp_script(int64_t k, double motor[3])
+{
+    const int64_t n = k >= RAMP_START ? k - RAMP_START + 1 : 0;
+    motor[0] = (double)(n * STEP1_COUNTS) * RAD_PER_COUNT;
+    motor[1] = REST_MOTOR_RAD[1] + (double)(n * STEP2_COUNTS) * RAD_PER_COUNT;
+    motor[2] = REST_MOTOR_RAD[2];
+}
+
+static void test_hold_controller_worked_sequence(void)
+{
+    crs_sim *sim = new_sim(CRS_GEN_A, 50, ramp_script);
+    lab_state.mode = LAB_TORQUE;
+    lab_state.torque[0] = 0.77f; /* used inside the envelope, discarded outside */
+
+    /* tick 0: the references are 0 and the last angles 0, so the velocity sees the whole offset
+     * in one ms. Joint 2: e = 0 - (-0.42) = 0.42 > 0.1 -> Kp 15; v = (-420 + 0 + 0) / 3 = -140;
+     * u = 15 * 0.42 + 140 = 146.3. Joint 3: e = -0.24 -> Kp 15; v = 240 / 3 = 80; u = -3.6 - 80. */
+    tick(sim);
+    check_close("tick 0: hold u1", sim->hold.out[0], 0.0, 1e-9);
+    check_close("tick 0: hold u2", sim->hold.out[1], 146.3, 1e-3);
+    check_close("tick 0: hold u3", sim->hold.out[2], -83.6, 1e-3);
+    check_close("tick 0: nothing reaches the motors before the gate", fabs(sim->applied[1]), 0.0, 0.0);
+    check("tick 0: references start at 0", sim->hold.ref_rad[0] == 0.0f && sim->hold.ref_rad[1] == 0.0f
+                                               && sim->hold.ref_rad[2] == 0.0f);
+    while (sim->tick < 50) tick(sim);
+    check("references stay 0 until the startup gate", sim->hold.ref_rad[1] == 0.0f);
+    tick(sim); /* tick 50: inside the envelope the references follow the arm */
+    check("inside, the references follow the angles", sim->hold.ref_rad[1] == (float)sim->enc_rad[1]
+                                                           && sim->hold.ref_rad[2] == (float)sim->enc_rad[2]);
+    check_close("inside, the lab's torque is used", sim->applied[0], 0.77f, 0.0);
+
+    while (sim->tick < RAMP_START) tick(sim);
+    /* the ramp starts: r = 23 counts per ms. Joint 1 averages v with the two previous averages:
+     * r/3, 4r/9, 16r/27, 55r/81; joint 2's line uses the older one twice: r/3, r/3, 5r/9, 5r/9.
+     * The reference is last tick's angle, so e = -step and Kp = 25: u = -25 step - v. */
+    const double step1 = STEP1_COUNTS * RAD_PER_COUNT, r1 = step1 / 0.001;
+    const double step2 = STEP2_COUNTS * RAD_PER_COUNT, r2 = step2 / 0.001;
+    const double v1[4] = {r1 / 3, 4 * r1 / 9, 16 * r1 / 27, 55 * r1 / 81};
+    const double v2[4] = {r2 / 3, r2 / 3, 5 * r2 / 9, 5 * r2 / 9};
+    for (int i = 0; i < 4; ++i) {
+        tick(sim);
+        char what[80];
+        snprintf(what, sizeof what, "ramp tick %d: joint 1 averages over three", i);
+        check_close(what, sim->hold.out[0], -25 * step1 - v1[i], 2e-3);
+        snprintf(what, sizeof what, "ramp tick %d: joint 2's quirk", i);
+        check_close(what, sim->hold.out[1], -25 * step2 - v2[i], 2e-3);
+    }
+
+    /* the arm turns joint 1 out of the envelope */
+    int64_t out_tick = -1;
+    while (sim->tick < 6000 && out_tick < 0) {
+        tick(sim);
+        if (sim->safety_flag) out_tick = sim->tick - 1;
+    }
+    check("joint 1 leaves the envelope", out_tick > 0 && fabs(sim->enc_rad[0]) > 0.6667 * PI_D);
+    const long first_call_tick = 50;
+    check("error is 0 in the call of the tick that left", lab_state.error_seen[out_tick - first_call_tick] == 0);
+    /* outside: the hold output, with the reference one step behind: u1 = -25 step1 - r1 (v settled) */
+    check_close("outside: joint 1 gets the hold output", sim->applied[0], -25 * step1 - r1, 2e-3);
+    check_close("outside: joint 2 gets the hold output", sim->applied[1], -25 * step2 - r2, 2e-3);
+    check_close("outside: joint 3 is held still", sim->applied[2], 0.0, 1e-6);
+    tick(sim);
+    check("error is 1 one tick later", lab_state.error_seen[out_tick + 1 - first_call_tick] == 1);
+    /* the reference stays at the last inside angle while the arm moves on: after k more ticks
+     * e = -(k + 1) step1; beyond 0.1 rad (k + 1 >= 200) Kp drops to 15 */
+    while (sim->tick < out_tick + 99) tick(sim);
+    tick(sim); /* k = 99 */
+    check_close("outside, k = 99: Kp 25", sim->applied[0], -25 * 100 * step1 - r1, 2e-3);
+    while (sim->tick < out_tick + 250) tick(sim);
+    tick(sim); /* k = 250 */
+    check_close("outside, k = 250: Kp 15", sim->applied[0], -15 * 251 * step1 - r1, 2e-3);
+    /* at k = 298, e = -299 step1 = -0.15003 rad: the reference re-anchors to the arm, so at
+     * k = 299 the error is one step again */
+    while (sim->tick < out_tick + 298) tick(sim);
+    tick(sim);
+    check_close("outside, k = 298: last pull before re-anchoring", sim->applied[0], -15 * 299 * step1 - r1, 2e-3);
+    check("re-anchored to the arm", sim->hold.ref_rad[0] == (float)sim->enc_rad[0]);
+    tick(sim);
+    check_close("outside, k = 299: re-anchored", sim->applied[0], -25 * step1 - r1, 2e-3);
+    free_sim(sim);
+}
+
+/* ---- startup gate, clamp, NaN ------------------------------------------------------------ */
+
+static void test_startup_gate_and_clamp(void)
+{
+    crs_sim *sim = new_sim(CRS_GEN_A, CRS_STARTUP_TICKS, NULL);
+    lab_state.mode = LAB_TORQUE;
+    lab_state.torque[0] = 40.0f;
+    lab_state.torque[1] = -40.0f;
+    lab_state.torque[2] = 0.5f;
+    crs_sim_run(sim, CRS_STARTUP_TICKS);
+    check("lab() is not called before 4.1 s", lab_state.calls == 0 && sim->lab_calls == 0);
+    check("nothing is commanded before 4.1 s", sim->command[0] == 0.0 && sim->applied[0] == 0.0);
+    tick(sim);
+    check("the first lab() call is at tick 4100", lab_state.calls == 1 && sim->tick == 4101);
+    check_close("40 is clamped to 5", sim->applied[0], 5.0, 0.0);
+    check_close("-40 is clamped to -5", sim->applied[1], -5.0, 0.0);
+    check_close("0.5 passes", sim->applied[2], 0.5, 0.0);
+    lab_state.torque[2] = NAN;
+    tick(sim);
+    check("a NaN torque applies nothing and is counted",
+          sim->applied[2] == 0.0 && sim->nan_count == 1 && sim->nan_first_tick == 4101 && sim->nan_first_joint == 3);
+    free_sim(sim);
+}
+
+/* ---- print triggers ---------------------------------------------------------------------- */
+
+static void test_print_triggers(void)
+{
+    for (int generation = CRS_GEN_A; generation <= CRS_GEN_B; ++generation) {
+        crs_sim *sim = new_sim(generation, 10, NULL);
+        lab_state.mode = LAB_PRINT_TRIGGERS;
+        crs_sim_run(sim, 200);
+        crs_shared *sh = sim->shared;
+        const char *want = "L0 P0\n\rL2 P1\n\r"; /* printing() once per tick that asked, after lab() */
+        char what[80];
+        snprintf(what, sizeof what, "gen %c: printing() runs once, after lab(), when asked",
+                 generation == CRS_GEN_A ? 'A' : 'B');
+        check(what, sh->serial_len == strlen(want) && memcmp(sh->serial, want, strlen(want)) == 0);
+        check("printing() ran twice", sim->printing_runs == 2);
+        if (generation == CRS_GEN_B) check("UARTprint is cleared", UARTprint == 0);
+        /* each print's bytes leave at 11.52 per ms from the tick it was made in */
+        check("the first bytes leave in the tick of the first call", sh->mark_count >= 2 && sh->mark_tick[0] == 10);
+        free_sim(sim);
+    }
+}
+
+/* ---- the motor board -------------------------------------------------------------------- */
+
+static void test_motor_board_cuts_out_after_500_ms_over_4_units(void)
+{
+    crs_sim *sim = new_sim(CRS_GEN_B, 100, NULL);
+    sim->motor_board.model = CRS_MOTOR_BOARD_PICCOLO;
+    lab_state.mode = LAB_ALTERNATE;
+    /* 4.5 units = 1350 counts > 1200: ticks 100 .. 599 (500 ms) reach the motors, 600 on do not */
+    crs_sim_run(sim, 600);
+    check_close("+-4.5 reaches the motors for 500 ms", fabs(sim->applied[0]), 4.5, 0.0);
+    check("... and the board is on", sim->motor_board.off == 0);
+    tick(sim);
+    check("at 500 ms over the limit every output is cut", sim->applied[0] == 0.0 && sim->motor_board.off == 1);
+    check("the cut-out is reported: tick 600, joint 1",
+          sim->motor_board.event_count == 1 && sim->motor_board.event_tick[0] == 600
+              && sim->motor_board.event_joint[0] == 1 && sim->motor_board.event_off[0] == 1);
+    crs_sim_run(sim, 2100);
+    check("cut while the lab keeps commanding 4.5", sim->applied[0] == 0.0 && sim->motor_board.off == 1);
+    tick(sim); /* tick 2100: the lab commands 0 */
+    check("back when the command drops to 4 units or less", sim->motor_board.off == 0);
+    check("the end is reported at tick 2100",
+          sim->motor_board.event_count == 2 && sim->motor_board.event_tick[1] == 2100 && sim->motor_board.event_off[1] == 0);
+    crs_sim_run(sim, 2201);
+    check_close("later commands reach the motors again", sim->applied[0], 1.0, 0.0);
+    check("one cut-out in all", sim->motor_board.cutouts == 1);
+    free_sim(sim);
+}
+
+static void test_motor_board_timeout_and_counts(void)
+{
+    crs_motor_board mb;
+    crs_motor_board_init(&mb, CRS_MOTOR_BOARD_PICCOLO);
+    const double cmd[3] = {1.23456, -4.0, 4.0033};
+    crs_motor_board_step(&mb, 0, cmd);
+    /* whole PWM counts, truncated toward zero: 370.368 -> 370, -1200, 1200.99 -> 1200 */
+    check_close("1.23456 units is sent as 370 counts", mb.out_units[0], 370.0 / 300.0, 1e-12);
+    check_close("-4 units is within the limit", mb.out_units[1], -4.0, 1e-12);
+    check("4.0033 units is 1200 counts: not over the limit", mb.over_ticks[2] == 0);
+    for (int64_t t = 1; t < 100; ++t) crs_motor_board_step(&mb, t, NULL);
+    check_close("without commands the outputs hold for 99 ms", mb.out_units[0], 370.0 / 300.0, 1e-12);
+    check("... still on", mb.off == 0);
+    crs_motor_board_step(&mb, 100, NULL);
+    check("100 ms without a command cuts every output", mb.off == 1 && mb.out_units[0] == 0.0);
+    check("reported as a missing command (joint 0)", mb.event_count == 1 && mb.event_joint[0] == 0 && mb.event_tick[0] == 100);
+    const double next[3] = {2.0, 0.0, 0.0};
+    crs_motor_board_step(&mb, 150, next);
+    check_close("a command brings them back", mb.out_units[0], 2.0, 1e-12);
+    check("... reported", mb.off == 0 && mb.event_count == 2 && mb.event_off[1] == 0);
+    /* over the limit on joint 2 for 499 ms, then within: no cut-out */
+    const double over[3] = {0.0, -4.5, 0.0}, within[3] = {0.0, 4.0, 0.0};
+    for (int64_t t = 0; t < 499; ++t) crs_motor_board_step(&mb, 200 + t, over);
+    crs_motor_board_step(&mb, 699, within);
+    for (int64_t t = 0; t < 499; ++t) crs_motor_board_step(&mb, 700 + t, over);
+    check("499 ms over the limit, twice, is not 500 consecutive", mb.off == 0 && mb.cutouts == 1);
+    /* none: a wire */
+    crs_motor_board_init(&mb, CRS_MOTOR_BOARD_NONE);
+    const double big[3] = {4.9, -4.9, 4.9};
+    for (int64_t t = 0; t < 2000; ++t) crs_motor_board_step(&mb, t, big);
+    check("no motor board: commands pass unchanged", mb.off == 0 && mb.out_units[1] == -4.9);
+}
+
+/* ---- the serial line -------------------------------------------------------------------- */
+
+static void test_serial_ring_drops(void)
+{
+    crs_sim *sim = new_sim(CRS_GEN_B, 10, NULL);
+    lab_state.mode = LAB_BURSTS;
+    crs_sim_run(sim, 2000);
+    crs_shared *sh = sim->shared;
+    /* burst 1 (tick 10) into an idle line: the ring takes 136 of a call; after each call the
+     * interrupt moves 17 into the FIFO and the shift register. Line 1: 60. Line 2: 60 queued, 43
+     * in the ring, room 93: 60. Line 3: 120 queued, 103 in the ring, room 33: 33. Line 4: none.
+     * 153 sent, 87 dropped. Burst 2 (tick 15): 11.52 chars per ms left during ticks 10..14, so
+     * floor(57.6) = 57 are gone: 96 queued, 79 in the ring, room 57: line 1 loses 3, lines 2-4
+     * all 180. Burst 3 (tick 1010) finds an idle line again: as burst 1. */
+    char want[1024];
+    size_t n = 0;
+    const char first_letter[3] = {'A', 'E', 'I'};
+    const int kept[3][4] = {{60, 60, 33, 0}, {57, 0, 0, 0}, {60, 60, 33, 0}};
+    for (int b = 0; b < 3; ++b) {
+        for (int line = 0; line < 4; ++line) {
+            for (int i = 0; i < kept[b][line]; ++i) want[n++] = i < 58 ? (char)(first_letter[b] + line) : (i == 58 ? '\n' : '\r');
+        }
+    }
+    check("the line carries exactly what the ring kept", sh->serial_len == n && memcmp(sh->serial, want, n) == 0);
+    check("87 + 183 + 87 characters dropped, the first at tick 10",
+          sim->tx_dropped == 357 && sim->tx_first_drop_tick == 10);
+    /* characters leave at 11.52 per ms: 11 in tick 10, 23 by the end of tick 11, ... */
+    check("tick 10 sends 11", sh->mark_tick[0] == 10 && sh->mark_offset[1] == 11);
+    check("tick 11 sends 12", sh->mark_tick[1] == 11 && sh->mark_offset[2] == 23);
+    /* bursts 1 and 2 keep the line busy: 153 + 57 = 210 characters take 210 / 11.52 = 18.2 ms
+     * from the start of tick 10, so the last one leaves during tick 28 */
+    int last_of_bursts_1_2 = -1;
+    for (uint32_t i = 0; i < sh->mark_count; ++i) {
+        if (sh->mark_tick[i] < 1010) last_of_bursts_1_2 = (int)sh->mark_tick[i];
+    }
+    check("bursts 1 and 2 have left by tick 28", last_of_bursts_1_2 == 28);
+    check("nothing left on the line", sh->line.len == 0);
+    free_sim(sim);
+}
+
+static void test_printf_overflow_stops_the_run(void)
+{
+    const struct {
+        int generation, chars, overflows;
+    } cases[4] = {{CRS_GEN_B, 135, 0}, {CRS_GEN_B, 136, 1}, {CRS_GEN_A, 2047, 0}, {CRS_GEN_A, 2048, 1}};
+    for (int i = 0; i < 4; ++i) {
+        crs_sim *sim = new_sim(cases[i].generation, 10, NULL);
+        lab_state.mode = LAB_ONE_LINE;
+        lab_state.line_chars = cases[i].chars;
+        const int code = crs_sim_run(sim, 100);
+        char what[120];
+        snprintf(what, sizeof what, "gen %c, a %d-character line: %s", cases[i].generation == CRS_GEN_A ? 'A' : 'B',
+                 cases[i].chars, cases[i].overflows ? "the run stops at once" : "fits the buffer (with its NUL)");
+        if (cases[i].overflows) {
+            check(what, code == CRS_RUN_PRINTF_OVERFLOW && sim->tick == 13 && sim->overflow_tick == 13
+                            && sim->overflow_chars == (uint32_t)cases[i].chars && sim->overflow_phase == CRS_PHASE_LAB
+                            && lab_state.calls == 4);
+            check("nothing of the overflowing line is sent", sim->shared->line.len == 0 && sim->shared->serial_len == 0);
+        } else {
+            check(what, code == CRS_RUN_DONE && sim->overflow_tick < 0);
+        }
+        free_sim(sim);
+    }
+}
+
+int main(void)
+{
+    test_hold_controller_worked_sequence();
+    test_startup_gate_and_clamp();
+    test_print_triggers();
+    test_motor_board_cuts_out_after_500_ms_over_4_units();
+    test_motor_board_timeout_and_counts();
+    test_serial_ring_drops();
+    test_printf_overflow_stops_the_run();
+    if (failures) {
+        printf("%d failures\n", failures);
+        return 1;
+    }
+    printf("all passed\n");
+    return 0;
+}
