@@ -94,6 +94,13 @@ def test_gen_b_rounds(gen_b):
     assert lines[11] == "A lab    lab|lab   | 100%"
 
 
+def test_truncated_and_rounded_2_decimal_texts_differ_by_one_count_at_most():
+    # why crslab check's default --abs-tol 0.01 covers truncation against rounding (docs/regression.md)
+    values = np.random.default_rng(7).uniform(-400.0, 400.0, 20000).astype(F)
+    worst = max(abs(float(small_printf_f(v, 2)) - float(f"{float(v):.2f}")) for v in values)
+    assert 0.009 < worst <= 0.01 + 1e-9
+
+
 def test_about_half_of_the_2_decimal_values_differ_from_rounding():
     # the estimate, on a grid of values a lab prints (motor angles in degrees)
     values = np.round(np.arange(-180.0, 180.0, 0.37), 2)

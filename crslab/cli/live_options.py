@@ -20,6 +20,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.framework_facts import SERIAL_BAUD
 from crslab.live.console import VarConsole
 from crslab.scopes.display import missing_display
 from crslab.sim.config import SimConfig
@@ -115,7 +116,7 @@ class LiveRun:
                 raise CliError(str(exc)) from None
             where = f" (linked at {pty.link})" if pty.link else ""
             self.status(f"serial port on {pty.path}{where}: attach a terminal, "
-                        f"e.g. python -m serial.tools.miniterm {pty.link or pty.path} 115200")
+                        f"e.g. python -m serial.tools.miniterm {pty.link or pty.path} {SERIAL_BAUD}")
             out.add(pty)
         if a.csv:
             from crslab.sinks.csv_file import CsvSink
