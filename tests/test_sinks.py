@@ -73,7 +73,7 @@ def test_a_threaded_sink_keeps_the_order_of_calls_and_works_off_the_callers_thre
             super().on_serial(tick, data)
 
         def flush(self):
-            self.calls.append((-1, b"flush"))
+            self.sent.append((-1, b"flush"))
 
     inner = Slow()
     sink = ThreadedSink(inner, depth=2)
@@ -82,8 +82,8 @@ def test_a_threaded_sink_keeps_the_order_of_calls_and_works_off_the_callers_thre
         if tick % 10 == 9:
             sink.flush()
     sink.close()
-    assert [t for t, _ in inner.calls if t >= 0] == list(range(50))
-    assert [i for i, (t, _) in enumerate(inner.calls) if t < 0] == [10, 21, 32, 43, 54]
+    assert [t for t, _ in inner.sent if t >= 0] == list(range(50))
+    assert [i for i, (t, _) in enumerate(inner.sent) if t < 0] == [10, 21, 32, 43, 54]
     assert set(seen) == {"crslab-sink"}
 
 

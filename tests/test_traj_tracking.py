@@ -69,9 +69,10 @@ def test_lab_plans_the_same_path_in_c_as_crslab_in_python(figure_run):
         desired_printed = np.array([float(v) for v in fields[1:4]])
         err_printed = np.array([float(v) for v in fields[9:12]])
         i = int(np.searchsorted(report.t_s, (tick - path_start) / 1000.0))
-        np.testing.assert_allclose(desired_printed, np.degrees(report.desired_rad[i]), atol=0.006)
+        # the tracking lab is a Gen A lab: its printf truncates, so a %.2f is up to 0.01 below
+        np.testing.assert_allclose(desired_printed, np.degrees(report.desired_rad[i]), atol=0.011)
         np.testing.assert_allclose(err_printed, np.degrees(report.desired_rad[i] - report.actual_rad[i]),
-                                   atol=0.006)
+                                   atol=0.007)
 
 
 def test_cli_reports_tracking_and_plots(tmp_path):

@@ -246,7 +246,7 @@ class Simulation:
 
     # -- serial ------------------------------------------------------------------------------
     def _drain_serial(self, take: Callable[[int, bytes], None], sink: Sink) -> int:
-        """Hand the print marks since the last drain to ``sink.on_print(tick, offset)`` and the
+        """Hand the print marks since the last drain to ``sink.on_print(tick, chars)`` and the
         bytes that left the board to ``take(tick, bytes)``, one call per tick that sent any;
         returns how many bytes could not be kept since then (more in one chunk than the shared
         block holds), which :attr:`serial_dropped` counts too.
@@ -255,7 +255,7 @@ class Simulation:
         nothing but the block is ever read."""
         sh = self.shared
         for i in range(min(int(sh.print_count), len(sh.print_tick))):
-            sink.on_print(int(sh.print_tick[i]), int(sh.print_offset[i]))
+            sink.on_print(int(sh.print_tick[i]), int(sh.print_chars[i]))
         sh.print_count = 0
         dropped = max(0, int(sh.serial_dropped))
         sh.serial_dropped = 0

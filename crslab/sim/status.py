@@ -142,9 +142,7 @@ class RunResult:
     def timed_lines(self) -> list[tuple[int, str]]:
         r"""The printed lines, each with the tick of the serial_printf that printed its first byte.
 
-        >>> RunResult(RunStatus.OK, calls=[(4100, b"a 1
-b"), (4600, b"c
-")]).timed_lines()
+        >>> RunResult(RunStatus.OK, calls=[(4100, b"a 1\n\rb"), (4600, b"c\n\r")]).timed_lines()
         [(4100, 'a 1'), (4100, 'bc')]
         """
         from crslab.regress.transcript import split_lines

@@ -11,7 +11,7 @@ class MemorySink(Sink):
     """Keeps the serial bytes with their ticks, the print marks and the scope columns.
 
     >>> m = MemorySink()
-    >>> m.on_print(4100, 0); m.on_serial(4100, b"1.00\\n\\r"); m.on_log({"tick": np.array([[0], [1]])})
+    >>> m.on_print(4100, 6); m.on_serial(4100, b"1.00\\n\\r"); m.on_log({"tick": np.array([[0], [1]])})
     >>> m.transcript, m.log["tick"].ravel().tolist()
     (b'1.00\\n\\r', [0, 1])
     """
@@ -24,8 +24,8 @@ class MemorySink(Sink):
     def on_serial(self, tick: int, data: bytes) -> None:
         self.sent.append((tick, data))
 
-    def on_print(self, tick: int, offset: int) -> None:
-        self.prints.append((tick, offset))
+    def on_print(self, tick: int, chars: int) -> None:
+        self.prints.append((tick, chars))
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         self.blocks.append(columns)
@@ -38,17 +38,19 @@ class MemorySink(Sink):
     @property
     def calls(self) -> list[tuple[int, bytes]]:
         r"""Each serial_printf call's tick and the bytes of it the board sent (what fit its transmit
-        ring), cut from the transcript at the print marks.
+        ring), cut from the transcript by the print marks' counts.
 
         >>> m = MemorySink()
-        >>> m.on_print(4100, 0); m.on_print(4100, 4); m.on_print(4600, 9)
+        >>> m.on_print(4100, 4); m.on_print(4100, 5); m.on_print(4600, 3)
         >>> m.on_serial(4100, b"ab c"); m.on_serial(4101, b"12\n\r3"); m.on_serial(4600, b"4\n\r")
         >>> m.calls
         [(4100, b'ab c'), (4100, b'12\n\r3'), (4600, b'4\n\r')]
         """
-        data = self.transcript
-        ends = [offset for _, offset in self.prints[1:]] + [len(data)]
-        return [(tick, data[start:end]) for (tick, start), end in zip(self.prints, ends)]
+        data, start, out = self.transcript, 0, []
+        for tick, chars in self.prints:
+            out.append((tick, data[start:start + chars]))
+            start += chars
+        return out
 
     @property
     def log(self) -> dict[str, np.ndarray] | None:

@@ -1,7 +1,8 @@
 """The one interface every output of a run has, and the fan-out that feeds many at once.
 
 A run hands its sink, after every chunk of ticks: the print marks, each ``serial_printf``'s tick
-and where its bytes start in everything sent (:meth:`Sink.on_print`); the bytes that left the
+and how many of its bytes fit the transmit ring (:meth:`Sink.on_print`; they leave in the order
+printed, so a sink cuts the bytes it gets into calls by these counts); the bytes that left the
 board, with the tick during whose millisecond they left (:meth:`Sink.on_serial`: the serial line
 sends 11.52 characters per ms); then the chunk's scope rows when the run logs them
 (:meth:`Sink.on_log`), then :meth:`Sink.flush`. :meth:`Sink.close` comes once at the end, also
@@ -11,7 +12,7 @@ whichever sinks watch it.
 >>> from crslab.sinks.memory import MemorySink
 >>> a, b = MemorySink(), MemorySink()
 >>> out = FanOut([a, b])
->>> out.on_print(4100, 0); out.on_serial(4100, b"0.00 -24.06\\n\\r"); out.close()
+>>> out.on_print(4100, 13); out.on_serial(4100, b"0.00 -24.06\\n\\r"); out.close()
 >>> a.calls == b.calls == [(4100, b"0.00 -24.06\\n\\r")]
 True
 """
@@ -29,8 +30,9 @@ class Sink:
     def on_serial(self, tick: int, data: bytes) -> None:
         """Bytes that left the board during ``tick``'s millisecond (11.52 at most)."""
 
-    def on_print(self, tick: int, offset: int) -> None:
-        """A serial_printf during ``tick`` whose bytes start at ``offset`` in everything sent."""
+    def on_print(self, tick: int, chars: int) -> None:
+        """A serial_printf during ``tick`` put ``chars`` bytes on the line (the next ones to leave
+        after those of the serial_printf before it)."""
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         """Scope rows (one per tick, see :mod:`crslab.scopes.signals`) since the last call."""
@@ -61,9 +63,9 @@ class FanOut(Sink):
         for s in self.sinks:
             s.on_serial(tick, data)
 
-    def on_print(self, tick: int, offset: int) -> None:
+    def on_print(self, tick: int, chars: int) -> None:
         for s in self.sinks:
-            s.on_print(tick, offset)
+            s.on_print(tick, chars)
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         for s in self.sinks:

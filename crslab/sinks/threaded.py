@@ -56,8 +56,8 @@ class ThreadedSink(Sink):
     def on_serial(self, tick: int, data: bytes) -> None:
         self._put(self.inner.on_serial, tick, data)
 
-    def on_print(self, tick: int, offset: int) -> None:
-        self._put(self.inner.on_print, tick, offset)
+    def on_print(self, tick: int, chars: int) -> None:
+        self._put(self.inner.on_print, tick, chars)
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         self._put(self.inner.on_log, columns)

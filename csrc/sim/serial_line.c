@@ -26,11 +26,10 @@ uint32_t crs_line_queue(crs_shared *sh, uint32_t ring_chars, int64_t tick, const
     }
     if (sh->print_count < CRS_PRINT_CAPACITY) {
         sh->print_tick[sh->print_count] = tick;
-        sh->print_offset[sh->print_count] = line->taken;
+        sh->print_chars[sh->print_count] = take;
         sh->print_count++;
     }
     line->len += take;
-    line->taken += take;
     return take;
 }
 

@@ -20,8 +20,8 @@ int64_t crs_line_units_per_char(void);
 
 /* Queue one serial_printf's n characters at tick `tick` into the line of sh, whose transmit ring
  * holds ring_chars; returns how many the ring took (the first ones; the rest are dropped). When it
- * took any, the call is recorded in sh's print marks (its tick and where its characters will be
- * in everything sent). */
+ * took any, the call is recorded in sh's print marks (its tick and how many characters it has on
+ * the line). */
 uint32_t crs_line_queue(crs_shared *sh, uint32_t ring_chars, int64_t tick, const char *data, uint32_t n);
 
 /* Move the characters that fully leave during tick `tick` from the line to sh->serial, marked

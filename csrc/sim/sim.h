@@ -40,7 +40,6 @@ typedef struct {
  * 1000 * CRS_SERIAL_BITS_PER_CHAR units (framework_facts.h). */
 typedef struct {
     int64_t head_done;  /* line time at which queue[first] has fully left */
-    uint64_t taken;     /* characters the ring has taken since power-up (all of them leave, in order) */
     uint32_t first;     /* index of the oldest queued character */
     uint32_t len;       /* queued characters */
     char queue[CRS_LINE_QUEUE_CAPACITY];
@@ -54,12 +53,13 @@ typedef struct {
     uint64_t serial_len;    /* bytes in serial[] not yet taken by the reader */
     uint64_t serial_dropped; /* bytes lost: more left the board in one chunk than serial[] or the marks hold */
     uint32_t mark_count;    /* entries in mark_tick/mark_offset */
-    uint32_t print_count;   /* entries in print_tick/print_offset */
+    uint32_t print_count;   /* entries in print_tick/print_chars */
     crs_refusal refusal;    /* what the sandbox refused, if anything */
     int64_t mark_tick[CRS_MARK_CAPACITY];   /* a tick whose millisecond carried bytes off the board ... */
     uint64_t mark_offset[CRS_MARK_CAPACITY]; /* ... and where those bytes start in serial[] */
-    int64_t print_tick[CRS_PRINT_CAPACITY];    /* the tick of a serial_printf the ring took bytes of ... */
-    uint64_t print_offset[CRS_PRINT_CAPACITY]; /* ... and where they start in everything ever sent */
+    int64_t print_tick[CRS_PRINT_CAPACITY];   /* the tick of a serial_printf the ring took bytes of ... */
+    uint32_t print_chars[CRS_PRINT_CAPACITY]; /* ... and how many (they leave in order, after the
+                                                  bytes of the serial_printf before it) */
     crs_serial_line line;   /* what is still on its way out (taken by the reader when a run ends) */
     char serial[CRS_SERIAL_CAPACITY]; /* every byte that left the board, in order */
 } crs_shared;

@@ -394,6 +394,14 @@ static void test_serial_ring_drops(void)
     check("the line carries exactly what the ring kept", sh->serial_len == n && memcmp(sh->serial, want, n) == 0);
     check("87 + 183 + 87 characters dropped, the first at tick 10",
           sim->tx_dropped == 357 && sim->tx_first_drop_tick == 10);
+    /* a print mark for each serial_printf the ring took characters of: its tick and how many */
+    const int64_t mark_tick[7] = {10, 10, 10, 15, 1010, 1010, 1010};
+    const uint32_t mark_chars[7] = {60, 60, 33, 57, 60, 60, 33};
+    int marks_ok = sh->print_count == 7;
+    for (int i = 0; marks_ok && i < 7; ++i) {
+        marks_ok = sh->print_tick[i] == mark_tick[i] && sh->print_chars[i] == mark_chars[i];
+    }
+    check("print marks: the tick and the kept characters of each serial_printf", marks_ok);
     /* characters leave at 11.52 per ms: 11 in tick 10, 23 by the end of tick 11, ... */
     check("tick 10 sends 11", sh->mark_tick[0] == 10 && sh->mark_offset[1] == 11);
     check("tick 11 sends 12", sh->mark_tick[1] == 11 && sh->mark_offset[2] == 23);

@@ -1,5 +1,5 @@
-/* Test lab: at its first call prints 5000 lines of 1 kB (5 MB within one tick, more than crslab
- * keeps for a tick), then a short line every 100 calls. */
+/* Test lab: at its first call prints 5000 lines of 1 kB (5 MB within one tick, far more than the
+ * board's transmit ring holds), then a short line every 100 calls. */
 #include <tistdtypes.h>
 #include <coecsl.h>
 #include "user_includes.h"
