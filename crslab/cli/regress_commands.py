@@ -20,7 +20,6 @@ from crslab.cli.sim_commands import (
     lost_serial_notice,
     positive,
 )
-from crslab.framework_facts import MOTOR_BOARDS
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.runner import run_header, run_lab

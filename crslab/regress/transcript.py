@@ -199,7 +199,8 @@ motor_board='piccolo')
         raise GoldenError(f"{path}: header startup_delay must be yes or no, got {h['startup_delay']!r}")
     board = h.get("motor_board") or None
     if board is not None and board not in MOTOR_BOARDS:
-        raise GoldenError(f"{path}: header motor_board must be one of {', '.join(MOTOR_BOARDS)}, got {board!r}")
+        raise GoldenError(f"{path}: header motor_board must be one of {', '.join(MOTOR_BOARDS)}, "
+                          f"got {board!r}")
     return RecordedRun(scenario, duration, rest, delay, board)  # type: ignore[arg-type]
 
 
