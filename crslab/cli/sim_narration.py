@@ -115,9 +115,9 @@ def announcement(event: Event) -> str:
 class Narrator(Sink):
     """Announces a run's scenario events on stderr as the run reaches them (nothing when ``quiet``).
 
-    It is a sink placed before ``stdout`` in the run's fan-out: before a serial_printf call made
-    at or after an event's tick goes on, the event is announced (``stdout`` flushed first, so what
-    was printed before the event is out before it). It is also a live control: after each chunk
+    It is a sink placed before ``stdout`` in the run's fan-out: before bytes that left the board at
+    or after an event's tick go on, the event is announced (``stdout`` flushed first, so what was
+    printed before the event is out before it). It is also a live control: after each chunk
     of ticks it announces the events the run reached that no print followed yet.
     """
 
