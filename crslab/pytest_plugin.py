@@ -9,7 +9,8 @@ Installed with crslab (a ``pytest11`` entry point), so any test can ask for the
 Paths are relative to the test file's folder (a scenario is a built-in name or a TOML file).
 The run is compared number-aware, as ``crslab check`` does (``abs_tol``, ``rel_tol``); a
 mismatch fails the test with the report naming the first differing lines, their simulated
-time and the numbers that differ. A lab that crashes or hangs fails it too.
+time and the numbers that differ. A lab that crashes or hangs fails it too, and so does a failed
+expectation of the scenario (``kind = "expect"``), with one line per failure.
 
 To write the golden files, record once with ``pytest --crslab-record`` (it rewrites every golden
 file the tests name, with a header naming the lab, the scenario and crslab's version) and commit
@@ -80,9 +81,8 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
                          rest_motor_rad=options.rest_motor_rad, motor_board=options.motor_board)
     end_tick = config.scenario.end_tick if options.duration_s is None else seconds_to_tick(options.duration_s)
     result = run_lab(config, end_tick, deadline_s=deadline_s or DEFAULT_DEADLINE_S)
-    if not result.ok:
-        why = result.message or result.status
-        raise CrslabCheckFailed(f"{lab_path.name} on {config.scenario.name}: {why}")
+    if not result.ok:  # a crash, a hang, a failed expectation of the scenario: never recorded
+        raise CrslabCheckFailed(f"{lab_path.name} on {config.scenario.name}: {result.diagnosis()}")
     if record:
         golden_path.parent.mkdir(parents=True, exist_ok=True)
         write_golden(golden_path, run_header(config, end_tick, scenario), result.transcript)

@@ -24,7 +24,8 @@ def test_every_exit_status_is_a_row_of_the_readmes_table():
 
 
 @pytest.mark.parametrize("status, exit_status, words", [
-    ("ok", 0, "ended normally"), ("crashed", 3, "crashed"), ("exited", 3, "exit()"), ("hung", 4, "hung"),
+    ("ok", 0, "ended normally"), ("unmet", 1, "an expectation of the scenario failed"),
+    ("crashed", 3, "crashed"), ("exited", 3, "exit()"), ("hung", 4, "hung"),
     ("nan", 5, "NaN"), ("output-limit", 6, "--max-output-mb"), ("interrupted", 130, "Ctrl-C"),
     ("no-lab", 2, "does not compile"), ("build-error", 2, "does not compile"),
     ("unfit", 2, "malformed scenario"), ("timeout", 4, "hung")])
@@ -47,6 +48,9 @@ def test_each_status_grades_as_docs_regression_says():
         assert graded[status] == "crashed"
     assert "exit()" in rows["crashed"] and "runaway output" in rows["crashed"]
     assert "--timeout" in rows["hung"] and "no `lab()`" in rows["does not compile"]
+    # a failed expectation is its own class, whatever the transcript
+    assert graded[RunStatus.UNMET] == RunStatus.UNMET.graded(matched=True) == "unmet"
+    assert "expectation" in rows["unmet"] and "whatever its transcript" in rows["unmet"]
 
 
 def test_forbidden_exits_as_a_crash_and_is_counted_only_when_it_happens():
@@ -59,13 +63,15 @@ def test_forbidden_exits_as_a_crash_and_is_counted_only_when_it_happens():
     assert counts_line([grade(RunStatus.OK), grade(RunStatus.HUNG)]) == (
         "2 submissions: 1 pass, 0 mismatch, 0 does not compile, 0 crashed, 1 hung")
     assert counts_line([grade(RunStatus.FORBIDDEN)]).endswith("0 hung, 1 forbidden")
+    assert counts_line([grade(RunStatus.UNMET)]) == (
+        "1 submissions: 0 pass, 0 mismatch, 1 unmet, 0 does not compile, 0 crashed, 0 hung")
 
 
 def test_statuses_keep_their_names_in_text_and_json():
     import json
 
     assert json.dumps({"status": RunStatus.OUTPUT_LIMIT}) == '{"status": "output-limit"}'
-    assert [str(s) for s in RunStatus] == ["ok", "crashed", "exited", "hung", "forbidden", "nan",
+    assert [str(s) for s in RunStatus] == ["ok", "unmet", "crashed", "exited", "hung", "forbidden", "nan",
                                           "output-limit", "interrupted", "no-lab", "build-error", "unfit",
                                           "timeout"]
     assert re.fullmatch(r"[a-z-]+", f"{RunStatus.NO_LAB}")

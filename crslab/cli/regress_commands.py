@@ -1,7 +1,8 @@
 """``crslab record``, ``crslab check`` and ``crslab grade``: golden transcripts and regression.
 
-Exit statuses: 0 match (every submission passes), 1 mismatch, 2 bad input; ``record`` and
-``check`` give ``crslab sim``'s statuses when the lab itself crashes (3), hangs (4), ...
+Exit statuses: 0 match (every submission passes), 1 mismatch or a failed scenario expectation,
+2 bad input; ``record`` and ``check`` give ``crslab sim``'s statuses when the lab itself crashes
+(3), hangs (4), ...
 """
 
 from __future__ import annotations
@@ -59,7 +60,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("record", help="run a lab on a scenario and save its transcript as a golden file",
                        description="Run a lab file on a scenario as fast as possible and write what it "
                        "printed, exactly, after a small header naming the lab (and its hash), the "
-                       "scenario and crslab's version.")
+                       "scenario and crslab's version. Nothing is written when the run does not end "
+                       "normally or an expectation of the scenario fails.")
     add_run_options(p)
     p.add_argument("-o", "--output", type=Path, required=True, metavar="FILE",
                    help="the golden file to write")
@@ -69,7 +71,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                        description="Run a lab file and compare its transcript with a golden file, line by "
                        "line: numbers match within the tolerances, all other text exactly. The scenario, "
                        "duration, resting pose, startup delay and motor board default to the golden "
-                       "file's. Exit 0 on a match, 1 on a mismatch, 2 on bad input.")
+                       "file's. Exit 0 on a match, 1 on a mismatch or a failed scenario expectation, 2 on "
+                       "bad input.")
     add_run_options(p)
     p.add_argument("--golden", type=Path, required=True, metavar="FILE",
                    help="the golden file (from 'crslab record', or a transcript from 'crslab sim')")
@@ -83,8 +86,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                        description="Run every lab file (.c, .cpp) in a folder on a scenario, each in a "
                        "process of its own and several at once, each compiled and run in the sandbox "
                        "from a private copy of that one file, compare each transcript with the "
-                       "reference lab's, and class each as pass, mismatch, does not compile, crashed, "
-                       "forbidden (the sandbox stopped it) or hung. Writes a summary table (stdout and "
+                       "reference lab's, and class each as pass, mismatch, unmet (an expectation of the "
+                       "scenario failed), does not compile, crashed, forbidden (the sandbox stopped it) "
+                       "or hung. Writes a summary table (stdout and "
                        "summary.txt), grades.csv, "
                        "junit.xml, and every transcript and report, into --out.")
     p.add_argument("submissions", type=Path, metavar="SUBMISSIONS_DIR", help="folder of lab files")
@@ -136,6 +140,9 @@ def run_record(args: argparse.Namespace) -> int:
     end_tick = _end_tick(args, config)
     result = _run(config, args, end_tick)
     if not result.ok:
+        for expectation in result.failed_expectations:
+            for line in expectation.lines():
+                print(f"crslab record: expectation failed: {line}", file=sys.stderr)
         print(f"crslab record: {result.message or result.status}; nothing was written", file=sys.stderr)
         return result.exit_status
     try:
@@ -183,7 +190,7 @@ def run_check(args: argparse.Namespace) -> int:
                          abs_tol=args.abs_tol, rel_tol=args.rel_tol)
     report = comparison.report(max_lines=args.max_report)
     if not result.ok:
-        report = f"{result.message or result.status}\n{report}"
+        report = f"{result.diagnosis()}\n{report}"
     print(report)
     status = result.exit_status if not result.ok else (
         ExitStatus.OK if comparison.ok else ExitStatus.MISMATCH)
@@ -225,6 +232,10 @@ def run_grade(args: argparse.Namespace) -> int:
 
     [reference] = g.run_many([args.reference], config, end_tick, jobs=1, deadline_s=args.deadline,
                              limits=limits, timeout_s=args.timeout, private=False)
+    if reference.status is RunStatus.UNMET:
+        first = reference.failed_expectations[0].lines()[0]
+        raise CliError(f"the reference lab {args.reference.name} does not meet the scenario's expectations: "
+                       f"{reference.message}; the first: {first}")
     if not reference.ok:
         raise CliError(f"the reference lab did not run: {reference.message or reference.status}")
     print(f"crslab grade: {len(subs)} submissions against {args.reference.name} on {config.scenario.name} "

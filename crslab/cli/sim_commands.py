@@ -25,6 +25,7 @@ from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.live.console import VarConsole
 from crslab.sandbox import missing as sandbox_missing
 from crslab.scenario.event import seconds_to_tick
+from crslab.scenario.expect_events import summary_text
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
 from crslab.sim.board_ffi import board_constants
@@ -177,6 +178,10 @@ def summary(result: RunResult, wall_s: float, budget_us: float) -> dict:
         "tx_ring_first_drop_tick": st.get("tx_first_drop_tick", -1),
         "motor_board": st.get("motor_board", ""),
         "motor_board_cutouts": st.get("motor_board_cutouts", 0),
+        "expectations_met": sum(e.met for e in result.expectations),
+        "expectations_failed": len(result.failed_expectations),
+        "expectations_not_reached": sum(not e.reached for e in result.expectations),
+        "expectations": [e.as_dict() for e in result.expectations],
     }
 
 
@@ -189,8 +194,9 @@ def summary_line(info: dict) -> str:
     ...               "motor_board": "piccolo", "motor_board_cutouts": 1})
     '25.000 s simulated in 0.50 s; lab() x10: mean 0.1 us, max 3.4 us (tick 4100); 2 over the 1000 us ...'
     >>> summary_line({"simulated_s": 1.0, "wall_s": 0.1, "lab_calls": 0, "motor_board": "piccolo",
-    ...               "motor_board_cutouts": 2})
-    '1.000 s simulated in 0.10 s; motor board: 2 cut-outs'
+    ...               "motor_board_cutouts": 2, "expectations_met": 1, "expectations_failed": 1,
+    ...               "expectations_not_reached": 0, "expectations": [{}, {}]})
+    '1.000 s simulated in 0.10 s; motor board: 2 cut-outs; expectations: 1 met, 1 failed'
 
     """
     line = f"{info['simulated_s']:.3f} s simulated in {info['wall_s']:.2f} s"
@@ -203,6 +209,9 @@ def summary_line(info: dict) -> str:
     if info.get("motor_board", "none") != "none":
         n = info.get("motor_board_cutouts", 0)
         line += f"; motor board: {n} cut-out{'' if n == 1 else 's'}"
+    if info.get("expectations"):
+        line += "; " + summary_text(info["expectations_met"], info["expectations_failed"],
+                                    info["expectations_not_reached"])
     return line
 
 
@@ -299,7 +308,8 @@ def run_sim(args: argparse.Namespace) -> int:
                 console=any(isinstance(c, VarConsole) for c in live.controls), waypoints=args.waypoints))
             narrator.reached(0)
             result = sim.run(end_tick, out, speed=speed, controls=[narrator, *live.controls],
-                             on_behind=on_behind, on_motor_board=on_motor_board)
+                             on_behind=on_behind, on_motor_board=on_motor_board,
+                             on_expectation=narrator.judged)
     except SimError as exc:
         raise CliError(str(exc), status=exc.status.exit_status) from None
     finally:
@@ -311,6 +321,9 @@ def run_sim(args: argparse.Namespace) -> int:
     tracking.finish()
     for line in notices(lab_name, result.stats, config.build.generation):
         print(f"crslab sim: {line}", file=sys.stderr)
+    for expectation in result.failed_expectations:
+        for line in expectation.lines():
+            print(f"crslab sim: expectation failed: {line}", file=sys.stderr)
     info = summary(result, wall, args.budget_us)
     if args.json:
         print(json.dumps(info), file=sys.stderr)

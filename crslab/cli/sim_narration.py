@@ -1,7 +1,8 @@
 """What ``crslab sim`` tells the user on stderr around the lab's own output, so that a first run
 explains itself: before the first tick, one short paragraph (which lab, which scenario, what the
 printed columns are when the lab is one of crslab's own); during the run, each scenario event
-as the simulation reaches it (``t = 5.0 s: hand to ...``). ``--quiet`` turns both off.
+as the simulation reaches it (``t = 5.0 s: hand to ...``), an expectation with how it went
+(``t = 6.0 s: expect the motor board off: met``). ``--quiet`` turns both off.
 
 None of it goes to stdout or into the transcript: what the board prints stays exactly what the
 board prints. An event is announced when the simulation has reached its tick, after everything
@@ -19,6 +20,7 @@ from typing import TextIO
 
 from crslab import resources
 from crslab.scenario.event import Event
+from crslab.scenario.expect_events import Expect, ExpectOutcome
 from crslab.sim.running import RunningLab
 from crslab.sinks.sink import Sink
 
@@ -102,14 +104,28 @@ def introduction(*, lab: Path, scenario_name: str, scenario_description: str, en
     return f"{head}\n{body}\n"
 
 
-def announcement(event: Event) -> str:
-    """One event as announced when the run reaches it, in the event's own description.
+def announcement(event: Event, outcome: ExpectOutcome | None = None) -> str:
+    """One event as announced when the run reaches it, in the event's own description; an
+    expectation with how it went (``outcome``), one line per failed condition.
 
     >>> from crslab.scenario.hand_events import HandRelease
     >>> announcement(HandRelease(tick=23000))
     'crslab sim: t = 23.0 s: release'
+    >>> from crslab.scenario.expect_events import BoardOff
+    >>> off = Expect(tick=6000, conditions=(BoardOff(True),))
+    >>> announcement(off, ExpectOutcome(6000, "cut.toml:9", "the motor board off"))
+    'crslab sim: t = 6.0 s: expect the motor board off: met'
+    >>> failed = ExpectOutcome(6000, "cut.toml:9", "", "", ("expected the motor board off, it was on",))
+    >>> announcement(off, failed)
+    'crslab sim: t = 6.0 s: expectation failed: expected the motor board off, it was on (cut.toml:9)'
     """
-    return f"{PREFIX}t = {seconds(event.tick)} s: {event.describe()}"
+    at = f"{PREFIX}t = {seconds(event.tick)} s: "
+    if outcome is None:
+        return at + event.describe()
+    if not outcome.failures:
+        return f"{at}{event.describe()}: met"
+    tail = f": {outcome.message}" if outcome.message else ""
+    return "\n".join(f"{at}expectation failed: {why} ({outcome.where}){tail}" for why in outcome.failures)
 
 
 class Narrator(Sink):
@@ -118,7 +134,9 @@ class Narrator(Sink):
     It is a sink placed before ``stdout`` in the run's fan-out: before bytes that left the board at
     or after an event's tick go on, the event is announced (``stdout`` flushed first, so what was
     printed before the event is out before it). It is also a live control: after each chunk
-    of ticks it announces the events the run reached that no print followed yet.
+    of ticks it announces the events the run reached that no print followed yet. An expectation
+    is announced with how it went once :meth:`judged` was told (the run judges a chunk's
+    expectations before its sinks get its bytes), in the scenario's order.
     """
 
     def __init__(self, events: Sequence[Event], stdout: Sink, *, quiet: bool,
@@ -127,6 +145,20 @@ class Narrator(Sink):
         self.quiet = quiet
         self.stdout = stdout
         self.stream = stream if stream is not None else sys.stderr
+        self.outcomes: list[ExpectOutcome] = []
+        self.expects_announced = 0
+
+    def judged(self, outcome: ExpectOutcome) -> None:
+        """The run judged the next of the scenario's expectations (``Simulation.run``'s
+        ``on_expectation``)."""
+        self.outcomes.append(outcome)
+
+    def _announcement(self, event: Event) -> str:
+        if not isinstance(event, Expect) or event.note_for is not None:
+            return announcement(event)
+        k = self.expects_announced
+        self.expects_announced += 1
+        return announcement(event, self.outcomes[k] if k < len(self.outcomes) else None)
 
     def say(self, text: str) -> None:
         """Print ``text`` (one or more whole lines) on stderr, unless quiet."""
@@ -142,7 +174,7 @@ class Narrator(Sink):
             return
         due = []
         while self.pending and self.pending[0].tick <= tick:
-            due.append(announcement(self.pending.pop(0)))
+            due.append(self._announcement(self.pending.pop(0)))
         self.say("\n".join(due))
 
     def on_serial(self, tick: int, data: bytes) -> None:

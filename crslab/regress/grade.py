@@ -1,7 +1,8 @@
 """Grade a folder of lab files against a reference lab: every submission is built and run in a
 process of its own (several at once), from a private copy of that one file (in the sandbox, it
 can read nothing else of the class folder), its transcript compared with the reference's, and
-the outcome classed as pass, mismatch, does not compile, crashed, forbidden or hung. One broken
+the outcome classed as pass, mismatch, unmet (an expectation of the scenario failed), does not
+compile, crashed, forbidden or hung. One broken
 submission never stops the others: its process may crash, hang or be killed, and grading goes on.
 
 Each status's grade class is attached to it (:class:`crslab.sim.status.RunStatus`).
@@ -57,10 +58,16 @@ class Grade:
 
     @property
     def report(self) -> str:
-        """The full explanation: the mismatch report or the diagnostics."""
-        if self.comparison is not None and not self.comparison.ok:
-            return self.comparison.report(max_lines=10)
-        return "\n".join(x for x in (self.result.message, self.result.details) if x)
+        """The full explanation: the failed expectations (one line each), the mismatch report, or
+        the diagnostics."""
+        r = self.result
+        head = r.diagnosis() if r.failed_expectations else r.message
+        if self.comparison is None:  # the run did not reach its end
+            return "\n".join(x for x in (head, r.details) if x)
+        parts = [head] if r.failed_expectations else []
+        if not self.comparison.ok:
+            parts.append(self.comparison.report(max_lines=10))
+        return "\n".join(parts)
 
 
 def _first_error(diagnostics: str, name: str) -> str:
@@ -228,9 +235,11 @@ def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: i
 
 def grade_result(result: RunResult, reference: RunResult, *, abs_tol: float = DEFAULT_ABS_TOL,
                  rel_tol: float = DEFAULT_REL_TOL) -> Grade:
-    """Grade one submission's run against the reference's transcript."""
+    """Grade one submission's run against the reference's transcript. A run that reached its end
+    with a failed expectation is ``unmet`` whatever its transcript; the detail names the first
+    failure and says whether the transcript matched too."""
     path = result.lab_file or Path("?")
-    if not result.ok:
+    if result.status not in (RunStatus.OK, RunStatus.UNMET):
         grade = result.status.graded(matched=False)
         return Grade(path, grade, result.message.splitlines()[0] if result.message else str(grade), result)
     comparison = compare(split_lines(reference.transcript, reference.calls),
@@ -242,6 +251,10 @@ def grade_result(result: RunResult, reference: RunResult, *, abs_tol: float = DE
         first = comparison.diffs[0]
         when = f" ({first.got.time})" if first.got is not None and first.got.tick is not None else ""
         detail = f"{len(comparison.diffs)} lines differ; line {first.number}{when}: {first.reason}"
+    if result.status is RunStatus.UNMET:
+        failed = result.failed_expectations
+        detail = (f"{len(failed)} of {len(result.expectations)} expectations failed; first at "
+                  f"{failed[0].lines()[0]}; {detail}")
     return Grade(path, grade, detail, result, comparison)
 
 
@@ -264,11 +277,12 @@ def counts_line(grades: Sequence[Grade]) -> str:
 
 
 def write_csv(path: Path, grades: Sequence[Grade]) -> None:
-    """One row per submission: file, result, detail, lines, first differing line and its time."""
+    """One row per submission: file, result, detail, lines, first differing line and its time, the
+    seconds it took and how many of the scenario's expectations failed."""
     with path.open("w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["submission", "result", "detail", "lines", "first_diff_line", "first_diff_t_s",
-                    "seconds"])
+                    "seconds", "expectations_failed"])
         for g in grades:
             lines = len(split_lines(g.result.transcript))
             first_line = first_t = ""
@@ -278,15 +292,16 @@ def write_csv(path: Path, grades: Sequence[Grade]) -> None:
                 if d.got is not None and d.got.tick is not None:
                     first_t = f"{d.got.tick / 1000:.3f}"
             w.writerow([g.path.name, g.grade, g.detail, lines, first_line, first_t,
-                        f"{g.result.wall_s:.2f}"])
+                        f"{g.result.wall_s:.2f}", len(g.result.failed_expectations)])
 
 
 def write_junit_grades(path: Path, grades: Sequence[Grade], suite: str) -> None:
-    """A JUnit report: a mismatch is a failure; does not compile, crashed, forbidden and hung are
-    errors."""
+    """A JUnit report: a mismatch or an unmet expectation is a failure (its text lists every
+    failed expectation); does not compile, crashed, forbidden and hung are errors."""
     cases = []
     for g in grades:
-        status = {GradeClass.PASS: "pass", GradeClass.MISMATCH: "failure"}.get(g.grade, "error")
+        status = {GradeClass.PASS: "pass", GradeClass.MISMATCH: "failure",
+                  GradeClass.UNMET: "failure"}.get(g.grade, "error")
         cases.append(Case(g.path.name, suite, g.result.wall_s, status, f"{g.grade}: {g.detail}", g.report))
     write_junit(path, "crslab grade", cases)
 

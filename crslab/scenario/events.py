@@ -11,21 +11,22 @@ from __future__ import annotations
 
 import numpy as np
 
-from crslab.scenario import fault_events, hand_events, lab_events, plant_events
+from crslab.scenario import expect_events, fault_events, hand_events, lab_events, plant_events
 from crslab.scenario.event import Event, RandomFaults, event_kinds, seconds_to_tick
+from crslab.scenario.expect_events import Expect
 from crslab.scenario.fault_events import DeadMotor, EncoderGlitch, EncoderNoise, StuckEncoder, WristEstop
 from crslab.scenario.hand_events import HandMove, HandRelease
 from crslab.scenario.lab_events import SetVariable, SimulinkInput
 from crslab.scenario.plant_events import EndMass, FrictionScale
 from crslab.scenario.table import TableReader, end_mass_kg
 
-__all__ = ["EVENT_KINDS", "DeadMotor", "EncoderGlitch", "EncoderNoise", "EndMass", "Event", "FrictionScale",
-           "HandMove", "HandRelease", "SetVariable", "SimulinkInput", "StuckEncoder", "WristEstop",
-           "parse_event", "parse_plant"]
+__all__ = ["EVENT_KINDS", "DeadMotor", "EncoderGlitch", "EncoderNoise", "EndMass", "Event", "Expect",
+           "FrictionScale", "HandMove", "HandRelease", "SetVariable", "SimulinkInput", "StuckEncoder",
+           "WristEstop", "parse_event", "parse_plant"]
 
-GROUPS = (hand_events, lab_events, plant_events, fault_events)
+GROUPS = (hand_events, lab_events, plant_events, fault_events, expect_events)
 """The modules of event kinds, in the order their kinds are listed: the hand, writes to the lab,
-the plant, faults."""
+the plant, faults, checks."""
 _ORDER = [g.__name__ for g in GROUPS]
 EVENT_KINDS = dict(sorted(event_kinds().items(), key=lambda kind: _ORDER.index(kind[1].__module__)))
 """Each kind a scenario file may name, and the event class that parses it."""

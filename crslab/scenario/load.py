@@ -82,6 +82,18 @@ The format, with every event kind (docs/scenarios.md explains each one further):
     kind = "estop"                  # the wrist is turned: past 0.11 rad the outputs latch to zero
     wrist_rad = 0.2                 # optional, default 0.2
 
+    [[event]]
+    at = 6.0
+    kind = "expect"                 # what must be true now (before this tick runs); one or more of:
+    motor_board_off = true          # the motor board has cut every output (or false)
+    motor_board_cutouts = 1         # cut-outs started so far
+    error = 0                       # the safety flag lab() gets at this tick
+    motor_deg = [0, 90, 0]          # the arm's motor angles (or motor_rad, dh_deg; one number with joint)
+    tol_deg = 1.0                   # how close (or tol_rad); default 1 deg
+    # moved_deg = 2, since = 5.0    # the motor angles (of joint/joints) rose at least 2 deg since 5 s
+    # var = "Kp1", value = 2.5      # a watched variable's value (index for an array, tol)
+    message = "shown when it fails"
+
 Every error names the file, the line and the key, and nothing runs.
 """
 
@@ -95,7 +107,7 @@ from pathlib import Path
 from crslab import resources
 from crslab.lab.build import LabBuild
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
-from crslab.scenario.events import SetVariable, parse_event, parse_plant
+from crslab.scenario.events import Expect, SetVariable, parse_event, parse_plant
 from crslab.scenario.table import ScenarioError, TableReader
 
 BUILTIN_DIR = resources.path("scenarios")
@@ -217,25 +229,30 @@ def load_scenario(name_or_path: str | None = None) -> Scenario:
 
 
 def check_lab(scenario: Scenario, build: LabBuild) -> None:
-    """Check that every variable the scenario writes is one the lab watches (``#pragma
-    DATA_SECTION``), with an index exactly when it is an array; raises :class:`ScenarioError`."""
+    """Check that every variable the scenario writes (``set``) or expects (``expect``) is one the
+    lab watches (``#pragma DATA_SECTION``), with an index exactly when it is an array, and that
+    every value written fits; raises :class:`ScenarioError`."""
     watched = {v.name: v for v in build.watched}
     lab = build.source.name
     for e in scenario.events:
-        if not isinstance(e, SetVariable):
+        if isinstance(e, SetVariable):
+            name, index, line = e.name, e.index, e.line
+        elif isinstance(e, Expect) and e.variable is not None:
+            name, index, line = e.variable.name, e.variable.index, e.variable.line or e.line
+        else:
             continue
-        where = f"{scenario.source}:{e.line}" if e.line else scenario.source
-        var = watched.get(e.name)
+        where = f"{scenario.source}:{line}" if line else scenario.source
+        var = watched.get(name)
         if var is None:
             known = ", ".join(watched) or "none"
-            raise ScenarioError(f"{where}: var: {e.name} is not a watched (#pragma DATA_SECTION) variable "
+            raise ScenarioError(f"{where}: var: {name} is not a watched (#pragma DATA_SECTION) variable "
                                 f"of {lab} (watched: {known})")
-        if var.length is None and e.index is not None:
-            raise ScenarioError(f"{where}: index: {e.name} is not an array in {lab}")
-        if var.length is not None and (e.index is None or e.index >= var.length):
-            raise ScenarioError(f"{where}: index: {e.name} has {var.length} elements in {lab}: "
+        if var.length is None and index is not None:
+            raise ScenarioError(f"{where}: index: {name} is not an array in {lab}")
+        if var.length is not None and (index is None or index >= var.length):
+            raise ScenarioError(f"{where}: index: {name} has {var.length} elements in {lab}: "
                                 f"give an index 0..{var.length - 1}")
-        if var.is_integer:
+        if isinstance(e, SetVariable) and var.is_integer:
             low, high = _integer_range(var.cdecl)
             if not low <= round(e.value) <= high:
                 raise ScenarioError(f"{where}: value: {e.value:g} does not fit {e.name}, "

@@ -3,8 +3,9 @@
 An event at tick k is applied before tick k runs, so tick k's encoder reading and lab() call
 already see it. Faults act in the C framework (``crs_faults`` and ``estop_latched`` of
 csrc/sim/sim.h); plant changes edit the MuJoCo model in place; writes go to the lab's globals.
-Each event class of :mod:`crslab.scenario.events` has its effect here, found from its class
-(:func:`effect_of` registers one).
+An expectation (``expect``) changes nothing: it notes what the worker sees, for the crslab
+process to judge. Each event class of :mod:`crslab.scenario.events` has its effect here, found
+from its class (:func:`effect_of` registers one).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from crslab.scenario.events import (
     EncoderNoise,
     EndMass,
     Event,
+    Expect,
     FrictionScale,
     HandMove,
     HandRelease,
@@ -134,3 +136,9 @@ def _dead_motor(worker: Worker, e: DeadMotor) -> None:
 def _wrist_estop(worker: Worker, e: WristEstop) -> None:
     if e.latches:
         worker.sim.estop_latched = 1
+
+
+@effect_of(Expect)
+def _expect(worker: Worker, e: Expect) -> None:
+    var = e.variable
+    worker.observe(None if var is None else (var.name, var.index))

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab import os_support
+from crslab.scenario.expect_events import ExpectOutcome, Judge, Observation
 from crslab.sim.board_ffi import board_constants, board_ffi, shared_size
 from crslab.sim.config import SimConfig
 from crslab.sim.running import LiveControl
@@ -44,6 +45,8 @@ FAST_SLICE_TICKS = 20_000
 MotorBoardReport = Callable[[int, int, bool], None]
 """``(tick, joint, off)``: the motor board cut every output (off True; joint 1..3 over the limit,
 0 no command) or brought them back (off False)."""
+ExpectationReport = Callable[[ExpectOutcome], None]
+"""An expectation of the scenario was judged (met or failed)."""
 
 
 def phase_where(phase: int) -> str:
@@ -166,6 +169,8 @@ class Simulation:
         11.52 characters per ms keep a chunk far below that. In ``stats`` too."""
         self.motor_board_events: list[tuple[int, int, int]] = []
         """The motor board's cut-outs so far: ``(tick, joint, off)``. In ``stats`` too."""
+        self.judge = Judge(config.scenario.events, config.scenario.source)
+        """The scenario's expectations, judged as the worker's observations arrive."""
         self.symbols = 0
         sys.stdout.flush()
         sys.stderr.flush()
@@ -434,6 +439,7 @@ class Simulation:
         controls: Sequence[LiveControl] = (),
         on_behind: Callable[[float], None] | None = None,
         on_motor_board: MotorBoardReport | None = None,
+        on_expectation: ExpectationReport | None = None,
     ) -> RunResult:
         """Run to ``end_tick``, handing what the board prints and the scope rows to ``sink``;
         ``speed`` None is as fast as possible, else x real time.
@@ -443,7 +449,10 @@ class Simulation:
         :meth:`get`, :meth:`set` and :meth:`push` (live variables, the viewer's mouse).
         ``on_behind(rate)`` is called once when the machine cannot keep up with ``speed``;
         ``on_motor_board(tick, joint, off)`` whenever the motor board cuts every output or brings
-        them back (the result's ``stats["motor_board_events"]`` lists them all).
+        them back (the result's ``stats["motor_board_events"]`` lists them all);
+        ``on_expectation(outcome)`` when an expectation of the scenario was judged, before the
+        sinks get the chunk it was in. A run that reaches its end with a failed expectation ends
+        ``unmet``; the result's ``expectations`` say how each went.
         """
         sink = sink if sink is not None else Sink()
         wall0, tick0 = time.monotonic(), self.tick
@@ -463,8 +472,14 @@ class Simulation:
             self._drain_line(counted, tick)
             stats = {**self.stats, "serial_dropped": self.serial_dropped,
                      "motor_board_events": list(self.motor_board_events)}
+            expectations = self.judge.results()
+            failed = sum(bool(e.failures) for e in expectations)
+            if status is RunStatus.OK and failed:
+                status = RunStatus.UNMET
+                message = (f"{failed} of {len(expectations)} expectations of scenario "
+                           f"{self.config.scenario.name} failed")
             return RunResult(status, tick, message, stats, lab_file=self.config.build.source,
-                             wall_s=time.monotonic() - wall0)
+                             wall_s=time.monotonic() - wall0, expectations=expectations)
 
         with CtrlC() as ctrl_c:
             try:
@@ -484,6 +499,16 @@ class Simulation:
                         self.motor_board_events.append(tuple(event))
                         if on_motor_board is not None:
                             on_motor_board(event[0], event[1], bool(event[2]))
+                    try:
+                        judged = [self.judge.observed(observation(raw))
+                                  for raw in self.stats.pop("observations", [])]
+                    except (ValueError, TypeError, KeyError, IndexError) as exc:
+                        ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
+                        bad = self._tampered(f"it sent an observation crslab cannot read: {exc}")
+                        return ended(bad.status, bad.end_tick, bad.message)
+                    for outcome in judged:
+                        if outcome is not None and on_expectation is not None:
+                            on_expectation(outcome)
                     with ctrl_c.held():  # every sink gets all of the chunk, or none of it
                         lost = self._drain_serial(counted, sink)
                         printed += lost  # what was lost counts toward the limit too
@@ -521,3 +546,38 @@ class Simulation:
                 return ended(RunStatus.INTERRUPTED, tick, f"interrupted at t = {tick / 1000:.3f} s")
             ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
             return ended(RunStatus.OK, self.tick)
+
+
+def observation(raw: object) -> Observation:
+    """An expectation's observation from the worker's reply, checked (the reply is the lab's to
+    forge): raises ``ValueError``, ``TypeError`` or ``KeyError`` for anything else.
+
+    >>> observation({"tick": 5, "motor_board": "none", "motor_board_off": 0, "motor_board_cutouts": 0,
+    ...              "error": 1, "motor_rad": [0.0, 0.1, 0.2], "var": None}).error
+    1
+    >>> observation({"tick": 5})
+    Traceback (most recent call last):
+    ...
+    KeyError: 'motor_rad'
+    """
+    if not isinstance(raw, dict):
+        raise TypeError(f"{type(raw).__name__} is not an observation")
+
+    def whole(key: str) -> int:
+        value = raw[key]
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise TypeError(f"{key} is not a whole number")
+        return value
+
+    angles = raw["motor_rad"]
+    if not isinstance(angles, list) or len(angles) != 3 or not all(isinstance(v, float) for v in angles):
+        raise TypeError("motor_rad is not three numbers")
+    var = raw["var"]
+    if var is not None and not isinstance(var, float):
+        raise TypeError("var is not a number")
+    board = raw["motor_board"]
+    if not isinstance(board, str):
+        raise TypeError("motor_board is not a name")
+    return Observation(tick=whole("tick"), motor_board=board, motor_board_off=bool(whole("motor_board_off")),
+                       motor_board_cutouts=whole("motor_board_cutouts"), error=whole("error"),
+                       motor_rad=(angles[0], angles[1], angles[2]), var=var)

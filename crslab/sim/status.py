@@ -4,6 +4,8 @@ and the one :class:`RunResult` every way of running a lab returns (``simulate``,
 
 The exit statuses are the README's table; a status's grade class is what ``crslab grade`` calls
 a submission that ended that way (an ``ok`` run passes or mismatches, by its transcript).
+A run that reached its end with a failed scenario expectation is ``unmet``: exit status 1, as a
+mismatch, and its own grade class, whatever its transcript; its ``expectations`` say which.
 
 >>> RunStatus.HUNG.exit_status, RunStatus.HUNG.grade_class
 (<ExitStatus.HUNG: 4>, <GradeClass.HUNG: 'hung'>)
@@ -21,12 +23,16 @@ from pathlib import Path
 
 import numpy as np
 
+from crslab.scenario.expect_events import ExpectOutcome
+
 
 class ExitStatus(IntEnum):
     """The exit statuses of the ``crslab`` commands that run labs (README, "exit status")."""
 
     OK = 0
     MISMATCH = 1
+    """``check``: the transcript differs; ``grade``: a submission did not pass; a scenario
+    expectation failed."""
     BAD_INPUT = 2
     CRASHED = 3
     HUNG = 4
@@ -40,6 +46,7 @@ class GradeClass(StrEnum):
 
     PASS = "pass"
     MISMATCH = "mismatch"
+    UNMET = "unmet"
     DOES_NOT_COMPILE = "does not compile"
     CRASHED = "crashed"
     HUNG = "hung"
@@ -61,6 +68,8 @@ class RunStatus(StrEnum):
 
     OK = "ok", ExitStatus.OK, GradeClass.PASS
     """The run reached its end."""
+    UNMET = "unmet", ExitStatus.MISMATCH, GradeClass.UNMET
+    """The run reached its end, and an expectation of the scenario failed."""
     CRASHED = "crashed", ExitStatus.CRASHED, GradeClass.CRASHED
     """The lab's process died: a signal, a sanitizer finding, its CPU-time limit."""
     EXITED = "exited", ExitStatus.CRASHED, GradeClass.CRASHED
@@ -102,6 +111,8 @@ class RunResult:
     dropped, the motor board's cut-outs as ``motor_board_events``: ``(tick, joint, off)``);
     ``details`` the full diagnostics behind ``message`` (gcc's output); ``lab_file`` the lab that
     ran and ``wall_s`` the wall-clock seconds it took, when the caller timed it.
+    ``expectations`` holds how each of the scenario's expectations went, in time order (those
+    the run never reached last).
     """
 
     status: RunStatus
@@ -114,11 +125,33 @@ class RunResult:
     details: str = ""
     lab_file: Path | None = None
     wall_s: float = 0.0
+    expectations: list[ExpectOutcome] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:
-        """True when the run reached its end normally."""
+        """True when the run reached its end normally and met every expectation it reached."""
         return self.status is RunStatus.OK
+
+    @property
+    def failed_expectations(self) -> list[ExpectOutcome]:
+        """The expectations that failed."""
+        return [e for e in self.expectations if e.failures]
+
+    def diagnosis(self) -> str:
+        """Why the run is not ok, in full: the message (else the status), then one line per failed
+        expectation condition.
+
+        >>> why = "expected the motor board on, it was off"
+        >>> failed = ExpectOutcome(6000, "cut.toml:9", "", failures=(why,))
+        >>> run = RunResult(RunStatus.UNMET, message="1 of 1 expectations failed", expectations=[failed])
+        >>> print(run.diagnosis())
+        1 of 1 expectations failed
+        t = 6.000 s: expected the motor board on, it was off (cut.toml:9)
+        """
+        lines = [self.message or str(self.status)]
+        for e in self.failed_expectations:
+            lines.extend(e.lines())
+        return "\n".join(lines)
 
     @property
     def exit_status(self) -> ExitStatus:

@@ -5,7 +5,9 @@ Messages from the crslab process (tuples): ``("run", until_tick)``, ``("get", na
 ``("ready", symbols)`` (or ``("failed", message)`` when the sandbox cannot be entered) first,
 then ``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of numpy columns and
 ``stats["motor_board_events"]`` lists the motor board's cut-outs starting or ending since the last
-reply as ``(tick, joint, off)`` (joint 1..3, or 0 for a missing command; off 1 starts, 0 ends);
+reply as ``(tick, joint, off)`` (joint 1..3, or 0 for a missing command; off 1 starts, 0 ends)
+and ``stats["observations"]`` what each expectation reached since the last reply saw (dicts, see
+:meth:`Worker.observe`);
 ``("value", v)`` or ``("error", message)``. Serial bytes never travel through the pipe: the
 board writes them into the shared block, where the crslab process reads them even if this
 process dies.
@@ -129,6 +131,7 @@ class Worker:
         h.kd_nm_s_per_rad, h.max_nm = config.hand.kd, config.hand.max_nm
         self.events = list(config.scenario.events)
         self.motor_board_events: list[tuple[int, int, int]] = []
+        self.observations: list[dict] = []
         self.log_blocks: list[dict[str, np.ndarray]] = []
         if config.log_signals:
             self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in _LOG_COLUMNS.items()}
@@ -167,6 +170,27 @@ class Worker:
         if index is None or not 0 <= index < var.length:
             raise KeyError(f"{name} has {var.length} elements: give an index 0..{var.length - 1}")
         getattr(self.var_lib, name)[index] = v
+
+    def observe(self, var: tuple[str, int | None] | None) -> None:
+        """Note what an expectation sees now, before this tick runs: the motor board and the
+        safety flag as the last tick left them, the arm's motor angles (what this tick's encoders
+        read, without offsets or faults), and the watched variable ``var`` (name, index) if any."""
+        sim = self.sim
+        motor = crs.dh_to_motor(np.asarray(self.data.qpos[:3], dtype=float))
+        value = None
+        if var is not None:
+            got = self.get_var(var[0])
+            value = float(got[var[1]] if isinstance(got, list) and var[1] is not None else got)
+        self.observations.append({
+            "tick": int(sim.tick), "motor_board": self.config.motor_board_model,
+            "motor_board_off": int(sim.motor_board.off), "motor_board_cutouts": int(sim.motor_board.cutouts),
+            "error": int(sim.safety_flag), "motor_rad": [float(v) for v in motor], "var": value,
+        })
+
+    def take_observations(self) -> list[dict]:
+        """What the expectations saw since the last call."""
+        taken, self.observations = self.observations, []
+        return taken
 
     def set_simulink_input(self, number: int, value: int) -> None:
         """What Simulink sent on input ``number`` (1..7), as the lab sees it from the next tick."""
@@ -250,6 +274,7 @@ def serve(conn: Connection, config: SimConfig, shared_path: str) -> None:
             code = worker.run(int(msg[1]))
             stats = worker.stats()
             stats["motor_board_events"] = worker.take_motor_board_events()
+            stats["observations"] = worker.take_observations()
             conn.send(("ran", code, int(worker.sim.tick), stats, worker.take_log()))
         elif msg[0] == "get":
             try:
