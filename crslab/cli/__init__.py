@@ -17,6 +17,7 @@ COMMANDS = [
     "crslab.cli.sim_commands",
     "crslab.cli.scenario_commands",
     "crslab.cli.regress_commands",
+    "crslab.cli.sweep_commands",
     "crslab.cli.traj_commands",
     "crslab.cli.toolbox_commands",
     "crslab.cli.scope_commands",

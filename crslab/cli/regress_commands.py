@@ -13,14 +13,15 @@ import time
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.sim_commands import (
     DEFAULT_REST_MOTOR_RAD,
     add_run_options,
     config_from_args,
     limits_from_args,
     lost_serial_notice,
-    positive,
 )
+from crslab.executors.job import Executor
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.runner import run_header, run_lab
@@ -100,10 +101,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_tolerance_options(p)
     p.add_argument("--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
                    help="where the reports go (default: %(default)s)")
-    p.add_argument("--jobs", type=int, metavar="N", help="submissions run at once (default: every core)")
-    p.add_argument("--timeout", type=positive, default=300.0, metavar="SECONDS",
-                   help="wall-clock time one submission may take in all, building included "
-                   "(default: %(default)g)")
+    add_executor_options(p, "submission")
     # grading runs many untrusted labs at once: bound each one's memory and CPU by default
     p.set_defaults(func=run_grade, mem_limit_mb=GRADE_MEM_LIMIT_MB, cpu_limit=GRADE_CPU_LIMIT_S)
     for action in p._actions:
@@ -213,9 +211,8 @@ def run_grade(args: argparse.Namespace) -> int:
     folder: Path = args.submissions
     if not folder.is_dir():
         raise CliError(f"{folder}: no such folder of submissions")
-    jobs = args.jobs if args.jobs is not None else g.default_jobs()
-    if jobs < 1:
-        raise CliError(f"--jobs must be at least 1, got {jobs}")
+    if args.jobs is not None and args.jobs < 1:
+        raise CliError(f"--jobs must be at least 1, got {args.jobs}")
     args.lab = args.reference
     config = config_from_args(args)
     end_tick = _end_tick(args, config)
@@ -230,16 +227,29 @@ def run_grade(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise CliError(f"{args.out}: cannot write the reports there ({exc.strerror})") from None
 
-    [reference] = g.run_many([args.reference], config, end_tick, jobs=1, deadline_s=args.deadline,
-                             limits=limits, timeout_s=args.timeout, private=False)
-    if reference.status is RunStatus.UNMET:
-        first = reference.failed_expectations[0].lines()[0]
-        raise CliError(f"the reference lab {args.reference.name} does not meet the scenario's expectations: "
-                       f"{reference.message}; the first: {first}")
-    if not reference.ok:
-        raise CliError(f"the reference lab did not run: {reference.message or reference.status}")
+    executor = executor_from_args(args)  # first: an unreachable scheduler is said at once
+    try:
+        [reference] = g.run_many([args.reference], config, end_tick, jobs=1, deadline_s=args.deadline,
+                                 limits=limits, timeout_s=args.timeout, private=False)
+        if reference.status is RunStatus.UNMET:
+            first = reference.failed_expectations[0].lines()[0]
+            raise CliError(f"the reference lab {args.reference.name} does not meet the scenario's expectations: "
+                           f"{reference.message}; the first: {first}")
+        if not reference.ok:
+            raise CliError(f"the reference lab did not run: {reference.message or reference.status}")
+        grades = _grade_all(args, subs, config, end_tick, reference, executor)
+    finally:
+        executor.close()
+    return _write_grades(args, subs, grades, reference, config)
+
+
+def _grade_all(args: argparse.Namespace, subs: list[Path], config: SimConfig, end_tick: int,
+               reference: RunResult, executor: Executor) -> dict:
+    """Run and grade every submission on ``executor``; their grades by path."""
+    from crslab.regress import grade as g
+
     print(f"crslab grade: {len(subs)} submissions against {args.reference.name} on {config.scenario.name} "
-          f"({end_tick / 1000:.3f} s), {jobs} at a time", file=sys.stderr)
+          f"({end_tick / 1000:.3f} s), {executor.description}", file=sys.stderr)
 
     progress = g.Progress(len(subs))
     grades: dict[Path, g.Grade] = {}
@@ -249,8 +259,16 @@ def run_grade(args: argparse.Namespace) -> int:
         grades[grade.path] = grade
         progress.update(grade.path.name, grade.grade)
 
-    g.run_many(subs, config, end_tick, jobs=jobs, deadline_s=args.deadline, limits=limits,
-               timeout_s=args.timeout, on_done=on_done)
+    g.run_many(subs, config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args),
+               on_done=on_done, executor=executor)
+    return grades
+
+
+def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, reference: RunResult,
+                  config: SimConfig) -> int:
+    """Write the reports into ``--out`` and the summary on stdout; the exit status."""
+    from crslab.regress import grade as g
+
     ordered = [grades[p] for p in subs]
     out = args.out
     (out / "transcripts" / f"{args.reference.name}.reference.txt").write_bytes(reference.transcript)

@@ -12,20 +12,16 @@ from __future__ import annotations
 
 import csv
 import dataclasses
-import multiprocessing as mp
-import os
-import shutil
-import signal
 import sys
 import tempfile
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from multiprocessing.connection import Connection, wait
 from pathlib import Path
 from typing import TextIO
 
-from crslab import os_support
+from crslab.executors.job import Executor
+from crslab.executors.local import DEFAULT_TIMEOUT_S
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, Comparison, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.transcript import split_lines
@@ -37,7 +33,6 @@ SHOWN_ALWAYS = (GradeClass.PASS, GradeClass.MISMATCH, GradeClass.DOES_NOT_COMPIL
                 GradeClass.HUNG)
 """The classes the summary always counts; any other (forbidden) is counted when it occurs."""
 LAB_SUFFIXES = (".c", ".cpp")
-DEFAULT_TIMEOUT_S = 300.0
 
 
 def find_submissions(folder: Path) -> list[Path]:
@@ -79,40 +74,30 @@ def _first_error(diagnostics: str, name: str) -> str:
     return ""
 
 
-def private_copy(path: Path, folder: Path) -> Path:
-    """Copy the one submission ``path`` into the empty ``folder`` (the sandbox then lets it read
-    that folder only); a symbolic link is copied as what it points to only when that is inside
-    the submission's own folder. Raises ``PermissionError`` for a link out of it."""
-    source = path
+def read_submission(path: Path) -> bytes:
+    """The text of the one submission ``path``; a symbolic link is read as what it points to only
+    when that is inside the submission's own folder. Raises ``PermissionError`` for a link out of
+    it, ``OSError`` when it cannot be read."""
     if path.is_symlink():
         target = path.resolve()
         if not target.is_relative_to(path.parent.resolve()):
             raise PermissionError(f"{path.name} was stopped by the sandbox: it is a symbolic link to "
                                   f"{target}, outside the submissions folder")
-        source = target
-    copy = folder / path.name
-    shutil.copyfile(source, copy, follow_symlinks=False)
-    return copy
+    return path.read_bytes()
 
 
 def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, limits: Limits,
-            private: bool = True) -> RunResult:
-    """Build ``path`` with ``config``'s flags and run it on ``config``'s scenario (in this process;
+            source: bytes | None = None) -> RunResult:
+    """Build the lab and run it on ``config``'s scenario with ``config``'s flags (in this process;
     the lab itself runs in a worker process of its own). ``wall_s`` counts the build too.
-    ``private``: build a private copy of the file, alone in a folder of its own, never the
-    folder it came from."""
+    ``source``: the submission's text, built from a private copy alone in a folder of its own,
+    never the folder it came from; None builds ``path`` where it is (the trusted reference)."""
     start = time.monotonic()
-    if not private:
+    if source is None:
         return _build_and_run(path, path, config, end_tick, deadline_s, limits, start)
     with tempfile.TemporaryDirectory(prefix="crslab-submission-") as folder:
-        try:
-            copy = private_copy(path, Path(folder))
-        except PermissionError as exc:
-            return RunResult(RunStatus.FORBIDDEN, message=str(exc), lab_file=path,
-                             wall_s=time.monotonic() - start)
-        except OSError as exc:
-            return RunResult(RunStatus.BUILD_ERROR, message=f"{path.name} cannot be read ({exc.strerror})",
-                             lab_file=path, wall_s=time.monotonic() - start)
+        copy = Path(folder) / path.name
+        copy.write_bytes(source)
         return _build_and_run(path, copy, config, end_tick, deadline_s, limits, start)
 
 
@@ -146,90 +131,68 @@ def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, d
     return dataclasses.replace(result, lab_file=path, wall_s=time.monotonic() - start)
 
 
-def _child(conn: Connection, path: Path, config: SimConfig, end_tick: int, deadline_s: float,
-           limits: Limits, private: bool) -> None:
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the grading process's to handle
-    os_support.die_with_parent()  # the grading process
-    try:
-        result = run_one(path, config, end_tick, deadline_s, limits, private)
-    except Exception as exc:  # noqa: BLE001 - reported as this submission's crash, never raised
-        why = f"{path.name}: grading failed: {type(exc).__name__}: {exc}"
-        result = RunResult(RunStatus.CRASHED, message=why, lab_file=path)
-    conn.send(result)
-    conn.close()
+@dataclass(frozen=True)
+class GradeJob:
+    """One submission's run, as a job for an executor (:mod:`crslab.executors`): it carries the
+    submission's text (``source``), so it runs anywhere, a Dask worker included."""
+
+    path: Path
+    config: SimConfig
+    end_tick: int
+    deadline_s: float
+    limits: Limits
+    source: bytes | None = None
+    """The submission's text; None builds ``path`` in place (the reference, on this machine)."""
+
+    @property
+    def name(self) -> str:
+        return self.path.name
+
+    def run(self) -> RunResult:
+        return run_one(self.path, self.config, self.end_tick, self.deadline_s, self.limits, self.source)
+
+    def lost(self, status: RunStatus, message: str) -> RunResult:
+        return RunResult(status, message=message, lab_file=self.path)
 
 
-def _context() -> mp.context.BaseContext:
-    # forkserver: each submission's process starts from a clean single-threaded server, which may
-    # then fork the lab's own worker safely
-    if "forkserver" in mp.get_all_start_methods():
-        ctx = mp.get_context("forkserver")
-        ctx.set_forkserver_preload(["crslab.regress.grade", "crslab.regress.runner", "crslab.lab.build"])
-        return ctx
-    return mp.get_context("spawn")
-
-
-def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: int,
+def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: int = 1,
              deadline_s: float = DEFAULT_DEADLINE_S, limits: Limits = NO_LIMITS,
              timeout_s: float = DEFAULT_TIMEOUT_S, private: bool = True,
-             on_done: Callable[[RunResult], None] | None = None) -> list[RunResult]:
-    """Run every lab file in ``paths``, ``jobs`` processes at a time; results in ``paths`` order,
-    each naming its file (``lab_file``) and how long it took in all (``wall_s``). ``private``:
-    each from a private copy of that one file (see :func:`run_one`).
+             on_done: Callable[[RunResult], None] | None = None,
+             executor: Executor | None = None) -> list[RunResult]:
+    """Run every lab file in ``paths`` on ``executor`` (default: ``jobs`` local processes at a
+    time); results in ``paths`` order, each naming its file (``lab_file``) and how long it took in
+    all (``wall_s``). ``private``: each from a private copy of that one file's text (read here, so
+    it runs anywhere; see :func:`run_one`), else built where it is (this machine only).
 
     A process that dies without answering counts as crashed; one that takes longer than
     ``timeout_s`` in all (building included) is killed and counts as hung.
     """
-    ctx = _context()
-    pending = list(enumerate(paths))
-    running: dict[Connection, tuple[int, Path, mp.process.BaseProcess, float]] = {}
-    results: dict[int, RunResult] = {}
+    from crslab.executors.local import LocalExecutor
 
-    def finish(conn: Connection, result: RunResult) -> None:
-        index, _, proc, _ = running.pop(conn)
-        conn.close()
-        proc.join(5.0)
-        if proc.is_alive():
-            proc.kill()
-            proc.join()
+    executor = executor if executor is not None else LocalExecutor(jobs, timeout_s=timeout_s)
+    results: dict[int, RunResult] = {}
+    batch: list[tuple[int, GradeJob]] = []
+
+    def done(index: int, result: RunResult) -> None:
         results[index] = result
         if on_done is not None:
             on_done(result)
 
-    try:
-        while pending or running:
-            while pending and len(running) < max(1, jobs):
-                index, path = pending.pop(0)
-                parent, child = ctx.Pipe(duplex=False)
-                proc = ctx.Process(target=_child, args=(child, path, config, end_tick, deadline_s, limits,
-                                                        private))
-                proc.start()
-                child.close()
-                running[parent] = (index, path, proc, time.monotonic())
-            ready = wait(list(running), timeout=0.2)
-            for conn in ready:
-                assert isinstance(conn, Connection)
-                _, path, proc, started = running[conn]
-                try:
-                    result = conn.recv()
-                except (EOFError, OSError):
-                    proc.join(1.0)
-                    result = RunResult(RunStatus.CRASHED, message=f"{path.name}: its grading process died "
-                                       f"(exit status {proc.exitcode})", lab_file=path,
-                                       wall_s=time.monotonic() - started)
-                finish(conn, result)
-            now = time.monotonic()
-            for conn, (_, path, proc, started) in list(running.items()):
-                if now - started > timeout_s:
-                    proc.kill()
-                    finish(conn, RunResult(RunStatus.TIMEOUT, message=f"{path.name} took longer than "
-                                           f"{timeout_s:g} s in all and was stopped", lab_file=path,
-                                           wall_s=now - started))
-    finally:
-        for conn, (_, _, proc, _) in running.items():
-            proc.kill()
-            proc.join()
-            conn.close()
+    for i, path in enumerate(paths):
+        source = None
+        if private:
+            try:
+                source = read_submission(path)
+            except PermissionError as exc:
+                done(i, RunResult(RunStatus.FORBIDDEN, message=str(exc), lab_file=path))
+                continue
+            except OSError as exc:
+                done(i, RunResult(RunStatus.BUILD_ERROR, message=f"{path.name} cannot be read ({exc.strerror})",
+                                  lab_file=path))
+                continue
+        batch.append((i, GradeJob(path, config, end_tick, deadline_s, limits, source)))
+    executor.run([job for _, job in batch], lambda k, result: done(batch[k][0], result))
     return [results[i] for i in range(len(paths))]
 
 
@@ -333,7 +296,6 @@ class Progress:
 
 def default_jobs() -> int:
     """Every core this process may use."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except AttributeError:  # pragma: no cover - not Linux
-        return max(1, os.cpu_count() or 1)
+    from crslab.executors.local import default_workers
+
+    return default_workers()

@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from crslab.framework_facts import STARTUP_TICKS, default_motor_board
 from crslab.lab.build import LabBuild
 from crslab.plant.params import REST_MOTOR_RAD
+from crslab.plant.variation import PlantVariation
 from crslab.scenario.load import Scenario
 
 
@@ -39,6 +40,8 @@ class SimConfig:
     sandboxed: bool = True  # compiled and run in crslab.sandbox (it never changes the transcript)
     motor_board: str | None = None
     """``none`` or ``piccolo`` (framework_facts.MOTOR_BOARDS); None: the lab's generation's."""
+    plant_variation: PlantVariation = PlantVariation()
+    """How this arm differs from the identified model (``crslab sweep`` varies it)."""
 
     @property
     def motor_board_model(self) -> str:

@@ -77,6 +77,7 @@ class Worker:
         self.ffi = ffi = board_ffi()
         self.model = load_model()
         self.data = mujoco.MjData(self.model)
+        config.plant_variation.apply_to(self.model, self.data)
         rest = np.asarray(config.rest_motor_rad, dtype=float)
         self.data.qpos[:3] = motor_to_qpos(rest)
         mujoco.mj_forward(self.model, self.data)
