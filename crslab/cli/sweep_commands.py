@@ -109,7 +109,8 @@ def run_sweep(args: argparse.Namespace) -> int:
         raise CliError(str(exc)) from None
     try:
         units = sampling.samples("grid" if args.grid is not None else args.method, len(varies),
-                                 n=args.samples, levels=args.grid, seed=args.seed)
+                                 n=args.samples, levels=args.grid, seed=args.seed,
+                                 fixed=[v.low == v.high for v in varies])
     except ValueError as exc:
         raise CliError(str(exc)) from None
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick

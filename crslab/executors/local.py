@@ -21,6 +21,7 @@ from typing import Any
 
 from crslab import os_support
 from crslab.executors.job import Job, OnDone
+from crslab.sim.session import CtrlC
 from crslab.sim.status import RunStatus
 
 DEFAULT_TIMEOUT_S = 300.0
@@ -55,8 +56,11 @@ def _child(conn: Connection, job: Job) -> None:
         result = job.run()
     except Exception as exc:  # noqa: BLE001 - reported as this job's crash, never raised
         result = job.lost(RunStatus.CRASHED, f"{job.name}: crslab failed: {type(exc).__name__}: {exc}")
-    conn.send(result)
-    conn.close()
+    try:
+        conn.send(result)
+        conn.close()
+    except OSError:  # the batch was stopped (Ctrl-C) while this job finished: nobody reads it
+        pass
 
 
 class LocalExecutor:
@@ -99,9 +103,10 @@ class LocalExecutor:
                     index, job = pending.pop(0)
                     parent, child = ctx.Pipe(duplex=False)
                     proc = ctx.Process(target=_child, args=(child, job), name=f"crslab {job.name}")
-                    proc.start()
+                    with CtrlC() as ctrl_c, ctrl_c.held():  # a process started is a process known
+                        proc.start()
+                        running[parent] = (index, proc, time.monotonic())
                     child.close()
-                    running[parent] = (index, proc, time.monotonic())
                 for conn in wait(list(running), timeout=0.2):
                     assert isinstance(conn, Connection)
                     index, proc, _ = running[conn]
@@ -122,8 +127,9 @@ class LocalExecutor:
                                               f"{self.timeout_s:g} s in all and was stopped"))
         finally:
             for conn, (_, proc, _) in running.items():
-                proc.kill()
-                proc.join()
+                if proc.pid is not None:
+                    proc.kill()
+                    proc.join()
                 conn.close()
 
 

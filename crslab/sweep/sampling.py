@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import itertools
 import warnings
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -42,24 +43,32 @@ def sobol(n: int, dims: int, *, seed: int) -> np.ndarray:
         return qmc.Sobol(d=dims, scramble=True, seed=np.random.default_rng(seed)).random(n)
 
 
-def grid(levels: int, dims: int) -> np.ndarray:
+def grid(levels: int, dims: int, fixed: Sequence[bool] = ()) -> np.ndarray:
     """Every combination of ``levels`` evenly spaced fractions (0 and 1 included) per quantity,
-    the last quantity changing fastest; one level is the middle of each range."""
+    the last quantity changing fastest; one level is the middle of each range. A ``fixed``
+    quantity (a range of one value) takes one level.
+
+    >>> grid(2, 2, fixed=[True, False]).tolist()
+    [[0.0, 0.0], [0.0, 1.0]]
+    """
     axis = np.linspace(0.0, 1.0, levels) if levels > 1 else np.array([0.5])
-    return np.array(list(itertools.product(axis, repeat=dims)), dtype=float).reshape(-1, dims)
+    fixed = list(fixed) + [False] * (dims - len(fixed))
+    axes = [np.array([0.0]) if fixed[d] else axis for d in range(dims)]
+    return np.array(list(itertools.product(*axes)), dtype=float).reshape(-1, dims)
 
 
 def samples(method: str, dims: int, *, n: int | None = None, levels: int | None = None,
-            seed: int = 1) -> np.ndarray:
+            seed: int = 1, fixed: Sequence[bool] = ()) -> np.ndarray:
     """Unit fractions, one row per sample: ``method`` ``lhs``/``sobol`` with ``n`` samples, or
-    ``grid`` with ``levels`` per quantity. Raises ``ValueError`` for a count out of range."""
+    ``grid`` with ``levels`` per quantity (one for each ``fixed`` one). Raises ``ValueError`` for a count out of range."""
     if method == "grid":
         if levels is None or levels < 1:
             raise ValueError(f"--grid must be at least 1, got {levels}")
-        if levels ** dims > MAX_RUNS:
-            raise ValueError(f"--grid {levels} over {dims} quantities is {levels ** dims} runs; at most "
+        varied = dims - sum(bool(f) for f in fixed)
+        if levels ** varied > MAX_RUNS:
+            raise ValueError(f"--grid {levels} over {varied} quantities is {levels ** varied} runs; at most "
                              f"{MAX_RUNS} (use --samples for a random sample)")
-        return grid(levels, dims)
+        return grid(levels, dims, fixed)
     if n is None or not 1 <= n <= MAX_RUNS:
         raise ValueError(f"--samples must be within 1 .. {MAX_RUNS}, got {n}")
     if method == "lhs":

@@ -1,0 +1,151 @@
+"""`crslab sweep` as a student runs it: bad input is one line, crashes and hangs are rows, the
+metrics are those of the run's signals, a golden file is compared, Ctrl-C keeps the finished rows."""
+
+import csv
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crslab.cli import main
+from crslab.framework_facts import CLAMP_UNITS
+from crslab.sim.api import simulate
+from tests.waiting import LineWatcher, wait_exit
+
+LABS = Path(__file__).parent / "labs"
+PD = LABS / "sweep_pd.c"
+FAST = ["--scenario", "hands_off", "--duration", "1", "--no-startup-delay"]
+
+
+def sweep(*args):
+    return main(["sweep", *map(str, args)])
+
+
+def rows_of(path):
+    with path.open() as f:
+        return list(csv.DictReader(f))
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--vary", "frictoin=0:1"], "--vary frictoin: unknown name; valid: friction, friction1, friction2, friction3, "
+     "payload_kg, mass, rest_offset2, rest_offset3, encoder_noise_counts, motor_gain, var:Kp2, var:Kd2, var:target2, "
+     "var:tau1_open, var:steps, var:gains[i]"),
+    (["--vary", "var:Kq=0:1"], "--vary var:Kq: Kq is not a watched (#pragma DATA_SECTION) variable of sweep_pd.c; "
+     "valid: friction"),
+    (["--vary", "friction=1"], "--vary friction=1: expected NAME=LO:HI (e.g. friction=0.5:1.5)"),
+    (["--vary", "var:steps=0:1e10"], "--vary var:steps=0:1e+10: steps is int in sweep_pd.c (-2147483648 to "
+     "2147483647)"),
+])
+def test_a_bad_vary_is_one_line_and_exit_2(tmp_path, capsys, args, message):
+    assert sweep("--lab", PD, *FAST, *args, "--samples", "2", "-o", tmp_path / "r.csv") == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"crslab sweep: {message}"), err
+    assert list(tmp_path.iterdir()) == []  # nothing written
+
+
+def test_other_bad_input(tmp_path, capsys):
+    base = ["--lab", PD, *FAST, "--vary", "friction=0:1"]
+    assert sweep(*base, "--samples", "2", "-o", tmp_path / "r.xlsx") == 2
+    assert sweep(*base, "--samples", "0", "-o", tmp_path / "r.csv") == 2
+    assert sweep("--lab", LABS / "does_not_compile.c", *FAST, "--vary", "friction=0:1", "--samples", "1",
+                 "-o", tmp_path / "r.csv") == 2
+    assert sweep(*base, "--samples", "1", "--dask", "local:2", "--jobs", "2", "-o", tmp_path / "r.csv") == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].endswith("r.xlsx: the table must be a .csv or a .parquet file")
+    assert err[1].endswith("--samples must be within 1 .. 1000000, got 0")
+    assert err[-2] == "crslab sweep: does_not_compile.c does not compile"
+    assert err[-1].startswith("crslab sweep: --jobs is for this machine's processes")
+    assert not any(tmp_path.iterdir())
+
+
+def test_crashes_and_hangs_are_rows_and_the_sweep_finishes(tmp_path, capsys):
+    out = tmp_path / "crash.csv"
+    assert sweep("--lab", LABS / "crash_after_5s.c", "--scenario", "hands_off", "--duration", "6",
+                 "--vary", "friction=0.5:1.5", "--samples", "2", "-o", out) == 1
+    rows = rows_of(out)
+    assert [(r["sample"], r["status"], r["passed"]) for r in rows] == [("0", "crashed", "False"),
+                                                                       ("1", "crashed", "False")]
+    assert rows[0]["message"].startswith("crash_after_5s.c crashed (SIGSEGV) in lab() at tick 5100")
+    assert rows[0]["end_s"] == "5.1"
+    out = tmp_path / "hang.csv"
+    assert sweep("--lab", LABS / "hang_after_5s.c", "--scenario", "hands_off", "--duration", "6", "--deadline",
+                 "0.5", "--vary", "mass=1:1", "--grid", "1", "-o", out, "--plot", tmp_path / "p.png") == 1
+    [row] = rows_of(out)
+    assert row["status"] == "hung" and "lab() did not return within 0.5 s at tick 5100" in row["message"]
+    assert (tmp_path / "p.png").read_bytes()[:4] == b"\x89PNG"
+    stdout = capsys.readouterr().out
+    assert "status: hung 1" in stdout and "passed: 0 of 1 (0.0 %)" in stdout
+    assert "worst: sample 0 (hung, failed) at mass=1; hang_after_5s.c hung" in stdout
+
+
+def test_metrics_are_those_of_the_runs_signals(tmp_path):
+    """The row's metrics against the same run's scope log, computed here another way."""
+    out = tmp_path / "r.csv"
+    assert sweep("--lab", PD, *FAST, "--vary", "var:Kp2=60:60", "--vary", "var:tau1_open=0:1", "--grid", "2",
+                 "-o", out) == 1
+    rows = rows_of(out)
+    from crslab.scenario.load import parse_scenario
+
+    for row in rows:
+        text = ('end = 1.0\n[[event]]\nat = 0\nkind = "set"\nvar = "Kp2"\nvalue = 60\n'
+                f'[[event]]\nat = 0\nkind = "set"\nvar = "tau1_open"\nvalue = {row["var:tau1_open"]}\n')
+        run = simulate(PD, parse_scenario(text, Path("s.toml")), startup_delay=False, log=True)
+        log = run.log
+        plot = [[float(x) for x in r] for r in log["plot"]]
+        err2 = [r[1] - r[3] for r in plot]
+        assert float(row["plotvar2_err_rms"]) == pytest.approx((sum(e * e for e in err2) / len(err2)) ** 0.5,
+                                                               rel=1e-12)
+        assert float(row["plotvar4_maxabs"]) == pytest.approx(max(abs(r[3]) for r in plot))
+        clamped = sum(1 for r in log["tau_lab"] if max(abs(float(x)) for x in r) >= CLAMP_UNITS)
+        assert float(row["clamp_share"]) == pytest.approx(clamped / len(plot)) and clamped > 0
+        safety = [int(s) for s in log["safety"].ravel()]
+        trips = sum(1 for a, b in zip([0, *safety], safety) if b and not a)
+        assert int(row["safety_trips"]) == trips
+        assert float(row["theta1motor_final_rad"]) == float(log["enc_rad"][-1][0])
+    # an open-loop torque on joint 1 drives the arm out of the envelope: that sample fails
+    assert [(r["var:tau1_open"], r["safety_trips"], r["passed"]) for r in rows] == [
+        ("0.0", "0", "True"), ("1.0", "1", "False")]
+
+
+def test_motor_board_cutouts_are_counted(tmp_path):
+    out = tmp_path / "r.csv"
+    assert sweep("--lab", LABS / "saturating_gen_b.c", *FAST[:2], "--duration", "3", "--no-startup-delay",
+                 "--vary", "friction=1:1", "--grid", "1", "-o", out) == 1
+    [row] = rows_of(out)
+    run = simulate(LABS / "saturating_gen_b.c", "hands_off", duration_s=3.0, startup_delay=False)
+    cutouts = sum(1 for _, _, off in run.stats["motor_board_events"] if off)
+    assert int(row["motor_board_cutouts"]) == cutouts >= 1 and row["passed"] == "False"
+
+
+def test_a_golden_file_is_compared_and_gives_the_defaults(tmp_path, capsys):
+    golden = tmp_path / "g.txt"
+    assert main(["record", "--lab", str(PD), *FAST, "-o", str(golden)]) == 0
+    out = tmp_path / "r.csv"
+    # no --scenario, --duration or --no-startup-delay: the golden file's
+    assert sweep("--lab", PD, "--golden", golden, "--vary", "var:target2=0.1:0.4", "--grid", "2", "-o", out) == 1
+    rows = rows_of(out)
+    assert [(r["var:target2"], r["golden_match"], r["passed"]) for r in rows] == [
+        ("0.1", "True", "True"), ("0.4", "False", "False")]
+    assert rows[0]["end_s"] == "1.0"
+    assert "transcript differs from the golden file: 1" in capsys.readouterr().out
+
+
+def test_ctrl_c_keeps_the_finished_rows(tmp_path):
+    out = tmp_path / "r.csv"
+    proc = subprocess.Popen([sys.executable, "-m", "crslab", "sweep", "--lab", str(PD), "--scenario", "hands_off",
+                             "--duration", "20", "--vary", "friction=0.5:1.5", "--samples", "40", "--jobs", "1",
+                             "-o", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    err = LineWatcher(proc.stderr, "crslab sweep's stderr")
+    err.wait_for(r"^\[2/40\] sample 1: ok")
+    proc.send_signal(signal.SIGINT)
+    assert wait_exit(proc, "Ctrl-C") == 130
+    text = err.all()
+    proc.stdout.close()
+    rows = rows_of(out)
+    assert 2 <= len(rows) < 40 and [int(r["sample"]) for r in rows] == list(range(len(rows)))
+    assert f"interrupted after {len(rows)} of 40 runs" in text and "Traceback" not in text
+    assert not (tmp_path / "r.csv.partial.csv").exists()
+    assert np.all([r["status"] == "ok" for r in rows])
