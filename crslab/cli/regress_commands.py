@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.cli.autograder_report import add_report_options, run_report
 from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.sim_commands import (
     DEFAULT_REST_MOTOR_RAD,
@@ -102,6 +103,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
                    help="where the reports go (default: %(default)s)")
     add_executor_options(p, "submission")
+    add_report_options(p)
     # grading runs many untrusted labs at once: bound each one's memory and CPU by default
     p.set_defaults(func=run_grade, mem_limit_mb=GRADE_MEM_LIMIT_MB, cpu_limit=GRADE_CPU_LIMIT_S)
     for action in p._actions:
@@ -208,6 +210,8 @@ def run_grade(args: argparse.Namespace) -> int:
     """``crslab grade``."""
     from crslab.regress import grade as g
 
+    if args.report:
+        return run_report(args)
     folder: Path = args.submissions
     if not folder.is_dir():
         raise CliError(f"{folder}: no such folder of submissions")
