@@ -29,16 +29,27 @@ def rows_of(path):
         return list(csv.DictReader(f))
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--vary", "frictoin=0:1"], "--vary frictoin: unknown name; valid: friction, friction1, friction2, friction3, "
-     "payload_kg, mass, rest_offset2, rest_offset3, encoder_noise_counts, motor_gain, var:Kp2, var:Kd2, var:target2, "
-     "var:tau1_open, var:steps, var:gains[i]"),
-    (["--vary", "var:Kq=0:1"], "--vary var:Kq: Kq is not a watched (#pragma DATA_SECTION) variable of sweep_pd.c; "
-     "valid: friction"),
-    (["--vary", "friction=1"], "--vary friction=1: expected NAME=LO:HI (e.g. friction=0.5:1.5)"),
-    (["--vary", "var:steps=0:1e10"], "--vary var:steps=0:1e+10: steps is int in sweep_pd.c (-2147483648 to "
-     "2147483647)"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (
+            ["--vary", "frictoin=0:1"],
+            "--vary frictoin: unknown name; valid: friction, friction1, friction2, friction3, "
+            "payload_kg, mass, rest_offset2, rest_offset3, encoder_noise_counts, motor_gain, "
+            "var:Kp2, var:Kd2, var:target2, var:tau1_open, var:steps, var:gains[i]",
+        ),
+        (
+            ["--vary", "var:Kq=0:1"],
+            "--vary var:Kq: Kq is not a watched (#pragma DATA_SECTION) variable of sweep_pd.c; "
+            "valid: friction",
+        ),
+        (["--vary", "friction=1"], "--vary friction=1: expected NAME=LO:HI (e.g. friction=0.5:1.5)"),
+        (
+            ["--vary", "var:steps=0:1e10"],
+            "--vary var:steps=0:1e+10: steps is int in sweep_pd.c (-2147483648 to 2147483647)",
+        ),
+    ],
+)
 def test_a_bad_vary_is_one_line_and_exit_2(tmp_path, capsys, args, message):
     assert sweep("--lab", PD, *FAST, *args, "--samples", "2", "-o", tmp_path / "r.csv") == 2
     err = capsys.readouterr().err.strip().splitlines()
@@ -50,8 +61,20 @@ def test_other_bad_input(tmp_path, capsys):
     base = ["--lab", PD, *FAST, "--vary", "friction=0:1"]
     assert sweep(*base, "--samples", "2", "-o", tmp_path / "r.xlsx") == 2
     assert sweep(*base, "--samples", "0", "-o", tmp_path / "r.csv") == 2
-    assert sweep("--lab", LABS / "does_not_compile.c", *FAST, "--vary", "friction=0:1", "--samples", "1",
-                 "-o", tmp_path / "r.csv") == 2
+    assert (
+        sweep(
+            "--lab",
+            LABS / "does_not_compile.c",
+            *FAST,
+            "--vary",
+            "friction=0:1",
+            "--samples",
+            "1",
+            "-o",
+            tmp_path / "r.csv",
+        )
+        == 2
+    )
     assert sweep(*base, "--samples", "1", "--dask", "local:2", "--jobs", "2", "-o", tmp_path / "r.csv") == 2
     err = capsys.readouterr().err.splitlines()
     assert err[0].endswith("r.xlsx: the table must be a .csv or a .parquet file")
@@ -63,16 +86,52 @@ def test_other_bad_input(tmp_path, capsys):
 
 def test_crashes_and_hangs_are_rows_and_the_sweep_finishes(tmp_path, capsys):
     out = tmp_path / "crash.csv"
-    assert sweep("--lab", LABS / "crash_after_5s.c", "--scenario", "hands_off", "--duration", "6",
-                 "--vary", "friction=0.5:1.5", "--samples", "2", "-o", out) == 1
+    assert (
+        sweep(
+            "--lab",
+            LABS / "crash_after_5s.c",
+            "--scenario",
+            "hands_off",
+            "--duration",
+            "6",
+            "--vary",
+            "friction=0.5:1.5",
+            "--samples",
+            "2",
+            "-o",
+            out,
+        )
+        == 1
+    )
     rows = rows_of(out)
-    assert [(r["sample"], r["status"], r["passed"]) for r in rows] == [("0", "crashed", "False"),
-                                                                       ("1", "crashed", "False")]
+    assert [(r["sample"], r["status"], r["passed"]) for r in rows] == [
+        ("0", "crashed", "False"),
+        ("1", "crashed", "False"),
+    ]
     assert rows[0]["message"].startswith("crash_after_5s.c crashed (SIGSEGV) in lab() at tick 5100")
     assert rows[0]["end_s"] == "5.1"
     out = tmp_path / "hang.csv"
-    assert sweep("--lab", LABS / "hang_after_5s.c", "--scenario", "hands_off", "--duration", "6", "--deadline",
-                 "0.5", "--vary", "mass=1:1", "--grid", "1", "-o", out, "--plot", tmp_path / "p.png") == 1
+    assert (
+        sweep(
+            "--lab",
+            LABS / "hang_after_5s.c",
+            "--scenario",
+            "hands_off",
+            "--duration",
+            "6",
+            "--deadline",
+            "0.5",
+            "--vary",
+            "mass=1:1",
+            "--grid",
+            "1",
+            "-o",
+            out,
+            "--plot",
+            tmp_path / "p.png",
+        )
+        == 1
+    )
     [row] = rows_of(out)
     assert row["status"] == "hung" and "lab() did not return within 0.5 s at tick 5100" in row["message"]
     assert (tmp_path / "p.png").read_bytes()[:4] == b"\x89PNG"
@@ -84,20 +143,37 @@ def test_crashes_and_hangs_are_rows_and_the_sweep_finishes(tmp_path, capsys):
 def test_metrics_are_those_of_the_runs_signals(tmp_path):
     """The row's metrics against the same run's scope log, computed here another way."""
     out = tmp_path / "r.csv"
-    assert sweep("--lab", PD, *FAST, "--vary", "var:Kp2=60:60", "--vary", "var:tau1_open=0:1", "--grid", "2",
-                 "-o", out) == 1
+    assert (
+        sweep(
+            "--lab",
+            PD,
+            *FAST,
+            "--vary",
+            "var:Kp2=60:60",
+            "--vary",
+            "var:tau1_open=0:1",
+            "--grid",
+            "2",
+            "-o",
+            out,
+        )
+        == 1
+    )
     rows = rows_of(out)
     from crslab.scenario.load import parse_scenario
 
     for row in rows:
-        text = ('end = 1.0\n[[event]]\nat = 0\nkind = "set"\nvar = "Kp2"\nvalue = 60\n'
-                f'[[event]]\nat = 0\nkind = "set"\nvar = "tau1_open"\nvalue = {row["var:tau1_open"]}\n')
+        text = (
+            'end = 1.0\n[[event]]\nat = 0\nkind = "set"\nvar = "Kp2"\nvalue = 60\n'
+            f'[[event]]\nat = 0\nkind = "set"\nvar = "tau1_open"\nvalue = {row["var:tau1_open"]}\n'
+        )
         run = simulate(PD, parse_scenario(text, Path("s.toml")), startup_delay=False, log=True)
         log = run.log
         plot = [[float(x) for x in r] for r in log["plot"]]
         err2 = [r[1] - r[3] for r in plot]
-        assert float(row["plotvar2_err_rms"]) == pytest.approx((sum(e * e for e in err2) / len(err2)) ** 0.5,
-                                                               rel=1e-12)
+        assert float(row["plotvar2_err_rms"]) == pytest.approx(
+            (sum(e * e for e in err2) / len(err2)) ** 0.5, rel=1e-12
+        )
         assert float(row["plotvar4_maxabs"]) == pytest.approx(max(abs(r[3]) for r in plot))
         clamped = sum(1 for r in log["tau_lab"] if max(abs(float(x)) for x in r) >= CLAMP_UNITS)
         assert float(row["clamp_share"]) == pytest.approx(clamped / len(plot)) and clamped > 0
@@ -107,13 +183,30 @@ def test_metrics_are_those_of_the_runs_signals(tmp_path):
         assert float(row["theta1motor_final_rad"]) == float(log["enc_rad"][-1][0])
     # an open-loop torque on joint 1 drives the arm out of the envelope: that sample fails
     assert [(r["var:tau1_open"], r["safety_trips"], r["passed"]) for r in rows] == [
-        ("0.0", "0", "True"), ("1.0", "1", "False")]
+        ("0.0", "0", "True"),
+        ("1.0", "1", "False"),
+    ]
 
 
 def test_motor_board_cutouts_are_counted(tmp_path):
     out = tmp_path / "r.csv"
-    assert sweep("--lab", LABS / "saturating_gen_b.c", *FAST[:2], "--duration", "3", "--no-startup-delay",
-                 "--vary", "friction=1:1", "--grid", "1", "-o", out) == 1
+    assert (
+        sweep(
+            "--lab",
+            LABS / "saturating_gen_b.c",
+            *FAST[:2],
+            "--duration",
+            "3",
+            "--no-startup-delay",
+            "--vary",
+            "friction=1:1",
+            "--grid",
+            "1",
+            "-o",
+            out,
+        )
+        == 1
+    )
     [row] = rows_of(out)
     run = simulate(LABS / "saturating_gen_b.c", "hands_off", duration_s=3.0, startup_delay=False)
     cutouts = sum(1 for _, _, off in run.stats["motor_board_events"] if off)
@@ -125,19 +218,45 @@ def test_a_golden_file_is_compared_and_gives_the_defaults(tmp_path, capsys):
     assert main(["record", "--lab", str(PD), *FAST, "-o", str(golden)]) == 0
     out = tmp_path / "r.csv"
     # no --scenario, --duration or --no-startup-delay: the golden file's
-    assert sweep("--lab", PD, "--golden", golden, "--vary", "var:target2=0.1:0.4", "--grid", "2", "-o", out) == 1
+    assert (
+        sweep("--lab", PD, "--golden", golden, "--vary", "var:target2=0.1:0.4", "--grid", "2", "-o", out) == 1
+    )
     rows = rows_of(out)
     assert [(r["var:target2"], r["golden_match"], r["passed"]) for r in rows] == [
-        ("0.1", "True", "True"), ("0.4", "False", "False")]
+        ("0.1", "True", "True"),
+        ("0.4", "False", "False"),
+    ]
     assert rows[0]["end_s"] == "1.0"
     assert "transcript differs from the golden file: 1" in capsys.readouterr().out
 
 
 def test_ctrl_c_keeps_the_finished_rows(tmp_path):
     out = tmp_path / "r.csv"
-    proc = subprocess.Popen([sys.executable, "-m", "crslab", "sweep", "--lab", str(PD), "--scenario", "hands_off",
-                             "--duration", "20", "--vary", "friction=0.5:1.5", "--samples", "40", "--jobs", "1",
-                             "-o", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "crslab",
+            "sweep",
+            "--lab",
+            str(PD),
+            "--scenario",
+            "hands_off",
+            "--duration",
+            "20",
+            "--vary",
+            "friction=0.5:1.5",
+            "--samples",
+            "40",
+            "--jobs",
+            "1",
+            "-o",
+            str(out),
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     err = LineWatcher(proc.stderr, "crslab sweep's stderr")
     err.wait_for(r"^\[2/40\] sample 1: ok")
     proc.send_signal(signal.SIGINT)

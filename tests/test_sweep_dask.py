@@ -21,9 +21,24 @@ pytest.importorskip("distributed")
 
 LABS = Path(__file__).parent / "labs"
 REFERENCE = Path(__file__).resolve().parents[1] / "csrc" / "labs" / "lab1_kinematics.c"
-SWEEP = ["sweep", "--lab", LABS / "sweep_pd.c", "--scenario", "hands_off", "--duration", "1",
-         "--no-startup-delay", "--vary", "friction=0.5:1.5", "--vary", "payload_kg=0:2", "--samples", "8",
-         "--seed", "7"]
+SWEEP = [
+    "sweep",
+    "--lab",
+    LABS / "sweep_pd.c",
+    "--scenario",
+    "hands_off",
+    "--duration",
+    "1",
+    "--no-startup-delay",
+    "--vary",
+    "friction=0.5:1.5",
+    "--vary",
+    "payload_kg=0:2",
+    "--samples",
+    "8",
+    "--seed",
+    "7",
+]
 
 
 @pytest.fixture(scope="module")
@@ -31,12 +46,21 @@ def cluster():
     """One in-process LocalCluster of 2 workers on the loopback, shared by this module's tests."""
     from dask.distributed import LocalCluster
 
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False, protocol="tcp", host="127.0.0.1",
-                      dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR) as c:
+    with LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=False,
+        protocol="tcp",
+        host="127.0.0.1",
+        dashboard_address="127.0.0.1:0",
+        silence_logs=logging.ERROR,
+    ) as c:
         assert c.scheduler_address.startswith("tcp://127.0.0.1:")
         import psutil  # a dependency of distributed
 
-        listening = {conn.laddr.ip for conn in psutil.Process().net_connections("inet") if conn.status == "LISTEN"}
+        listening = {
+            conn.laddr.ip for conn in psutil.Process().net_connections("inet") if conn.status == "LISTEN"
+        }
         assert listening == {"127.0.0.1"}  # the loopback only
         yield c
 
@@ -103,8 +127,9 @@ def test_grading_on_dask_is_grading_without_it(tmp_path, cluster, capsys):
         assert graded(out) == graded(first)
         assert (out / "summary.txt").read_text() == (first / "summary.txt").read_text()
         for name in ("good.c", "wrong.c", "crash.c", "lab1_kinematics.c.reference"):
-            assert (out / "transcripts" / f"{name}.txt").read_bytes() == \
-                (first / "transcripts" / f"{name}.txt").read_bytes()
+            assert (out / "transcripts" / f"{name}.txt").read_bytes() == (
+                first / "transcripts" / f"{name}.txt"
+            ).read_bytes()
 
 
 def test_an_unreachable_scheduler_is_one_line(tmp_path, capsys):
@@ -113,13 +138,27 @@ def test_an_unreachable_scheduler_is_one_line(tmp_path, capsys):
     with socket.socket() as s:  # a loopback port nobody listens on
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
-    status = crslab(*SWEEP, "--dask", f"tcp://127.0.0.1:{port}", "--dask-timeout", "1", "-o", tmp_path / "r.csv")
+    status = crslab(
+        *SWEEP, "--dask", f"tcp://127.0.0.1:{port}", "--dask-timeout", "1", "-o", tmp_path / "r.csv"
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert status == 2 and len(err) == 1, err
-    assert err[0].startswith(f"crslab sweep: --dask tcp://127.0.0.1:{port}: the Dask scheduler cannot be reached")
+    assert err[0].startswith(
+        f"crslab sweep: --dask tcp://127.0.0.1:{port}: the Dask scheduler cannot be reached"
+    )
     assert not (tmp_path / "r.csv").exists() and not list(tmp_path.iterdir())
-    status = crslab("grade", LABS, "--reference", REFERENCE, "--dask", f"tcp://127.0.0.1:{port}",
-                    "--dask-timeout", "1", "--out", tmp_path / "g")
+    status = crslab(
+        "grade",
+        LABS,
+        "--reference",
+        REFERENCE,
+        "--dask",
+        f"tcp://127.0.0.1:{port}",
+        "--dask-timeout",
+        "1",
+        "--out",
+        tmp_path / "g",
+    )
     assert status == 2 and "the Dask scheduler cannot be reached" in capsys.readouterr().err
 
 
@@ -136,16 +175,47 @@ def test_a_worker_that_dies_is_a_row_with_its_status(tmp_path):
             if str(key).startswith("crslab-") and finish == "processing":
                 processing.set()
 
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, protocol="tcp", host="127.0.0.1",
-                      dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR) as c, Client(c) as client:
+    with (
+        LocalCluster(
+            n_workers=1,
+            threads_per_worker=1,
+            processes=True,
+            protocol="tcp",
+            host="127.0.0.1",
+            dashboard_address="127.0.0.1:0",
+            silence_logs=logging.ERROR,
+        ) as c,
+        Client(c) as client,
+    ):
         c.scheduler.allowed_failures = 0
         c.scheduler.add_plugin(Watch())
         [pid] = client.run(os.getpid).values()
         out = tmp_path / "r.csv"
         proc = subprocess.Popen(
-            [sys.executable, "-m", "crslab", "sweep", "--lab", LABS / "hang_after_5s.c", "--scenario", "hands_off",
-             "--deadline", "100", "--vary", "friction=1:1", "--samples", "1", "--dask", c.scheduler_address,
-             "-o", out], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            [
+                sys.executable,
+                "-m",
+                "crslab",
+                "sweep",
+                "--lab",
+                LABS / "hang_after_5s.c",
+                "--scenario",
+                "hands_off",
+                "--deadline",
+                "100",
+                "--vary",
+                "friction=1:1",
+                "--samples",
+                "1",
+                "--dask",
+                c.scheduler_address,
+                "-o",
+                out,
+            ],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
         err = LineWatcher(proc.stderr, "crslab sweep's stderr")
         assert processing.wait(GUARD_S), "the sweep's task never reached the worker"
         os.kill(pid, signal.SIGKILL)

@@ -29,8 +29,11 @@ def base():
 
 def swept(base, **values):
     """The row of one sample with ``values`` (names as --vary takes them)."""
-    varies = variations.check([variations.parse_vary(f"{k.replace('__', ':')}={v}:{v}") for k, v in values.items()],
-                              base.build.watched, LAB.name)
+    varies = variations.check(
+        [variations.parse_vary(f"{k.replace('__', ':')}={v}:{v}") for k, v in values.items()],
+        base.build.watched,
+        LAB.name,
+    )
     spec = SweepSpec(LabSource.read(LAB), base, END_TICK, tuple(varies), seed=3)
     return SweepJob(spec, 0, tuple(float(v) for v in values.values())).run()
 
@@ -45,7 +48,7 @@ def direct(config):
 
 
 def scenario(text):
-    return parse_scenario('end = 5.0\n' + text, Path("case.toml"))
+    return parse_scenario("end = 5.0\n" + text, Path("case.toml"))
 
 
 def final(row):
@@ -54,7 +57,9 @@ def final(row):
 
 
 def test_friction_and_payload_are_the_scenario_plant_table(base):
-    expected = direct(dataclasses.replace(base, scenario=scenario("[plant]\nfriction_scale = 0.3\nend_mass_kg = 1.2\n")))
+    expected = direct(
+        dataclasses.replace(base, scenario=scenario("[plant]\nfriction_scale = 0.3\nend_mass_kg = 1.2\n"))
+    )
     assert final(swept(base, friction=0.3, payload_kg=1.2)) == expected
     assert expected != direct(base)  # the change is visible at all
 
@@ -64,7 +69,9 @@ def test_a_watched_variable_is_written_before_the_first_tick(base):
     expected = direct(dataclasses.replace(base, scenario=scenario(events)))
     assert final(swept(base, var__target2=0.35)) == expected
     events = '[[event]]\nat = 0\nkind = "set"\nvar = "gains"\nindex = 0\nvalue = 0.5\n'
-    assert final(swept(base, **{"var__gains[0]": 0.5})) == direct(dataclasses.replace(base, scenario=scenario(events)))
+    assert final(swept(base, **{"var__gains[0]": 0.5})) == direct(
+        dataclasses.replace(base, scenario=scenario(events))
+    )
 
 
 def test_the_true_resting_pose_is_the_runs(base):
@@ -77,7 +84,10 @@ def test_motor_gain_scales_the_torque_the_arm_feels(base):
     half = swept(base, motor_gain=0.5, var__tau1_open=2.0, var__Kp2=0.0, var__Kd2=0.0)
     full = swept(base, motor_gain=1.0, var__tau1_open=1.0, var__Kp2=0.0, var__Kd2=0.0)
     assert final(half)[0] == pytest.approx(final(full)[0], abs=1e-9) and abs(final(full)[0]) > 0.05
-    assert final(half)[0] != final(swept(base, motor_gain=1.0, var__tau1_open=2.0, var__Kp2=0.0, var__Kd2=0.0))[0]
+    assert (
+        final(half)[0]
+        != final(swept(base, motor_gain=1.0, var__tau1_open=2.0, var__Kp2=0.0, var__Kd2=0.0))[0]
+    )
 
 
 def test_per_motor_friction_multiplies_the_overall_scale(base):
@@ -106,7 +116,9 @@ def test_mass_scales_the_links_and_not_the_payload(base):
 
 
 def test_encoder_noise_is_seeded_per_sample(base):
-    varies = variations.check([variations.parse_vary("encoder_noise_counts=0:100")], base.build.watched, LAB.name)
+    varies = variations.check(
+        [variations.parse_vary("encoder_noise_counts=0:100")], base.build.watched, LAB.name
+    )
     spec = SweepSpec(LabSource.read(LAB), base, END_TICK, tuple(varies), seed=3)
     a, b, c = (SweepJob(spec, s, (80.0,)).run() for s in (4, 4, 5))
     assert final(a) == final(b) != final(c)
@@ -120,7 +132,9 @@ def test_unknown_names_list_the_valid_ones(base):
     assert "var:Kp2, var:Kd2, var:target2, var:tau1_open, var:steps, var:gains[i]" in str(e.value)
     with pytest.raises(variations.VaryError, match="Kq is not a watched .* of sweep_pd.c; valid: friction"):
         variations.check([variations.parse_vary("var:Kq=0:1")], base.build.watched, LAB.name)
-    with pytest.raises(variations.VaryError, match=r"gains has 2 elements in sweep_pd.c: give var:gains\[i\]"):
+    with pytest.raises(
+        variations.VaryError, match=r"gains has 2 elements in sweep_pd.c: give var:gains\[i\]"
+    ):
         variations.check([variations.parse_vary("var:gains=0:1")], base.build.watched, LAB.name)
     with pytest.raises(variations.VaryError, match="friction must be within 0 .. inf"):
         variations.check([variations.parse_vary("friction=-1:1")], base.build.watched, LAB.name)

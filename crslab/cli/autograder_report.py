@@ -21,15 +21,28 @@ from crslab.sim.status import ExitStatus
 
 def add_report_options(p: argparse.ArgumentParser) -> None:
     """``--report``, ``--tests`` and ``--points``."""
-    p.add_argument("--report", nargs=2, metavar=("PLATFORM", "FILE"),
-                   help="grade the one submission in SUBMISSIONS_DIR for an autograder platform and write its "
-                   f"results file: {' or '.join(ag.PLATFORMS)} (e.g. --report gradescope "
-                   "/autograder/results/results.json)")
-    p.add_argument("--tests", type=Path, metavar="FILE",
-                   help="with --report: a TOML file of [[test]] tables (scenario, points, optional name and "
-                   "duration); default: one test, --scenario, worth --points")
-    p.add_argument("--points", type=float, default=1.0, metavar="P",
-                   help="with --report and no --tests: the points of the one test (default: %(default)g)")
+    p.add_argument(
+        "--report",
+        nargs=2,
+        metavar=("PLATFORM", "FILE"),
+        help="grade the one submission in SUBMISSIONS_DIR for an autograder platform and write its "
+        f"results file: {' or '.join(ag.PLATFORMS)} (e.g. --report gradescope "
+        "/autograder/results/results.json)",
+    )
+    p.add_argument(
+        "--tests",
+        type=Path,
+        metavar="FILE",
+        help="with --report: a TOML file of [[test]] tables (scenario, points, optional name and "
+        "duration); default: one test, --scenario, worth --points",
+    )
+    p.add_argument(
+        "--points",
+        type=float,
+        default=1.0,
+        metavar="P",
+        help="with --report and no --tests: the points of the one test (default: %(default)g)",
+    )
 
 
 def run_report(args: argparse.Namespace) -> int:
@@ -48,8 +61,11 @@ def run_report(args: argparse.Namespace) -> int:
         raise CliError(f"{folder}: no such submission file or folder")
     if len(found) != 1:
         ag.write_results(out, ag.not_one_submission(platform, found, folder))
-        print(f"crslab grade: {folder}: expected exactly one lab file, found {len(found)}; {out} gives no points",
-              file=sys.stderr)
+        print(
+            f"crslab grade: {folder}: expected exactly one lab file, found {len(found)}; "
+            f"{out} gives no points",
+            file=sys.stderr,
+        )
         return ExitStatus.MISMATCH
     [submission] = found
     executor = executor_from_args(args)
@@ -61,18 +77,32 @@ def run_report(args: argparse.Namespace) -> int:
             config = config_from_args(args)
             end_tick = seconds_to_tick(test.duration_s) if test.duration_s else config.scenario.end_tick
             limits = limits_from_args(args)
-            [reference] = g.run_many([args.reference], config, end_tick, jobs=1, deadline_s=args.deadline,
-                                     limits=limits, timeout_s=args.timeout, private=False)
+            [reference] = g.run_many(
+                [args.reference],
+                config,
+                end_tick,
+                jobs=1,
+                deadline_s=args.deadline,
+                limits=limits,
+                timeout_s=args.timeout,
+                private=False,
+            )
             if not reference.ok:
-                raise CliError(f"the reference lab did not run on test {test.name!r}: "
-                               f"{reference.message or reference.status}")
-            [result] = g.run_many([submission], config, end_tick, deadline_s=args.deadline, limits=limits,
-                                  executor=executor)
-            graded = ag.Outcome(test, g.grade_result(result, reference, abs_tol=args.abs_tol,
-                                                        rel_tol=args.rel_tol))
+                raise CliError(
+                    f"the reference lab did not run on test {test.name!r}: "
+                    f"{reference.message or reference.status}"
+                )
+            [result] = g.run_many(
+                [submission], config, end_tick, deadline_s=args.deadline, limits=limits, executor=executor
+            )
+            graded = ag.Outcome(
+                test, g.grade_result(result, reference, abs_tol=args.abs_tol, rel_tol=args.rel_tol)
+            )
             results.append(graded)
-            print(f"{test.name}: {graded.grade.grade} ({graded.points:g} of {test.points:g} points): "
-                  f"{graded.grade.detail}")
+            print(
+                f"{test.name}: {graded.grade.grade} ({graded.points:g} of {test.points:g} points): "
+                f"{graded.grade.detail}"
+            )
     finally:
         executor.close()
     if platform == "gradescope":

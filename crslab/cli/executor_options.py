@@ -12,15 +12,29 @@ from crslab.executors.job import Executor
 def add_executor_options(p: argparse.ArgumentParser, what: str) -> None:
     """``--jobs``, ``--timeout``, ``--dask`` and ``--dask-timeout``; ``what`` is a run (``sample``,
     ``submission``) in the help texts."""
-    p.add_argument("--jobs", type=int, metavar="N", help=f"{what}s run at once on this machine "
-                   "(default: every core)")
-    p.add_argument("--timeout", type=float, default=300.0, metavar="SECONDS",
-                   help=f"wall-clock time one {what} may take in all, building included (default: %(default)g)")
-    p.add_argument("--dask", metavar="ADDRESS",
-                   help="run on a Dask cluster instead: a scheduler's address (tcp://host:8786), or local[:N] "
-                   "for a local cluster of N workers (default N: every core); needs pip install 'crslab[dask]'")
-    p.add_argument("--dask-timeout", type=float, default=10.0, metavar="SECONDS",
-                   help="how long to wait for the Dask scheduler to answer (default: %(default)g)")
+    p.add_argument(
+        "--jobs", type=int, metavar="N", help=f"{what}s run at once on this machine (default: every core)"
+    )
+    p.add_argument(
+        "--timeout",
+        type=float,
+        default=300.0,
+        metavar="SECONDS",
+        help=f"wall-clock time one {what} may take in all, building included (default: %(default)g)",
+    )
+    p.add_argument(
+        "--dask",
+        metavar="ADDRESS",
+        help="run on a Dask cluster instead: a scheduler's address (tcp://host:8786), or local[:N] "
+        "for a local cluster of N workers (default N: every core); needs pip install 'crslab[dask]'",
+    )
+    p.add_argument(
+        "--dask-timeout",
+        type=float,
+        default=10.0,
+        metavar="SECONDS",
+        help="how long to wait for the Dask scheduler to answer (default: %(default)g)",
+    )
 
 
 def executor_from_args(args: argparse.Namespace) -> Executor:
@@ -29,7 +43,9 @@ def executor_from_args(args: argparse.Namespace) -> Executor:
         raise CliError(f"--timeout must be > 0, got {args.timeout:g}")
     if args.dask:
         if args.jobs is not None:
-            raise CliError("--jobs is for this machine's processes; with --dask the cluster's workers run them")
+            raise CliError(
+                "--jobs is for this machine's processes; with --dask the cluster's workers run them"
+            )
         from crslab.executors.dask_cluster import DaskError, DaskExecutor
 
         try:

@@ -31,7 +31,8 @@ from crslab.sweep.job import Row, SweepJob, SweepSpec
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``sweep`` subcommand."""
     p = sub.add_parser(
-        "sweep", help="run a lab over many variations of the arm and its setup, and tabulate how it fares",
+        "sweep",
+        help="run a lab over many variations of the arm and its setup, and tabulate how it fares",
         description="Run one lab file many times, each with the arm and its setup varied (friction, payload, "
         "masses, the true resting pose, encoder noise, the drives' gain, the lab's own watched "
         "variables), and write one row per run: the sample, its values, the run's status and metrics "
@@ -40,25 +41,54 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--golden whether the transcript matches). Runs execute in local processes or on a Dask "
         "cluster; the table is the same either way. Exit 0 when every sample passed, 1 otherwise.",
         epilog="names for --vary: " + ", ".join(variations.PLANT_NAMES) + ", var:NAME (a watched variable, "
-        "var:NAME[i] for an array element). See docs/sweep.md.")
+        "var:NAME[i] for an array element). See docs/sweep.md.",
+    )
     add_run_options(p)
-    p.add_argument("--vary", action="append", required=True, metavar="NAME=LO:HI",
-                   help="a quantity to vary over [LO, HI] (repeat for several)")
+    p.add_argument(
+        "--vary",
+        action="append",
+        required=True,
+        metavar="NAME=LO:HI",
+        help="a quantity to vary over [LO, HI] (repeat for several)",
+    )
     how = p.add_mutually_exclusive_group(required=True)
     how.add_argument("--samples", type=int, metavar="N", help="N random samples (seeded; see --method)")
-    how.add_argument("--grid", type=int, metavar="M", help="a full grid: M evenly spaced values of each quantity")
-    p.add_argument("--method", choices=sampling.METHODS, default="lhs",
-                   help="how --samples are drawn: lhs (Latin hypercube) or sobol (scrambled Sobol) "
-                   "(default: %(default)s)")
-    p.add_argument("--seed", type=int, default=1, metavar="K",
-                   help="seeds the samples and each sample's encoder noise (default: %(default)s)")
-    p.add_argument("-o", "--output", type=Path, required=True, metavar="FILE",
-                   help="the table: results.csv or results.parquet")
-    p.add_argument("--golden", type=Path, metavar="FILE",
-                   help="compare each run's transcript with this golden file (number-aware); the scenario, "
-                   "duration, resting pose, startup delay and motor board default to its")
+    how.add_argument(
+        "--grid", type=int, metavar="M", help="a full grid: M evenly spaced values of each quantity"
+    )
+    p.add_argument(
+        "--method",
+        choices=sampling.METHODS,
+        default="lhs",
+        help="how --samples are drawn: lhs (Latin hypercube) or sobol (scrambled Sobol) "
+        "(default: %(default)s)",
+    )
+    p.add_argument(
+        "--seed",
+        type=int,
+        default=1,
+        metavar="K",
+        help="seeds the samples and each sample's encoder noise (default: %(default)s)",
+    )
+    p.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        required=True,
+        metavar="FILE",
+        help="the table: results.csv or results.parquet",
+    )
+    p.add_argument(
+        "--golden",
+        type=Path,
+        metavar="FILE",
+        help="compare each run's transcript with this golden file (number-aware); the scenario, "
+        "duration, resting pose, startup delay and motor board default to its",
+    )
     add_tolerance_options(p)
-    p.add_argument("--plot", type=Path, metavar="FILE.png", help="plot each metric against each varied quantity")
+    p.add_argument(
+        "--plot", type=Path, metavar="FILE.png", help="plot each metric against each varied quantity"
+    )
     add_executor_options(p, "sample")
     p.set_defaults(func=run_sweep)
 
@@ -72,9 +102,12 @@ def _golden(args: argparse.Namespace) -> bytes | None:
     try:
         golden = read_golden(args.golden)
         run = recorded_run(golden, [Path.cwd()]).overridden(
-            scenario=args.scenario, duration_s=args.duration,
+            scenario=args.scenario,
+            duration_s=args.duration,
             rest_motor_rad=(DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None,
-            startup_delay=False if args.no_startup_delay else None, motor_board=args.motor_board)
+            startup_delay=False if args.no_startup_delay else None,
+            motor_board=args.motor_board,
+        )
     except GoldenError as exc:
         raise CliError(str(exc)) from None
     args.scenario, args.duration = run.scenario, run.duration_s
@@ -108,17 +141,33 @@ def run_sweep(args: argparse.Namespace) -> int:
     except variations.VaryError as exc:
         raise CliError(str(exc)) from None
     try:
-        units = sampling.samples("grid" if args.grid is not None else args.method, len(varies),
-                                 n=args.samples, levels=args.grid, seed=args.seed,
-                                 fixed=[v.low == v.high for v in varies])
+        units = sampling.samples(
+            "grid" if args.grid is not None else args.method,
+            len(varies),
+            n=args.samples,
+            levels=args.grid,
+            seed=args.seed,
+            fixed=[v.low == v.high for v in varies],
+        )
     except ValueError as exc:
         raise CliError(str(exc)) from None
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
-    spec = SweepSpec(lab=source, config=config, end_tick=end_tick, varies=varies, seed=args.seed,
-                     deadline_s=args.deadline, limits=limits_from_args(args), golden=golden,
-                     abs_tol=args.abs_tol, rel_tol=args.rel_tol)
-    jobs = [SweepJob(spec, i, tuple(v.value_at(float(u)) for v, u in zip(varies, row, strict=True)))
-            for i, row in enumerate(units)]
+    spec = SweepSpec(
+        lab=source,
+        config=config,
+        end_tick=end_tick,
+        varies=varies,
+        seed=args.seed,
+        deadline_s=args.deadline,
+        limits=limits_from_args(args),
+        golden=golden,
+        abs_tol=args.abs_tol,
+        rel_tol=args.rel_tol,
+    )
+    jobs = [
+        SweepJob(spec, i, tuple(v.value_at(float(u)) for v, u in zip(varies, row, strict=True)))
+        for i, row in enumerate(units)
+    ]
     columns = spec.columns()
     journal_file = tbl.journal_path(output)
     try:
@@ -131,9 +180,14 @@ def run_sweep(args: argparse.Namespace) -> int:
     interrupted = False
     try:
         executor = executor_from_args(args)
-        how = f"{args.grid}-level grid" if args.grid is not None else f"{args.method} samples, seed {args.seed}"
-        print(f"crslab sweep: {len(jobs)} runs of {source.name} on {config.scenario.name} "
-              f"({end_tick / 1000:.3f} s each; {how}), {executor.description}", file=sys.stderr)
+        how = (
+            f"{args.grid}-level grid" if args.grid is not None else f"{args.method} samples, seed {args.seed}"
+        )
+        print(
+            f"crslab sweep: {len(jobs)} runs of {source.name} on {config.scenario.name} "
+            f"({end_tick / 1000:.3f} s each; {how}), {executor.description}",
+            file=sys.stderr,
+        )
         from crslab.regress.grade import Progress
 
         progress = Progress(len(jobs))
@@ -157,8 +211,9 @@ def run_sweep(args: argparse.Namespace) -> int:
     try:
         tbl.write_table(output, columns, rows)
     except OSError as exc:
-        raise CliError(f"{output}: cannot write the table ({exc.strerror}); the finished rows are in "
-                       f"{journal_file}") from None
+        raise CliError(
+            f"{output}: cannot write the table ({exc.strerror}); the finished rows are in {journal_file}"
+        ) from None
     journal_file.unlink(missing_ok=True)
     ordered = sorted(rows, key=lambda r: int(r["sample"]))  # type: ignore[call-overload]
     title = f"{source.name} on {config.scenario.name}: {len(rows)} runs"
@@ -175,7 +230,10 @@ def run_sweep(args: argparse.Namespace) -> int:
     where = f" and {args.plot}" if args.plot is not None and rows else ""
     print(f"crslab sweep: {len(rows)} rows written to {output}{where}", file=sys.stderr)
     if interrupted:
-        print(f"crslab sweep: interrupted after {len(rows)} of {len(jobs)} runs; the finished rows are in {output}",
-              file=sys.stderr)
+        print(
+            f"crslab sweep: interrupted after {len(rows)} of {len(jobs)} runs; the finished rows are in "
+            f"{output}",
+            file=sys.stderr,
+        )
         return ExitStatus.INTERRUPTED
     return ExitStatus.OK if all(r["passed"] for r in rows) else ExitStatus.MISMATCH

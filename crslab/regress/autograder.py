@@ -82,7 +82,7 @@ class Outcome:
 
 
 def _excerpt(text: str) -> str:
-    return text if len(text) <= OUTPUT_CHARS else text[:OUTPUT_CHARS - 30] + "\n... (output cut here)"
+    return text if len(text) <= OUTPUT_CHARS else text[: OUTPUT_CHARS - 30] + "\n... (output cut here)"
 
 
 class BadTestsFile(ValueError):
@@ -99,8 +99,10 @@ def parse_tests(text: str, path: Path) -> list[PlatformTest]:
     lines = text.splitlines()
     tables = doc.get("test")
     if set(doc) - {"test"} or not isinstance(tables, list) or not tables:
-        raise BadTestsFile(f"{path}: expected one or more [[test]] tables (scenario, points, optional name "
-                         "and duration) and nothing else")
+        raise BadTestsFile(
+            f"{path}: expected one or more [[test]] tables (scenario, points, optional name "
+            "and duration) and nothing else"
+        )
     headers = [i for i, line in enumerate(lines) if line.strip().startswith("[[test]]")]
     out = []
     try:
@@ -124,13 +126,25 @@ def gradescope_results(results: Sequence[Outcome], *, seconds: float, note: str 
     """Gradescope's results.json for one submission."""
     total = sum(r.points for r in results)
     possible = sum(r.test.points for r in results)
-    summary = note or f"{sum(r.passed for r in results)} of {len(results)} tests passed: {total:g} of {possible:g} points"
+    summary = (
+        note
+        or f"{sum(r.passed for r in results)} of {len(results)} tests passed: "
+        f"{total:g} of {possible:g} points"
+    )
     return {
         "score": total,
         "execution_time": round(seconds, 3),
         "output": summary,
-        "tests": [{"name": r.test.name, "score": r.points, "max_score": r.test.points,
-                   "status": "passed" if r.passed else "failed", "output": r.output()} for r in results],
+        "tests": [
+            {
+                "name": r.test.name,
+                "score": r.points,
+                "max_score": r.test.points,
+                "status": "passed" if r.passed else "failed",
+                "output": r.output(),
+            }
+            for r in results
+        ],
     }
 
 
@@ -139,8 +153,12 @@ def prairielearn_results(results: Sequence[Outcome], *, note: str = "") -> dict:
     not_compiling = [r for r in results if r.grade.grade == GradeClass.DOES_NOT_COMPILE]
     if not_compiling:
         g = not_compiling[0].grade
-        return {"gradable": False, "format_errors": [g.detail],
-                "message": f"{g.path.name} does not compile", "output": _excerpt(g.report)}
+        return {
+            "gradable": False,
+            "format_errors": [g.detail],
+            "message": f"{g.path.name} does not compile",
+            "output": _excerpt(g.report),
+        }
     total = sum(r.points for r in results)
     possible = sum(r.test.points for r in results)
     return {
@@ -148,16 +166,24 @@ def prairielearn_results(results: Sequence[Outcome], *, note: str = "") -> dict:
         "score": total / possible if possible else 0.0,
         "message": note or f"{sum(r.passed for r in results)} of {len(results)} tests passed",
         "output": "\n".join(f"{r.test.name}: {r.grade.grade}" for r in results),
-        "tests": [{"name": r.test.name, "description": _describe(r.test), "points": r.points,
-                   "max_points": r.test.points, "message": f"{r.grade.grade}: {r.grade.detail}",
-                   "output": r.output()} for r in results],
+        "tests": [
+            {
+                "name": r.test.name,
+                "description": _describe(r.test),
+                "points": r.points,
+                "max_points": r.test.points,
+                "message": f"{r.grade.grade}: {r.grade.detail}",
+                "output": r.output(),
+            }
+            for r in results
+        ],
     }
 
 
 def not_one_submission(platform: str, found: Sequence[Path], folder: Path) -> dict:
     """The results file when the folder does not hold exactly one lab file: no points, and why."""
     names = ", ".join(p.name for p in found) or "none"
-    why = (f"expected exactly one lab file (.c or .cpp) in the submission, found {len(found)}: {names}")
+    why = f"expected exactly one lab file (.c or .cpp) in the submission, found {len(found)}: {names}"
     if platform == "gradescope":
         return {"score": 0.0, "output": why, "tests": []}
     return {"gradable": False, "format_errors": [why], "message": why}

@@ -188,8 +188,8 @@ def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: i
                 done(i, RunResult(RunStatus.FORBIDDEN, message=str(exc), lab_file=path))
                 continue
             except OSError as exc:
-                done(i, RunResult(RunStatus.BUILD_ERROR, message=f"{path.name} cannot be read ({exc.strerror})",
-                                  lab_file=path))
+                why = f"{path.name} cannot be read ({exc.strerror})"
+                done(i, RunResult(RunStatus.BUILD_ERROR, message=why, lab_file=path))
                 continue
         batch.append((i, GradeJob(path, config, end_tick, deadline_s, limits, source)))
     executor.run([job for _, job in batch], lambda k, result: done(batch[k][0], result))

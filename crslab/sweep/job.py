@@ -44,18 +44,44 @@ class SweepSpec:
     def columns(self) -> list[str]:
         """The table's columns, in order."""
         golden = ["golden_match"] if self.golden is not None else []
-        return ["sample", *(v.name for v in self.varies), "status", "passed", "end_s", *METRIC_NAMES,
-                *golden, "message"]
+        return [
+            "sample",
+            *(v.name for v in self.varies),
+            "status",
+            "passed",
+            "end_s",
+            *METRIC_NAMES,
+            *golden,
+            "message",
+        ]
 
-    def row(self, sample: int, values: tuple[float, ...], status: RunStatus, message: str = "",
-            end_tick: int = 0, metrics: dict[str, float] | None = None, golden_match: bool | None = None) -> Row:
+    def row(
+        self,
+        sample: int,
+        values: tuple[float, ...],
+        status: RunStatus,
+        message: str = "",
+        end_tick: int = 0,
+        metrics: dict[str, float] | None = None,
+        golden_match: bool | None = None,
+    ) -> Row:
         """A row; ``passed`` when the run ended normally, never left the safety envelope, never
         had the motor board cut out, and (with a golden file) printed what it holds."""
         metrics = metrics if metrics is not None else {name: math.nan for name in METRIC_NAMES}
-        passed = (status is RunStatus.OK and metrics["safety_trips"] == 0
-                  and metrics["motor_board_cutouts"] == 0 and golden_match is not False)
-        row: Row = {"sample": sample, **{v.name: x for v, x in zip(self.varies, values, strict=True)},
-                    "status": str(status), "passed": bool(passed), "end_s": end_tick / 1000.0, **metrics}
+        passed = (
+            status is RunStatus.OK
+            and metrics["safety_trips"] == 0
+            and metrics["motor_board_cutouts"] == 0
+            and golden_match is not False
+        )
+        row: Row = {
+            "sample": sample,
+            **{v.name: x for v, x in zip(self.varies, values, strict=True)},
+            "status": str(status),
+            "passed": bool(passed),
+            "end_s": end_tick / 1000.0,
+            **metrics,
+        }
         if self.golden is not None:
             row["golden_match"] = bool(golden_match)
         row["message"] = message.splitlines()[0] if message else ""
@@ -80,10 +106,16 @@ class SweepJob:
     def run(self) -> Row:
         spec = self.spec
         try:
-            with spec.lab.private_build(sanitize=spec.config.build.sanitized,
-                                        sandboxed=spec.config.sandboxed) as build:
-                config = variations.apply(dataclasses.replace(spec.config, build=build, log_signals=True),
-                                          spec.varies, self.values, seed=spec.seed, sample=self.sample)
+            with spec.lab.private_build(
+                sanitize=spec.config.build.sanitized, sandboxed=spec.config.sandboxed
+            ) as build:
+                config = variations.apply(
+                    dataclasses.replace(spec.config, build=build, log_signals=True),
+                    spec.varies,
+                    self.values,
+                    seed=spec.seed,
+                    sample=self.sample,
+                )
                 memory = MemorySink()
                 with Simulation(config, deadline_s=spec.deadline_s, limits=spec.limits) as sim:
                     if not sim.defines_lab:
@@ -98,7 +130,15 @@ class SweepJob:
         metrics = run_metrics(memory.log, result.stats, startup_ticks=config.startup_ticks)
         matched = None
         if spec.golden is not None:
-            matched = result.ok and compare(split_lines(spec.golden), split_lines(memory.transcript, memory.calls),
-                                            abs_tol=spec.abs_tol, rel_tol=spec.rel_tol).ok
-        return spec.row(self.sample, self.values, result.status, result.message, result.end_tick, metrics,
-                        matched)
+            matched = (
+                result.ok
+                and compare(
+                    split_lines(spec.golden),
+                    split_lines(memory.transcript, memory.calls),
+                    abs_tol=spec.abs_tol,
+                    rel_tol=spec.rel_tol,
+                ).ok
+            )
+        return spec.row(
+            self.sample, self.values, result.status, result.message, result.end_tick, metrics, matched
+        )

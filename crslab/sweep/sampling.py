@@ -57,17 +57,27 @@ def grid(levels: int, dims: int, fixed: Sequence[bool] = ()) -> np.ndarray:
     return np.array(list(itertools.product(*axes)), dtype=float).reshape(-1, dims)
 
 
-def samples(method: str, dims: int, *, n: int | None = None, levels: int | None = None,
-            seed: int = 1, fixed: Sequence[bool] = ()) -> np.ndarray:
+def samples(
+    method: str,
+    dims: int,
+    *,
+    n: int | None = None,
+    levels: int | None = None,
+    seed: int = 1,
+    fixed: Sequence[bool] = (),
+) -> np.ndarray:
     """Unit fractions, one row per sample: ``method`` ``lhs``/``sobol`` with ``n`` samples, or
-    ``grid`` with ``levels`` per quantity (one for each ``fixed`` one). Raises ``ValueError`` for a count out of range."""
+    ``grid`` with ``levels`` per quantity (one for each ``fixed`` one). Raises ``ValueError``
+    for a count out of range."""
     if method == "grid":
         if levels is None or levels < 1:
             raise ValueError(f"--grid must be at least 1, got {levels}")
         varied = dims - sum(bool(f) for f in fixed)
-        if levels ** varied > MAX_RUNS:
-            raise ValueError(f"--grid {levels} over {varied} quantities is {levels ** varied} runs; at most "
-                             f"{MAX_RUNS} (use --samples for a random sample)")
+        if levels**varied > MAX_RUNS:
+            raise ValueError(
+                f"--grid {levels} over {varied} quantities is {levels**varied} runs; at most "
+                f"{MAX_RUNS} (use --samples for a random sample)"
+            )
         return grid(levels, dims, fixed)
     if n is None or not 1 <= n <= MAX_RUNS:
         raise ValueError(f"--samples must be within 1 .. {MAX_RUNS}, got {n}")

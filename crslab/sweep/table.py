@@ -100,8 +100,10 @@ def _write_parquet(path: Path, columns: Sequence[str], rows: Sequence[Row]) -> N
             t = pa.float64()
         fields.append(pa.field(c, t))
     schema = pa.schema(fields)
-    data = {f.name: [float(r[f.name]) if f.type == pa.float64() else r[f.name] for r in rows]  # type: ignore
-            for f in fields}
+    data = {
+        f.name: [float(r[f.name]) if f.type == pa.float64() else r[f.name] for r in rows]  # type: ignore
+        for f in fields
+    }
     pq.write_table(pa.table(data, schema=schema), path)
 
 
@@ -120,8 +122,15 @@ def _badness(row: Row) -> tuple:
     errors = [float(row[f"plotvar{k}_err_rms"]) for k in (1, 2, 3)]  # type: ignore[arg-type]
     error = max((e for e in errors if not math.isnan(e)), default=0.0)
     clamp = float(row["clamp_share"])  # type: ignore[arg-type]
-    return (bool(row["passed"]), row["status"] == "ok", -_num(row["safety_trips"]),
-            -_num(row["motor_board_cutouts"]), -error, -(0.0 if math.isnan(clamp) else clamp), row["sample"])
+    return (
+        bool(row["passed"]),
+        row["status"] == "ok",
+        -_num(row["safety_trips"]),
+        -_num(row["motor_board_cutouts"]),
+        -error,
+        -(0.0 if math.isnan(clamp) else clamp),
+        row["sample"],
+    )
 
 
 def _num(value: object) -> float:
@@ -156,14 +165,20 @@ def summary(rows: Sequence[Row], varies: Sequence[Vary], *, total: int, golden: 
     statuses: dict[str, int] = {}
     for r in rows:
         statuses[str(r["status"])] = statuses.get(str(r["status"]), 0) + 1
-    lines.append("status: " + ", ".join(f"{k} {v}" for k, v in sorted(statuses.items(), key=lambda kv: -kv[1])))
+    lines.append(
+        "status: " + ", ".join(f"{k} {v}" for k, v in sorted(statuses.items(), key=lambda kv: -kv[1]))
+    )
     passed = sum(bool(r["passed"]) for r in rows)
     rate = f" ({100.0 * passed / n:.1f} %)" if n else ""
     why = []
-    for label, test in (("left the safety envelope", lambda r: _num(r["safety_trips"]) > 0),
-                        ("motor board cut out", lambda r: _num(r["motor_board_cutouts"]) > 0),
-                        ("transcript differs from the golden file",
-                         lambda r: golden and r["status"] == "ok" and not r["golden_match"])):
+    for label, test in (
+        ("left the safety envelope", lambda r: _num(r["safety_trips"]) > 0),
+        ("motor board cut out", lambda r: _num(r["motor_board_cutouts"]) > 0),
+        (
+            "transcript differs from the golden file",
+            lambda r: golden and r["status"] == "ok" and not r["golden_match"],
+        ),
+    ):
         k = sum(1 for r in rows if test(r))
         if k:
             why.append(f"{label}: {k}")
@@ -176,15 +191,19 @@ def summary(rows: Sequence[Row], varies: Sequence[Vary], *, total: int, golden: 
             v = np.array([float(r[m]) for r in rows], dtype=float)  # type: ignore[arg-type]
             v = v[np.isfinite(v)]
             integer = m in INTEGER_METRICS
-            lines.append(f"{m:<{width}}  {_fmt(float(v.min()), integer):>10}  "
-                         f"{_fmt(float(np.median(v))):>10}  {_fmt(float(v.max()), integer):>10}")
+            lines.append(
+                f"{m:<{width}}  {_fmt(float(v.min()), integer):>10}  "
+                f"{_fmt(float(np.median(v))):>10}  {_fmt(float(v.max()), integer):>10}"
+            )
     if rows:
         worst = min(rows, key=_badness)
         values = [float(worst[v.name]) for v in varies]  # type: ignore[arg-type]
         detail = f"; {worst['message']}" if worst["message"] else ""
         state = "passed" if worst["passed"] else "failed"
-        lines.append(f"worst: sample {worst['sample']} ({worst['status']}, {state}) at "
-                     f"{describe(varies, values)}{detail}")
+        lines.append(
+            f"worst: sample {worst['sample']} ({worst['status']}, {state}) at "
+            f"{describe(varies, values)}{detail}"
+        )
     return lines
 
 
