@@ -237,8 +237,8 @@ def run_grade(args: argparse.Namespace) -> int:
                                  limits=limits, timeout_s=args.timeout, private=False)
         if reference.status is RunStatus.UNMET:
             first = reference.failed_expectations[0].lines()[0]
-            raise CliError(f"the reference lab {args.reference.name} does not meet the scenario's expectations: "
-                           f"{reference.message}; the first: {first}")
+            raise CliError(f"the reference lab {args.reference.name} does not meet the scenario's "
+                           f"expectations: {reference.message}; the first: {first}")
         if not reference.ok:
             raise CliError(f"the reference lab did not run: {reference.message or reference.status}")
         grades = _grade_all(args, subs, config, end_tick, reference, executor)
