@@ -119,6 +119,57 @@ def open_pty() -> tuple[int, int, str]:
     return master, slave, os.ttyname(slave)
 
 
+# -- Debugging a lab (crslab debug) --------------------------------------------------------------------
+# Linux: gdb (or gdbserver) attaches to the worker with ptrace. Yama's ptrace scope 1 (Ubuntu's
+# default) lets a process trace only its descendants, and the debugger is the worker's sibling:
+# the worker names it with prctl(PR_SET_PTRACER, pid) before its sandbox closes (the relation
+# ends when that process does). crslab sees the attach in /proc/<pid>/status (TracerPid).
+# macOS: lldb or debugserver attach with task_for_pid, which needs the debugger signed with the
+# debugging entitlement (or root) instead of a prctl; "attached" is P_TRACED in the worker's
+# kinfo_proc (sysctl KERN_PROC_PID).
+PR_SET_PTRACER = 0x59616D61
+YAMA_SCOPE = Path("/proc/sys/kernel/yama/ptrace_scope")
+
+
+def allow_tracer(pid: int) -> None:
+    """Let process ``pid`` (and only it, besides this process's ancestors) trace this process.
+    Without Yama the kernel already allows any process of the same user, and this does nothing."""
+    try:
+        ctypes.CDLL(None).prctl(PR_SET_PTRACER, pid, 0, 0, 0)
+    except (OSError, AttributeError):
+        pass
+
+
+def tracer_of(pid: int) -> int | None:
+    """The process tracing process ``pid`` (0: none), or None when ``pid`` is gone."""
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            for line in f:
+                if line.startswith("TracerPid:"):
+                    return int(line.split()[1])
+    except (OSError, ValueError):
+        return None
+    return 0
+
+
+def ptrace_restriction() -> str | None:
+    """What keeps a debugger from attaching on this machine, or None (Yama scope 0 or 1, or no
+    Yama: crslab's PR_SET_PTRACER covers scope 1).
+
+    >>> ptrace_restriction() is None or "ptrace_scope" in ptrace_restriction()
+    True
+    """
+    try:
+        scope = int(YAMA_SCOPE.read_text())
+    except (OSError, ValueError):
+        return None
+    if scope == 2:
+        return "kernel.yama.ptrace_scope is 2: only root may attach a debugger"
+    if scope >= 3:
+        return "kernel.yama.ptrace_scope is 3: no process may attach a debugger until reboot"
+    return None
+
+
 # -- /proc ----------------------------------------------------------------------------------------------
-# crslab reads nothing from /proc: the worker's tick and phase travel through the shared block,
-# so a crash or a hang is diagnosed without /proc/<pid>. Keep it that way: macOS has no /proc.
+# crslab reads nothing else from /proc: the worker's tick and phase travel through the shared
+# block, so a crash or a hang is diagnosed without /proc/<pid>. Keep it that way: macOS has no /proc.

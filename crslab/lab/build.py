@@ -48,6 +48,11 @@ BOARD_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-fno-
 # misalignment, bad shifts), so UBSan's own array-bounds and object-size checks are left to ASan.
 SANITIZE_FLAGS = ["-fsanitize=address,undefined", "-fno-sanitize=bounds,object-size",
                   "-fno-omit-frame-pointer", "-g", "-O1"]
+# crslab debug: the lab unoptimized with full debug information (after the flags above: -O0
+# wins), so every line and variable is where the source says; the board keeps -O2 and gains
+# line information, so stepping out of lab() shows the framework's own C, as CCS shows its source.
+DEBUG_LAB_FLAGS = ["-O0", "-g", "-fno-omit-frame-pointer"]
+DEBUG_BOARD_FLAGS = ["-g"]
 LINK_LIBS = os_support.MATH_LIBS
 
 _INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]', re.MULTILINE)
@@ -81,6 +86,10 @@ class LabBuild:
     digest: str
     watched: tuple[WatchedVar, ...] = field(default=())
     compiler: Compiler | None = None
+    debug: bool = False
+    """Built for a debugger: ``-O0 -g`` (``crslab debug``)."""
+    break_when: str | None = None
+    """The ``--break-when`` condition compiled in with the lab (``crs_debug_condition``), if any."""
 
     @property
     def printf_buffer_chars(self) -> int:
@@ -157,9 +166,9 @@ def run_compiler(cc: Compiler, args: list[str], what: str, sandbox: CompilerSand
         raise LabBuildError(f"{what} does not compile", r.stderr)
 
 
-def _board_objects(cc: Compiler, sanitize: bool, cache: Path) -> list[Path]:
+def _board_objects(cc: Compiler, sanitize: bool, cache: Path, debug: bool = False) -> list[Path]:
     """The board, framework and kinematics objects, built once per content, flags and compiler."""
-    flags = BOARD_FLAGS + (SANITIZE_FLAGS if sanitize else [])
+    flags = BOARD_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_BOARD_FLAGS if debug else [])
     digest = content_digest([cc.identity.encode(), " ".join(flags).encode()]
                      + [p.read_bytes() for p in BOARD_SOURCES + BOARD_HEADERS])
     out_dir = cache / f"board-{digest}"
@@ -175,11 +184,33 @@ def _board_objects(cc: Compiler, sanitize: bool, cache: Path) -> list[Path]:
     return objects
 
 
+def break_when_source(lab: Path, condition: str) -> str:
+    """The translation unit of a ``--break-when`` build: the lab file itself and the condition as
+    a function of it, so the condition sees the lab's globals (static ones too) with their own
+    types, and the compiler checks it (its messages name ``--break-when``).
+
+    >>> print(break_when_source(Path("/labs/lab1.c"), "mycount > 3"))
+    #include "/labs/lab1.c"
+    int crs_debug_condition(int error) { return (
+    #line 1 "--break-when"
+    mycount > 3
+    ) != 0; }
+    <BLANKLINE>
+    """
+    if "\n" in condition or "\r" in condition:
+        raise LabBuildError("--break-when: the condition must be one line")
+    quoted = str(lab.absolute()).replace("\\", "\\\\").replace('"', '\\"')
+    return (f'#include "{quoted}"\nint crs_debug_condition(int error) {{ return (\n#line 1 "--break-when"\n'
+            f"{condition}\n) != 0; }}\n")
+
+
 def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path | None = None,
-              sandboxed: bool = True) -> LabBuild:
+              sandboxed: bool = True, debug: bool = False, break_when: str | None = None) -> LabBuild:
     """Compile ``source`` (default: crslab's Lab 1) and link it with the board; cached in
     ``cache`` (default: the per-user cache, :func:`crslab.cache.cache_dir`). ``sandboxed``
-    compiles it in the compile sandbox (see :func:`crslab.sandbox.resolve`).
+    compiles it in the compile sandbox (see :func:`crslab.sandbox.resolve`). ``debug`` builds it
+    for a debugger (``crslab debug``): the lab ``-O0 -g``, the board with line information, and
+    with ``break_when`` (a C expression) that condition as ``crs_debug_condition()``.
 
     Raises :class:`LabBuildError` for a missing file, a file that does not compile or a missing
     compiler, and :class:`LabForbidden` when the sandboxed compiler was refused a file the lab
@@ -194,12 +225,15 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path
         raise LabBuildError(f"{src}: cannot be read ({exc.strerror})") from None
     text = text_bytes.decode("utf-8", "replace")
     generation = detect_generation(text)
-    flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else [])
+    debug = debug or break_when is not None
+    flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_LAB_FLAGS if debug else [])
+    unit = break_when_source(src, break_when) if break_when is not None else None
     cc = compiler()
     cache = cache if cache is not None else _cache()
-    objects = _board_objects(cc, sanitize, cache)
+    objects = _board_objects(cc, sanitize, cache, debug)
     digest = content_digest([text_bytes, " ".join(flags).encode(), src.suffix.encode()]
-                     + [o.parent.name.encode() for o in objects[:1]])  # the board's digest names the compiler
+                            + [o.parent.name.encode() for o in objects[:1]]  # it names the compiler
+                            + ([unit.encode()] if unit is not None else []))
     out_dir = cache / f"lab-{digest}"
     so = out_dir / "lab.so"
     if not so.exists():
@@ -209,7 +243,13 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path
                                        compiler=cc.argv) if sandboxed else None
             obj = Path(tmp) / "lab.o"
             # compile the user's own path so the compiler's messages name the user's file and line
-            run_compiler(cc, [*flags, *INCLUDES, "-x", "c", "-c", str(src), "-o", str(obj)], src.name,
+            # (absolute for a debugger, which then finds the source from any folder)
+            compiled, what = (src.absolute() if debug else src), src.name
+            if unit is not None:
+                compiled = Path(tmp) / "break_when.c"
+                compiled.write_text(unit)
+                what = f"{src.name} with --break-when {break_when!r}"
+            run_compiler(cc, [*flags, *INCLUDES, "-x", "c", "-c", str(compiled), "-o", str(obj)], what,
                          sandbox)
             tmp_so = Path(tmp) / "lab.so"
             link_flags = [*os_support.SHARED_OBJECT_FLAGS, *(cc.sanitizer_link_flags() if sanitize else [])]
@@ -221,4 +261,4 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path
 
         helper_library()
     return LabBuild(source=src, shared_object=so, generation=generation, sanitized=sanitize, digest=digest,
-                    watched=tuple(find_watched(text)), compiler=cc)
+                    watched=tuple(find_watched(text)), compiler=cc, debug=debug, break_when=break_when)

@@ -40,12 +40,12 @@ import sys
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
+from crslab import os_support
 from crslab.sandbox import landlock
 from crslab.sandbox.landlock import READ, RUN
 from crslab.sandbox.syscalls import path_argument_table, run_filter
 from crslab.sandbox.trap import Trap
 
-PR_SET_PTRACER = 0x59616D61
 MAX_FILE_BYTES = 64 * 1024 * 1024
 """The largest file the worker may grow (its only file is a ``--sanitize`` run's report)."""
 SANITIZER_READ_DIRS = ("/usr/lib", "/usr/lib64", "/lib", "/lib64", "/usr/libexec")
@@ -163,7 +163,7 @@ def enter_run_sandbox(shared: object, shared_object: Path, keep_fds: Iterable[in
         trap.arm(shared, str(shared_object), lab_fd, path_argument_table(trap.table_size),
                  report_fd=2 if sanitizer else -1)
         if tracer_pid is not None:
-            ctypes.CDLL(None).prctl(PR_SET_PTRACER, tracer_pid, 0, 0, 0)
+            os_support.allow_tracer(tracer_pid)
         syscall_filter = run_filter(os.getpid(), sanitizer=sanitizer)
         try:
             rules = landlock.Ruleset()

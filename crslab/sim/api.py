@@ -38,13 +38,16 @@ def make_config(
     sanitize: bool = False,
     sandbox: bool | None = None,
     motor_board: str | None = None,
+    debug: bool = False,
+    break_when: str | None = None,
 ) -> SimConfig:
     """Build the lab (cached) and load the scenario into one run's configuration.
 
     The arm's true resting pose is ``rest_motor_rad``, else the scenario's, else the default.
     ``sandbox``: True requires the sandbox, False turns it off, None (default) uses it when
     this machine has it (see :func:`crslab.sandbox.resolve`). ``motor_board`` is ``none`` or
-    ``piccolo``; None takes the lab's generation's (Gen A: none, Gen B: piccolo).
+    ``piccolo``; None takes the lab's generation's (Gen A: none, Gen B: piccolo). ``debug`` and
+    ``break_when`` build the lab for a debugger (:func:`crslab.lab.build.build_lab`).
     Raises ``ScenarioError`` when the scenario writes a variable the lab does not watch,
     ``ValueError`` for an unknown motor board.
     """
@@ -53,7 +56,8 @@ def make_config(
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     rest = tuple(float(v) for v in (rest_motor_rad or sc.rest_motor_rad or DEFAULT_REST_MOTOR_RAD))
     sandboxed = resolve_sandbox(sandbox)
-    build = build_lab(Path(lab) if lab is not None else None, sanitize=sanitize, sandboxed=sandboxed)
+    build = build_lab(Path(lab) if lab is not None else None, sanitize=sanitize, sandboxed=sandboxed,
+                      debug=debug, break_when=break_when)
     check_lab(sc, build)
     return SimConfig(
         build=build,

@@ -50,3 +50,17 @@ class LiveControl(Protocol):
     def serve(self, lab: RunningLab) -> None:
         """Act on ``lab`` now (its worker is idle)."""
         ...
+
+
+class RunDebugger(Protocol):
+    """A debugger's say in a run (``crslab debug``, crslab/debug/): where chunks of ticks must end,
+    and what it does there while the worker is idle (attach, ask for a stop in ``lab()``)."""
+
+    def pause_tick(self) -> int | None:
+        """The tick the run must stop before (a chunk ends there), or None."""
+        ...
+
+    def paused(self, lab: RunningLab, condition_held: bool) -> None:
+        """The run stopped before ``lab.tick``: the tick :meth:`pause_tick` named, or
+        (``condition_held``) the first tick where the lab's ``--break-when`` condition holds."""
+        ...

@@ -31,7 +31,8 @@ from crslab import os_support
 from crslab.scenario.expect_events import ExpectOutcome, Judge, Observation
 from crslab.sim.board_ffi import board_constants, board_ffi, shared_size
 from crslab.sim.config import SimConfig
-from crslab.sim.running import LiveControl
+from crslab.sim.debug_setup import DebugSetup
+from crslab.sim.running import LiveControl, RunDebugger
 from crslab.sim.sanitizer import asan_runtime, summarize_sanitizer_report
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sim.worker_reply import UnreadableReply, receive
@@ -40,8 +41,12 @@ from crslab.sinks.sink import Sink
 DEFAULT_DEADLINE_S = 2.0
 READY_TIMEOUT_S = 60.0
 SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
+ABORT_ON_ERROR = ":abort_on_error=1"
 REALTIME_SLICE_TICKS = 20
 FAST_SLICE_TICKS = 20_000
+DEBUG_SLICE_TICKS = 20
+"""Chunks of a debugged run: what was printed up to 19 ticks before a stop in the debugger is on
+the terminal (a chunk's serial bytes are taken when it ends)."""
 MotorBoardReport = Callable[[int, int, bool], None]
 """``(tick, joint, off)``: the motor board cut every output (off True; joint 1..3 over the limit,
 0 no command) or brought them back (off False)."""
@@ -82,10 +87,13 @@ class Limits:
 NO_LIMITS = Limits()
 
 
-def _child(conn: Connection, config: SimConfig, shared_path: str, limits: Limits = NO_LIMITS) -> None:
+def _child(conn: Connection, config: SimConfig, shared_path: str, limits: Limits = NO_LIMITS,
+           debug: DebugSetup | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
     faulthandler.disable()  # a crash is diagnosed by the crslab process, not dumped here
     os_support.die_with_parent()  # whatever kills the crslab process
+    if debug is not None:  # Ctrl-C on the terminal is the debugger's: it interrupts the lab itself
+        os.setpgid(0, 0)
     report = os.environ.pop(SANITIZER_REPORT_ENV, None)
     if report:  # the sanitizers write to stderr: keep it for the crslab process to read
         fd = os.open(report, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
@@ -98,7 +106,7 @@ def _child(conn: Connection, config: SimConfig, shared_path: str, limits: Limits
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
     from crslab.sim.worker import serve
 
-    serve(conn, config, shared_path)
+    serve(conn, config, shared_path, debug)
     os._exit(0)
 
 
@@ -144,12 +152,18 @@ class CtrlC:
 
 
 class Simulation:
-    """A running lab: ``with Simulation(config) as sim: sim.run(end_tick, ...)``."""
+    """A running lab: ``with Simulation(config) as sim: sim.run(end_tick, ...)``.
 
-    def __init__(self, config: SimConfig, *, deadline_s: float = DEFAULT_DEADLINE_S,
-                 limits: Limits = NO_LIMITS) -> None:
+    ``debug`` prepares the worker for a debugger (``crslab debug``): the process it names may
+    trace it. ``deadline_s`` None never calls the lab hung (a debugger holds it as long as it
+    likes).
+    """
+
+    def __init__(self, config: SimConfig, *, deadline_s: float | None = DEFAULT_DEADLINE_S,
+                 limits: Limits = NO_LIMITS, debug: DebugSetup | None = None) -> None:
         self.config = config
         self.deadline_s = deadline_s
+        self.debug = debug
         self.limits = limits
         self.sanitizer_dir: str | None = None
         self.lab_name = config.build.source.name
@@ -180,8 +194,9 @@ class Simulation:
             self.sanitizer_dir = tempfile.mkdtemp(prefix="crslab-sanitize-")
             env = {
                 os_support.PRELOAD_ENV: asan_runtime(config.build.compiler),
-                "ASAN_OPTIONS": "detect_leaks=0:halt_on_error=1",
-                "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1",
+                # under a debugger a finding ends in abort(), where the debugger stops
+                "ASAN_OPTIONS": "detect_leaks=0:halt_on_error=1" + (ABORT_ON_ERROR if debug else ""),
+                "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1" + (ABORT_ON_ERROR if debug else ""),
                 SANITIZER_REPORT_ENV: os.path.join(self.sanitizer_dir, "report.txt"),
             }
             # one thread, as the sandbox needs: no BLAS thread pool in the fresh interpreter
@@ -194,8 +209,8 @@ class Simulation:
         os.environ.update(env)
         try:
             self._conn, child_conn = ctx.Pipe()
-            self.process = ctx.Process(target=_child, args=(child_conn, config, self.shared_path, limits),
-                                       daemon=True)
+            self.process = ctx.Process(target=_child, args=(child_conn, config, self.shared_path, limits,
+                                                            debug), daemon=True)
             self.process.start()
         finally:
             for k, v in saved.items():
@@ -211,6 +226,13 @@ class Simulation:
             self.close()
             raise SimError(reply.message, reply.status)
         self.symbols = reply[1]
+
+    @property
+    def worker_pid(self) -> int:
+        """The process id of the worker (the process that runs the lab)."""
+        pid = self.process.pid
+        assert pid is not None
+        return pid
 
     @property
     def defines_lab(self) -> bool:
@@ -323,6 +345,11 @@ class Simulation:
         from the next tick on, until the next push: MuJoCo's viewer passes the mouse's drag."""
         self._ask(("push", np.asarray(body_forces, dtype=float).tolist()))
 
+    def debug_break(self) -> None:
+        """Have the worker call ``crs_debug_break``: the debugger attached to it stops there and
+        arms its breakpoint on ``lab()``, so it stops in the next ``lab()`` call (this tick's)."""
+        self._ask(("break",))
+
     # -- running -----------------------------------------------------------------------------
     def _refusal(self, code: int | None) -> RunResult | None:
         """The run stopped by the sandbox: what the lab tried, where and when (None if not)."""
@@ -370,6 +397,13 @@ class Simulation:
         refused = self._refusal(code)
         if refused is not None:
             return refused
+        if code == -signal.SIGFPE and self.debug is not None and self.debug.trap_fp:
+            return RunResult(RunStatus.CRASHED, tick, f"{self.lab_name} raised a floating-point exception "
+                             f"(SIGFPE) {where} {at}: an operation that made a NaN or an infinity (with "
+                             "--strict and --debug-on-crash), or an integer division by zero", self.stats)
+        if code == -signal.SIGKILL and self.debug is not None:
+            return RunResult(RunStatus.CRASHED, tick, f"{self.lab_name}'s process was killed (SIGKILL) "
+                             f"{where} {at}: by the debugger's kill, or by the system", self.stats)
         if code == -signal.SIGXCPU:
             return RunResult(RunStatus.CRASHED, tick, f"{self.lab_name} used up its CPU-time limit "
                              f"({self.limits.cpu_s:g} s) {where} {at}", self.stats)
@@ -414,7 +448,7 @@ class Simulation:
                     return RunResult(RunStatus.CRASHED, 0, f"{self.lab_name} could not be loaded ({how})")
                 return self._diagnose_death()
             phase = int(self.shared.phase)
-            if phase in (c.CRS_PHASE_LAB, c.CRS_PHASE_PRINTING):
+            if self.deadline_s is not None and phase in (c.CRS_PHASE_LAB, c.CRS_PHASE_PRINTING):
                 busy_s = (time.monotonic_ns() - int(self.shared.phase_start_ns)) / 1e9
                 if busy_s > self.deadline_s:
                     tick = int(self.shared.tick)
@@ -440,6 +474,7 @@ class Simulation:
         on_behind: Callable[[float], None] | None = None,
         on_motor_board: MotorBoardReport | None = None,
         on_expectation: ExpectationReport | None = None,
+        debugger: RunDebugger | None = None,
     ) -> RunResult:
         """Run to ``end_tick``, handing what the board prints and the scope rows to ``sink``;
         ``speed`` None is as fast as possible, else x real time.
@@ -453,9 +488,14 @@ class Simulation:
         ``on_expectation(outcome)`` when an expectation of the scenario was judged, before the
         sinks get the chunk it was in. A run that reaches its end with a failed expectation ends
         ``unmet``; the result's ``expectations`` say how each went.
+
+        With a ``debugger`` (``crslab debug``) chunks are short (:data:`DEBUG_SLICE_TICKS`) and
+        end at the tick it names, where it is called; time spent stopped in the debugger is not
+        made up for: pacing starts again from where the lab resumed.
         """
         sink = sink if sink is not None else Sink()
         wall0, tick0 = time.monotonic(), self.tick
+        pace_wall, pace_tick = wall0, tick0  # where pacing counts from
         warned = False
         printed = 0
         cap = self.limits.output_bytes
@@ -486,6 +526,11 @@ class Simulation:
                 while self.tick < end_tick:
                     step = FAST_SLICE_TICKS if speed is None else max(1, int(REALTIME_SLICE_TICKS * speed))
                     target = min(end_tick, self.tick + step)
+                    pause = debugger.pause_tick() if debugger is not None else None
+                    if debugger is not None:
+                        target = min(target, self.tick + DEBUG_SLICE_TICKS)
+                        if pause is not None and pause > self.tick:
+                            target = min(target, pause)
                     self._conn.send(("run", target))
                     reply = self._expect(self._wait_reply(None), ("ran",), 5)
                     if not isinstance(reply, RunResult) and not (isinstance(reply[2], int)
@@ -529,11 +574,16 @@ class Simulation:
                     if code == board_constants().CRS_RUN_PRINTF_OVERFLOW:
                         ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
                         return ended(RunStatus.CRASHED, *self._overflow())
+                    broke = code == board_constants().CRS_RUN_BREAK
+                    if debugger is not None and (broke or self.tick == pause):
+                        debugger.paused(self, broke)
                     if speed is not None:
-                        due = wall0 + (self.tick - tick0) / 1000.0 / speed
+                        due = pace_wall + (self.tick - pace_tick) / 1000.0 / speed
                         lag = time.monotonic() - due
                         if lag < 0:
                             time.sleep(-lag)
+                        elif lag > 0.5 and debugger is not None:  # the lab was held: pace from now on
+                            pace_wall, pace_tick = time.monotonic(), self.tick
                         elif lag > 0.5 and not warned and on_behind is not None:
                             sim_s = (self.tick - tick0) / 1000.0
                             on_behind(sim_s / (time.monotonic() - wall0))

@@ -1,7 +1,9 @@
 """The worker process: owns the MuJoCo plant and the lab's code, and runs ticks on request.
 
 Messages from the crslab process (tuples): ``("run", until_tick)``, ``("get", name)``,
-``("set", name, index, value)``, ``("push", body_forces)``, ``("stop",)``. Replies:
+``("set", name, index, value)``, ``("push", body_forces)``, ``("break",)`` (a debugged run:
+call ``crs_debug_break``, where the debugger stops and arms its breakpoint on ``lab()``),
+``("stop",)``. Replies:
 ``("ready", symbols)`` (or ``("failed", message)`` when the sandbox cannot be entered) first,
 then ``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of numpy columns and
 ``stats["motor_board_events"]`` lists the motor board's cut-outs starting or ending since the last
@@ -36,6 +38,7 @@ from crslab.plant.model import Friction, load_model, motor_to_qpos
 from crslab.scenario.lab_events import SIMULINK_INPUTS
 from crslab.sim.board_ffi import board_constants, board_ffi
 from crslab.sim.config import SimConfig
+from crslab.sim.debug_setup import DebugSetup
 from crslab.sim.event_effects import apply_event
 
 LOG_ROWS = 2000  # rows per scope-log block
@@ -70,7 +73,8 @@ STAT_FIELDS = (
 class Worker:
     """The plant, the board and the lab, stepped in chunks."""
 
-    def __init__(self, config: SimConfig, shared: mmap.mmap, keep_fds: Iterable[int] = ()) -> None:
+    def __init__(self, config: SimConfig, shared: mmap.mmap, keep_fds: Iterable[int] = (),
+                 debug: DebugSetup | None = None) -> None:
         import mujoco
 
         self.config = config
@@ -96,11 +100,14 @@ class Worker:
 
         so = str(config.build.shared_object)
         self.sandbox = None
+        tracer = debug.tracer_pid if debug is not None else None
         if config.sandboxed:
             from crslab.sandbox.run_sandbox import enter_run_sandbox
 
             self.sandbox = enter_run_sandbox(block, config.build.shared_object, keep_fds,
-                                             sanitizer=config.build.sanitized)
+                                             sanitizer=config.build.sanitized, tracer_pid=tracer)
+        elif tracer is not None:
+            os_support.allow_tracer(tracer)
         block.phase = board_constants().CRS_PHASE_LOADING  # the lab's constructors run now
         with self.sandbox.loading() if self.sandbox is not None else contextlib.nullcontext():
             self.lib = ffi.dlopen(so)
@@ -130,6 +137,8 @@ class Worker:
         h = sim.hand
         h.kp_nm_per_rad, h.ki_nm_per_rad_s = config.hand.kp, config.hand.ki
         h.kd_nm_s_per_rad, h.max_nm = config.hand.kd, config.hand.max_nm
+        sim.debug.break_when = int(config.build.break_when is not None)
+        sim.debug.trap_fp = int(debug is not None and debug.trap_fp)
         self.events = list(config.scenario.events)
         self.motor_board_events: list[tuple[int, int, int]] = []
         self.observations: list[dict] = []
@@ -227,6 +236,11 @@ class Worker:
                                        for i in range(int(mb.event_count)))
         mb.event_count = 0
 
+    def debug_break(self) -> None:
+        """Stop in the debugger before the next tick (it then stops at the next ``lab()`` call)."""
+        self.lib.crs_tick = self.sim.tick
+        self.lib.crs_debug_break(self.sim.tick)
+
     def stats(self) -> dict[str, int]:
         """The board's counters, as plain ints."""
         s = self.sim
@@ -254,14 +268,14 @@ class Worker:
         return {k: np.concatenate([b[k] for b in blocks]) for k in _LOG_COLUMNS}
 
 
-def serve(conn: Connection, config: SimConfig, shared_path: str) -> None:
+def serve(conn: Connection, config: SimConfig, shared_path: str, debug: DebugSetup | None = None) -> None:
     """Worker entry point: answer ``run`` requests until ``stop`` or the pipe closes."""
     from crslab.sandbox.run_sandbox import SandboxError
 
     with open(shared_path, "r+b") as f:
         shared = mmap.mmap(f.fileno(), 0)
     try:
-        worker = Worker(config, shared, keep_fds=[conn.fileno()])
+        worker = Worker(config, shared, keep_fds=[conn.fileno()], debug=debug)
     except SandboxError as exc:
         conn.send(("failed", str(exc)))
         return
@@ -291,6 +305,9 @@ def serve(conn: Connection, config: SimConfig, shared_path: str) -> None:
         elif msg[0] == "push":
             push = worker.data.xfrc_applied  # MuJoCo's viewer: the mouse's force on each body
             push[:] = np.asarray(msg[1], dtype=float).reshape(push.shape)
+            conn.send(("value", None))
+        elif msg[0] == "break":
+            worker.debug_break()
             conn.send(("value", None))
         elif msg[0] == "stop":
             conn.send(("stopped", worker.stats(), worker.take_log()))

@@ -60,7 +60,9 @@ static void call_lab(crs_sim *sim)
  * a CRS_RUN_* code to stop the run, else 0. */
 static int lab_tick(crs_sim *sim)
 {
+    if (sim->debug.trap_fp) crs_debug_fp_traps(1); /* crslab debug --debug-on-crash --strict */
     call_lab(sim);
+    if (sim->debug.trap_fp) crs_debug_fp_traps(0);
     if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
     crs_board_after_lab(sim);
     if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
@@ -147,6 +149,7 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
     const int plots = (crs_lab_symbols() & CRS_LAB_HAS_PLOTVARS) != 0;
     while (sim->tick < until_tick) {
         sh->tick = sim->tick;
+        if (crs_debug_tick_begins(sim)) return CRS_RUN_BREAK;
         const int stop = framework_tick(sim);
         if (stop == CRS_RUN_PRINTF_OVERFLOW) return stop; /* the board's memory is corrupt */
         for (int j = 0; j < 3; ++j) sim->ctrl[j] = sim->applied[j];

@@ -136,8 +136,16 @@ enum {
     CRS_RUN_LOG_FULL = 2,    /* scope log full: drain and go on */
     CRS_RUN_NAN_STRICT = 3,  /* a NaN/Inf torque in strict mode */
     CRS_RUN_PRINTF_OVERFLOW = 4, /* a serial_printf overflowed the board's format buffer */
-    CRS_RUN_EVENTS_FULL = 5  /* motor-board events full: take them and go on */
+    CRS_RUN_EVENTS_FULL = 5, /* motor-board events full: take them and go on */
+    CRS_RUN_BREAK = 9        /* crslab debug --break-when: its condition holds before this tick */
 };
+
+/* Debugging (crslab debug, csrc/sim/debug.c): all off when zero. */
+typedef struct {
+    int32_t break_when;          /* 1: end the run before the first tick whose lab() call begins
+                                  * with the lab's crs_debug_condition() true (once) */
+    int32_t trap_fp;             /* 1: an operation in lab() that makes a NaN or an Inf raises SIGFPE */
+} crs_debug;
 
 typedef void (*crs_mj_step_fn)(const void *model, void *data);
 
@@ -191,6 +199,7 @@ typedef struct {
     crs_hand hand;
     crs_motor_board motor_board;
     crs_log log;
+    crs_debug debug;
 } crs_sim;
 
 /* Zero everything and set the defaults (Gen A, startup gate at CRS_STARTUP_TICKS, budget 1 ms,
@@ -208,5 +217,13 @@ enum {
     CRS_LAB_HAS_OFFSET2 = 8, CRS_LAB_HAS_OFFSET3 = 16, CRS_LAB_HAS_PLOTVARS = 32
 };
 int crs_lab_symbols(void);
+
+/* For debuggers (csrc/sim/debug.c): the tick being run, which gdb shows; the check at the start of
+ * every tick (1: stop for --break-when); the function gdb breaks on when crslab asks for a stop
+ * (it then stops at the next lab() call); floating-point traps on (1) or off (0). */
+extern volatile int64_t crs_tick;
+int crs_debug_tick_begins(crs_sim *sim);
+void crs_debug_break(int64_t tick);
+void crs_debug_fp_traps(int on);
 
 #endif
