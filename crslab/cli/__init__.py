@@ -15,6 +15,7 @@ from collections.abc import Sequence
 COMMANDS = [
     "crslab.cli.kinematics_commands",
     "crslab.cli.sim_commands",
+    "crslab.cli.debug_commands",
     "crslab.cli.scenario_commands",
     "crslab.cli.regress_commands",
     "crslab.cli.sweep_commands",

@@ -135,16 +135,18 @@ def sandbox_from_args(args: argparse.Namespace) -> bool:
 
 
 def config_from_args(args: argparse.Namespace, *, log: bool = False,
-                     rest_motor_rad: tuple[float, float, float] | None = None) -> SimConfig:
+                     rest_motor_rad: tuple[float, float, float] | None = None, debug: bool = False,
+                     break_when: str | None = None) -> SimConfig:
     """Build the lab and load the scenario, turning bad input into one-line errors. The resting
-    pose is ``rest_motor_rad`` when given, else ``--offsets``', else the scenario's."""
+    pose is ``rest_motor_rad`` when given, else ``--offsets``', else the scenario's; ``debug`` and
+    ``break_when`` build the lab for a debugger (``crslab debug``)."""
     rest = rest_motor_rad or ((DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None)
     sandboxed = sandbox_from_args(args)
     try:
         return make_config(args.lab, args.scenario, startup_delay=not args.no_startup_delay,
                            rest_motor_rad=rest, log=log, strict=args.strict,
                            budget_us=args.budget_us, sanitize=args.sanitize, sandbox=sandboxed,
-                           motor_board=args.motor_board)
+                           motor_board=args.motor_board, debug=debug, break_when=break_when)
     except LabBuildError as exc:
         if exc.diagnostics:
             sys.stderr.write(exc.diagnostics)

@@ -104,7 +104,7 @@ def introduction(*, lab: Path, scenario_name: str, scenario_description: str, en
     return f"{head}\n{body}\n"
 
 
-def announcement(event: Event, outcome: ExpectOutcome | None = None) -> str:
+def announcement(event: Event, outcome: ExpectOutcome | None = None, prefix: str = PREFIX) -> str:
     """One event as announced when the run reaches it, in the event's own description; an
     expectation with how it went (``outcome``), one line per failed condition.
 
@@ -119,7 +119,7 @@ def announcement(event: Event, outcome: ExpectOutcome | None = None) -> str:
     >>> announcement(off, failed)
     'crslab sim: t = 6.0 s: expectation failed: expected the motor board off, it was on (cut.toml:9)'
     """
-    at = f"{PREFIX}t = {seconds(event.tick)} s: "
+    at = f"{prefix}t = {seconds(event.tick)} s: "
     if outcome is None:
         return at + event.describe()
     if not outcome.failures:
@@ -140,9 +140,10 @@ class Narrator(Sink):
     """
 
     def __init__(self, events: Sequence[Event], stdout: Sink, *, quiet: bool,
-                 stream: TextIO | None = None) -> None:
+                 stream: TextIO | None = None, prefix: str = PREFIX) -> None:
         self.pending = [] if quiet else sorted(events, key=lambda e: e.tick)
         self.quiet = quiet
+        self.prefix = prefix
         self.stdout = stdout
         self.stream = stream if stream is not None else sys.stderr
         self.outcomes: list[ExpectOutcome] = []
@@ -155,10 +156,10 @@ class Narrator(Sink):
 
     def _announcement(self, event: Event) -> str:
         if not isinstance(event, Expect) or event.note_for is not None:
-            return announcement(event)
+            return announcement(event, prefix=self.prefix)
         k = self.expects_announced
         self.expects_announced += 1
-        return announcement(event, self.outcomes[k] if k < len(self.outcomes) else None)
+        return announcement(event, self.outcomes[k] if k < len(self.outcomes) else None, self.prefix)
 
     def say(self, text: str) -> None:
         """Print ``text`` (one or more whole lines) on stderr, unless quiet."""
