@@ -3,7 +3,8 @@
 The items ``crslab sim`` cannot run without are *required* (the platform, Python, a C compiler, a
 lab that compiles, links and runs against the board, MuJoCo, a writable build cache); the
 others (the sandbox, which ``crslab grade`` needs; a display for ``--viewer``, the rerun viewer
-for ``--rerun``, pseudo-terminals for ``--pty``) only limit what crslab can do. The lab is
+for ``--rerun``, pseudo-terminals for ``--pty``, gdb for ``crslab debug``) only limit what
+crslab can do. The lab is
 built and run in the sandbox when this machine has it. The lab is built afresh in a temporary folder, so the
 check exercises the compiler even when the build cache holds the lab already.
 
@@ -217,6 +218,24 @@ def _pty() -> Check:
     return Check("pseudo-terminals for --pty", True, f"opened {path}", required=False)
 
 
+def _debugger() -> Check:
+    from crslab.debug.programs import INSTALL, DebuggerMissing, debugger_for, gdb_version
+
+    name = "debugger for crslab debug"
+    try:
+        gdb = debugger_for(console=True)
+    except DebuggerMissing as exc:
+        return Check(name, False, exc.what, exc.fix, required=False)
+    restricted = os_support.ptrace_restriction()
+    if restricted:
+        return Check(name, False, restricted, "sudo sysctl kernel.yama.ptrace_scope=1 (scope 3 needs a "
+                     "reboot first)", required=False)
+    server = shutil.which("gdbserver")
+    ide = f"gdbserver {server}" if server else \
+        f"no gdbserver for --gdbserver (an IDE): {INSTALL['gdbserver']}"
+    return Check(name, True, f"{gdb_version(gdb)} ({gdb}); {ide}", required=False)
+
+
 def run_checks() -> Iterator[Check]:
     """Every check, in order, as it completes."""
     yield _platform()
@@ -234,6 +253,7 @@ def run_checks() -> Iterator[Check]:
     yield _display()
     yield _rerun()
     yield _pty()
+    yield _debugger()
 
 
 def doctor(out: Callable[[str], None] = print) -> bool:

@@ -152,15 +152,15 @@ def tracer_of(pid: int) -> int | None:
     return 0
 
 
-def ptrace_restriction() -> str | None:
+def ptrace_restriction(scope_file: Path = YAMA_SCOPE) -> str | None:
     """What keeps a debugger from attaching on this machine, or None (Yama scope 0 or 1, or no
     Yama: crslab's PR_SET_PTRACER covers scope 1).
 
-    >>> ptrace_restriction() is None or "ptrace_scope" in ptrace_restriction()
+    >>> ptrace_restriction(Path("/nonexistent")) is None
     True
     """
     try:
-        scope = int(YAMA_SCOPE.read_text())
+        scope = int(scope_file.read_text())
     except (OSError, ValueError):
         return None
     if scope == 2:

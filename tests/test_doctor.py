@@ -2,6 +2,7 @@
 names the missing compiler and how to install one, skips what depends on it, and exits 1."""
 
 import os
+import shutil
 import subprocess
 import sys
 
@@ -10,7 +11,7 @@ import pytest
 from crslab.lab.compiler import INSTALL_HINT
 
 ITEMS = ["platform", "Python", "C compiler", "build cache", "lab build", "MuJoCo", "simulation", "sandbox",
-         "display for --viewer", "rerun viewer", "pseudo-terminals for --pty"]
+         "display for --viewer", "rerun viewer", "pseudo-terminals for --pty", "debugger for crslab debug"]
 REQUIRED = ITEMS[:7]
 
 
@@ -32,6 +33,8 @@ def test_doctor_exits_0_where_sim_runs(tmp_path):
     assert "printed 6 lines" in items["simulation"]  # Lab 1 prints three lines at 0 and 0.5 s
     assert "in a sandboxed worker process" in items["simulation"]
     assert items["sandbox"].startswith("ok       sandbox: Landlock ABI ")
+    if shutil.which("gdb"):  # an optional item: CI has gdb (test_debug_gdb.py needs it)
+        assert items["debugger for crslab debug"].startswith("ok       debugger for crslab debug: GNU gdb ")
     assert r.stderr.strip() == "crslab doctor: everything 'crslab sim' needs is here"
 
 

@@ -22,7 +22,7 @@ from crslab.cli.sim_commands import (
 )
 from crslab.cli.sim_narration import WIDTH, Narrator, pace_text, seconds
 from crslab.debug.local_port import PortError
-from crslab.debug.programs import DebuggerMissing
+from crslab.debug.programs import DebuggerMissing, debugger_for
 from crslab.debug.session import DebugPlan, DebugSession
 from crslab.debug.tracer import TracerError
 from crslab.scenario.event import seconds_to_tick
@@ -92,13 +92,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_debug)
 
 
-def plan_from_args(args: argparse.Namespace, first_lab_tick: int, end_tick: int) -> DebugPlan:
-    """The debugger's part of the options, checked against the run (one-line errors)."""
+def check_debugger_options(args: argparse.Namespace) -> None:
+    """Options that contradict each other (one-line errors, before anything is built)."""
     if args.gdbserver is not None and (args.ex or args.batch):
         raise CliError("--ex and --batch drive gdb on this terminal; with --gdbserver, give commands in "
                        "your debugger")
     if args.batch and not args.ex:
         raise CliError("--batch runs the --ex commands: give at least one")
+
+
+def plan_from_args(args: argparse.Namespace, first_lab_tick: int, end_tick: int) -> DebugPlan:
+    """The debugger's part of the options, the break checked against the run (one-line errors)."""
     tick = args.break_tick
     what = f"--break-tick {args.break_tick}"
     if args.break_time is not None:
@@ -157,6 +161,11 @@ def introduction(plan: DebugPlan, *, lab: Path, scenario_name: str, end_tick: in
 def run_debug(args: argparse.Namespace) -> int:
     """``crslab debug``."""
     args.no_stdin = True  # the terminal is gdb's; gdb reads and writes the lab's variables
+    check_debugger_options(args)
+    try:  # before building anything
+        program = debugger_for(console=args.gdbserver is None)
+    except DebuggerMissing as exc:
+        raise CliError(str(exc)) from None
     config = config_from_args(args, log=live_needs_log(args), debug=True, break_when=args.break_when)
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
     first_lab_tick = config.startup_ticks
@@ -178,7 +187,7 @@ def run_debug(args: argparse.Namespace) -> int:
 
     start = time.monotonic()
     try:
-        with DebugSession(plan, first_lab_tick, say) as session, \
+        with DebugSession(plan, first_lab_tick, say, program) as session, \
                 Simulation(config, deadline_s=args.deadline, limits=limits_from_args(args),
                            debug=session.setup) as sim:
             if not sim.defines_lab:
@@ -191,8 +200,6 @@ def run_debug(args: argparse.Namespace) -> int:
             result = sim.run(end_tick, out, speed=args.speed, controls=[narrator, session, *live.controls],
                              debugger=session)
             unreached = session.unreached() if result.status is RunStatus.OK else None
-    except DebuggerMissing as exc:
-        raise CliError(str(exc)) from None
     except PortError as exc:
         raise CliError(f"--gdbserver {args.gdbserver}: {exc}") from None
     except TracerError as exc:

@@ -32,9 +32,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from crslab import os_support
 from crslab.debug.gdb_commands import csrc_dir, gdb_argv, gdbserver_argv, setup_script
 from crslab.debug.local_port import LocalPort
-from crslab.debug.programs import check_gdb_python, find_debugger
+from crslab.debug.programs import debugger_for
 from crslab.debug.tracer import GatedTracer, TracerError
 from crslab.sim.debug_setup import DebugSetup
 
@@ -79,7 +80,8 @@ class DebugSession:
     around the :class:`~crslab.sim.session.Simulation`, created before it (the worker names the
     debugger's process as its tracer when it starts)."""
 
-    def __init__(self, plan: DebugPlan, first_lab_tick: int, say: Callable[[str], None]) -> None:
+    def __init__(self, plan: DebugPlan, first_lab_tick: int, say: Callable[[str], None],
+                 program: str | None = None) -> None:
         self.plan = plan
         self.say = say
         self._dir = tempfile.TemporaryDirectory(prefix="crslab-debug-")
@@ -90,6 +92,7 @@ class DebugSession:
         self._saved_sigint: object = None
         self._sigint_taken = False
         self.attached = False
+        self._worker_pid = 0
         self.broke = False
         self.gone_noted = False
         if plan.break_tick is not None:
@@ -98,13 +101,12 @@ class DebugSession:
             self._pending = first_lab_tick
         else:
             self._pending = None
+        program = program or debugger_for(plan.console)
         if plan.console:
-            gdb = find_debugger("gdb")
-            check_gdb_python(gdb)
-            argv = gdb_argv(gdb, self.script, plan.commands, batch=plan.batch)
+            argv = gdb_argv(program, self.script, plan.commands, batch=plan.batch)
             self.tracer = GatedTracer(argv)
         else:
-            argv = gdbserver_argv(find_debugger("gdbserver"))
+            argv = gdbserver_argv(program)
             self.local = LocalPort(int(plan.gdbserver_port or 0))
             self.port = self.local.port
             self.tracer = GatedTracer(argv, own_session=True, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
@@ -179,12 +181,16 @@ class DebugSession:
 
     # -- LiveControl ------------------------------------------------------------------------------
     def serve(self, lab: RunningLab) -> None:
-        """After every chunk: once the debugger has gone (quit, detached), the run goes on alone."""
-        if self.attached and not self.tracer.running and not self.gone_noted:
+        """After every chunk: once the debugger has let go of the lab (quit, detach, the end of
+        ``--batch``), the run goes on alone. A chunk cannot end while the debugger holds the lab
+        stopped, so the first chunk after a detach sees it."""
+        if not self.attached or self.gone_noted:
+            return
+        if os_support.tracer_of(self._worker_pid) != self.tracer.pid:
             self.gone_noted = True
             self._restore_sigint()
-            name = "gdb" if self.plan.console else "gdbserver"
-            self.say(f"{name} has ended; the lab runs on to the end of the run without it"
+            name = "gdb" if self.plan.console else "your debugger"
+            self.say(f"{name} has let go of the lab; it runs on to the end of the run"
                      + ("" if self.plan.batch else " (Ctrl-C ends it)"))
 
     # -- attaching --------------------------------------------------------------------------------
@@ -203,6 +209,7 @@ class DebugSession:
             self._restore_sigint()
             raise
         self.attached = True
+        self._worker_pid = sim.worker_pid
         sim.deadline_s = None  # the debugger holds the lab as long as it likes
 
     def _read_gdbserver(self) -> None:
