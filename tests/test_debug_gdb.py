@@ -57,8 +57,10 @@ def line_of(path: Path, text: str) -> int:
 
 @pytest.mark.requires("gdb")
 def test_break_tick_stops_in_lab_with_that_ticks_globals_and_continues_to_the_plain_transcript(tmp_path):
+    """On the tour, whose hand starts moving the arm at the break's very tick (5.0 s)."""
     debugged, plain = tmp_path / "debugged.txt", tmp_path / "plain.txt"
-    r = crslab("debug", *RUN, "--break-tick", "5000", "--transcript", str(debugged), "--batch",
+    tour = ["--lab", str(COUNTER), "--scenario", "tour", "--duration", "7"]
+    r = crslab("debug", *tour, "--break-tick", "5000", "--transcript", str(debugged), "--batch",
                "--ex", "print mycount", "--ex", "print $tick",
                "--ex", "break lab", "--ex", "continue", "--ex", "print mycount", "--ex", "print $tick",
                "--ex", "delete", "--ex", "continue")
@@ -68,9 +70,11 @@ def test_break_tick_stops_in_lab_with_that_ticks_globals_and_continues_to_the_pl
     assert gdb_values(r.stdout) == [str(5000 - STARTUP_TICKS), "5000", str(5001 - STARTUP_TICKS), "5001"]
     assert "crslab: tick 5000 (t = 5.000 s)" in r.stdout
     assert "lab (theta1motor=" in r.stdout and f"{COUNTER.name}:" in r.stdout  # stopped inside lab()
-    plain_run("--transcript", str(plain))
-    assert debugged.read_bytes() == plain.read_bytes()
-    assert plain.read_bytes().count(b"\n\r") == 4  # what the lab printed after the break is there too
+    assert "crslab debug: t = 5.0 s: hand to DH (0.00, -90.00, 90.00) deg over 2 s" in r.stderr
+    s = crslab("sim", "--fast", "--quiet", *tour, "--transcript", str(plain))
+    assert s.returncode == 0, s.stderr
+    assert debugged.read_bytes() == plain.read_bytes()  # the hand moved the arm from its tick, as in sim
+    assert plain.read_bytes().count(b"\n\r") == 6  # what the lab printed after the break is there too
 
 
 @pytest.mark.requires("gdb")

@@ -203,7 +203,7 @@ def run_debug(args: argparse.Namespace) -> int:
     except PortError as exc:
         raise CliError(f"--gdbserver {args.gdbserver}: {exc}") from None
     except TracerError as exc:
-        raise CliError(str(exc), status=RunStatus.CRASHED.exit_status) from None
+        raise CliError(str(exc)) from None
     except SimError as exc:
         raise CliError(str(exc), status=exc.status.exit_status) from None
     finally:

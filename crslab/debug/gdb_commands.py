@@ -46,13 +46,15 @@ def _quote(text: str) -> str:
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
-def setup_script(csrc: Path, *, lab_file: Path | None = None, sanitizer_report: Path | None = None) -> str:
+def setup_script(csrc: Path, *, lab_file: Path | None = None, sanitizer_report: Path | None = None,
+                 batch: bool = False) -> str:
     """The gdb commands run once gdb has attached (see the module): the settings
-    :mod:`crslab.debug.in_gdb` reads (crslab's C folder, the lab's file, a sanitizer's report),
-    the tick display and the commands ``tick`` and ``next-tick``."""
+    :mod:`crslab.debug.in_gdb` reads (crslab's C folder, the lab's file, a sanitizer's report,
+    whether gdb runs ``-batch``), the tick display and the commands ``tick`` and ``next-tick``."""
     lines = [
         "# crslab debug: gdb's setup (docs/debugging.md)",
         f"set $crs_csrc = {_quote(str(csrc))}",
+        f"set $crs_batch = {_quote('1' if batch else '')}",
         f"set $crs_lab_file = {_quote(str(lab_file) if lab_file else '')}",
         f"set $crs_sanitizer_report = {_quote(str(sanitizer_report) if sanitizer_report else '')}",
         "set $crs_shown_tick = -1",

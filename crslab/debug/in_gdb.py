@@ -1,11 +1,12 @@
 """Run by gdb itself (``gdb -x in_gdb.py``) once it has attached, in ``crslab debug`` on the
 terminal. It reads the settings of crslab's setup script (``$crs_csrc``, ``$crs_lab_file``,
-``$crs_sanitizer_report``) and:
+``$crs_sanitizer_report``, ``$crs_batch``) and:
 
 - makes stepping skip crslab's own C (``serial_printf`` is one step);
 - breaks on ``crs_debug_break``, which the worker calls when the run reaches the break: there
   it arms a temporary breakpoint on ``lab()`` and goes on, so gdb stops inside ``lab()`` at that
   very tick (:func:`crslab_stop_in_lab`, also behind the ``next-tick`` command);
+- quits when the lab's process has ended (the run is over), unless in ``-batch``;
 - when the lab crashes, stops at the lab's own line: a segfault stops in the lab's code
   already, but a sanitizer finding or an ``abort()`` stops deep in a runtime library, and a NaN
   made inside ``sqrt`` in libm. It selects the innermost frame in the lab's file
@@ -151,7 +152,7 @@ def _quit_after(event: object) -> None:
     """The lab's process has ended (the run is over, or the lab died): so is this session. gdb
     reports a detach the same way (``quit``, ``detach``, the end of ``-batch``); then the
     process lives on without gdb, and gdb stays or quits as the user asked."""
-    if _lab_pid and process_ended(_lab_pid):
+    if _lab_pid and process_ended(_lab_pid) and not _setting("crs_batch"):  # -batch ends by itself
         gdb.post_event(lambda: gdb.execute("quit"))
 
 

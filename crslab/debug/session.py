@@ -197,7 +197,7 @@ class DebugSession:
     def _attach(self, sim: Simulation) -> None:
         report = Path(sim.sanitizer_dir) / "report.txt" if sim.sanitizer_dir else None
         self.script.write_text(setup_script(csrc_dir(), lab_file=sim.config.build.source.absolute(),
-                                            sanitizer_report=report))
+                                            sanitizer_report=report, batch=self.plan.batch))
         if self.plan.console:  # Ctrl-C belongs to gdb now: it stops the lab where it is
             self._saved_sigint = signal.signal(signal.SIGINT, signal.SIG_IGN)
             self._sigint_taken = True
