@@ -12,13 +12,13 @@ import threading
 from pathlib import Path
 
 import pytest
+from waiting import GUARD_S
 
 from crslab.cli import main
 
 LABS = Path(__file__).parent / "labs"
 COUNTER = LABS / "debug_counter.c"
 RUN = ["--lab", str(COUNTER), "--scenario", "hands_off", "--duration", "6"]
-GUARD_S = 240.0  # only ever reached when something hangs
 
 
 def crslab(*args: str) -> subprocess.CompletedProcess:

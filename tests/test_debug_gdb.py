@@ -15,11 +15,11 @@ import json
 import re
 import subprocess
 import sys
-import threading
 from pathlib import Path
 
 import numpy as np
 import pytest
+from waiting import GUARD_S, LineWatcher, wait_exit
 
 from crslab.sim.config import STARTUP_TICKS
 
@@ -28,7 +28,6 @@ COUNTER = LABS / "debug_counter.c"
 DOCS = Path(__file__).parent.parent / "docs" / "debugging.md"
 RUN = ["--lab", str(COUNTER), "--scenario", "hands_off", "--duration", "6"]
 """The run of every test on the counter lab: no hand moves, joint 1 turned by the lab alone."""
-GUARD_S = 240.0  # only ever reached when something hangs
 
 
 def crslab(*args: str) -> subprocess.CompletedProcess:
@@ -146,37 +145,6 @@ def test_debug_on_crash_with_sanitize_stops_at_the_labs_frame_and_names_the_find
     assert "AddressSanitizer: global-buffer-overflow (WRITE of size 4)" in r.stderr.strip().splitlines()[-1]
 
 
-class Lines:
-    """Lines of a pipe read in a thread, to wait on one (a guard timeout only against hangs)."""
-
-    def __init__(self, stream) -> None:
-        self.lines: list[str] = []
-        self.closed = False
-        self._cond = threading.Condition()
-        threading.Thread(target=self._read, args=(stream,), daemon=True).start()
-
-    def _read(self, stream) -> None:
-        for line in stream:
-            with self._cond:
-                self.lines.append(line)
-                self._cond.notify_all()
-        with self._cond:
-            self.closed = True
-            self._cond.notify_all()
-
-    def wait_for(self, pattern: str, start: int = 0) -> re.Match:
-        regex = re.compile(pattern)
-
-        def found() -> re.Match | None:
-            return next((m for m in map(regex.search, self.lines[start:]) if m), None)
-
-        with self._cond:
-            self._cond.wait_for(lambda: found() is not None or self.closed, GUARD_S)
-            match = found()
-            assert match is not None, f"no line matching {pattern!r}: {''.join(self.lines)[-3000:]}"
-            return match
-
-
 def documented_launch_json() -> dict:
     """The VS Code configuration docs/debugging.md gives (the first ```json block)."""
     block = re.search(r"```json\n(.*?)```", DOCS.read_text(), re.DOTALL)
@@ -196,20 +164,25 @@ def test_an_ide_attaches_through_gdbserver_with_the_documented_launch_json(tmp_p
                             "--gdbserver", "0", "--transcript", str(debugged)],
                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
-        err = Lines(run.stderr)
-        held = err.wait_for(r"lab\(\) is held before tick 5000 .* gdbserver listens on localhost:(\d+): "
-                            r"attach your IDE \(docs/debugging.md; its program is (\S+)\)")
+        err = LineWatcher(run.stderr, "crslab debug's stderr")
+        held = re.search(r"lab\(\) is held before tick 5000 .* gdbserver listens on localhost:(\d+): "
+                         r"attach your IDE \(docs/debugging.md; its program is (\S+)\)",
+                         err.wait_for(r"lab\(\) is held before tick 5000")[-1])
+        assert held is not None
         port, program = held.group(1), held.group(2)
         address = config["miDebuggerServerAddress"].replace("3333", port)
         gdb = subprocess.Popen([config.get("miDebuggerPath", "gdb"), "--interpreter=mi2", "-nx", "-q"],
                                stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
-        out = Lines(gdb.stdout)
+        out = LineWatcher(gdb.stdout, "gdb's MI output")
 
         def mi(command: str, reply: str = r"^\^(done|running|connected)") -> re.Match:
-            start = len(out.lines)
+            """Send an MI command; wait for the first line matching ``reply`` after it."""
+            before = sum(1 for line in out.lines if re.search(reply, line))
             gdb.stdin.write(command + "\n")
             gdb.stdin.flush()
-            return out.wait_for(reply, start)
+            match = re.search(reply, out.wait_for(reply, before + 1)[-1])
+            assert match is not None
+            return match
 
         for setup in config["setupCommands"]:
             text = setup["text"].replace("\\", "\\\\").replace('"', '\\"')
@@ -222,8 +195,8 @@ def test_an_ide_attaches_through_gdbserver_with_the_documented_launch_json(tmp_p
         assert mi("-data-evaluate-expression crs_tick", value).group(1) == "5000"
         mi("-target-detach")
         mi("-gdb-exit", r"^\^exit")
-        assert gdb.wait(GUARD_S) == 0
-        assert run.wait(GUARD_S) == 0, "".join(err.lines)
+        assert wait_exit(gdb, "-gdb-exit") == 0
+        assert wait_exit(run, "gdb detached from the lab") == 0, err.all()
     finally:
         run.kill()
     plain_run("--transcript", str(plain))

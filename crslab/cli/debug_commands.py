@@ -16,6 +16,7 @@ from crslab.cli.sim_commands import (
     add_run_options,
     config_from_args,
     limits_from_args,
+    motor_board_line,
     notices,
     positive,
     summary,
@@ -185,6 +186,9 @@ def run_debug(args: argparse.Namespace) -> int:
         stdout.flush()
         print(f"{PREFIX}{line}", file=sys.stderr, flush=True)
 
+    def on_motor_board(tick: int, joint: int, off: bool) -> None:
+        say(motor_board_line(tick, joint, off))
+
     start = time.monotonic()
     try:
         with DebugSession(plan, first_lab_tick, say, program) as session, \
@@ -198,7 +202,7 @@ def run_debug(args: argparse.Namespace) -> int:
             narrator.reached(0)
             session.start(sim)
             result = sim.run(end_tick, out, speed=args.speed, controls=[narrator, session, *live.controls],
-                             debugger=session)
+                             on_motor_board=on_motor_board, on_expectation=narrator.judged, debugger=session)
             unreached = session.unreached() if result.status is RunStatus.OK else None
     except PortError as exc:
         raise CliError(f"--gdbserver {args.gdbserver}: {exc}") from None
@@ -214,8 +218,11 @@ def run_debug(args: argparse.Namespace) -> int:
     wall = time.monotonic() - start
     if unreached:
         print(f"{PREFIX}{unreached}", file=sys.stderr)
-    for line in notices(lab_name, result.stats, config.build.serial_line_limit):
+    for line in notices(lab_name, result.stats, config.build.generation):
         print(f"{PREFIX}{line}", file=sys.stderr)
+    for expectation in result.failed_expectations:
+        for line in expectation.lines():
+            print(f"{PREFIX}expectation failed: {line}", file=sys.stderr)
     info = summary(result, wall, args.budget_us)
     if args.json:
         print(json.dumps(info), file=sys.stderr)
