@@ -104,6 +104,23 @@ def test_break_when_stops_at_the_first_tick_where_the_condition_holds_per_the_ru
 
 
 @pytest.mark.requires("gdb")
+def test_break_when_on_lab_errors_flag_stops_where_the_runs_csv_first_shows_the_envelope_left(tmp_path):
+    """The issue's own example, on crslab's Lab 1 and the tour (whose DH-zero pose lies outside
+    the safety envelope): the flag the framework computes at a tick is what lab() gets next."""
+    plain_csv = tmp_path / "plain.csv"
+    tour = ["--scenario", "tour", "--duration", "12"]
+    s = crslab("sim", "--fast", "--quiet", *tour, "--csv", str(plain_csv))
+    assert s.returncode == 0, s.stderr
+    with open(plain_csv) as f:
+        rows = [(int(row["tick"]), int(row["safety [0/1]"])) for row in csv.DictReader(f)]
+    expected = next(tick for tick, safety in rows if safety == 1 and tick >= STARTUP_TICKS) + 1
+    r = crslab("debug", *tour, "--break-when", "error == 1", "--quiet", "--batch",
+               "--ex", "print $tick", "--ex", "print error")
+    assert r.returncode == 0, r.stderr
+    assert gdb_values(r.stdout) == [str(expected), "1"]
+
+
+@pytest.mark.requires("gdb")
 def test_debug_on_crash_stops_at_the_segfaulting_line_then_ends_as_sim_does():
     lab = LABS / "crash_after_5s.c"
     line = line_of(lab, "*gainptr = 2.0f;")
