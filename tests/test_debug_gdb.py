@@ -218,3 +218,20 @@ def test_an_ide_attaches_through_gdbserver_with_the_documented_launch_json(tmp_p
         run.kill()
     plain_run("--transcript", str(plain))
     assert debugged.read_bytes() == plain.read_bytes()
+
+
+@pytest.mark.requires("gdb")
+def test_the_hang_watchdog_never_fires_while_gdb_holds_the_lab(tmp_path):
+    """Held at the break for ten times ``--deadline`` (the user at gdb's prompt: gdb runs
+    ``sleep`` there; this is the stimulus, not a synchronization, and a slower machine only
+    holds longer), the run still ends ok with the plain run's transcript: only the debugger
+    decides how long lab() may take while it holds it."""
+    debugged, plain = tmp_path / "debugged.txt", tmp_path / "plain.txt"
+    r = crslab("debug", *RUN, "--deadline", "0.05", "--break-tick", "5000", "--transcript", str(debugged),
+               "--batch", "--ex", "shell sleep 0.5", "--ex", "print mycount",
+               "--ex", "continue")
+    assert r.returncode == 0, r.stderr
+    assert "hung" not in r.stderr
+    assert gdb_values(r.stdout) == [str(5000 - STARTUP_TICKS)]
+    plain_run("--transcript", str(plain))
+    assert debugged.read_bytes() == plain.read_bytes()
