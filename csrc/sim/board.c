@@ -69,7 +69,14 @@ int serial_printf(struct crs_serial_port *port, char *fmt, ...)
         return 0;
     }
     const uint32_t ring = gen_b ? CRS_GEN_B_TX_RING : CRS_GEN_A_TX_RING;
-    const uint32_t taken = crs_line_queue(sim->shared, ring, sim->tick, line, (uint32_t)n);
+    crs_shared *sh = sim->shared;
+    const uint32_t taken = crs_line_queue(&sh->line, ring, sim->tick, line, (uint32_t)n);
+    if (taken > 0 && sh->print_count < CRS_PRINT_CAPACITY) {
+        /* a print mark: this call's tick and how many of its characters are on the line */
+        sh->print_tick[sh->print_count] = sim->tick;
+        sh->print_chars[sh->print_count] = taken;
+        sh->print_count++;
+    }
     if (taken < n) {
         if (sim->tx_first_drop_tick < 0) sim->tx_first_drop_tick = sim->tick;
         sim->tx_dropped += (int64_t)(n - taken);

@@ -19,6 +19,13 @@ extern float Simulink_PlotVar2 __attribute__((weak));
 extern float Simulink_PlotVar3 __attribute__((weak));
 extern float Simulink_PlotVar4 __attribute__((weak));
 
+/* The framework's own globals: what Simulink sent (csrc/sim/simulink_inputs.c) and Gen A's
+ * matlabLock (csrc/sim/matlab_link.c). */
+extern int SIMU_Var1_fromSIMU_16bit, SIMU_Var2_fromSIMU_16bit, SIMU_Var3_fromSIMU_16bit,
+    SIMU_Var4_fromSIMU_16bit, SIMU_Var5_fromSIMU_16bit, SIMU_Var6_fromSIMU_16bit,
+    SIMU_Var7_fromSIMU_16bit;
+extern float matlabLock;
+
 /* The board the serial port writes into (set by crs_sim_run). */
 void crs_board_attach(crs_sim *sim);
 /* The framework objects as at power-up: LEDs at CRS_LEDS_AT_START, nothing posted. */

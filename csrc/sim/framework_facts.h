@@ -67,6 +67,40 @@ enum {
     CRS_SERIAL_BITS_PER_CHAR = 10   /* 8N1: start bit, 8 data bits, stop bit; 11.52 chars per ms */
 };
 
+/* The host ports (serial-protocols.md): SCI-B carries the Simulink link, SCI-C the MATLAB
+ * variable protocol, both at CRS_SERIAL_BAUD through a transmit ring of their own in front of
+ * the SCI's FIFO and shift register; the host always talks first. */
+enum {
+    CRS_GEN_A_SCIB_TX_RING = 2048,   /* chars (Gen A: one BUF_SIZE for every port) */
+    CRS_GEN_A_SCIC_TX_RING = 2048,
+    CRS_GEN_B_SCIB_TX_RING = 136,    /* chars (BUF_SIZESCIB) */
+    CRS_GEN_B_SCIC_TX_RING = 2000,   /* chars (BUF_SIZESCIC) */
+    CRS_MATLAB_START = 0x2A,         /* '*': a MATLAB message starts; its next byte counts it all */
+    CRS_MATLAB_MESSAGE_CHARS = 101,  /* UARTMessageArray: the payload a message can hold */
+    CRS_MATLAB_ECHO_ADDRESSES = 10,  /* Main_address (MAX_VAR_NUM): addresses a '0' echo keeps */
+    CRS_SIMULINK_SYNC_1 = 0xFF,      /* a Simulink packet starts FF 7F (int16 0x7FFF, little-endian) */
+    CRS_SIMULINK_SYNC_2 = 0x7F,
+    CRS_SIMULINK_INPUTS = 7,         /* int16 values per packet, into SIMU_Var1..7_fromSIMU_16bit */
+    CRS_SIMULINK_PLOTS = 4,          /* int32 values per reply: Simulink_PlotVar1..4 */
+    CRS_SIMULINK_SCALE = 10000,      /* each PlotVar is sent as int32(10000 * value) */
+    CRS_SIMULINK_PERIOD_MS = 5       /* the course's model sends a packet every 5 ms */
+};
+
+/* Where the linker puts the lab's variables in the C28x's data memory (page 1), in 16-bit
+ * words. Gen A: as in the 2019 CRSRobot build's map (.my_arrs at 0xc4c0, .my_vars at 0xc816).
+ * Gen B's command files give both sections page-1 RAM in L1..L7 but no Gen B map survives, so
+ * crslab puts them at the start of L5 and L6; .ebss (every other global) at the start of L1 for
+ * both, also crslab's choice. A section that grows past the next one's origin pushes it up.
+ * The course's scripts find every address in the map, so none of these is hard-coded there. */
+enum {
+    CRS_GEN_A_EBSS_ORIGIN = 0x9000,
+    CRS_GEN_A_MY_ARRS_ORIGIN = 0xC4C0,
+    CRS_GEN_A_MY_VARS_ORIGIN = 0xC816,
+    CRS_GEN_B_EBSS_ORIGIN = 0x9000,
+    CRS_GEN_B_MY_VARS_ORIGIN = 0xD000,
+    CRS_GEN_B_MY_ARRS_ORIGIN = 0xE000
+};
+
 /* Gen A's small printf: precision of a bare %f. */
 enum { CRS_GEN_A_DEFAULT_PRECISION = 5 };
 

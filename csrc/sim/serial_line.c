@@ -1,4 +1,4 @@
-/* The serial transmit line: ring + FIFO + shift register, drained at the baud rate. */
+/* The serial lines: ring + FIFO + shift register, drained at the baud rate. */
 #include "serial_line.h"
 
 #include "framework_facts.h"
@@ -7,9 +7,9 @@ int64_t crs_line_units_per_tick(void) { return CRS_SERIAL_BAUD; }
 
 int64_t crs_line_units_per_char(void) { return 1000 * (int64_t)CRS_SERIAL_BITS_PER_CHAR; }
 
-uint32_t crs_line_queue(crs_shared *sh, uint32_t ring_chars, int64_t tick, const char *data, uint32_t n)
+uint32_t crs_line_queue(crs_serial_line *line, uint32_t ring_chars, int64_t tick, const char *data,
+                        uint32_t n)
 {
-    crs_serial_line *line = &sh->line;
     /* the FIFO and the shift register are full before the ring holds anything */
     const uint32_t outside_ring = CRS_SCI_TX_FIFO + CRS_SCI_TX_SHIFT;
     const uint32_t in_ring = line->len > outside_ring ? line->len - outside_ring : 0;
@@ -24,36 +24,38 @@ uint32_t crs_line_queue(crs_shared *sh, uint32_t ring_chars, int64_t tick, const
     for (uint32_t i = 0; i < take; ++i) {
         line->queue[(line->first + line->len + i) % CRS_LINE_QUEUE_CAPACITY] = data[i];
     }
-    if (sh->print_count < CRS_PRINT_CAPACITY) {
-        sh->print_tick[sh->print_count] = tick;
-        sh->print_chars[sh->print_count] = take;
-        sh->print_count++;
-    }
     line->len += take;
     return take;
 }
 
-void crs_line_send(crs_shared *sh, int64_t tick)
+uint32_t crs_line_take(crs_serial_line *line, int64_t tick, char *dst)
 {
-    crs_serial_line *line = &sh->line;
     const int64_t end = (tick + 1) * crs_line_units_per_tick();
-    if (line->len == 0 || line->head_done > end) return;
+    if (line->len == 0 || line->head_done > end) return 0;
     const int64_t per_char = crs_line_units_per_char();
     int64_t count = (end - line->head_done) / per_char + 1;
     if (count > line->len) count = line->len;
+    if (count > CRS_LINE_MAX_CHARS_PER_TICK) count = CRS_LINE_MAX_CHARS_PER_TICK;
     const uint32_t m = (uint32_t)count;
-    if (sh->serial_len + m > CRS_SERIAL_CAPACITY || sh->mark_count >= CRS_MARK_CAPACITY) {
-        sh->serial_dropped += m;
-    } else {
-        sh->mark_tick[sh->mark_count] = tick;
-        sh->mark_offset[sh->mark_count] = sh->serial_len;
-        sh->mark_count++;
-        for (uint32_t i = 0; i < m; ++i) {
-            sh->serial[sh->serial_len + i] = line->queue[(line->first + i) % CRS_LINE_QUEUE_CAPACITY];
-        }
-        sh->serial_len += m;
-    }
+    for (uint32_t i = 0; i < m; ++i) dst[i] = line->queue[(line->first + i) % CRS_LINE_QUEUE_CAPACITY];
     line->first = (line->first + m) % CRS_LINE_QUEUE_CAPACITY;
     line->len -= m;
     line->head_done += (int64_t)m * per_char;
+    return m;
+}
+
+void crs_line_send(crs_shared *sh, int64_t tick)
+{
+    char sent[CRS_LINE_MAX_CHARS_PER_TICK];
+    const uint32_t m = crs_line_take(&sh->line, tick, sent);
+    if (m == 0) return;
+    if (sh->serial_len + m > CRS_SERIAL_CAPACITY || sh->mark_count >= CRS_MARK_CAPACITY) {
+        sh->serial_dropped += m;
+        return;
+    }
+    sh->mark_tick[sh->mark_count] = tick;
+    sh->mark_offset[sh->mark_count] = sh->serial_len;
+    sh->mark_count++;
+    for (uint32_t i = 0; i < m; ++i) sh->serial[sh->serial_len + i] = sent[i];
+    sh->serial_len += m;
 }

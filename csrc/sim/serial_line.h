@@ -1,6 +1,8 @@
-/* The board's serial transmit line (crs-facts section 7): serial_printf queues characters into the
- * transmit ring, the TX interrupt moves them into the SCI's hardware FIFO and shift register, and
- * they leave one after another at the baud rate. Internal to the board; not read by cffi.
+/* The board's serial lines (crs-facts section 7): bytes queued into a port's transmit ring move
+ * into the SCI's hardware FIFO and shift register, and leave one after another at the baud rate.
+ * Every port has one (SerialA's carries serial_printf to Tera Term; SerialB's and SerialC's the
+ * replies to the host, csrc/sim/host_ports.h), and the host's bytes come in on a line of the same
+ * kind. Internal to the board; not read by cffi.
  *
  * All of a tick's serial_printf calls happen at the start of its millisecond; the interrupt moves
  * characters from the ring into the FIFO only after a call has finished queueing (and then at
@@ -14,18 +16,24 @@
 
 #include "sim.h"
 
+/* The most characters that can leave a line in one tick (11 or 12 at 115200 baud). */
+enum { CRS_LINE_MAX_CHARS_PER_TICK = 12 };
+
 /* Line time units per tick and per character (see crs_serial_line). */
 int64_t crs_line_units_per_tick(void);
 int64_t crs_line_units_per_char(void);
 
-/* Queue one serial_printf's n characters at tick `tick` into the line of sh, whose transmit ring
- * holds ring_chars; returns how many the ring took (the first ones; the rest are dropped). When it
- * took any, the call is recorded in sh's print marks (its tick and how many characters it has on
- * the line). */
-uint32_t crs_line_queue(crs_shared *sh, uint32_t ring_chars, int64_t tick, const char *data, uint32_t n);
+/* Queue n characters at the start of tick `tick` onto `line`, whose transmit ring holds
+ * ring_chars; returns how many the ring took (the first ones; the rest are dropped). */
+uint32_t crs_line_queue(crs_serial_line *line, uint32_t ring_chars, int64_t tick, const char *data,
+                        uint32_t n);
 
-/* Move the characters that fully leave during tick `tick` from the line to sh->serial, marked
- * with that tick. */
+/* Take the characters that fully leave `line` during tick `tick` into dst (room for
+ * CRS_LINE_MAX_CHARS_PER_TICK); returns how many. */
+uint32_t crs_line_take(crs_serial_line *line, int64_t tick, char *dst);
+
+/* SerialA: move the characters that fully leave during tick `tick` from sh's line to
+ * sh->serial, marked with that tick. */
 void crs_line_send(crs_shared *sh, int64_t tick);
 
 #endif

@@ -8,6 +8,7 @@
 #include "crs_arm.h"
 #include "framework.h"
 #include "framework_facts.h"
+#include "host_ports.h"
 #include "motor_board.h"
 #include "serial_line.h"
 
@@ -157,6 +158,7 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
         for (int j = 0; j < 3; ++j) sim->qfrc_applied[j] = sim->hand.force_nm[j];
         if (sim->log.capacity > 0) log_tick(sim, plots);
         crs_line_send(sh, sim->tick);
+        crs_host_ports_tick(sim, sim->tick); /* after lab(): what the host sent, the replies */
 
         sh->phase = CRS_PHASE_PHYSICS;
         sim->mj_step(sim->mj_model, sim->mj_data);
@@ -166,7 +168,7 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
 
         if (stop) return stop;
         if (sh->serial_len > CRS_SERIAL_CAPACITY / 2 || sh->mark_count > CRS_MARK_CAPACITY / 2
-            || sh->print_count > CRS_PRINT_CAPACITY / 2) {
+            || sh->print_count > CRS_PRINT_CAPACITY / 2 || crs_host_ports_full(sh)) {
             return CRS_RUN_SERIAL_FULL;
         }
         if (sim->log.capacity > 0 && sim->log.count >= sim->log.capacity) return CRS_RUN_LOG_FULL;

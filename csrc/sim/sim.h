@@ -45,6 +45,26 @@ typedef struct {
     char queue[CRS_LINE_QUEUE_CAPACITY];
 } crs_serial_line;
 
+/* A host port (SerialB: Simulink, SerialC: MATLAB; csrc/sim/host_ports.h) in the shared block.
+ * Between chunks the crslab process puts what the host sent in inbox[] and takes out[]; inside a
+ * chunk the board moves the inbox onto the receive line (from the next tick to run on, at the
+ * baud rate), answers, and sends its replies through the port's transmit ring and line. */
+enum { CRS_HOST_PORT_B = 0, CRS_HOST_PORT_C = 1, CRS_HOST_PORTS = 2 };
+enum { CRS_HOST_INBOX_CAPACITY = 4096, CRS_HOST_OUT_CAPACITY = 262144 };
+typedef struct {
+    uint32_t inbox_len;     /* bytes in inbox[]: the host sent them; the next tick puts them on rx */
+    int32_t wedged;         /* SerialC: 1 once its receiver took a length byte of 0 or 1 */
+    int64_t wedged_tick;    /* ... at this tick */
+    uint64_t out_len;       /* bytes in out[] that left the board, not yet taken by the reader */
+    uint64_t out_dropped;   /* bytes lost: more left within one chunk than out[] holds */
+    int64_t tx_dropped;     /* reply bytes the transmit ring had no room for (dropped, as on the board) */
+    int64_t tx_first_drop_tick; /* the first tick that dropped any (valid when tx_dropped > 0) */
+    crs_serial_line rx;     /* the host's bytes on their way in (the queue holds what arrives) */
+    crs_serial_line tx;     /* replies in the transmit ring, FIFO and shift register */
+    char inbox[CRS_HOST_INBOX_CAPACITY];
+    char out[CRS_HOST_OUT_CAPACITY];
+} crs_host_port;
+
 typedef struct {
     int64_t tick;       /* tick being run (or next to run when idle) */
     int32_t phase;      /* CRS_PHASE_*: where the worker is */
@@ -62,6 +82,7 @@ typedef struct {
                                                   bytes of the serial_printf before it) */
     crs_serial_line line;   /* what is still on its way out (taken by the reader when a run ends) */
     char serial[CRS_SERIAL_CAPACITY]; /* every byte that left the board, in order */
+    crs_host_port host_ports[CRS_HOST_PORTS]; /* SerialB and SerialC */
 } crs_shared;
 
 /* Faults a scenario can inject; all off when zero. Noise is seeded (xorshift64*). */
@@ -128,6 +149,53 @@ typedef struct {
     int32_t event_joint[CRS_MB_EVENT_CAPACITY]; /* cause_joint of the cut-out */
     int32_t event_off[CRS_MB_EVENT_CAPACITY];   /* 1: the cut-out starts; 0: it ends */
 } crs_motor_board;
+
+/* The emulated C28x data memory (csrc/sim/c28x_memory.h): the lab's globals at the 16-bit-word
+ * addresses the TI linker would give them (crslab/host_tools/c28x_memory.py lays them out), each
+ * read and written in its C28x representation. Filled by the worker once the lab is loaded. */
+enum {
+    CRS_MEM_SIGNED = 0,   /* a signed integer: its low 16 * words bits */
+    CRS_MEM_UNSIGNED = 1, /* an unsigned integer: the same bits, zero-extended when written back */
+    CRS_MEM_FLOAT = 2,    /* IEEE: 2 words hold a float (the C28x's double too), 4 a long double */
+    CRS_MEM_BOOL = 3,     /* a _Bool: one word, 0 or 1 */
+    CRS_MEM_OPAQUE = 4    /* a pointer or a variable crslab cannot reach: reads 0, writes ignored */
+};
+typedef struct {
+    uint32_t address;     /* its first 16-bit word (C28x data address) */
+    uint32_t count;       /* elements */
+    uint32_t words;       /* C28x words per element: 1, 2 or 4 */
+    uint32_t host_bytes;  /* bytes per element in the worker */
+    int32_t kind;         /* CRS_MEM_* */
+    int32_t writable;     /* 0: const (read-only memory in the worker) */
+    void *host;           /* the variable in the worker; NULL: not reachable (reads 0) */
+} crs_mem_var;
+typedef struct {
+    uint32_t count;       /* entries of vars: sorted by address, not overlapping */
+    uint32_t pad;
+    crs_mem_var *vars;
+} crs_c28x_memory;
+
+/* The receivers of the host ports, as the framework's RX interrupts keep them (serial-protocols.md
+ * sections 2.1 and 3); room for more than the board keeps (framework_facts.h). */
+enum { CRS_MATLAB_BUFFER = 256, CRS_MATLAB_ECHO_BUFFER = 64, CRS_SIMULINK_BUFFER = 16 };
+typedef struct {
+    int32_t receiving;    /* 1 after a '*': counting the message */
+    int32_t length;       /* receivelength: the length byte minus 1 */
+    int32_t count;        /* bytes since the '*' (the length byte is the first) */
+    int32_t wedged;       /* 1: the count can never reach the length (a length byte of 0 or 1) */
+    uint32_t echo_count;  /* '0' echo: addresses sampled so far in this message */
+    uint32_t pad;
+    uint32_t echo_address[CRS_MATLAB_ECHO_BUFFER]; /* as received (big-endian on the wire) */
+    uint32_t echo_value[CRS_MATLAB_ECHO_BUFFER];   /* the 32 bits at each, when its last byte came */
+    uint8_t message[CRS_MATLAB_BUFFER];            /* UARTMessageArray: the payload, command first */
+} crs_matlab_rx;
+typedef struct {
+    int32_t check_first;  /* checkfirstcommandbyte: 1 once a byte was taken outside a packet */
+    int32_t receiving;    /* 1 after FF 7F: counting the packet's data bytes */
+    int32_t count;
+    int32_t pad;
+    uint8_t data[CRS_SIMULINK_BUFFER];
+} crs_simulink_rx;
 
 /* Why crs_sim_run returned. */
 enum {
@@ -200,6 +268,11 @@ typedef struct {
     crs_motor_board motor_board;
     crs_log log;
     crs_debug debug;
+
+    /* the host ports: the lab's variables in C28x memory, and the two receivers */
+    crs_c28x_memory memory;
+    crs_matlab_rx matlab;
+    crs_simulink_rx simulink;
 } crs_sim;
 
 /* Zero everything and set the defaults (Gen A, startup gate at CRS_STARTUP_TICKS, budget 1 ms,

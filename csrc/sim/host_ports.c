@@ -1,0 +1,74 @@
+/* The host ports' lines: the host's bytes in, the board's replies out (host_ports.h). */
+#include "host_ports.h"
+
+#include <string.h>
+
+#include "framework_facts.h"
+#include "serial_line.h"
+
+/* The transmit ring of a host port in this generation. */
+static uint32_t tx_ring(const crs_sim *sim, int port)
+{
+    if (sim->generation == CRS_GEN_B) {
+        return port == CRS_HOST_PORT_B ? CRS_GEN_B_SCIB_TX_RING : CRS_GEN_B_SCIC_TX_RING;
+    }
+    return port == CRS_HOST_PORT_B ? CRS_GEN_A_SCIB_TX_RING : CRS_GEN_A_SCIC_TX_RING;
+}
+
+void crs_host_reply(crs_sim *sim, int port, int64_t tick, const char *data, uint32_t n)
+{
+    crs_host_port *hp = &sim->shared->host_ports[port];
+    const uint32_t taken = crs_line_queue(&hp->tx, tx_ring(sim, port), tick + 1, data, n);
+    if (taken < n) {
+        if (hp->tx_dropped == 0) hp->tx_first_drop_tick = tick + 1;
+        hp->tx_dropped += (int64_t)(n - taken);
+    }
+}
+
+static void port_tick(crs_sim *sim, int port, int64_t tick)
+{
+    crs_host_port *hp = &sim->shared->host_ports[port];
+    uint32_t inbox = hp->inbox_len; /* the reader wrote it: clamp to the block */
+    if (inbox > CRS_HOST_INBOX_CAPACITY) inbox = CRS_HOST_INBOX_CAPACITY;
+    if (inbox == 0 && hp->rx.len == 0 && hp->tx.len == 0) return;
+    if (inbox > 0) { /* onto the receive line from this tick on; what it cannot hold waits */
+        const uint32_t taken = crs_line_queue(&hp->rx, CRS_LINE_QUEUE_CAPACITY, tick, hp->inbox, inbox);
+        memmove(hp->inbox, hp->inbox + taken, inbox - taken);
+        hp->inbox_len = inbox - taken;
+    }
+    /* first what leaves during this tick, so a reply queued below never leaves before it exists */
+    char bytes[CRS_LINE_MAX_CHARS_PER_TICK];
+    uint32_t n = crs_line_take(&hp->tx, tick, bytes);
+    if (n > 0) {
+        uint64_t len = hp->out_len;
+        if (len > CRS_HOST_OUT_CAPACITY) len = CRS_HOST_OUT_CAPACITY;
+        if (len + n > CRS_HOST_OUT_CAPACITY) {
+            hp->out_dropped += n;
+        } else {
+            memcpy(hp->out + len, bytes, n);
+            hp->out_len = len + n;
+        }
+    }
+    n = crs_line_take(&hp->rx, tick, bytes);
+    for (uint32_t i = 0; i < n; ++i) {
+        if (port == CRS_HOST_PORT_B) {
+            crs_simulink_receive(sim, tick, (uint8_t)bytes[i]);
+        } else {
+            crs_matlab_receive(sim, tick, (uint8_t)bytes[i]);
+        }
+    }
+}
+
+void crs_host_ports_tick(crs_sim *sim, int64_t tick)
+{
+    port_tick(sim, CRS_HOST_PORT_B, tick);
+    port_tick(sim, CRS_HOST_PORT_C, tick);
+}
+
+int crs_host_ports_full(const crs_shared *sh)
+{
+    for (int p = 0; p < CRS_HOST_PORTS; ++p) {
+        if (sh->host_ports[p].out_len > CRS_HOST_OUT_CAPACITY / 2) return 1;
+    }
+    return 0;
+}

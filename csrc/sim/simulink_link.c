@@ -1,0 +1,76 @@
+/* SerialB: the course's Simulink link (serial-protocols.md section 3), as Gen A's
+ * simulink_serialRX and Gen B's RXBINT_recv_ready handle it (the same logic).
+ *
+ * Every 5 ms the model sends 16 bytes: FF 7F, then seven int16 values, little endian. The board
+ * answers at once on the 7F, before the data bytes arrive, with Simulink_PlotVar1..4 as
+ * int32(10000 * value), little endian, no header; then stores the seven values into
+ * SIMU_Var1..7_fromSIMU_16bit. Sync: outside a packet, a byte taken while the flag is 1 clears it
+ * if it is FF; while it is 0, the next byte sets it back to 1 and starts a packet if it is 7F (so
+ * right after reset the very first byte is tested for 7F alone). Data bytes are never inspected. */
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "board.h"
+#include "framework_facts.h"
+#include "host_ports.h"
+
+_Static_assert((int)CRS_SIMULINK_BUFFER >= 2 * (int)CRS_SIMULINK_INPUTS, "the receiver keeps a packet's data");
+
+int32_t crs_simulink_scaled(float value)
+{
+    const float scaled = (float)CRS_SIMULINK_SCALE * value; /* single precision, as on the DSP */
+    if (isnan(scaled)) return 0;
+    if (scaled >= 2147483648.0f) return INT32_MAX;
+    if (scaled <= -2147483648.0f) return INT32_MIN;
+    return (int32_t)scaled; /* truncates toward zero */
+}
+
+static float plot_var(const float *v) { return v != NULL ? *v : 0.0f; }
+
+static void reply(crs_sim *sim, int64_t tick)
+{
+    const float *plots[CRS_SIMULINK_PLOTS] = {&Simulink_PlotVar1, &Simulink_PlotVar2, &Simulink_PlotVar3,
+                                              &Simulink_PlotVar4};
+    char out[4 * CRS_SIMULINK_PLOTS];
+    for (int i = 0; i < CRS_SIMULINK_PLOTS; ++i) {
+        const uint32_t v = (uint32_t)crs_simulink_scaled(plot_var(plots[i]));
+        for (int b = 0; b < 4; ++b) out[4 * i + b] = (char)(v >> (8 * b));
+    }
+    crs_host_reply(sim, CRS_HOST_PORT_B, tick, out, sizeof out);
+}
+
+static void store(const crs_simulink_rx *rx)
+{
+    int *inputs[CRS_SIMULINK_INPUTS] = {
+        &SIMU_Var1_fromSIMU_16bit, &SIMU_Var2_fromSIMU_16bit, &SIMU_Var3_fromSIMU_16bit,
+        &SIMU_Var4_fromSIMU_16bit, &SIMU_Var5_fromSIMU_16bit, &SIMU_Var6_fromSIMU_16bit,
+        &SIMU_Var7_fromSIMU_16bit};
+    for (int i = 0; i < CRS_SIMULINK_INPUTS; ++i) {
+        /* the C28x's int is 16 bits */
+        *inputs[i] = (int16_t)(uint16_t)(rx->data[2 * i] | rx->data[2 * i + 1] << 8);
+    }
+}
+
+void crs_simulink_receive(crs_sim *sim, int64_t tick, uint8_t byte)
+{
+    crs_simulink_rx *rx = &sim->simulink;
+    if (rx->receiving) {
+        rx->data[rx->count++] = byte;
+        if (rx->count == 2 * CRS_SIMULINK_INPUTS) {
+            store(rx);
+            rx->receiving = 0;
+        }
+        return;
+    }
+    if (rx->check_first) {
+        if (byte == CRS_SIMULINK_SYNC_1) rx->check_first = 0;
+        return;
+    }
+    rx->check_first = 1;
+    if (byte == CRS_SIMULINK_SYNC_2) {
+        rx->receiving = 1;
+        rx->count = 0;
+        reply(sim, tick);
+    }
+}
