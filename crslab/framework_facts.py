@@ -71,3 +71,29 @@ def default_motor_board(generation: int) -> str:
     """The motor board of the hardware each generation ran on: Gen B's Piccolo board; Gen A's older
     board is not documented, so none (commands pass through)."""
     return "piccolo" if generation == GEN_B else "none"
+
+
+SCIB_TX_RING = {GEN_A: lib.CRS_GEN_A_SCIB_TX_RING, GEN_B: lib.CRS_GEN_B_SCIB_TX_RING}
+"""SerialB's (Simulink's) transmit ring per generation, chars."""
+SCIC_TX_RING = {GEN_A: lib.CRS_GEN_A_SCIC_TX_RING, GEN_B: lib.CRS_GEN_B_SCIC_TX_RING}
+"""SerialC's (MATLAB's) transmit ring per generation, chars."""
+MATLAB_START: int = lib.CRS_MATLAB_START
+"""'*': every MATLAB message and reply starts with it."""
+SIMULINK_INPUTS: int = lib.CRS_SIMULINK_INPUTS
+"""Simulink sends seven int16 values (SIMU_Var1..7_fromSIMU_16bit)."""
+SIMULINK_PLOTS: int = lib.CRS_SIMULINK_PLOTS
+"""... and receives four (Simulink_PlotVar1..4) ..."""
+SIMULINK_SCALE: int = lib.CRS_SIMULINK_SCALE
+"""... each as int32(10000 * value)."""
+SIMULINK_PERIOD_MS: int = lib.CRS_SIMULINK_PERIOD_MS
+"""The course's Simulink model exchanges a packet every 5 ms."""
+SIMULINK_SYNC = bytes([lib.CRS_SIMULINK_SYNC_1, lib.CRS_SIMULINK_SYNC_2])
+"""A Simulink packet starts FF 7F."""
+
+SECTION_ORIGINS = {
+    GEN_A: {".ebss": lib.CRS_GEN_A_EBSS_ORIGIN, ".my_arrs": lib.CRS_GEN_A_MY_ARRS_ORIGIN,
+            ".my_vars": lib.CRS_GEN_A_MY_VARS_ORIGIN},
+    GEN_B: {".ebss": lib.CRS_GEN_B_EBSS_ORIGIN, ".my_vars": lib.CRS_GEN_B_MY_VARS_ORIGIN,
+            ".my_arrs": lib.CRS_GEN_B_MY_ARRS_ORIGIN},
+}
+"""Where the linker puts each data section of a lab, per generation (16-bit-word addresses on page 1)."""

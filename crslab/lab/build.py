@@ -29,6 +29,7 @@ from crslab import os_support, resources
 from crslab.cache import CacheError, cache_dir
 from crslab.framework_facts import GEN_A, GEN_B, printf_buffer_chars
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
+from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, find_watched
 from crslab.sandbox.compile_sandbox import CompilerSandbox, compiler_sandbox, forbidden_read
 
@@ -90,6 +91,8 @@ class LabBuild:
     """Built for a debugger: ``-O0 -g`` (``crslab debug``)."""
     break_when: str | None = None
     """The ``--break-when`` condition compiled in with the lab (``crs_debug_condition``), if any."""
+    variables: tuple[LabVariable, ...] = field(default=())
+    """Every global the file defines (laid out in C28x memory by crslab.host_tools.c28x_memory)."""
 
     @property
     def printf_buffer_chars(self) -> int:
@@ -261,4 +264,5 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path
 
         helper_library()
     return LabBuild(source=src, shared_object=so, generation=generation, sanitized=sanitize, digest=digest,
-                    watched=tuple(find_watched(text)), compiler=cc, debug=debug, break_when=break_when)
+                    watched=tuple(find_watched(text)), compiler=cc, debug=debug, break_when=break_when,
+                    variables=tuple(find_variables(text)))

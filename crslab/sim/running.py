@@ -3,17 +3,19 @@
 The live-variable console, MuJoCo's viewer and the waypoint tracking all act on a lab while it
 runs, through this one interface (:class:`crslab.sim.session.Simulation` has it): read and write
 its watched variables (``get``, ``set``), push the arm (``push``), and know the run's
-configuration and current tick. Each of them that acts after every chunk of ticks is a
-:class:`LiveControl`, handed to ``Simulation.run(controls=...)``.
+configuration and current tick; the serial bridge exchanges bytes with the host ports
+(``exchange``). Each of them that acts after every chunk of ticks is a :class:`LiveControl`, handed
+to ``Simulation.run(controls=...)``; one that needs short chunks is a :class:`PacedControl`.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Protocol, runtime_checkable
 
 import numpy as np
 
 if TYPE_CHECKING:
+    from crslab.host_tools.board_ports import PortExchange
     from crslab.sim.config import SimConfig
 
 
@@ -42,6 +44,11 @@ class RunningLab(Protocol):
         """Apply a force and torque to each body (MuJoCo ``xfrc_applied``) until the next push."""
         ...
 
+    def exchange(self, port: str, incoming: bytes) -> PortExchange:
+        """What left the board on host port ``port`` (``SerialB``, ``SerialC``) since the last
+        call; ``incoming`` goes to its receiver from the next tick on (as much as it takes now)."""
+        ...
+
 
 class LiveControl(Protocol):
     """Something that acts on the running lab after every chunk of ticks (typed commands, the
@@ -63,4 +70,14 @@ class RunDebugger(Protocol):
     def paused(self, lab: RunningLab, condition_held: bool) -> None:
         """The run stopped before ``lab.tick``: the tick :meth:`pause_tick` named, or
         (``condition_held``) the first tick where the lab's ``--break-when`` condition holds."""
+
+
+@runtime_checkable
+class PacedControl(LiveControl, Protocol):
+    """A live control that must act more often than the default chunks allow (a host program on a
+    serial port expects its answers within milliseconds)."""
+
+    def chunk_ticks(self, speed: float | None) -> int | None:
+        """The most ticks the next chunk may last at ``speed`` (None: as fast as possible); None
+        when it has no need now."""
         ...

@@ -28,11 +28,12 @@ from pathlib import Path
 import numpy as np
 
 from crslab import os_support
+from crslab.host_tools.board_ports import PortExchange, exchange, port_index
 from crslab.scenario.expect_events import ExpectOutcome, Judge, Observation
 from crslab.sim.board_ffi import board_constants, board_ffi, shared_size
 from crslab.sim.config import SimConfig
 from crslab.sim.debug_setup import DebugSetup
-from crslab.sim.running import LiveControl, RunDebugger
+from crslab.sim.running import LiveControl, PacedControl, RunDebugger
 from crslab.sim.sanitizer import asan_runtime, summarize_sanitizer_report
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sim.worker_reply import UnreadableReply, receive
@@ -340,6 +341,12 @@ class Simulation:
         """Write a watched variable (or one array element) of the running lab, between ticks."""
         self._ask(("set", name, index, float(value)))
 
+    def exchange(self, port: str, incoming: bytes) -> PortExchange:
+        """Between chunks: what left the board on host port ``port`` (``SerialB``, ``SerialC``)
+        since the last call; ``incoming`` goes to its receiver from the next tick on (as much as
+        its inbox takes now: :attr:`PortExchange.taken`)."""
+        return exchange(self.ffi, self.shared.host_ports[port_index(port)], incoming)
+
     def push(self, body_forces: np.ndarray) -> None:
         """Apply a force and torque to each body (MuJoCo ``xfrc_applied``, world frame, N and N.m)
         from the next tick on, until the next push: MuJoCo's viewer passes the mouse's drag."""
@@ -525,6 +532,8 @@ class Simulation:
             try:
                 while self.tick < end_tick:
                     step = FAST_SLICE_TICKS if speed is None else max(1, int(REALTIME_SLICE_TICKS * speed))
+                    step = min([step] + [t for c in controls if isinstance(c, PacedControl)
+                                         and (t := c.chunk_ticks(speed)) is not None])
                     target = min(end_tick, self.tick + step)
                     pause = debugger.pause_tick() if debugger is not None else None
                     if debugger is not None:

@@ -34,12 +34,14 @@ from cffi import FFI
 
 from crslab import crs, os_support
 from crslab.framework_facts import MOTOR_BOARDS
+from crslab.host_tools.c28x_memory import lab_memory
 from crslab.plant.model import Friction, load_model, motor_to_qpos
 from crslab.scenario.lab_events import SIMULINK_INPUTS
 from crslab.sim.board_ffi import board_constants, board_ffi
 from crslab.sim.config import SimConfig
 from crslab.sim.debug_setup import DebugSetup
 from crslab.sim.event_effects import apply_event
+from crslab.sim.memory_table import fill_memory_table
 
 LOG_ROWS = 2000  # rows per scope-log block
 SIMULINK_INPUT_NAMES = tuple(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, SIMULINK_INPUTS + 1))
@@ -120,6 +122,8 @@ class Worker:
         self.lib.crs_sim_init(sim)
         self._keep = [shared, var_ffi, simulink_ffi]
         sim.shared = block
+        # the lab's globals as the board's MATLAB code sees them (C28x addresses)
+        self._keep += fill_memory_table(sim, ffi, config.build.shared_object, lab_memory(config.build))
         sim.mj_model = ffi.cast("void *", self.model._address)
         sim.mj_data = ffi.cast("void *", self.data._address)
         sim.mj_step = ffi.cast("crs_mj_step_fn", mj_step)
