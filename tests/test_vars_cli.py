@@ -30,11 +30,15 @@ def crslab(*args, **kw):
 def test_vars_lists_scalars_and_arrays_with_type_length_and_initial_value(capsys):
     assert main(["vars", "--lab", str(TYPES_LAB)]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert lines[0].split() == ["name", "type", "length", "initial", "line"]
+    assert lines[0].split() == ["name", "address", "type", "length", "initial", "line"]
     rows = [re.split(r"\s{2,}", line.strip()) for line in lines[1:]]
-    assert rows == [["gain", "float", "-", "2.5", "16"], ["mode", "int", "-", "3", "18"],
-                    ["flags", "Uint16", "-", "0", "20"], ["call_log", "float", "8", "all 0", "22"],
-                    ["limits", "long", "3", "{10, 20, 30}", "24"]]
+    # Gen B: .my_vars from 0xd000 (a float, then two 16-bit ints), .my_arrs from 0xe000 (8 floats
+    # take 16 words, then the longs at an even address)
+    assert rows == [["gain", "0000d000", "float", "-", "2.5", "16"],
+                    ["mode", "0000d002", "int", "-", "3", "18"],
+                    ["flags", "0000d003", "Uint16", "-", "0", "20"],
+                    ["call_log", "0000e000", "float", "8", "all 0", "22"],
+                    ["limits", "0000e010", "long", "3", "{10, 20, 30}", "24"]]
     assert main(["vars", "--lab", str(TYPES_LAB), "--json"]) == 0
     listed = json.loads(capsys.readouterr().out)
     assert [(v["name"], v["length"], v["section"]) for v in listed][3:] == [

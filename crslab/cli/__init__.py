@@ -22,6 +22,7 @@ COMMANDS = [
     "crslab.cli.traj_commands",
     "crslab.cli.toolbox_commands",
     "crslab.cli.scope_commands",
+    "crslab.cli.serial_commands",
     "crslab.cli.doctor_commands",
 ]
 

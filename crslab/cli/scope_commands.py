@@ -16,11 +16,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         "vars",
         help="list a lab file's watched (#pragma DATA_SECTION) variables",
         description="List the variables a lab file places in the course's .my_vars / .my_arrs sections "
-        "with #pragma DATA_SECTION, as ME446_serial_ListVars does: name, C type, array length and "
-        "initial value. While 'crslab sim' runs, type 'get NAME', 'set NAME VALUE', "
-        "'set NAME[i] VALUE' or 'list' on its standard input to read and write them.",
+        "with #pragma DATA_SECTION, as ME446_serial_ListVars does: name, address on the simulated "
+        "F28335 (16-bit words, as in 'crslab map'), C type, array length and initial value. While "
+        "'crslab sim' runs, type 'get NAME', 'set NAME VALUE', 'set NAME[i] VALUE' or 'list' on its "
+        "standard input to read and write them, or use 'crslab serial' / the course's MATLAB scripts "
+        "with 'crslab sim --serial-dir'.",
     )
     p.add_argument("--lab", type=Path, metavar="FILE", help="the lab file (default: crslab's Lab 1)")
+    p.add_argument("--all", action="store_true",
+                   help="every global of the file (section .ebss, .econst or its DATA_SECTION), not only "
+                   "the DATA_SECTION ones")
     p.add_argument("--json", action="store_true", help="print the list as JSON")
     p.set_defaults(func=run_vars)
 
@@ -39,10 +44,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_plot)
 
 
-def watched_rows(lab: Path | None) -> list[dict]:
-    """The watched variables of ``lab`` (default: crslab's Lab 1) as rows for the listing."""
+def watched_rows(lab: Path | None, every: bool = False) -> list[dict]:
+    """The watched variables of ``lab`` (default: crslab's Lab 1) as rows for the listing, with
+    their C28x addresses (``every``: all its globals)."""
+    from crslab.host_tools.c28x_memory import text_memory
     from crslab.lab.build import DEFAULT_LAB
-    from crslab.lab.watched import find_watched
+    from crslab.lab.variables import find_variables
 
     path = lab if lab is not None else DEFAULT_LAB
     if not path.is_file():
@@ -51,33 +58,43 @@ def watched_rows(lab: Path | None) -> list[dict]:
         text = path.read_bytes().decode("utf-8", "replace")
     except OSError as exc:
         raise CliError(f"{path}: cannot be read ({exc.strerror})") from None
+    mem = text_memory(text, path.stem)
     rows = []
-    for v in find_watched(text):
+    for v in find_variables(text):
+        if not every and (v.section is None or v.pointer or v.const):
+            continue
         if v.initial is not None:
             initial = " ".join(v.initial.split())
         else:
             initial = "0" if v.length is None else "all 0"  # C zeroes globals without an initialiser
-        rows.append({"name": v.name, "type": v.ctype, "length": v.length, "initial": initial,
-                     "section": v.section, "line": v.line})
+        placed = mem.find(v.name)
+        rows.append({"name": v.name, "address": f"{placed.address:08x}" if placed else None,
+                     "type": v.ctype + (" *" if v.pointer else ""), "length": v.length, "initial": initial,
+                     "section": placed.section if placed else v.section, "static": v.static,
+                     "line": v.line})
     return rows
 
 
 def run_vars(args: argparse.Namespace) -> int:
     """``crslab vars``."""
-    rows = watched_rows(args.lab)
+    rows = watched_rows(args.lab, every=args.all)
     if args.json:
         print(json.dumps(rows, indent=1))
         return 0
     if not rows:
         name = args.lab or "crslab's Lab 1"
-        print(f"crslab vars: {name} has no #pragma DATA_SECTION variables", file=sys.stderr)
+        what = "global" if args.all else "#pragma DATA_SECTION"
+        print(f"crslab vars: {name} has no {what} variables", file=sys.stderr)
         return 0
-    table = [("name", "type", "length", "initial", "line")]
-    table += [(r["name"], r["type"], "-" if r["length"] is None else str(r["length"]), r["initial"],
-               str(r["line"])) for r in rows]
-    widths = [max(len(row[i]) for row in table) for i in range(4)]
+    table = [("name", "address", "type", "length", "initial", "line")]
+    table += [(r["name"], r["address"] or "-", r["type"], "-" if r["length"] is None else str(r["length"]),
+               r["initial"], str(r["line"])) for r in rows]
+    if args.all:
+        table = [row[:2] + (section,) + row[2:] for row, section in
+                 zip(table, ["section"] + [r["section"] + (" static" if r["static"] else "") for r in rows])]
+    widths = [max(len(row[i]) for row in table) for i in range(len(table[0]) - 1)]
     for row in table:
-        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)) + "  " + row[4])
+        print("  ".join(cell.ljust(w) for cell, w in zip(row, widths)) + "  " + row[-1])
     return 0
 
 

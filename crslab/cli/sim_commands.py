@@ -9,6 +9,7 @@ import time
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.cli.host_options import HostRun, add_host_options
 from crslab.cli.live_options import LiveRun, add_live_options, live_needs_log
 from crslab.cli.sim_narration import Narrator, introduction
 from crslab.cli.tracking_options import TrackingRun, add_tracking_options
@@ -109,6 +110,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="no introduction before the first tick and no scenario events announced on stderr "
                    "(warnings, errors and the summary stay)")
     add_live_options(p)
+    add_host_options(p)
     add_tracking_options(p)
     p.set_defaults(func=run_sim)
 
@@ -274,6 +276,7 @@ def run_sim(args: argparse.Namespace) -> int:
     tracking = TrackingRun(args)
     config = config_from_args(args, log=live_needs_log(args) or tracking.active)
     live = LiveRun(args, config)
+    host = HostRun(args, config)
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
     stdout = StdoutSink()
     # the narrator comes first: an event is announced before what the lab printed after it
@@ -299,6 +302,7 @@ def run_sim(args: argparse.Namespace) -> int:
             if not sim.defines_lab:
                 raise CliError(f"{lab_name} defines no lab() function", status=RunStatus.NO_LAB.exit_status)
             live.start(out)
+            host.start(out)
             if tracking.active:
                 out.add(tracking.rows)
             end_tick = tracking.start(sim, end_tick, duration_given=bool(args.duration))
@@ -309,12 +313,13 @@ def run_sim(args: argparse.Namespace) -> int:
                 startup_ticks=config.startup_ticks, speed=speed,
                 console=any(isinstance(c, VarConsole) for c in live.controls), waypoints=args.waypoints))
             narrator.reached(0)
-            result = sim.run(end_tick, out, speed=speed, controls=[narrator, *live.controls],
+            result = sim.run(end_tick, out, speed=speed, controls=[narrator, *live.controls, *host.controls],
                              on_behind=on_behind, on_motor_board=on_motor_board,
                              on_expectation=narrator.judged)
     except SimError as exc:
         raise CliError(str(exc), status=exc.status.exit_status) from None
     finally:
+        host.close()
         try:
             out.close()
         except SinkError as exc:

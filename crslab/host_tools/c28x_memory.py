@@ -198,3 +198,11 @@ def overlapping(layout_: MemoryLayout) -> list[tuple[str, str]]:
 def lab_memory(build: LabBuild) -> MemoryLayout:
     """The layout of a built lab's globals (its generation's sections)."""
     return layout(build.variables, build.generation, build.source.stem)
+
+
+def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
+    """The same layout from a lab file's text alone (no build: the layout depends on nothing else)."""
+    from crslab.lab.build import detect_generation
+    from crslab.lab.variables import find_variables
+
+    return layout(find_variables(source_text), detect_generation(source_text), lab_name)
