@@ -1,16 +1,17 @@
 """Where crslab's runtime files are, found through :mod:`importlib.resources`.
 
-Four folders travel with the package:
+Five folders travel with the package:
 
 - ``csrc``: the C that labs are compiled against (board stand-ins ``board/include``, the
   emulated board ``sim``, the kinematics core ``kin``) and crslab's own labs (``labs``);
 - ``models``: the MuJoCo models (``models/crs_arm``);
-- ``scenarios``: the built-in scenarios; ``robots``: the course robots' files.
+- ``scenarios``: the built-in scenarios; ``robots``: the course robots' files;
+- ``octave``: the files that let GNU Octave run the course's MATLAB scripts (``crslab/host_tools/octave``).
 
 ``csrc`` and ``models`` live at the top of the repository. The build (``setup.py``) copies them
 into the wheel as ``crslab/_data/csrc`` and ``crslab/_data/models``; an editable install in a
 checkout has no ``_data`` and uses the checkout's own folders, so an edit to ``csrc/sim/board.c``
-counts at the next run. ``scenarios`` and ``robots`` are ordinary package data.
+counts at the next run. ``scenarios``, ``robots`` and ``octave`` are ordinary package data.
 
 A compiler and MuJoCo need real file-system paths. When the package is a plain folder (any
 ``pip install``) :func:`path` is the file itself; when it is not (imported from a zip), the
@@ -42,8 +43,8 @@ PACKAGED = "_data"
 """Sub-folder of the installed package that holds ``csrc`` and ``models`` (setup.py puts them there)."""
 TOP_LEVEL = ("csrc", "models")
 """Folders kept at the top of the repository and mapped into the package by the build."""
-IN_PACKAGE = ("scenarios", "robots")
-"""Folders that are package data in ``crslab/`` itself."""
+IN_PACKAGE = {"scenarios": ("scenarios",), "robots": ("robots",), "octave": ("host_tools", "octave")}
+"""Folders that are package data in ``crslab/`` itself, and where."""
 
 
 class ResourceError(FileNotFoundError):
@@ -51,12 +52,13 @@ class ResourceError(FileNotFoundError):
 
 
 def folder(name: str) -> Traversable:
-    """The ``csrc``, ``models``, ``scenarios`` or ``robots`` folder as installed (maybe in a zip)."""
+    """The ``csrc``, ``models``, ``scenarios``, ``robots`` or ``octave`` folder as installed (maybe in
+    a zip)."""
     package = files("crslab")
     if name in IN_PACKAGE:
-        return package / name
+        return package.joinpath(*IN_PACKAGE[name])
     if name not in TOP_LEVEL:
-        raise ValueError(f"no runtime folder named {name!r} (known: {', '.join(TOP_LEVEL + IN_PACKAGE)})")
+        raise ValueError(f"no runtime folder named {name!r} (known: {', '.join((*TOP_LEVEL, *IN_PACKAGE))})")
     packaged = package / PACKAGED / name
     if packaged.is_dir():
         return packaged

@@ -107,26 +107,22 @@ class HostRun:
         if not host_tools_asked(a):
             return
         ports: dict[str, list[HostPort]] = {name: [] for name in PORT_ROLES}
-        opened: list[HostPort] = []
+        opened: list[tuple[str, HostPort]] = []
         try:
             if a.serial_dir is not None:
-                for name in PORT_ROLES:
-                    port = PtyPort(a.serial_dir / name)
-                    opened.append(port)
-                    ports[name].append(port)
-                    self.status(f"{name} ({PORT_ROLES[name]}) on {port.path}, linked at {port.link}")
-                if self._map_in_dir is not None:
-                    self.status(f"map of {self.config.build.source.name}'s variables in {self._map_in_dir}")
+                opened += [(name, PtyPort(a.serial_dir / name)) for name in PORT_ROLES]
             if a.serial_tcp is not None:
-                for offset, name in enumerate(PORT_ROLES):
-                    port = TcpPort(a.serial_tcp + offset)
-                    opened.append(port)
-                    ports[name].append(port)
-                    self.status(f"{name} ({PORT_ROLES[name]}) on {port.name}")
+                opened += [(name, TcpPort(a.serial_tcp + offset)) for offset, name in enumerate(PORT_ROLES)]
         except PortError as exc:
-            for port in opened:
+            for _, port in opened:
                 port.close()
             raise CliError(str(exc)) from None
+        for name, port in opened:
+            ports[name].append(port)
+            where = f"{port.path}, linked at {port.link}" if isinstance(port, PtyPort) else port.name
+            self.status(f"{name} ({PORT_ROLES[name]}) on {where}")
+        if self._map_in_dir is not None:
+            self.status(f"map of {self.config.build.source.name}'s variables in {self._map_in_dir}")
         for port in ports["SerialA"]:
             sink = PortSink(port)
             out.add(sink)

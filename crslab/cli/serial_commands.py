@@ -86,6 +86,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--rrd", type=Path, metavar="FILE", help="save the plot as a rerun recording (headless)")
     _add_link_options(s, "SerialB", needs_map=False)
     s.set_defaults(func=run_scope)
+    o = verbs.add_parser("octave", help="where crslab's files for running the course's scripts in Octave are",
+                         description="Print the folder of crslab's Octave compat files (serial, serialport, "
+                         "instrfind, hex2dec, MException for GNU Octave with instrument-control) and the "
+                         "line that loads them, so the course's MATLAB scripts run with only the port name "
+                         "changed.")
+    o.set_defaults(func=run_octave)
     p.set_defaults(func=lambda args: _missing_verb(p))
 
 
@@ -171,6 +177,17 @@ def run_map(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the map ({exc.strerror})") from None
     print(f"crslab map: {args.output}: {len(mem.symbols())} symbols of {path.name}", file=sys.stderr)
+    return 0
+
+
+def run_octave(args: argparse.Namespace) -> int:
+    """``crslab serial octave``."""
+    from crslab.resources import path
+
+    folder = path("octave")
+    print(folder)
+    print(f"crslab serial octave: in Octave, run once per session: addpath('{folder}'); crs_octave_compat()",
+          file=sys.stderr)
     return 0
 
 

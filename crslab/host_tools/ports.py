@@ -169,7 +169,8 @@ class TcpPort:
         try:
             self._server = socket.create_server((host, port))
         except OSError as exc:
-            raise PortError(f"cannot listen on TCP {host}:{port} ({exc.strerror})") from None
+            why = os.strerror(exc.errno) if exc.errno else str(exc)
+            raise PortError(f"cannot listen on TCP {host}:{port} ({why})") from None
         self._server.setblocking(False)
         self.address = f"{host}:{self._server.getsockname()[1]}"
         self._client: socket.socket | None = None

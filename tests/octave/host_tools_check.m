@@ -15,8 +15,8 @@ for i = 1:rows (map)
 end
 
 x = crs_serialread ('whattoprint', 1, port, gen);
-printf ('read whattoprint %.9g %s %dx%d\n', x, class (x), rows (x), columns (x));
-printf ('read Kp1 %.9g\n', crs_serialread ('Kp1', 1, port, gen));
+printf ('read whattoprint: %.9g %s %dx%d\n', x, class (x), rows (x), columns (x));
+printf ('read Kp1: %.9g\n', crs_serialread ('Kp1', 1, port, gen));
 
 ## the lab keeps 100 samples after 5 s: ask until it says so (each read waits for its reply)
 polls = 0;
@@ -24,23 +24,23 @@ do
   samples = crs_serialread ('samples', 1, port, gen);
   polls++;
 until samples >= 100 || polls > 100000
-printf ('read samples %.9g\n', samples);
+printf ('read samples: %.9g\n', samples);
 
 t = crs_serialread ('timearray', 100, port, gen);
-printf ('read timearray %dx%d %s\n', rows (t), columns (t), sprintf ('%.9g ', t));
+printf ('read timearray: %dx%d %s\n', rows (t), columns (t), sprintf ('%.9g ', t));
 th = crs_serialread ('theta1array', 100, port, gen);
-printf ('read theta1array %dx%d %s\n', rows (th), columns (th), sprintf ('%.9g ', th));
+printf ('read theta1array: %dx%d %s\n', rows (th), columns (th), sprintf ('%.9g ', th));
 
 crs_serialwrite ('Kp1', 40, port, gen);
-printf ('read Kp1 after writing 40: %.9g\n', crs_serialread ('Kp1', 1, port, gen));
+printf ('after writing Kp1 40: %.9g\n', crs_serialread ('Kp1', 1, port, gen));
 crs_serialwrite ('whattoprint', -2.5, port, gen);
-printf ('read whattoprint after writing -2.5: %.9g\n', crs_serialread ('whattoprint', 1, port, gen));
+printf ('after writing whattoprint -2.5: %.9g\n', crs_serialread ('whattoprint', 1, port, gen));
 if gen == 'A'
-  printf ('read matlabLock %.9g\n', crs_serialread ('matlabLock', 1, port, gen));
+  printf ('read matlabLock: %.9g\n', crs_serialread ('matlabLock', 1, port, gen));
 end
 try
   crs_serialread ('nosuchvariable', 1, port, gen);
 catch err
-  printf ('error %s: %s\n', err.identifier, err.message);
+  printf ('error: %s: %s\n', err.identifier, err.message);
 end
 printf ('done\n');
