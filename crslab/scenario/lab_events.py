@@ -5,11 +5,10 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
+from crslab.framework_facts import SIMULINK_INPUTS
 from crslab.scenario.event import Event, RandomFaults
 from crslab.scenario.table import TableReader
 
-SIMULINK_INPUTS = 7
-"""Simulink sends the board seven int16 values (crs-facts 1)."""
 INT16_MIN, INT16_MAX = -32768, 32767
 _IDENTIFIER = re.compile(r"[A-Za-z_]\w*\Z")
 

@@ -15,10 +15,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-SIMULINK_PERIOD_TICKS = 5
-"""The board sends the four ``Simulink_PlotVar`` to Simulink every 5 ms (crs-facts 1)."""
-SIMULINK_SCALE = 10000
-"""... as ``int32(10000 * value)``: Simulink sees them in steps of 1e-4."""
+from crslab.framework_facts import SIMULINK_PERIOD_MS, SIMULINK_SCALE
+
+SIMULINK_PERIOD_TICKS = SIMULINK_PERIOD_MS
+"""The board sends the four ``Simulink_PlotVar`` to Simulink every 5 ms (crs-facts 1), as
+``int32(SIMULINK_SCALE * value)``: Simulink sees them in steps of 1e-4 (framework_facts.h)."""
 
 
 @dataclass(frozen=True)

@@ -15,13 +15,30 @@ static uint32_t tx_ring(const crs_sim *sim, int port)
     return port == CRS_HOST_PORT_B ? CRS_GEN_A_SCIB_TX_RING : CRS_GEN_A_SCIC_TX_RING;
 }
 
-void crs_host_reply(crs_sim *sim, int port, int64_t tick, const char *data, uint32_t n)
+void crs_host_reply(crs_sim *sim, int port, int64_t now, const char *data, uint32_t n)
 {
     crs_host_port *hp = &sim->shared->host_ports[port];
-    const uint32_t taken = crs_line_queue(&hp->tx, tx_ring(sim, port), tick + 1, data, n);
+    const uint32_t taken = crs_line_queue_at(&hp->tx, tx_ring(sim, port), now, data, n);
     if (taken < n) {
-        if (hp->tx_dropped == 0) hp->tx_first_drop_tick = tick + 1;
+        if (hp->tx_dropped == 0) hp->tx_first_drop_tick = crs_line_tick(now);
         hp->tx_dropped += (int64_t)(n - taken);
+    }
+}
+
+/* Move what has left port's transmit line by line time `until` to out[]. */
+static void send_until(crs_host_port *hp, int64_t until)
+{
+    char bytes[CRS_LINE_MAX_CHARS_PER_TICK];
+    uint32_t n;
+    while ((n = crs_line_take_until(&hp->tx, until, bytes, sizeof bytes)) > 0) {
+        uint64_t len = hp->out_len;
+        if (len > CRS_HOST_OUT_CAPACITY) len = CRS_HOST_OUT_CAPACITY;
+        if (len + n > CRS_HOST_OUT_CAPACITY) {
+            hp->out_dropped += n;
+        } else {
+            memcpy(hp->out + len, bytes, n);
+            hp->out_len = len + n;
+        }
     }
 }
 
@@ -36,27 +53,22 @@ static void port_tick(crs_sim *sim, int port, int64_t tick)
         memmove(hp->inbox, hp->inbox + taken, inbox - taken);
         hp->inbox_len = inbox - taken;
     }
-    /* first what leaves during this tick, so a reply queued below never leaves before it exists */
+    /* each byte that arrives during this tick, when it arrives: what left the transmit line
+     * before it first, so a reply it starts follows the line as it is then */
+    const int64_t per_char = crs_line_units_per_char();
+    const int64_t first_arrival = hp->rx.head_done;
     char bytes[CRS_LINE_MAX_CHARS_PER_TICK];
-    uint32_t n = crs_line_take(&hp->tx, tick, bytes);
-    if (n > 0) {
-        uint64_t len = hp->out_len;
-        if (len > CRS_HOST_OUT_CAPACITY) len = CRS_HOST_OUT_CAPACITY;
-        if (len + n > CRS_HOST_OUT_CAPACITY) {
-            hp->out_dropped += n;
-        } else {
-            memcpy(hp->out + len, bytes, n);
-            hp->out_len = len + n;
-        }
-    }
-    n = crs_line_take(&hp->rx, tick, bytes);
+    const uint32_t n = crs_line_take(&hp->rx, tick, bytes);
     for (uint32_t i = 0; i < n; ++i) {
+        const int64_t now = first_arrival + (int64_t)i * per_char;
+        send_until(hp, now);
         if (port == CRS_HOST_PORT_B) {
-            crs_simulink_receive(sim, tick, (uint8_t)bytes[i]);
+            crs_simulink_receive(sim, now, (uint8_t)bytes[i]);
         } else {
-            crs_matlab_receive(sim, tick, (uint8_t)bytes[i]);
+            crs_matlab_receive(sim, now, (uint8_t)bytes[i]);
         }
     }
+    send_until(hp, (tick + 1) * crs_line_units_per_tick());
 }
 
 void crs_host_ports_tick(crs_sim *sim, int64_t tick)

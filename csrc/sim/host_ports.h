@@ -2,11 +2,13 @@
  * framework's receive interrupts and command code handle them (serial-protocols.md sections 2
  * and 3). Internal to the board; not read by cffi.
  *
- * Time: what the host sent between two chunks goes onto the port's receive line at the next tick
- * to run and arrives at the baud rate (11.52 bytes per ms); a byte whose last bit arrives during
- * tick k's millisecond is received after tick k's lab(), before tick k+1's, like every other
- * change from outside (never inside lab()). A reply is queued at tick k+1 into the port's transmit
- * ring and leaves at the baud rate; what the ring cannot take is dropped, as on the board. */
+ * Time: what the host sent between two chunks goes onto the port's receive line at the start of
+ * the next tick to run and arrives at the baud rate (11.52 bytes per ms). A byte whose last bit
+ * arrives during tick k's millisecond is received at that moment of line time, after tick k's
+ * lab() and before tick k+1's, like every other change from outside (never inside lab()); what it
+ * makes the board send is queued then into the port's transmit ring and leaves at the baud rate
+ * right away (or after what is still on the line); what the ring cannot take is dropped, as on the
+ * board. */
 #ifndef CRSLAB_HOST_PORTS_H
 #define CRSLAB_HOST_PORTS_H
 
@@ -21,13 +23,14 @@ void crs_host_ports_tick(crs_sim *sim, int64_t tick);
 /* 1 when a port's out[] is more than half full (the reader should take it). */
 int crs_host_ports_full(const crs_shared *sh);
 
-/* One byte arriving on SerialC / SerialB (the receive interrupts) during tick `tick`. */
-void crs_matlab_receive(crs_sim *sim, int64_t tick, uint8_t byte);
-void crs_simulink_receive(crs_sim *sim, int64_t tick, uint8_t byte);
+/* One byte arriving on SerialC / SerialB (the receive interrupts), its last bit at line time
+ * `now` (csrc/sim/serial_line.h). */
+void crs_matlab_receive(crs_sim *sim, int64_t now, uint8_t byte);
+void crs_simulink_receive(crs_sim *sim, int64_t now, uint8_t byte);
 
-/* Queue a reply on host port `port` (CRS_HOST_PORT_*) at the start of tick `tick` + 1; what its
- * transmit ring cannot take is dropped and counted. */
-void crs_host_reply(crs_sim *sim, int port, int64_t tick, const char *data, uint32_t n);
+/* Queue a reply on host port `port` (CRS_HOST_PORT_*) at line time `now`; what its transmit ring
+ * cannot take is dropped and counted. */
+void crs_host_reply(crs_sim *sim, int port, int64_t now, const char *data, uint32_t n);
 
 /* What a Simulink_PlotVar is sent as: the C long of 10000 * value, multiplied in single precision
  * and truncated toward zero. Beyond the long's range C leaves it undefined: saturated here, as the

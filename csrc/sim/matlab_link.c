@@ -18,6 +18,7 @@
 #include "c28x_memory.h"
 #include "framework_facts.h"
 #include "host_ports.h"
+#include "serial_line.h"
 
 /* Gen A's framework variable in .my_vars, set to 1.0 by every read and used by nothing else. Weak:
  * a lab that defines the name keeps its own. */
@@ -45,20 +46,21 @@ static void put_big_endian32(char *out, uint32_t v)
 
 /* '2': the floats at address, address + 2, ... read now, little endian after a 3-byte header. The
  * board sends the header, then each float, into the transmit ring, which keeps what fits (the
- * line drains only between ticks, so once a float does not fit whole, nothing after it does). */
-static void read_floats(crs_sim *sim, int64_t tick, const uint8_t *m)
+ * line drains far slower than the board queues, so once a float does not fit whole, nothing after
+ * it does). */
+static void read_floats(crs_sim *sim, int64_t now, const uint8_t *m)
 {
     const uint32_t address = big_endian32(m + 1) & ADDRESS_MASK;
     const uint32_t floats = (uint32_t)m[5] << 8 | m[6];
     if (sim->generation == CRS_GEN_A) matlabLock = 1.0f;
     crs_host_port *hp = &sim->shared->host_ports[CRS_HOST_PORT_C];
     const char header[3] = {(char)CRS_MATLAB_START, (char)((3 + floats) & 0xFF), '3'};
-    crs_host_reply(sim, CRS_HOST_PORT_C, tick, header, sizeof header);
+    crs_host_reply(sim, CRS_HOST_PORT_C, now, header, sizeof header);
     for (uint32_t i = 0; i < floats; ++i) {
         const uint32_t v = crs_mem_read32(&sim->memory, (address + 2 * i) & ADDRESS_MASK);
         const char bytes[4] = {(char)v, (char)(v >> 8), (char)(v >> 16), (char)(v >> 24)};
         const int64_t dropped_before = hp->tx_dropped;
-        crs_host_reply(sim, CRS_HOST_PORT_C, tick, bytes, sizeof bytes);
+        crs_host_reply(sim, CRS_HOST_PORT_C, now, bytes, sizeof bytes);
         if (hp->tx_dropped != dropped_before) { /* the ring is full: the rest is dropped too */
             hp->tx_dropped += 4 * (int64_t)(floats - i - 1);
             break;
@@ -79,7 +81,7 @@ static void write_values(crs_sim *sim, const uint8_t *m, int32_t length_byte, in
 }
 
 /* '0': every sampled address and its value, both big endian. */
-static void echo(crs_sim *sim, int64_t tick)
+static void echo(crs_sim *sim, int64_t now)
 {
     const crs_matlab_rx *rx = &sim->matlab;
     char reply[3 + 8 * CRS_MATLAB_ECHO_BUFFER];
@@ -92,17 +94,17 @@ static void echo(crs_sim *sim, int64_t tick)
         put_big_endian32(reply + n + 4, rx->echo_value[i]);
         n += 8;
     }
-    crs_host_reply(sim, CRS_HOST_PORT_C, tick, reply, n);
+    crs_host_reply(sim, CRS_HOST_PORT_C, now, reply, n);
 }
 
-static void dispatch(crs_sim *sim, int64_t tick)
+static void dispatch(crs_sim *sim, int64_t now)
 {
     const crs_matlab_rx *rx = &sim->matlab;
     const int gen_a = sim->generation == CRS_GEN_A;
     const uint8_t *m = rx->message; /* a 2-byte message finds the last one's payload still here */
     switch (m[0]) {
     case '2':
-        read_floats(sim, tick, m);
+        read_floats(sim, now, m);
         break;
     case '3':
         write_values(sim, m, rx->length + 1, 0);
@@ -111,14 +113,14 @@ static void dispatch(crs_sim *sim, int64_t tick)
         if (gen_a) write_values(sim, m, rx->length + 1, 1);
         break;
     case '0':
-        if (gen_a) echo(sim, tick);
+        if (gen_a) echo(sim, now);
         break;
     default: /* no such command: no reply */
         break;
     }
 }
 
-void crs_matlab_receive(crs_sim *sim, int64_t tick, uint8_t byte)
+void crs_matlab_receive(crs_sim *sim, int64_t now, uint8_t byte)
 {
     crs_matlab_rx *rx = &sim->matlab;
     if (rx->wedged) return; /* the count can never match again: only a reset helps */
@@ -137,7 +139,7 @@ void crs_matlab_receive(crs_sim *sim, int64_t tick, uint8_t byte)
             rx->wedged = 1;
             crs_host_port *hp = &sim->shared->host_ports[CRS_HOST_PORT_C];
             hp->wedged = 1;
-            hp->wedged_tick = tick;
+            hp->wedged_tick = crs_line_tick(now);
             return;
         }
     } else {
@@ -157,6 +159,6 @@ void crs_matlab_receive(crs_sim *sim, int64_t tick, uint8_t byte)
     }
     if (rx->count == rx->length) {
         rx->receiving = 0;
-        dispatch(sim, tick);
+        dispatch(sim, now);
     }
 }

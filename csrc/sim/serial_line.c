@@ -7,8 +7,16 @@ int64_t crs_line_units_per_tick(void) { return CRS_SERIAL_BAUD; }
 
 int64_t crs_line_units_per_char(void) { return 1000 * (int64_t)CRS_SERIAL_BITS_PER_CHAR; }
 
+int64_t crs_line_tick(int64_t t) { return (t - 1) / crs_line_units_per_tick(); }
+
 uint32_t crs_line_queue(crs_serial_line *line, uint32_t ring_chars, int64_t tick, const char *data,
                         uint32_t n)
+{
+    return crs_line_queue_at(line, ring_chars, tick * crs_line_units_per_tick(), data, n);
+}
+
+uint32_t crs_line_queue_at(crs_serial_line *line, uint32_t ring_chars, int64_t start, const char *data,
+                           uint32_t n)
 {
     /* the FIFO and the shift register are full before the ring holds anything */
     const uint32_t outside_ring = CRS_SCI_TX_FIFO + CRS_SCI_TX_SHIFT;
@@ -19,7 +27,7 @@ uint32_t crs_line_queue(crs_serial_line *line, uint32_t ring_chars, int64_t tick
     if (take == 0) return 0;
     if (line->len == 0) {
         line->first = 0;
-        line->head_done = tick * crs_line_units_per_tick() + crs_line_units_per_char();
+        line->head_done = start + crs_line_units_per_char();
     }
     for (uint32_t i = 0; i < take; ++i) {
         line->queue[(line->first + line->len + i) % CRS_LINE_QUEUE_CAPACITY] = data[i];
@@ -30,12 +38,16 @@ uint32_t crs_line_queue(crs_serial_line *line, uint32_t ring_chars, int64_t tick
 
 uint32_t crs_line_take(crs_serial_line *line, int64_t tick, char *dst)
 {
-    const int64_t end = (tick + 1) * crs_line_units_per_tick();
-    if (line->len == 0 || line->head_done > end) return 0;
+    return crs_line_take_until(line, (tick + 1) * crs_line_units_per_tick(), dst, CRS_LINE_MAX_CHARS_PER_TICK);
+}
+
+uint32_t crs_line_take_until(crs_serial_line *line, int64_t until, char *dst, uint32_t room)
+{
+    if (line->len == 0 || line->head_done > until) return 0;
     const int64_t per_char = crs_line_units_per_char();
-    int64_t count = (end - line->head_done) / per_char + 1;
+    int64_t count = (until - line->head_done) / per_char + 1;
     if (count > line->len) count = line->len;
-    if (count > CRS_LINE_MAX_CHARS_PER_TICK) count = CRS_LINE_MAX_CHARS_PER_TICK;
+    if (count > room) count = room;
     const uint32_t m = (uint32_t)count;
     for (uint32_t i = 0; i < m; ++i) dst[i] = line->queue[(line->first + i) % CRS_LINE_QUEUE_CAPACITY];
     line->first = (line->first + m) % CRS_LINE_QUEUE_CAPACITY;

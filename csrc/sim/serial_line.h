@@ -22,15 +22,23 @@ enum { CRS_LINE_MAX_CHARS_PER_TICK = 12 };
 /* Line time units per tick and per character (see crs_serial_line). */
 int64_t crs_line_units_per_tick(void);
 int64_t crs_line_units_per_char(void);
+/* The tick during whose millisecond line time `t` (> 0) falls: ((k ms, k+1 ms] is tick k's). */
+int64_t crs_line_tick(int64_t t);
 
 /* Queue n characters at the start of tick `tick` onto `line`, whose transmit ring holds
  * ring_chars; returns how many the ring took (the first ones; the rest are dropped). */
 uint32_t crs_line_queue(crs_serial_line *line, uint32_t ring_chars, int64_t tick, const char *data,
                         uint32_t n);
+/* The same at line time `start` (the first character starts leaving then, or after what is
+ * queued). The caller has taken every character that left before `start`. */
+uint32_t crs_line_queue_at(crs_serial_line *line, uint32_t ring_chars, int64_t start, const char *data,
+                           uint32_t n);
 
 /* Take the characters that fully leave `line` during tick `tick` into dst (room for
  * CRS_LINE_MAX_CHARS_PER_TICK); returns how many. */
 uint32_t crs_line_take(crs_serial_line *line, int64_t tick, char *dst);
+/* Take the characters that have fully left by line time `until`, at most `room`, into dst. */
+uint32_t crs_line_take_until(crs_serial_line *line, int64_t until, char *dst, uint32_t room);
 
 /* SerialA: move the characters that fully leave during tick `tick` from sh's line to
  * sh->serial, marked with that tick. */

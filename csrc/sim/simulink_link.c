@@ -28,7 +28,7 @@ int32_t crs_simulink_scaled(float value)
 
 static float plot_var(const float *v) { return v != NULL ? *v : 0.0f; }
 
-static void reply(crs_sim *sim, int64_t tick)
+static void reply(crs_sim *sim, int64_t now)
 {
     const float *plots[CRS_SIMULINK_PLOTS] = {&Simulink_PlotVar1, &Simulink_PlotVar2, &Simulink_PlotVar3,
                                               &Simulink_PlotVar4};
@@ -37,7 +37,7 @@ static void reply(crs_sim *sim, int64_t tick)
         const uint32_t v = (uint32_t)crs_simulink_scaled(plot_var(plots[i]));
         for (int b = 0; b < 4; ++b) out[4 * i + b] = (char)(v >> (8 * b));
     }
-    crs_host_reply(sim, CRS_HOST_PORT_B, tick, out, sizeof out);
+    crs_host_reply(sim, CRS_HOST_PORT_B, now, out, sizeof out);
 }
 
 static void store(const crs_simulink_rx *rx)
@@ -52,7 +52,7 @@ static void store(const crs_simulink_rx *rx)
     }
 }
 
-void crs_simulink_receive(crs_sim *sim, int64_t tick, uint8_t byte)
+void crs_simulink_receive(crs_sim *sim, int64_t now, uint8_t byte)
 {
     crs_simulink_rx *rx = &sim->simulink;
     if (rx->receiving) {
@@ -71,6 +71,6 @@ void crs_simulink_receive(crs_sim *sim, int64_t tick, uint8_t byte)
     if (byte == CRS_SIMULINK_SYNC_2) {
         rx->receiving = 1;
         rx->count = 0;
-        reply(sim, tick);
+        reply(sim, now);
     }
 }

@@ -5,7 +5,8 @@
  *
  * Expected bytes are the worked vectors of serial-protocols.md (whattoprint = 1.25 at 0xc816 reads
  * back as 2A 04 33 00 00 A0 3F); expected ticks are worked by hand from the line's 10 000 units
- * per character and 115 200 per ms: bytes 1..11 of a burst arrive during its first tick. */
+ * per character and 115 200 per ms: bytes 1..11 of a burst arrive during its first tick, and a
+ * reply leaves from the moment its request's last byte arrived. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -202,15 +203,15 @@ static void test_gen_a_read_write_and_its_timing(void)
     run_to(sim, 10);
     static const unsigned char read[] = {0x2A, 0x09, 0x32, 0x00, 0x00, 0xC8, 0x16, 0x00, 0x01};
     host_sends(sim, CRS_HOST_PORT_C, read, sizeof read);
-    /* the 9 bytes arrive during tick 10 (90 000 units of 115 200), the reply is queued at tick 11
-     * and its 7 bytes leave during tick 11 */
-    run_to(sim, 11);
-    check("nothing leaves during the tick the request arrives",
-          host_takes(sim, CRS_HOST_PORT_C, got) == 0);
-    run_to(sim, 12);
+    /* the 9 bytes arrive during tick 10, the last one 90 000 line units (of 115 200) into it; the
+     * reply leaves from then on: 2 bytes by 110 000, the other 5 during tick 11 */
     static const unsigned char reply[] = {0x2A, 0x04, 0x33, 0x00, 0x00, 0xA0, 0x3F};
+    run_to(sim, 11);
+    check_bytes("the reply starts as the request's last byte arrives", got,
+                host_takes(sim, CRS_HOST_PORT_C, got), reply, 2);
+    run_to(sim, 12);
     check_bytes("read whattoprint = 1.25 (the worked vector)", got, host_takes(sim, CRS_HOST_PORT_C, got),
-                reply, sizeof reply);
+                reply + 2, sizeof reply - 2);
     check("a Gen A read sets matlabLock", matlabLock == 1.0f);
 
     /* write 3.75 in two pieces, as ME446_serialwrite's two fwrite calls; no timeout */
@@ -329,12 +330,16 @@ static void test_simulink_packets_are_answered_at_once_and_reach_the_lab(void)
     check("the first packet after reset is lost", host_takes(sim, CRS_HOST_PORT_B, got) == 0
           && SIMU_Var1_fromSIMU_16bit == 0);
     host_sends(sim, CRS_HOST_PORT_B, packet, sizeof packet);
-    /* bytes 1..11 arrive during tick 20, 12..16 during tick 21: the 7F (byte 2) is answered with
-     * the PlotVars after lab() of tick 20; the values are stored after tick 21's lab() */
+    /* bytes 1..11 arrive during tick 20, 12..16 during tick 21: the 7F (byte 2, 20 000 line units
+     * into tick 20) is answered at once with the PlotVars after lab() of tick 20, 9 of the reply's
+     * bytes leaving during tick 20; the values are stored after tick 21's lab() */
+    run_to(sim, 21);
+    uint64_t n = host_takes(sim, CRS_HOST_PORT_B, got);
+    check("the reply starts before the packet has all arrived", n == 9);
     run_to(sim, 23);
     check("lab() of tick 21 has not seen the values", seen_simu1[21] == 0);
     check("lab() of tick 22 sees them", seen_simu1[22] == -3 && SIMU_Var7_fromSIMU_16bit == 7);
-    const uint64_t n = host_takes(sim, CRS_HOST_PORT_B, got);
+    n += host_takes(sim, CRS_HOST_PORT_B, got + n);
     int32_t v[4];
     memcpy(v, got, sizeof v);
     check("the reply is 16 bytes", n == 16);
