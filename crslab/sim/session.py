@@ -488,7 +488,9 @@ class Simulation:
 
         After every chunk of ticks, once ``sink`` took its serial bytes and scope rows and was
         flushed, each of ``controls`` is served: the worker is idle then, so they may call
-        :meth:`get`, :meth:`set` and :meth:`push` (live variables, the viewer's mouse).
+        :meth:`get`, :meth:`set`, :meth:`push` and :meth:`exchange` (live variables, the viewer's
+        mouse, the host ports); a :class:`~crslab.sim.running.PacedControl` among them (the serial
+        bridge while a host program is attached) shortens the chunks to what it asks.
         ``on_behind(rate)`` is called once when the machine cannot keep up with ``speed``;
         ``on_motor_board(tick, joint, off)`` whenever the motor board cuts every output or brings
         them back (the result's ``stats["motor_board_events"]`` lists them all);
