@@ -38,6 +38,17 @@ class Host(threading.Thread):
         self.error: BaseException | None = None
 
     def run(self) -> None:
+        if self.kind == "tera term":  # SerialA: everything until the port closes
+            with serial.Serial(str(self.path), 115200, timeout=GUARD_S) as port:
+                while True:
+                    try:
+                        chunk = port.read(max(1, port.in_waiting))
+                    except serial.SerialException:
+                        return
+                    if not chunk:
+                        self.error = AssertionError(f"nothing on SerialA for {GUARD_S:g} s")
+                        return
+                    self.answers.append(chunk)
         address = text_memory(DEFAULT_LAB.read_text(), "lab1").find("theta1array").address
         request, size = ((read_request(address, 100), 403) if self.kind == "matlab"
                          else (simulink_packet([0] * 7), 16))
@@ -59,16 +70,19 @@ class Host(threading.Thread):
 
 def test_hosts_that_only_read_leave_the_transcript_unchanged(tmp_path):
     ports, with_hosts, alone = tmp_path / "ports", tmp_path / "with.bin", tmp_path / "alone.bin"
-    sim = crslab("sim", "--speed", "4", "--duration", "6.2", "--serial-dir", str(ports), "--transcript",
-                 str(with_hosts), "--no-stdin", "--quiet", stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    sim = crslab("sim", "--speed", "4", "--duration", "6.2", "--serial-dir", str(ports), "--pty-wait",
+                 "--transcript", str(with_hosts), "--no-stdin", "--quiet", stdout=subprocess.DEVNULL,
+                 stderr=subprocess.PIPE)
     try:
         err = LineWatcher(sim.stderr, "crslab sim's stderr")
-        err.wait_for("SerialC .* linked at")
+        err.wait_for(f"waiting for a terminal on {ports / 'SerialA'}")  # --pty-wait: on SerialA
         hosts = [Host(ports / "SerialC", "matlab"), Host(ports / "SerialB", "simulink")]
         for h in hosts:
             h.start()
+        tera_term = Host(ports / "SerialA", "tera term")  # the run starts once it opened SerialA
+        tera_term.start()
         assert wait_exit(sim, "the end of a 6.2 s run") == 0, err.all()
-        for h in hosts:
+        for h in [*hosts, tera_term]:
             join(h, f"{h.name} (it ends when crslab closes the port)")
             assert h.error is None, h.error
     finally:
@@ -84,6 +98,7 @@ def test_hosts_that_only_read_leave_the_transcript_unchanged(tmp_path):
                         str(alone), "--no-stdin", "--quiet"], cwd=ROOT, capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert with_hosts.read_bytes().count(b"\n\r") == 15 and with_hosts.read_bytes() == alone.read_bytes()
+    assert b"".join(tera_term.answers) == alone.read_bytes()  # SerialA is Tera Term's text
 
 
 def free_base_port() -> int:
