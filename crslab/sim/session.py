@@ -490,7 +490,8 @@ class Simulation:
         flushed, each of ``controls`` is served: the worker is idle then, so they may call
         :meth:`get`, :meth:`set`, :meth:`push` and :meth:`exchange` (live variables, the viewer's
         mouse, the host ports); a :class:`~crslab.sim.running.PacedControl` among them (the serial
-        bridge while a host program is attached) shortens the chunks to what it asks.
+        bridge while a host program is attached) shortens the chunks to what it asks, and is
+        served again right before the next chunk when the run waited for the wall clock.
         ``on_behind(rate)`` is called once when the machine cannot keep up with ``speed``;
         ``on_motor_board(tick, joint, off)`` whenever the motor board cuts every output or brings
         them back (the result's ``stats["motor_board_events"]`` lists them all);
@@ -593,6 +594,9 @@ class Simulation:
                         lag = time.monotonic() - due
                         if lag < 0:
                             time.sleep(-lag)
+                            for control in controls:  # what a host sent while we slept: this tick
+                                if isinstance(control, PacedControl):
+                                    control.serve(self)
                         elif lag > 0.5 and debugger is not None:  # the lab was held: pace from now on
                             pace_wall, pace_tick = time.monotonic(), self.tick
                         elif lag > 0.5 and not warned and on_behind is not None:
