@@ -107,7 +107,7 @@ class LiveRun:
         """Open everything (after the worker was forked): the sinks join ``out``, which closes them."""
         a = self.args
         pty = None
-        if a.pty or a.pty_link or (a.pty_wait and not a.serial_dir):  # --serial-dir has SerialA
+        if a.pty or a.pty_link or (a.pty_wait and not getattr(a, "serial_dir", None)):  # or --serial-dir
             from crslab.sinks.serial_pty import PtyError, PtySink
 
             try:
