@@ -34,9 +34,8 @@ from cffi import FFI
 
 from crslab import crs, os_support
 from crslab.framework_facts import MOTOR_BOARDS
-from crslab.host_tools.c28x_memory import lab_memory
+from crslab.host_tools.c28x_memory import SIMULINK_INPUT_NAMES, lab_memory
 from crslab.plant.model import Friction, load_model, motor_to_qpos
-from crslab.scenario.lab_events import SIMULINK_INPUTS
 from crslab.sim.board_ffi import board_constants, board_ffi
 from crslab.sim.config import SimConfig
 from crslab.sim.debug_setup import DebugSetup
@@ -44,8 +43,6 @@ from crslab.sim.event_effects import apply_event
 from crslab.sim.memory_table import fill_memory_table
 
 LOG_ROWS = 2000  # rows per scope-log block
-SIMULINK_INPUT_NAMES = tuple(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, SIMULINK_INPUTS + 1))
-"""The framework globals that hold what Simulink sent (csrc/sim/simulink_inputs.c)."""
 
 _LOG_COLUMNS = {  # name: (width, dtype)
     "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
