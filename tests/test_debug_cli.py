@@ -126,3 +126,22 @@ def test_quitting_gdb_at_the_first_stop_lets_the_run_finish_alone(tmp_path):
     assert "crslab debug: 6.000 s simulated in " in term.text
     s = crslab("sim", "--fast", "--quiet", *RUN, "--transcript", str(plain))
     assert s.returncode == 0 and debugged.read_bytes() == plain.read_bytes()
+
+
+def test_a_debug_build_names_the_lab_where_it_is_now(tmp_path):
+    """The same lab text in two folders gives two debug builds, each naming its own file for the
+    debugger (a cached build of a copy elsewhere would send gdb to the other folder)."""
+    from crslab.lab.build import build_lab
+
+    text = (Path(__file__).parent / "labs" / "crash_after_5s.c").read_bytes()
+    builds = []
+    for folder in ("here", "there"):
+        lab = tmp_path / folder / "lab.c"
+        lab.parent.mkdir()
+        lab.write_bytes(text)
+        builds.append((lab, build_lab(lab, debug=True)))
+    (here, a), (there, b) = builds
+    assert a.shared_object != b.shared_object
+    assert str(here).encode() in a.shared_object.read_bytes()
+    assert str(there).encode() in b.shared_object.read_bytes()
+    assert str(there).encode() not in a.shared_object.read_bytes()

@@ -236,7 +236,9 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path
     objects = _board_objects(cc, sanitize, cache, debug)
     digest = content_digest([text_bytes, " ".join(flags).encode(), src.suffix.encode()]
                             + [o.parent.name.encode() for o in objects[:1]]  # it names the compiler
-                            + ([unit.encode()] if unit is not None else []))
+                            + ([unit.encode()] if unit is not None else [])
+                            # a debugger finds the source by the path compiled into the build
+                            + ([str(src.absolute()).encode()] if debug else []))
     out_dir = cache / f"lab-{digest}"
     so = out_dir / "lab.so"
     if not so.exists():
