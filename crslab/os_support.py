@@ -173,3 +173,46 @@ def ptrace_restriction(scope_file: Path = YAMA_SCOPE) -> str | None:
 # -- /proc ----------------------------------------------------------------------------------------------
 # crslab reads nothing else from /proc: the worker's tick and phase travel through the shared
 # block, so a crash or a hang is diagnosed without /proc/<pid>. Keep it that way: macOS has no /proc.
+
+
+# -- The size of a loaded global ---------------------------------------------------------------
+# Linux (glibc): dladdr1(address, &info, &sym, RTLD_DL_SYMENT) gives the ELF symbol the address
+# belongs to, whose st_size is the object's size in bytes as the compiler laid it out. The host
+# tools bound every host read and write to it, whatever the parse of the lab's source said.
+# macOS: no dladdr1 and no sizes in Mach-O symbols; the bound would come from the distance to
+# the next symbol of the image (dladdr's dli_saddr of the following address).
+RTLD_DL_SYMENT = 1
+
+
+class _DlInfo(ctypes.Structure):
+    _fields_ = [("dli_fname", ctypes.c_char_p), ("dli_fbase", ctypes.c_void_p),
+                ("dli_sname", ctypes.c_char_p), ("dli_saddr", ctypes.c_void_p)]
+
+
+class _Elf64Sym(ctypes.Structure):
+    _fields_ = [("st_name", ctypes.c_uint32), ("st_info", ctypes.c_ubyte), ("st_other", ctypes.c_ubyte),
+                ("st_shndx", ctypes.c_uint16), ("st_value", ctypes.c_uint64), ("st_size", ctypes.c_uint64)]
+
+
+def loaded_symbol_size(address: int) -> int | None:
+    """Bytes of the loaded global that starts at ``address``, or None when the dynamic loader
+    knows no symbol starting there (or this is not 64-bit glibc).
+
+    >>> import ctypes; libc = ctypes.CDLL(None)
+    >>> loaded_symbol_size(ctypes.cast(libc.printf, ctypes.c_void_p).value) > 0
+    True
+    """
+    if ctypes.sizeof(ctypes.c_void_p) != 8:
+        return None
+    try:
+        dladdr1 = ctypes.CDLL(None).dladdr1
+    except AttributeError:
+        return None
+    dladdr1.argtypes = [ctypes.c_void_p, ctypes.POINTER(_DlInfo), ctypes.POINTER(ctypes.c_void_p),
+                        ctypes.c_int]
+    info, sym = _DlInfo(), ctypes.c_void_p()
+    if not dladdr1(address, ctypes.byref(info), ctypes.byref(sym), RTLD_DL_SYMENT) or not sym.value:
+        return None
+    if info.dli_saddr != address:
+        return None
+    return int(_Elf64Sym.from_address(sym.value).st_size)

@@ -113,3 +113,19 @@ def test_a_length_byte_of_0_wedges_serialc_and_the_bridge_says_so_once(gen_b_con
         bridge._report("SerialC", result.wedged_tick, 0, 0)
     assert result.wedged_tick == 20
     assert len(said) == 1 and "length byte of 0 or 1 at tick 20" in said[0]
+
+
+def test_a_host_never_reaches_past_the_object_the_compiler_laid_out():
+    """The text says ``samples`` holds 400 floats, the compiler made 4: the host tools go by what
+    was compiled, so the array reads as zeros and a write far past its end changes nothing."""
+    config = make_config(LABS / "host_size_mismatch.c", "hands_off", startup_delay=False)
+    mem = lab_memory(config.build)
+    samples, guard = mem.find("samples"), mem.find("guard")
+    assert samples.count == 400  # the text's reading
+    with Simulation(config) as sim:
+        sim.run(10)
+        assert ask(sim, write_request(samples.address + 2 * 300, 99.0)) == b""
+        reply = ask(sim, read_request(samples.address, 4), ticks=20)
+        assert struct.unpack("<4f", reply[3:]) == (0.0, 0.0, 0.0, 0.0)
+        assert sim.get("guard") == 7.0  # nothing beside the real array was touched
+        assert struct.unpack("<f", ask(sim, read_request(guard.address, 1))[3:]) == (7.0,)

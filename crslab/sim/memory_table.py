@@ -3,7 +3,8 @@ variable of the lab's layout lives in this process, so the board's MATLAB code r
 the lab's real globals (``crs_sim.memory``, csrc/sim/c28x_memory.c).
 
 A variable the worker cannot reach (a ``static``, which has no dynamic symbol; a pointer, whose
-host value means nothing on the C28x) keeps its place and reads as zero.
+host value means nothing on the C28x; one whose loaded object is smaller than the source's parse
+says, so a host can never read or write past it) keeps its place and reads as zero.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from pathlib import Path
 from cffi import FFI
 
 from crslab.host_tools.c28x_memory import KINDS, MemoryLayout, PlacedVariable
+from crslab.os_support import loaded_symbol_size
 from crslab.sim.board_ffi import board_constants
 
 
@@ -55,8 +57,12 @@ def fill_memory_table(sim: object, board: FFI, shared_object: Path, mem: MemoryL
         e.host_bytes, e.host = 1, board.NULL
         if v.name in names:
             try:
-                e.host = board.cast("void *", int(ffi.cast("uintptr_t", ffi.addressof(lib, v.name))))
+                address = int(ffi.cast("uintptr_t", ffi.addressof(lib, v.name)))
                 e.host_bytes = ffi.sizeof(v.host_ctype)
+                # never trust the source's parse beyond the object the compiler laid out
+                size = loaded_symbol_size(address)
+                if size is not None and size >= v.count * e.host_bytes:
+                    e.host = board.cast("void *", address)
             except (AttributeError, KeyError, NotImplementedError, ffi.error):
                 e.host = board.NULL  # not in the library after all: reads 0
     sim.memory.vars = table  # type: ignore[attr-defined]
