@@ -18,6 +18,7 @@ from crslab.plant.model import (
     qpos_to_motor,
     set_end_mass,
 )
+from crslab.plant.params import PARAMS
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.81
@@ -110,10 +111,15 @@ def test_joints_actuators_and_tendon_are_named_and_ordered_as_documented(model):
 
 
 def test_actuators_give_the_course_torque_relations(model):
-    # crs-facts 3: tau2DH = tau2M + tau3M, tau3DH = tau3M, with 6 N.m per command unit.
+    # crs-facts 3: tau2DH = tau2M + tau3M, tau3DH = tau3M, with 6 N.m per command unit; each motor
+    # also carries the constant torque of its friction's asymmetry, -(Cpos + Cneg) / 2 (params.toml)
+    rows = [PARAMS["friction"][f"motor{m}"] for m in (1, 2, 3)]
+    bias = [-(row["Cpos_nm"] + row["Cneg_nm"]) / 2 for row in rows]
+    data = fresh(model, REST_MOTOR_RAD)
+    np.testing.assert_allclose(data.qfrc_actuator, [bias[0], bias[1] + bias[2], bias[2]], atol=1e-12)
     data = fresh(model, REST_MOTOR_RAD, ctrl=(0.5, -1.25, 2.0))
-    np.testing.assert_allclose(data.qfrc_actuator, NM_PER_UNIT * np.array([0.5, -1.25 + 2.0, 2.0]),
-                               atol=1e-12)
+    torque = NM_PER_UNIT * np.array([0.5, -1.25, 2.0]) + bias
+    np.testing.assert_allclose(data.qfrc_actuator, [torque[0], torque[1] + torque[2], torque[2]], atol=1e-12)
     # the tendon's length is motor angle 3, whatever the pose
     rng = np.random.default_rng(5)
     for motor in rng.uniform(-1.5, 1.5, (20, 3)):
@@ -202,16 +208,16 @@ def test_course_end_mass_reproduces_the_course_p_values_with_end_mass():
     assert model.body_subtreemass[0] == pytest.approx(load_model().body_subtreemass[0])
 
 
-def test_friction_and_rotor_inertia_come_from_the_course_table(model):
-    # crs-facts 4, means of the positive and negative branches, times 6 N.m per unit.
-    def mean(pos, neg):
-        return NM_PER_UNIT * (pos + neg) / 2
-
-    np.testing.assert_allclose(model.dof_frictionloss, [mean(0.3637, 0.2948), mean(0.4759, 0.5031), 0])
-    np.testing.assert_allclose(model.dof_damping, [mean(0.2513, 0.2477), mean(0.2500, 0.2870), 0])
-    np.testing.assert_allclose(model.tendon_frictionloss, [mean(0.5339, 0.5190)])
-    np.testing.assert_allclose(model.tendon_damping, [mean(0.1922, 0.2132)])
-    np.testing.assert_allclose(model.dof_armature, [0, 0.075, 0])
+def test_friction_comes_from_params_toml_and_rotor_inertia_from_the_course(model):
+    # MuJoCo's dry friction is symmetric: half the width of [Cneg, Cpos]; its offset is the
+    # actuators' bias (above). Motors 1, 2 on j1, j2; motor 3 on the forearm tendon.
+    rows = [PARAMS["friction"][f"motor{m}"] for m in (1, 2, 3)]
+    half = [(r["Cpos_nm"] - r["Cneg_nm"]) / 2 for r in rows]
+    np.testing.assert_allclose(model.dof_frictionloss, [half[0], half[1], 0])
+    np.testing.assert_allclose(model.dof_damping, [rows[0]["V_nm_s_per_rad"], rows[1]["V_nm_s_per_rad"], 0])
+    np.testing.assert_allclose(model.tendon_frictionloss, [half[2]])
+    np.testing.assert_allclose(model.tendon_damping, [rows[2]["V_nm_s_per_rad"]])
+    np.testing.assert_allclose(model.dof_armature, [0, 0.075, 0])  # crs-facts 4
     np.testing.assert_allclose(model.tendon_armature, [0.0375])
 
 
@@ -222,20 +228,25 @@ def test_with_zero_torque_the_arm_stays_at_its_resting_pose(model):
     assert warnings(data) == {}
 
 
-def test_released_level_arm_falls_shoulder_down_and_forearm_keeps_its_angle(model):
+def test_released_level_arm_falls_shoulder_down_but_the_upright_arm_stays(model):
     # Derivation. In motor angles the course's model is D qdd + G = u, G2 = -p4 g sin th2M, so
     # gravity pushes motor 2 with +p4 g sin th2M: at DH zero (th2M = pi/2, arm level) that is
-    # 0.0753 * 9.81 = 0.74 units = 4.43 N.m, more than motor 2's Coulomb friction (0.49 units,
-    # 2.94 N.m). So th2M grows: the upper arm swings down and z = 10 (1 + cos th2M - sin th3M)
-    # falls. Motor 3 feels p5 g cos th3M = 0.29 units = 1.75 N.m, less than its friction
-    # (0.53 units, 3.16 N.m): the forearm keeps its absolute angle th3M = 0 (level).
+    # 0.0753 * 9.81 = 0.74 units = 4.43 N.m, more than motor 2's dry friction against positive
+    # motion (Cpos2, params.toml): th2M grows, the upper arm swings down and
+    # z = 10 (1 + cos th2M - sin th3M) falls. At motor zero (upper arm up, forearm level) gravity
+    # leaves motor 2 alone and pushes motor 3 with p5 g cos 0 = 0.29 units = 1.75 N.m, less than
+    # Cpos3: nothing moves.
     data = fresh(model, DH_ZERO)
     z0 = data.site_xpos[model.site("ee").id, 2]
     path = run(model, data, 0.3)
     assert path[-1, 1] > DH_ZERO[1] + 0.1
-    assert np.all(np.diff(path[:, 1]) >= -1e-9)  # monotone: it only falls
-    assert abs(path[-1, 2] - DH_ZERO[2]) < 0.02
+    limit = np.pi / 2 + model.jnt_range[1, 1]  # j2's range, in motor angle 2
+    falling = path[:, 1] < limit - 0.01
+    assert np.all(np.diff(path[:, 1])[falling[1:]] >= -1e-9)  # it only falls, until the range stops it
     assert data.site_xpos[model.site("ee").id, 2] < z0 - 0.02
+    assert PARAMS["friction"]["motor3"]["Cpos_nm"] > 6 * P_BARE[4] * G
+    data = fresh(model, MOTOR_ZERO)
+    assert np.abs(run(model, data, 1.0) - MOTOR_ZERO).max() < 1e-9
 
 
 @pytest.mark.parametrize("motor", [0, 1, 2])
@@ -250,18 +261,32 @@ def test_ctrl_turns_its_motor_angle_the_same_way(model, motor, sign):
 
 def test_motor3_drives_the_forearm_absolute_angle_and_leaves_the_shoulder(model):
     # Motor 3's torque enters motor 2's equation only through the inertial coupling
-    # -p3 sin(th3M - th2M), which friction mostly absorbs. A joint-3 (relative) drive would
-    # push the shoulder back with the full reaction torque instead.
-    def moved(ctrl):
-        data = fresh(model, REST_MOTOR_RAD, ctrl)
-        return run(model, data, 0.3)[-1] - REST_MOTOR_RAD
+    # -p3 sin(th3M - th2M); a joint-3 (relative) drive would push the shoulder back with the full
+    # reaction torque instead. Without gravity and friction, the first instant's accelerations
+    # (motor angles) are the course's D^-1 u.
+    bare = load_model()
+    bare.opt.gravity[:] = 0
+    bare.dof_frictionloss[:] = 0
+    bare.tendon_frictionloss[:] = 0
+    bare.actuator_biasprm[:] = 0
 
-    by_motor2 = moved((0.0, 1.0, 0.0))
-    by_motor3 = moved((0.0, 0.0, 1.0))
-    assert by_motor3[2] > 0.2
-    assert by_motor2[1] > 0.1
-    assert abs(by_motor3[1]) < 0.25 * by_motor2[1]
-    assert abs(by_motor2[2]) < 0.01  # and motor 2 alone leaves the forearm's absolute angle
+    def accel(ctrl):
+        data = fresh(bare, REST_MOTOR_RAD, ctrl)
+        qacc = data.qacc.copy()
+        return np.array([qacc[0], qacc[1], qacc[1] + qacc[2]])  # motor angles 1, 2, 3
+
+    by_motor2, by_motor3 = accel((0.0, 1.0, 0.0)), accel((0.0, 0.0, 1.0))
+    s = np.sin(REST_MOTOR_RAD[2] - REST_MOTOR_RAD[1])
+    d = np.array([[P_BARE[0], -P_BARE[2] * s], [-P_BARE[2] * s, P_BARE[1]]])
+    np.testing.assert_allclose(by_motor3[1:], np.linalg.solve(d, [0.0, 1.0]), rtol=0.02)
+    np.testing.assert_allclose(by_motor2[1:], np.linalg.solve(d, [1.0, 0.0]), rtol=0.02)
+    # a relative (joint-3) drive of the same torque: j3 alone, so motor 2 takes the reaction
+    data = fresh(bare, REST_MOTOR_RAD)
+    data.qfrc_applied[:] = (0.0, 0.0, NM_PER_UNIT)
+    mujoco.mj_forward(bare, data)
+    relative = data.qacc[1]
+    np.testing.assert_allclose(relative, np.linalg.solve(d, [-1.0, 1.0])[0], rtol=0.02)
+    assert by_motor3[1] > 0 > relative  # the shoulder is nudged forward, never pulled back
 
 
 # --- the generated files ------------------------------------------------------------------------

@@ -175,7 +175,7 @@ def plant_runs(tmp_path_factory):
         "none": run("end = 6.5\n"),
         "friction_off": run('end = 6.5\n[[event]]\nat = 5.0\nkind = "friction"\nscale = 0.0\n'),
         "mass": run('end = 6.5\n[[event]]\nat = 5.0\nkind = "end_mass"\nkg = "course"\n'),
-        "mass_and_friction": run('end = 6.5\n[plant]\nend_mass_kg = "course"\nfriction_scale = 3.0\n'),
+        "mass_and_friction": run('end = 6.5\n[plant]\nend_mass_kg = "course"\nfriction_scale = 4.0\n'),
         "mass_from_start": run('end = 6.5\n[plant]\nend_mass_kg = "course"\n'),
     }
 

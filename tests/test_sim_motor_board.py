@@ -47,13 +47,13 @@ def test_without_a_motor_board_the_saturated_commands_reach_the_arm():
 
 
 def test_gen_a_labs_default_to_no_motor_board_and_gen_b_to_the_piccolo():
-    gen_a = simulate(LABS / "persistent_tau.c", "hands_off", duration_s=4.7, log=True)
+    gen_a = simulate(LABS / "persistent_tau.c", "hands_off", duration_s=5.5, log=True)
     assert gen_a.stats["motor_board"] == "none"
     # tau1 = 40, clamped to 5 and applied as long as the arm is inside the envelope
     inside = gen_a.log["safety"][4100:4700, 0] == 0
     assert inside.sum() > 100
     np.testing.assert_array_equal(gen_a.log["tau_applied"][4100:4700, 0][inside], 5.0)
-    piccolo = simulate(LABS / "persistent_tau.c", "hands_off", duration_s=4.7, log=True,
+    piccolo = simulate(LABS / "persistent_tau.c", "hands_off", duration_s=5.5, log=True,
                        motor_board="piccolo")
     assert piccolo.stats["motor_board"] == "piccolo"
     # the Piccolo board takes whole PWM counts, 300 per unit (the DSP truncates): tau2 = 0.5 is

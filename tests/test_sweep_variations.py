@@ -8,7 +8,6 @@ from pathlib import Path
 import pytest
 
 from crslab.lab.source import LabSource
-from crslab.plant.variation import PlantVariation
 from crslab.scenario.load import parse_scenario
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
@@ -100,15 +99,13 @@ def test_per_motor_friction_multiplies_the_overall_scale(base):
 
 
 def test_mass_scales_the_links_and_not_the_payload(base):
-    config = dataclasses.replace(base, plant_variation=PlantVariation(mass_scale=1.5))
+    config = dataclasses.replace(base, plant=base.plant.with_values({"mass": 1.5}))
     assert final(swept(base, mass=1.5)) == direct(config)
-    import mujoco
-
-    from crslab.plant.model import load_model
+    from crslab.plant.model import apply_plant, load_model
 
     model = load_model()
     masses = model.body_mass.copy()
-    PlantVariation(mass_scale=1.5).apply_to(model, mujoco.MjData(model))
+    apply_plant(model, base.plant.with_values({"mass": 1.5}))
     payload = model.body("payload").id
     assert model.body_mass[payload] == masses[payload]
     assert model.body_mass[model.body("forearm").id] == pytest.approx(1.5 * 1.14)

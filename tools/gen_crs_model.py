@@ -17,6 +17,7 @@ import tomllib
 from pathlib import Path
 
 from crslab import crs
+from crslab.plant.plant_params import PlantParams
 
 ROOT = Path(__file__).resolve().parents[1]
 MODEL_DIR = ROOT / "models" / "crs_arm"
@@ -30,20 +31,15 @@ UPPER_ARM_RADIUS, FOREARM_RADIUS, EE_RADIUS = 0.04, 0.032, 0.015
 
 
 def num(x: float) -> str:
-    """A float as MJCF text: 12 significant digits, no '-0'."""
-    text = format(float(x), ".12g")
-    return "0" if text == "-0" else text
+    """A float as MJCF text: the shortest that reads back as the same double (so the compiled
+    model holds exactly what crslab.plant computes from params.toml), no '-0'."""
+    text = repr(float(x))
+    text = text[:-2] if text.endswith(".0") else text
+    return "0" if text in ("-0", "0") else text
 
 
 def vec(*xs: float) -> str:
     return " ".join(num(x) for x in xs)
-
-
-def mean_friction(row: dict[str, float], nm_per_unit: float) -> tuple[float, float]:
-    """(Coulomb N.m, viscous N.m.s/rad): the mean of the two branches of the course's table."""
-    coulomb = 0.5 * (row["Cpos"] - row["Cneg"]) * nm_per_unit
-    viscous = 0.5 * (row["Vpos"] + row["Vneg"]) * nm_per_unit
-    return coulomb, viscous
 
 
 def dh_layout() -> dict[str, float]:
@@ -78,9 +74,11 @@ def arm_xml(params: dict) -> str:
     unit = params["command"]["newton_metre_per_unit"]
     waist, upper, fore, rotor = params["waist"], params["upper_arm"], params["forearm"], params["rotor"]
     payload = params["payload"]
-    f1 = mean_friction(params["friction"]["motor1"], unit)
-    f2 = mean_friction(params["friction"]["motor2"], unit)
-    f3 = mean_friction(params["friction"]["motor3"], unit)
+    # MuJoCo's symmetric dry friction (half the [Cneg, Cpos] band), its constant offset (a bias of
+    # the motor actuators) and viscous friction, computed exactly as a run's plant parameters are
+    plant = PlantParams.from_model_tables(params)
+    f1, f2, f3 = zip(plant.coulomb_nm(), plant.viscous_nm_s())
+    bias = plant.friction_bias_units()
     rng = {j: [math.radians(v) for v in params["range_deg"][j]] for j in ("j1", "j2", "j3")}
     half = g["alpha1"] / 2
     quat1 = vec(math.cos(half), math.sin(half), 0, 0)  # rotation by alpha1 about x
@@ -156,10 +154,16 @@ def arm_xml(params: dict) -> str:
   </tendon>
 
   <actuator>
-    <!-- ctrl in course command units; the framework clamps to +-5, so no ctrlrange here. -->
-    <motor name="motor1" joint="j1" gear="{num(unit)}" ctrllimited="false"/>
-    <motor name="motor2" joint="j2" gear="{num(unit)}" ctrllimited="false"/>
-    <motor name="motor3" tendon="forearm" gear="{num(unit)}" ctrllimited="false"/>
+    <!-- ctrl in course command units: the torque the drive delivers (csrc/sim/drive.c); the
+         framework clamps to +-5, so no ctrlrange here. The constant bias is the dry friction's
+         direction asymmetry (params.toml [friction.*]): with MuJoCo's symmetric frictionloss it
+         makes a joint slide against Cpos or Cneg and stick in between. -->
+    <general name="motor1" joint="j1" gear="{num(unit)}" ctrllimited="false" gainprm="1" biastype="affine"
+             biasprm="{vec(bias[0], 0, 0)}"/>
+    <general name="motor2" joint="j2" gear="{num(unit)}" ctrllimited="false" gainprm="1" biastype="affine"
+             biasprm="{vec(bias[1], 0, 0)}"/>
+    <general name="motor3" tendon="forearm" gear="{num(unit)}" ctrllimited="false" gainprm="1"
+             biastype="affine" biasprm="{vec(bias[2], 0, 0)}"/>
   </actuator>
 
   <keyframe>
@@ -171,13 +175,17 @@ def arm_xml(params: dict) -> str:
 
 def scene_xml(params: dict) -> str:
     g = dh_layout()
+    solver = params["solver"]
     reach = g["a2"] + g["a3"]
     return f"""{HEADER}
 <mujoco model="crs_arm scene">
   <include file="crs_arm.xml"/>
 
-  <!-- 1 kHz: one physics step per framework tick. Floor and light are visuals only. -->
-  <option timestep="0.001" integrator="implicitfast" gravity="0 0 -9.81"/>
+  <!-- 1 kHz: one physics step per framework tick. Floor and light are visuals only. The noslip
+       pass makes a joint held by dry friction stay exactly where it is (params.toml [solver]). -->
+  <option timestep="0.001" integrator="implicitfast" gravity="0 0 -9.81"
+          noslip_iterations="{solver["noslip_iterations"]}"
+          noslip_tolerance="{num(solver["noslip_tolerance"])}"/>
 
   <statistic center="{vec(0.5 * reach, 0, g["d1"])}" extent="{num(2 * reach)}"/>
 

@@ -33,6 +33,9 @@ OWN_LABS = {
     "inverse kinematics finds for that x y z (the first line again).",
     "lab2_tracking.c": "crslab's own tracking lab prints one line twice a second: the desired motor angles, "
     "the measured ones and their difference (deg).",
+    "lab2_square_pid.c": "crslab's calibration lab (the controller of the real recording the arm was fitted "
+    "to) steps every joint between 0 and pi/6 rad each second and prints twice a second: the three "
+    "references, then the three motor angles (rad).",
 }
 """What crslab's own lab files print, by file name (csrc/labs/)."""
 

@@ -18,8 +18,6 @@ array([ 0.  , -0.42,  0.24])
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import mujoco
 import numpy as np
 
@@ -34,6 +32,7 @@ from crslab.plant.params import (  # noqa: F401 - re-exported: the model's facts
     REST_MOTOR_RAD,
     SCENE_XML,
 )
+from crslab.plant.plant_params import PlantParams
 
 PAYLOAD_BODY = "payload"
 """Name of the end-effector body whose mass :func:`set_end_mass` sets."""
@@ -71,6 +70,18 @@ def qpos_to_motor(qpos: object) -> np.ndarray:
     return crs.dh_to_motor(qpos)
 
 
+def _set_body_mass(model: mujoco.MjModel, body: int, mass: float, inertia: np.ndarray) -> None:
+    """Set one body's mass and principal inertia, in place, keeping MuJoCo's subtree masses right."""
+    delta = mass - float(model.body_mass[body])
+    model.body_mass[body] = mass
+    model.body_inertia[body] = inertia
+    while True:  # the body and every ancestor up to the world carry the change
+        model.body_subtreemass[body] += delta
+        if body == 0:
+            break
+        body = int(model.body_parentid[body])
+
+
 def set_end_mass(model: mujoco.MjModel, kg: float) -> None:
     """Set the mass (kg) carried at the end effector, in place; 0 removes it.
 
@@ -90,48 +101,63 @@ def set_end_mass(model: mujoco.MjModel, kg: float) -> None:
     if not np.isfinite(kg) or kg < 0:
         raise ValueError(f"end mass must be a finite number of kg >= 0, got {kg!r}")
     mass = max(kg, _MIN_PAYLOAD_KG)
-    body = model.body(PAYLOAD_BODY).id
-    delta = mass - float(model.body_mass[body])
-    model.body_mass[body] = mass
-    model.body_inertia[body] = mass * _GYRATION_RADIUS_M**2
-    while True:  # the payload and every ancestor up to the world carry the change
-        model.body_subtreemass[body] += delta
-        if body == 0:
-            break
-        body = int(model.body_parentid[body])
+    _set_body_mass(model, model.body(PAYLOAD_BODY).id, mass, np.full(3, mass * _GYRATION_RADIUS_M**2))
 
 
-@dataclass(frozen=True)
-class Friction:
-    """The model's friction: frictionloss (N.m) and damping (N.m.s/rad) of every joint and of the
-    forearm tendon. Read once from the identified model, so a scale is always relative to it.
+LINK_BODIES = ("waist", "upper_arm", "forearm")
+"""The bodies a plant's ``mass`` scale applies to: every link (not the payload; the rotors'
+reflected inertia is the joints' armature and keeps its value)."""
+
+
+def apply_plant(model: mujoco.MjModel, plant: PlantParams, loaded: mujoco.MjModel | None = None) -> None:
+    """Give ``model`` the plant's motor gain, friction, link masses and payload, in place (from the
+    next step on). ``loaded`` is the model as compiled from the MJCF (default: a fresh
+    :func:`load_model`), the reference the mass scale applies to, so applying twice never
+    compounds. The drive is the C board's (``crs_drive``, set by the worker).
 
     >>> model = load_model()
-    >>> identified = Friction.of(model)
-    >>> identified.scaled(0.5).apply_to(model)
-    >>> bool(np.allclose(model.dof_frictionloss, 0.5 * identified.dof_frictionloss))
+    >>> apply_plant(model, PlantParams.defaults().with_values({"friction": 0.5, "mass": 2.0}))
+    >>> bool(np.isclose(model.body("forearm").mass[0], 2 * load_model().body("forearm").mass[0]))
     True
     """
+    loaded = load_model() if loaded is None else loaded
+    model.actuator_gear[:, 0] = plant.motor_gain
+    apply_friction(model, plant)
+    for name in LINK_BODIES:
+        body = model.body(name).id
+        _set_body_mass(model, body, plant.mass_scale * float(loaded.body_mass[body]),
+                       plant.mass_scale * loaded.body_inertia[body])
+    set_end_mass(model, plant.payload_kg)
 
-    dof_frictionloss: np.ndarray
-    dof_damping: np.ndarray
-    tendon_frictionloss: np.ndarray
-    tendon_damping: np.ndarray
 
-    @classmethod
-    def of(cls, model: mujoco.MjModel) -> Friction:
-        """A copy of ``model``'s friction as it is now."""
-        return cls(model.dof_frictionloss.copy(), model.dof_damping.copy(), model.tendon_frictionloss.copy(),
-                   model.tendon_damping.copy())
+def apply_friction(model: mujoco.MjModel, plant: PlantParams) -> None:
+    """Give ``model`` the plant's symmetric dry friction (MuJoCo's ``frictionloss``), its constant
+    offset (the motor actuators' bias, :meth:`PlantParams.friction_bias_nm`) and viscous friction
+    (``damping``), in place. Motors 1 and 2 turn joints j1 and j2; motor 3 turns the forearm tendon
+    (j2 + j3)."""
+    coulomb, viscous = plant.coulomb_nm(), plant.viscous_nm_s()
+    model.actuator_biasprm[:, 0] = plant.friction_bias_units()
+    model.dof_frictionloss[:] = (coulomb[0], coulomb[1], 0.0)
+    model.dof_damping[:] = (viscous[0], viscous[1], 0.0)
+    model.tendon_frictionloss[0] = coulomb[2]
+    model.tendon_damping[0] = viscous[2]
 
-    def scaled(self, scale: float) -> Friction:
-        """Every value times ``scale``."""
-        return Friction(self.dof_frictionloss * scale, self.dof_damping * scale,
-                        self.tendon_frictionloss * scale, self.tendon_damping * scale)
 
-    def apply_to(self, model: mujoco.MjModel) -> None:
-        """Set ``model``'s friction to these values, in place (from the next step on)."""
-        model.dof_frictionloss[:] = self.dof_frictionloss
-        model.dof_damping[:] = self.dof_damping
-        model.tendon_frictionloss[:] = self.tendon_frictionloss
-        model.tendon_damping[:] = self.tendon_damping
+def holding_torques_nm(motor_rad: object, plant: PlantParams | None = None) -> np.ndarray:
+    """The torque per motor (N.m, about its motor angle) that friction must supply to hold the arm
+    still at ``motor_rad`` with zero command: gravity's, reversed. Positive: friction must push the
+    motor angle positive (so ``-Cneg`` must be at least this); negative: ``Cpos`` at least its size.
+
+    >>> t = holding_torques_nm(REST_MOTOR_RAD)
+    >>> bool(t[1] > 1.5 and t[2] < -1.5)    # the upper arm leans back, the forearm hangs forward
+    True
+    """
+    model = load_model()
+    if plant is not None:
+        apply_plant(model, plant, loaded=load_model())
+    data = mujoco.MjData(model)
+    data.qpos[:3] = motor_to_qpos(motor_rad)
+    mujoco.mj_forward(model, data)
+    bias = data.qfrc_bias[:3]  # generalized gravity force to cancel on j1..j3 (at rest: no Coriolis)
+    # motor 3 acts on j2 and j3 alike (the tendon j2 + j3): j3 = t3, j2 = t2 + t3
+    return np.array([bias[0], bias[1] - bias[2], bias[2]])

@@ -33,8 +33,8 @@ class EndMass(Event):
 
 @dataclass(frozen=True)
 class FrictionScale(Event):
-    """Scale the model's friction (frictionloss and damping of every joint and of the forearm
-    tendon) to ``scale`` times the identified values (absolute, not cumulative)."""
+    """Scale the arm's friction (dry and viscous, every motor) to ``scale`` times the run's plant
+    (crslab's identified values, or the ``--plant`` file's): absolute, not cumulative."""
 
     scale: float
     kind = "friction"

@@ -14,6 +14,7 @@ from pathlib import Path
 from crslab.framework_facts import MOTOR_BOARDS, STARTUP_TICKS
 from crslab.lab.build import build_lab
 from crslab.plant.params import REST_MOTOR_RAD
+from crslab.plant.plant_params import PlantParams
 from crslab.sandbox import resolve as resolve_sandbox
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import Scenario, check_lab, load_scenario
@@ -40,6 +41,7 @@ def make_config(
     motor_board: str | None = None,
     debug: bool = False,
     break_when: str | None = None,
+    plant: PlantParams | str | Path | None = None,
 ) -> SimConfig:
     """Build the lab (cached) and load the scenario into one run's configuration.
 
@@ -47,12 +49,17 @@ def make_config(
     ``sandbox``: True requires the sandbox, False turns it off, None (default) uses it when
     this machine has it (see :func:`crslab.sandbox.resolve`). ``motor_board`` is ``none`` or
     ``piccolo``; None takes the lab's generation's (Gen A: none, Gen B: piccolo). ``debug`` and
-    ``break_when`` build the lab for a debugger (:func:`crslab.lab.build.build_lab`).
+    ``break_when`` build the lab for a debugger (:func:`crslab.lab.build.build_lab`). ``plant`` is
+    the arm's plant parameters or a plant file (``crslab identify`` writes one); None: crslab's arm.
     Raises ``ScenarioError`` when the scenario writes a variable the lab does not watch,
-    ``ValueError`` for an unknown motor board.
+    ``ValueError`` for an unknown motor board, ``PlantParamsError`` for a bad plant file.
     """
     if motor_board is not None and motor_board not in MOTOR_BOARDS:
         raise ValueError(f"no motor board {motor_board!r}; choose one of {', '.join(MOTOR_BOARDS)}")
+    if plant is None:
+        plant = PlantParams.defaults()
+    elif not isinstance(plant, PlantParams):
+        plant = PlantParams.load(plant)
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     rest = tuple(float(v) for v in (rest_motor_rad or sc.rest_motor_rad or DEFAULT_REST_MOTOR_RAD))
     sandboxed = resolve_sandbox(sandbox)
@@ -69,6 +76,7 @@ def make_config(
         log_signals=log,
         sandboxed=sandboxed,
         motor_board=motor_board,
+        plant=plant,
     )
 
 

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from crslab.framework_facts import STARTUP_TICKS, default_motor_board
 from crslab.lab.build import LabBuild
 from crslab.plant.params import REST_MOTOR_RAD
-from crslab.plant.variation import PlantVariation
+from crslab.plant.plant_params import PlantParams
 from crslab.scenario.load import Scenario
 
 
@@ -40,8 +40,8 @@ class SimConfig:
     sandboxed: bool = True  # compiled and run in crslab.sandbox (it never changes the transcript)
     motor_board: str | None = None
     """``none`` or ``piccolo`` (framework_facts.MOTOR_BOARDS); None: the lab's generation's."""
-    plant_variation: PlantVariation = PlantVariation()
-    """How this arm differs from the identified model (``crslab sweep`` varies it)."""
+    plant: PlantParams = field(default_factory=PlantParams.defaults)
+    """The simulated arm's motor gain, drive, friction and variations (``--plant FILE``)."""
 
     @property
     def motor_board_model(self) -> str:

@@ -10,6 +10,7 @@ from its class (:func:`effect_of` registers one).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar
 
@@ -96,7 +97,10 @@ def _end_mass(worker: Worker, e: EndMass) -> None:
 
 @effect_of(FrictionScale)
 def _friction_scale(worker: Worker, e: FrictionScale) -> None:
-    worker.identified_friction.scaled(e.scale).apply_to(worker.model)
+    # relative to the run's own plant (its --plant file's friction), never cumulative
+    base = worker.config.plant
+    scaled = tuple(s * e.scale for s in base.friction_scale)
+    worker.set_friction(dataclasses.replace(base, friction_scale=scaled))
 
 
 @effect_of(EncoderNoise)

@@ -35,7 +35,8 @@ from cffi import FFI
 from crslab import crs, os_support
 from crslab.framework_facts import MOTOR_BOARDS
 from crslab.host_tools.c28x_memory import SIMULINK_INPUT_NAMES, lab_memory
-from crslab.plant.model import Friction, load_model, motor_to_qpos
+from crslab.plant.model import apply_friction, apply_plant, load_model, motor_to_qpos
+from crslab.plant.plant_params import PlantParams
 from crslab.sim.board_ffi import board_constants, board_ffi
 from crslab.sim.config import SimConfig
 from crslab.sim.debug_setup import DebugSetup
@@ -79,14 +80,14 @@ class Worker:
         self.config = config
         self.ffi = ffi = board_ffi()
         self.model = load_model()
+        apply_plant(self.model, config.plant, loaded=load_model())
+        self.plant = config.plant
+        """The plant parameters in force (a scenario's friction scale changes them)."""
         self.data = mujoco.MjData(self.model)
-        config.plant_variation.apply_to(self.model, self.data)
         rest = np.asarray(config.rest_motor_rad, dtype=float)
         self.data.qpos[:3] = motor_to_qpos(rest)
         mujoco.mj_forward(self.model, self.data)
         self.rest_dh = crs.motor_to_dh(rest)
-        self.identified_friction = Friction.of(self.model)
-        """The model's friction before any scenario scaled it."""
         mj_step = mj_step_address()
         block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
         self.watched = {v.name: v for v in config.build.watched}
@@ -135,6 +136,9 @@ class Worker:
         sim.budget_ns = config.budget_ns
         for j in range(3):
             sim.rest_motor_rad[j] = rest[j]
+        self._set_drive(config.plant)
+        for j in range(3):
+            sim.faults.noise_counts[j] = config.plant.encoder_noise_counts
         h = sim.hand
         h.kp_nm_per_rad, h.ki_nm_per_rad_s = config.hand.kp, config.hand.ki
         h.kd_nm_s_per_rad, h.max_nm = config.hand.kd, config.hand.max_nm
@@ -149,6 +153,18 @@ class Worker:
             sim.log.capacity = LOG_ROWS
             for k, arr in self._log_arrays.items():
                 setattr(sim.log, k, self._ptr(_C_TYPE[_LOG_COLUMNS[k][1]], arr))
+
+    def _set_drive(self, plant: PlantParams) -> None:
+        drive = self.sim.drive
+        drive.lag_s = plant.drive_lag_s
+        for j in range(3):
+            drive.stall_units[j] = plant.stall_units[j]
+            drive.backemf_units_s_per_rad[j] = plant.backemf_units_s_per_rad[j]
+
+    def set_friction(self, plant: PlantParams) -> None:
+        """Run on with ``plant``'s friction."""
+        self.plant = plant
+        apply_friction(self.model, plant)
 
     def _ptr(self, ctype: str, arr: np.ndarray) -> object:
         self._keep.append(arr)

@@ -14,8 +14,9 @@ This is the one place that knows how a sweep's names reach the plant:
 ``var:NAME`` / ``NAME[i]``  the lab's watched variable (or one element), written before tick 0
 ==========================  ========================================================================
 
-Plant scales go to :class:`crslab.plant.variation.PlantVariation`; the payload, the noise and
-the variable writes become scenario events at tick 0, after the scenario's own (so the sweep's
+Plant scales go to the run's :class:`crslab.plant.plant_params.PlantParams` (times its own: a
+``--plant`` file's arm is varied as crslab's is); the payload, the noise and the variable writes
+become scenario events at tick 0, after the scenario's own (so the sweep's
 value wins at the start, and the scenario's later events still happen); the resting pose is the
 run's. Each sample's noise is drawn from its own seeded generator.
 
@@ -35,7 +36,6 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from crslab.lab.watched import WatchedVar
-from crslab.plant.variation import PlantVariation
 from crslab.scenario.event import Event, rng_state
 from crslab.scenario.events import EncoderNoise, EndMass, SetVariable
 from crslab.scenario.load import _integer_range
@@ -176,7 +176,7 @@ def apply(config: SimConfig, varies: Sequence[Vary], values: Sequence[float], *,
     >>> run = apply(base, [parse_vary("friction=0:2"), parse_vary("friction2=0:2"),
     ...                    parse_vary("rest_offset3=0:1"), parse_vary("payload_kg=0:2")],
     ...             [0.5, 2.0, 0.3, 1.5], seed=1, sample=0)
-    >>> run.plant_variation.friction_scale, run.rest_motor_rad[2], run.scenario.events[-1].describe()
+    >>> run.plant.friction_scale, run.rest_motor_rad[2], run.scenario.events[-1].describe()
     ((0.5, 1.0, 0.5), 0.3, 'end_mass 1.5 kg')
     """
     friction = [1.0, 1.0, 1.0]
@@ -208,9 +208,12 @@ def apply(config: SimConfig, varies: Sequence[Vary], values: Sequence[float], *,
     if events:  # after the scenario's own tick-0 events (a stable sort): the sweep's value wins
         scenario = dataclasses.replace(scenario, events=tuple(sorted([*scenario.events, *events],
                                                                      key=lambda e: e.tick)))
-    return dataclasses.replace(
-        config, scenario=scenario, rest_motor_rad=(rest[0], rest[1], rest[2]),
-        plant_variation=PlantVariation((friction[0], friction[1], friction[2]), mass, gain))
+    base = config.plant
+    scales = tuple(b * f for b, f in zip(base.friction_scale, friction))
+    plant = dataclasses.replace(base, friction_scale=scales, mass_scale=base.mass_scale * mass,
+                                motor_gain=base.motor_gain * gain)
+    return dataclasses.replace(config, scenario=scenario, rest_motor_rad=(rest[0], rest[1], rest[2]),
+                               plant=plant)
 
 
 def describe(varies: Sequence[Vary], values: Mapping[str, float] | Sequence[float]) -> str:

@@ -1,4 +1,5 @@
-/* The 1 kHz loop: encoders -> framework -> lab() -> printing -> safety -> motor board -> physics. */
+/* The 1 kHz loop: encoders -> framework -> lab() -> printing -> safety -> motor board -> drive ->
+ * physics. */
 #include "sim.h"
 
 #include <math.h>
@@ -6,6 +7,7 @@
 
 #include "board.h"
 #include "crs_arm.h"
+#include "drive.h"
 #include "framework.h"
 #include "framework_facts.h"
 #include "host_ports.h"
@@ -26,6 +28,8 @@ void crs_sim_init(crs_sim *sim)
     sim->faults.rng_state = 0x9E3779B97F4A7C15ULL;
     sim->faults.glitch_tick = -1;
     crs_motor_board_init(&sim->motor_board, CRS_MOTOR_BOARD_NONE);
+    /* an ideal drive (every command delivered at once) until the plant parameters are set */
+    for (int j = 0; j < 3; ++j) sim->drive.stall_units[j] = HUGE_VAL;
     crs_board_reset();
 }
 
@@ -153,7 +157,9 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
         if (crs_debug_tick_begins(sim)) return CRS_RUN_BREAK;
         const int stop = framework_tick(sim);
         if (stop == CRS_RUN_PRINTF_OVERFLOW) return stop; /* the board's memory is corrupt */
-        for (int j = 0; j < 3; ++j) sim->ctrl[j] = sim->applied[j];
+        /* motor speeds: motor 3 turns with the forearm's absolute angle, j2 + j3 */
+        const double speed[3] = {sim->qvel[0], sim->qvel[1], sim->qvel[1] + sim->qvel[2]};
+        crs_drive_step(&sim->drive, sim->applied, speed, sim->faults.dead_motor, sim->ctrl);
         crs_hand_step(sim);
         for (int j = 0; j < 3; ++j) sim->qfrc_applied[j] = sim->hand.force_nm[j];
         if (sim->log.capacity > 0) log_tick(sim, plots);

@@ -197,6 +197,15 @@ typedef struct {
     uint8_t data[CRS_SIMULINK_BUFFER];
 } crs_simulink_rx;
 
+/* The amplifiers and motors between the motor board and the joints (csrc/sim/drive.h), set from
+ * the plant parameters (crslab/plant/plant_params.py) before the first tick. */
+typedef struct {
+    double stall_units[3];             /* torque delivered at standstill, at most, command units */
+    double backemf_units_s_per_rad[3]; /* what each rad/s of motor speed takes off that, units s/rad */
+    double lag_s;                      /* first-order lag of the delivered torque; 0: none */
+    double torque_units[3];            /* state: the torque each motor delivers now, command units */
+} crs_drive;
+
 /* Why crs_sim_run returned. */
 enum {
     CRS_RUN_DONE = 0,        /* reached until_tick */
@@ -224,7 +233,8 @@ typedef struct {
     crs_mj_step_fn mj_step;
     const double *qpos;          /* j1..j3 DH angles, rad */
     const double *qvel;          /* rad/s */
-    double *ctrl;                /* motor1..3 commands, command units (actuator gear: N.m/unit) */
+    double *ctrl;                /* motor1..3 torques the drive delivers, command units (actuator
+                                    gear: N.m/unit) */
     double *qfrc_applied;        /* hand forces on j1..j3, N.m */
 
     /* configuration */
@@ -242,7 +252,7 @@ typedef struct {
     int32_t safety_flag;         /* this tick's envelope flag, passed as `error` next tick */
     double enc_rad[3];           /* this tick's encoder angles */
     double command[3];           /* command units the framework sent the motor board this tick */
-    double applied[3];           /* command units that reached the motors this tick */
+    double applied[3];           /* command units that reached the amplifiers this tick */
     int32_t estop_latched;       /* wrist e-stop: every output latched to zero */
     uint32_t leds;               /* bit 0: GPIO34 high, bit 1: GPIO60 high */
     crs_hold hold;
@@ -266,6 +276,7 @@ typedef struct {
     crs_faults faults;
     crs_hand hand;
     crs_motor_board motor_board;
+    crs_drive drive;
     crs_log log;
     crs_debug debug;
 

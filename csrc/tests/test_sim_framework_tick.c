@@ -4,8 +4,8 @@
  *
  * The expected commands are worked by hand from crs-facts sections 2 and 7: the hold
  * controller's u = Kp e - Kd v with its recursive velocity average, the references, the startup
- * gate, the clamp, the one-tick delay of `error`, the print triggers, the motor board and the
- * serial line's ring. */
+ * gate, the clamp, the one-tick delay of `error`, the print triggers, the motor board, the drive
+ * (the amplifier's torque-speed envelope and lag) and the serial line's ring. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,6 +13,7 @@
 
 #include "coecsl.h"
 #include "crs_arm.h"
+#include "drive.h"
 #include "framework_facts.h"
 #include "motor_board.h"
 #include "sim.h"
@@ -441,6 +442,67 @@ static void test_printf_overflow_stops_the_run(void)
     }
 }
 
+/* ---- the drive ------------------------------------------------------------------------------ */
+
+static void test_drive_envelope_lag_and_dead_motor(void)
+{
+    crs_drive d;
+    memset(&d, 0, sizeof d);
+    for (int j = 0; j < 3; ++j) {
+        d.stall_units[j] = 3.0;
+        d.backemf_units_s_per_rad[j] = 1.0;
+    }
+    const int32_t alive[3] = {0, 0, 0};
+    double out[3];
+    /* at 1 rad/s the amplifier gives at most 3 - 1 = 2 forward and -3 - 1 = -4 backward */
+    const double command[3] = {1.5, 5.0, -5.0}, speed[3] = {1.0, 1.0, 1.0};
+    crs_drive_step(&d, command, speed, alive, out);
+    check_close("drive: inside the envelope the command is delivered", out[0], 1.5, 1e-12);
+    check_close("drive: driving at 1 rad/s gets stall - backemf * w", out[1], 2.0, 1e-12);
+    check_close("drive: braking at 1 rad/s gets -stall - backemf * w", out[2], -4.0, 1e-12);
+    /* beyond the no-load speed (3 rad/s) even a zero command brakes: 3 - 4 = -1 */
+    const double zero[3] = {0.0, 0.0, 0.0}, fast[3] = {4.0, -4.0, 0.0};
+    crs_drive_step(&d, zero, fast, alive, out);
+    check_close("drive: past the no-load speed a zero command brakes", out[0], -1.0, 1e-12);
+    check_close("drive: ... in either direction", out[1], 1.0, 1e-12);
+    check_close("drive: at rest a zero command is zero", out[2], 0.0, 0.0);
+
+    /* a 2 ms lag: a step to 1 unit reaches 1 - exp(-1/2), then 1 - exp(-1) */
+    memset(d.torque_units, 0, sizeof d.torque_units);
+    d.lag_s = 0.002;
+    const double one[3] = {1.0, 1.0, 1.0}, still[3] = {0.0, 0.0, 0.0};
+    crs_drive_step(&d, one, still, alive, out);
+    check_close("drive lag: first ms", out[0], 1.0 - exp(-0.5), 1e-12);
+    crs_drive_step(&d, one, still, alive, out);
+    check_close("drive lag: second ms", out[0], 1.0 - exp(-1.0), 1e-12);
+    const int32_t dead[3] = {0, 1, 0};
+    crs_drive_step(&d, one, still, dead, out);
+    check_close("drive: a dead motor delivers nothing at once", out[1], 0.0, 0.0);
+    check_close("drive: ... and keeps no torque", d.torque_units[1], 0.0, 0.0);
+    check_close("drive lag: third ms on a live motor", out[0], 1.0 - exp(-1.5), 1e-12);
+}
+
+static void test_drive_between_motor_board_and_ctrl(void)
+{
+    crs_sim *sim = new_sim(CRS_GEN_A, 0, NULL);
+    check("drive: ideal until the plant sets it", isinf(sim->drive.stall_units[0]));
+    lab_state.mode = LAB_TORQUE;
+    lab_state.torque[0] = 4.5f;
+    lab_state.torque[1] = -1.0f;
+    for (int j = 0; j < 3; ++j) {
+        sim->drive.stall_units[j] = 3.0;
+        sim->drive.backemf_units_s_per_rad[j] = 1.0;
+    }
+    memset(qvel, 0, sizeof qvel);
+    tick(sim);
+    check_close("drive: the motor board's 4.5 units become the 3 units the amplifier can give", ctrl[0], 3.0,
+                1e-12);
+    check_close("drive: -1 unit passes", ctrl[1], -1.0, 1e-6);
+    check_close("drive: the command that reached the amplifier is still logged as applied", sim->applied[0], 4.5,
+                1e-6);
+    free_sim(sim);
+}
+
 int main(void)
 {
     test_hold_controller_worked_sequence();
@@ -450,6 +512,8 @@ int main(void)
     test_motor_board_timeout_and_counts();
     test_serial_ring_drops();
     test_printf_overflow_stops_the_run();
+    test_drive_envelope_lag_and_dead_motor();
+    test_drive_between_motor_board_and_ctrl();
     if (failures) {
         printf("%d failures\n", failures);
         return 1;

@@ -1,0 +1,308 @@
+"""The plant parameters a run uses: one object that ``params.toml``, a ``--plant`` file and a sweep
+all set, by name.
+
+The defaults are ``models/crs_arm/params.toml`` (the one home of physics numbers). A plant file
+(``crslab identify`` writes one) is a TOML file with any of the same sections, ``[command]``,
+``[drive]`` and ``[friction.motorN]``, plus ``[variations]``: the scales a sweep varies. Every
+value is also reachable by a flat name (:data:`NAMES`), which is how sweeps and the fit address
+them:
+
+>>> p = PlantParams.defaults()
+>>> p.motor_gain
+6.0
+>>> q = p.with_values({"friction": 1.5, "payload_kg": 0.5, "stall_units2": 3.0})
+>>> q.friction_scale, q.payload_kg, q.stall_units[1]
+((1.5, 1.5, 1.5), 0.5, 3.0)
+>>> q.value("friction2"), p.value("friction2")
+(1.5, 1.0)
+
+The worker applies them to the MuJoCo model (:func:`crslab.plant.model.apply_plant`) and to the C
+drive (``crs_drive`` of ``csrc/sim/sim.h``) before the first tick.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+
+from crslab.plant.params import PARAMS
+
+Triple = tuple[float, float, float]
+MOTORS = (1, 2, 3)
+
+
+class PlantParamsError(ValueError):
+    """A plant file or a named value that cannot be used; the message names the file or the name."""
+
+
+@dataclass(frozen=True)
+class Name:
+    """One addressable plant value: ``field`` of :class:`PlantParams`, ``index`` into it for a per-motor
+    value (None for a scalar), what it is (with its unit) and its bounds."""
+
+    field: str
+    index: int | None
+    doc: str
+    low: float = 0.0
+    high: float = math.inf
+    infinite_ok: bool = False
+    """``inf`` is a meaningful value (no limit)."""
+
+
+def _per_motor(stem: str, field: str, doc: str, low: float = 0.0, high: float = math.inf,
+               infinite_ok: bool = False) -> dict[str, Name]:
+    return {f"{stem}{m}": Name(field, m - 1, f"{doc}, motor {m}", low, high, infinite_ok) for m in MOTORS}
+
+
+NAMES: dict[str, Name] = {
+    "motor_gain": Name("motor_gain", None, "joint torque of one command unit, N.m per unit", 0.0),
+    **_per_motor("stall_units", "stall_units", "torque the amplifier delivers at standstill, command units "
+                 "(inf: no limit)", infinite_ok=True),
+    **_per_motor("backemf", "backemf_units_s_per_rad",
+                 "what each rad/s of motor speed takes off the amplifier's torque, units s/rad"),
+    "drive_lag_s": Name("drive_lag_s", None, "first-order lag of the delivered torque, s", 0.0, 1.0),
+    **_per_motor("coulomb_pos", "coulomb_pos_nm", "dry friction against positive motion, N.m"),
+    **_per_motor("coulomb_neg", "coulomb_neg_nm", "dry friction against negative motion (a negative "
+                 "number), N.m", -math.inf, 0.0),
+    **_per_motor("viscous", "viscous_nm_s_per_rad", "viscous friction, N.m s/rad"),
+    "friction": Name("friction_scale", 0, "scale of every motor's friction (dry and viscous)"),
+    **_per_motor("friction", "friction_scale", "scale of all friction (dry and viscous)"),
+    "payload_kg": Name("payload_kg", None, "mass clamped at the end effector, kg"),
+    "mass": Name("mass_scale", None, "scale of every link's mass and inertia (not the payload, not the "
+                 "rotors)"),
+    "encoder_noise_counts": Name("encoder_noise_counts", None,
+                                 "encoder noise, standard deviation in counts, every joint"),
+}
+"""Every plant value by its flat name. ``friction`` (no number) scales every motor's friction."""
+
+ALL_FRICTION = "friction"
+
+
+@dataclass(frozen=True)
+class PlantParams:
+    """The physical numbers of one run's simulated arm that can change without regenerating the
+    model: the motor gain, the drive, friction, and the variations a sweep applies. Per-motor
+    values are motors 1, 2, 3, about their motor angles. The drive is in the course's command
+    units (``motor_gain`` N.m each: the amplifier's torque scales with it); friction, a property of
+    the joints, is in N.m.
+    """
+
+    motor_gain: float
+    stall_units: Triple
+    backemf_units_s_per_rad: Triple
+    drive_lag_s: float
+    coulomb_pos_nm: Triple
+    coulomb_neg_nm: Triple
+    viscous_nm_s_per_rad: Triple
+    friction_scale: Triple = (1.0, 1.0, 1.0)
+    mass_scale: float = 1.0
+    payload_kg: float = 0.0
+    encoder_noise_counts: float = 0.0
+
+    @classmethod
+    def defaults(cls) -> PlantParams:
+        """The arm of ``models/crs_arm/params.toml``."""
+        return cls.from_model_tables(PARAMS)
+
+    @classmethod
+    def from_model_tables(cls, params: Mapping, where: str = "models/crs_arm/params.toml") -> PlantParams:
+        """The plant values of a whole ``params.toml`` (as read by ``tomllib``): the generator of the
+        MJCF uses this too, so the compiled model and a run agree by construction."""
+        plant = _from_tables(params, where, cls(**_DEFAULT_FIELDS), whole_model=True)
+        unset = [name for name, v in plant.values().items() if math.isnan(v)]
+        if unset:
+            raise PlantParamsError(f"{where}: sets no value for {', '.join(unset)}")
+        return plant
+
+    @classmethod
+    def load(cls, path: str | Path, base: PlantParams | None = None) -> PlantParams:
+        """A plant file's values over ``base`` (default: :meth:`defaults`). Raises
+        :class:`PlantParamsError` naming the file for anything unreadable or unknown."""
+        path = Path(path)
+        try:
+            with path.open("rb") as f:
+                tables = tomllib.load(f)
+        except FileNotFoundError:
+            raise PlantParamsError(f"{path}: no such plant file") from None
+        except OSError as exc:
+            raise PlantParamsError(f"{path}: cannot be read ({exc.strerror})") from None
+        except tomllib.TOMLDecodeError as exc:
+            raise PlantParamsError(f"{path}: not a TOML file ({exc})") from None
+        return _from_tables(tables, str(path), base or cls.defaults())
+
+    def value(self, name: str) -> float:
+        """The value called ``name`` (:data:`NAMES`); ``friction`` is motor 1's friction scale."""
+        spec = _name(name)
+        v = getattr(self, spec.field)
+        return float(v if spec.index is None else v[spec.index])
+
+    def with_values(self, values: Mapping[str, float]) -> PlantParams:
+        """A copy with ``values`` set by name. ``friction`` sets every motor's friction scale; given
+        with it, ``friction1..3`` multiply it (a sweep's overall scale times a joint's). Raises
+        :class:`PlantParamsError` for an unknown name or a value outside its bounds."""
+        fields: dict[str, object] = {}
+        overall = 1.0
+        if ALL_FRICTION in values:
+            overall = _checked(ALL_FRICTION, values[ALL_FRICTION], NAMES[f"{ALL_FRICTION}1"])
+            fields["friction_scale"] = (overall,) * 3
+        for name, raw in values.items():
+            if name == ALL_FRICTION:
+                continue
+            spec = _name(name)
+            v = _checked(name, raw, spec)
+            if spec.index is None:
+                fields[spec.field] = v
+                continue
+            if spec.field == "friction_scale":
+                v *= overall
+            current = list(fields.get(spec.field, getattr(self, spec.field)))  # type: ignore[call-overload]
+            current[spec.index] = v
+            fields[spec.field] = tuple(current)
+        return dataclasses.replace(self, **fields)  # type: ignore[arg-type]
+
+    def values(self) -> dict[str, float]:
+        """Every value by its flat name (``friction`` left out: it is ``friction1..3``)."""
+        return {name: self.value(name) for name in NAMES if name != ALL_FRICTION}
+
+    # -- what the model and the C drive are given ---------------------------------------------
+    def coulomb_nm(self) -> tuple[float, ...]:
+        """MuJoCo's symmetric dry friction per motor (N.m): half the width of the band
+        ``[Cneg, Cpos]``, scaled."""
+        return tuple(0.5 * (p - n) * s for p, n, s in self._coulomb_rows())
+
+    def friction_bias_nm(self) -> tuple[float, ...]:
+        """The constant torque per motor (N.m) that shifts MuJoCo's symmetric band onto ``[Cneg, Cpos]``:
+        ``-(Cpos + Cneg) / 2``, scaled. With it, the joint sticks while the other torques on it lie
+        within ``[Cneg, Cpos]`` and slides against ``Cpos`` (moving positive) or ``Cneg``. The model
+        carries it as its motor actuators' constant bias."""
+        return tuple(-0.5 * (p + n) * s for p, n, s in self._coulomb_rows())
+
+    def _coulomb_rows(self) -> zip:
+        return zip(self.coulomb_pos_nm, self.coulomb_neg_nm, self.friction_scale)
+
+    def friction_bias_units(self) -> tuple[float, ...]:
+        """:meth:`friction_bias_nm` in actuator force (before the gear of ``motor_gain`` N.m per
+        unit): the motor actuators' constant bias that carries it."""
+        return tuple(b / self.motor_gain for b in self.friction_bias_nm())
+
+    def viscous_nm_s(self) -> tuple[float, ...]:
+        """Viscous friction per motor, N.m s/rad, scaled."""
+        return tuple(v * s for v, s in zip(self.viscous_nm_s_per_rad, self.friction_scale))
+
+    def to_toml(self, header: str = "") -> str:
+        """This arm as a plant file (every value written, so the file does not depend on the
+        defaults of the crslab that reads it). ``header`` lines become comments at the top.
+
+        >>> p = PlantParams.defaults()
+        >>> import tempfile, os
+        >>> path = os.path.join(tempfile.mkdtemp(), "arm.toml")
+        >>> _ = open(path, "w").write(p.with_values({"viscous2": 0.5}).to_toml("my arm"))
+        >>> PlantParams.load(path).value("viscous2")
+        0.5
+        """
+        def arr(xs: Triple) -> str:
+            return "[" + ", ".join(_num(x) for x in xs) + "]"
+
+        lines = [f"# {line}" if line else "#" for line in header.splitlines()]
+        lines += ["", "[command]", f"newton_metre_per_unit = {_num(self.motor_gain)}",
+                  "", "[drive]", f"stall_units = {arr(self.stall_units)}",
+                  f"backemf_units_s_per_rad = {arr(self.backemf_units_s_per_rad)}",
+                  f"lag_s = {_num(self.drive_lag_s)}"]
+        for j in range(3):
+            lines += ["", f"[friction.motor{j + 1}]", f"Cpos_nm = {_num(self.coulomb_pos_nm[j])}",
+                      f"Cneg_nm = {_num(self.coulomb_neg_nm[j])}",
+                      f"V_nm_s_per_rad = {_num(self.viscous_nm_s_per_rad[j])}"]
+        lines += ["", "[variations]"] + [f"{name} = {_num(self.value(name))}" for name in VARIATIONS]
+        return "\n".join(lines).lstrip("\n") + "\n"
+
+
+VARIATIONS = ("friction1", "friction2", "friction3", "mass", "payload_kg", "encoder_noise_counts")
+"""The names of a plant file's ``[variations]`` table."""
+
+_UNSET = (math.nan,) * 3
+_DEFAULT_FIELDS = dict(motor_gain=math.nan, stall_units=_UNSET, backemf_units_s_per_rad=_UNSET,
+                       drive_lag_s=math.nan, coulomb_pos_nm=_UNSET, coulomb_neg_nm=_UNSET,
+                       viscous_nm_s_per_rad=_UNSET)
+
+
+def _num(x: float) -> str:
+    return format(float(x), ".6g") if math.isfinite(x) else repr(float(x))
+
+
+def _name(name: str) -> Name:
+    try:
+        return NAMES[name]
+    except KeyError:
+        raise PlantParamsError(f"no plant value called {name!r}; the names are {', '.join(NAMES)}") from None
+
+
+def _checked(name: str, raw: object, spec: Name) -> float:
+    try:
+        v = float(raw)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise PlantParamsError(f"{name} must be a number, got {raw!r}") from None
+    if math.isnan(v) or (math.isinf(v) and not spec.infinite_ok) or not spec.low <= v <= spec.high:
+        bounds = f"{spec.low:g} .. {spec.high:g}"
+        raise PlantParamsError(f"{name} = {raw!r} is outside {bounds} ({spec.doc})")
+    return v
+
+
+# The tables a plant file may hold: section -> key -> flat name pattern ("{m}" is the motor).
+_TABLE_KEYS: dict[str, dict[str, str]] = {
+    "command": {"newton_metre_per_unit": "motor_gain"},
+    "drive": {"stall_units": "stall_units{m}", "backemf_units_s_per_rad": "backemf{m}",
+              "lag_s": "drive_lag_s"},
+    "friction.motor": {"Cpos_nm": "coulomb_pos{m}", "Cneg_nm": "coulomb_neg{m}",
+                       "V_nm_s_per_rad": "viscous{m}"},
+    "variations": {name: name for name in VARIATIONS},
+}
+
+
+def _from_tables(tables: Mapping, where: str, base: PlantParams, whole_model: bool = False) -> PlantParams:
+    """``base`` with every value ``tables`` gives (in params.toml's layout) set by name; with
+    ``whole_model`` (params.toml itself) the tables that describe the model are passed over."""
+    values: dict[str, object] = {}
+
+    def bad(what: str) -> PlantParamsError:
+        return PlantParamsError(f"{where}: {what}")
+
+    for section, body in tables.items():
+        if section == "friction" and isinstance(body, Mapping):
+            for motor, row in body.items():
+                if motor not in ("motor1", "motor2", "motor3") or not isinstance(row, Mapping):
+                    raise bad(f"unknown table [friction.{motor}] (motor1, motor2 or motor3)")
+                for key, v in row.items():
+                    if key not in _TABLE_KEYS["friction.motor"]:
+                        known = ", ".join(_TABLE_KEYS["friction.motor"])
+                        raise bad(f"unknown key {key} in [friction.{motor}] ({known})")
+                    values[_TABLE_KEYS["friction.motor"][key].format(m=motor[-1])] = v
+            continue
+        keys = _TABLE_KEYS.get(section)
+        if keys is None:
+            if whole_model:
+                continue
+            raise bad(f"unknown table [{section}]; a plant file holds {', '.join(_PLANT_TABLES)}")
+        if not isinstance(body, Mapping):
+            raise bad(f"{section} must be a table")
+        for key, v in body.items():
+            if key not in keys:
+                raise bad(f"unknown key {key} in [{section}] ({', '.join(keys)})")
+            pattern = keys[key]
+            if "{m}" in pattern:
+                if not isinstance(v, list) or len(v) != 3:
+                    raise bad(f"{section}.{key} must be three numbers (motors 1, 2, 3), got {v!r}")
+                for m, x in zip(MOTORS, v):
+                    values[pattern.format(m=m)] = x
+            else:
+                values[pattern] = v
+    try:
+        return base.with_values(values)  # type: ignore[arg-type]
+    except PlantParamsError as exc:
+        raise bad(str(exc)) from None
+
+
+_PLANT_TABLES = ("[command]", "[drive]", "[friction.motor1..3]", "[variations]")

@@ -1,0 +1,25 @@
+/* The amplifiers and motors between the motor board and the joints (see drive.h). */
+#include "drive.h"
+
+#include <math.h>
+
+void crs_drive_step(crs_drive *drive, const double command_units[3], const double motor_rad_s[3],
+                    const int32_t dead[3], double torque_units[3])
+{
+    /* share of the way to the target the torque goes in one 1 ms step */
+    const double follow = drive->lag_s > 0.0 ? -expm1(-0.001 / drive->lag_s) : 1.0;
+    for (int j = 0; j < 3; ++j) {
+        if (dead[j]) {
+            drive->torque_units[j] = 0.0;
+            torque_units[j] = 0.0;
+            continue;
+        }
+        const double emf = drive->backemf_units_s_per_rad[j] * motor_rad_s[j];
+        const double most = drive->stall_units[j] - emf, least = -drive->stall_units[j] - emf;
+        double target = command_units[j];
+        target = target > most ? most : (target < least ? least : target);
+        drive->torque_units[j] += follow * (target - drive->torque_units[j]);
+        torque_units[j] = drive->torque_units[j];
+    }
+}
+

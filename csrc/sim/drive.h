@@ -1,0 +1,25 @@
+/* The drive between the motor board's outputs and the joints: per motor, the amplifier and the
+ * motor (what the command units become as torque). Internal to the board; not read by cffi (its
+ * state, crs_drive, is in sim.h). The numbers come from the plant parameters
+ * (crslab/plant/plant_params.py, models/crs_arm/params.toml [drive]).
+ *
+ * The amplifier delivers the commanded torque while its supply voltage lasts. At motor speed w
+ * (rad/s, motor angle) the motor's back-EMF leaves it at most
+ *     stall_units - backemf_units_s_per_rad * w   forward, and
+ *    -stall_units - backemf_units_s_per_rad * w   backward,
+ * so a motor driven forward levels off at the speed where what is left equals the friction, and
+ * braking gets more than driving. The delivered torque follows with a first-order lag (lag_s;
+ * exact for a constant target over the 1 ms step). A dead motor (a scenario fault) delivers
+ * nothing, whatever its lag. */
+#ifndef CRSLAB_DRIVE_H
+#define CRSLAB_DRIVE_H
+
+#include "sim.h"
+
+/* One ms: `command_units` is what the motor board gives the amplifiers, `motor_rad_s` the motor
+ * speeds, `dead` the dead-motor faults (1: nothing delivered). Writes the torque each motor
+ * delivers (command units) into `torque_units` and the drive's state. */
+void crs_drive_step(crs_drive *drive, const double command_units[3], const double motor_rad_s[3],
+                    const int32_t dead[3], double torque_units[3]);
+
+#endif

@@ -1,0 +1,177 @@
+"""The plant parameters a run uses (crslab/plant/plant_params.py): params.toml's values, plant files,
+values by name, and what the worker makes of them (the model's friction, gear, masses; the C drive)."""
+
+import math
+from pathlib import Path
+
+import mujoco
+import numpy as np
+import pytest
+
+from crslab.plant.model import apply_plant, holding_torques_nm, load_model, motor_to_qpos
+from crslab.plant.params import PARAMS, REST_MOTOR_RAD
+from crslab.plant.plant_params import NAMES, PlantParams, PlantParamsError
+from crslab.sim.api import make_config, simulate
+
+ROOT_FRICTION = PARAMS["friction"]
+LAB_TAU1 = Path(__file__).parent / "labs" / "open_loop_tau1.c"
+
+
+def test_defaults_are_params_toml_values():
+    p = PlantParams.defaults()
+    assert p.motor_gain == PARAMS["command"]["newton_metre_per_unit"]
+    assert p.stall_units == tuple(PARAMS["drive"]["stall_units"])
+    assert p.backemf_units_s_per_rad == tuple(PARAMS["drive"]["backemf_units_s_per_rad"])
+    assert p.drive_lag_s == PARAMS["drive"]["lag_s"]
+    for m in (1, 2, 3):
+        row = ROOT_FRICTION[f"motor{m}"]
+        assert p.value(f"coulomb_pos{m}") == row["Cpos_nm"]
+        assert p.value(f"coulomb_neg{m}") == row["Cneg_nm"]
+        assert p.value(f"viscous{m}") == row["V_nm_s_per_rad"]
+    assert p.friction_scale == (1.0, 1.0, 1.0) and p.mass_scale == 1.0 and p.payload_kg == 0.0
+
+
+def test_the_symmetric_band_and_its_constant_torque_give_cpos_and_cneg():
+    """MuJoCo's friction is -half sliding positive and +half sliding negative; with the constant
+    torque b added the joint feels -Cpos and -Cneg (and sticks in between)."""
+    p = PlantParams.defaults().with_values({"coulomb_pos1": 1.0, "coulomb_neg1": -3.0})
+    half, bias = p.coulomb_nm()[0], p.friction_bias_nm()[0]
+    assert (half, bias) == (2.0, 1.0)
+    assert -half + bias == -1.0 and half + bias == 3.0
+    for m in range(3):
+        half, bias = p.coulomb_nm()[m], p.friction_bias_nm()[m]
+        assert -half + bias == pytest.approx(-p.coulomb_pos_nm[m])
+        assert half + bias == pytest.approx(-p.coulomb_neg_nm[m])
+
+
+def test_names_reach_every_field_and_sweep_names_exist():
+    p = PlantParams.defaults()
+    for name in ("friction", "friction1", "friction2", "friction3", "payload_kg", "mass", "motor_gain",
+                 "encoder_noise_counts"):
+        assert name in NAMES
+    q = p.with_values({"friction": 2.0, "friction3": 0.5, "mass": 1.3, "motor_gain": 5.0, "payload_kg": 0.4,
+                       "encoder_noise_counts": 2.0, "backemf2": 0.5, "drive_lag_s": 0.003})
+    assert q.friction_scale == (2.0, 2.0, 1.0)  # friction3 multiplies the overall scale
+    assert (q.mass_scale, q.motor_gain, q.payload_kg, q.encoder_noise_counts) == (1.3, 5.0, 0.4, 2.0)
+    assert q.backemf_units_s_per_rad[1] == 0.5 and q.drive_lag_s == 0.003
+    assert q.coulomb_nm()[0] == pytest.approx(2.0 * p.coulomb_nm()[0])
+    assert q.viscous_nm_s()[2] == pytest.approx(p.viscous_nm_s()[2])  # 2.0 * 0.5
+
+
+@pytest.mark.parametrize("values, words", [
+    ({"frictoin": 1.0}, "no plant value called 'frictoin'"),
+    ({"payload_kg": -1.0}, "payload_kg = -1.0 is outside 0 .. inf"),
+    ({"coulomb_neg2": 1.0}, "coulomb_neg2 = 1.0 is outside -inf .. 0"),
+    ({"mass": float("nan")}, "mass = nan"),
+    ({"viscous1": float("inf")}, "viscous1 = inf"),
+    ({"motor_gain": "six"}, "motor_gain must be a number"),
+])
+def test_bad_values_are_one_line_naming_them(values, words):
+    with pytest.raises(PlantParamsError, match=words.replace(".", r"\.").replace("(", r"\(")):
+        PlantParams.defaults().with_values(values)
+
+
+def test_a_plant_file_round_trips_and_overrides_only_what_it_says(tmp_path):
+    shipped = PlantParams.defaults()
+    path = tmp_path / "arm.toml"
+    changed = shipped.with_values({"stall_units2": 3.1, "coulomb_pos1": 0.9, "friction2": 1.2})
+    path.write_text(changed.to_toml("my arm\nfitted today"))
+    assert path.read_text().startswith("# my arm\n# fitted today\n")
+    assert PlantParams.load(path) == changed
+    partial = tmp_path / "partial.toml"
+    partial.write_text("[drive]\nlag_s = 0.004\n\n[variations]\npayload_kg = 0.5\n")
+    loaded = PlantParams.load(partial)
+    assert loaded == shipped.with_values({"drive_lag_s": 0.004, "payload_kg": 0.5})
+    ideal = tmp_path / "ideal.toml"
+    ideal.write_text("[drive]\nstall_units = [inf, inf, inf]\n")
+    assert math.isinf(PlantParams.load(ideal).stall_units[0])
+
+
+@pytest.mark.parametrize("text, words", [
+    ("[drive]\nstall = [1, 2, 3]\n", "unknown key stall in [drive]"),
+    ("[drive]\nstall_units = [1, 2]\n", "drive.stall_units must be three numbers"),
+    ("[waist]\nmass = 3\n", "unknown table [waist]"),
+    ("[friction.motor4]\nCpos_nm = 1\n", "unknown table [friction.motor4]"),
+    ("[friction.motor1]\nCpos = 1\n", "unknown key Cpos in [friction.motor1]"),
+    ("[variations]\nfriction1 = -2\n", "friction1 = -2 is outside"),
+    ("drive = ", "not a TOML file"),
+])
+def test_bad_plant_files_are_one_line_naming_the_file(tmp_path, text, words):
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(PlantParamsError) as exc:
+        PlantParams.load(path)
+    message = str(exc.value)
+    assert message.startswith(f"{path}: ") and words in message and "\n" not in message
+    with pytest.raises(PlantParamsError, match="no such plant file"):
+        PlantParams.load(tmp_path / "missing.toml")
+
+
+def test_apply_plant_sets_friction_gear_masses_and_payload():
+    loaded = load_model()
+    model = load_model()
+    p = PlantParams.defaults().with_values({"friction": 0.5, "motor_gain": 4.0, "mass": 1.5,
+                                            "payload_kg": 0.3})
+    apply_plant(model, p, loaded=loaded)
+    half = PlantParams.defaults().coulomb_nm()
+    np.testing.assert_allclose(model.dof_frictionloss, [0.5 * half[0], 0.5 * half[1], 0.0])
+    np.testing.assert_allclose(model.tendon_frictionloss, [0.5 * half[2]])
+    np.testing.assert_allclose(model.actuator_gear[:, 0], 4.0)
+    for name in ("upper_arm", "forearm"):
+        assert model.body(name).mass[0] == pytest.approx(1.5 * loaded.body(name).mass[0])
+        np.testing.assert_allclose(model.body(name).inertia, 1.5 * loaded.body(name).inertia)
+    assert model.body("payload").mass[0] == pytest.approx(0.3)
+    apply_plant(model, p, loaded=loaded)  # applying twice does not compound
+    assert model.body("forearm").mass[0] == pytest.approx(1.5 * loaded.body("forearm").mass[0])
+    # the world carries every body: its subtree mass follows
+    assert model.body_subtreemass[0] == pytest.approx(model.body_mass.sum())
+
+
+def test_the_generated_model_is_the_default_plant_applied():
+    model, reference = load_model(), load_model()
+    apply_plant(model, PlantParams.defaults(), loaded=reference)
+    for field in ("dof_frictionloss", "dof_damping", "tendon_frictionloss", "tendon_damping", "actuator_gear",
+                  "actuator_biasprm",
+                  "body_mass", "body_inertia", "body_subtreemass"):
+        np.testing.assert_allclose(getattr(model, field), getattr(reference, field), err_msg=field)
+
+
+def test_shipped_friction_holds_the_arm_at_its_resting_pose():
+    """The real arm rests where it is put with zero torque (crs-facts 4): gravity at the resting
+    pose must lie inside every motor's [Cneg, Cpos] band."""
+    p = PlantParams.defaults()
+    hold = holding_torques_nm(REST_MOTOR_RAD)
+    for m in range(3):
+        assert -p.coulomb_neg_nm[m] >= hold[m] and p.coulomb_pos_nm[m] >= -hold[m], m
+
+
+def test_holding_torques_are_gravity_in_motor_coordinates():
+    # hand-derived from the course's model: motor 2 carries p4 g sin th2M, motor 3 p5 g cos th3M (x 6 N.m)
+    rest = np.array([0.0, -0.3, 0.5])
+    hold = holding_torques_nm(rest)
+    # the model matches the course's p4 = 0.0753, p5 = 0.0298 units to 1 % (test_crs_model.py)
+    assert hold[1] == pytest.approx(-6 * 0.0753 * 9.81 * np.sin(rest[1]), rel=0.02)
+    assert hold[2] == pytest.approx(-6 * 0.0298 * 9.81 * np.cos(rest[2]), rel=0.02)
+    model = load_model()
+    data = mujoco.MjData(model)
+    data.qpos[:3] = motor_to_qpos(rest)
+    mujoco.mj_forward(model, data)
+    assert hold[0] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_a_run_uses_the_plant_file(tmp_path):
+    """A lab holding tau1 = 1 unit: with an amplifier that gives at most 0.5 unit at standstill the
+    waist turns slower, and with the shipped one (2.8) exactly as fast as with an ideal drive until
+    the back-EMF limit is near (1 unit at w < (2.8 - 1) / 0.75 = 2.4 rad/s)."""
+    weak, ideal = tmp_path / "weak.toml", tmp_path / "ideal.toml"
+    weak.write_text("[drive]\nstall_units = [0.5, 0.5, 0.5]\n")
+    ideal.write_text("[drive]\nstall_units = [inf, inf, inf]\nbackemf_units_s_per_rad = [0, 0, 0]\n")
+    assert make_config(LAB_TAU1, plant=weak).plant.stall_units == (0.5, 0.5, 0.5)
+
+    def turned(plant):
+        run = simulate(LAB_TAU1, "hands_off", duration_s=0.05, startup_delay=False, log=True, plant=plant)
+        return float(run.log["enc_rad"][-1, 0])
+
+    shipped, slow, free = turned(None), turned(weak), turned(ideal)
+    assert 0 < slow < 0.6 * shipped
+    assert shipped == pytest.approx(free, rel=1e-6)
