@@ -24,6 +24,7 @@ COMMANDS = [
     "crslab.cli.scope_commands",
     "crslab.cli.serial_commands",
     "crslab.cli.doctor_commands",
+    "crslab.cli.identify_commands",
 ]
 
 

@@ -25,7 +25,7 @@ from crslab.cli.sim_commands import (
 from crslab.executors.job import Executor
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
-from crslab.regress.runner import run_header, run_lab
+from crslab.regress.runner import plant_fields, run_header, run_lab
 from crslab.regress.transcript import (
     GoldenError,
     read_golden,
@@ -72,9 +72,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("check", help="run a lab and compare what it prints with a golden file",
                        description="Run a lab file and compare its transcript with a golden file, line by "
                        "line: numbers match within the tolerances, all other text exactly. The scenario, "
-                       "duration, resting pose, startup delay and motor board default to the golden "
-                       "file's. Exit 0 on a match, 1 on a mismatch or a failed scenario expectation, 2 on "
-                       "bad input.")
+                       "duration, resting pose, startup delay, motor board and plant file default to the "
+                       "golden file's. Exit 0 on a match, 1 on a mismatch or a failed scenario expectation, "
+                       "2 on bad input.")
     add_run_options(p)
     p.add_argument("--golden", type=Path, required=True, metavar="FILE",
                    help="the golden file (from 'crslab record', or a transcript from 'crslab sim')")
@@ -146,7 +146,7 @@ def run_record(args: argparse.Namespace) -> int:
         print(f"crslab record: {result.message or result.status}; nothing was written", file=sys.stderr)
         return result.exit_status
     try:
-        write_golden(args.output, run_header(config, end_tick, args.scenario), result.transcript)
+        write_golden(args.output, run_header(config, end_tick, args.scenario, args.plant), result.transcript)
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the golden file ({exc.strerror})") from None
     lines = len(split_lines(result.transcript))
@@ -169,12 +169,14 @@ def run_check(args: argparse.Namespace) -> int:
         run = recorded_run(golden, [Path.cwd()]).overridden(
             scenario=args.scenario, duration_s=args.duration,
             rest_motor_rad=(DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None,
-            startup_delay=False if args.no_startup_delay else None, motor_board=args.motor_board)
+            startup_delay=False if args.no_startup_delay else None, motor_board=args.motor_board,
+            plant=str(args.plant) if args.plant else None)
     except GoldenError as exc:
         raise CliError(str(exc)) from None
     args.scenario, args.duration = run.scenario, run.duration_s
     args.no_startup_delay = run.startup_delay is False
     args.motor_board = run.motor_board
+    args.plant = Path(run.plant) if run.plant else None
     config = config_from_args(args, rest_motor_rad=run.rest_motor_rad)
     recorded = header.get("scenario_sha256")
     if chosen is not None and header.get("scenario") not in (None, chosen):
@@ -183,6 +185,10 @@ def run_check(args: argparse.Namespace) -> int:
     elif recorded and recorded != sha256_of(Path(config.scenario.source).read_bytes()):
         print(f"crslab check: note: scenario {config.scenario.name} has changed since {args.golden} was "
               "recorded", file=sys.stderr)
+    plant_recorded = header.get("plant_sha256")
+    if args.plant and plant_recorded and plant_recorded != plant_fields(args.plant).get("plant_sha256"):
+        print(f"crslab check: note: plant file {args.plant} differs from the one {args.golden} was recorded "
+              "with", file=sys.stderr)
     end_tick = _end_tick(args, config)
     start = time.monotonic()
     result = _run(config, args, end_tick)

@@ -24,6 +24,7 @@ from crslab.framework_facts import (
 )
 from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.live.console import VarConsole
+from crslab.plant.plant_params import PlantParamsError
 from crslab.sandbox import missing as sandbox_missing
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.expect_events import summary_text
@@ -66,6 +67,9 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
                    f"a joint commanded beyond {MB_LIMIT_UNITS:g} units for {MB_OVER_LIMIT_MS} ms, or "
                    f"{MB_TIMEOUT_MS} ms without a command, cuts every output) or none (Gen A's older, "
                    "undocumented board: commands pass through); default: the lab's generation's")
+    p.add_argument("--plant", type=Path, metavar="FILE",
+                   help="the arm's plant parameters (drive, friction, variations) from a plant file, as "
+                   "'crslab identify' writes for your own arm (default: crslab's arm, fitted to a real one)")
     p.add_argument("--deadline", type=positive, default=DEFAULT_DEADLINE_S, metavar="SECONDS",
                    help="wall-clock time one lab() or printing() call may take before it counts as hung "
                    "(default: %(default)s)")
@@ -148,13 +152,14 @@ def config_from_args(args: argparse.Namespace, *, log: bool = False,
         return make_config(args.lab, args.scenario, startup_delay=not args.no_startup_delay,
                            rest_motor_rad=rest, log=log, strict=args.strict,
                            budget_us=args.budget_us, sanitize=args.sanitize, sandbox=sandboxed,
-                           motor_board=args.motor_board, debug=debug, break_when=break_when)
+                           motor_board=args.motor_board, debug=debug, break_when=break_when,
+                           plant=getattr(args, "plant", None))
     except LabBuildError as exc:
         if exc.diagnostics:
             sys.stderr.write(exc.diagnostics)
         status = RunStatus.FORBIDDEN if isinstance(exc, LabForbidden) else RunStatus.BUILD_ERROR
         raise CliError(str(exc), status.exit_status) from None
-    except ScenarioError as exc:
+    except (ScenarioError, PlantParamsError) as exc:
         raise CliError(str(exc)) from None
 
 

@@ -7,7 +7,7 @@ import dataclasses
 from pathlib import Path
 
 from crslab import __version__
-from crslab.regress.transcript import sha256_of
+from crslab.regress.transcript import DEFAULT_PLANT, sha256_of
 from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, Simulation
 from crslab.sim.status import RunResult, RunStatus
@@ -27,9 +27,11 @@ def run_lab(config: SimConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEA
     return dataclasses.replace(result, calls=memory.calls, sent=memory.sent)
 
 
-def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None) -> dict[str, str]:
+def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None,
+               plant_arg: str | Path | None = None) -> dict[str, str]:
     """The golden-file header fields that say what produced a transcript: crslab's version, the
-    lab and scenario (names and content hashes) and the options that change what is printed."""
+    lab and scenario (names and content hashes) and the options that change what is printed,
+    the plant file (``plant_arg``, as given; None: crslab's own arm) among them."""
     source = Path(config.scenario.source)
     try:
         scenario_hash = sha256_of(source.read_bytes())
@@ -45,4 +47,16 @@ def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None) -> di
         "rest_motor_rad": " ".join(repr(float(v)) for v in config.rest_motor_rad),
         "startup_delay": "yes" if config.startup_ticks else "no",
         "motor_board": config.motor_board_model,
+        **plant_fields(plant_arg),
     }
+
+
+def plant_fields(plant_arg: str | Path | None) -> dict[str, str]:
+    """The header's ``plant`` (and, for a file, its ``plant_sha256``)."""
+    if plant_arg is None:
+        return {"plant": DEFAULT_PLANT}
+    try:
+        digest = sha256_of(Path(plant_arg).read_bytes())
+    except OSError:
+        digest = "unknown"
+    return {"plant": str(plant_arg), "plant_sha256": digest}

@@ -12,13 +12,17 @@ A golden file written by ``crslab record``::
     # end_s: 25.000
     # rest_motor_rad: 0 -0.42 0.24
     # startup_delay: yes
+    # motor_board: none
+    # plant: default
     # ----
     0.00 -24.06 13.75
 
 A file without this header (say one ``crslab sim --transcript`` wrote) is a golden file too: all
 of it is the transcript. What the header says about the run (scenario, duration, resting pose,
-startup delay) is read by one function, :func:`recorded_run`, for ``crslab check`` and the
-``crslab_check`` fixture alike.
+startup delay, motor board, plant file) is read by one function, :func:`recorded_run`, for
+``crslab check`` and the ``crslab_check`` fixture alike. ``plant: default`` (or no ``plant``
+line, as in files older than plant files) is crslab's own arm; a file name is found like a
+scenario file's.
 """
 
 from __future__ import annotations
@@ -32,6 +36,8 @@ from pathlib import Path
 from crslab.framework_facts import MOTOR_BOARDS
 
 MAGIC = b"# crslab transcript"
+DEFAULT_PLANT = "default"
+"""A golden header's ``plant`` for crslab's own arm."""
 HEADER_END = b"# ----\n"
 _LINE_END = re.compile(rb"\n\r|\r\n|\n|\r")
 
@@ -125,26 +131,30 @@ class RecordedRun:
     rest_motor_rad: tuple[float, float, float] | None = None
     startup_delay: bool | None = None
     motor_board: str | None = None
+    plant: str | None = None
+    """A plant file (found like a scenario file); None: crslab's own arm."""
 
     def overridden(self, *, scenario: str | None = None, duration_s: float | None = None,
                    rest_motor_rad: Sequence[float] | None = None,
-                   startup_delay: bool | None = None, motor_board: str | None = None) -> RecordedRun:
+                   startup_delay: bool | None = None, motor_board: str | None = None,
+                   plant: str | None = None) -> RecordedRun:
         """The options to run with: each one given (not None) wins over the golden file's.
 
         >>> RecordedRun("tour", 25.0, (0.0, -0.4, 0.2), False, "none").overridden(duration_s=5.0)
         RecordedRun(scenario='tour', duration_s=5.0, rest_motor_rad=(0.0, -0.4, 0.2), startup_delay=False, \
-motor_board='none')
+motor_board='none', plant=None)
         """
         rest = tuple(float(v) for v in rest_motor_rad) if rest_motor_rad is not None else self.rest_motor_rad
         return RecordedRun(scenario if scenario is not None else self.scenario,
                            duration_s if duration_s is not None else self.duration_s,
                            rest,  # type: ignore[arg-type]
                            startup_delay if startup_delay is not None else self.startup_delay,
-                           motor_board if motor_board is not None else self.motor_board)
+                           motor_board if motor_board is not None else self.motor_board,
+                           plant if plant is not None else self.plant)
 
 
 def find_scenario(name: str, folders: Sequence[Path]) -> str:
-    """A scenario named in a header or a test: ``folder / name`` for the first folder that has
+    """A scenario (or plant file) named in a header or a test: ``folder / name`` for the first folder that has
     such a file, else ``name`` itself (a built-in name, or a path the loader will check).
 
     >>> find_scenario("tour", [Path("/nonexistent")])
@@ -163,10 +173,11 @@ def recorded_run(golden: Golden, scenario_folders: Sequence[Path] = ()) -> Recor
     naming the file and the field when a field is malformed.
 
     >>> g = Golden(Path("g.txt"), {"scenario": "tour", "end_s": "6.000",
-    ...            "rest_motor_rad": "0.0 -0.35 0.3", "startup_delay": "no", "motor_board": "piccolo"})
+    ...            "rest_motor_rad": "0.0 -0.35 0.3", "startup_delay": "no", "motor_board": "piccolo",
+    ...            "plant": "default"})
     >>> recorded_run(g)
     RecordedRun(scenario='tour', duration_s=6.0, rest_motor_rad=(0.0, -0.35, 0.3), startup_delay=False, \
-motor_board='piccolo')
+motor_board='piccolo', plant=None)
     >>> recorded_run(Golden(Path("g.txt"), {"end_s": "soon"}))
     Traceback (most recent call last):
     ...
@@ -201,7 +212,12 @@ motor_board='piccolo')
     if board is not None and board not in MOTOR_BOARDS:
         raise GoldenError(f"{path}: header motor_board must be one of {', '.join(MOTOR_BOARDS)}, "
                           f"got {board!r}")
-    return RecordedRun(scenario, duration, rest, delay, board)  # type: ignore[arg-type]
+    plant = h.get("plant") or None
+    if plant == DEFAULT_PLANT:
+        plant = None
+    if plant is not None:
+        plant = find_scenario(plant, [*scenario_folders, path.parent])
+    return RecordedRun(scenario, duration, rest, delay, board, plant)  # type: ignore[arg-type]
 
 
 def make_header(fields: dict[str, str]) -> bytes:

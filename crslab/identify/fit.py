@@ -1,0 +1,468 @@
+"""Fitting the plant to recordings: bounded least squares over named plant values.
+
+The residual is (simulated - recorded) motor angle at every recorded sample of every recording,
+with the lab's PlotVars simulated by running the very lab that produced the recording. Each
+recording has its own alignment terms (phase and drift, see :mod:`crslab.identify.align`), fitted
+with the plant but bounded to where the lab's own signals allow; optionally its true resting pose
+(``fit_rest``: the lab's offsets are known only to about 0.01 rad, so the fit may move each by up
+to :data:`REST_RANGE_RAD`).
+
+The plant values are the physical ones of :class:`crslab.plant.plant_params.PlantParams`, each
+with a bound that keeps it physical (:data:`BOUNDS`). Derivatives are forward differences with a
+step per value (a simulated run per value, several at once); the alignment terms' derivatives
+need no run. scipy's ``least_squares`` (trust region reflective) takes it from there.
+
+Uncertainty: the Gauss-Newton covariance ``s^2 (J^T J)^-1`` with ``s^2`` the residual variance,
+inflated by the residuals' integrated autocorrelation time (they are model error, correlated over
+many samples, not independent noise), reported as one standard deviation.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from crslab.identify import align as al
+from crslab.identify.recording import Recording
+from crslab.identify.runs import LabRun, Runner
+from crslab.plant.model import holding_torques_nm
+from crslab.plant.plant_params import NAMES, PlantParams, PlantParamsError
+from crslab.sim.config import SimConfig
+
+# name stem -> (low, high, finite-difference step): what is physically plausible for the CRS arm
+BOUNDS: dict[str, tuple[float, float, float]] = {
+    "stall_units": (0.5, 10.0, 0.03),
+    "backemf": (0.0, 5.0, 0.01),
+    "drive_lag_s": (0.0, 0.05, 0.0005),
+    "coulomb_pos": (0.0, 6.0, 0.06),
+    "coulomb_neg": (-6.0, 0.0, 0.06),
+    "viscous": (0.0, 6.0, 0.06),
+    "motor_gain": (1.0, 20.0, 0.06),
+    "friction": (0.1, 10.0, 0.02),
+    "mass": (0.2, 5.0, 0.02),
+    "payload_kg": (0.0, 5.0, 0.02),
+}
+GROUPS: dict[str, tuple[str, ...]] = {
+    "drive": tuple(f"{stem}{m}" for stem in ("stall_units", "backemf") for m in (1, 2, 3)) + ("drive_lag_s",),
+    "friction": tuple(f"{stem}{m}" for stem in ("coulomb_pos", "coulomb_neg", "viscous") for m in (1, 2, 3)),
+}
+"""Names of groups of values (``--fit drive,friction``, the default)."""
+DEFAULT_FIT = ("drive", "friction")
+HOLD_MARGIN = 1.02
+"""The dry friction a fit may end on must hold the arm at its resting pose with this margin: the
+real arm rests where it is put with zero torque (crs-facts 4), which the recordings may not show."""
+REST_RANGE_RAD = 0.02
+PHASE_STEP_MS = 0.05
+DRIFT_STEP = 2e-6
+REST_STEP_RAD = 0.002
+WARMUP_S = 3.0
+"""A recording is placed no earlier than this into the run: the lab's first moves from rest are
+not what a recording of a run that 'had been going for a while' shows."""
+MIN_DURATION_S = 1.0
+"""A recording shorter than this holds no complete step response to fit."""
+
+
+class FitError(ValueError):
+    """Input the fit cannot use (one line)."""
+
+
+@dataclass(frozen=True)
+class Fitted:
+    """One fitted value: its name, where the fit started, where it ended and its uncertainty
+    (one standard deviation; ``at_bound`` when it ended on a bound)."""
+
+    name: str
+    start: float
+    value: float
+    sigma: float
+    at_bound: bool = False
+
+
+@dataclass(frozen=True)
+class Source:
+    """One recording with the prepared lab run that produced it."""
+
+    recording: Recording
+    config: SimConfig
+    lab_offsets: tuple[float, float, float]
+    """The resting pose the lab's offsets describe (motor angles, rad): the run's default."""
+
+
+@dataclass
+class FitResult:
+    plant: PlantParams
+    start_plant: PlantParams
+    values: list[Fitted]
+    nuisance: list[Fitted]
+    alignments: list[al.Alignment]
+    rms_before: list[np.ndarray]
+    """Per recording: RMS of (sim - real) per recorded joint, rad, at the start (alignment fitted)."""
+    rms_after: list[np.ndarray]
+    max_after: list[np.ndarray]
+    sim_before: list[np.ndarray]
+    sim_after: list[np.ndarray]
+    rests: list[tuple[float, float, float]]
+    runs: int
+    message: str
+
+
+def names_to_fit(spec: Sequence[str], joints: set[int]) -> list[str]:
+    """Expand groups; leave out per-motor values of motors no recording has. Raises
+    :class:`FitError` for an unknown name."""
+    out: list[str] = []
+    for item in spec:
+        expanded = GROUPS.get(item, (item,))
+        for name in expanded:
+            if name not in NAMES:
+                known = ", ".join([*GROUPS, *NAMES])
+                raise FitError(f"cannot fit {name!r}; the names are {known}")
+            index = NAMES[name].index
+            if index is not None and NAMES[name].field != "friction_scale" and index + 1 not in joints:
+                continue
+            if name not in out:
+                out.append(name)
+    if not out:
+        raise FitError("nothing to fit")
+    return out
+
+
+@functools.lru_cache(maxsize=16)
+def _holding(rest: tuple[float, float, float], plant: PlantParams) -> tuple[float, ...]:
+    return tuple(float(v) for v in holding_torques_nm(rest, plant))
+
+
+def _holding_bounds(name: str, low: float, high: float, sources: Sequence[Source],
+                    plant: PlantParams) -> tuple[float, float]:
+    """Tighten a dry-friction bound so the arm rests at every recording's resting pose."""
+    stem, motor = name.rstrip("0123456789"), name[len(name.rstrip("0123456789")):]
+    if stem not in ("coulomb_pos", "coulomb_neg") or not motor:
+        return low, high
+    m = int(motor) - 1
+    for src in sources:
+        need = _holding(src.lab_offsets, plant)[m] * HOLD_MARGIN
+        if stem == "coulomb_pos" and need < 0:
+            low = max(low, -need)
+        elif stem == "coulomb_neg" and need > 0:
+            high = min(high, -need)
+    return low, high
+
+
+def _bounds(name: str, value: float) -> tuple[float, float, float]:
+    stem = name.rstrip("0123456789") or name
+    if stem in BOUNDS:
+        low, high, step = BOUNDS[stem]
+    else:
+        spec = NAMES[name]
+        low, high, step = spec.low, spec.high, max(abs(value) * 0.01, 1e-3)
+    return low, high, step
+
+
+Terms = tuple[float, float, tuple[float, float, float]]
+
+
+class Problem:
+    """The residual and its derivatives for one set of sources and fitted names."""
+
+    def __init__(self, sources: Sequence[Source], names: Sequence[str], start: PlantParams,
+                 runner: Runner, *, fit_rest: bool = False) -> None:
+        self.sources = list(sources)
+        self.names = list(names)
+        self.start = start
+        self.runner = runner
+        self.fit_rest = fit_rest
+        self.alignments: list[al.Alignment] = []
+        self.lengths: list[int] = []
+        lows, highs, steps, x0 = [], [], [], []
+        for n in self.names:
+            v = start.value(n)
+            low, high, step = _bounds(n, v)
+            low, high = _holding_bounds(n, low, high, sources, start)
+            if not low <= v <= high:
+                v = min(max(v, low), high)  # a start that could not hold the arm at rest starts where it can
+            lows.append(low)
+            highs.append(high)
+            steps.append(step)
+            x0.append(v)
+        self.n_plant = len(self.names)
+        self.lows, self.highs, self.steps, self.x0 = lows, highs, steps, x0
+        self._cache: dict[bytes, list[np.ndarray]] = {}
+
+    # -- layout of x ----------------------------------------------------------------------------
+    def per_source(self) -> int:
+        return 4 if self.fit_rest else 2
+
+    def split(self, x: np.ndarray) -> tuple[PlantParams, list[Terms]]:
+        """The plant and, per recording, its (phase ms, drift, resting pose) that ``x`` holds."""
+        plant = self.start.with_values(dict(zip(self.names, map(float, x[: self.n_plant]))))
+        terms = []
+        k = self.n_plant
+        for src in self.sources:
+            phase, drift = float(x[k]), float(x[k + 1])
+            rest = src.lab_offsets
+            if self.fit_rest:
+                rest = (rest[0], rest[1] + float(x[k + 2]), rest[2] + float(x[k + 3]))
+            terms.append((phase, drift, rest))
+            k += self.per_source()
+        return plant, terms
+
+    # -- set-up: coarse alignment -----------------------------------------------------------------
+    def place(self) -> None:
+        """Find each recording's start on a long run of the starting plant and bound its phase and
+        drift; afterwards every run is just long enough for its recording."""
+        runs = []
+        for src in self.sources:
+            rec = src.recording
+            search = min(rec.duration_s, 10.0) + 1.0
+            end = int((WARMUP_S + search + rec.duration_s * (1 + al.MAX_DRIFT)) * 1000) + 20
+            runs.append(LabRun(src.config, self.start, src.lab_offsets, end))
+        plots = self.runner.run_all(runs)
+        for src, plot, run in zip(self.sources, plots, runs):
+            rec = src.recording
+            latest = run.end_tick - int(rec.duration_s * 1000 * (1 + al.MAX_DRIFT)) - 15
+            start = al.coarse_start(plot, rec.plotvars, rec.t_s, int(WARMUP_S * 1000), latest)
+            alignment = al.fine_bounds(plot, rec.plotvars, rec.t_s, start, rec.map.motor_columns,
+                                       rec.period_s * 1000.0)
+            self.alignments.append(alignment)
+            self.lengths.append(start + int(math.ceil(5 + 2 * rec.period_s * 1000
+                                                      + rec.duration_s * 1000 * (1 + al.MAX_DRIFT))) + 5)
+        rest = 2 if self.fit_rest else 0
+        for a in self.alignments:
+            self.x0 += [a.phase_ms, a.drift] + [0.0] * rest
+            self.lows += [a.phase_bounds[0], a.drift_bounds[0]] + [-REST_RANGE_RAD] * rest
+            self.highs += [a.phase_bounds[1], a.drift_bounds[1]] + [REST_RANGE_RAD] * rest
+            self.steps += [PHASE_STEP_MS, DRIFT_STEP] + [REST_STEP_RAD] * rest
+            if a.phase_bounds[0] == a.phase_bounds[1]:  # least_squares needs room
+                self.lows[-self.per_source()] -= 1e-6
+                self.highs[-self.per_source()] += 1e-6
+            if a.drift_bounds[0] == a.drift_bounds[1]:
+                self.lows[-self.per_source() + 1] -= 1e-9
+                self.highs[-self.per_source() + 1] += 1e-9
+
+    # -- residuals ----------------------------------------------------------------------------------
+    def _runs(self, x: np.ndarray) -> list[np.ndarray]:
+        key = np.asarray(x, dtype=float).tobytes()
+        if key not in self._cache:
+            plant, terms = self.split(x)
+            self._cache = {key: self.runner.run_all(self._lab_runs(x))}
+        return self._cache[key]
+
+    def simulated(self, x: np.ndarray, plots: list[np.ndarray] | None = None) -> list[np.ndarray]:
+        """Per recording, the simulated motor angles at its samples (columns: its joints)."""
+        plots = self._runs(x) if plots is None else plots
+        _, terms = self.split(x)
+        out = []
+        for src, plot, a, (phase, drift, _) in zip(self.sources, plots, self.alignments, terms):
+            rec = src.recording
+            sim = al.sample(plot[:, list(rec.map.motor_columns)], rec.t_s, a.start_tick, phase, drift)
+            out.append(sim)
+        return out
+
+    def residual(self, x: np.ndarray, plots: list[np.ndarray] | None = None) -> np.ndarray:
+        sims = self.simulated(x, plots)
+        return np.concatenate([(s - src.recording.motor_rad).ravel() for s, src in zip(sims, self.sources)])
+
+    def jacobian(self, x: np.ndarray, columns: Sequence[int] | None = None) -> np.ndarray:
+        x = np.asarray(x, dtype=float)
+        base_plots = self._runs(x)
+        r0 = self.residual(x, base_plots)
+        cols = range(len(x)) if columns is None else columns
+        J = np.zeros((r0.size, len(x)))
+        shifted = []
+        for i in cols:
+            xi = x.copy()
+            h = self.steps[i] if xi[i] + self.steps[i] <= self.highs[i] else -self.steps[i]
+            xi[i] += h
+            shifted.append((i, xi, h))
+        needs_run = [(i, xi, h) for i, xi, h in shifted if self._needs_run(i)]
+        batch = [run for _, xi, _ in needs_run for run in self._lab_runs(xi)]
+        results = self.runner.run_all(batch) if batch else []
+        per = len(self.sources)
+        for k, (i, xi, h) in enumerate(needs_run):
+            J[:, i] = (self.residual(xi, results[k * per:(k + 1) * per]) - r0) / h
+        for i, xi, h in shifted:
+            if not self._needs_run(i):
+                J[:, i] = (self.residual(xi, base_plots) - r0) / h
+        return J
+
+    def _lab_runs(self, x: np.ndarray) -> list[LabRun]:
+        plant, terms = self.split(x)
+        return [LabRun(src.config, plant, rest, n)
+                for src, (_, _, rest), n in zip(self.sources, terms, self.lengths)]
+
+    def _needs_run(self, i: int) -> bool:
+        if i < self.n_plant:
+            return True
+        return (i - self.n_plant) % self.per_source() >= 2  # the resting pose changes the run
+
+
+def _rms(sims: list[np.ndarray], sources: Sequence[Source]) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    rms, mx = [], []
+    for s, src in zip(sims, sources):
+        d = s - src.recording.motor_rad
+        rms.append(np.sqrt(np.mean(d * d, axis=0)))
+        mx.append(np.max(np.abs(d), axis=0))
+    return rms, mx
+
+
+def autocorrelation_time(residual: np.ndarray) -> float:
+    """Integrated autocorrelation time (samples) of one residual series: ``1 + 2 sum rho_k`` up to
+    the first negative ``rho_k``; 1 for white noise.
+
+    >>> rng = np.random.default_rng(1)
+    >>> round(autocorrelation_time(rng.normal(size=20000)))
+    1
+    >>> smooth = np.convolve(rng.normal(size=20000), np.ones(20) / 20, mode="same")
+    >>> 15 < autocorrelation_time(smooth) < 25
+    True
+    """
+    r = residual - residual.mean()
+    n = len(r)
+    if n < 4 or not np.any(r):
+        return 1.0
+    spectrum = np.fft.rfft(r, 2 * n)
+    acf = np.fft.irfft(spectrum * np.conj(spectrum))[:n]
+    acf /= acf[0]
+    tau = 1.0
+    for k in range(1, n // 2):
+        if acf[k] < 0:
+            break
+        tau += 2 * acf[k]
+    return float(tau)
+
+
+def compare(sources: Sequence[Source], plant: PlantParams | None = None, *, jobs: int = 1) -> FitResult:
+    """``plant`` (default: crslab's arm) against ``sources`` as they stand: each recording placed
+    and aligned (phase and drift fitted), nothing of the plant changed. ``rms_after`` is
+    ``rms_before``."""
+    return fit(sources, names=(), start=plant, jobs=jobs)
+
+
+def fit(sources: Sequence[Source], *, names: Sequence[str] = DEFAULT_FIT, start: PlantParams | None = None,
+        fit_rest: bool = False, jobs: int = 1, max_iterations: int = 30,
+        on_progress: Callable[[int, int, float | None], None] | None = None) -> FitResult:
+    """Fit ``names`` (values or groups) of the plant, starting from ``start`` (default: the
+    defaults), to ``sources``. ``on_progress(runs, estimated_total, rms)`` is called after every
+    simulated run. No names: only the alignment (see :func:`compare`)."""
+    start = PlantParams.defaults() if start is None else start
+    joints = {j for s in sources for j in s.recording.joints}
+    fitted_names = names_to_fit(names, joints) if names else []
+    check_recordings([s.recording for s in sources])
+    state = {"rms": None}
+    per_iteration = (len(fitted_names) + 1) * len(sources)
+    total = [len(sources) * 2 + per_iteration * (max_iterations + 1)]
+
+    def progressed() -> None:
+        if on_progress is not None:
+            on_progress(runner.count, max(total[0], runner.count), state["rms"])
+
+    with Runner(jobs, on_run=progressed) as runner:
+        problem = Problem(sources, fitted_names, start, runner, fit_rest=fit_rest)
+        problem.place()
+        x0 = np.array(problem.x0, dtype=float)
+        lows, highs, steps = map(np.array, (problem.lows, problem.highs, problem.steps))
+        # the alignment alone first: the residual "before" is the starting plant at its best
+        nuisance = list(range(problem.n_plant, len(x0)))
+        cheap = [i for i in nuisance if not problem._needs_run(i)]
+        if cheap:
+            def nuisance_fun(z: np.ndarray) -> np.ndarray:
+                x = x0.copy()
+                x[cheap] = z
+                return problem.residual(x)
+
+            def nuisance_jac(z: np.ndarray) -> np.ndarray:
+                x = x0.copy()
+                x[cheap] = z
+                return problem.jacobian(x, cheap)[:, cheap]
+
+            pre = least_squares(nuisance_fun, x0[cheap], jac=nuisance_jac, bounds=(lows[cheap], highs[cheap]),
+                                x_scale=steps[cheap], max_nfev=20)
+            x0[cheap] = pre.x
+        sim_before = problem.simulated(x0)
+        rms_before, _ = _rms(sim_before, sources)
+        state["rms"] = float(np.sqrt(np.mean(np.concatenate([r ** 2 for r in rms_before]))))
+
+        def fun(x: np.ndarray) -> np.ndarray:
+            r = problem.residual(x)
+            state["rms"] = float(np.sqrt(np.mean(r * r)))
+            return r
+
+        if fitted_names or fit_rest:
+            result = least_squares(fun, x0, jac=problem.jacobian, bounds=(lows, highs), x_scale=steps,
+                                   max_nfev=max_iterations, method="trf")
+            x, jac, residual, message = result.x, result.jac, result.fun, str(result.message)
+        else:
+            x, message = x0, "alignment only"
+            jac, residual = problem.jacobian(x), problem.residual(x)
+        sim_after = problem.simulated(x)
+        rms_after, max_after = _rms(sim_after, sources)
+        sigma = _sigmas(jac, residual, sources)
+        plant, terms = problem.split(x)
+        runs = runner.count
+    values, nuisance_values = [], []
+    labels = list(fitted_names)
+    for i in range(len(sources)):
+        tag = f"recording{i + 1}" if len(sources) > 1 else "recording"
+        labels += [f"{tag}.phase_ms", f"{tag}.drift"] + ([f"{tag}.rest2_rad", f"{tag}.rest3_rad"]
+                                                         if fit_rest else [])
+    for i, label in enumerate(labels):
+        at_bound = bool(np.isclose(x[i], lows[i], atol=1e-9) or np.isclose(x[i], highs[i], atol=1e-9))
+        item = Fitted(label, float(x0[i] if i >= problem.n_plant else problem.x0[i]), float(x[i]),
+                      float(sigma[i]), at_bound)
+        (values if i < problem.n_plant else nuisance_values).append(item)
+    return FitResult(plant=plant, start_plant=start, values=values, nuisance=nuisance_values,
+                     alignments=problem.alignments, rms_before=rms_before, rms_after=rms_after,
+                     max_after=max_after, sim_before=sim_before, sim_after=sim_after,
+                     rests=[t[2] for t in terms], runs=runs, message=message)
+
+
+def _sigmas(jac: np.ndarray, residual: np.ndarray, sources: Sequence[Source]) -> np.ndarray:
+    """One standard deviation per fitted value (see the module's docstring)."""
+    n, p = jac.shape
+    dof = max(n - p, 1)
+    s2 = float(residual @ residual) / dof
+    taus = []
+    k = 0
+    for src in sources:
+        m, joints = src.recording.motor_rad.shape
+        block = residual[k:k + m * joints].reshape(m, joints)
+        taus += [autocorrelation_time(block[:, j]) for j in range(joints)]
+        k += m * joints
+    tau = float(np.mean(taus)) if taus else 1.0
+    try:
+        cov = np.linalg.pinv(jac.T @ jac) * s2 * tau
+    except np.linalg.LinAlgError:
+        return np.full(p, math.inf)
+    return np.sqrt(np.clip(np.diag(cov), 0.0, None))
+
+
+def check_recordings(recordings: Sequence[Recording]) -> None:
+    """Raise :class:`FitError` (naming the file) for a recording the fit cannot use: shorter than
+    :data:`MIN_DURATION_S`, or one in which the arm hardly moves."""
+    for rec in recordings:
+        if rec.duration_s < MIN_DURATION_S:
+            raise FitError(f"{rec.path}: {rec.duration_s:.2f} s long, shorter than a step response (the fit "
+                           f"needs at least {MIN_DURATION_S:g} s)")
+        if np.all(np.ptp(rec.motor_rad, axis=0) < 0.01):
+            raise FitError(f"{rec.path}: the arm hardly moves in it (under 0.01 rad): nothing to fit")
+
+
+def fitted_plant_values(result: FitResult) -> dict[str, float]:
+    """The fitted plant values by name."""
+    return {f.name: f.value for f in result.values}
+
+
+def check_names(names: Sequence[str]) -> None:
+    """Raise :class:`FitError` for a name that is neither a plant value nor a group."""
+    try:
+        names_to_fit(names, {1, 2, 3})
+    except PlantParamsError as exc:
+        raise FitError(str(exc)) from None
+
+
+__all__ = ["DEFAULT_FIT", "GROUPS", "FitError", "FitResult", "Fitted", "Source", "autocorrelation_time",
+           "check_names", "check_recordings", "compare", "fit", "fitted_plant_values", "names_to_fit"]

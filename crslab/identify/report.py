@@ -1,0 +1,86 @@
+"""What ``crslab identify`` shows and writes: the residual table, the fitted values, the plant
+file's header and the real-against-simulated plot."""
+
+from __future__ import annotations
+
+import datetime
+import textwrap
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from crslab import __version__
+from crslab.identify.fit import FitResult, Source
+
+
+def residual_table(result: FitResult, sources: Sequence[Source]) -> list[str]:
+    """One line per recording and joint: RMS of (sim - real) before and after, and the max after."""
+    lines = ["residual (sim - real), rad          RMS before   RMS after   max after"]
+    for src, before, after, mx in zip(sources, result.rms_before, result.rms_after, result.max_after):
+        for k, joint in enumerate(src.recording.joints):
+            name = src.recording.path.name[:26]
+            lines.append(f"  {name:26s} joint {joint}  {before[k]:10.4f}  {after[k]:10.4f}  {mx[k]:10.4f}")
+    return lines
+
+
+def values_table(result: FitResult) -> list[str]:
+    """One line per fitted value: start, fitted, uncertainty."""
+    lines = ["fitted value                     start       fitted   +- 1 sd"]
+    for f in [*result.values, *result.nuisance]:
+        note = "  (at its bound)" if f.at_bound else ""
+        lines.append(f"  {f.name:28s} {f.start:10.5g}  {f.value:10.5g}  {f.sigma:8.2g}{note}")
+    return lines
+
+
+def plant_file_header(result: FitResult, sources: Sequence[Source], names: Sequence[str]) -> str:
+    """The comment block at the top of the plant file: where the values came from."""
+    when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+    out = [f"crslab plant parameters, identified by crslab {__version__} on {when}.",
+           "Use: crslab sim --plant THIS_FILE (also record, check, grade and the crslab_check fixture).",
+           "", "Recordings (lab that produced each):"]
+    for src in sources:
+        out.append(f"  {src.recording.path} ({src.config.build.source.name}), "
+                   f"PlotVars of motors 1-3: {src.recording.map}")
+    out += ["", "Fitted (everything else as the starting plant):"]
+    out += textwrap.wrap(", ".join(names), width=96, initial_indent="  ", subsequent_indent="  ") + [""]
+    out += values_table(result) + [""] + residual_table(result, sources)
+    return "\n".join(out)
+
+
+def plot_fit(path: Path, result: FitResult, sources: Sequence[Source]) -> None:
+    """Real against simulated motor angles, per joint (a column per recording): the recording,
+    the starting plant and the fitted one, with their RMS residuals."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rows = max(len(s.recording.joints) for s in sources)
+    fig, axes = plt.subplots(rows, len(sources), figsize=(7.5 * len(sources), 2.6 * rows), squeeze=False,
+                             sharex="col")
+    for c, (src, before, after, rb, ra) in enumerate(zip(sources, result.sim_before, result.sim_after,
+                                                       result.rms_before, result.rms_after)):
+        rec = src.recording
+        t = rec.t_s - rec.t_s[0]
+        for r, joint in enumerate(rec.joints):
+            ax = axes[r][c]
+            ax.plot(t, rec.motor_rad[:, r], ".", color="black", ms=2.0, label="real")
+            ax.plot(t, before[:, r], "-", color="0.6", lw=1.0, label=f"start (RMS {rb[r]:.4f} rad)")
+            ax.plot(t, after[:, r], "-", color="tab:red", lw=1.0, label=f"fitted (RMS {ra[r]:.4f} rad)")
+            ax.set_ylabel(f"motor {joint} [rad]")
+            ax.grid(True, alpha=0.3)
+            ax.legend(loc="best", fontsize=7)
+        axes[0][c].set_title(f"{rec.path.name} ({src.config.build.source.name})", fontsize=9)
+        axes[len(rec.joints) - 1][c].set_xlabel("time in the recording [s]")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def rms_overall(result: FitResult) -> tuple[float, float]:
+    """Overall RMS before and after, every recording and joint together."""
+    def overall(parts: Sequence[np.ndarray]) -> float:
+        return float(np.sqrt(np.mean(np.concatenate([p ** 2 for p in parts]))))
+
+    return overall(result.rms_before), overall(result.rms_after)

@@ -1,0 +1,110 @@
+"""``crslab identify`` as a user runs it: a plant file and a plot out of a recording, the residual
+table, bad input as one line naming the file (exit 2); and the plant file in ``crslab sim``,
+``record`` and ``check`` (``--plant``, the golden header)."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from test_identify_fit import LAB, simulink_recording
+
+from crslab.plant.plant_params import PlantParams
+
+CRSLAB = [sys.executable, "-m", "crslab"]
+LABS = Path(__file__).parent / "labs"
+
+
+def crslab(*args, cwd=None, timeout=300):
+    return subprocess.run([*CRSLAB, *map(str, args)], capture_output=True, text=True, cwd=cwd,
+                          timeout=timeout)
+
+
+@pytest.fixture(scope="module")
+def recording(tmp_path_factory):
+    plant = PlantParams.defaults().with_values({"stall_units1": 2.4})
+    path = tmp_path_factory.mktemp("cli") / "arm.csv"
+    return simulink_recording(path, plant, start_tick=4210, phase_ms=1.0, drift=0.0, seconds=4.0)
+
+
+@pytest.fixture(scope="module")
+def identified(recording, tmp_path_factory):
+    out = tmp_path_factory.mktemp("out")
+    r = crslab("identify", recording, "--fit", "stall_units1", "--max-iterations", "8", "--jobs", "2",
+               "-o", out / "arm.toml", cwd=out)
+    return r, out
+
+
+def test_identify_writes_a_plant_file_a_plot_and_the_residuals(identified):
+    r, out = identified
+    assert r.returncode == 0, r.stderr
+    plant = PlantParams.load(out / "arm.toml")
+    assert plant.value("stall_units1") == pytest.approx(2.4, rel=0.03)
+    assert plant.value("stall_units2") == PlantParams.defaults().value("stall_units2")
+    text = (out / "arm.toml").read_text()
+    assert "# Recordings (lab that produced each):" in text and "lab2_square_pid.c" in text
+    assert (out / "arm.png").stat().st_size > 10_000
+    assert "stall_units1" in r.stdout and "RMS before" in r.stdout
+    for joint in (1, 2, 3):
+        assert f"joint {joint}" in r.stdout
+    assert "crslab sim --plant" in r.stderr and "runs" in r.stderr
+
+
+def test_sim_record_and_check_run_with_the_plant_file(identified, tmp_path):
+    _, out = identified
+    plant = out / "arm.toml"
+    r = crslab("sim", "--fast", "--quiet", "--duration", "5", "--plant", plant, "--scenario", "hands_off",
+               "--lab", LAB)
+    assert r.returncode == 0, r.stderr
+    golden = tmp_path / "golden.txt"
+    r = crslab("record", "--lab", LAB, "--scenario", "hands_off", "--duration", "5", "--plant", plant,
+               "-o", golden)
+    assert r.returncode == 0, r.stderr
+    header = golden.read_text().split("\n# ----\n")[0]
+    assert f"# plant: {plant}" in header and "# plant_sha256: " in header
+    assert crslab("check", "--lab", LAB, "--golden", golden).returncode == 0  # the golden's plant is used
+    weak = tmp_path / "weak.toml"
+    weak.write_text("[drive]\nstall_units = [0.6, 0.6, 0.6]\n")
+    r = crslab("check", "--lab", LAB, "--golden", golden, "--plant", weak)
+    assert r.returncode == 1  # another arm prints other angles
+    assert f"note: plant file {weak} differs from the one {golden} was recorded with" in r.stderr
+
+
+def test_a_default_golden_says_so_and_a_bad_plant_file_is_one_line(tmp_path):
+    golden = tmp_path / "golden.txt"
+    r = crslab("record", "--scenario", "hands_off", "--duration", "4.2", "-o", golden)
+    assert r.returncode == 0 and "# plant: default\n" in golden.read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[drive]\nstall_units = 3\n")
+    r = crslab("sim", "--fast", "--duration", "1", "--plant", bad)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1
+    assert str(bad) in r.stderr and "stall_units must be three numbers" in r.stderr
+
+
+@pytest.mark.parametrize("make, args, words", [
+    (None, ["missing.csv"], "missing.csv: no such recording"),
+    ("nocols", [], "no PlotVar columns"),
+    ("short", [], "shorter than a step response"),
+    ("rec", ["--fit", "stall"], "cannot fit 'stall'"),
+    ("rec", ["--map", "1,2"], "three PlotVar numbers"),
+    ("rec", ["REC", "--lab", "a.c", "--lab", "b.c", "--lab", "c.c"],
+     "--lab is given 3 times for 2 recordings"),
+    ("rec", ["--lab", "DOES_NOT_COMPILE"], "does_not_compile.c"),
+    ("rec", ["--plant", "missing.toml"], "missing.toml: no such plant file"),
+])
+def test_bad_input_is_one_line_naming_it_and_exit_2(tmp_path, recording, make, args, words):
+    rec = tmp_path / "rec.csv"
+    if make == "nocols":
+        rec.write_text("t,x\n0,1\n0.005,2\n")
+    elif make == "short":
+        rows = "".join(f"{i * 0.005},{i},{i},{i}\n" for i in range(1, 60))
+        rec.write_text("t,PlotVar1,PlotVar2,PlotVar3\n" + rows)
+    elif make == "rec":
+        rec.write_bytes(recording.read_bytes())
+    args = [str(LABS / "does_not_compile.c") if a == "DOES_NOT_COMPILE" else str(rec) if a == "REC" else a
+            for a in args]
+    r = crslab("identify", *([rec] if make else []), *args, "-o", tmp_path / "out.toml", cwd=tmp_path)
+    assert r.returncode == 2, r.stderr
+    errors = [line for line in r.stderr.splitlines() if line.startswith("crslab identify:")]
+    assert len(errors) == 1 and words in errors[0], r.stderr
+    assert "Traceback" not in r.stderr and not (tmp_path / "out.toml").exists()

@@ -1,0 +1,114 @@
+"""``crslab identify``'s fit: it recovers a plant whose values are known (a recording crslab made of
+another arm, sampled like Simulink: 5 ms, an arbitrary start, a drifting clock, 1e-4 steps), and on
+the real recording it reproduces the shipped values within their stated uncertainty."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crslab.identify import fit as fitting
+from crslab.identify.recording import read_recording
+from crslab.identify.runs import lab_offsets
+from crslab.plant.params import PARAMS
+from crslab.plant.plant_params import PlantParams
+from crslab.resources import path as resource_path
+from crslab.sim.api import make_config, simulate
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools" / "benchmarks"))
+from real_recording import REAL_RECORDING  # noqa: E402
+
+LAB = resource_path("csrc", "labs", "lab2_square_pid.c")
+OTHER_ARM = {"stall_units1": 2.3, "backemf1": 0.62}  # a weaker, faster-revving waist motor than ours
+
+
+def simulink_recording(path: Path, plant: PlantParams, *, start_tick: int, phase_ms: float, drift: float,
+                       seconds: float) -> Path:
+    """What the course's Simulink would record of crslab's arm with ``plant`` running the calibration
+    lab: a PlotVar sample every 5 ms of its own clock, showing the last lab() call's values at board
+    time start + phase + t (1 + drift), each as int32(10000 v) / 10000."""
+    run = simulate(LAB, "hands_off", duration_s=start_tick / 1000 + seconds + 1.0, startup_delay=False,
+                   log=True, plant=plant)
+    plot = run.log["plot"]
+    t = np.round(np.arange(0.0, seconds, 0.005), 6)
+    ticks = np.floor(start_tick + phase_ms + t * 1000 * (1 + drift)).astype(int)
+    values = np.round(plot[ticks] * 10000) / 10000
+    np.savetxt(path, np.column_stack([t, values]), delimiter=",", fmt="%.4f",
+               header="t_s,PlotVar1,PlotVar2,PlotVar3,PlotVar4", comments="")
+    return path
+
+
+@pytest.fixture(scope="module")
+def other_arm_recording(tmp_path_factory):
+    plant = PlantParams.defaults().with_values(OTHER_ARM)
+    path = tmp_path_factory.mktemp("identify") / "other_arm.csv"
+    return simulink_recording(path, plant, start_tick=5357, phase_ms=0.4, drift=180e-6, seconds=6.0)
+
+
+@pytest.fixture(scope="module")
+def calibration_lab():
+    config = make_config(LAB, "hands_off", startup_delay=False)
+    return config, lab_offsets(config)
+
+
+def test_the_calibration_labs_offsets_are_read_from_the_lab(calibration_lab):
+    _, offsets = calibration_lab
+    assert offsets == pytest.approx((0.0, -0.424, 0.209), abs=1e-7)  # float32 of the file's numbers
+
+
+def test_identify_recovers_a_known_arm(other_arm_recording, calibration_lab):
+    config, offsets = calibration_lab
+    source = fitting.Source(read_recording(other_arm_recording), config, offsets)
+    result = fitting.fit([source], names=list(OTHER_ARM), jobs=2, max_iterations=15)
+    got = {f.name: f.value for f in result.values}
+    assert got == pytest.approx(OTHER_ARM, rel=0.03)
+    assert all(r < 0.25 * b for r, b in zip(result.rms_after[0], result.rms_before[0]) if b > 1e-3)
+    # the alignment found where the recording starts (the lab repeats every 2 s: any period will
+    # do) and its clock's drift
+    phase = next(f.value for f in result.nuisance if f.name.endswith("phase_ms"))
+    assert (result.alignments[0].start_tick + phase) % 2000 == pytest.approx(5357.4 % 2000, abs=1.0)
+    drift = next(f.value for f in result.nuisance if f.name.endswith("drift"))
+    assert drift == pytest.approx(180e-6, abs=100e-6)  # 100 ppm: 0.6 ms over the 6 s, under a tick
+    assert result.plant.value("stall_units2") == PlantParams.defaults().value("stall_units2")  # not fitted
+
+
+def stated_sigma(name: str) -> float:
+    keys = {"stall_units": "stall_units", "backemf": "backemf_units_s_per_rad", "coulomb_pos": "Cpos_nm",
+            "coulomb_neg": "Cneg_nm", "viscous": "V_nm_s_per_rad"}
+    stem = name.rstrip("0123456789")
+    return PARAMS["identified"]["sigma"][keys[stem]][int(name[len(stem):]) - 1]
+
+
+@pytest.mark.skipif(REAL_RECORDING is None, reason="no real recording (shared/real) beside the checkout")
+def test_identify_on_the_real_recording_reproduces_the_shipped_values(calibration_lab):
+    """A reduced fit (four values of three motors, from 15-25 % off) on real/lab2_square_pid_real.csv;
+    ``make bench`` runs the full one."""
+    config, offsets = calibration_lab
+    source = fitting.Source(read_recording(REAL_RECORDING), config, offsets)
+    shipped = PlantParams.defaults()
+    names = ["stall_units1", "backemf1", "coulomb_neg2", "stall_units3"]
+    start = shipped.with_values({"stall_units1": 1.2 * shipped.value("stall_units1"),
+                                 "backemf1": 0.8 * shipped.value("backemf1"),
+                                 "coulomb_neg2": 0.75 * shipped.value("coulomb_neg2"),
+                                 "stall_units3": 0.85 * shipped.value("stall_units3")})
+    result = fitting.fit([source], names=names, start=start, jobs=2, max_iterations=12)
+    for f in result.values:
+        assert abs(f.value - shipped.value(f.name)) <= stated_sigma(f.name), f
+    np.testing.assert_array_less(result.rms_after[0], 1.1 * np.array(PARAMS["identified"]["rms_rad"]))
+
+
+def test_fit_refuses_what_it_cannot_use(tmp_path, calibration_lab):
+    config, offsets = calibration_lab
+    still = tmp_path / "still.csv"
+    t = np.arange(0, 3, 0.005)
+    np.savetxt(still, np.column_stack([t, np.full((len(t), 3), 0.1), np.zeros(len(t))]), delimiter=",",
+               header="t,PlotVar1,PlotVar2,PlotVar3,PlotVar4", comments="")
+    with pytest.raises(fitting.FitError, match="hardly moves"):
+        fitting.fit([fitting.Source(read_recording(still), config, offsets)], names=["stall_units1"])
+    short = read_recording(still).window(0.0, 0.5)
+    with pytest.raises(fitting.FitError, match="shorter than a step response"):
+        fitting.fit([fitting.Source(short, config, offsets)], names=["stall_units1"])
+    with pytest.raises(fitting.FitError, match="cannot fit 'stall'"):
+        fitting.names_to_fit(["stall"], {1, 2, 3})
+    assert fitting.names_to_fit(["drive"], {1}) == ["stall_units1", "backemf1", "drive_lag_s"]
