@@ -175,3 +175,18 @@ def test_a_run_uses_the_plant_file(tmp_path):
     shipped, slow, free = turned(None), turned(weak), turned(ideal)
     assert 0 < slow < 0.6 * shipped
     assert shipped == pytest.approx(free, rel=1e-6)
+
+
+def test_a_plant_files_variations_reach_the_run(tmp_path):
+    """Encoder noise of 3 counts (every joint, seeded) makes the resting arm's readings jitter by
+    about that much; a payload makes the resting forearm sag (the run holds no torque)."""
+    noisy, heavy = tmp_path / "noisy.toml", tmp_path / "heavy.toml"
+    noisy.write_text("[variations]\nencoder_noise_counts = 3.0\n")
+    heavy.write_text("[variations]\npayload_kg = 1.5\n")
+    quiet = simulate(LAB_TAU1, "hands_off", duration_s=0.5, log=True, plant=None)
+    jitter = simulate(LAB_TAU1, "hands_off", duration_s=0.5, log=True, plant=noisy)
+    counts = np.diff(jitter.log["enc_rad"][:, 1:], axis=0) / (np.pi / 144000)
+    assert np.all(np.diff(quiet.log["enc_rad"][:, 1:], axis=0) == 0)
+    assert 3.0 < counts.std() < 5.5  # the difference of two readings: sqrt(2) x 3 counts
+    sag = simulate(LAB_TAU1, "hands_off", duration_s=1.0, log=True, plant=heavy)
+    assert sag.log["enc_rad"][-1, 2] - sag.log["enc_rad"][0, 2] > 0.05  # the forearm falls

@@ -49,30 +49,40 @@ def plant_file_header(result: FitResult, sources: Sequence[Source], names: Seque
 
 
 def plot_fit(path: Path, result: FitResult, sources: Sequence[Source]) -> None:
-    """Real against simulated motor angles, per joint (a column per recording): the recording,
-    the starting plant and the fitted one, with their RMS residuals."""
+    """Real against simulated motor angles, per joint, two columns per recording: the angles (the
+    recording, the starting plant and the fitted one) and the residual (sim - real) of both, with
+    their RMS."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     rows = max(len(s.recording.joints) for s in sources)
-    fig, axes = plt.subplots(rows, len(sources), figsize=(7.5 * len(sources), 2.6 * rows), squeeze=False,
+    fig, axes = plt.subplots(rows, 2 * len(sources), figsize=(12 * len(sources), 2.6 * rows), squeeze=False,
                              sharex="col")
     for c, (src, before, after, rb, ra) in enumerate(zip(sources, result.sim_before, result.sim_after,
                                                        result.rms_before, result.rms_after)):
         rec = src.recording
         t = rec.t_s - rec.t_s[0]
         for r, joint in enumerate(rec.joints):
-            ax = axes[r][c]
+            ax, res = axes[r][2 * c], axes[r][2 * c + 1]
             ax.plot(t, rec.motor_rad[:, r], ".", color="black", ms=2.0, label="real")
-            ax.plot(t, before[:, r], "-", color="0.6", lw=1.0, label=f"start (RMS {rb[r]:.4f} rad)")
-            ax.plot(t, after[:, r], "-", color="tab:red", lw=1.0, label=f"fitted (RMS {ra[r]:.4f} rad)")
+            ax.plot(t, before[:, r], "-", color="0.6", lw=1.0, label="start")
+            ax.plot(t, after[:, r], "-", color="tab:red", lw=1.0, label="fitted")
             ax.set_ylabel(f"motor {joint} [rad]")
-            ax.grid(True, alpha=0.3)
-            ax.legend(loc="best", fontsize=7)
-        axes[0][c].set_title(f"{rec.path.name} ({src.config.build.source.name})", fontsize=9)
-        axes[len(rec.joints) - 1][c].set_xlabel("time in the recording [s]")
+            res.plot(t, before[:, r] - rec.motor_rad[:, r], "-", color="0.6", lw=0.8,
+                     label=f"start (RMS {rb[r]:.4f} rad)")
+            res.plot(t, after[:, r] - rec.motor_rad[:, r], "-", color="tab:red", lw=0.8,
+                     label=f"fitted (RMS {ra[r]:.4f} rad)")
+            res.set_ylabel(f"sim - real, motor {joint} [rad]")
+            for a in (ax, res):
+                a.grid(True, alpha=0.3)
+                a.legend(loc="best", fontsize=7)
+        title = f"{rec.path.name} ({src.config.build.source.name})"
+        axes[0][2 * c].set_title(title, fontsize=9)
+        axes[0][2 * c + 1].set_title(f"{title}: residual", fontsize=9)
+        for a in axes[len(rec.joints) - 1][2 * c:2 * c + 2]:
+            a.set_xlabel("time in the recording [s]")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
