@@ -22,7 +22,7 @@ def crslab(*args, cwd=None, timeout=300):
 
 @pytest.fixture(scope="module")
 def recording(tmp_path_factory):
-    plant = PlantParams.defaults().with_values({"stall_units1": 2.4})
+    plant = PlantParams.defaults().with_values({"stall_nm1": 14.4})
     path = tmp_path_factory.mktemp("cli") / "arm.csv"
     return simulink_recording(path, plant, start_tick=4210, phase_ms=1.0, drift=0.0, seconds=4.0)
 
@@ -30,7 +30,7 @@ def recording(tmp_path_factory):
 @pytest.fixture(scope="module")
 def identified(recording, tmp_path_factory):
     out = tmp_path_factory.mktemp("out")
-    r = crslab("identify", recording, "--fit", "stall_units1", "--max-iterations", "8", "--jobs", "2",
+    r = crslab("identify", recording, "--fit", "stall_nm1", "--max-iterations", "8", "--jobs", "2",
                "-o", out / "arm.toml", cwd=out)
     return r, out
 
@@ -39,12 +39,12 @@ def test_identify_writes_a_plant_file_a_plot_and_the_residuals(identified):
     r, out = identified
     assert r.returncode == 0, r.stderr
     plant = PlantParams.load(out / "arm.toml")
-    assert plant.value("stall_units1") == pytest.approx(2.4, rel=0.03)
-    assert plant.value("stall_units2") == PlantParams.defaults().value("stall_units2")
+    assert plant.value("stall_nm1") == pytest.approx(14.4, rel=0.03)
+    assert plant.value("stall_nm2") == PlantParams.defaults().value("stall_nm2")
     text = (out / "arm.toml").read_text()
     assert "# Recordings (lab that produced each):" in text and "lab2_square_pid.c" in text
     assert (out / "arm.png").stat().st_size > 10_000
-    assert "stall_units1" in r.stdout and "RMS before" in r.stdout
+    assert "stall_nm1" in r.stdout and "RMS before" in r.stdout
     for joint in (1, 2, 3):
         assert f"joint {joint}" in r.stdout
     assert "crslab sim --plant" in r.stderr and "runs" in r.stderr
@@ -64,7 +64,7 @@ def test_sim_record_and_check_run_with_the_plant_file(identified, tmp_path):
     assert f"# plant: {plant}" in header and "# plant_sha256: " in header
     assert crslab("check", "--lab", LAB, "--golden", golden).returncode == 0  # the golden's plant is used
     weak = tmp_path / "weak.toml"
-    weak.write_text("[drive]\nstall_units = [0.6, 0.6, 0.6]\n")
+    weak.write_text("[drive]\nstall_nm = [3.6, 3.6, 3.6]\n")
     r = crslab("check", "--lab", LAB, "--golden", golden, "--plant", weak)
     assert r.returncode == 1  # another arm prints other angles
     assert f"note: plant file {weak} differs from the one {golden} was recorded with" in r.stderr
@@ -75,10 +75,10 @@ def test_a_default_golden_says_so_and_a_bad_plant_file_is_one_line(tmp_path):
     r = crslab("record", "--scenario", "hands_off", "--duration", "4.2", "-o", golden)
     assert r.returncode == 0 and "# plant: default\n" in golden.read_text()
     bad = tmp_path / "bad.toml"
-    bad.write_text("[drive]\nstall_units = 3\n")
+    bad.write_text("[drive]\nstall_nm = 3\n")
     r = crslab("sim", "--fast", "--duration", "1", "--plant", bad)
     assert r.returncode == 2 and r.stderr.count("\n") == 1
-    assert str(bad) in r.stderr and "stall_units must be three numbers" in r.stderr
+    assert str(bad) in r.stderr and "stall_nm must be three numbers" in r.stderr
 
 
 @pytest.mark.parametrize("make, args, words", [

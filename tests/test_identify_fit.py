@@ -20,7 +20,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools" / "benchmar
 from real_recording import REAL_RECORDING  # noqa: E402
 
 LAB = resource_path("csrc", "labs", "lab2_square_pid.c")
-OTHER_ARM = {"stall_units1": 2.3, "backemf1": 0.62}  # a weaker, faster-revving waist motor than ours
+OTHER_ARM = {"stall_nm1": 13.8, "backemf1": 3.72}  # a weaker, faster-revving waist motor than ours
 
 
 def simulink_recording(path: Path, plant: PlantParams, *, start_tick: int, phase_ms: float, drift: float,
@@ -70,11 +70,11 @@ def test_identify_recovers_a_known_arm(other_arm_recording, calibration_lab):
     assert (result.alignments[0].start_tick + phase) % 2000 == pytest.approx(5357.4 % 2000, abs=1.0)
     drift = next(f.value for f in result.nuisance if f.name.endswith("drift"))
     assert drift == pytest.approx(180e-6, abs=100e-6)  # 100 ppm: 0.6 ms over the 6 s, under a tick
-    assert result.plant.value("stall_units2") == PlantParams.defaults().value("stall_units2")  # not fitted
+    assert result.plant.value("stall_nm2") == PlantParams.defaults().value("stall_nm2")  # not fitted
 
 
 def stated_sigma(name: str) -> float:
-    keys = {"stall_units": "stall_units", "backemf": "backemf_units_s_per_rad", "coulomb_pos": "Cpos_nm",
+    keys = {"stall_nm": "stall_nm", "backemf": "backemf_nm_s_per_rad", "coulomb_pos": "Cpos_nm",
             "coulomb_neg": "Cneg_nm", "viscous": "V_nm_s_per_rad"}
     stem = name.rstrip("0123456789")
     return PARAMS["identified"]["sigma"][keys[stem]][int(name[len(stem):]) - 1]
@@ -87,11 +87,11 @@ def test_identify_on_the_real_recording_reproduces_the_shipped_values(calibratio
     config, offsets = calibration_lab
     source = fitting.Source(read_recording(REAL_RECORDING), config, offsets)
     shipped = PlantParams.defaults()
-    names = ["stall_units1", "backemf1", "coulomb_neg2", "stall_units3"]
-    start = shipped.with_values({"stall_units1": 1.2 * shipped.value("stall_units1"),
+    names = ["stall_nm1", "backemf1", "coulomb_neg2", "stall_nm3"]
+    start = shipped.with_values({"stall_nm1": 1.2 * shipped.value("stall_nm1"),
                                  "backemf1": 0.8 * shipped.value("backemf1"),
                                  "coulomb_neg2": 0.75 * shipped.value("coulomb_neg2"),
-                                 "stall_units3": 0.85 * shipped.value("stall_units3")})
+                                 "stall_nm3": 0.85 * shipped.value("stall_nm3")})
     result = fitting.fit([source], names=names, start=start, jobs=2, max_iterations=12)
     for f in result.values:
         assert abs(f.value - shipped.value(f.name)) <= stated_sigma(f.name), f
@@ -105,10 +105,10 @@ def test_fit_refuses_what_it_cannot_use(tmp_path, calibration_lab):
     np.savetxt(still, np.column_stack([t, np.full((len(t), 3), 0.1), np.zeros(len(t))]), delimiter=",",
                header="t,PlotVar1,PlotVar2,PlotVar3,PlotVar4", comments="")
     with pytest.raises(fitting.FitError, match="hardly moves"):
-        fitting.fit([fitting.Source(read_recording(still), config, offsets)], names=["stall_units1"])
+        fitting.fit([fitting.Source(read_recording(still), config, offsets)], names=["stall_nm1"])
     short = read_recording(still).window(0.0, 0.5)
     with pytest.raises(fitting.FitError, match="shorter than a step response"):
-        fitting.fit([fitting.Source(short, config, offsets)], names=["stall_units1"])
+        fitting.fit([fitting.Source(short, config, offsets)], names=["stall_nm1"])
     with pytest.raises(fitting.FitError, match="cannot fit 'stall'"):
         fitting.names_to_fit(["stall"], {1, 2, 3})
-    assert fitting.names_to_fit(["drive"], {1}) == ["stall_units1", "backemf1", "drive_lag_s"]
+    assert fitting.names_to_fit(["drive"], {1}) == ["stall_nm1", "backemf1", "drive_lag_s"]

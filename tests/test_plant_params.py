@@ -20,8 +20,8 @@ LAB_TAU1 = Path(__file__).parent / "labs" / "open_loop_tau1.c"
 def test_defaults_are_params_toml_values():
     p = PlantParams.defaults()
     assert p.motor_gain == PARAMS["command"]["newton_metre_per_unit"]
-    assert p.stall_units == tuple(PARAMS["drive"]["stall_units"])
-    assert p.backemf_units_s_per_rad == tuple(PARAMS["drive"]["backemf_units_s_per_rad"])
+    assert p.stall_nm == tuple(PARAMS["drive"]["stall_nm"])
+    assert p.backemf_nm_s_per_rad == tuple(PARAMS["drive"]["backemf_nm_s_per_rad"])
     assert p.drive_lag_s == PARAMS["drive"]["lag_s"]
     for m in (1, 2, 3):
         row = ROOT_FRICTION[f"motor{m}"]
@@ -53,7 +53,7 @@ def test_names_reach_every_field_and_sweep_names_exist():
                        "encoder_noise_counts": 2.0, "backemf2": 0.5, "drive_lag_s": 0.003})
     assert q.friction_scale == (2.0, 2.0, 1.0)  # friction3 multiplies the overall scale
     assert (q.mass_scale, q.motor_gain, q.payload_kg, q.encoder_noise_counts) == (1.3, 5.0, 0.4, 2.0)
-    assert q.backemf_units_s_per_rad[1] == 0.5 and q.drive_lag_s == 0.003
+    assert q.backemf_nm_s_per_rad[1] == 0.5 and q.drive_lag_s == 0.003
     assert q.coulomb_nm()[0] == pytest.approx(2.0 * p.coulomb_nm()[0])
     assert q.viscous_nm_s()[2] == pytest.approx(p.viscous_nm_s()[2])  # 2.0 * 0.5
 
@@ -74,7 +74,7 @@ def test_bad_values_are_one_line_naming_them(values, words):
 def test_a_plant_file_round_trips_and_overrides_only_what_it_says(tmp_path):
     shipped = PlantParams.defaults()
     path = tmp_path / "arm.toml"
-    changed = shipped.with_values({"stall_units2": 3.1, "coulomb_pos1": 0.9, "friction2": 1.2})
+    changed = shipped.with_values({"stall_nm2": 18.6, "coulomb_pos1": 0.9, "friction2": 1.2})
     path.write_text(changed.to_toml("my arm\nfitted today"))
     assert path.read_text().startswith("# my arm\n# fitted today\n")
     assert PlantParams.load(path) == changed
@@ -83,13 +83,13 @@ def test_a_plant_file_round_trips_and_overrides_only_what_it_says(tmp_path):
     loaded = PlantParams.load(partial)
     assert loaded == shipped.with_values({"drive_lag_s": 0.004, "payload_kg": 0.5})
     ideal = tmp_path / "ideal.toml"
-    ideal.write_text("[drive]\nstall_units = [inf, inf, inf]\n")
-    assert math.isinf(PlantParams.load(ideal).stall_units[0])
+    ideal.write_text("[drive]\nstall_nm = [inf, inf, inf]\n")
+    assert math.isinf(PlantParams.load(ideal).stall_nm[0])
 
 
 @pytest.mark.parametrize("text, words", [
     ("[drive]\nstall = [1, 2, 3]\n", "unknown key stall in [drive]"),
-    ("[drive]\nstall_units = [1, 2]\n", "drive.stall_units must be three numbers"),
+    ("[drive]\nstall_nm = [1, 2]\n", "drive.stall_nm must be three numbers"),
     ("[waist]\nmass = 3\n", "unknown table [waist]"),
     ("[friction.motor4]\nCpos_nm = 1\n", "unknown table [friction.motor4]"),
     ("[friction.motor1]\nCpos = 1\n", "unknown key Cpos in [friction.motor1]"),
@@ -160,13 +160,13 @@ def test_holding_torques_are_gravity_in_motor_coordinates():
 
 
 def test_a_run_uses_the_plant_file(tmp_path):
-    """A lab holding tau1 = 1 unit: with an amplifier that gives at most 0.5 unit at standstill the
-    waist turns slower, and with the shipped one (2.8) exactly as fast as with an ideal drive until
-    the back-EMF limit is near (1 unit at w < (2.8 - 1) / 0.75 = 2.4 rad/s)."""
+    """A lab holding tau1 = 1 unit (6 N.m): with a drive that gives at most 3 N.m at standstill the
+    waist turns slower, and with the shipped one (16.8 N.m) exactly as fast as with an ideal drive
+    until the back-EMF limit is near (6 N.m at w < (16.8 - 6) / 4.51 = 2.4 rad/s)."""
     weak, ideal = tmp_path / "weak.toml", tmp_path / "ideal.toml"
-    weak.write_text("[drive]\nstall_units = [0.5, 0.5, 0.5]\n")
-    ideal.write_text("[drive]\nstall_units = [inf, inf, inf]\nbackemf_units_s_per_rad = [0, 0, 0]\n")
-    assert make_config(LAB_TAU1, plant=weak).plant.stall_units == (0.5, 0.5, 0.5)
+    weak.write_text("[drive]\nstall_nm = [3.0, 3.0, 3.0]\n")
+    ideal.write_text("[drive]\nstall_nm = [inf, inf, inf]\nbackemf_nm_s_per_rad = [0, 0, 0]\n")
+    assert make_config(LAB_TAU1, plant=weak).plant.stall_nm == (3.0, 3.0, 3.0)
 
     def turned(plant):
         run = simulate(LAB_TAU1, "hands_off", duration_s=0.05, startup_delay=False, log=True, plant=plant)

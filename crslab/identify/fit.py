@@ -36,8 +36,8 @@ from crslab.sim.config import SimConfig
 
 # name stem -> (low, high, finite-difference step): what is physically plausible for the CRS arm
 BOUNDS: dict[str, tuple[float, float, float]] = {
-    "stall_units": (0.5, 10.0, 0.03),
-    "backemf": (0.0, 5.0, 0.01),
+    "stall_nm": (3.0, 60.0, 0.18),
+    "backemf": (0.0, 30.0, 0.06),
     "drive_lag_s": (0.0, 0.05, 0.0005),
     "coulomb_pos": (0.0, 6.0, 0.06),
     "coulomb_neg": (-6.0, 0.0, 0.06),
@@ -48,7 +48,7 @@ BOUNDS: dict[str, tuple[float, float, float]] = {
     "payload_kg": (0.0, 5.0, 0.02),
 }
 GROUPS: dict[str, tuple[str, ...]] = {
-    "drive": tuple(f"{stem}{m}" for stem in ("stall_units", "backemf") for m in (1, 2, 3)) + ("drive_lag_s",),
+    "drive": tuple(f"{stem}{m}" for stem in ("stall_nm", "backemf") for m in (1, 2, 3)) + ("drive_lag_s",),
     "friction": tuple(f"{stem}{m}" for stem in ("coulomb_pos", "coulomb_neg", "viscous") for m in (1, 2, 3)),
 }
 """Names of groups of values (``--fit drive,friction``, the default)."""

@@ -10,9 +10,9 @@ them:
 >>> p = PlantParams.defaults()
 >>> p.motor_gain
 6.0
->>> q = p.with_values({"friction": 1.5, "payload_kg": 0.5, "stall_units2": 3.0})
->>> q.friction_scale, q.payload_kg, q.stall_units[1]
-((1.5, 1.5, 1.5), 0.5, 3.0)
+>>> q = p.with_values({"friction": 1.5, "payload_kg": 0.5, "stall_nm2": 18.0})
+>>> q.friction_scale, q.payload_kg, q.stall_nm[1]
+((1.5, 1.5, 1.5), 0.5, 18.0)
 >>> q.value("friction2"), p.value("friction2")
 (1.5, 1.0)
 
@@ -60,10 +60,10 @@ def _per_motor(stem: str, field: str, doc: str, low: float = 0.0, high: float = 
 
 NAMES: dict[str, Name] = {
     "motor_gain": Name("motor_gain", None, "joint torque of one command unit, N.m per unit", 0.0),
-    **_per_motor("stall_units", "stall_units", "torque the amplifier delivers at standstill, command units "
-                 "(inf: no limit)", infinite_ok=True),
-    **_per_motor("backemf", "backemf_units_s_per_rad",
-                 "what each rad/s of motor speed takes off the amplifier's torque, units s/rad"),
+    **_per_motor("stall_nm", "stall_nm", "torque the drive delivers at standstill, at most, N.m (inf: no "
+                 "limit)", infinite_ok=True),
+    **_per_motor("backemf", "backemf_nm_s_per_rad",
+                 "what each rad/s of motor speed takes off the drive's torque, N.m s/rad"),
     "drive_lag_s": Name("drive_lag_s", None, "first-order lag of the delivered torque, s", 0.0, 1.0),
     **_per_motor("coulomb_pos", "coulomb_pos_nm", "dry friction against positive motion, N.m"),
     **_per_motor("coulomb_neg", "coulomb_neg_nm", "dry friction against negative motion (a negative "
@@ -86,14 +86,14 @@ ALL_FRICTION = "friction"
 class PlantParams:
     """The physical numbers of one run's simulated arm that can change without regenerating the
     model: the motor gain, the drive, friction, and the variations a sweep applies. Per-motor
-    values are motors 1, 2, 3, about their motor angles. The drive is in the course's command
-    units (``motor_gain`` N.m each: the amplifier's torque scales with it); friction, a property of
-    the joints, is in N.m.
+    values are motors 1, 2, 3, about their motor angles, in N.m: a command unit asks for
+    ``motor_gain`` N.m, which the drive delivers within its torque-speed envelope (``stall_nm``,
+    ``backemf_nm_s_per_rad``) after its lag; friction acts on the joints.
     """
 
     motor_gain: float
-    stall_units: Triple
-    backemf_units_s_per_rad: Triple
+    stall_nm: Triple
+    backemf_nm_s_per_rad: Triple
     drive_lag_s: float
     coulomb_pos_nm: Triple
     coulomb_neg_nm: Triple
@@ -209,8 +209,8 @@ class PlantParams:
 
         lines = [f"# {line}" if line else "#" for line in header.splitlines()]
         lines += ["", "[command]", f"newton_metre_per_unit = {_num(self.motor_gain)}",
-                  "", "[drive]", f"stall_units = {arr(self.stall_units)}",
-                  f"backemf_units_s_per_rad = {arr(self.backemf_units_s_per_rad)}",
+                  "", "[drive]", f"stall_nm = {arr(self.stall_nm)}",
+                  f"backemf_nm_s_per_rad = {arr(self.backemf_nm_s_per_rad)}",
                   f"lag_s = {_num(self.drive_lag_s)}"]
         for j in range(3):
             lines += ["", f"[friction.motor{j + 1}]", f"Cpos_nm = {_num(self.coulomb_pos_nm[j])}",
@@ -224,7 +224,7 @@ VARIATIONS = ("friction1", "friction2", "friction3", "mass", "payload_kg", "enco
 """The names of a plant file's ``[variations]`` table."""
 
 _UNSET = (math.nan,) * 3
-_DEFAULT_FIELDS = dict(motor_gain=math.nan, stall_units=_UNSET, backemf_units_s_per_rad=_UNSET,
+_DEFAULT_FIELDS = dict(motor_gain=math.nan, stall_nm=_UNSET, backemf_nm_s_per_rad=_UNSET,
                        drive_lag_s=math.nan, coulomb_pos_nm=_UNSET, coulomb_neg_nm=_UNSET,
                        viscous_nm_s_per_rad=_UNSET)
 
@@ -254,7 +254,7 @@ def _checked(name: str, raw: object, spec: Name) -> float:
 # The tables a plant file may hold: section -> key -> flat name pattern ("{m}" is the motor).
 _TABLE_KEYS: dict[str, dict[str, str]] = {
     "command": {"newton_metre_per_unit": "motor_gain"},
-    "drive": {"stall_units": "stall_units{m}", "backemf_units_s_per_rad": "backemf{m}",
+    "drive": {"stall_nm": "stall_nm{m}", "backemf_nm_s_per_rad": "backemf{m}",
               "lag_s": "drive_lag_s"},
     "friction.motor": {"Cpos_nm": "coulomb_pos{m}", "Cneg_nm": "coulomb_neg{m}",
                        "V_nm_s_per_rad": "viscous{m}"},

@@ -158,8 +158,9 @@ class Worker:
         drive = self.sim.drive
         drive.lag_s = plant.drive_lag_s
         for j in range(3):
-            drive.stall_units[j] = plant.stall_units[j]
-            drive.backemf_units_s_per_rad[j] = plant.backemf_units_s_per_rad[j]
+            # the C drive works in the commands' units: the plant's N.m over the motor gain
+            drive.stall_units[j] = plant.stall_nm[j] / plant.motor_gain
+            drive.backemf_units_s_per_rad[j] = plant.backemf_nm_s_per_rad[j] / plant.motor_gain
 
     def set_friction(self, plant: PlantParams) -> None:
         """Run on with ``plant``'s friction."""

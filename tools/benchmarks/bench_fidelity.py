@@ -37,9 +37,9 @@ from crslab.sim.api import make_config
 LAB = resource_path("csrc", "labs", "lab2_square_pid.c")
 REFERENCE_COLUMN = 3  # PlotVar4: joint 1's reference, the same square wave as every joint's
 # how far from the shipped values the full fit starts (a factor per value)
-PERTURBATION = {"stall_units": 1.15, "backemf": 0.85, "drive_lag_s": 2.0, "coulomb_pos": 1.2,
+PERTURBATION = {"stall_nm": 1.15, "backemf": 0.85, "drive_lag_s": 2.0, "coulomb_pos": 1.2,
                 "coulomb_neg": 0.8, "viscous": None}
-SIGMA_KEYS = {"stall_units": "stall_units", "backemf": "backemf_units_s_per_rad", "drive_lag_s": "lag_s",
+SIGMA_KEYS = {"stall_nm": "stall_nm", "backemf": "backemf_nm_s_per_rad", "drive_lag_s": "lag_s",
               "coulomb_pos": "Cpos_nm", "coulomb_neg": "Cneg_nm", "viscous": "V_nm_s_per_rad"}
 
 
