@@ -73,11 +73,11 @@ def test_identify_recovers_a_known_arm(other_arm_recording, calibration_lab):
     assert result.plant.value("stall_nm2") == PlantParams.defaults().value("stall_nm2")  # not fitted
 
 
-def stated_sigma(name: str) -> float:
+def stated_uncertainty(name: str) -> float:
     keys = {"stall_nm": "stall_nm", "backemf": "backemf_nm_s_per_rad", "coulomb_pos": "Cpos_nm",
             "coulomb_neg": "Cneg_nm", "viscous": "V_nm_s_per_rad"}
     stem = name.rstrip("0123456789")
-    return PARAMS["identified"]["sigma"][keys[stem]][int(name[len(stem):]) - 1]
+    return PARAMS["identified"]["uncertainty"][keys[stem]][int(name[len(stem):]) - 1]
 
 
 @pytest.mark.skipif(REAL_RECORDING is None, reason="no real recording (shared/real) beside the checkout")
@@ -94,7 +94,7 @@ def test_identify_on_the_real_recording_reproduces_the_shipped_values(calibratio
                                  "stall_nm3": 0.85 * shipped.value("stall_nm3")})
     result = fitting.fit([source], names=names, start=start, jobs=2, max_iterations=12)
     for f in result.values:
-        assert abs(f.value - shipped.value(f.name)) <= stated_sigma(f.name), f
+        assert abs(f.value - shipped.value(f.name)) <= stated_uncertainty(f.name), f
     np.testing.assert_array_less(result.rms_after[0], 1.1 * np.array(PARAMS["identified"]["rms_rad"]))
 
 

@@ -161,8 +161,8 @@ def test_holding_torques_are_gravity_in_motor_coordinates():
 
 def test_a_run_uses_the_plant_file(tmp_path):
     """A lab holding tau1 = 1 unit (6 N.m): with a drive that gives at most 3 N.m at standstill the
-    waist turns slower, and with the shipped one (16.8 N.m) exactly as fast as with an ideal drive
-    until the back-EMF limit is near (6 N.m at w < (16.8 - 6) / 4.51 = 2.4 rad/s)."""
+    waist turns slower, and with the shipped one (16.5 N.m) exactly as fast as with an ideal drive
+    until the back-EMF limit is near (6 N.m at w < (16.5 - 6) / 4.37 = 2.4 rad/s)."""
     weak, ideal = tmp_path / "weak.toml", tmp_path / "ideal.toml"
     weak.write_text("[drive]\nstall_nm = [3.0, 3.0, 3.0]\n")
     ideal.write_text("[drive]\nstall_nm = [inf, inf, inf]\nbackemf_nm_s_per_rad = [0, 0, 0]\n")

@@ -66,7 +66,9 @@ def test_full_open_loop_torque_leaves_joint_1_past_the_envelope_with_error_1(ful
     assert np.all(log["safety"][-2000:, 0] == 1)
     # the lab hears error 1 (it plots the error it receives) and it never goes back to 0
     lines = full_torque.lines()
-    assert len(lines) == 1 and lines[0].startswith("error 1 at 2.1")
+    assert len(lines) == 1 and lines[0].startswith("error 1 at ")
+    # it printed the first angle outside the envelope: a few ms of travel past the edge
+    assert EDGE_RAD < float(lines[0].split()[3]) < EDGE_RAD + 0.02
     assert np.all(log["plot"][-2000:, 3] == 1.0)
     # held where it is: once still, the pull is a fraction of a unit, not 5
     assert np.all(np.abs(log["tau_applied"][-1000:, 0]) < 1.0)

@@ -59,6 +59,8 @@ real arm rests where it is put with zero torque (crs-facts 4), which the recordi
 REST_RANGE_RAD = 0.02
 PHASE_STEP_MS = 0.05
 DRIFT_STEP = 2e-6
+XTOL = 1e-10
+FTOL = 1e-10
 REST_STEP_RAD = 0.002
 WARMUP_S = 3.0
 """A recording is placed no earlier than this into the run: the lab's first moves from rest are
@@ -393,7 +395,7 @@ def fit(sources: Sequence[Source], *, names: Sequence[str] = DEFAULT_FIT, start:
 
         if fitted_names or fit_rest:
             result = least_squares(fun, x0, jac=problem.jacobian, bounds=(lows, highs), x_scale=steps,
-                                   max_nfev=max_iterations, method="trf")
+                                   max_nfev=max_iterations, method="trf", xtol=XTOL, ftol=FTOL)
             x, jac, residual, message = result.x, result.jac, result.fun, str(result.message)
         else:
             x, message = x0, "alignment only"
