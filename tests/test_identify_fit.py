@@ -80,9 +80,8 @@ def stated_uncertainty(name: str) -> float:
     return PARAMS["identified"]["uncertainty"][keys[stem]][int(name[len(stem):]) - 1]
 
 
-@pytest.mark.skipif(REAL_RECORDING is None, reason="no real recording (shared/real) beside the checkout")
 def test_identify_on_the_real_recording_reproduces_the_shipped_values(calibration_lab):
-    """A reduced fit (four values of three motors, from 15-25 % off) on real/lab2_square_pid_real.csv;
+    """A reduced fit (four values of three motors, from 15-25 % off) on recordings/lab2_square_pid_real.csv;
     ``make bench`` runs the full one."""
     config, offsets = calibration_lab
     source = fitting.Source(read_recording(REAL_RECORDING), config, offsets)

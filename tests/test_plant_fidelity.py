@@ -41,8 +41,6 @@ def test_left_alone_at_rest_the_arm_moves_less_than_a_count_in_10_minutes():
 
 @pytest.fixture(scope="module")
 def real_vs_sim():
-    if REAL_RECORDING is None:
-        pytest.skip("the real recording (shared/real) is not beside this checkout")
     config = make_config(resource_path("csrc", "labs", "lab2_square_pid.c"), "hands_off", startup_delay=False)
     source = Source(read_recording(REAL_RECORDING), config, lab_offsets(config))
     return source, compare([source], jobs=2)
