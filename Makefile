@@ -10,7 +10,7 @@ STAMP  := $(VENV)/.crslab-installed
 DEPS   := pyproject.toml setup.py crslab/cheaders.py csrc/sim/framework_facts.h $(wildcard csrc/*.py csrc/kin/*.c csrc/kin/*.h)
 
 .DEFAULT_GOAL := help
-.PHONY: help sim test bench lint clean venv
+.PHONY: help sim test bench mutants lint clean venv
 
 help: ## list the targets
 	@echo "crslab targets:"
@@ -33,6 +33,9 @@ test: $(STAMP) ## run the whole test suite (C core under -Werror, ASan and UBSan
 bench: $(STAMP) ## run the benchmarks and print the ratios the issues ask for
 	$(PY) -m pip install --quiet -e '.[test,bench]'
 	$(PY) tools/bench.py
+
+mutants: $(STAMP) ## apply one-line bugs to a copy and check the suite notices each (slow; not in CI)
+	$(PY) tools/mutants.py
 
 lint: $(STAMP) ## ruff over the Python sources
 	$(VENV)/bin/ruff check crslab tests tools csrc setup.py

@@ -260,8 +260,9 @@ def test_ctrl_c_keeps_the_finished_rows(tmp_path):
     err = LineWatcher(proc.stderr, "crslab sweep's stderr")
     err.wait_for(r"^\[2/40\] sample 1: ok")
     proc.send_signal(signal.SIGINT)
-    assert wait_exit(proc, "Ctrl-C") == 130
+    status = wait_exit(proc, "Ctrl-C")
     text = err.all()
+    assert status == 130, text
     proc.stdout.close()
     rows = rows_of(out)
     assert 2 <= len(rows) < 40 and [int(r["sample"]) for r in rows] == list(range(len(rows)))
