@@ -105,6 +105,7 @@ def test_a_submission_over_its_total_time_is_stopped_and_counts_as_hung(tmp_path
     assert result.status == "timeout" and result.status.graded(matched=False) == "hung"
     assert result.message == "hang_after_5s.c took longer than 1.5 s in all and was stopped"
     assert result.exit_status == 4 and result.lab_file == LABS / "hang_after_5s.c"
+    assert result.wall_s == 1.5  # grades.csv's seconds: how long it ran before it was stopped
 
 
 def test_the_progress_bar_on_a_terminal():

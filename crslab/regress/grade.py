@@ -175,6 +175,8 @@ def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: i
     batch: list[tuple[int, GradeJob]] = []
 
     def done(index: int, result: RunResult) -> None:
+        if result.status is RunStatus.TIMEOUT and not result.wall_s:
+            result = dataclasses.replace(result, wall_s=timeout_s)  # stopped once it had run that long
         results[index] = result
         if on_done is not None:
             on_done(result)
