@@ -5,7 +5,7 @@ already imported, so starting one costs a few milliseconds, the process may then
 own worker safely, and one job's crash (or a crslab bug it triggers) never touches another. A
 process that dies without answering is its job's ``lost(crashed)``; one that takes longer than
 ``timeout_s`` in all is killed and is its job's ``lost(timeout)``. Ctrl-C kills every process
-still running and propagates.
+still running and propagates as KeyboardInterrupt, between two jobs' results.
 """
 
 from __future__ import annotations
@@ -21,7 +21,6 @@ from typing import Any
 
 from crslab import os_support
 from crslab.executors.job import Job, OnDone
-from crslab.sim.session import CtrlC
 from crslab.sim.status import RunStatus
 
 DEFAULT_TIMEOUT_S = 300.0
@@ -83,6 +82,10 @@ class LocalExecutor:
         """Nothing is held between batches."""
 
     def run(self, jobs: Sequence[Job], on_done: OnDone) -> None:
+        with _CtrlCFlag() as ctrl_c:
+            self._run(jobs, on_done, ctrl_c)
+
+    def _run(self, jobs: Sequence[Job], on_done: OnDone, ctrl_c: threading.Event) -> None:
         ctx = context()
         pending = list(enumerate(jobs))
         running: dict[Connection, tuple[int, mp.process.BaseProcess, float]] = {}
@@ -98,15 +101,14 @@ class LocalExecutor:
 
         try:
             while pending or running:
-                if self.cancel is not None and self.cancel.is_set():
+                if ctrl_c.is_set() or (self.cancel is not None and self.cancel.is_set()):
                     raise KeyboardInterrupt
                 while pending and len(running) < self.workers:
                     index, job = pending.pop(0)
                     parent, child = ctx.Pipe(duplex=False)
                     proc = ctx.Process(target=_child, args=(child, job), name=f"crslab {job.name}")
-                    with CtrlC() as ctrl_c, ctrl_c.held():  # a process started is a process known
-                        proc.start()
-                        running[parent] = (index, proc, time.monotonic())
+                    proc.start()
+                    running[parent] = (index, proc, time.monotonic())
                     child.close()
                 for conn in wait(list(running), timeout=0.2):
                     assert isinstance(conn, Connection)
@@ -132,6 +134,24 @@ class LocalExecutor:
                     proc.kill()
                     proc.join()
                 conn.close()
+
+
+class _CtrlCFlag(threading.Event):
+    """Ctrl-C (SIGINT) during a batch, in the main thread, only sets this flag; the batch loop
+    sees it within one turn (0.2 s) and stops there with KeyboardInterrupt. So no Ctrl-C ever
+    lands in the middle of starting a process or of the caller's ``on_done`` (a row half
+    written). Elsewhere (another thread, a handler of the caller's own) SIGINT is left alone."""
+
+    def __enter__(self) -> _CtrlCFlag:
+        self._old: object = None
+        if (threading.current_thread() is threading.main_thread()
+                and signal.getsignal(signal.SIGINT) is signal.default_int_handler):
+            self._old = signal.signal(signal.SIGINT, lambda signum, frame: self.set())
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self._old is not None:
+            signal.signal(signal.SIGINT, self._old)
 
 
 def run_alone(job: Job, timeout_s: float = DEFAULT_TIMEOUT_S, cancel: threading.Event | None = None) -> Any:
