@@ -340,18 +340,19 @@ def test_encoders_are_whole_counts_plus_the_offset_rounded_to_float32(board):
     rest = (0.0, -0.42, 0.24)
     for j in range(3):
         sim.rest_motor_rad[j] = rest[j]
-    motor = [0.123456789, -0.3, 0.5]
+    # 5659.7 counts on joint 1, -1234.6 on joint 2, 11936.5 + a little on joint 3: rounded to the
+    # nearest count (5660, -1235, 11937), not truncated
+    counts_want = (5660, -1235, 11937)
+    motor = [5659.7 * RAD_PER_COUNT, -0.42 - 1234.6 * RAD_PER_COUNT, 0.24 + 11936.51 * RAD_PER_COUNT]
     enc = board.ffi.new("double[3]")
     board.lib.crs_read_encoders(sim, motor, enc)
     offsets = (0.0, float(F32(-0.42)), float(F32(0.24)))  # the lab's float offsets
     for j in range(3):
-        counts = round((motor[j] - rest[j]) / RAD_PER_COUNT)
-        exact = counts * RAD_PER_COUNT + offsets[j]
+        exact = counts_want[j] * RAD_PER_COUNT + offsets[j]
         assert enc[j] == float(F32(exact)), j
         if j > 0:
             assert enc[j] != exact  # the rounding to float is there to see
-    assert round(0.123456789 / RAD_PER_COUNT) == 5659  # joint 1: whole counts, no offset
-    assert enc[0] == float(F32(5659 * RAD_PER_COUNT))
+    assert enc[0] == float(F32(5660 * RAD_PER_COUNT))  # joint 1: whole counts, no offset
 
 
 # -- the scenario's hand -------------------------------------------------------------------------
