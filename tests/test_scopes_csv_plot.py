@@ -45,21 +45,49 @@ def test_one_row_per_tick_with_units_in_the_header(csv_run):
     np.testing.assert_array_equal(body[:, col["GPIO34 [0/1]"]], log["leds"][:, 0] & 1)
 
 
+def coloured_pixels(image: np.ndarray) -> np.ndarray:
+    """Where the image is coloured (a drawn line), not white, grey or black (frame, grid, text)."""
+    rgb = image[..., :3]
+    return rgb.max(axis=-1) - rgb.min(axis=-1) > 0.25
+
+
 def test_plot_writes_a_png_with_one_labelled_panel_per_group(csv_run, tmp_path, capsys):
     path, _ = csv_run
     out = tmp_path / "fig.png"
     assert main(["plot", str(path), "-o", str(out), "--from", "3"]) == 0
     assert "5 panels (motor angles, torques, Simulink_PlotVar1..4" in capsys.readouterr().err
     image = matplotlib.image.imread(out)
-    assert image.shape[0] > 1000 and image.shape[1] > 1000 and image[..., :3].std() > 0.05  # not blank
+    # five panels: 10 in by (2.2 * 5 + 0.8) in at 110 dpi
+    assert image.shape[:2] == (round((2.2 * 5 + 0.8) * 110), 1100)
     t, values = read_scope_csv(path)
-    fig = scope_figure(t, values, "run")
+    keep = t >= 3
+    fig = scope_figure(t[keep], {s: v[keep] for s, v in values.items()}, path.name)
     titles = [ax.get_title(loc="left") for ax in fig.axes]
     assert titles == [g.title for g in GROUPS]
     units = [ax.get_ylabel() for ax in fig.axes]
     assert units == ["rad", "command units", "lab units", "0/1 (a lane each)", "rad"]
     assert [len(ax.get_lines()) for ax in fig.axes] == [sum(s.group == g for s in SIGNALS) for g in GROUPS]
     assert fig.axes[-1].get_xlabel() == "time (s)"
+    # the data drawn is the CSV's, from 3 s on: each signal's line (the logic lanes offset)
+    for ax, group in zip(fig.axes, GROUPS):
+        members = [(s, v[keep]) for s, v in values.items() if s.group == group]
+        for lane, (line, (s, v)) in enumerate(zip(ax.get_lines(), members)):
+            assert line.get_label() == s.name
+            np.testing.assert_array_equal(line.get_xdata(), t[keep])
+            want = 0.8 * v + 1.2 * lane if group.unit == "0/1" else v
+            np.testing.assert_array_equal(line.get_ydata(), want)
+    # every panel of the PNG has its lines drawn in it: coloured pixels inside each axes box
+    fig.set_dpi(110)
+    fig.canvas.draw()
+    height = image.shape[0]
+    coloured = coloured_pixels(image)
+    for ax in fig.axes:
+        box = ax.get_window_extent()
+        rows = slice(int(height - box.y1) + 2, int(height - box.y0) - 2)
+        cols = slice(int(box.x0) + 2, int(box.x1) - 2)
+        share = coloured[rows, cols].mean()
+        assert share > 0.001, f"panel {ax.get_title(loc='left')!r} looks blank ({share:.4f} coloured)"
+    assert not coloured[: int(height - fig.axes[0].get_window_extent().y1) - 2].any()  # none above
 
 
 def test_plot_only_draws_the_groups_a_csv_holds(tmp_path):
