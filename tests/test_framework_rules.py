@@ -28,6 +28,7 @@ from crslab.sim.board_ffi import board_ffi
 from crslab.sim.inprocess import InProcessRun
 
 LAB = Path(__file__).parent / "labs" / "framework_rules.c"
+LAB_GEN_B = Path(__file__).parent / "labs" / "framework_rules_gen_b.c"
 HALF_PI = math.pi / 2
 RAD_PER_COUNT = math.pi / 144000  # 288 000 counts per motor revolution
 F32 = np.float32
@@ -54,23 +55,23 @@ void crs_hand_step(crs_sim *sim);
 void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3]);
 void crs_motor_board_init(crs_motor_board *mb, int32_t model);
 int crs_motor_board_step(crs_motor_board *mb, int64_t tick, const double *command_units);
-extern float rule_tau[3];
-extern int rule_error;
 extern long rule_calls;
 extern int rule_post;
 """
+LAB_VARIABLES = {LAB: "extern float rule_tau[3];\nextern int rule_error;\n",
+                 LAB_GEN_B: "extern int UARTprint;\n"}
 
 
 class Board:
     """The test lab's worker in this process, and the board's own functions in its shared object."""
 
-    def __init__(self, scenario: str = "hands_off", startup_delay: bool = False) -> None:
-        self.run = InProcessRun(make_config(LAB, scenario, startup_delay=startup_delay, sandbox=False))
+    def __init__(self, scenario: str = "hands_off", startup_delay: bool = False, lab: Path = LAB) -> None:
+        self.run = InProcessRun(make_config(lab, scenario, startup_delay=startup_delay, sandbox=False))
         self.worker = self.run.worker
         self.sim = self.worker.sim
         self.ffi = FFI()
         self.ffi.include(board_ffi())
-        self.ffi.cdef(BOARD_FUNCTIONS)
+        self.ffi.cdef(BOARD_FUNCTIONS + LAB_VARIABLES[lab])
         # the library the worker loaded (found among those loaded, not opened again)
         self.lib = self.ffi.dlopen(str(self.worker.config.build.shared_object))
 
@@ -312,6 +313,16 @@ def test_gen_a_prints_from_lab_at_once_and_runs_printing_once_after_lab_per_tick
     # the lab's own line, then printing() once (two posts in one tick), after lab() returned
     assert sent == b"lab 8\n\rprinting 8\n\r" and board.sim.printing_runs == 1
     assert board.run.run(int(board.sim.tick) + 5) == b"" and board.sim.printing_runs == 1
+
+
+def test_gen_b_runs_printing_once_after_lab_when_uartprint_is_1_and_clears_it():
+    board = Board(lab=LAB_GEN_B)
+    assert board.run.run(5) == b""
+    board.lib.rule_post = 1
+    # the lab's own line, then printing() with UARTprint already cleared, once
+    assert board.run.run(6) == b"lab 6\n\rprinting 6 UARTprint 0\n\r"
+    assert board.lib.UARTprint == 0 and board.sim.printing_runs == 1
+    assert board.run.run(20) == b"" and board.sim.printing_runs == 1
 
 
 # -- the wrist e-stop ------------------------------------------------------------------------------
