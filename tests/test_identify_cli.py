@@ -6,6 +6,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import matplotlib.image
 import pytest
 from test_identify_fit import LAB, simulink_recording
 
@@ -43,7 +44,17 @@ def test_identify_writes_a_plant_file_a_plot_and_the_residuals(identified):
     assert plant.value("stall_nm2") == PlantParams.defaults().value("stall_nm2")
     text = (out / "arm.toml").read_text()
     assert "# Recordings (lab that produced each):" in text and "lab2_square_pid.c" in text
-    assert (out / "arm.png").stat().st_size > 10_000
+    # the plot: a row per joint, the angles and the residual side by side (12 by 3 x 2.6 in at 110
+    # dpi), the fitted plant's red curve drawn in each of the six panels
+    image = matplotlib.image.imread(out / "arm.png")
+    assert image.shape[:2] == (round(3 * 2.6 * 110), 12 * 110)
+    r_, g_, b_ = image[..., 0], image[..., 1], image[..., 2]
+    red = (r_ > 0.7) & (g_ < 0.35) & (b_ < 0.35)  # tab:red
+    height, width = red.shape
+    for row in range(3):
+        for col in range(2):
+            cell = red[row * height // 3:(row + 1) * height // 3, col * width // 2:(col + 1) * width // 2]
+            assert cell.sum() > 200, f"panel ({row}, {col}) has no fitted curve"
     assert "stall_nm1" in r.stdout and "RMS before" in r.stdout
     for joint in (1, 2, 3):
         assert f"joint {joint}" in r.stdout

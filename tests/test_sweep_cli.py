@@ -7,12 +7,14 @@ import subprocess
 import sys
 from pathlib import Path
 
+import matplotlib.image
 import numpy as np
 import pytest
 
 from crslab.cli import main
 from crslab.framework_facts import CLAMP_UNITS
 from crslab.sim.api import simulate
+from crslab.sweep.table import shown_metrics
 from tests.waiting import LineWatcher, wait_exit
 
 LABS = Path(__file__).parent / "labs"
@@ -134,7 +136,14 @@ def test_crashes_and_hangs_are_rows_and_the_sweep_finishes(tmp_path, capsys):
     )
     [row] = rows_of(out)
     assert row["status"] == "hung" and "lab() did not return within 0.5 s at tick 5100" in row["message"]
-    assert (tmp_path / "p.png").read_bytes()[:4] == b"\x89PNG"
+    # the plot: the hung run measured no metric, so one panel (its end time against the mass,
+    # 4.0 by 3.1 in at 100 dpi) whose one point, a failed run's red x, sits in the middle (a lone
+    # point is centred); the legend's red x is elsewhere
+    assert shown_metrics([row]) == []
+    image = matplotlib.image.imread(tmp_path / "p.png")
+    assert image.shape[:2] == (310, 400)
+    red = (image[..., 0] > 0.7) & (image[..., 1] < 0.35) & (image[..., 2] < 0.35)  # tab:red
+    assert red[120:200, 160:260].sum() > 10 and red.sum() < 3 * red[120:200, 160:260].sum()
     stdout = capsys.readouterr().out
     assert "status: hung 1" in stdout and "passed: 0 of 1 (0.0 %)" in stdout
     assert "worst: sample 0 (hung, failed) at mass=1; hang_after_5s.c hung" in stdout
