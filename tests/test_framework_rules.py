@@ -209,8 +209,8 @@ def test_every_command_is_clamped_to_plus_minus_5_units_on_both_sides(board):
         board.set_tau(tau)
         board.tick(CENTRE_DH)
         assert board.applied() == list(want)
-    # the hold controller's output is clamped too: a jump of 0.1 rad on every joint is far beyond
-    # 5 units of hold output (its velocity alone: 100 rad/s over three ticks)
+    # the hold controller's output is clamped too: the arm put from the centre to just past th1's
+    # bound (1.8 rad in one ms, on either side) makes it far beyond 5 units
     centre = np.array(CENTRE_DH)
     edge_out = np.array(EDGES[0][1]) + [DELTA_RAD, 0, 0]
     board.tick(centre)
