@@ -103,3 +103,24 @@ def test_a_golden_file_records_the_motor_board_and_check_uses_it(tmp_path):
     assert r.returncode == 2
     assert r.stderr.strip() == (f"crslab check: {golden}: header motor_board must be one of none, piccolo, "
                                 "got 'turbo'")
+
+
+def test_cutout_lines_come_in_tick_order_with_the_scenarios_announcements(tmp_path):
+    scenario = tmp_path / "off.toml"
+    scenario.write_text('name = "off"\nend = 6.7\n\n'
+                        '[[event]]\nat = 4.5\nkind = "expect"\nmotor_board_off = false\n\n'
+                        '[[event]]\nat = 5.0\nkind = "expect"\nmotor_board_off = true\n')
+    for quiet in ([], ["--quiet"]):
+        r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(SATURATING),
+                            "--scenario", str(scenario), "--no-stdin", *quiet],
+                           capture_output=True, text=True, timeout=120)
+        assert r.returncode == 0, r.stderr
+        said = [line for line in r.stderr.splitlines()
+                if line.startswith(("crslab sim: t = ", "crslab sim: motor board:"))]
+        expected = ["crslab sim: t = 4.5 s: expect the motor board on: met",
+                    "crslab sim: motor board: every output cut at tick 4600 (t = 4.600 s): joint 1 commanded "
+                    "beyond 4 units for 500 ms",
+                    "crslab sim: t = 5.0 s: expect the motor board off: met",
+                    "crslab sim: motor board: outputs back at tick 6100 (t = 6.100 s)"]
+        # --quiet: no announcements, the motor board's lines still
+        assert said[:4] == (expected if not quiet else expected[1::2])

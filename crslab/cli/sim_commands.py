@@ -295,7 +295,7 @@ def run_sim(args: argparse.Namespace) -> int:
     lab_name = config.build.source.name
 
     def on_motor_board(tick: int, joint: int, off: bool) -> None:
-        print(f"crslab sim: {motor_board_line(tick, joint, off)}", file=sys.stderr)
+        narrator.note(tick, f"crslab sim: {motor_board_line(tick, joint, off)}")
 
     def on_behind(rate: float) -> None:
         print(f"crslab sim: this machine keeps up only {rate:.2f}x real time; running as fast as it can",

@@ -151,6 +151,8 @@ class Narrator(Sink):
         self.stream = stream if stream is not None else sys.stderr
         self.outcomes: list[ExpectOutcome] = []
         self.expects_announced = 0
+        self.notes: list[tuple[int, str]] = []
+        """Lines that are said whatever ``quiet`` (the motor board's cut-outs), each at its tick."""
 
     def judged(self, outcome: ExpectOutcome) -> None:
         """The run judged the next of the scenario's expectations (``Simulation.run``'s
@@ -164,22 +166,38 @@ class Narrator(Sink):
         self.expects_announced += 1
         return announcement(event, self.outcomes[k] if k < len(self.outcomes) else None, self.prefix)
 
-    def say(self, text: str) -> None:
+    def say(self, text: str, *, even_quiet: bool = False) -> None:
         """Print ``text`` (one or more whole lines) on stderr, unless quiet."""
-        if self.quiet:
+        if self.quiet and not even_quiet:
             return
         self.stdout.flush()
         self.stream.write(text if text.endswith("\n") else text + "\n")
         self.stream.flush()
 
+    def note(self, tick: int, text: str) -> None:
+        """Say ``text`` (even when quiet) once the run's output has reached ``tick``: after what
+        the lab printed before it and an event of the same tick, in order with the events. The
+        run reports a chunk's motor-board cut-outs before its sinks get the chunk's bytes."""
+        self.notes.append((tick, text))
+
     def reached(self, tick: int) -> None:
-        """The run has applied every event up to ``tick``: announce those not yet announced."""
-        if not self.pending or self.pending[0].tick > tick:
-            return
-        due = []
+        """The run has applied every event up to ``tick``: announce those not yet announced, and
+        the notes up to ``tick``, in the order of their ticks."""
+        due: list[tuple[int, int, str]] = []  # (tick, 0 event / 1 note, text)
         while self.pending and self.pending[0].tick <= tick:
-            due.append(self._announcement(self.pending.pop(0)))
-        self.say("\n".join(due))
+            event = self.pending.pop(0)
+            due.append((event.tick, 0, self._announcement(event)))
+        while self.notes and self.notes[0][0] <= tick:
+            at, text = self.notes.pop(0)
+            due.append((at, 1, text))
+        due.sort(key=lambda d: d[:2])
+        lines = [text for _, kind, text in due if kind == 1 or not self.quiet]
+        if lines:
+            self.say("\n".join(lines), even_quiet=True)
+
+    def close(self) -> None:
+        """The run is over: the notes not yet said (a run that ended early)."""
+        self.reached(self.notes[-1][0] if self.notes else -1)
 
     def on_serial(self, tick: int, data: bytes) -> None:
         self.reached(tick)
