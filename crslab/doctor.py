@@ -115,8 +115,8 @@ def _mujoco() -> Check:
         import numpy as np
 
         from crslab.plant.model import load_model, motor_to_qpos
+        from crslab.plant.mujoco_c import mj_step_address
         from crslab.plant.params import REST_MOTOR_RAD
-        from crslab.sim.worker import mj_step_address
 
         model = load_model()
         data = mujoco.MjData(model)

@@ -23,11 +23,9 @@ crslab process as untrusted (crslab/sim/worker_reply.py).
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import mmap
 from collections.abc import Iterable
 from multiprocessing.connection import Connection
-from pathlib import Path
 
 import numpy as np
 from cffi import FFI
@@ -36,6 +34,7 @@ from crslab import crs, os_support
 from crslab.framework_facts import MOTOR_BOARDS
 from crslab.host_tools.c28x_memory import SIMULINK_INPUT_NAMES, lab_memory
 from crslab.plant.model import apply_friction, apply_plant, load_model, motor_to_qpos
+from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
 from crslab.plant.plant_params import PlantParams
 from crslab.sim.board_ffi import board_constants, board_ffi
 from crslab.sim.config import SimConfig
@@ -51,16 +50,6 @@ _LOG_COLUMNS = {  # name: (width, dtype)
     "leds": (1, np.uint32), "motor_board_off": (1, np.int32), "qpos_dh_rad": (3, np.float64),
 }
 _C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
-
-
-def mj_step_address() -> int:
-    """Address of MuJoCo's C ``mj_step`` in the library the mujoco package loaded."""
-    import mujoco
-
-    lib = os_support.mujoco_library(Path(mujoco.__file__).parent)
-    if lib is None:
-        raise RuntimeError("libmujoco was not found in the mujoco package")
-    return ctypes.cast(ctypes.CDLL(str(lib)).mj_step, ctypes.c_void_p).value
 
 
 STAT_FIELDS = (
@@ -89,6 +78,7 @@ class Worker:
         mujoco.mj_forward(self.model, self.data)
         self.rest_dh = crs.motor_to_dh(rest)
         mj_step = mj_step_address()
+        stop_stage_timers()  # nothing reads mjData.timer: mj_step does the physics and only that
         block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
         self.watched = {v.name: v for v in config.build.watched}
         var_ffi = None

@@ -3,11 +3,14 @@
 
 #include <math.h>
 
-void crs_drive_step(crs_drive *drive, const double command_units[3], const double motor_rad_s[3],
-                    const int32_t dead[3], double torque_units[3])
+double crs_drive_follow(const crs_drive *drive)
 {
-    /* share of the way to the target the torque goes in one 1 ms step */
-    const double follow = drive->lag_s > 0.0 ? -expm1(-0.001 / drive->lag_s) : 1.0;
+    return drive->lag_s > 0.0 ? -expm1(-0.001 / drive->lag_s) : 1.0;
+}
+
+void crs_drive_step(crs_drive *drive, double follow, const double command_units[3],
+                    const double motor_rad_s[3], const int32_t dead[3], double torque_units[3])
+{
     for (int j = 0; j < 3; ++j) {
         if (dead[j]) {
             drive->torque_units[j] = 0.0;

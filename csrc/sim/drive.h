@@ -16,10 +16,16 @@
 
 #include "sim.h"
 
+/* The share of the way to its target the delivered torque goes in one 1 ms step (1 with no
+ * lag): what crs_drive_step takes as `follow`. It depends on lag_s alone, which changes only
+ * between chunks of ticks: computed once per chunk, not every tick. */
+double crs_drive_follow(const crs_drive *drive);
+
 /* One ms: `command_units` is what the motor board gives the amplifiers, `motor_rad_s` the motor
- * speeds, `dead` the dead-motor faults (1: nothing delivered). Writes the torque each motor
- * delivers (command units) into `torque_units` and the drive's state. */
-void crs_drive_step(crs_drive *drive, const double command_units[3], const double motor_rad_s[3],
-                    const int32_t dead[3], double torque_units[3]);
+ * speeds, `dead` the dead-motor faults (1: nothing delivered), `follow` crs_drive_follow(drive).
+ * Writes the torque each motor delivers (command units) into `torque_units` and the drive's
+ * state. */
+void crs_drive_step(crs_drive *drive, double follow, const double command_units[3],
+                    const double motor_rad_s[3], const int32_t dead[3], double torque_units[3]);
 
 #endif

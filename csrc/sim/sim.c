@@ -150,8 +150,12 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
 {
     crs_board_attach(sim);
     crs_shared *sh = sim->shared;
-    /* which symbols the lab defines never changes: look once per chunk, not every tick */
+    /* what changes only between chunks (the lab's symbols never; the drive's lag and the hand's
+     * move at scenario events, which end chunks): worked out once per chunk, not every tick */
     const int plots = (crs_lab_symbols() & CRS_LAB_HAS_PLOTVARS) != 0;
+    const double drive_follow = crs_drive_follow(&sim->drive);
+    crs_hand_path hand_path;
+    crs_hand_plan(&sim->hand, &hand_path);
     while (sim->tick < until_tick) {
         sh->tick = sim->tick;
         if (crs_debug_tick_begins(sim)) return CRS_RUN_BREAK;
@@ -159,8 +163,8 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
         if (stop == CRS_RUN_PRINTF_OVERFLOW) return stop; /* the board's memory is corrupt */
         /* motor speeds: motor 3 turns with the forearm's absolute angle, j2 + j3 */
         const double speed[3] = {sim->qvel[0], sim->qvel[1], sim->qvel[1] + sim->qvel[2]};
-        crs_drive_step(&sim->drive, sim->applied, speed, sim->faults.dead_motor, sim->ctrl);
-        crs_hand_step(sim);
+        crs_drive_step(&sim->drive, drive_follow, sim->applied, speed, sim->faults.dead_motor, sim->ctrl);
+        crs_hand_step(sim, &hand_path);
         for (int j = 0; j < 3; ++j) sim->qfrc_applied[j] = sim->hand.force_nm[j];
         if (sim->log.capacity > 0) log_tick(sim, plots);
         crs_line_send(sh, sim->tick);

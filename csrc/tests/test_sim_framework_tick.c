@@ -456,13 +456,13 @@ static void test_drive_envelope_lag_and_dead_motor(void)
     double out[3];
     /* at 1 rad/s the amplifier gives at most 3 - 1 = 2 forward and -3 - 1 = -4 backward */
     const double command[3] = {1.5, 5.0, -5.0}, speed[3] = {1.0, 1.0, 1.0};
-    crs_drive_step(&d, command, speed, alive, out);
+    crs_drive_step(&d, crs_drive_follow(&d), command, speed, alive, out);
     check_close("drive: inside the envelope the command is delivered", out[0], 1.5, 1e-12);
     check_close("drive: driving at 1 rad/s gets stall - backemf * w", out[1], 2.0, 1e-12);
     check_close("drive: braking at 1 rad/s gets -stall - backemf * w", out[2], -4.0, 1e-12);
     /* beyond the no-load speed (3 rad/s) even a zero command brakes: 3 - 4 = -1 */
     const double zero[3] = {0.0, 0.0, 0.0}, fast[3] = {4.0, -4.0, 0.0};
-    crs_drive_step(&d, zero, fast, alive, out);
+    crs_drive_step(&d, crs_drive_follow(&d), zero, fast, alive, out);
     check_close("drive: past the no-load speed a zero command brakes", out[0], -1.0, 1e-12);
     check_close("drive: ... in either direction", out[1], 1.0, 1e-12);
     check_close("drive: at rest a zero command is zero", out[2], 0.0, 0.0);
@@ -471,12 +471,12 @@ static void test_drive_envelope_lag_and_dead_motor(void)
     memset(d.torque_units, 0, sizeof d.torque_units);
     d.lag_s = 0.002;
     const double one[3] = {1.0, 1.0, 1.0}, still[3] = {0.0, 0.0, 0.0};
-    crs_drive_step(&d, one, still, alive, out);
+    crs_drive_step(&d, crs_drive_follow(&d), one, still, alive, out);
     check_close("drive lag: first ms", out[0], 1.0 - exp(-0.5), 1e-12);
-    crs_drive_step(&d, one, still, alive, out);
+    crs_drive_step(&d, crs_drive_follow(&d), one, still, alive, out);
     check_close("drive lag: second ms", out[0], 1.0 - exp(-1.0), 1e-12);
     const int32_t dead[3] = {0, 1, 0};
-    crs_drive_step(&d, one, still, dead, out);
+    crs_drive_step(&d, crs_drive_follow(&d), one, still, dead, out);
     check_close("drive: a dead motor delivers nothing at once", out[1], 0.0, 0.0);
     check_close("drive: ... and keeps no torque", d.torque_units[1], 0.0, 0.0);
     check_close("drive lag: third ms on a live motor", out[0], 1.0 - exp(-1.5), 1e-12);

@@ -11,6 +11,9 @@ motors) and applied joint forces (``qfrc_applied``, the hand) that went into tha
 * ``mujoco.rollout`` with ``control_spec = CTRL | QFRC_APPLIED``: MuJoCo's own open-loop
   stepping from Python, no Python per step (it also stores the state after every step).
 
+All three step without MuJoCo's stage timers (``mjcb_time`` cleared, as crslab's worker does:
+:mod:`crslab.plant.mujoco_c`), so none pays for profiling the others skip.
+
 Both must end in the recorded run's final state bit for bit, which shows they did its physics.
 """
 
@@ -27,6 +30,7 @@ import numpy as np
 from mujoco import rollout
 
 from crslab.plant.model import SCENE_XML, load_model
+from crslab.plant.mujoco_c import stop_stage_timers
 from crslab.sim.config import SimConfig
 from crslab.sim.inprocess import InProcessRun
 
@@ -127,6 +131,7 @@ def rollout_run(rec: Recording) -> tuple[float, np.ndarray, np.ndarray]:
     mujoco.mj_getState(model, data, state0, full)
     spec = mujoco.mjtState.mjSTATE_CTRL | mujoco.mjtState.mjSTATE_QFRC_APPLIED  # in this order
     control = np.hstack([rec.ctrl, rec.qfrc_applied])[None]
+    stop_stage_timers()  # as in crslab's worker and the bare C loop
     start = time.perf_counter()
     states, _ = rollout.rollout(model, data, state0[None], control, control_spec=int(spec))
     seconds = time.perf_counter() - start
