@@ -25,7 +25,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from crslab.identify import align as al
 from crslab.identify.recording import Recording
@@ -350,6 +349,10 @@ def fit(sources: Sequence[Source], *, names: Sequence[str] = DEFAULT_FIT, start:
     """Fit ``names`` (values or groups) of the plant, starting from ``start`` (default: the
     defaults), to ``sources``. ``on_progress(runs, estimated_total, rms)`` is called after every
     simulated run. No names: only the alignment (see :func:`compare`)."""
+    # imported here, not with the module: every crslab command reads this module's names for its
+    # help, and scipy's import would add more than half a second to each
+    from scipy.optimize import least_squares
+
     start = PlantParams.defaults() if start is None else start
     joints = {j for s in sources for j in s.recording.joints}
     fitted_names = names_to_fit(names, joints) if names else []
