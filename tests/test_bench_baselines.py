@@ -35,6 +35,7 @@ def test_the_bare_c_loop_replays_the_run_bit_for_bit_and_would_notice_other_phys
     exe = baselines.build_bare_loop(tmp_path)
     run = baselines.run_bare_loop(exe, recording.save(tmp_path / "controls.bin"), passes=2)
     assert run.ticks == TICKS and len(run.pass_s) == 2 and all(s > 0 for s in run.pass_s)
+    assert len(run.cpu_s) == 2 and all(s > 0 for s in run.cpu_s)
     baselines.same_physics(recording, run.qpos_end, run.qvel_end, "the bare C loop")
     no_hand = baselines.Recording(recording.qpos0, recording.ctrl, 0 * recording.qfrc_applied,
                                   recording.qpos_end, recording.qvel_end)

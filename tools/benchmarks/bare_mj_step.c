@@ -10,8 +10,9 @@
  *
  * CONTROLS.bin holds little-endian doubles: nq initial qpos, then for every tick nu ctrl
  * followed by nv qfrc_applied (tools/benchmarks/baselines.py writes it). Every pass starts from
- * the same state. Prints one line "pass SECONDS STEPS" per pass, then "qpos ..." and "qvel ..."
- * of the final state (%.17g, so the caller can check it bit for bit).
+ * the same state. Prints one line "pass SECONDS STEPS CPU_SECONDS" per pass (wall time, steps,
+ * this process's CPU time), then "qpos ..." and "qvel ..." of the final state (%.17g, so the
+ * caller can check it bit for bit).
  */
 #define _POSIX_C_SOURCE 199309L /* clock_gettime */
 #include <mujoco/mujoco.h>
@@ -21,10 +22,10 @@
 #include <string.h>
 #include <time.h>
 
-static double now_s(void)
+static double clock_s(clockid_t clock)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(clock, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
@@ -81,13 +82,14 @@ int main(int argc, char **argv)
         memcpy(d->qpos, rec, sizeof(mjtNum) * (size_t)nq);
         mj_forward(m, d);
         const double *tick = rec + nq;
-        const double start = now_s();
+        const double start = clock_s(CLOCK_MONOTONIC), start_cpu = clock_s(CLOCK_PROCESS_CPUTIME_ID);
         for (long k = 0; k < ticks; ++k, tick += per_tick) {
             memcpy(d->ctrl, tick, sizeof(mjtNum) * (size_t)nu);
             memcpy(d->qfrc_applied, tick + nu, sizeof(mjtNum) * (size_t)nv);
             mj_step(m, d);
         }
-        printf("pass %.9f %ld\n", now_s() - start, ticks);
+        const double wall = clock_s(CLOCK_MONOTONIC) - start;
+        printf("pass %.9f %ld %.9f\n", wall, ticks, clock_s(CLOCK_PROCESS_CPUTIME_ID) - start_cpu);
     }
     print_vector("qpos", d->qpos, nq);
     print_vector("qvel", d->qvel, nv);

@@ -105,6 +105,7 @@ class BareRun:
     ticks: int
     qpos_end: np.ndarray
     qvel_end: np.ndarray
+    cpu_s: list[float]        # the process's CPU time during each pass's loop
 
 
 def run_bare_loop(exe: Path, controls: Path, passes: int = 2) -> BareRun:
@@ -116,8 +117,9 @@ def run_bare_loop(exe: Path, controls: Path, passes: int = 2) -> BareRun:
     rows = [line.split() for line in r.stdout.splitlines()]
     times = [float(row[1]) for row in rows if row[0] == "pass"]
     ticks = {int(row[2]) for row in rows if row[0] == "pass"}
+    cpu = [float(row[3]) for row in rows if row[0] == "pass"]
     vec = {row[0]: np.array([float(v) for v in row[1:]]) for row in rows if row[0] in ("qpos", "qvel")}
-    return BareRun(times, ticks.pop(), vec["qpos"], vec["qvel"])
+    return BareRun(times, ticks.pop(), vec["qpos"], vec["qvel"], cpu)
 
 
 def rollout_run(rec: Recording) -> tuple[float, np.ndarray, np.ndarray]:

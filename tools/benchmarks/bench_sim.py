@@ -5,13 +5,18 @@ Everything runs crslab's default lab (Lab 1) on the default scenario (the tour, 
 
 * **crslab, API**: ticks per second of ``Simulation.run`` at ``--fast``, the worker already
   started (not timed): per tick the framework, ``lab()`` (timed, as ``crslab sim`` does), the
-  hand, ``mj_step``; per chunk the pipe and the serial bytes. Best of ``REPEATS``, each in a
-  fresh worker.
+  hand, ``mj_step``; per chunk the pipe and the serial bytes. Best of ``2 * REPEATS``, each in a
+  fresh worker (as many tries as the bare loop's passes).
 * **bare C loop** (``bare_mj_step.c``, see ``baselines.py``): ``mj_step`` of the same
   ``libmujoco`` on the same model, replaying the ``ctrl`` and ``qfrc_applied`` recorded from the
   same run tick by tick, nothing else per step; it must end in that run's state bit for bit.
   Best of ``REPEATS`` processes x 2 passes (the later passes warm): the strongest baseline.
   Target (issue 19): crslab >= 0.9 of it.
+* **CPU time** of the same runs (Linux): the worker's time on a CPU during ``Simulation.run``
+  (``/proc/PID/schedstat``; the crslab process's share, about 1.5 ms a run, is left out) against
+  the bare loop's process CPU time per pass. Wall time on a loaded machine (other programs, this
+  machine's two cores) measures the scheduler as much as the code; CPU time does not. Best of
+  each.
 * **mujoco.rollout** of the same recorded controls and forces, one call from Python (it also
   stores every step's state), same final-state check. Best of ``REPEATS``. Target (issue 3):
   crslab >= 0.8 of it.
@@ -44,14 +49,25 @@ REPEATS = 5
 CRSLAB = Path(sys.executable).with_name("crslab")  # the console script, as a user runs it
 
 
-def sim_rate(config, ticks: int) -> float:
-    """Ticks per second of Simulation.run over ``ticks`` ticks (the worker already running)."""
+def on_cpu_s(pid: int) -> float | None:
+    """Seconds process ``pid`` has spent on a CPU (Linux's schedstat), None elsewhere."""
+    try:
+        return int(Path(f"/proc/{pid}/schedstat").read_text().split()[0]) / 1e9
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def sim_rate(config, ticks: int) -> tuple[float, float | None]:
+    """Ticks per second of Simulation.run over ``ticks`` ticks (the worker already running), by
+    wall time and by the worker's CPU time (None where it cannot be read)."""
     with Simulation(config) as sim:
+        cpu0 = on_cpu_s(sim.worker_pid)
         t = time.perf_counter()
         result = sim.run(ticks, Sink(), speed=None)
         dt = time.perf_counter() - t
+        cpu1 = on_cpu_s(sim.worker_pid)
     assert result.ok, result.message
-    return ticks / dt
+    return ticks / dt, (ticks / (cpu1 - cpu0) if cpu0 is not None and cpu1 is not None else None)
 
 
 def command_s(args: list[str], out_dir: Path) -> float:
@@ -76,13 +92,18 @@ def run() -> list[str]:
         exe = build_bare_loop(tmp)
         controls = rec.save(tmp / "controls.bin")
         command_s(fast, tmp)  # the lab build is cached before anything is timed
-        sims, bare, rolls, commands, starts = [], [], [], [], []
+        sims, sims_cpu, bare, bare_cpu, rolls, commands, starts = [], [], [], [], [], [], []
         for _ in range(REPEATS):  # interleaved: every side sees the same machine load
-            sims.append(sim_rate(config, ticks))
+            for _ in range(2):  # as many tries as the bare loop's passes
+                wall, cpu = sim_rate(config, ticks)
+                sims.append(wall)
+                if cpu is not None:
+                    sims_cpu.append(cpu)
             loop = run_bare_loop(exe, controls, passes=2)
             same_physics(rec, loop.qpos_end, loop.qvel_end, "the bare C loop")
             assert loop.ticks == ticks
             bare += [ticks / s for s in loop.pass_s]
+            bare_cpu += [ticks / s for s in loop.cpu_s]
             seconds, qpos, qvel = rollout_run(rec)
             same_physics(rec, qpos, qvel, "mujoco.rollout")
             rolls.append(ticks / seconds)
@@ -90,15 +111,19 @@ def run() -> list[str]:
             starts.append(command_s(first_call, tmp))
     sim, c_loop, roll = max(sims), max(bare), max(rolls)
     command, start = min(commands), min(starts)
+    cpu_line = (f"  by CPU time (load-insensitive): crslab's worker {max(sims_cpu):,.0f} ticks/s, the bare C "
+                f"loop {max(bare_cpu):,.0f} steps/s: ratio {max(sims_cpu) / max(bare_cpu):.2f}, best of "
+                f"{2 * REPEATS} each" if sims_cpu else "  (CPU time: /proc/PID/schedstat not readable here)")
     return [
         f"same physics on both sides: Lab 1 on the tour, {ticks} ticks; the replays of the run's recorded "
         f"ctrl and qfrc_applied end in its state bit for bit (max |qfrc_applied| "
         f"{np.abs(rec.qfrc_applied).max():.1f} N.m)",
         f"crslab Simulation.run --fast (API, worker started; framework + lab() + hand + mj_step + pipe), "
-        f"best of {REPEATS}: {sim:,.0f} ticks/s",
+        f"best of {2 * REPEATS}: {sim:,.0f} ticks/s",
         f"bare C loop (copy ctrl, qfrc_applied; mj_step; same libmujoco), best of {2 * REPEATS} passes: "
         f"{c_loop:,.0f} steps/s",
-        f"  ratio crslab API / bare C loop: {sim / c_loop:.2f} (target >= 0.9, issue 19)",
+        f"  ratio crslab API / bare C loop, wall time: {sim / c_loop:.2f} (target >= 0.9, issue 19)",
+        cpu_line,
         f"mujoco.rollout of the same controls and forces (one call, stores each state), best of {REPEATS}: "
         f"{roll:,.0f} steps/s",
         f"  ratio crslab API / mujoco.rollout: {sim / roll:.2f} (target >= 0.8, issue 3)",
