@@ -103,6 +103,14 @@ class LiveRun:
             if not link.parent.is_dir():
                 raise CliError(f"--pty-link {link}: no such directory {link.parent}")
 
+    def worker_started(self) -> None:
+        """The worker was forked: start what is slow to start (rerun's import) so that it overlaps
+        the worker's start-up."""
+        if self.args.rrd or (self.args.rerun and not missing_display()):
+            from crslab.sinks.rerun_scopes import preload
+
+            preload()
+
     def start(self, out: FanOut) -> None:
         """Open everything (after the worker was forked): the sinks join ``out``, which closes them."""
         a = self.args

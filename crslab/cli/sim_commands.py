@@ -303,7 +303,8 @@ def run_sim(args: argparse.Namespace) -> int:
 
     start = time.monotonic()
     try:
-        with Simulation(config, deadline_s=args.deadline, limits=limits_from_args(args)) as sim:
+        with Simulation(config, deadline_s=args.deadline, limits=limits_from_args(args),
+                        on_started=live.worker_started) as sim:
             if not sim.defines_lab:
                 raise CliError(f"{lab_name} defines no lab() function", status=RunStatus.NO_LAB.exit_status)
             live.start(out)

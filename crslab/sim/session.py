@@ -157,11 +157,14 @@ class Simulation:
 
     ``debug`` prepares the worker for a debugger (``crslab debug``): the process it names may
     trace it. ``deadline_s`` None never calls the lab hung (a debugger holds it as long as it
-    likes).
+    likes). ``on_started()`` is called once the worker process exists, while it loads the plant
+    and the lab: what it starts overlaps the worker's start-up (threads may start then: the fork
+    is done).
     """
 
     def __init__(self, config: SimConfig, *, deadline_s: float | None = DEFAULT_DEADLINE_S,
-                 limits: Limits = NO_LIMITS, debug: DebugSetup | None = None) -> None:
+                 limits: Limits = NO_LIMITS, debug: DebugSetup | None = None,
+                 on_started: Callable[[], None] | None = None) -> None:
         self.config = config
         self.deadline_s = deadline_s
         self.debug = debug
@@ -220,6 +223,8 @@ class Simulation:
                 else:
                     os.environ[k] = v
         child_conn.close()
+        if on_started is not None:
+            on_started()
         reply = self._expect(self._wait_reply(READY_TIMEOUT_S, during_setup=True), ("ready", "failed"), 2)
         if not isinstance(reply, RunResult) and (reply[0] == "failed" or not isinstance(reply[1], int)):
             reply = RunResult(RunStatus.CRASHED, 0, f"{self.lab_name}: {reply[1]}")

@@ -21,8 +21,9 @@ entity                     holds
 A blueprint puts the 3D view and the serial log on the left and one scope per group on the right.
 Every chunk of ticks the simulation hands over is sent with a few ``send_columns`` calls. Rerun
 (whose import starts threads) is imported after the worker process was forked: on the first
-data, or in a background thread from :meth:`RerunSink.prepare` so that its half-second import
-overlaps the first ticks.
+data, or in a background thread from :func:`preload` (as soon as the worker exists, so that its
+half-second import overlaps the worker's start-up and the first ticks) or
+:meth:`RerunSink.prepare`.
 """
 
 from __future__ import annotations
@@ -107,6 +108,32 @@ def blueprint() -> object:
     )
 
 
+def _load_rerun_and_arm(loaded: list[object]) -> None:
+    try:
+        import rerun  # noqa: F401 - the slow import, done here
+        import rerun.blueprint  # noqa: F401
+
+        from crslab.scopes.arm3d import ArmModel
+
+        loaded.append(ArmModel())
+    except Exception as exc:  # noqa: BLE001 - re-raised where the data arrives
+        loaded.append(exc)
+
+
+_preloads: list[tuple[threading.Thread, list[object]]] = []
+
+
+def preload() -> None:
+    """Import rerun and read the arm's model in a background thread now, for the next
+    :class:`RerunSink` of this process to take. Call it after the worker was forked."""
+    if not _preloads:
+        loaded: list[object] = []
+        thread = threading.Thread(target=_load_rerun_and_arm, args=(loaded,), name="crslab-rerun-import",
+                                  daemon=True)
+        thread.start()
+        _preloads.append((thread, loaded))
+
+
 class RerunSink(Sink):
     """Send a run's scopes to a rerun viewer (``spawn=True``), an ``.rrd`` file, or both.
 
@@ -131,21 +158,15 @@ class RerunSink(Sink):
 
     # -- start-up ----------------------------------------------------------------------------
     def prepare(self) -> None:
-        """Import rerun and read the arm's model in the background (call after the fork)."""
+        """Import rerun and read the arm's model in the background (call after the fork), or take
+        what :func:`preload` started."""
         if self._loader is None:
-            self._loader = threading.Thread(target=self._load, name="crslab-rerun-import", daemon=True)
+            if _preloads:
+                self._loader, self._loaded = _preloads.pop()
+                return
+            self._loader = threading.Thread(target=_load_rerun_and_arm, args=(self._loaded,),
+                                            name="crslab-rerun-import", daemon=True)
             self._loader.start()
-
-    def _load(self) -> None:
-        try:
-            import rerun  # noqa: F401 - the slow import, done here
-            import rerun.blueprint  # noqa: F401
-
-            from crslab.scopes.arm3d import ArmModel
-
-            self._loaded.append(ArmModel())
-        except Exception as exc:  # noqa: BLE001 - re-raised where the data arrives
-            self._loaded.append(exc)
 
     def _start(self) -> None:
         self.prepare()
