@@ -39,17 +39,18 @@ void crs_fk_pose_dh(const double dh_rad[3], double pose_in[16])
 
 /* FK in motor angles from their sines and cosines: th2 DH = th2M - pi/2 and th2 + th3 DH = th3M,
  * so x = cos th1 (a2 sin th2M + a3 cos th3M), z = d1 + a2 cos th2M - a3 sin th3M. */
-static inline double fk_height_in(double cos_th2m, double sin_th3m)
-{
-    return CRS_BASE_HEIGHT_IN + CRS_UPPER_ARM_IN * cos_th2m - CRS_FOREARM_IN * sin_th3m;
-}
-
 static inline void fk_motor_sincos(const double s[3], const double c[3], double xyz_in[3])
 {
     const double reach = CRS_UPPER_ARM_IN * s[1] + CRS_FOREARM_IN * c[2];
     xyz_in[0] = c[0] * reach;
     xyz_in[1] = s[0] * reach;
-    xyz_in[2] = fk_height_in(c[1], s[2]);
+    xyz_in[2] = CRS_BASE_HEIGHT_IN + CRS_UPPER_ARM_IN * c[1] - CRS_FOREARM_IN * s[2];
+}
+
+/* z of crs_fk_motor alone (the same expression), from two of its six sines and cosines */
+static inline double fk_height_motor_in(const double motor_rad[3])
+{
+    return CRS_BASE_HEIGHT_IN + CRS_UPPER_ARM_IN * cos(motor_rad[1]) - CRS_FOREARM_IN * sin(motor_rad[2]);
 }
 
 void crs_fk_motor(const double motor_rad[3], double xyz_in[3])
@@ -111,14 +112,13 @@ crs_ik_status crs_ik_motor(const double xyz_in[3], int elbow_up, double motor_ra
 
 int crs_outside_envelope_motor(const double motor_rad[3])
 {
-    /* called every tick: the joint bounds first, then the height alone (crs_fk_motor's z, two
-     * of its six sines and cosines), only when they hold */
+    /* called every tick: the joint bounds first, then the height alone, only when they hold */
     double dh[3];
     crs_motor_to_dh(motor_rad, dh);
     return fabs(dh[0]) > CRS_ENVELOPE_TH1_MAX_RAD || dh[1] < CRS_ENVELOPE_TH2_MIN_RAD
         || dh[1] > CRS_ENVELOPE_TH2_MAX_RAD || dh[2] < CRS_ENVELOPE_TH3_MIN_RAD
         || dh[2] > CRS_ENVELOPE_TH3_MAX_RAD
-        || fk_height_in(cos(motor_rad[1]), sin(motor_rad[2])) < CRS_ENVELOPE_Z_MIN_IN;
+        || fk_height_motor_in(motor_rad) < CRS_ENVELOPE_Z_MIN_IN;
 }
 
 void crs_outside_envelope_motor_batch(const double *motor_rad, int *outside, size_t n)

@@ -86,9 +86,59 @@ static void test_batch_and_jacobian(void)
     }
 }
 
+/* The envelope is the joint bounds and the height of crs_fk_motor: a second implementation of
+ * the rule over a grid of motor angles (the envelope computes the height on its own, only when
+ * the joint bounds hold), with rows right at the 4 in height. */
+static void test_envelope_is_joint_bounds_and_fk_height(void)
+{
+    int checked = 0, low = 0, mismatched = 0;
+    for (int i = -130; i <= 130; i += 10) {
+        for (int k = -100; k <= 240; k += 3) {
+            for (int m = -200; m <= 200; m += 3) {
+                const double motor[3] = {i * DEG, k * DEG, m * DEG};
+                double dh[3], xyz[3];
+                crs_motor_to_dh(motor, dh);
+                crs_fk_motor(motor, xyz);
+                const int joints_out = fabs(dh[0]) > CRS_ENVELOPE_TH1_MAX_RAD || dh[1] < CRS_ENVELOPE_TH2_MIN_RAD
+                    || dh[1] > CRS_ENVELOPE_TH2_MAX_RAD || dh[2] < CRS_ENVELOPE_TH3_MIN_RAD
+                    || dh[2] > CRS_ENVELOPE_TH3_MAX_RAD;
+                const int want = joints_out || xyz[2] < CRS_ENVELOPE_Z_MIN_IN;
+                low += !joints_out && xyz[2] < CRS_ENVELOPE_Z_MIN_IN;
+                mismatched += crs_outside_envelope_motor(motor) != want;
+                ++checked;
+            }
+        }
+    }
+    /* at the height bound itself: th2M chosen so that z is 4 in to the last bit of its cosine */
+    for (int m = 20; m <= 80; m += 10) {
+        const double th3m = m * DEG;
+        const double c2 = (CRS_ENVELOPE_Z_MIN_IN - CRS_BASE_HEIGHT_IN + CRS_FOREARM_IN * sin(th3m))
+                        / CRS_UPPER_ARM_IN;
+        if (!(c2 > -1.0 && c2 < 1.0)) continue;
+        const double base = acos(c2);
+        for (int ulp = -3; ulp <= 3; ++ulp) {
+            const double motor[3] = {0.0, base + ulp * 1e-15, th3m};
+            double xyz[3];
+            crs_fk_motor(motor, xyz);
+            double dh[3];
+            crs_motor_to_dh(motor, dh);
+            const int joints_out = dh[1] < CRS_ENVELOPE_TH2_MIN_RAD || dh[1] > CRS_ENVELOPE_TH2_MAX_RAD
+                || dh[2] < CRS_ENVELOPE_TH3_MIN_RAD || dh[2] > CRS_ENVELOPE_TH3_MAX_RAD;
+            mismatched += crs_outside_envelope_motor(motor) != (joints_out || xyz[2] < CRS_ENVELOPE_Z_MIN_IN);
+            ++checked;
+        }
+    }
+    if (mismatched || low == 0) {
+        printf("FAIL envelope vs joint bounds and FK height: %d of %d poses differ, %d below 4 in\n",
+               mismatched, checked, low);
+        ++failures;
+    }
+}
+
 int main(void)
 {
     test_known_poses();
+    test_envelope_is_joint_bounds_and_fk_height();
     test_ik_round_trip();
     test_unreachable_is_defined();
     test_batch_and_jacobian();
