@@ -27,7 +27,7 @@ from crslab.regress.junit import Case, write_junit
 from crslab.regress.transcript import split_lines
 from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
-from crslab.sim.status import GradeClass, RunResult, RunStatus
+from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 
 SHOWN_ALWAYS = (GradeClass.PASS, GradeClass.MISMATCH, GradeClass.DOES_NOT_COMPILE, GradeClass.CRASHED,
                 GradeClass.HUNG)
@@ -50,6 +50,14 @@ class Grade:
     detail: str
     result: RunResult
     comparison: Comparison | None = None
+
+    @property
+    def exit_status(self) -> ExitStatus:
+        """What ``crslab check`` exits with for this run against the reference: a run that reached
+        its end gives 0 on a match and 1 on a mismatch, any other its own status's."""
+        if self.result.status is RunStatus.OK:
+            return ExitStatus.OK if self.grade == GradeClass.PASS else ExitStatus.MISMATCH
+        return self.result.exit_status
 
     @property
     def report(self) -> str:
@@ -243,11 +251,12 @@ def counts_line(grades: Sequence[Grade]) -> str:
 
 def write_csv(path: Path, grades: Sequence[Grade]) -> None:
     """One row per submission: file, result, detail, lines, first differing line and its time, the
-    seconds it took and how many of the scenario's expectations failed."""
+    seconds it took, how many of the scenario's expectations failed, how its run ended (``status``:
+    ok, exited, nan, output-limit, ...) and the exit status ``crslab check`` gives such a run."""
     with path.open("w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["submission", "result", "detail", "lines", "first_diff_line", "first_diff_t_s",
-                    "seconds", "expectations_failed"])
+                    "seconds", "expectations_failed", "status", "exit_status"])
         for g in grades:
             lines = len(split_lines(g.result.transcript))
             first_line = first_t = ""
@@ -257,7 +266,8 @@ def write_csv(path: Path, grades: Sequence[Grade]) -> None:
                 if d.got is not None and d.got.tick is not None:
                     first_t = f"{d.got.tick / 1000:.3f}"
             w.writerow([g.path.name, g.grade, g.detail, lines, first_line, first_t,
-                        f"{g.result.wall_s:.2f}", len(g.result.failed_expectations)])
+                        f"{g.result.wall_s:.2f}", len(g.result.failed_expectations), g.result.status,
+                        int(g.exit_status)])
 
 
 def write_junit_grades(path: Path, grades: Sequence[Grade], suite: str) -> None:

@@ -587,7 +587,11 @@ class Simulation:
                         control.serve(self)
                     if code == board_constants().CRS_RUN_NAN_STRICT:
                         ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
-                        return ended(RunStatus.NAN, self.tick)
+                        t = self.stats.get("nan_first_tick", self.tick)
+                        return ended(RunStatus.NAN, self.tick,
+                                     f"{self.lab_name} returned a NaN or Inf in "
+                                     f"tau{self.stats.get('nan_first_joint', 0)} at tick {t} "
+                                     f"(t = {t / 1000:.3f} s) and --strict is on")
                     if code == board_constants().CRS_RUN_PRINTF_OVERFLOW:
                         ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
                         return ended(RunStatus.CRASHED, *self._overflow())
