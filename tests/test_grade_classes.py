@@ -17,27 +17,28 @@ from pathlib import Path
 import pytest
 
 LABS = Path(__file__).parent / "labs" / "grade_classes"
-END_S = 1.5
+AT_1000 = "at tick 1000 (t = 1.000 s)"
 
 # submission -> (grade class, run status, exit status of `crslab check`, the detail's words)
 EXPECTED = {
     "pass.c": ("pass", "ok", 0, "6 lines match"),
     "mismatch.c": ("mismatch", "ok", 1,
                    "6 lines differ; line 1 (t = 0.000 s): number 2 is 1, expected 0 (off by 1)"),
-    "segfault.c": ("crashed", "crashed", 3, "segfault.c crashed (SIGSEGV) in lab() at tick 1000 (t = 1.000 s)"),
-    "calls_exit.c": ("crashed", "exited", 3, "calls_exit.c called exit(1) in lab() at tick 1000 (t = 1.000 s)"),
-    "hangs.c": ("hung", "hung", 4, "hangs.c hung: lab() did not return within 0.5 s at tick 1000 (t = 1.000 s)"),
+    "segfault.c": ("crashed", "crashed", 3, f"segfault.c crashed (SIGSEGV) in lab() {AT_1000}"),
+    "calls_exit.c": ("crashed", "exited", 3, f"calls_exit.c called exit(1) in lab() {AT_1000}"),
+    "hangs.c": ("hung", "hung", 4, f"hangs.c hung: lab() did not return within 0.5 s {AT_1000}"),
     "opens_file.c": ("forbidden", "forbidden", 3,
                      "opens_file.c was stopped by the sandbox: it tried to open /etc/hostname for reading in "
-                     "lab() at tick 1000 (t = 1.000 s)"),
+                     f"lab() {AT_1000}"),
     "typo.c": ("does not compile", "build-error", 2, "typo.c:26:21: error:"),
     "no_lab.c": ("does not compile", "no-lab", 2, "no_lab.c defines no lab() function"),
     "nan_torque.c": ("crashed", "nan", 5,
-                     "nan_torque.c returned a NaN or Inf in tau2 at tick 1000 (t = 1.000 s) and --strict is on"),
+                     f"nan_torque.c returned a NaN or Inf in tau2 {AT_1000} and --strict is on"),
     "flood.c": ("crashed", "output-limit", 6,
                 "flood.c printed more than 0.002 MB; the run was cut off at tick 1500 (t = 1.500 s)"),
     "unwatched.c": ("mismatch", "unfit", 2,
-                    "sets_gain.toml:8: var: gain is not a watched (#pragma DATA_SECTION) variable of unwatched.c"),
+                    "sets_gain.toml:8: var: gain is not a watched (#pragma DATA_SECTION) variable of "
+                    "unwatched.c"),
 }
 
 
@@ -52,7 +53,7 @@ def graded(tmp_path_factory):
     r = subprocess.run([sys.executable, "-m", "crslab", "grade", str(subs), "--reference",
                         str(LABS / "reference.c"), "--scenario", str(LABS / "sets_gain.toml"),
                         "--no-startup-delay", "--strict", "--deadline", "0.5", "--max-output-mb", "0.002",
-                        "--jobs", "2", "--out", str(out)], capture_output=True, text=True, timeout=300)
+                        "--jobs", "3", "--out", str(out)], capture_output=True, text=True, timeout=300)
     with (out / "grades.csv").open() as f:
         rows = {row["submission"]: row for row in csv.DictReader(f)}
     return r, out, rows
@@ -82,7 +83,8 @@ def test_the_transcripts_stop_where_each_run_stopped(graded):
     # a run cut off at call 1000 keeps what it printed before (calls 0..750)
     for name in ("segfault.c", "calls_exit.c", "hangs.c", "opens_file.c"):
         assert rows[name]["lines"] == "4", name
-        assert (out / "transcripts" / f"{name}.txt").read_bytes() == reference[:reference.index(b"count 1000")]
+        before = reference[:reference.index(b"count 1000")]
+        assert (out / "transcripts" / f"{name}.txt").read_bytes() == before, name
     # the NaN of call 1000 ends the run after that tick's print
     assert rows["nan_torque.c"]["lines"] == "5"
     # the flood ends at its chunk's end: 2000 bytes kept of what fit the transmit ring
@@ -94,7 +96,7 @@ def test_the_transcripts_stop_where_each_run_stopped(graded):
 def test_the_summary_reports_and_exit_status(graded):
     r, out, _ = graded
     assert r.returncode == 1, r.stderr  # not every submission passed
-    assert "Traceback" not in r.stderr and "2 at a time" in r.stderr
+    assert "Traceback" not in r.stderr and "3 at a time" in r.stderr  # --jobs 3
     table = {line.split()[0]: line for line in r.stdout.splitlines()[1:-1]}
     for name, (grade, *_) in EXPECTED.items():
         assert table[name].split(None, 1)[1].startswith(grade), table[name]
