@@ -42,3 +42,20 @@ def _required_programs(request: pytest.FixtureRequest) -> None:
     if os.environ.get(REQUIRE_ALL_ENV) == "1":
         pytest.fail(f"{REQUIRE_ALL_ENV}=1 but {missing} is not installed")
     pytest.skip(f"needs {missing} (not installed)")
+
+
+@pytest.fixture
+def drawn_figures(monkeypatch: pytest.MonkeyPatch) -> list:
+    """Every matplotlib figure saved during the test, in order, kept after it is closed: a test
+    checks what a plot command drew (its axes, lines, points), not only that it wrote a file."""
+    from matplotlib.figure import Figure
+
+    saved: list = []
+    savefig = Figure.savefig
+
+    def keep(self: Figure, *args: object, **kwargs: object) -> object:
+        saved.append(self)
+        return savefig(self, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", keep)
+    return saved

@@ -14,6 +14,7 @@ import pytest
 from crslab.cli import main
 from crslab.framework_facts import CLAMP_UNITS
 from crslab.sim.api import simulate
+from crslab.sweep.metrics import METRIC_NAMES
 from crslab.sweep.table import shown_metrics
 from tests.waiting import LineWatcher, wait_exit
 
@@ -149,8 +150,9 @@ def test_crashes_and_hangs_are_rows_and_the_sweep_finishes(tmp_path, capsys):
     assert "worst: sample 0 (hung, failed) at mass=1; hang_after_5s.c hung" in stdout
 
 
-def test_metrics_are_those_of_the_runs_signals(tmp_path):
-    """The row's metrics against the same run's scope log, computed here another way."""
+def test_metrics_are_those_of_the_runs_signals(tmp_path, drawn_figures):
+    """The row's metrics against the same run's scope log, computed here another way; the plot
+    draws each of them against each varied quantity, passed and failed runs apart."""
     out = tmp_path / "r.csv"
     assert (
         sweep(
@@ -165,10 +167,23 @@ def test_metrics_are_those_of_the_runs_signals(tmp_path):
             "2",
             "-o",
             out,
+            "--plot",
+            tmp_path / "p.png",
         )
         == 1
     )
     rows = rows_of(out)
+    [fig] = drawn_figures
+    metrics = [m for m in METRIC_NAMES if any(float(r[m]) != 0 for r in rows)]
+    assert "plotvar2_err_rms" in metrics and len(fig.axes) == 2 * len(metrics)
+    for i, metric in enumerate(metrics):
+        for j, varied in enumerate(("var:Kp2", "var:tau1_open")):
+            ax = fig.axes[2 * i + j]
+            passed, failed = (c.get_offsets() for c in ax.collections)
+            for drawn, want in ((passed, "True"), (failed, "False")):
+                np.testing.assert_allclose(drawn, [(float(r[varied]), float(r[metric])) for r in rows
+                                                   if r["passed"] == want])
+        assert fig.axes[2 * i].get_ylabel() == metric
     from crslab.scenario.load import parse_scenario
 
     for row in rows:

@@ -101,3 +101,25 @@ def test_traj_plans_for_the_rrr_arm_in_its_own_length_unit(tmp_path):
     wrong_unit = crslab("traj", "rrr", "--waypoints", "crs.csv", "-o", "o.csv", cwd=tmp_path)
     assert wrong_unit.returncode == 2 and wrong_unit.stderr.count("\n") == 1
     assert "crs.csv line 1: the header must name the columns x_units, y_units, z_units" in wrong_unit.stderr
+
+
+def test_the_traj_plot_draws_the_written_columns(tmp_path, drawn_figures):
+    """The plot's four panels draw each joint's position, velocity, acceleration and jerk as the
+    CSV holds them, and mark every waypoint's arrival."""
+    from crslab.cli import main
+
+    pts, out = tmp_path / "pts.csv", tmp_path / "traj.csv"
+    pts.write_text(SQUARE)
+    png = tmp_path / "t.png"
+    assert main(["traj", "crs", "--waypoints", str(pts), "-o", str(out), "--plot", str(png)]) == 0
+    [fig] = drawn_figures
+    table = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert len(fig.axes) == 4
+    for panel, ax in enumerate(fig.axes):
+        curves = [line for line in ax.lines if len(line.get_xdata()) > 2]
+        assert [line.get_label() for line in curves] == ["motor angle 1", "motor angle 2", "motor angle 3"]
+        for j, line in enumerate(curves):
+            np.testing.assert_allclose(line.get_xdata(), table[:, 0], atol=1e-12)
+            np.testing.assert_allclose(line.get_ydata(), table[:, 1 + 3 * panel + j], rtol=1e-9, atol=1e-9)
+        marks = sorted(line.get_xdata()[0] for line in ax.lines if len(line.get_xdata()) == 2)
+        assert marks == [0.0, 1.5, 2.5, 4.0]

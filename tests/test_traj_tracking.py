@@ -92,3 +92,21 @@ def test_cli_unreachable_waypoint_names_the_row(tmp_path):
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and r.stdout == ""
     assert r.stderr.count("\n") == 1 and f"{bad} line 3:" in r.stderr and "out of reach" in r.stderr
+
+
+def test_the_tracking_plot_draws_desired_and_actual_whose_gap_is_the_reported_rms(figure_run, tmp_path,
+                                                                                   drawn_figures):
+    from crslab.traj.tracking import plot_tracking
+
+    _, _, report, _ = figure_run
+    plot_tracking(report, tmp_path / "track.png")
+    [fig] = drawn_figures
+    assert len(fig.axes) == 3
+    for j, ax in enumerate(fig.axes):
+        desired, actual = ax.lines
+        assert (desired.get_label(), actual.get_label()) == ("desired", "actual")
+        np.testing.assert_array_equal(desired.get_xdata(), report.t_s)
+        np.testing.assert_allclose(desired.get_ydata(), np.degrees(report.desired_rad[:, j]))
+        gap = desired.get_ydata() - actual.get_ydata()
+        assert np.sqrt(np.mean(gap ** 2)) == pytest.approx(np.degrees(report.rms_error_rad[j]), rel=1e-9)
+        assert np.ptp(actual.get_ydata()) > 1  # the arm moved on every joint
