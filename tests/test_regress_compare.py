@@ -36,6 +36,17 @@ def test_relative_tolerance():
     assert not ok("1000.0", "1002.0", rel_tol=0.001)
 
 
+def test_the_relative_tolerance_scales_by_the_larger_number_and_the_larger_tolerance_wins():
+    # 1050 against 950 is off by 100: 0.1 of the larger (105) allows it, 0.1 of the smaller (95)
+    # would not, whichever side is the golden's; 0.09 of the larger (94.5) does not
+    assert ok("1050", "950", rel_tol=0.1) and ok("950", "1050", rel_tol=0.1)
+    assert not ok("1050", "950", rel_tol=0.09) and not ok("950", "1050", rel_tol=0.09)
+    assert numbers_match(-1050.0, -950.0, 0.0, 0.1) and not numbers_match(-1050.0, -950.0, 0.0, 0.09)
+    # the tolerances do not add up: off by 1.2 is beyond both 0.5 and 0.01 x 101.2
+    assert not ok("100", "101.2", abs_tol=0.5, rel_tol=0.01)
+    assert ok("100", "101.2", abs_tol=1.2, rel_tol=0.01) and ok("100", "101.2", abs_tol=0.5, rel_tol=0.012)
+
+
 @given(st.floats(min_value=-1e4, max_value=1e4, allow_nan=False), st.sampled_from([-1, 1]))
 def test_any_percent_2f_value_matches_its_neighbour_in_the_last_digit(x, step):
     printed = f"{x:.2f}"

@@ -150,7 +150,7 @@ class MeetingJob:
         import threading
 
         try:
-            self.barrier.wait(timeout=60)  # a guard only: the partner is already running
+            self.barrier.wait(timeout=30)  # a guard only: the partner is already running
         except threading.BrokenBarrierError:
             return "alone"
         return "met"
