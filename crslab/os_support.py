@@ -108,6 +108,24 @@ def limit_memory(size_bytes: int) -> None:
 WORKER_START_METHOD = "fork"
 
 
+# -- The --rrd writer process ------------------------------------------------------------------------
+# Linux: forked at the command's start (crslab/sinks/rerun_writer.py), fed through a pipe whose
+# buffer is raised to 1 MiB (F_SETPIPE_SZ) so a chunk of ticks goes down in one write.
+# macOS: fork is safe that early (nothing but the standard library is loaded); there is no
+# F_SETPIPE_SZ (pipes hold 64 KiB): the writer's reader thread drains them instead.
+PIPE_BYTES = 1 << 20
+
+
+def enlarge_pipe(fd: int) -> None:
+    """Let the pipe whose end is ``fd`` hold up to :data:`PIPE_BYTES` (best effort)."""
+    import fcntl
+
+    try:
+        fcntl.fcntl(fd, fcntl.F_SETPIPE_SZ, PIPE_BYTES)
+    except (OSError, AttributeError):
+        pass
+
+
 # -- Pseudo-terminals (--pty) -------------------------------------------------------------------------
 # Linux: os.openpty gives /dev/pts/N; with no terminal attached the master reports POLLHUP,
 # which is how crslab drops bytes no one reads (crslab/sinks/serial_pty.py).

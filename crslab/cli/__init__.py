@@ -63,6 +63,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``crslab`` console script; returns the exit status."""
     from crslab.resources import ResourceError
 
+    if argv is None:  # the crslab command itself: --rrd's writer starts now (see rerun_writer)
+        from crslab.sinks.rerun_writer import start_writer
+
+        start_writer(sys.argv[1:])
     try:
         parser = build_parser()
     except ResourceError as exc:  # a broken installation: say how to repair it

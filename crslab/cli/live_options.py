@@ -103,10 +103,15 @@ class LiveRun:
             if not link.parent.is_dir():
                 raise CliError(f"--pty-link {link}: no such directory {link.parent}")
 
+    def _spawn_viewer(self) -> bool:
+        return bool(self.args.rerun) and not missing_display()
+
     def worker_started(self) -> None:
         """The worker was forked: start what is slow to start (rerun's import) so that it overlaps
-        the worker's start-up."""
-        if self.args.rrd or (self.args.rerun and not missing_display()):
+        the worker's start-up; not needed when the ``--rrd`` writer process does it."""
+        from crslab.sinks.rerun_writer import has_writer
+
+        if self._spawn_viewer() or (self.args.rrd and not has_writer()):
             from crslab.sinks.rerun_scopes import preload
 
             preload()
@@ -135,7 +140,14 @@ class LiveRun:
             self.status(f"--rerun: {missing_display()}; running without the rerun viewer"
                         + ("" if a.rrd else " (--rrd FILE saves a recording to open later)"))
             spawn = False
-        if spawn or a.rrd:
+        from crslab.sinks.rerun_writer import WriterSink, discard_writer, take_writer
+
+        writer = take_writer() if a.rrd and not spawn else None
+        discard_writer()  # forked for --rrd but not needed: the viewer keeps rerun in-process
+        if writer is not None:  # --rrd written by the process forked at the command's start
+            out.add(WriterSink(writer, rrd_path=a.rrd, name=self.config.build.source.name,
+                               on_status=self.status))
+        elif spawn or a.rrd:
             from crslab.sinks.rerun_scopes import RerunSink
 
             rerun_sink = RerunSink(rrd_path=a.rrd, spawn=spawn, name=self.config.build.source.name,

@@ -134,6 +134,12 @@ def preload() -> None:
         _preloads.append((thread, loaded))
 
 
+def wait_preloaded() -> None:
+    """Wait until what :func:`preload` started is done."""
+    for thread, _ in _preloads:
+        thread.join()
+
+
 class RerunSink(Sink):
     """Send a run's scopes to a rerun viewer (``spawn=True``), an ``.rrd`` file, or both.
 
