@@ -25,6 +25,7 @@ from crslab.live.console import VarConsole
 from crslab.scopes.display import missing_display
 from crslab.sim.config import SimConfig
 from crslab.sim.running import LiveControl
+from crslab.sinks.rerun_writer import WriterSink, discard_writer, take_writer
 from crslab.sinks.sink import FanOut
 from crslab.sinks.threaded import ThreadedSink
 
@@ -102,6 +103,14 @@ class LiveRun:
                 raise CliError(f"--pty-link {link}: exists and is not a symlink; not replacing it")
             if not link.parent.is_dir():
                 raise CliError(f"--pty-link {link}: no such directory {link.parent}")
+        self._rrd_writer: WriterSink | None = None
+        """--rrd's sink when the writer process forked at the command's start writes it: opened
+        now, so that the recording is set up before the first tick."""
+        writer = take_writer() if args.rrd and not self._spawn_viewer() else None
+        discard_writer()  # forked for --rrd but not needed: the viewer keeps rerun in-process
+        if writer is not None:
+            self._rrd_writer = WriterSink(writer, rrd_path=args.rrd, name=config.build.source.name,
+                                          on_status=self.status)
 
     def _spawn_viewer(self) -> bool:
         return bool(self.args.rerun) and not missing_display()
@@ -109,9 +118,7 @@ class LiveRun:
     def worker_started(self) -> None:
         """The worker was forked: start what is slow to start (rerun's import) so that it overlaps
         the worker's start-up; not needed when the ``--rrd`` writer process does it."""
-        from crslab.sinks.rerun_writer import has_writer
-
-        if self._spawn_viewer() or (self.args.rrd and not has_writer()):
+        if self._spawn_viewer() or (self.args.rrd and self._rrd_writer is None):
             from crslab.sinks.rerun_scopes import preload
 
             preload()
@@ -140,13 +147,8 @@ class LiveRun:
             self.status(f"--rerun: {missing_display()}; running without the rerun viewer"
                         + ("" if a.rrd else " (--rrd FILE saves a recording to open later)"))
             spawn = False
-        from crslab.sinks.rerun_writer import WriterSink, discard_writer, take_writer
-
-        writer = take_writer() if a.rrd and not spawn else None
-        discard_writer()  # forked for --rrd but not needed: the viewer keeps rerun in-process
-        if writer is not None:  # --rrd written by the process forked at the command's start
-            out.add(WriterSink(writer, rrd_path=a.rrd, name=self.config.build.source.name,
-                               on_status=self.status))
+        if self._rrd_writer is not None:
+            out.add(self._rrd_writer)
         elif spawn or a.rrd:
             from crslab.sinks.rerun_scopes import RerunSink
 

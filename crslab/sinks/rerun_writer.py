@@ -109,11 +109,6 @@ def take_writer() -> WriterProcess | None:
     return _writer.pop() if _writer else None
 
 
-def has_writer() -> bool:
-    """Whether a writer process waits to be taken."""
-    return bool(_writer)
-
-
 def discard_writer() -> None:
     """End the writer if nothing took it (``--rerun`` with a display keeps rerun in-process)."""
     if _writer:
@@ -175,8 +170,8 @@ def _serve(down_fd: int, up_fd: int, parent: int) -> None:
     answer = {"notes": notes, "error": None}
     if isinstance(error, OSError):
         answer["error"] = ("os", error.errno, error.strerror or str(error), error.filename)
-    elif error is not None:
-        answer["error"] = ("other", f"{type(error).__name__}: {error}" if str(error) else type(error).__name__)
+    elif error is not None:  # rerun's own errors (a RuntimeError naming the file): their first line
+        answer["error"] = ("other", (str(error).strip() or type(error).__name__).splitlines()[0])
     with os.fdopen(up_fd, "wb") as up:
         pickle.dump(answer, up)
 
