@@ -110,6 +110,7 @@ def blueprint() -> object:
 
 def _load_rerun_and_arm(loaded: list[object]) -> None:
     try:
+        import numpy.ma  # noqa: F401 - rerun imports it on the first blueprint: a tenth of a second
         import rerun  # noqa: F401 - the slow import, done here
         import rerun.blueprint  # noqa: F401
 
@@ -173,6 +174,11 @@ class RerunSink(Sink):
             self._loader = threading.Thread(target=_load_rerun_and_arm, args=(self._loaded,),
                                             name="crslab-rerun-import", daemon=True)
             self._loader.start()
+
+    def set_up(self) -> None:
+        """Set the recording up now (rerun's import, the viewer or file, the blueprint, the arm's
+        shapes) rather than on the first data."""
+        self._ready()
 
     def _start(self) -> None:
         self.prepare()

@@ -155,7 +155,7 @@ def _serve(down_fd: int, up_fd: int, parent: int) -> None:
         try:
             if kind == "open":
                 sink = RerunSink(**payload, on_status=notes.append)
-                sink.prepare()
+                sink.set_up()  # before the first chunk of ticks arrives
             elif error is None and sink is not None:
                 for name, args in payload:
                     getattr(sink, name)(*args)
