@@ -5,9 +5,10 @@
 ``--viewer`` (MuJoCo's viewer), and the live-variable commands read from standard input while the
 run goes on.
 
-:class:`LiveRun` checks the options before the worker starts (bad paths are one-line errors),
-and starts everything that spawns threads or windows only after the worker was forked
-(:meth:`LiveRun.start`): the sinks join the run's fan-out, and the typed commands and the viewer
+:class:`LiveRun` checks the options before the worker starts (bad paths are one-line errors)
+and opens ``--rrd``'s recording in the writer process the command forked at its start (see
+:mod:`crslab.sinks.rerun_writer`); it starts everything that spawns threads or windows only
+after the worker was forked (:meth:`LiveRun.start`): the sinks join the run's fan-out, and the typed commands and the viewer
 are the run's :attr:`LiveRun.controls`, served between chunks of ticks.
 """
 

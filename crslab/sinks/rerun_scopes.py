@@ -23,7 +23,8 @@ Every chunk of ticks the simulation hands over is sent with a few ``send_columns
 (whose import starts threads) is imported after the worker process was forked: on the first
 data, or in a background thread from :func:`preload` (as soon as the worker exists, so that its
 half-second import overlaps the worker's start-up and the first ticks) or
-:meth:`RerunSink.prepare`.
+:meth:`RerunSink.prepare`. ``crslab sim --rrd`` runs this sink in a writer process of its own
+instead (:mod:`crslab.sinks.rerun_writer`).
 """
 
 from __future__ import annotations

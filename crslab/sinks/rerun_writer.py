@@ -39,9 +39,10 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import BinaryIO
 
-from crslab import os_support
 from crslab.sinks.sink import Sink, SinkError
 
+INBOX_CHUNKS = 16
+"""Chunks of ticks the writer holds unpickled before the crslab process waits for it (bounded memory)."""
 COMMANDS_WITH_RRD = ("sim", "debug")
 """The commands that have ``--rrd`` (``crslab.cli.live_options.add_live_options``)."""
 
@@ -85,6 +86,8 @@ def start_writer(argv: Sequence[str]) -> None:
     ``crslab`` process: before any thread starts and before anything heavy is imported."""
     if _writer or not wants_writer(argv) or threading.active_count() != 1:
         return
+    from crslab import os_support
+
     down_r, down_w = os.pipe()
     up_r, up_w = os.pipe()
     os_support.enlarge_pipe(down_w)
@@ -117,6 +120,8 @@ def discard_writer() -> None:
 
 # -- the writer's side ------------------------------------------------------------------------
 def _serve(down_fd: int, up_fd: int, parent: int) -> None:
+    from crslab import os_support
+
     os_support.die_with_parent()
     if os.getppid() != parent:  # the crslab process died before the line above
         return
@@ -127,7 +132,7 @@ def _serve(down_fd: int, up_fd: int, parent: int) -> None:
     os.close(null)
     import queue
 
-    inbox: queue.SimpleQueue = queue.SimpleQueue()
+    inbox: queue.Queue = queue.Queue(maxsize=INBOX_CHUNKS)
 
     def read() -> None:
         with os.fdopen(down_fd, "rb") as down:

@@ -20,8 +20,10 @@ True
 from __future__ import annotations
 
 from collections.abc import Iterable
+from typing import TYPE_CHECKING
 
-import numpy as np
+if TYPE_CHECKING:  # not imported at run time: the --rrd writer is forked before numpy is loaded
+    import numpy as np
 
 
 class Sink:
