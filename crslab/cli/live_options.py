@@ -8,8 +8,9 @@ run goes on.
 :class:`LiveRun` checks the options before the worker starts (bad paths are one-line errors)
 and opens ``--rrd``'s recording in the writer process the command forked at its start (see
 :mod:`crslab.sinks.rerun_writer`); it starts everything that spawns threads or windows only
-after the worker was forked (:meth:`LiveRun.start`): the sinks join the run's fan-out, and the typed commands and the viewer
-are the run's :attr:`LiveRun.controls`, served between chunks of ticks.
+after the worker was forked (:meth:`LiveRun.start`): the sinks join the run's fan-out, and the
+typed commands and the viewer are the run's :attr:`LiveRun.controls`, served between chunks of
+ticks.
 """
 
 from __future__ import annotations
