@@ -118,12 +118,17 @@ class LiveRun:
         return bool(self.args.rerun) and not missing_display()
 
     def worker_started(self) -> None:
-        """The worker was forked: start what is slow to start (rerun's import) so that it overlaps
-        the worker's start-up; not needed when the ``--rrd`` writer process does it."""
+        """The worker was forked: start what is slow to start (rerun's import, not needed when the
+        ``--rrd`` writer process does it; pyarrow's for ``--csv``) so that it overlaps the
+        worker's start-up."""
         if self._spawn_viewer() or (self.args.rrd and self._rrd_writer is None):
             from crslab.sinks.rerun_scopes import preload
 
             preload()
+        if self.args.csv:
+            from crslab.sinks import csv_file
+
+            csv_file.preload()
 
     def start(self, out: FanOut) -> None:
         """Open everything (after the worker was forked): the sinks join ``out``, which closes them."""
