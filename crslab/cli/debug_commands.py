@@ -17,8 +17,8 @@ from crslab.cli.sim_commands import (
     config_from_args,
     limits_from_args,
     motor_board_line,
-    notices,
     positive,
+    print_run_notes,
     summary,
 )
 from crslab.cli.sim_narration import WIDTH, Narrator, pace_text, seconds
@@ -218,11 +218,7 @@ def run_debug(args: argparse.Namespace) -> int:
     wall = time.monotonic() - start
     if unreached:
         print(f"{PREFIX}{unreached}", file=sys.stderr)
-    for line in notices(lab_name, result.stats, config.build.generation):
-        print(f"{PREFIX}{line}", file=sys.stderr)
-    for expectation in result.failed_expectations:
-        for line in expectation.lines():
-            print(f"{PREFIX}expectation failed: {line}", file=sys.stderr)
+    print_run_notes(PREFIX, lab_name, result, config.build.generation)
     info = summary(result, wall, args.budget_us)
     if args.json:
         print(json.dumps(info), file=sys.stderr)

@@ -239,6 +239,16 @@ def lost_serial_notice(lab_name: str, stats: dict) -> str | None:
             f"the {dropped} bytes after that are missing from the transcript")
 
 
+def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: int) -> None:
+    """On stderr after a run (``crslab sim`` and ``crslab debug``): its :func:`notices` and its
+    failed scenario expectations, one line each."""
+    for line in notices(lab_name, result.stats, generation):
+        print(f"{prefix}{line}", file=sys.stderr)
+    for expectation in result.failed_expectations:
+        for line in expectation.lines():
+            print(f"{prefix}expectation failed: {line}", file=sys.stderr)
+
+
 def notices(lab_name: str, stats: dict, generation: int) -> list[str]:
     """One-line warnings about the run (printed on stderr)."""
     out = []
@@ -332,11 +342,7 @@ def run_sim(args: argparse.Namespace) -> int:
             raise CliError(str(exc)) from None
     wall = time.monotonic() - start
     tracking.finish()
-    for line in notices(lab_name, result.stats, config.build.generation):
-        print(f"crslab sim: {line}", file=sys.stderr)
-    for expectation in result.failed_expectations:
-        for line in expectation.lines():
-            print(f"crslab sim: expectation failed: {line}", file=sys.stderr)
+    print_run_notes("crslab sim: ", lab_name, result, config.build.generation)
     info = summary(result, wall, args.budget_us)
     if args.json:
         print(json.dumps(info), file=sys.stderr)

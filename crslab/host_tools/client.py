@@ -64,7 +64,17 @@ class SerialLink:
         return self._sock.fileno() if self._sock is not None else self._fd
 
     def _take(self, n: int) -> bytes:
-        return self._sock.recv(n) if self._sock is not None else os.read(self._fd, n)
+        """Up to ``n`` bytes that have arrived (BlockingIOError: none after all); a port that went
+        away or closed is a :class:`LinkError`."""
+        try:
+            chunk = self._sock.recv(n) if self._sock is not None else os.read(self._fd, n)
+        except BlockingIOError:
+            raise  # an OSError too, but only "nothing yet": the caller's to handle
+        except OSError as exc:
+            raise LinkError(f"{self.name}: the port went away ({exc.strerror or exc})") from None
+        if not chunk:
+            raise LinkError(f"{self.name}: the port closed (did the run end?)")
+        return chunk
 
     def write(self, data: bytes) -> None:
         """Send every byte of ``data``."""
@@ -88,14 +98,9 @@ class SerialLink:
             if left <= 0 or not select.select([self._fileno()], [], [], left)[0]:
                 break
             try:
-                chunk = self._take(n - len(out))
+                out += self._take(n - len(out))
             except BlockingIOError:
                 continue
-            except OSError as exc:
-                raise LinkError(f"{self.name}: the port went away ({exc.strerror or exc})") from None
-            if not chunk:
-                raise LinkError(f"{self.name}: the port closed (did the run end?)")
-            out += chunk
         return out
 
     def read_available(self) -> bytes:
@@ -103,24 +108,17 @@ class SerialLink:
         out = b""
         while select.select([self._fileno()], [], [], 0)[0]:
             try:
-                chunk = self._take(65536)
+                out += self._take(65536)
             except BlockingIOError:
                 break
-            except OSError as exc:
-                raise LinkError(f"{self.name}: the port went away ({exc.strerror or exc})") from None
-            if not chunk:
-                raise LinkError(f"{self.name}: the port closed (did the run end?)")
-            out += chunk
         return out
 
     def discard_input(self) -> None:
         """Drop what arrived and was not read (a stale reply)."""
         while select.select([self._fileno()], [], [], 0)[0]:
             try:
-                chunk = self._take(65536)
-            except (BlockingIOError, OSError):
-                return
-            if not chunk:
+                self._take(65536)
+            except (BlockingIOError, LinkError):  # nothing more, or a port that went away or closed
                 return
 
     def close(self) -> None:
