@@ -33,13 +33,20 @@ from crslab.scenario.expect_events import ExpectOutcome, Judge, Observation
 from crslab.sim.board_ffi import board_constants, board_ffi, shared_size
 from crslab.sim.config import SimConfig
 from crslab.sim.debug_setup import DebugSetup
+from crslab.sim.firmware_trap import diagnose
 from crslab.sim.running import LiveControl, PacedControl, RunDebugger
 from crslab.sim.sanitizer import asan_runtime, summarize_sanitizer_report
+from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sim.worker_reply import UnreadableReply, receive
 from crslab.sinks.sink import Sink
 
 DEFAULT_DEADLINE_S = 2.0
+INTERRUPT_GRACE_S = 2.0
+"""How long a WebAssembly worker has to answer once its firmware's call was interrupted."""
+CPU_S_PER_TICK = 1e-3
+"""The CPU time a chunk may use per tick before the worker counts as hung whatever it reports
+(a native lab could hide that it is stuck in lab()): a millisecond, a slow lab's whole tick."""
 READY_TIMEOUT_S = 60.0
 SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
 ABORT_ON_ERROR = ":abort_on_error=1"
@@ -225,8 +232,11 @@ class Simulation:
         child_conn.close()
         if on_started is not None:
             on_started()
-        reply = self._expect(self._wait_reply(READY_TIMEOUT_S, during_setup=True), ("ready", "failed"), 2)
-        if not isinstance(reply, RunResult) and (reply[0] == "failed" or not isinstance(reply[1], int)):
+        reply = self._expect(self._wait_reply(READY_TIMEOUT_S, during_setup=True), ("ready", "failed", "trapped"), 2)
+        if not isinstance(reply, RunResult) and reply[0] == "trapped" and isinstance(reply[1], dict):
+            status, message = diagnose(reply[1], self.lab_name, deadline_s=self.deadline_s)
+            reply = RunResult(status, 0, message)
+        elif not isinstance(reply, RunResult) and (reply[0] != "ready" or not isinstance(reply[1], int)):
             reply = RunResult(RunStatus.CRASHED, 0, f"{self.lab_name}: {reply[1]}")
         if isinstance(reply, RunResult):
             self.close()
@@ -438,9 +448,26 @@ class Simulation:
                 return found
         return None
 
-    def _wait_reply(self, timeout_s: float | None, during_setup: bool = False) -> tuple | RunResult:
+    def _worker_cpu_s(self) -> float | None:
+        """The worker's CPU time so far (the kernel's count, which nothing in the worker can
+        change), or None when it cannot be read."""
+        try:
+            fields = Path(f"/proc/{self.worker_pid}/stat").read_text().rsplit(")", 1)[1].split()
+            return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+        except (OSError, IndexError, ValueError):
+            return None
+
+    def _wait_reply(self, timeout_s: float | None, during_setup: bool = False,
+                    cpu_allowance_s: float | None = None) -> tuple | RunResult:
+        """The worker's next reply, or how the run ended meanwhile: the worker died, or a lab()
+        or printing() call ran past the deadline (a WebAssembly firmware is interrupted and the
+        worker answers; a native worker is killed), or the worker used more than
+        ``cpu_allowance_s`` of CPU time on this request (a native lab that hides where it is)."""
         c = board_constants()
         start = time.monotonic()
+        cpu0 = self._worker_cpu_s() if cpu_allowance_s is not None else None
+        interrupted_at: float | None = None
+        polls = 0
         while True:
             try:
                 if self._conn.poll(0.05):
@@ -463,18 +490,31 @@ class Simulation:
             if self.deadline_s is not None and phase in (c.CRS_PHASE_LAB, c.CRS_PHASE_PRINTING):
                 busy_s = (time.monotonic_ns() - int(self.shared.phase_start_ns)) / 1e9
                 if busy_s > self.deadline_s:
-                    tick = int(self.shared.tick)
-                    self.process.kill()
-                    self.process.join()
-                    func = "lab()" if phase == c.CRS_PHASE_LAB else "printing()"
-                    return RunResult(
-                        RunStatus.HUNG, tick,
-                        f"{self.lab_name} hung: {func} did not return within {self.deadline_s:g} s "
-                        f"at tick {tick} (t = {tick / 1000:.3f} s)", self.stats)
+                    if not self.config.build.native and interrupted_at is None:
+                        # the firmware's call traps at its next loop or call; the worker answers
+                        os.kill(self.worker_pid, INTERRUPT_SIGNAL)
+                        interrupted_at = time.monotonic()
+                    elif interrupted_at is None or time.monotonic() - interrupted_at > INTERRUPT_GRACE_S:
+                        return self._hung(phase)
+            polls += 1
+            if cpu0 is not None and polls % 20 == 0:
+                cpu = self._worker_cpu_s()
+                if cpu is not None and cpu - cpu0 > cpu_allowance_s:  # type: ignore[operator]
+                    return self._hung(c.CRS_PHASE_LAB)
             if timeout_s is not None and time.monotonic() - start > timeout_s:
                 self.process.kill()
                 return RunResult(RunStatus.CRASHED, int(self.shared.tick),
                                  f"{self.lab_name}: the worker stopped answering")
+
+    def _hung(self, phase: int) -> RunResult:
+        """The worker is killed: its lab() or printing() did not return."""
+        tick = int(self.shared.tick)
+        self.process.kill()
+        self.process.join()
+        func = "printing()" if phase == board_constants().CRS_PHASE_PRINTING else "lab()"
+        within = f" within {self.deadline_s:g} s" if self.deadline_s is not None else ""
+        return RunResult(RunStatus.HUNG, tick, f"{self.lab_name} hung: {func} did not return{within} at tick "
+                         f"{tick} (t = {tick / 1000:.3f} s)", self.stats)
 
     def run(
         self,
@@ -513,6 +553,7 @@ class Simulation:
         pace_wall, pace_tick = wall0, tick0  # where pacing counts from
         warned = False
         printed = 0
+        console_seen = 0
         cap = self.limits.output_bytes
 
         def counted(tick: int, data: bytes) -> None:
@@ -549,7 +590,10 @@ class Simulation:
                         if pause is not None and pause > self.tick:
                             target = min(target, pause)
                     self._conn.send(("run", target))
-                    reply = self._expect(self._wait_reply(None), ("ran",), 5)
+                    # a chunk may use up to a millisecond of CPU per tick, and a deadline's worth more
+                    allowance = (target - self.tick) * CPU_S_PER_TICK + (self.deadline_s or 0.0) \
+                        if self.deadline_s is not None else None
+                    reply = self._expect(self._wait_reply(None, cpu_allowance_s=allowance), ("ran",), 5)
                     if not isinstance(reply, RunResult) and not (isinstance(reply[2], int)
                                                                  and isinstance(reply[3], dict)):
                         reply = self._tampered("not the reply to a run request")
@@ -557,6 +601,12 @@ class Simulation:
                         ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
                         return ended(reply.status, reply.end_tick, reply.message)
                     _, code, self.tick, self.stats, log = reply
+                    if code == board_constants().CRS_RUN_TRAPPED:
+                        ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
+                        trap = self.stats.get("trap")
+                        status, message = diagnose(trap if isinstance(trap, dict) else {}, self.lab_name,
+                                                   deadline_s=self.deadline_s)
+                        return ended(status, self.tick, message)
                     for event in self.stats.pop("motor_board_events", []):
                         self.motor_board_events.append(tuple(event))
                         if on_motor_board is not None:
@@ -574,6 +624,9 @@ class Simulation:
                     with ctrl_c.held():  # every sink gets all of the chunk, or none of it
                         lost = self._drain_serial(counted, sink)
                         printed += lost  # what was lost counts toward the limit too
+                        console = int(self.stats.get("console_bytes", 0))  # printf: counted, never shown
+                        printed += console - console_seen
+                        console_seen = console
                         if printed <= cap:
                             if log is not None:
                                 sink.on_log(log)
