@@ -25,8 +25,9 @@ SIM = HERE / "sim"
 # vector_math.h is internal (attributes, no API); every other header is the Python-visible API.
 HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [
     SIM / "framework_facts.h", SIM / "sim.h", SIM / "firmware_wasm.h"]
-NATIVE_ONLY = {"firmware_native.c"}
-"""Board sources linked only with a native lab (crslab/lab/build.py), never into the core."""
+NATIVE_ONLY = {"firmware_native.c", "debug.c"}
+"""Board sources linked only with a native lab (crslab/lab/build.py), never into the core: the
+native port and what a debugger reads (a second ``crs_tick`` here would be the one gdb finds)."""
 SOURCES = sorted(KIN.glob("*.c")) + sorted(p for p in SIM.glob("*.c") if p.name not in NATIVE_ONLY)
 C_FLAGS = ["-std=c11", "-O3", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-fno-trapping-math"]
 # glibc's vector math (libmvec) backs the vectorized batch loops on x86-64 Linux.

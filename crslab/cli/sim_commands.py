@@ -278,7 +278,9 @@ def lost_serial_notice(lab_name: str, stats: dict) -> str | None:
 
 def near_budget_warning(lab_name: str, info: dict) -> str | None:
     """A warning when no lab() call went over the budget but the slowest came close."""
-    if info.get("over_budget", 0) or not info.get("lab_calls") or info["lab_cost_max"] <= NEAR_BUDGET * info["budget"]:
+    if info.get("over_budget", 0) or not info.get("lab_calls"):
+        return None
+    if info["lab_cost_max"] <= NEAR_BUDGET * info["budget"]:
         return None
     return (f"warning: {lab_name}'s slowest lab() call cost {_count(info['lab_cost_max'])} "
             f"{info['lab_cost_unit']}, close to the budget of {_count(info['budget'])}")
@@ -301,9 +303,9 @@ def notices(lab_name: str, stats: dict, generation: int) -> list[str]:
     if lost:
         out.append(lost)
     if stats.get("console_bytes", 0) > 0:
-        out.append(f"note: {lab_name} wrote {stats['console_bytes']} bytes with printf, puts or the like: on the "
-                   "board they go to Code Composer Studio's console, not to Tera Term, and crslab does not "
-                   "show them (serial_printf(&SerialA, ...) prints to Tera Term)")
+        out.append(f"note: {lab_name} wrote {stats['console_bytes']} bytes with printf, puts or the like: "
+                   "on the board they go to Code Composer Studio's console, not to Tera Term, and crslab "
+                   "does not show them (serial_printf(&SerialA, ...) prints to Tera Term)")
     if stats.get("nan_first_tick", -1) >= 0:
         t = stats["nan_first_tick"]
         out.append(f"warning: {lab_name} returned a NaN or Inf in tau{stats['nan_first_joint']} at tick {t} "

@@ -48,6 +48,8 @@ BOARD_SOURCES = (sorted(p for p in SIM.glob("*.c") if p.name not in WASM_ONLY) +
 BOARD_HEADERS = (sorted(SIM.glob("*.h")) + sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h"))
                  + sorted(SHIM_INCLUDE.glob("*.h")))
 
+MAX_LINK_ROUNDS = 12
+"""Links of one WebAssembly build (each round renames the lab's names that clash with the C library's)."""
 IMAGE_CAP_BYTES = 8 * 1024 * 1024
 """The largest firmware image (wasm module or shared object) a build may produce."""
 INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
@@ -105,6 +107,13 @@ class LabBuild:
     """The ``--break-when`` condition compiled in with the lab (``crs_debug_condition``), if any."""
     variables: tuple[LabVariable, ...] = field(default=())
     """Every global the file defines (laid out in C28x memory by crslab.host_tools.c28x_memory)."""
+    renamed: tuple[str, ...] = field(default=())
+    """Globals of the lab compiled under another name in its WebAssembly image, because the C
+    library defines theirs (:func:`crslab.lab.firmware.clashing_symbols`)."""
+
+    def image_name(self, name: str) -> str:
+        """What the lab's global ``name`` is called in its image."""
+        return firmware.RENAMED_PREFIX + name if name in self.renamed else name
 
     @property
     def printf_buffer_chars(self) -> int:
@@ -279,8 +288,10 @@ def _undefined_message(name: str, diagnostics: str) -> str | None:
             "defines")
 
 
-def _build_wasm(src: Path, text: str, variables: list[LabVariable], cache: Path, sandboxed: bool) -> tuple[Path, str]:
-    """The WebAssembly firmware of ``src`` (cached); returns (image, digest)."""
+def _build_wasm(src: Path, text: str, variables: list[LabVariable], cache: Path,
+                sandboxed: bool) -> tuple[Path, str, tuple[str, ...]]:
+    """The WebAssembly firmware of ``src`` (cached); returns (image, digest, the lab's globals
+    compiled under another name because the C library defines theirs)."""
     try:
         firmware.prepare_zig()
         objects = firmware.firmware_objects(cache, content_digest)
@@ -292,8 +303,8 @@ def _build_wasm(src: Path, text: str, variables: list[LabVariable], cache: Path,
                              objects[0].parent.name.encode(), " ".join(exported).encode()])
     out_dir = cache / f"wasm-{digest}"
     image = out_dir / "lab.wasm"
-    if image.exists():
-        return image, digest
+    if image.exists() and (out_dir / "renamed.txt").exists():
+        return image, digest, tuple((out_dir / "renamed.txt").read_text().split())
     out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
         build_dir = Path(tmp)
@@ -301,17 +312,24 @@ def _build_wasm(src: Path, text: str, variables: list[LabVariable], cache: Path,
                                    compiler=(), run_dirs=[zig.zig_dir()],
                                    cache_dirs=[zig.zig_cache()]) if sandboxed else None
         out = build_dir / "lab.wasm"
-        while True:
+        renamed: list[str] = []
+        for _ in range(MAX_LINK_ROUNDS):
+            image_names = [firmware.RENAMED_PREFIX + n if n in renamed else n for n in exported]
             try:
-                run_compiler(firmware.link_command(src, objects, out, exported), src.name, sandbox,
+                run_compiler(firmware.link_command(src, objects, out, image_names, renamed), src.name, sandbox,
                              env=firmware.compile_environment(build_dir))
                 break
             except LabForbidden:
                 raise
             except LabBuildError as exc:
-                absent = set(firmware.not_exported(exc.diagnostics)) & set(exported)
-                if absent:  # a global the text's reading found that the file does not define
+                absent = {n.removeprefix(firmware.RENAMED_PREFIX)
+                          for n in firmware.not_exported(exc.diagnostics)}
+                clashes = [n for n in firmware.clashing_symbols(exc.diagnostics) if n not in renamed]
+                if absent & set(exported) or clashes:
+                    # a global the text's reading found that the file does not define; a name the C
+                    # library also defines
                     exported = [n for n in exported if n not in absent]
+                    renamed += clashes
                     continue
                 undefined = _undefined_message(src.name, exc.diagnostics)
                 if undefined:
@@ -322,9 +340,12 @@ def _build_wasm(src: Path, text: str, variables: list[LabVariable], cache: Path,
                                         f"of memory, crslab's board gives a lab {firmware.MEMORY_BYTES // 1024:,} "
                                         "KB (stack, data and heap)", exc.diagnostics) from None
                 raise
+        else:
+            raise LabBuildError(f"{src.name} does not link: too many of its names clash with the C library's")
+        (out_dir / "renamed.txt").write_text("".join(f"{n}\n" for n in renamed))
         _check_image(out, src.name)
         out.replace(image)
-    return image, digest
+    return image, digest, tuple(renamed)
 
 
 def _build_native(src: Path, text_bytes: bytes, flags: list[str], unit: str | None, break_when: str | None,
@@ -405,13 +426,14 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     native = native or sanitize or debug
     cache = cache if cache is not None else _cache()
     cc: Compiler | None = None
+    renamed: tuple[str, ...] = ()
     if native:
         flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_LAB_FLAGS if debug else [])
         unit = break_when_source(src, break_when) if break_when is not None else None
         image, digest, cc = _build_native(src, text_bytes, flags, unit, break_when, sanitize, debug, cache,
                                           sandboxed)
     else:
-        image, digest = _build_wasm(src, text, variables, cache, sandboxed)
+        image, digest, renamed = _build_wasm(src, text, variables, cache, sandboxed)
     return LabBuild(source=src, image=image, generation=generation, sanitized=sanitize, digest=digest,
                     native=native, watched=tuple(find_watched(text)), compiler=cc, debug=debug,
-                    break_when=break_when, variables=tuple(variables))
+                    break_when=break_when, variables=tuple(variables), renamed=renamed)

@@ -56,6 +56,10 @@ FIRMWARE_HEADERS = (sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sor
 
 _UNDEFINED = re.compile(r"undefined symbol: (\w+)")
 _NOT_EXPORTED = re.compile(r"symbol exported via --export not found: (\w+)")
+_CLASH = re.compile(r"(?:symbol type mismatch|duplicate symbol): (\w+)")
+RENAMED_PREFIX = "crs_lab_"
+"""A lab global whose name the C library also defines is compiled under this prefix (see
+:func:`clashing_symbols`); the board finds it by the new name."""
 _MEMORY = re.compile(r"initial memory too small, (\d+) bytes needed")
 
 
@@ -75,6 +79,18 @@ def not_exported(diagnostics: str) -> list[str]:
     ['x_in']
     """
     return _NOT_EXPORTED.findall(diagnostics)
+
+
+def clashing_symbols(diagnostics: str) -> list[str]:
+    """Globals of the lab that the WebAssembly C library also defines (course labs name variables
+    ``index``, ``time``, ``step``...): on the board, and in a native build (``-Bsymbolic``), the
+    lab's own win; here the lab file is compiled again with each renamed (``-Dindex=crs_lab_index``),
+    which changes nothing the lab computes.
+
+    >>> clashing_symbols("wasm-ld: error: symbol type mismatch: index\\n>>> defined as ...")
+    ['index']
+    """
+    return list(dict.fromkeys(_CLASH.findall(diagnostics)))
 
 
 def memory_needed(diagnostics: str) -> int | None:
@@ -122,10 +138,16 @@ def exported_variables(names: list[str]) -> list[str]:
     return [f"-Wl,--export={n}" for n in names if re.fullmatch(r"[A-Za-z_]\w*", n)]
 
 
-def link_command(compiled: Path, objects: list[Path], out: Path, variables: list[str]) -> list[str]:
-    """zig's command that compiles the lab file ``compiled`` and links it into ``out``."""
-    return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, *INCLUDES, "-x", "c", str(compiled), "-x", "none",
-            *map(str, objects), *LINK_FLAGS, *exported_variables(variables), "-o", str(out)]
+def link_command(compiled: Path, objects: list[Path], out: Path, variables: list[str],
+                 renamed: list[str] = ()) -> list[str]:  # type: ignore[assignment]
+    """zig's command that compiles the lab file ``compiled`` (its globals ``renamed`` under
+    :data:`RENAMED_PREFIX`) and links it into ``out``, exporting ``variables`` (as they are named
+    in the image). A lab's ``main()`` is never called (the board runs the framework's loop), so it
+    is compiled as an ordinary function: the course's ``void main(void)`` is fine on the C28x."""
+    renames = [f"-D{n}={RENAMED_PREFIX}{n}" for n in renamed]
+    return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames, *INCLUDES,
+            "-x", "c", str(compiled), "-x", "none", *map(str, objects), *LINK_FLAGS,
+            *exported_variables(variables), "-o", str(out)]
 
 
 def compile_environment(build_dir: Path) -> dict[str, str]:

@@ -29,10 +29,11 @@ def board_ffi() -> FFI:
 
 @cache
 def native_board_ffi() -> FFI:
-    """sim.h's declarations and the native firmware port's (crs_fw_native_attach)."""
+    """sim.h's declarations, the debugger's (debug.h) and the native firmware port's
+    (crs_fw_native_attach): a native lab's shared object holds all of them."""
     ffi = FFI()
-    ffi.cdef(cdef_from_header(resources.path("csrc", "sim", "sim.h").read_text()))
-    ffi.cdef(cdef_from_header(resources.path("csrc", "sim", "firmware_native.h").read_text()))
+    for header in ("sim.h", "debug.h", "firmware_native.h"):
+        ffi.cdef(cdef_from_header(resources.path("csrc", "sim", header).read_text()))
     return ffi
 
 

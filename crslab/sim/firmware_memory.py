@@ -19,6 +19,7 @@ True
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 from typing import Protocol
 
@@ -69,10 +70,11 @@ class FirmwareMemory(Protocol):
 
 
 class WasmMemory:
-    """A WebAssembly firmware's memory (``crs_fw_wasm_memory``, ``crs_fw_wasm_variable``)."""
+    """A WebAssembly firmware's memory (``crs_fw_wasm_memory``, ``crs_fw_wasm_variable``);
+    ``image_name`` says what a global is called in the image (:meth:`LabBuild.image_name`)."""
 
-    def __init__(self, ffi: FFI, lib: object, sim: object) -> None:
-        self.ffi, self._lib, self._sim = ffi, lib, sim
+    def __init__(self, ffi: FFI, lib: object, sim: object, image_name: Callable[[str], str] = str) -> None:
+        self.ffi, self._lib, self._sim, self._image_name = ffi, lib, sim, image_name
         size = ffi.new("uint64_t *")
         base = lib.crs_fw_wasm_memory(sim, size)  # type: ignore[attr-defined]
         self.base = int(ffi.cast("uintptr_t", base))
@@ -82,7 +84,8 @@ class WasmMemory:
         return wasm_element_type(ctype, pointer)
 
     def address(self, name: str, nbytes: int) -> int | None:
-        offset = int(self._lib.crs_fw_wasm_variable(self._sim, name.encode()))  # type: ignore[attr-defined]
+        exported = self._image_name(name).encode()
+        offset = int(self._lib.crs_fw_wasm_variable(self._sim, exported))  # type: ignore[attr-defined]
         if offset == 0 or offset + nbytes > self.size:
             return None
         return self.base + offset

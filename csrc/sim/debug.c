@@ -7,7 +7,7 @@
 #include <fenv.h>
 #include <stddef.h>
 
-#include "sim.h"
+#include "debug.h"
 
 volatile int64_t crs_tick = -1;
 

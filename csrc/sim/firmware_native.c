@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "board.h"
+#include "debug.h"
 #include "firmware.h"
 #include "firmware_port.h"
 
@@ -66,11 +67,15 @@ int crs_fw_call_lab(crs_sim *sim, int32_t *print)
     }
     sh->phase_start_ns = crs_now_ns();
     sh->phase = CRS_PHASE_LAB;
+    if (sim->debug.trap_fp) crs_debug_fp_traps(1); /* crslab debug --debug-on-crash --strict */
     const int64_t cpu0 = thread_cpu_ns();
     *print = crs_fw_lab(th1, th2, th3, sim->safety_flag);
     count_cost(sim, thread_cpu_ns() - cpu0);
+    if (sim->debug.trap_fp) crs_debug_fp_traps(0);
     return 0;
 }
+
+int crs_fw_tick_begins(crs_sim *sim) { return crs_debug_tick_begins(sim); }
 
 int crs_fw_call_printing(crs_sim *sim)
 {

@@ -20,6 +20,9 @@
 int crs_fw_call_lab(crs_sim *sim, int32_t *print);
 /* printing() once: 0, or CRS_RUN_TRAPPED. */
 int crs_fw_call_printing(crs_sim *sim);
+/* At the start of every tick: 1 to end the chunk before it (crslab debug's --break-when holds;
+ * only a native firmware runs under a debugger), else 0. */
+int crs_fw_tick_begins(crs_sim *sim);
 
 /* What the firmware's serial_printf sends (firmware.h: crs_board_serial_send): `formatted`
  * characters, the first of them at `chars` (`available` of them readable). Queues them on SerialA's

@@ -576,6 +576,12 @@ int crs_fw_call_lab(crs_sim *sim, int32_t *print)
     return 0;
 }
 
+int crs_fw_tick_begins(crs_sim *sim)
+{
+    (void)sim; /* no debugger runs a WebAssembly firmware: crslab debug builds it natively */
+    return 0;
+}
+
 int crs_fw_call_printing(crs_sim *sim)
 {
     crs_wasm *w = sim->firmware;

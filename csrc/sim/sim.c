@@ -39,9 +39,7 @@ void crs_sim_init(crs_sim *sim)
 static int lab_tick(crs_sim *sim)
 {
     int32_t print = 0;
-    if (sim->debug.trap_fp) crs_debug_fp_traps(1); /* crslab debug --debug-on-crash --strict */
     int code = crs_fw_call_lab(sim, &print);
-    if (sim->debug.trap_fp) crs_debug_fp_traps(0);
     if (code) return code;
     if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
     if (print) {
@@ -136,7 +134,7 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
     crs_hand_plan(&sim->hand, &hand_path);
     while (sim->tick < until_tick) {
         sh->tick = sim->tick;
-        if (crs_debug_tick_begins(sim)) return CRS_RUN_BREAK;
+        if (crs_fw_tick_begins(sim)) return CRS_RUN_BREAK;
         const int stop = framework_tick(sim);
         /* the board's memory is corrupt, or the firmware stopped: the tick goes no further */
         if (stop == CRS_RUN_PRINTF_OVERFLOW || stop == CRS_RUN_TRAPPED) return stop;

@@ -361,12 +361,5 @@ int64_t crs_encoder_counts(double motor_rad, double rest_motor_rad);
 /* The framework's safety envelope on motor angles (rad): 1 when outside. */
 int crs_outside_envelope(const double enc_rad[3]);
 
-/* For debuggers (csrc/sim/debug.c): the tick being run, which gdb shows; the check at the start of
- * every tick (1: stop for --break-when); the function gdb breaks on when crslab asks for a stop
- * (it then stops at the next lab() call); floating-point traps on (1) or off (0). */
-extern volatile int64_t crs_tick;
-int crs_debug_tick_begins(crs_sim *sim);
-void crs_debug_break(int64_t tick);
-void crs_debug_fp_traps(int on);
 
 #endif
