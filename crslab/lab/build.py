@@ -29,11 +29,11 @@ from crslab import os_support, resources
 from crslab.cache import CacheError, cache_dir
 from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START, GEN_A, GEN_B, printf_buffer_chars
 from crslab.lab import firmware, zig
-from crslab.lab.compile_process import COMPILE_TIMEOUT_S, run_compile
+from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, find_watched
-from crslab.sandbox.compile_sandbox import CompilerSandbox, compiler_sandbox, forbidden_read
+from crslab.sandbox.compile_sandbox import compiler_sandbox
 
 CSRC = resources.path("csrc")
 SHIM_INCLUDE = CSRC / "board" / "include"
@@ -48,10 +48,6 @@ BOARD_SOURCES = (sorted(p for p in SIM.glob("*.c") if p.name not in WASM_ONLY) +
 BOARD_HEADERS = (sorted(SIM.glob("*.h")) + sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h"))
                  + sorted(SHIM_INCLUDE.glob("*.h")))
 
-MAX_LINK_ROUNDS = 12
-"""Links of one WebAssembly build (each round renames the lab's names that clash with the C library's)."""
-IMAGE_CAP_BYTES = 8 * 1024 * 1024
-"""The largest firmware image (wasm module or shared object) a build may produce."""
 INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
 ERROR_LIMIT = ["-fmax-errors=50"]
 LAB_FLAGS = ["-std=c11", "-O2", "-fPIC", "-w", "-fno-common"]
@@ -68,23 +64,6 @@ DEBUG_BOARD_FLAGS = ["-g"]
 LINK_LIBS = os_support.MATH_LIBS
 
 _INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]', re.MULTILINE)
-
-
-class LabBuildError(Exception):
-    """The lab could not be built; ``diagnostics`` holds the compiler's own messages."""
-
-    def __init__(self, message: str, diagnostics: str = "") -> None:
-        super().__init__(message)
-        self.diagnostics = diagnostics
-
-
-class LabForbidden(LabBuildError):
-    """The sandboxed compiler was refused a file the lab names (an ``#include`` of a path
-    outside the lab's folder, a symbolic link out of it, an ``.incbin``): ``path`` is that file."""
-
-    def __init__(self, message: str, diagnostics: str, path: str) -> None:
-        super().__init__(message, diagnostics)
-        self.path = path
 
 
 @dataclass(frozen=True)
@@ -110,6 +89,9 @@ class LabBuild:
     renamed: tuple[str, ...] = field(default=())
     """Globals of the lab compiled under another name in its WebAssembly image, because the C
     library defines theirs (:func:`crslab.lab.firmware.clashing_symbols`)."""
+    sized: tuple[str, ...] = field(default=())
+    """The lab's globals in its WebAssembly image's size table, in the table's order
+    (:func:`crslab.lab.firmware.unit_text`)."""
 
     def image_name(self, name: str) -> str:
         """What the lab's global ``name`` is called in its image."""
@@ -183,62 +165,6 @@ def check_board_memory(variables: list[LabVariable], generation: int, source: Pa
                             f"{biggest.words * 2 / 1024:,.1f} KB)")
 
 
-def run_compiler(argv: list[str], what: str, sandbox: CompilerSandbox | None = None, *,
-                 env: dict[str, str] | None = None) -> str:
-    """Run the compiler ``argv`` contained (inside ``sandbox`` when given); returns its messages;
-    a failure is a LabBuildError (a LabForbidden when the sandbox refused a file)."""
-    rules, preexec, pass_fds = None, None, ()
-    environment = dict(env if env is not None else os.environ)
-    if sandbox is not None:
-        try:
-            rules = sandbox.ruleset()
-        except OSError as exc:  # Landlock missing: the caller should not have asked for the sandbox
-            raise LabBuildError(f"the compile sandbox cannot be set up ({exc}); --no-sandbox compiles "
-                                "without it") from None
-        preexec, pass_fds = sandbox.preexec(rules.fd), (rules.fd,)
-        for key in ("TMPDIR", "TMP", "TEMP"):
-            environment[key] = str(sandbox.write)
-    try:
-        r = run_compile(argv, env=environment, preexec=preexec, pass_fds=pass_fds)
-    except OSError as exc:
-        raise LabBuildError(f"{Path(argv[0]).name} cannot be run ({exc.strerror})") from None
-    finally:
-        if rules is not None:
-            rules.close()
-    if r.timed_out:
-        raise LabBuildError(f"{what}: the compiler took longer than {COMPILE_TIMEOUT_S:.0f} s and was "
-                            "stopped", r.stderr)
-    if r.returncode != 0:
-        refused = forbidden_read(r.stderr) if sandbox is not None else None
-        if refused:
-            shown = f"{refused} (a symbolic link to {os.path.realpath(refused)})" \
-                if os.path.islink(refused) else refused
-            raise LabForbidden(f"{what} was stopped by the sandbox: it tried to read {shown} while "
-                               "compiling (a lab may read only its own folder, crslab's headers and the "
-                               "compiler's files)", r.stderr, refused)
-        if r.returncode < 0:
-            raise LabBuildError(f"{what} does not compile: the compiler was stopped at its limits "
-                                f"({_limit_hit(r.returncode)})", r.stderr)
-        raise LabBuildError(f"{what} does not compile", r.stderr)
-    return r.stderr
-
-
-def _limit_hit(returncode: int) -> str:
-    import signal
-
-    sig = -returncode
-    return {signal.SIGXCPU: "CPU time", signal.SIGXFSZ: f"files of {IMAGE_CAP_BYTES // 2**20} MB or more",
-            signal.SIGKILL: "killed", signal.SIGSEGV: "memory"}.get(sig, f"signal {sig}")
-
-
-def _check_image(image: Path, what: str) -> None:
-    size = image.stat().st_size
-    if size > IMAGE_CAP_BYTES:
-        image.unlink()
-        raise LabBuildError(f"{what} does not compile: its image is {size / 2**20:.0f} MB, more than the "
-                            f"{IMAGE_CAP_BYTES // 2**20} MB crslab builds (the F28335 has 512 KB of flash)")
-
-
 def _board_objects(cc: Compiler, sanitize: bool, cache: Path, debug: bool = False) -> list[Path]:
     """The native board, framework stand-ins and kinematics objects, built once per content,
     flags and compiler."""
@@ -278,74 +204,34 @@ def break_when_source(lab: Path, condition: str) -> str:
             f"{condition}\n) != 0; }}\n")
 
 
-def _undefined_message(name: str, diagnostics: str) -> str | None:
-    """A link error naming the functions nobody defines, or None."""
-    missing = firmware.undefined_functions(diagnostics)
-    if not missing:
-        return None
-    shown = ", ".join(f"{m}()" for m in missing[:4]) + (", ..." if len(missing) > 4 else "")
-    return (f"{name} does not compile: it calls {shown}, which neither the file nor the board's framework "
-            "defines")
-
-
 def _build_wasm(src: Path, text: str, variables: list[LabVariable], cache: Path,
-                sandboxed: bool) -> tuple[Path, str, tuple[str, ...]]:
-    """The WebAssembly firmware of ``src`` (cached); returns (image, digest, the lab's globals
-    compiled under another name because the C library defines theirs)."""
+                sandboxed: bool) -> tuple[firmware.WasmImage, str]:
+    """The WebAssembly firmware of ``src`` (cached); returns (image, digest)."""
     try:
         firmware.prepare_zig()
         objects = firmware.firmware_objects(cache, content_digest)
     except (RuntimeError, zig.ZigMissing, OSError) as exc:
         raise LabBuildError(f"the WebAssembly compiler cannot be used: {exc}") from None
-    exported = sorted({v.name for v in variables if not v.static})
+    globals_ = [v.name for v in variables if not v.static]
     digest = content_digest([text.encode("utf-8", "surrogateescape"), src.suffix.encode(),
-                             " ".join(firmware.LAB_FLAGS + firmware.LINK_FLAGS).encode(),
-                             objects[0].parent.name.encode(), " ".join(exported).encode()])
+                             str(src).encode(), " ".join(firmware.LAB_FLAGS + firmware.LINK_FLAGS).encode(),
+                             objects[0].parent.name.encode(), " ".join(globals_).encode()])
     out_dir = cache / f"wasm-{digest}"
-    image = out_dir / "lab.wasm"
-    if image.exists() and (out_dir / "renamed.txt").exists():
-        return image, digest, tuple((out_dir / "renamed.txt").read_text().split())
+    cached = firmware.WasmImage.load(out_dir)
+    if cached is not None:
+        return cached, digest
     out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
         build_dir = Path(tmp)
         sandbox = compiler_sandbox([src], build_dir, [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent],
                                    compiler=(), run_dirs=[zig.zig_dir()],
                                    cache_dirs=[zig.zig_cache()]) if sandboxed else None
-        out = build_dir / "lab.wasm"
-        renamed: list[str] = []
-        for _ in range(MAX_LINK_ROUNDS):
-            image_names = [firmware.RENAMED_PREFIX + n if n in renamed else n for n in exported]
-            try:
-                run_compiler(firmware.link_command(src, objects, out, image_names, renamed), src.name, sandbox,
-                             env=firmware.compile_environment(build_dir))
-                break
-            except LabForbidden:
-                raise
-            except LabBuildError as exc:
-                absent = {n.removeprefix(firmware.RENAMED_PREFIX)
-                          for n in firmware.not_exported(exc.diagnostics)}
-                clashes = [n for n in firmware.clashing_symbols(exc.diagnostics) if n not in renamed]
-                if absent & set(exported) or clashes:
-                    # a global the text's reading found that the file does not define; a name the C
-                    # library also defines
-                    exported = [n for n in exported if n not in absent]
-                    renamed += clashes
-                    continue
-                undefined = _undefined_message(src.name, exc.diagnostics)
-                if undefined:
-                    raise LabBuildError(undefined, exc.diagnostics) from None
-                needed = firmware.memory_needed(exc.diagnostics)
-                if needed is not None:
-                    raise LabBuildError(f"{src.name} does not fit the board: it needs {needed / 1024:,.0f} KB "
-                                        f"of memory, crslab's board gives a lab {firmware.MEMORY_BYTES // 1024:,} "
-                                        "KB (stack, data and heap)", exc.diagnostics) from None
-                raise
-        else:
-            raise LabBuildError(f"{src.name} does not link: too many of its names clash with the C library's")
-        (out_dir / "renamed.txt").write_text("".join(f"{n}\n" for n in renamed))
-        _check_image(out, src.name)
-        out.replace(image)
-    return image, digest, tuple(renamed)
+        built = firmware.build_module(src, globals_, objects, build_dir, sandbox)
+        built.path.replace(out_dir / "lab.wasm")
+        built.save(out_dir)
+    image = firmware.WasmImage.load(out_dir)
+    assert image is not None
+    return image, digest
 
 
 def _build_native(src: Path, text_bytes: bytes, flags: list[str], unit: str | None, break_when: str | None,
@@ -383,12 +269,11 @@ def _build_native(src: Path, text_bytes: bytes, flags: list[str], unit: str | No
             except LabForbidden:
                 raise
             except LabBuildError as exc:
-                undefined = _undefined_message(src.name, exc.diagnostics.replace("undefined reference to `",
-                                                                                  "undefined symbol: "))
-                if undefined:
-                    raise LabBuildError(undefined, exc.diagnostics) from None
+                if "undefined reference to `" in exc.diagnostics:
+                    text = exc.diagnostics.replace("undefined reference to `", "undefined symbol: ")
+                    raise firmware.link_failure(src, text) from None
                 raise
-            _check_image(tmp_so, src.name)
+            check_image(tmp_so, src.name)
             tmp_so.replace(so)
     if sandboxed:  # the worker's SIGSYS trap, built here so that no worker ever compiles
         from crslab.sandbox.trap import helper_library
@@ -427,13 +312,15 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     cache = cache if cache is not None else _cache()
     cc: Compiler | None = None
     renamed: tuple[str, ...] = ()
+    sized: tuple[str, ...] = ()
     if native:
         flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_LAB_FLAGS if debug else [])
         unit = break_when_source(src, break_when) if break_when is not None else None
         image, digest, cc = _build_native(src, text_bytes, flags, unit, break_when, sanitize, debug, cache,
                                           sandboxed)
     else:
-        image, digest, renamed = _build_wasm(src, text, variables, cache, sandboxed)
+        wasm, digest = _build_wasm(src, text, variables, cache, sandboxed)
+        image, renamed, sized = wasm.path, wasm.renamed, wasm.sized
     return LabBuild(source=src, image=image, generation=generation, sanitized=sanitize, digest=digest,
                     native=native, watched=tuple(find_watched(text)), compiler=cc, debug=debug,
-                    break_when=break_when, variables=tuple(variables), renamed=renamed)
+                    break_when=break_when, variables=tuple(variables), renamed=renamed, sized=sized)

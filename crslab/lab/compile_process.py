@@ -22,7 +22,12 @@ import signal
 import subprocess
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
+from crslab.sandbox.compile_sandbox import CompilerSandbox, forbidden_read
+
+IMAGE_CAP_BYTES = 8 * 1024 * 1024
+"""The largest firmware image (wasm module or shared object) a build may produce."""
 COMPILE_TIMEOUT_S = 60.0
 """Wall-clock time one compiler run may take."""
 COMPILE_CPU_S = 60
@@ -84,3 +89,75 @@ def run_compile(argv: Sequence[str], *, env: Mapping[str, str], preexec: Callabl
         _kill_group(proc.pid)  # anything it started that is still running
     text = (err + b"\n" + out if out.strip() else err)[:MESSAGES_CAP]
     return CompileRun(proc.returncode, text.decode("utf-8", "replace"), timed_out)
+
+
+class LabBuildError(Exception):
+    """The lab could not be built; ``diagnostics`` holds the compiler's own messages."""
+
+    def __init__(self, message: str, diagnostics: str = "") -> None:
+        super().__init__(message)
+        self.diagnostics = diagnostics
+
+
+class LabForbidden(LabBuildError):
+    """The sandboxed compiler was refused a file the lab names (an ``#include`` of a path
+    outside the lab's folder, a symbolic link out of it, an ``.incbin``): ``path`` is that file."""
+
+    def __init__(self, message: str, diagnostics: str, path: str) -> None:
+        super().__init__(message, diagnostics)
+        self.path = path
+
+
+def run_compiler(argv: list[str], what: str, sandbox: CompilerSandbox | None = None, *,
+                 env: dict[str, str] | None = None) -> str:
+    """Run the compiler ``argv`` contained (inside ``sandbox`` when given); returns its messages;
+    a failure is a LabBuildError (a LabForbidden when the sandbox refused a file)."""
+    rules, preexec, pass_fds = None, None, ()
+    environment = dict(env if env is not None else os.environ)
+    if sandbox is not None:
+        try:
+            rules = sandbox.ruleset()
+        except OSError as exc:  # Landlock missing: the caller should not have asked for the sandbox
+            raise LabBuildError(f"the compile sandbox cannot be set up ({exc}); --no-sandbox compiles "
+                                "without it") from None
+        preexec, pass_fds = sandbox.preexec(rules.fd), (rules.fd,)
+        for key in ("TMPDIR", "TMP", "TEMP"):
+            environment[key] = str(sandbox.write)
+    try:
+        r = run_compile(argv, env=environment, preexec=preexec, pass_fds=pass_fds)
+    except OSError as exc:
+        raise LabBuildError(f"{Path(argv[0]).name} cannot be run ({exc.strerror})") from None
+    finally:
+        if rules is not None:
+            rules.close()
+    if r.timed_out:
+        raise LabBuildError(f"{what}: the compiler took longer than {COMPILE_TIMEOUT_S:.0f} s and was "
+                            "stopped", r.stderr)
+    if r.returncode != 0:
+        refused = forbidden_read(r.stderr) if sandbox is not None else None
+        if refused:
+            shown = f"{refused} (a symbolic link to {os.path.realpath(refused)})" \
+                if os.path.islink(refused) else refused
+            raise LabForbidden(f"{what} was stopped by the sandbox: it tried to read {shown} while "
+                               "compiling (a lab may read only its own folder, crslab's headers and the "
+                               "compiler's files)", r.stderr, refused)
+        if r.returncode < 0:
+            raise LabBuildError(f"{what} does not compile: the compiler was stopped at its limits "
+                                f"({_limit_hit(r.returncode)})", r.stderr)
+        raise LabBuildError(f"{what} does not compile", r.stderr)
+    return r.stderr
+
+
+def _limit_hit(returncode: int) -> str:
+    sig = -returncode
+    return {signal.SIGXCPU: "CPU time", signal.SIGXFSZ: f"files of {FILE_SIZE_BYTES // 2**20} MB or more",
+            signal.SIGKILL: "killed", signal.SIGSEGV: "memory"}.get(sig, f"signal {sig}")
+
+
+def check_image(image: Path, what: str) -> None:
+    """Refuse (and delete) a built image larger than :data:`IMAGE_CAP_BYTES`."""
+    size = image.stat().st_size
+    if size > IMAGE_CAP_BYTES:
+        image.unlink()
+        raise LabBuildError(f"{what} does not compile: its image is {size / 2**20:.0f} MB, more than the "
+                            f"{IMAGE_CAP_BYTES // 2**20} MB crslab builds (the F28335 has 512 KB of flash)")

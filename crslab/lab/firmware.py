@@ -20,15 +20,17 @@ whose data does not fit the memory says how much it needs.
 
 from __future__ import annotations
 
-import os
+import json
 import re
 import subprocess
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
 from crslab import resources
 from crslab.lab import zig
-from crslab.lab.compile_process import COMPILE_TIMEOUT_S
+from crslab.lab.compile_process import COMPILE_TIMEOUT_S, LabBuildError, LabForbidden, check_image, run_compiler
+from crslab.sandbox.compile_sandbox import CompilerSandbox
 
 TARGET = "wasm32-wasi"
 STACK_BYTES = 64 * 1024
@@ -53,6 +55,9 @@ LINK_FLAGS = ["-mexec-model=reactor", f"-Wl,-z,stack-size={STACK_BYTES}", f"-Wl,
 FIRMWARE_SOURCES = sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c"))
 FIRMWARE_HEADERS = (sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h"))
                     + [SIM / "sim.h", SIM / "framework_facts.h"])
+
+FRAMEWORK_VARIABLES = ("matlabLock", *(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, 8)))
+"""The framework's globals in the firmware that the board's memory map holds (firmware.c)."""
 
 _UNDEFINED = re.compile(r"undefined symbol: (\w+)")
 _NOT_EXPORTED = re.compile(r"symbol exported via --export not found: (\w+)")
@@ -138,16 +143,132 @@ def exported_variables(names: list[str]) -> list[str]:
     return [f"-Wl,--export={n}" for n in names if re.fullmatch(r"[A-Za-z_]\w*", n)]
 
 
-def link_command(compiled: Path, objects: list[Path], out: Path, variables: list[str],
-                 renamed: list[str] = ()) -> list[str]:  # type: ignore[assignment]
-    """zig's command that compiles the lab file ``compiled`` (its globals ``renamed`` under
-    :data:`RENAMED_PREFIX`) and links it into ``out``, exporting ``variables`` (as they are named
-    in the image). A lab's ``main()`` is never called (the board runs the framework's loop), so it
-    is compiled as an ordinary function: the course's ``void main(void)`` is fine on the C28x."""
+GLOBALS_UNIT = "crslab-globals"
+"""The name the size table's lines go by in the compiler's messages (:func:`unit_text`)."""
+SIZES_SYMBOL = "crs_fw_global_sizes"
+"""The table of the lab's globals' sizes in bytes, exported with the image."""
+MAX_ROUNDS = 12
+"""Compiles of one build: each round drops a name the lab does not define after all, or renames
+one the C library also defines."""
+
+
+def unit_text(lab: Path, sized: list[str]) -> str:
+    """The translation unit the firmware is compiled from: the lab file itself, then the size in
+    bytes of each of its globals ``sized`` as the compiler laid it out, so the board never reads or
+    writes a variable past its end (the source's reading of a size may be wrong).
+
+    >>> print(unit_text(Path("/labs/lab1.c"), ["mycount", "theta1array"]))
+    #include "/labs/lab1.c"
+    #line 1 "crslab-globals"
+    const unsigned int crs_fw_global_sizes[] = {0
+    , sizeof(mycount)
+    , sizeof(theta1array)
+    };
+    <BLANKLINE>
+    """
+    quoted = str(lab.absolute()).replace("\\", "\\\\").replace('"', '\\"')
+    lines = [f'#include "{quoted}"', f'#line 1 "{GLOBALS_UNIT}"', f"const unsigned int {SIZES_SYMBOL}[] = {{0"]
+    lines += [f", sizeof({name})" for name in sized]
+    return "\n".join([*lines, "};", ""])
+
+
+def failed_sizes(diagnostics: str, sized: list[str]) -> list[str]:
+    """The names whose line of the size table did not compile (a global the source's reading found
+    that the compiler does not see: in a branch of an ``#if``, a macro).
+
+    >>> failed_sizes("crslab-globals:3:10: error: use of undeclared identifier 'x_in'", ["a", "x_in"])
+    ['x_in']
+    """
+    lines = {int(n) for n in re.findall(rf"{re.escape(GLOBALS_UNIT)}:(\d+):\d+: error", diagnostics)}
+    return [name for i, name in enumerate(sized) if i + 2 in lines]
+
+
+def compile_command(unit: Path, lab: Path, objects: list[Path], out: Path, exported: list[str],
+                    renamed: list[str]) -> list[str]:
+    """zig's command that compiles ``unit`` (the lab file ``lab`` and its size table; the lab's
+    globals ``renamed`` under :data:`RENAMED_PREFIX`) and links it into ``out``, exporting
+    ``exported`` (as they are named in the image). A lab's ``main()`` is never called (the board
+    runs the framework's loop), so it is compiled as an ordinary function: the course's
+    ``void main(void)`` is fine on the C28x. ``__FILE__`` names the lab as it was given."""
     renames = [f"-D{n}={RENAMED_PREFIX}{n}" for n in renamed]
-    return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames, *INCLUDES,
-            "-x", "c", str(compiled), "-x", "none", *map(str, objects), *LINK_FLAGS,
-            *exported_variables(variables), "-o", str(out)]
+    given = "" if str(lab.parent) == "." else f"{lab.parent}/"
+    return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,
+            f"-fmacro-prefix-map={lab.absolute().parent}/={given}", *INCLUDES, "-x", "c", str(unit), "-x", "none",
+            *map(str, objects), *LINK_FLAGS, *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
+
+
+@dataclass(frozen=True)
+class WasmImage:
+    """A built firmware module and what the board needs to know of its names."""
+
+    path: Path
+    renamed: tuple[str, ...]
+    """The lab's globals compiled under another name (:func:`clashing_symbols`)."""
+    sized: tuple[str, ...]
+    """The lab's globals in the module's size table, in its order."""
+
+    def save(self, folder: Path) -> None:
+        (folder / "names.json").write_text(json.dumps({"renamed": self.renamed, "sized": self.sized}))
+
+    @staticmethod
+    def load(folder: Path) -> WasmImage | None:
+        """The image cached in ``folder``, or None."""
+        try:
+            names = json.loads((folder / "names.json").read_text())
+        except (OSError, ValueError):
+            return None
+        image = folder / "lab.wasm"
+        return WasmImage(image, tuple(names["renamed"]), tuple(names["sized"])) if image.exists() else None
+
+
+def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir: Path,
+                 sandbox: CompilerSandbox | None) -> WasmImage:
+    """Compile and link ``lab`` into ``build_dir/lab.wasm``, exporting and sizing ``globals_`` (its
+    globals as the source reads them) and the framework's variables. Raises LabBuildError (one line
+    naming the problem) or LabForbidden."""
+    sized = list(globals_)
+    exported = sorted(set(globals_) | set(FRAMEWORK_VARIABLES))
+    renamed: list[str] = []
+    unit = build_dir / "firmware.c"
+    out = build_dir / "lab.wasm"
+    for _ in range(MAX_ROUNDS):
+        unit.write_text(unit_text(lab, sized))
+        names = [RENAMED_PREFIX + n if n in renamed else n for n in exported]
+        try:
+            run_compiler(compile_command(unit, lab, objects, out, names, renamed), lab.name, sandbox,
+                         env=compile_environment(build_dir))
+            break
+        except LabForbidden:
+            raise
+        except LabBuildError as exc:
+            text = exc.diagnostics.replace(str(lab.absolute()), str(lab))  # the lab as the user named it
+            absent = {n.removeprefix(RENAMED_PREFIX) for n in not_exported(text)} | set(failed_sizes(text, sized))
+            clashes = [n for n in clashing_symbols(text) if n not in renamed]
+            if absent & set(exported) or clashes:
+                exported = [n for n in exported if n not in absent]
+                sized = [n for n in sized if n not in absent]
+                renamed += clashes
+                continue
+            raise link_failure(lab, text) from None
+    else:
+        raise LabBuildError(f"{lab.name} does not link: too many of its names clash with the C library's")
+    check_image(out, lab.name)
+    return WasmImage(out, tuple(renamed), tuple(sized))
+
+
+def link_failure(lab: Path, diagnostics: str) -> LabBuildError:
+    """The one-line error of a failed build: a function nobody defines, memory the board lacks."""
+    missing = undefined_functions(diagnostics)
+    if missing:
+        shown = ", ".join(f"{m}()" for m in missing[:4]) + (", ..." if len(missing) > 4 else "")
+        return LabBuildError(f"{lab.name} does not compile: it calls {shown}, which neither the file nor the "
+                             "board's framework defines", diagnostics)
+    needed = memory_needed(diagnostics)
+    if needed is not None:
+        return LabBuildError(f"{lab.name} does not fit the board: it needs {needed / 1024:,.0f} KB of memory, "
+                             f"crslab's board gives a lab {MEMORY_BYTES // 1024:,} KB (stack, data and heap)",
+                             diagnostics)
+    return LabBuildError(f"{lab.name} does not compile", diagnostics)
 
 
 def compile_environment(build_dir: Path) -> dict[str, str]:

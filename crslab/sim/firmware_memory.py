@@ -19,14 +19,18 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 from cffi import FFI
 
+from crslab.lab.firmware import FRAMEWORK_VARIABLES, SIZES_SYMBOL
+
 from crslab.lab.variables import HOST_TYPES
 from crslab.os_support import loaded_symbol_size
+
+if TYPE_CHECKING:
+    from crslab.lab.build import LabBuild
 
 _WASM32 = {
     "char": "int8_t", "signed char": "int8_t", "unsigned char": "uint8_t", "short": "int16_t",
@@ -70,25 +74,37 @@ class FirmwareMemory(Protocol):
 
 
 class WasmMemory:
-    """A WebAssembly firmware's memory (``crs_fw_wasm_memory``, ``crs_fw_wasm_variable``);
-    ``image_name`` says what a global is called in the image (:meth:`LabBuild.image_name`)."""
+    """A WebAssembly firmware's memory (``crs_fw_wasm_memory``, ``crs_fw_wasm_variable``), for the
+    lab ``build`` (what its globals are called in the image, and the size of each)."""
 
-    def __init__(self, ffi: FFI, lib: object, sim: object, image_name: Callable[[str], str] = str) -> None:
-        self.ffi, self._lib, self._sim, self._image_name = ffi, lib, sim, image_name
+    def __init__(self, ffi: FFI, lib: object, sim: object, build: LabBuild) -> None:
+        self.ffi, self._lib, self._sim, self._image_name = ffi, lib, sim, build.image_name
         size = ffi.new("uint64_t *")
         base = lib.crs_fw_wasm_memory(sim, size)  # type: ignore[attr-defined]
         self.base = int(ffi.cast("uintptr_t", base))
         self.size = int(size[0])
+        # the size the compiler gave each of the lab's globals (the build's table, read once)
+        self._sizes: dict[str, int] = {}
+        table = self._offset(SIZES_SYMBOL)
+        n = len(build.sized)
+        if table and table + 4 * (n + 1) <= self.size:
+            values = ffi.unpack(ffi.cast("uint32_t *", self.base + table), n + 1)
+            self._sizes = dict(zip(build.sized, values[1:]))
+
+    def _offset(self, exported: str) -> int:
+        return int(self._lib.crs_fw_wasm_variable(self._sim, exported.encode()))  # type: ignore[attr-defined]
 
     def element_type(self, ctype: str, pointer: bool = False) -> str | None:
         return wasm_element_type(ctype, pointer)
 
     def address(self, name: str, nbytes: int) -> int | None:
-        exported = self._image_name(name).encode()
-        offset = int(self._lib.crs_fw_wasm_variable(self._sim, exported))  # type: ignore[attr-defined]
+        offset = self._offset(self._image_name(name))
         if offset == 0 or offset + nbytes > self.size:
             return None
-        return self.base + offset
+        # never trust the source's parse beyond the object the compiler laid out (the framework's own
+        # variables, an int or a float each, are not in the lab's table)
+        size = self._sizes.get(name, 4 if name in FRAMEWORK_VARIABLES else 0)
+        return self.base + offset if size >= nbytes else None
 
 
 class NativeMemory:

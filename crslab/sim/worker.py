@@ -118,7 +118,7 @@ class Worker:
             self.ffi, self.lib = ffi, lib
             block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
             sim = self._load_wasm(config, block)
-            self.firmware = WasmMemory(ffi, lib, sim, config.build.image_name)
+            self.firmware = WasmMemory(ffi, lib, sim, config.build)
         self.sim = sim
         # the lab's globals as the board's MATLAB code sees them (C28x addresses)
         self._keep += fill_memory_table(sim, ffi, self.firmware, lab_memory(config.build))
