@@ -47,7 +47,11 @@ SIM = resources.path("csrc", "sim")
 SHIM_INCLUDE = resources.path("csrc", "board", "include")
 INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
 COMPILE_FLAGS = ["-std=c11", "-O2", "-mexec-model=reactor", "-fno-common", "-g"]
-LAB_FLAGS = [*COMPILE_FLAGS, "-w"]
+LAB_CHECKS = "null,integer-divide-by-zero"
+LAB_FLAGS = [*COMPILE_FLAGS, "-w", f"-fsanitize={LAB_CHECKS}", f"-fno-sanitize-recover={LAB_CHECKS}"]
+"""The lab's flags: a NULL pointer dereferenced or an integer divided by zero stops the run at its
+line (the handlers are the firmware's, csrc/firmware/firmware.c). On the F28335 neither stops the
+board (address 0 is RAM; the division's result is undefined); a native build stops too."""
 FIRMWARE_FLAGS = [*COMPILE_FLAGS, "-Wall", "-Wextra", "-Werror"]
 LINK_FLAGS = ["-mexec-model=reactor", f"-Wl,-z,stack-size={STACK_BYTES}", f"-Wl,--initial-memory={MEMORY_BYTES}",
               f"-Wl,--max-memory={MEMORY_BYTES}"]

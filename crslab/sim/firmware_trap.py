@@ -8,8 +8,9 @@ debug information); the first frame in the lab's own file is the line shown.
 
 >>> t = {"kind": 3, "phase": 1, "tick": 5123, "exit_code": 0,
 ...      "text": "wasm backtrace:\\n    0:   0x1a - lab\\n      at /tmp/x/div.c:12:9\\n\\nCaused by: ..."}
->>> diagnose(t, "div.c", deadline_s=2.0)
-(<RunStatus.CRASHED: 'crashed'>, 'div.c divided an integer by zero in lab() at div.c:12 at tick 5123 (t = 5.123 s)')
+>>> status, line = diagnose(t, "div.c", deadline_s=2.0)
+>>> status, line.split(";")[0]
+(<RunStatus.CRASHED: 'crashed'>, 'div.c divided an integer by zero at div.c:12 in lab() at tick 5123 (t = 5.123 s)')
 >>> diagnose({**t, "kind": 8, "text": ""}, "div.c", deadline_s=2.0)[1]
 'div.c hung: lab() did not return within 2 s at tick 5123 (t = 5.123 s)'
 """
@@ -22,7 +23,7 @@ from pathlib import PurePath
 from crslab.sim.board_ffi import board_constants
 from crslab.sim.status import RunStatus
 
-_AT = re.compile(r"^\s*at (.+?):(\d+)(?::\d+)?\s*$", re.MULTILINE)
+_AT = re.compile(r"^\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
 _FRAME = re.compile(r"^\s*\d+:\s+0x[0-9a-f]+ - (\S+)", re.MULTILINE)
 RECURSION_FRAMES = 8
 """A memory trap whose innermost frames are this many calls of one function ran off its stack."""
@@ -46,7 +47,7 @@ def where_in(text: str, lab_name: str) -> str | None:
     'lab.c:7'
     """
     for path, line in _AT.findall(text):
-        if PurePath(path).name == lab_name:
+        if PurePath(path).name == lab_name and line:
             return f"{lab_name}:{line}"
     return None
 
@@ -69,8 +70,8 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[Ru
     func, where = _phase_words(phase)
     at = ("before the first tick" if phase == c.CRS_PHASE_LOADING
           else f"at tick {tick} (t = {tick / 1000:.3f} s)")
-    line = where_in(text, lab_name)
-    place = f"{where} at {line}" if line else where
+    line = f"{lab_name}:{int(trap['line'])}" if int(trap.get("line", 0)) > 0 else where_in(text, lab_name)
+    place = f"at {line} {where}" if line else where
     if kind == c.CRS_FW_TRAP_INTERRUPT:
         within = f" within {deadline_s:g} s" if deadline_s is not None else ""
         return RunStatus.HUNG, f"{lab_name} hung: {func} did not return{within} {at}"
@@ -84,15 +85,19 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[Ru
     what = {
         c.CRS_FW_TRAP_MEMORY: "read or wrote outside its memory (a wild pointer or an index far out of an array)",
         c.CRS_FW_TRAP_STACK: "overflowed its call stack (runaway recursion)",
-        c.CRS_FW_TRAP_DIVIDE: "divided an integer by zero",
+        c.CRS_FW_TRAP_DIVIDE: "divided an integer by zero",  # the C28x goes on: see the end of the line
         c.CRS_FW_TRAP_OVERFLOW: "overflowed an integer division (the most negative int divided by -1)",
         c.CRS_FW_TRAP_CONVERSION: "converted a float that is NaN or out of range to an integer",
         c.CRS_FW_TRAP_UNREACHABLE: "called abort() (or an assertion failed)",
         c.CRS_FW_TRAP_CALL: "called a function through a bad pointer",
+        c.CRS_FW_TRAP_NULL: "used a NULL pointer (one that was never set)",
     }.get(kind)
     if kind == c.CRS_FW_TRAP_MEMORY and recursed(text):
         what = "overflowed its call stack (runaway recursion)"
+
     if what is None:
         first = next((s.strip() for s in text.splitlines() if s.strip()), "the board stopped it")
         return RunStatus.CRASHED, f"{lab_name} crashed ({first}) {place} {at}"
-    return RunStatus.CRASHED, f"{lab_name} {what} {place} {at}"
+    why = ("; on the C28x an integer division by zero does not stop the board: it goes on with an undefined "
+           "result" if kind == c.CRS_FW_TRAP_DIVIDE else "")
+    return RunStatus.CRASHED, f"{lab_name} {what} {place} {at}{why}"

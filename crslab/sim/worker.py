@@ -29,6 +29,7 @@ process as untrusted (crslab/sim/worker_reply.py).
 from __future__ import annotations
 
 import contextlib
+import os
 import mmap
 from collections.abc import Iterable
 from multiprocessing.connection import Connection
@@ -82,7 +83,7 @@ def trap_info(ffi: FFI, sim: object) -> dict:
     wasmtime's text (the firmware's frames included)."""
     t = sim.trap  # type: ignore[attr-defined]
     return {"kind": int(t.kind), "phase": int(t.phase), "tick": int(t.tick), "exit_code": int(t.exit_code),
-            "text": ffi.string(t.text).decode("utf-8", "replace")}
+            "line": int(t.line), "text": ffi.string(t.text).decode("utf-8", "replace")}
 
 
 class Worker:
@@ -189,6 +190,8 @@ class Worker:
         :class:`FirmwareStopped` when it cannot be loaded or stops in a constructor."""
         sim = self._new_sim(config, block)
         self.lib.crs_fw_wasm_interrupt_on(INTERRUPT_SIGNAL)
+        # a trap's backtrace names the lab's file and line (the firmware carries its DWARF)
+        os.environ["WASMTIME_BACKTRACE_DETAILS"] = "1"
         wasm = config.build.image.read_bytes()
         library = self.ffi.new("char[]", str(wasmtime_library()).encode())
         image = self.ffi.new("uint8_t[]", wasm)

@@ -20,6 +20,12 @@
 #else
 #define CRS_FW_EXPORT(name)
 #define CRS_FW_IMPORT(name)
+/* The lab stopped on a check the WebAssembly build compiles into it (crslab/lab/firmware.py:
+ * a NULL pointer dereferenced, an integer division by zero): `kind` is CRS_FW_TRAP_NULL,
+ * CRS_FW_TRAP_DIVIDE or CRS_FW_TRAP_OVERFLOW (csrc/sim/sim.h), `line` the lab file's line. The board
+ * ends the run; the call does not return. */
+void crs_board_fault(int32_t kind, int32_t line) CRS_FW_IMPORT(fault);
+
 #endif
 
 /* Where the board finds the framework's variables, addresses in the firmware's memory (0: the lab
@@ -58,5 +64,11 @@ void crs_fw_printing(void) CRS_FW_EXPORT(crs_fw_printing);
  * stops the run instead (the real board's memory would be corrupt) and returns 0. */
 int32_t crs_board_serial_send(int32_t port, const char *chars, uint32_t formatted)
     CRS_FW_IMPORT(serial_send);
+
+/* The lab stopped on a check the WebAssembly build compiles into it (crslab/lab/firmware.py:
+ * a NULL pointer dereferenced, an integer division by zero): `kind` is CRS_FW_TRAP_NULL,
+ * CRS_FW_TRAP_DIVIDE or CRS_FW_TRAP_OVERFLOW (csrc/sim/sim.h), `line` the lab file's line. The board
+ * ends the run; the call does not return. */
+void crs_board_fault(int32_t kind, int32_t line) CRS_FW_IMPORT(fault);
 
 #endif

@@ -200,6 +200,16 @@ static wasm_trap_t *board_serial_send(void *env, wasmtime_caller_t *caller, wasm
     return NULL;
 }
 
+static wasm_trap_t *board_fault(void *env, wasmtime_caller_t *caller, wasmtime_val_raw_t *a, size_t n)
+{
+    (void)env;
+    crs_wasm *w = of_caller(caller);
+    const int32_t kind = n >= 1 ? a[0].i32 : CRS_FW_TRAP_OTHER;
+    const int known = kind == CRS_FW_TRAP_NULL || kind == CRS_FW_TRAP_DIVIDE || kind == CRS_FW_TRAP_OVERFLOW;
+    w->sim->trap.line = n >= 2 && a[1].i32 > 0 ? a[1].i32 : 0;
+    return board_trap(w, known ? kind : CRS_FW_TRAP_OTHER, "");
+}
+
 /* ---- imports: WASI, as the C library asks for it -------------------------------------------- */
 
 typedef wasm_trap_t *(*wasi_call)(crs_wasm *w, wasmtime_val_raw_t *a, size_t n, const char *name);
@@ -427,6 +437,9 @@ static int define_imports(crs_wasm *w)
         void (*finalizer)(void *) = NULL;
         if (same(mod, "board") && same(name, "serial_send")) {
             callback = board_serial_send;
+        } else if (same(mod, "board") && same(name, "fault")) {
+            callback = board_fault;
+
         } else if (same(mod, "wasi_snapshot_preview1")) {
             const size_t calls = sizeof WASI_CALLS / sizeof WASI_CALLS[0];
             for (size_t i = 0; i < calls && callback == NULL; ++i) {
@@ -483,22 +496,14 @@ static int32_t kind_of(uint8_t code)
     }
 }
 
-/* Append the firmware's frames (function name and code offset, innermost first) to t->text. */
-static void append_frames(crs_fw_trap *t, const wasm_trap_t *trap)
+/* Append wasmtime's message (what happened and the firmware's backtrace, with the lab's file and
+ * line when the firmware carries its debug information) to t->text, after a newline. */
+static void append_message(crs_fw_trap *t, const wasm_byte_vec_t *m)
 {
-    wasm_frame_vec_t frames = {0, NULL};
-    api.trap_trace(trap, &frames);
     size_t used = strlen(t->text);
-    for (size_t i = 0; i < frames.size && used + 1 < sizeof t->text; ++i) {
-        const wasm_byte_vec_t *name = api.frame_func_name(frames.data[i]);
-        const int shown = name != NULL ? (int)(name->size < 120 ? name->size : 120) : 1;
-        const int k = snprintf(t->text + used, sizeof t->text - used, "\n#frame %zu %.*s",
-                               api.frame_module_offset(frames.data[i]), shown, name != NULL ? name->data : "?");
-        if (k < 0) break;
-        used += (size_t)k;
-        if (used >= sizeof t->text) used = sizeof t->text - 1;
-    }
-    api.frame_vec_delete(&frames);
+    if (m->data == NULL || used + 2 >= sizeof t->text) return;
+    snprintf(t->text + used, sizeof t->text - used, "%s%.*s", used ? "\n" : "",
+             (int)(m->size < sizeof t->text ? m->size : sizeof t->text - 1), m->data);
 }
 
 /* Call `f`; 0, or CRS_RUN_TRAPPED with sim->trap saying how it stopped. */
@@ -518,22 +523,18 @@ static int call(crs_wasm *w, const wasmtime_func_t *f, wasmtime_val_raw_t *args,
             t->kind = api.error_exit_status(err, &status) ? CRS_FW_TRAP_EXIT : CRS_FW_TRAP_OTHER;
             t->exit_code = status;
         }
-        wasm_byte_vec_t m = {0, NULL};
-        if (trap != NULL) {
-            api.trap_message(trap, &m);
-        } else {
-            api.error_message(err, &m);
-        }
-        snprintf(t->text, sizeof t->text, "%.*s", (int)(m.size < sizeof t->text ? m.size : sizeof t->text - 1),
-                 m.data != NULL ? m.data : "");
-        if (m.data != NULL) api.byte_vec_delete(&m);
     }
+    wasm_byte_vec_t m = {0, NULL};
+    if (trap != NULL) {
+        api.trap_message(trap, &m);
+    } else {
+        api.error_message(err, &m);
+    }
+    append_message(t, &m);
+    if (m.data != NULL) api.byte_vec_delete(&m);
     t->phase = phase;
     t->tick = sim->tick;
-    if (trap != NULL) {
-        append_frames(t, trap);
-        api.trap_delete(trap);
-    }
+    if (trap != NULL) api.trap_delete(trap);
     if (err != NULL) api.error_delete(err);
     return CRS_RUN_TRAPPED;
 }

@@ -238,13 +238,15 @@ enum {
     CRS_FW_TRAP_DIVIDE = 3,       /* an integer division by zero */
     CRS_FW_TRAP_OVERFLOW = 4,     /* INT_MIN / -1 */
     CRS_FW_TRAP_CONVERSION = 5,   /* a float too large, or NaN, converted to an integer */
-    CRS_FW_TRAP_UNREACHABLE = 6,  /* abort(), assert(), __builtin_trap() */
+    CRS_FW_TRAP_UNREACHABLE = 6,  /* abort(), assert(), __builtin_trap(), and the check the lab is
+                                     compiled with that a pointer it dereferences is not NULL */
     CRS_FW_TRAP_CALL = 7,         /* a call through a bad function pointer */
     CRS_FW_TRAP_INTERRUPT = 8,    /* stopped at its deadline: lab() or printing() did not return */
     CRS_FW_TRAP_EXIT = 9,         /* exit(code) */
     CRS_FW_TRAP_REFUSED = 10,     /* a call the board does not give a firmware (a file, the clock...) */
     CRS_FW_TRAP_OTHER = 11,       /* anything else wasmtime reports */
-    CRS_FW_TRAP_LOAD = 12         /* the firmware could not be loaded */
+    CRS_FW_TRAP_LOAD = 12,        /* the firmware could not be loaded */
+    CRS_FW_TRAP_NULL = 13         /* a NULL pointer dereferenced (a check compiled into the lab) */
 };
 enum { CRS_FW_TRAP_TEXT = 1024 };
 typedef struct {
@@ -252,7 +254,7 @@ typedef struct {
     int32_t phase;               /* CRS_PHASE_* it happened in */
     int64_t tick;
     int32_t exit_code;           /* CRS_FW_TRAP_EXIT: the code passed to exit() */
-    int32_t pad;
+    int32_t line;                /* the lab file's line, when a check compiled into the lab said (0: not) */
     char text[CRS_FW_TRAP_TEXT];    /* wasmtime's message and the firmware's frames, or what a refused
                                     call tried; NUL-terminated, untrusted text */
 } crs_fw_trap;
