@@ -60,6 +60,7 @@ int crs_wasmtime_api_load(crs_wasmtime_api *out, const char *path, char *error, 
     LOAD_SYMBOL(config_memory_reservation_set, wasmtime_config_memory_reservation_set);
     LOAD_SYMBOL(config_memory_guard_size_set, wasmtime_config_memory_guard_size_set);
     LOAD_SYMBOL(config_memory_reservation_for_growth_set, wasmtime_config_memory_reservation_for_growth_set);
+    LOAD_SYMBOL(config_memory_may_move_set, wasmtime_config_memory_may_move_set);
     LOAD_SYMBOL(config_wasm_threads_set, wasmtime_config_wasm_threads_set);
     LOAD_SYMBOL(engine_new_with_config, wasm_engine_new_with_config);
     LOAD_SYMBOL(engine_delete, wasm_engine_delete);
@@ -118,8 +119,9 @@ typedef struct {
     wasmtime_linker_t *linker;
     wasmtime_module_t *module;
     wasmtime_instance_t instance;
-    uint8_t *base;               /* the firmware's memory: its size is fixed when it is linked */
-    uint64_t size;
+    wasmtime_memory_t memory;
+    uint8_t *base;               /* the firmware's memory: it grows (its heap) up to the board's limit, */
+    uint64_t size;               /* in place: it never moves, so the board's pointers into it hold */
     wasmtime_func_t lab, printing;
     uint64_t fuel_left;          /* fuel after the last call */
 } crs_wasm;
@@ -155,9 +157,11 @@ static void take_error(crs_sim *sim, const char *what, wasmtime_error_t *err)
     api.error_delete(err);
 }
 
-/* `len` bytes at firmware address `addr`, or NULL when they do not all lie in its memory. */
-static uint8_t *span(const crs_wasm *w, uint64_t addr, uint64_t len)
+/* `len` bytes at firmware address `addr`, or NULL when they do not all lie in its memory (as large
+ * as its heap has grown it). */
+static uint8_t *span(crs_wasm *w, uint64_t addr, uint64_t len)
 {
+    if (addr > w->size || len > w->size - addr) w->size = api.memory_data_size(w->ctx, &w->memory);
     return addr <= w->size && len <= w->size - addr ? w->base + addr : NULL;
 }
 
@@ -608,7 +612,7 @@ static int export_func(crs_wasm *w, const char *name, wasmtime_func_t *out)
 }
 
 /* A host pointer to `bytes` at firmware address `addr` aligned to `align`, or NULL. */
-static void *view(const crs_wasm *w, uint32_t addr, uint64_t bytes, uint32_t align)
+static void *view(crs_wasm *w, uint32_t addr, uint64_t bytes, uint32_t align)
 {
     if (addr == 0 || addr % align != 0) return NULL;
     return span(w, addr, bytes);
@@ -661,11 +665,13 @@ int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
     api.config_parallel_compilation_set(config, false); /* the worker stays one thread */
     api.config_wasm_threads_set(config, false);
     api.config_max_wasm_stack_set(config, (size_t)o->stack_bytes);
-    /* the memory never grows (its size is fixed when it is linked), so it needs no more address
-     * space than that (bounds are checked explicitly), and a memory limit on the worker holds */
+    /* the memory grows (the lab's heap) up to the board's limit, within one reservation, so it never
+     * moves and needs no more address space than that (bounds are checked explicitly): a memory
+     * limit on the worker holds */
     api.config_memory_reservation_set(config, o->memory_bytes);
     api.config_memory_reservation_for_growth_set(config, 0);
     api.config_memory_guard_size_set(config, 0);
+    api.config_memory_may_move_set(config, false);
     w->engine = api.engine_new_with_config(config);
     if (w->engine == NULL) {
         load_failed(sim, "wasmtime cannot start", NULL, 0);
@@ -709,8 +715,9 @@ int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
         load_failed(sim, "the firmware exports no memory", NULL, 0);
         return CRS_RUN_TRAPPED;
     }
-    w->base = api.memory_data(w->ctx, &memory.of.memory);
-    w->size = api.memory_data_size(w->ctx, &memory.of.memory);
+    w->memory = memory.of.memory;
+    w->base = api.memory_data(w->ctx, &w->memory);
+    w->size = api.memory_data_size(w->ctx, &w->memory);
     wasmtime_func_t start;
     if (export_func(w, "crs_fw_start", &start) != 0 || export_func(w, "crs_fw_lab", &w->lab) != 0
         || export_func(w, "crs_fw_printing", &w->printing) != 0) {

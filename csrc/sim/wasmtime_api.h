@@ -44,9 +44,11 @@ typedef struct {
     void *private_;
 } wasmtime_func_t;
 typedef struct {
-    uint64_t store_id;
-    uint32_t private1;
-    uint32_t private2;
+    struct {
+        uint64_t store_id;
+        uint32_t private1;
+    } anon;
+    uint32_t private2; /* after the inner struct's padding: 24 bytes in all */
 } wasmtime_memory_t;
 typedef struct {
     uint64_t store_id;
@@ -89,6 +91,11 @@ typedef union {
     void *funcref;
 } wasmtime_val_raw_t;
 
+_Static_assert(sizeof(wasmtime_func_t) == 16 && sizeof(wasmtime_memory_t) == 24 && sizeof(wasmtime_global_t) == 24
+                   && sizeof(wasmtime_instance_t) == 16 && sizeof(wasmtime_extern_t) == 32
+                   && sizeof(wasmtime_val_t) == 32 && sizeof(wasmtime_val_raw_t) == 16,
+               "the handles' layouts of wasmtime 50's wasmtime.h (x86-64, aarch64)");
+
 typedef wasm_trap_t *(*wasmtime_func_unchecked_callback_t)(void *env, wasmtime_caller_t *caller,
                                                             wasmtime_val_raw_t *args_and_results,
                                                             size_t num_args_and_results);
@@ -118,6 +125,7 @@ typedef struct {
     void (*config_memory_reservation_set)(wasm_config_t *, uint64_t);
     void (*config_memory_guard_size_set)(wasm_config_t *, uint64_t);
     void (*config_memory_reservation_for_growth_set)(wasm_config_t *, uint64_t);
+    void (*config_memory_may_move_set)(wasm_config_t *, bool);
     void (*config_wasm_threads_set)(wasm_config_t *, bool);
     wasm_engine_t *(*engine_new_with_config)(wasm_config_t *);
     void (*engine_delete)(wasm_engine_t *);
