@@ -111,7 +111,7 @@ def test_crashes_and_hangs_are_rows_and_the_sweep_finishes(tmp_path, capsys):
         ("0", "crashed", "False"),
         ("1", "crashed", "False"),
     ]
-    assert rows[0]["message"].startswith("crash_after_5s.c crashed (SIGSEGV) in lab() at tick 5100")
+    assert rows[0]["message"].startswith("crash_after_5s.c used a NULL pointer (one that was never set) at crash_after_5s.c:27 in lab() at tick 5100")
     assert rows[0]["end_s"] == "5.1"
     out = tmp_path / "hang.csv"
     assert (

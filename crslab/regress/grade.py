@@ -121,7 +121,8 @@ def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, d
                          wall_s=time.monotonic() - start)
 
     try:
-        build = build_lab(source, sanitize=config.build.sanitized, sandboxed=config.sandboxed)
+        build = build_lab(source, native=config.build.native, sanitize=config.build.sanitized,
+                          sandboxed=config.sandboxed)
     except LabForbidden as exc:
         return ended(RunStatus.FORBIDDEN, str(exc), exc.diagnostics)
     except LabBuildError as exc:
