@@ -186,6 +186,24 @@ def failed_sizes(diagnostics: str, sized: list[str]) -> list[str]:
     return [name for i, name in enumerate(sized) if i + 2 in lines]
 
 
+def visible_files(build_dir: Path, folders: list[Path]) -> Path:
+    """A file-system overlay for clang (``-ivfsoverlay``) in which only ``folders`` exist: the lab's
+    folder, crslab's headers, zig's C library, the build folder. Everything else is not found, as if
+    it were not there, so ``#include`` and ``__has_include`` of a path outside cannot even tell
+    whether a file exists (the compile sandbox, which refuses to read it, would). Returns its path.
+
+    >>> import tempfile
+    >>> path = visible_files(Path(tempfile.mkdtemp()), [Path("/labs/me")])
+    >>> json.loads(path.read_text())["roots"][0]["name"]
+    '/labs/me'
+    """
+    roots = [{"name": str(f), "type": "directory-remap", "external-contents": str(f)}
+             for f in dict.fromkeys(folders)]
+    path = build_dir / "visible-files.json"
+    path.write_text(json.dumps({"version": 0, "fallthrough": False, "roots": roots}))
+    return path
+
+
 def compile_command(unit: Path, lab: Path, objects: list[Path], out: Path, exported: list[str],
                     renamed: list[str]) -> list[str]:
     """zig's command that compiles ``unit`` (the lab file ``lab`` and its size table; the lab's
@@ -195,9 +213,13 @@ def compile_command(unit: Path, lab: Path, objects: list[Path], out: Path, expor
     ``void main(void)`` is fine on the C28x. ``__FILE__`` names the lab as it was given."""
     renames = [f"-D{n}={RENAMED_PREFIX}{n}" for n in renamed]
     given = "" if str(lab.parent) == "." else f"{lab.parent}/"
+    folders = [lab.absolute().parent, lab.resolve().parent, SHIM_INCLUDE, FIRMWARE, KIN, SIM,
+               zig.zig_dir() / "lib", unit.parent]
+    overlay = visible_files(unit.parent, [f.absolute() for f in folders])
     return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,
-            f"-fmacro-prefix-map={lab.absolute().parent}/={given}", *INCLUDES, "-x", "c", str(unit), "-x", "none",
-            *map(str, objects), *LINK_FLAGS, *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
+            f"-fmacro-prefix-map={lab.absolute().parent}/={given}", "-ivfsoverlay", str(overlay), *INCLUDES,
+            "-x", "c", str(unit), "-x", "none", *map(str, objects), *LINK_FLAGS,
+            *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
 
 
 @dataclass(frozen=True)

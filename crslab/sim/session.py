@@ -23,6 +23,7 @@ from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
+from multiprocessing.reduction import DupFd
 from pathlib import Path
 
 import numpy as np
@@ -95,7 +96,7 @@ class Limits:
 NO_LIMITS = Limits()
 
 
-def _child(conn: Connection, config: SimConfig, shared_path: str, limits: Limits = NO_LIMITS,
+def _child(conn: Connection, config: SimConfig, shared: DupFd, limits: Limits = NO_LIMITS,
            debug: DebugSetup | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
     faulthandler.disable()  # a crash is diagnosed by the crslab process, not dumped here
@@ -114,7 +115,7 @@ def _child(conn: Connection, config: SimConfig, shared_path: str, limits: Limits
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
     from crslab.sim.worker import serve
 
-    serve(conn, config, shared_path, debug)
+    serve(conn, config, shared.detach(), debug)
     os._exit(0)
 
 
@@ -179,12 +180,13 @@ class Simulation:
         self.sanitizer_dir: str | None = None
         self.lab_name = config.build.source.name
         self.ffi = board_ffi()
-        fd, self.shared_path = tempfile.mkstemp(prefix="crslab-", dir=os_support.shared_memory_dir())
-        os.ftruncate(fd, shared_size())
+        # the shared block is memory with no name in any file system: it goes when both processes do,
+        # however they end (killed by a grader's time limit included)
+        fd = os_support.anonymous_shared_file("crslab-shared", shared_size())
         import mmap
 
         self._shared_mm = mmap.mmap(fd, 0)
-        os.close(fd)
+        self._shared_fd = fd
         self.shared = self.ffi.cast("crs_shared *", self.ffi.from_buffer(self._shared_mm))
         self.tick = 0
         self.stats: dict = {}
@@ -220,7 +222,7 @@ class Simulation:
         os.environ.update(env)
         try:
             self._conn, child_conn = ctx.Pipe()
-            self.process = ctx.Process(target=_child, args=(child_conn, config, self.shared_path, limits,
+            self.process = ctx.Process(target=_child, args=(child_conn, config, DupFd(self._shared_fd), limits,
                                                             debug), daemon=True)
             self.process.start()
         finally:
@@ -278,10 +280,9 @@ class Simulation:
                 self.process.kill()
         self.process.join()
         self._conn.close()
-        try:
-            os.unlink(self.shared_path)
-        except FileNotFoundError:
-            pass
+        if self._shared_fd >= 0:
+            os.close(self._shared_fd)
+            self._shared_fd = -1
         if self.sanitizer_dir:
             for p in Path(self.sanitizer_dir).glob("*"):
                 p.unlink()

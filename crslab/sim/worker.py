@@ -355,12 +355,12 @@ class Worker:
         return {k: np.concatenate([b[k] for b in blocks]) for k in _LOG_COLUMNS}
 
 
-def serve(conn: Connection, config: SimConfig, shared_path: str, debug: DebugSetup | None = None) -> None:
+def serve(conn: Connection, config: SimConfig, shared_fd: int, debug: DebugSetup | None = None) -> None:
     """Worker entry point: answer ``run`` requests until ``stop`` or the pipe closes."""
     from crslab.sandbox.run_sandbox import SandboxError
 
-    with open(shared_path, "r+b") as f:
-        shared = mmap.mmap(f.fileno(), 0)
+    shared = mmap.mmap(shared_fd, 0)
+    os.close(shared_fd)
     try:
         worker = Worker(config, shared, keep_fds=[conn.fileno()], debug=debug)
     except SandboxError as exc:
