@@ -40,6 +40,9 @@ IN_LAB = {
     "kill_parent.c": "send SIGKILL to process ",
     "ptrace_self.c": "call ptrace (PTRACE_TRACEME)",
     "big_allocation.c": "allocate 1024 MB at once",
+    "stat_file.c": "look up {secret} (newfstatat)",
+    "parent_limits.c": "read process ",
+    "sigio_owner.c": "make descriptor 0 signal a process (fcntl command 8: F_SETOWN, O_ASYNC)",
     "int80_open.c": "make the open system call of another architecture (a 32-bit call)"
     if platform.machine() == "x86_64" else "open /etc/hostname for reading",
 }

@@ -39,6 +39,7 @@ from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.stdout import StdoutSink
 from crslab.sinks.transcript_file import TranscriptSink
+from crslab.untrusted_text import for_terminal, for_text
 
 NEAR_BUDGET = 0.8  # warn when a lab() call took this share of the budget
 
@@ -173,8 +174,8 @@ def config_from_args(args: argparse.Namespace, *, log: bool = False,
                            motor_board=args.motor_board, debug=debug, break_when=break_when,
                            plant=getattr(args, "plant", None))
     except LabBuildError as exc:
-        if exc.diagnostics:
-            sys.stderr.write(exc.diagnostics)
+        if exc.diagnostics:  # the compiler's messages quote the lab's own lines
+            sys.stderr.write(for_text(exc.diagnostics))
         status = RunStatus.FORBIDDEN if isinstance(exc, LabForbidden) else RunStatus.BUILD_ERROR
         raise CliError(str(exc), status.exit_status) from None
     except (ScenarioError, PlantParamsError) as exc:
@@ -290,10 +291,10 @@ def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: i
     """On stderr after a run (``crslab sim`` and ``crslab debug``): its :func:`notices` and its
     failed scenario expectations, one line each."""
     for line in notices(lab_name, result.stats, generation):
-        print(f"{prefix}{line}", file=sys.stderr)
+        print(f"{prefix}{for_terminal(line)}", file=sys.stderr)
     for expectation in result.failed_expectations:
         for line in expectation.lines():
-            print(f"{prefix}expectation failed: {line}", file=sys.stderr)
+            print(f"{prefix}expectation failed: {for_terminal(line)}", file=sys.stderr)
 
 
 def notices(lab_name: str, stats: dict, generation: int) -> list[str]:
@@ -403,5 +404,5 @@ def run_sim(args: argparse.Namespace) -> int:
     if warning:
         print(f"crslab sim: {warning}", file=sys.stderr)
     if result.message:
-        print(f"crslab sim: {result.message}", file=sys.stderr)
+        print(f"crslab sim: {for_terminal(result.message)}", file=sys.stderr)
     return result.exit_status
