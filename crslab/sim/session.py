@@ -22,7 +22,7 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
-from multiprocessing.connection import Connection
+from multiprocessing.connection import Connection, wait
 from multiprocessing.reduction import DupFd
 from pathlib import Path
 
@@ -97,12 +97,17 @@ NO_LIMITS = Limits()
 
 
 def _child(conn: Connection, config: SimConfig, shared: DupFd, limits: Limits = NO_LIMITS,
-           debug: DebugSetup | None = None) -> None:
+           debug: DebugSetup | None = None, console: DupFd | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
     faulthandler.disable()  # a crash is diagnosed by the crslab process, not dumped here
     os_support.die_with_parent()  # whatever kills the crslab process
     if debug is not None:  # Ctrl-C on the terminal is the debugger's: it interrupts the lab itself
         os.setpgid(0, 0)
+    if console is not None:  # a native lab's printf: counted by the crslab process, never shown
+        fd = console.detach()
+        os.dup2(fd, 1)
+        os.dup2(fd, 2)
+        os.close(fd)
     report = os.environ.pop(SANITIZER_REPORT_ENV, None)
     if report:  # the sanitizers write to stderr: keep it for the crslab process to read
         fd = os.open(report, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
@@ -178,6 +183,7 @@ class Simulation:
         self.debug = debug
         self.limits = limits
         self.sanitizer_dir: str | None = None
+        self._rss_limit_mb: int | None = None
         self.lab_name = config.build.source.name
         self.ffi = board_ffi()
         # the shared block is memory with no name in any file system: it goes when both processes do,
@@ -214,18 +220,32 @@ class Simulation:
             }
             # one thread, as the sandbox needs: no BLAS thread pool in the fresh interpreter
             env.update({k: "1" for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")})
-            limits = Limits(None, limits.cpu_s, limits.output_bytes)  # ASan reserves terabytes
+            # ASan reserves terabytes of address space: its memory is watched instead (resident)
+            self._rss_limit_mb = limits.memory_mb
+            limits = Limits(None, limits.cpu_s, limits.output_bytes)
         else:
             ctx = mp.get_context(os_support.WORKER_START_METHOD)
             env = {}
+        # a native lab may write to its standard streams (printf, a flood, fake progress lines): a pipe
+        # the crslab process drains, counts toward the output limit and never shows (a debugged one
+        # keeps the terminal); a WebAssembly firmware has no descriptor at all (the board counts)
+        self._console = -1
+        self.console_bytes = 0
+        console = None
+        if config.build.native and debug is None:
+            self._console, console_w = os.pipe()
+            os.set_blocking(self._console, False)
+            console = DupFd(console_w)
         saved = {k: os.environ.get(k) for k in env}
         os.environ.update(env)
         try:
             self._conn, child_conn = ctx.Pipe()
             self.process = ctx.Process(target=_child, args=(child_conn, config, DupFd(self._shared_fd), limits,
-                                                            debug), daemon=True)
+                                                            debug, console), daemon=True)
             self.process.start()
         finally:
+            if console is not None:
+                os.close(console_w)
             for k, v in saved.items():
                 if v is None:
                     os.environ.pop(k, None)
@@ -283,6 +303,9 @@ class Simulation:
         if self._shared_fd >= 0:
             os.close(self._shared_fd)
             self._shared_fd = -1
+        if self._console >= 0:
+            os.close(self._console)
+            self._console = -1
         if self.sanitizer_dir:
             for p in Path(self.sanitizer_dir).glob("*"):
                 p.unlink()
@@ -471,7 +494,10 @@ class Simulation:
         polls = 0
         while True:
             try:
-                if self._conn.poll(0.05):
+                ready = wait([self._conn, *([self._console] if self._console >= 0 else [])], 0.05)
+                if self._console in ready and self._drain_console():
+                    return self._cut_off(int(self.shared.tick))
+                if self._conn in ready and self._conn.poll(0):
                     return receive(self._conn)
             except (EOFError, ConnectionResetError):
                 pass
@@ -497,6 +523,8 @@ class Simulation:
                         interrupted_at = time.monotonic()
                     elif interrupted_at is None or time.monotonic() - interrupted_at > INTERRUPT_GRACE_S:
                         return self._hung(phase)
+            if self._rss_limit_mb is not None and self._worker_rss_mb() > self._rss_limit_mb:
+                return self._over_memory()
             polls += 1
             if cpu0 is not None and polls % 20 == 0:
                 cpu = self._worker_cpu_s()
@@ -506,6 +534,45 @@ class Simulation:
                 self.process.kill()
                 return RunResult(RunStatus.CRASHED, int(self.shared.tick),
                                  f"{self.lab_name}: the worker stopped answering")
+
+    def _worker_rss_mb(self) -> float:
+        """The worker's resident memory (the kernel's count), MB; 0 when it cannot be read."""
+        try:
+            pages = int(Path(f"/proc/{self.worker_pid}/statm").read_text().split()[1])
+        except (OSError, IndexError, ValueError):
+            return 0.0
+        return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+    def _over_memory(self) -> RunResult:
+        """The worker is killed: a sanitized lab used more memory than its limit."""
+        tick = int(self.shared.tick)
+        where = phase_where(int(self.shared.phase))
+        self.process.kill()
+        self.process.join()
+        return RunResult(RunStatus.CRASHED, tick, f"{self.lab_name} used more than its memory limit "
+                         f"({self.limits.memory_mb} MB) {where} at tick {tick} (t = {tick / 1000:.3f} s)",
+                         self.stats)
+
+    def _drain_console(self) -> bool:
+        """Read (and drop) what a native lab wrote to its standard streams; True once it is more
+        than the output limit."""
+        while True:
+            try:
+                data = os.read(self._console, 1 << 20)
+            except BlockingIOError:
+                break
+            if not data:
+                break
+            self.console_bytes += len(data)
+        return self.console_bytes > self.limits.output_bytes
+
+    def _cut_off(self, tick: int) -> RunResult:
+        """The worker is killed: the lab printed more than the output limit."""
+        self.process.kill()
+        self.process.join()
+        return RunResult(RunStatus.OUTPUT_LIMIT, tick, f"{self.lab_name} printed more than "
+                         f"{self.limits.output_bytes / 1e6:g} MB; the run was cut off at tick {tick} "
+                         f"(t = {tick / 1000:.3f} s)", self.stats)
 
     def _hung(self, phase: int) -> RunResult:
         """The worker is killed: its lab() or printing() did not return."""
@@ -568,7 +635,8 @@ class Simulation:
             self._drain_serial(counted, sink)
             self._drain_line(counted, tick)
             stats = {**self.stats, "serial_dropped": self.serial_dropped,
-                     "motor_board_events": list(self.motor_board_events)}
+                     "motor_board_events": list(self.motor_board_events),
+                     "console_bytes": max(int(self.stats.get("console_bytes", 0)), self.console_bytes)}
             expectations = self.judge.results()
             failed = sum(bool(e.failures) for e in expectations)
             if status is RunStatus.OK and failed:
@@ -625,7 +693,8 @@ class Simulation:
                     with ctrl_c.held():  # every sink gets all of the chunk, or none of it
                         lost = self._drain_serial(counted, sink)
                         printed += lost  # what was lost counts toward the limit too
-                        console = int(self.stats.get("console_bytes", 0))  # printf: counted, never shown
+                        # printf: counted, never shown (the board's count, or what a native lab wrote)
+                        console = max(int(self.stats.get("console_bytes", 0)), self.console_bytes)
                         printed += console - console_seen
                         console_seen = console
                         if printed <= cap:
