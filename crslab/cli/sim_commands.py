@@ -175,7 +175,7 @@ def config_from_args(args: argparse.Namespace, *, log: bool = False,
                            plant=getattr(args, "plant", None))
     except LabBuildError as exc:
         if exc.diagnostics:  # the compiler's messages quote the lab's own lines
-            sys.stderr.write(for_text(exc.diagnostics))
+            sys.stderr.write(for_text(exc.diagnostics).rstrip("\n") + "\n")
         status = RunStatus.FORBIDDEN if isinstance(exc, LabForbidden) else RunStatus.BUILD_ERROR
         raise CliError(str(exc), status.exit_status) from None
     except (ScenarioError, PlantParamsError) as exc:

@@ -131,8 +131,8 @@ def run_compiler(argv: list[str], what: str, sandbox: CompilerSandbox | None = N
         if rules is not None:
             rules.close()
     if r.timed_out:
-        raise LabBuildError(f"{what}: the compiler took longer than {COMPILE_TIMEOUT_S:.0f} s and was "
-                            "stopped", r.stderr)
+        raise CompilerStopped(f"{what} does not compile: the compiler took longer than "
+                              f"{COMPILE_TIMEOUT_S:.0f} s and was stopped", r.stderr)
     if r.returncode != 0:
         refused = forbidden_read(r.stderr) if sandbox is not None else None
         if refused:
@@ -142,16 +142,20 @@ def run_compiler(argv: list[str], what: str, sandbox: CompilerSandbox | None = N
                                "compiling (a lab may read only its own folder, crslab's headers and the "
                                "compiler's files)", r.stderr, refused)
         if r.returncode < 0:
-            raise LabBuildError(f"{what} does not compile: the compiler was stopped at its limits "
-                                f"({_limit_hit(r.returncode)})", r.stderr)
+            raise CompilerStopped(f"{what} does not compile: the compiler was stopped "
+                                  f"({signal.Signals(-r.returncode).name}) at one of its limits: "
+                                  f"{LIMITS_TEXT}", r.stderr)
         raise LabBuildError(f"{what} does not compile", r.stderr)
     return r.stderr
 
 
-def _limit_hit(returncode: int) -> str:
-    sig = -returncode
-    return {signal.SIGXCPU: "CPU time", signal.SIGXFSZ: f"files of {FILE_SIZE_BYTES // 2**20} MB or more",
-            signal.SIGKILL: "killed", signal.SIGSEGV: "memory"}.get(sig, f"signal {sig}")
+LIMITS_TEXT = (f"{COMPILE_CPU_S} s of CPU, {COMPILE_MEMORY_BYTES // 2**30} GB of memory, files of "
+               f"{FILE_SIZE_BYTES // 2**20} MB")
+"""What a compiler run may use, said when it is stopped."""
+
+
+class CompilerStopped(LabBuildError):
+    """The compiler was stopped at one of its limits (the lab made it run away)."""
 
 
 def check_image(image: Path, what: str) -> None:

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import re
+import shutil
 import subprocess
 import tempfile
 from dataclasses import dataclass
@@ -29,7 +30,14 @@ from pathlib import Path
 
 from crslab import resources
 from crslab.lab import zig
-from crslab.lab.compile_process import COMPILE_TIMEOUT_S, LabBuildError, LabForbidden, check_image, run_compiler
+from crslab.lab.compile_process import (
+    COMPILE_TIMEOUT_S,
+    CompilerStopped,
+    LabBuildError,
+    LabForbidden,
+    check_image,
+    run_compiler,
+)
 from crslab.sandbox.compile_sandbox import CompilerSandbox
 
 TARGET = "wasm32-wasi"
@@ -169,10 +177,18 @@ def unit_text(lab: Path, sized: list[str]) -> str:
     };
     <BLANKLINE>
     """
-    quoted = str(lab.absolute()).replace("\\", "\\\\").replace('"', '\\"')
-    lines = [f'#include "{quoted}"', f'#line 1 "{GLOBALS_UNIT}"', f"const unsigned int {SIZES_SYMBOL}[] = {{0"]
+    lines = [f'#include "{lab.absolute()}"', f'#line 1 "{GLOBALS_UNIT}"', f"const unsigned int {SIZES_SYMBOL}[] = {{0"]
     lines += [f", sizeof({name})" for name in sized]
     return "\n".join([*lines, "};", ""])
+
+
+def includable(lab: Path) -> bool:
+    """Whether ``#include "path"`` can name the lab (a quote or a line break in its path cannot be).
+
+    >>> includable(Path("/labs/lab1.c")), includable(Path('/labs/=F("x").c'))
+    (True, False)
+    """
+    return not any(ch in str(lab.absolute()) for ch in '"\n\r')
 
 
 def failed_sizes(diagnostics: str, sized: list[str]) -> list[str]:
@@ -217,7 +233,8 @@ def compile_command(unit: Path, lab: Path, objects: list[Path], out: Path, expor
                zig.zig_dir() / "lib", unit.parent]
     overlay = visible_files(unit.parent, [f.absolute() for f in folders])
     return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,
-            f"-fmacro-prefix-map={lab.absolute().parent}/={given}", "-ivfsoverlay", str(overlay), *INCLUDES,
+            f"-fmacro-prefix-map={lab.absolute().parent}/={given}", "-ivfsoverlay", str(overlay),
+            "-iquote", str(lab.absolute().parent), *INCLUDES,
             "-x", "c", str(unit), "-x", "none", *map(str, objects), *LINK_FLAGS,
             *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
 
@@ -256,17 +273,23 @@ def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir:
     renamed: list[str] = []
     unit = build_dir / "firmware.c"
     out = build_dir / "lab.wasm"
+    included = lab
+    if not includable(lab):  # a name an #include cannot spell: a copy under a plain one (same folder's
+        included = build_dir / "submission" / re.sub(r"[^\w.+-]", "_", lab.name)  # files via -iquote)
+        included.parent.mkdir()
+        shutil.copyfile(lab, included)
     for _ in range(MAX_ROUNDS):
-        unit.write_text(unit_text(lab, sized))
+        unit.write_text(unit_text(included, sized))
         names = [RENAMED_PREFIX + n if n in renamed else n for n in exported]
         try:
             run_compiler(compile_command(unit, lab, objects, out, names, renamed), lab.name, sandbox,
                          env=compile_environment(build_dir))
             break
-        except LabForbidden:
+        except (LabForbidden, CompilerStopped) as exc:
+            exc.diagnostics = shown_diagnostics(exc.diagnostics, unit, lab)
             raise
         except LabBuildError as exc:
-            text = exc.diagnostics.replace(str(lab.absolute()), str(lab))  # the lab as the user named it
+            text = shown_diagnostics(exc.diagnostics, unit, lab)
             absent = {n.removeprefix(RENAMED_PREFIX) for n in not_exported(text)} | set(failed_sizes(text, sized))
             clashes = [n for n in clashing_symbols(text) if n not in renamed]
             if absent & set(exported) or clashes:
@@ -279,6 +302,19 @@ def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir:
         raise LabBuildError(f"{lab.name} does not link: too many of its names clash with the C library's")
     check_image(out, lab.name)
     return WasmImage(out, tuple(renamed), tuple(sized))
+
+
+def shown_diagnostics(diagnostics: str, unit: Path, lab: Path) -> str:
+    """The compiler's messages as the user should read them: about the lab as they named it, without
+    the line that says the lab was included by crslab's unit.
+
+    >>> shown_diagnostics("In file included from /b/firmware.c:1:\\n/abs/x/lab.c:3:1: error: e",
+    ...                   Path("/b/firmware.c"), Path("/abs/x/lab.c"))
+    '/abs/x/lab.c:3:1: error: e'
+    """
+    lines = [line for line in diagnostics.splitlines(keepends=True)
+             if not line.startswith(f"In file included from {unit}:")]
+    return "".join(lines).replace(str(lab.absolute()), str(lab))
 
 
 def link_failure(lab: Path, diagnostics: str) -> LabBuildError:

@@ -22,6 +22,7 @@ from pathlib import PurePath
 
 from crslab.sim.board_ffi import board_constants
 from crslab.sim.status import RunStatus
+from crslab.untrusted_text import for_terminal
 
 _AT = re.compile(r"^\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
 _FRAME = re.compile(r"^\s*\d+:\s+0x[0-9a-f]+ - (\S+)", re.MULTILINE)
@@ -78,10 +79,11 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[Ru
     if kind == c.CRS_FW_TRAP_EXIT:
         return RunStatus.EXITED, f"{lab_name} called exit({int(trap.get('exit_code', 0))}) {place} {at}"
     if kind == c.CRS_FW_TRAP_REFUSED:
-        what = text.split("\n", 1)[0]
+        what = for_terminal(text.split("\n", 1)[0])  # it quotes what the lab named
         return RunStatus.FORBIDDEN, f"{lab_name} was stopped by the sandbox: it tried to {what} {place} {at}"
     if kind == c.CRS_FW_TRAP_LOAD:
-        return RunStatus.CRASHED, f"{lab_name} cannot be run: {text.splitlines()[0] if text else 'no reason given'}"
+        first = for_terminal(text.split("\n", 1)[0]) if text else "no reason given"
+        return RunStatus.CRASHED, f"{lab_name} cannot be run: {first}"
     what = {
         c.CRS_FW_TRAP_MEMORY: "read or wrote outside its memory (a wild pointer or an index far out of an array)",
         c.CRS_FW_TRAP_STACK: "overflowed its call stack (runaway recursion)",
@@ -96,7 +98,7 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[Ru
         what = "overflowed its call stack (runaway recursion)"
 
     if what is None:
-        first = next((s.strip() for s in text.splitlines() if s.strip()), "the board stopped it")
+        first = for_terminal(next((s.strip() for s in text.split("\n") if s.strip()), "the board stopped it"))
         return RunStatus.CRASHED, f"{lab_name} crashed ({first}) {place} {at}"
     why = ("; on the C28x an integer division by zero does not stop the board: it goes on with an undefined "
            "result" if kind == c.CRS_FW_TRAP_DIVIDE else "")

@@ -38,6 +38,7 @@ from crslab.sim.firmware_trap import diagnose
 from crslab.sim.running import LiveControl, PacedControl, RunDebugger
 from crslab.sim.sanitizer import asan_runtime, summarize_sanitizer_report
 from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL
+from crslab.untrusted_text import for_terminal
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sim.worker_reply import UnreadableReply, receive
 from crslab.sinks.sink import Sink
@@ -406,7 +407,7 @@ class Simulation:
 
         phase = int(record.phase) if record.refused else int(self.shared.phase)
         tick = int(record.tick) if record.refused else int(self.shared.tick)
-        what = tried(record, self.ffi, parent_pid=os.getpid()) if record.refused else \
+        what = for_terminal(tried(record, self.ffi, parent_pid=os.getpid())) if record.refused else \
             "make a system call the sandbox refuses"
         at = "before the first tick" if phase == board_constants().CRS_PHASE_LOADING else \
             f"at tick {tick} (t = {tick / 1000:.3f} s)"

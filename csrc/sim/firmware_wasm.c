@@ -230,7 +230,11 @@ static wasm_trap_t *wasi_fd_write(crs_wasm *w, wasmtime_val_raw_t *a, size_t n, 
     (void)name;
     if (n < 4) return refuse(w, "write to a file");
     const uint32_t fd = (uint32_t)a[0].i32, iovs = (uint32_t)a[1].i32, count = (uint32_t)a[2].i32;
-    if (fd != 1 && fd != 2) return refuse(w, "write to a file");
+    if (fd != 1 && fd != 2) {
+        char text[96];
+        snprintf(text, sizeof text, "write to descriptor %u (a file or a pipe: the board has none)", fd);
+        return refuse(w, text);
+    }
     const uint8_t *vec = span(w, iovs, (uint64_t)count * 8);
     uint8_t *written = span(w, (uint32_t)a[3].i32, 4);
     if (vec == NULL || written == NULL) {
@@ -336,6 +340,18 @@ static wasm_trap_t *wasi_path_open(crs_wasm *w, wasmtime_val_raw_t *a, size_t n,
     return refuse(w, text);
 }
 
+/* path_filestat_get(fd, flags, path, path_len, buf): stat() of a path, an existence oracle. */
+static wasm_trap_t *wasi_path_filestat_get(crs_wasm *w, wasmtime_val_raw_t *a, size_t n, const char *name)
+{
+    (void)name;
+    char text[CRS_FW_TRAP_TEXT];
+    const uint32_t len = n >= 4 ? ((uint32_t)a[3].i32 < 400 ? (uint32_t)a[3].i32 : 400) : 0;
+    const uint8_t *p = n >= 4 ? span(w, (uint32_t)a[2].i32, len) : NULL;
+    if (p == NULL) return refuse(w, "look up a file (stat)");
+    snprintf(text, sizeof text, "look up /%.*s (stat)", (int)len, (const char *)p);
+    return refuse(w, text);
+}
+
 static wasm_trap_t *wasi_proc_exit(crs_wasm *w, wasmtime_val_raw_t *a, size_t n, const char *name)
 {
     (void)name;
@@ -363,6 +379,7 @@ static const struct {
     {"fd_prestat_get", wasi_fd_prestat_get, NULL},
     {"fd_prestat_dir_name", wasi_fd_prestat_dir_name, NULL},
     {"path_open", wasi_path_open, NULL},
+    {"path_filestat_get", wasi_path_filestat_get, NULL},
     {"proc_exit", wasi_proc_exit, NULL},
     {"sched_yield", wasi_zero, NULL},
     {"fd_read", NULL, "read from the console or a file (scanf, getchar, fread)"},
