@@ -12,8 +12,9 @@ import pytest
 from crslab.lab.compiler import INSTALL_HINT
 
 CC_ITEM = "C compiler for --native, --sanitize and crslab debug"
-ITEMS = ["platform", "Python", "WebAssembly compiler and runtime", "build cache", "lab build", "MuJoCo",
-         "simulation", CC_ITEM, "sandbox", "display for --viewer", "rerun viewer", "pseudo-terminals for --pty",
+WASM_ITEM = "WebAssembly compiler and runtime"
+ITEMS = ["platform", "Python", WASM_ITEM, "build cache", "lab build", "MuJoCo", "simulation", CC_ITEM,
+         "sandbox", "display for --viewer", "rerun viewer", "pseudo-terminals for --pty",
          "debugger for crslab debug"]
 REQUIRED = ITEMS[:7]
 
@@ -35,7 +36,7 @@ def test_doctor_exits_0_where_sim_runs(tmp_path):
     assert "lab1_kinematics.c compiles to a WebAssembly firmware" in items["lab build"]
     assert "printed 6 lines" in items["simulation"]  # Lab 1 prints three lines at 0 and 0.5 s
     assert "firmware ran 0.6 s on the board" in items["simulation"]
-    assert items["WebAssembly compiler and runtime"].startswith("ok       WebAssembly compiler and runtime: zig ")
+    assert items[WASM_ITEM].startswith(f"ok       {WASM_ITEM}: zig ")
     assert items["sandbox"].startswith("ok       sandbox: Landlock ABI ")
     if shutil.which("gdb"):  # an optional item: CI has gdb (test_debug_gdb.py needs it)
         assert items["debugger for crslab debug"].startswith("ok       debugger for crslab debug: GNU gdb ")

@@ -21,10 +21,10 @@ import pytest
 from cffi import FFI
 
 from crslab import crs, framework_facts, resources
+from crslab.cheaders import cdef_from_header
 from crslab.scenario.events import WristEstop
 from crslab.scenario.load import load_scenario
 from crslab.sim.api import make_config
-from crslab.cheaders import cdef_from_header
 from crslab.sim.inprocess import InProcessRun
 
 LAB = Path(__file__).parent / "labs" / "framework_rules.c"

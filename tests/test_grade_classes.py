@@ -26,8 +26,10 @@ EXPECTED = {
     "mismatch.c": ("mismatch", "ok", 1,
                    "6 lines differ; line 1 (t = 0.000 s): number 2 is 1, expected 0 (off by 1)"),
     "segfault.c": ("crashed", "crashed", 3,
-                   f"segfault.c used a NULL pointer (one that was never set) at segfault.c:31 in lab() {AT_1000}"),
-    "calls_exit.c": ("crashed", "exited", 3, f"calls_exit.c called exit(1) at calls_exit.c:32 in lab() {AT_1000}"),
+                   f"segfault.c used a NULL pointer (one that was never set) at segfault.c:31 in lab() "
+                   f"{AT_1000}"),
+    "calls_exit.c": ("crashed", "exited", 3,
+                     f"calls_exit.c called exit(1) at calls_exit.c:32 in lab() {AT_1000}"),
     "hangs.c": ("hung", "hung", 4, f"hangs.c hung: lab() did not return within 0.5 s {AT_1000}"),
     "opens_file.c": ("forbidden", "forbidden", 3,
                      "opens_file.c was stopped by the sandbox: it tried to open /etc/hostname for reading at "

@@ -54,10 +54,11 @@ def test_a_missing_compiler_says_how_to_install_one(tmp_path):
         find_compiler({"PATH": str(empty)})
     assert str(exc.value) == f"no C compiler on PATH (tried cc, gcc, clang); {INSTALL_HINT}"
     # the WebAssembly build needs no host compiler (zig comes with crslab); a native one does
-    r = crslab("sim", "--fast", "--duration", "5", "--quiet", env={**os.environ, "PATH": str(empty), "CC": ""})
+    no_compiler = {**os.environ, "PATH": str(empty), "CC": ""}
+    r = crslab("sim", "--fast", "--duration", "5", "--quiet", env=no_compiler)
     assert r.returncode == 0, r.stderr
     assert r.stdout.startswith("0.00 -24.06 13.75\n")
-    r = crslab("sim", "--native", "--fast", "--duration", "1", env={**os.environ, "PATH": str(empty), "CC": ""})
+    r = crslab("sim", "--native", "--fast", "--duration", "1", env=no_compiler)
     assert r.returncode == 2 and r.stdout == ""
     assert r.stderr.strip() == f"crslab sim: no C compiler on PATH (tried cc, gcc, clang); {INSTALL_HINT}"
     r = crslab("sim", "--native", "--fast", "--duration", "1", env={**os.environ, "CC": "no-such-cc -O1"})

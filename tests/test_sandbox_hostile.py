@@ -91,7 +91,8 @@ def place(tmp_path_factory):
 def sim(place, lab, *extra, duration="5.2", timeout=120):
     transcript = place.cwd.parent / "transcript.txt"
     r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--native", "--fast", "--lab",
-                        str(place.labs / lab), "--duration", duration, "--transcript", str(transcript), *extra],
+                        str(place.labs / lab), "--duration", duration, "--transcript", str(transcript),
+                        *extra],
                        capture_output=True, timeout=timeout, cwd=place.cwd, env=place.env)
     data = transcript.read_bytes() if transcript.exists() else b""
     transcript.unlink(missing_ok=True)

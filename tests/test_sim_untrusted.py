@@ -45,7 +45,8 @@ AT_5123 = "in lab() at tick 5123 (t = 5.123 s)"
     ("segfault_in_lab.c", "wasm",
      f"segfault_in_lab.c used a NULL pointer (one that was never set) at segfault_in_lab.c:25 {AT_5123}"),
     ("segfault_in_lab.c", "native", f"segfault_in_lab.c crashed (SIGSEGV) {AT_5123}"),
-    ("abort_in_lab.c", "wasm", f"abort_in_lab.c called abort() (or an assertion failed) at abort_in_lab.c:24 {AT_5123}"),
+    ("abort_in_lab.c", "wasm",
+     f"abort_in_lab.c called abort() (or an assertion failed) at abort_in_lab.c:24 {AT_5123}"),
     ("abort_in_lab.c", "native", f"abort_in_lab.c crashed (SIGABRT) {AT_5123}"),
     ("stack_overflow_in_lab.c", "wasm",
      f"stack_overflow_in_lab.c overflowed its call stack (runaway recursion) at stack_overflow_in_lab.c:14 "

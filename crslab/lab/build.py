@@ -249,8 +249,8 @@ def _build_native(src: Path, text_bytes: bytes, flags: list[str], unit: str | No
     if not so.exists():
         out_dir.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
-            sandbox = compiler_sandbox([src], Path(tmp), [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent],
-                                       compiler=cc.argv) if sandboxed else None
+            readable = [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent]
+            sandbox = compiler_sandbox([src], Path(tmp), readable, compiler=cc.argv) if sandboxed else None
             obj = Path(tmp) / "lab.o"
             # compile the user's own path so the compiler's messages name the user's file and line
             # (absolute for a debugger, which then finds the source from any folder)
@@ -259,8 +259,8 @@ def _build_native(src: Path, text_bytes: bytes, flags: list[str], unit: str | No
                 compiled = Path(tmp) / "break_when.c"
                 compiled.write_text(unit)
                 what = f"{src.name} with --break-when {break_when!r}"
-            run_compiler([*cc.argv, *flags, *ERROR_LIMIT, *INCLUDES, "-x", "c", "-c", str(compiled), "-o", str(obj)],
-                         what, sandbox)
+            run_compiler([*cc.argv, *flags, *ERROR_LIMIT, *INCLUDES, "-x", "c", "-c", str(compiled), "-o",
+                          str(obj)], what, sandbox)
             tmp_so = Path(tmp) / "lab.so"
             link_flags = [*os_support.SHARED_OBJECT_FLAGS, *(cc.sanitizer_link_flags() if sanitize else [])]
             try:

@@ -177,7 +177,8 @@ def unit_text(lab: Path, sized: list[str]) -> str:
     };
     <BLANKLINE>
     """
-    lines = [f'#include "{lab.absolute()}"', f'#line 1 "{GLOBALS_UNIT}"', f"const unsigned int {SIZES_SYMBOL}[] = {{0"]
+    lines = [f'#include "{lab.absolute()}"', f'#line 1 "{GLOBALS_UNIT}"',
+             f"const unsigned int {SIZES_SYMBOL}[] = {{0"]
     lines += [f", sizeof({name})" for name in sized]
     return "\n".join([*lines, "};", ""])
 
@@ -290,7 +291,8 @@ def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir:
             raise
         except LabBuildError as exc:
             text = shown_diagnostics(exc.diagnostics, unit, lab)
-            absent = {n.removeprefix(RENAMED_PREFIX) for n in not_exported(text)} | set(failed_sizes(text, sized))
+            absent = {n.removeprefix(RENAMED_PREFIX) for n in not_exported(text)}
+            absent |= set(failed_sizes(text, sized))
             clashes = [n for n in clashing_symbols(text) if n not in renamed]
             if absent & set(exported) or clashes:
                 exported = [n for n in exported if n not in absent]
@@ -326,9 +328,9 @@ def link_failure(lab: Path, diagnostics: str) -> LabBuildError:
                              "board's framework defines", diagnostics)
     needed = memory_needed(diagnostics)
     if needed is not None:
-        return LabBuildError(f"{lab.name} does not fit the board: it needs {needed / 1024:,.0f} KB of memory, "
-                             f"crslab's board gives a lab {MEMORY_BYTES // 1024:,} KB (stack, data and heap)",
-                             diagnostics)
+        return LabBuildError(f"{lab.name} does not fit the board: it needs {needed / 1024:,.0f} KB of "
+                             f"memory, crslab's board gives a lab {MEMORY_BYTES // 1024:,} KB (stack, data "
+                             "and heap)", diagnostics)
     return LabBuildError(f"{lab.name} does not compile", diagnostics)
 
 

@@ -48,7 +48,8 @@ def make_config(
 
     The arm's true resting pose is ``rest_motor_rad``, else the scenario's, else the default.
     ``budget`` is what one lab() call may cost (WebAssembly instructions); ``native`` builds the
-    lab with the host's compiler instead of as WebAssembly. ``sandbox``: True requires the sandbox, False turns it off, None (default) uses it when
+    lab with the host's compiler instead of as WebAssembly. ``sandbox``: True requires the sandbox,
+    False turns it off, None (default) uses it when
     this machine has it (see :func:`crslab.sandbox.resolve`). ``motor_board`` is ``none`` or
     ``piccolo``; None takes the lab's generation's (Gen A: none, Gen B: piccolo). ``debug`` and
     ``break_when`` build the lab for a debugger (:func:`crslab.lab.build.build_lab`). ``plant`` is

@@ -25,7 +25,6 @@ from typing import TYPE_CHECKING, Protocol
 from cffi import FFI
 
 from crslab.lab.firmware import FRAMEWORK_VARIABLES, SIZES_SYMBOL
-
 from crslab.lab.variables import HOST_TYPES
 from crslab.os_support import loaded_symbol_size
 

@@ -9,8 +9,10 @@ debug information); the first frame in the lab's own file is the line shown.
 >>> t = {"kind": 3, "phase": 1, "tick": 5123, "exit_code": 0,
 ...      "text": "wasm backtrace:\\n    0:   0x1a - lab\\n      at /tmp/x/div.c:12:9\\n\\nCaused by: ..."}
 >>> status, line = diagnose(t, "div.c", deadline_s=2.0)
->>> status, line.split(";")[0]
-(<RunStatus.CRASHED: 'crashed'>, 'div.c divided an integer by zero at div.c:12 in lab() at tick 5123 (t = 5.123 s)')
+>>> status
+<RunStatus.CRASHED: 'crashed'>
+>>> line.split(";")[0]
+'div.c divided an integer by zero at div.c:12 in lab() at tick 5123 (t = 5.123 s)'
 >>> diagnose({**t, "kind": 8, "text": ""}, "div.c", deadline_s=2.0)[1]
 'div.c hung: lab() did not return within 2 s at tick 5123 (t = 5.123 s)'
 """
@@ -85,7 +87,8 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[Ru
         first = for_terminal(text.split("\n", 1)[0]) if text else "no reason given"
         return RunStatus.CRASHED, f"{lab_name} cannot be run: {first}"
     what = {
-        c.CRS_FW_TRAP_MEMORY: "read or wrote outside its memory (a wild pointer or an index far out of an array)",
+        c.CRS_FW_TRAP_MEMORY: "read or wrote outside its memory (a wild pointer or an index far out of an "
+                              "array)",
         c.CRS_FW_TRAP_STACK: "overflowed its call stack (runaway recursion)",
         c.CRS_FW_TRAP_DIVIDE: "divided an integer by zero",  # the C28x goes on: see the end of the line
         c.CRS_FW_TRAP_OVERFLOW: "overflowed an integer division (the most negative int divided by -1)",

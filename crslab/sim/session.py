@@ -37,11 +37,11 @@ from crslab.sim.debug_setup import DebugSetup
 from crslab.sim.firmware_trap import diagnose
 from crslab.sim.running import LiveControl, PacedControl, RunDebugger
 from crslab.sim.sanitizer import asan_runtime, summarize_sanitizer_report
-from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL
-from crslab.untrusted_text import for_terminal
 from crslab.sim.status import RunResult, RunStatus
+from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL
 from crslab.sim.worker_reply import UnreadableReply, receive
 from crslab.sinks.sink import Sink
+from crslab.untrusted_text import for_terminal
 
 DEFAULT_DEADLINE_S = 2.0
 INTERRUPT_GRACE_S = 2.0
@@ -241,8 +241,8 @@ class Simulation:
         os.environ.update(env)
         try:
             self._conn, child_conn = ctx.Pipe()
-            self.process = ctx.Process(target=_child, args=(child_conn, config, DupFd(self._shared_fd), limits,
-                                                            debug, console), daemon=True)
+            args = (child_conn, config, DupFd(self._shared_fd), limits, debug, console)
+            self.process = ctx.Process(target=_child, args=args, daemon=True)
             self.process.start()
         finally:
             if console is not None:
@@ -255,7 +255,8 @@ class Simulation:
         child_conn.close()
         if on_started is not None:
             on_started()
-        reply = self._expect(self._wait_reply(READY_TIMEOUT_S, during_setup=True), ("ready", "failed", "trapped"), 2)
+        reply = self._expect(self._wait_reply(READY_TIMEOUT_S, during_setup=True),
+                             ("ready", "failed", "trapped"), 2)
         if not isinstance(reply, RunResult) and reply[0] == "trapped" and isinstance(reply[1], dict):
             status, message = diagnose(reply[1], self.lab_name, deadline_s=self.deadline_s)
             reply = RunResult(status, 0, message)

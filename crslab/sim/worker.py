@@ -29,8 +29,8 @@ process as untrusted (crslab/sim/worker_reply.py).
 from __future__ import annotations
 
 import contextlib
-import os
 import mmap
+import os
 from collections.abc import Iterable
 from multiprocessing.connection import Connection
 
@@ -112,7 +112,8 @@ class Worker:
             ffi = self.ffi = native_board_ffi()
             block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
             self.lib, sim = self._load_native(config, block, keep_fds, debug)
-            self.firmware: FirmwareMemory = NativeMemory(config.build.image, [v.name for v in config.build.variables])
+            names = [v.name for v in config.build.variables]
+            self.firmware: FirmwareMemory = NativeMemory(config.build.image, names)
         else:
             from crslab._core import ffi, lib
 
