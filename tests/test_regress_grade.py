@@ -94,8 +94,8 @@ def test_grade_bad_input(tmp_path):
         "crslab grade: does_not_compile.c does not compile")
     r = crslab("grade", tmp_path, "--reference", LABS / "crash_after_5s.c", "--out", tmp_path / "o")
     assert r.returncode == 2 and r.stderr.strip().splitlines()[-1].startswith(
-        "crslab grade: the reference lab did not run: crash_after_5s.c used a NULL pointer (one that was never "
-        "set) at crash_after_5s.c:27 in lab() at tick 5100")
+        "crslab grade: the reference lab did not run: crash_after_5s.c used a NULL pointer (one that was "
+        "never set) at crash_after_5s.c:27 in lab() at tick 5100")
 
 
 def test_a_submission_over_its_total_time_is_stopped_and_counts_as_hung(tmp_path):

@@ -80,5 +80,5 @@ def test_a_division_by_zero_is_named_with_its_line_and_what_the_board_would_have
     run = simulate(lab, "hands_off", duration_s=0.01, startup_delay=False)
     assert run.status == "crashed"
     assert run.message == ("divide.c divided an integer by zero at divide.c:8 in lab() at tick 0 "
-                           "(t = 0.000 s); on the C28x an integer division by zero does not stop the board: it goes on "
-                           "with an undefined result")
+                           "(t = 0.000 s); on the C28x an integer division by zero does not stop the board: "
+                           "it goes on with an undefined result")

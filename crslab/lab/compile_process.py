@@ -77,7 +77,8 @@ def run_compile(argv: Sequence[str], *, env: Mapping[str, str], preexec: Callabl
     """Run ``argv`` contained (see the module); raises ``OSError`` when it cannot be started."""
     proc = subprocess.Popen(list(argv), stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, env=dict(env), start_new_session=True,
-                            pass_fds=tuple(pass_fds), preexec_fn=_limits(memory_bytes, cpu_s, file_bytes, preexec))
+                            pass_fds=tuple(pass_fds),
+                            preexec_fn=_limits(memory_bytes, cpu_s, file_bytes, preexec))
     timed_out = False
     try:
         out, err = proc.communicate(timeout=timeout_s)
