@@ -154,7 +154,6 @@ def test_grade_passes_only_what_matches_and_every_report_is_safe(place, tmp_path
         shutil.copy(lab, subs / lab.name)
     shutil.copy(HONEST, subs / "honest.c")
     shutil.copy(HONEST, subs / '=HYPERLINK("x.example","pass").c')  # a name that is a formula
-    shm_before = {p.name for p in Path("/dev/shm").glob("crslab*")}
     out = tmp_path / "grades"
     r = subprocess.run([sys.executable, "-m", "crslab", "grade", str(subs), "--reference", str(HONEST),
                         "--scenario", "hands_off", "--duration", "5.2", "--max-output-mb", "1", "--jobs", "2",
@@ -184,5 +183,17 @@ def test_grade_passes_only_what_matches_and_every_report_is_safe(place, tmp_path
     # no secret anywhere; nothing written outside the run's folders; nothing left behind
     everything = [r.stdout, r.stderr] + [p.read_bytes() for p in out.rglob("*") if p.is_file()]
     place.assert_untouched(*everything)
-    assert list(place.tmp.iterdir()) == []
-    assert {p.name for p in Path("/dev/shm").glob("crslab*")} <= shm_before
+    assert list(place.tmp.iterdir()) == []  # every job's temporary folder was removed
+
+
+def test_the_shared_block_has_no_name_in_any_file_system(place):
+    """What a run shares with its worker is a memfd: nothing in /dev/shm or the temporary folder to
+    leave behind when a grader's time limit kills the run."""
+    from crslab.sim.api import make_config
+    from crslab.sim.session import Simulation
+
+    with Simulation(make_config(HONEST, "hands_off")) as sim:
+        maps = Path(f"/proc/{sim.worker_pid}/maps").read_text()
+        shared = [line for line in maps.splitlines() if "crslab-shared" in line]
+        assert shared and all("memfd:crslab-shared" in line for line in shared)
+        assert "/dev/shm" not in maps

@@ -100,7 +100,8 @@ NO_LIMITS = Limits()
 def _child(conn: Connection, config: SimConfig, shared: DupFd, limits: Limits = NO_LIMITS,
            debug: DebugSetup | None = None, console: DupFd | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
-    faulthandler.disable()  # a crash is diagnosed by the crslab process, not dumped here
+    if config.build.native:  # a crash is diagnosed by the crslab process, not dumped here (a WebAssembly
+        faulthandler.disable()  # firmware's faults are wasmtime's: its handlers stay as they are)
     os_support.die_with_parent()  # whatever kills the crslab process
     if debug is not None:  # Ctrl-C on the terminal is the debugger's: it interrupts the lab itself
         os.setpgid(0, 0)
