@@ -96,6 +96,51 @@ def test_the_sdist_and_the_wheel_carry_the_c_sources_and_the_models(installed):
     assert not any("/tests/" in n or n.endswith("cffi_build.py") for n in in_wheel)
 
 
+def test_the_wheel_is_abi3_and_installs_on_every_cpython_from_3_11(installed):
+    """One wheel for every CPython >= 3.11 (Ubuntu 24.04's 3.12 included): tagged cp311-abi3, its
+    C core the stable ABI's ``_core.abi3.so``; a second CPython on this machine installs it."""
+    from packaging.tags import Tag, cpython_tags
+    from packaging.utils import parse_wheel_filename
+
+    name, version, _, tags = parse_wheel_filename(installed.wheel.name)
+    assert {(t.interpreter, t.abi) for t in tags} == {("cp311", "abi3")}, installed.wheel.name
+    platform = next(iter(tags)).platform
+    for minor in (11, 12, 13, 14):  # what pip on each CPython accepts includes the wheel's tag
+        accepted = set(cpython_tags((3, minor), platforms=[platform]))
+        assert Tag("cp311", "abi3", platform) in accepted, minor
+    assert Tag("cp311", "abi3", platform) not in set(cpython_tags((3, 10), platforms=[platform]))
+    with zipfile.ZipFile(installed.wheel) as whl:
+        cores = [n for n in whl.namelist() if n.startswith("crslab/_core")]
+        wheel_meta = whl.read(f"{name}-{version}.dist-info/WHEEL").decode()
+    assert cores == ["crslab/_core.abi3.so"]
+    assert "Root-Is-Purelib: false" in wheel_meta
+    for python in other_cpythons():  # where this machine has another CPython: the wheel installs there
+        venv = installed.work / f"venv-{python.parent.parent.name}"
+        assert run(python, "-m", "venv", venv).returncode == 0
+        r = run(venv / "bin" / "python", "-m", "pip", "install", "--quiet", "--no-deps", installed.wheel,
+                "numpy", "cffi")  # what the C core and the kinematics need; MuJoCo is not asked here
+        assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+        r = run(venv / "bin" / "python", "-c", "from crslab import crs; print(crs.fk([0, 1.5707963268, 0]))",
+                cwd=installed.work)
+        assert r.returncode == 0 and r.stdout.split() == ["[20.", "0.", "10.]"], r.stdout + r.stderr
+
+
+def other_cpythons() -> list[Path]:
+    """The CPythons from 3.12 on that this machine has besides the one running the tests (on PATH as
+    ``python3.N``, or installed by pyenv), one per version."""
+    found: dict[str, Path] = {}
+    candidates = [shutil.which(f"python3.{m}") for m in range(12, 16)]
+    candidates += [str(p) for p in sorted(Path.home().glob(".pyenv/versions/3.*/bin/python3"))]
+    for candidate in filter(None, candidates):
+        r = run(candidate, "-c", "import sys; print('%d.%d' % sys.version_info[:2], sys.prefix)")
+        if r.returncode != 0:
+            continue  # a pyenv shim of a version that is not selected
+        version, prefix = r.stdout.split()
+        if tuple(map(int, version.split("."))) >= (3, 12) and version not in found:
+            found[version] = Path(prefix) / "bin" / "python3"
+    return list(found.values())
+
+
 def test_the_installed_package_finds_its_files_in_site_packages(installed):
     probe = ("import crslab, crslab.resources as r; print(crslab.__file__); print(r.path('csrc')); "
              "print(r.path('models'))")

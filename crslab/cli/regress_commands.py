@@ -233,7 +233,7 @@ def run_grade(args: argparse.Namespace) -> int:
         raise CliError(f"{folder}: no lab files (.c, .cpp) to grade")
     try:
         for sub_dir in ("transcripts", "reports"):
-            (args.out / sub_dir).mkdir(parents=True, exist_ok=True)
+            folder(args.out / sub_dir)
     except OSError as exc:
         raise CliError(f"{args.out}: cannot write the reports there ({exc.strerror})") from None
 

@@ -13,6 +13,7 @@ from crslab.host_tools.c28x_memory import MemoryLayout, text_memory
 from crslab.host_tools.client import MATLAB_TIMEOUT_S, LinkError, SerialLink, read_floats, write_float
 from crslab.host_tools.linker_map import MapError, read_map_file, write_map
 from crslab.host_tools.protocols import ADDRESS_MASK, MAX_FLOATS
+from crslab.output_paths import with_parent
 
 
 def lab_layout(lab: Path | None) -> tuple[Path, MemoryLayout]:
@@ -173,7 +174,7 @@ def run_map(args: argparse.Namespace) -> int:
         sys.stdout.write(text.replace("\r\n", "\n"))
         return 0
     try:
-        args.output.write_bytes(text.encode())
+        with_parent(args.output).write_bytes(text.encode())
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the map ({exc.strerror})") from None
     print(f"crslab map: {args.output}: {len(mem.symbols())} symbols of {path.name}", file=sys.stderr)

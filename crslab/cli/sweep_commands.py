@@ -21,6 +21,7 @@ from crslab.cli.sim_commands import (
 )
 from crslab.lab.build import DEFAULT_LAB, LabBuildError
 from crslab.lab.source import LabSource
+from crslab.output_paths import with_parent
 from crslab.scenario.event import seconds_to_tick
 from crslab.sim.status import ExitStatus
 from crslab.sweep import sampling, variations
@@ -171,7 +172,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     columns = spec.columns()
     journal_file = tbl.journal_path(output)
     try:
-        output.parent.mkdir(parents=True, exist_ok=True)
+        with_parent(output)
         journal = tbl.Journal(journal_file, columns)
     except OSError as exc:
         raise CliError(f"{output}: cannot write the table there ({exc.strerror})") from None

@@ -13,6 +13,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from crslab.output_paths import with_parent
+
 _XML_BAD = dict.fromkeys([c for c in range(32) if c not in (9, 10, 13)])
 
 
@@ -55,4 +57,4 @@ def junit_xml(suite: str, cases: Sequence[Case]) -> bytes:
 
 def write_junit(path: Path, suite: str, cases: Sequence[Case]) -> None:
     """Write :func:`junit_xml` to ``path``."""
-    path.write_bytes(junit_xml(suite, cases))
+    with_parent(path).write_bytes(junit_xml(suite, cases))

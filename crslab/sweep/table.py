@@ -20,6 +20,7 @@ from typing import TextIO
 
 import numpy as np
 
+from crslab.output_paths import with_parent
 from crslab.sweep.job import Row
 from crslab.sweep.metrics import INTEGER_METRICS, METRIC_NAMES
 from crslab.sweep.variations import Vary, describe
@@ -235,5 +236,5 @@ def plot(path: Path, rows: Sequence[Row], varies: Sequence[Vary], *, title: str)
     axes[0][0].legend(fontsize=7, loc="best")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout(rect=(0.0, 0.0, 1.0, 1.0 - 0.5 / fig.get_figheight()))
-    fig.savefig(path, dpi=100)
+    fig.savefig(with_parent(path), dpi=100)
     plt.close(fig)
