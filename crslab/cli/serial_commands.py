@@ -20,10 +20,12 @@ def lab_layout(lab: Path | None) -> tuple[Path, MemoryLayout]:
     """The lab file (default: crslab's Lab 1) and its variables' layout, read from its text (no
     build needed: the layout depends on the text alone)."""
     from crslab.lab.build import DEFAULT_LAB
+    from crslab.lab.lab_file import lab_file_problem
 
     path = lab if lab is not None else DEFAULT_LAB
-    if not path.is_file():
-        raise CliError(f"{path}: no such lab file")
+    problem = lab_file_problem(path)
+    if problem:
+        raise CliError(problem)
     try:
         text = path.read_bytes().decode("utf-8", "replace")
     except OSError as exc:
@@ -118,6 +120,16 @@ def _add_link_options(p: argparse.ArgumentParser, port: str, needs_map: bool = T
     p.set_defaults(port_name=port)
 
 
+def no_serial_dir(folder: Path) -> str:
+    """The error for a ``--dir`` that is not there.
+
+    >>> no_serial_dir(Path("nope"))
+    "--dir nope: no such folder (start 'crslab sim --serial-dir nope' first; it makes the folder)"
+    """
+    return (f"--dir {folder}: no such folder (start 'crslab sim --serial-dir {folder}' first; "
+            "it makes the folder)")
+
+
 def _open_link(args: argparse.Namespace) -> SerialLink:
     if args.tcp is not None:
         return SerialLink(tcp=args.tcp)
@@ -125,6 +137,8 @@ def _open_link(args: argparse.Namespace) -> SerialLink:
     if path is None:
         raise CliError("say where the board is: --dir DIR (of 'crslab sim --serial-dir DIR'), --port PATH or "
                        "--tcp PORT")
+    if args.port is None and args.dir is not None and not Path(args.dir).is_dir():
+        raise CliError(no_serial_dir(args.dir))
     if not Path(path).exists():
         raise CliError(f"{path}: no such port (is 'crslab sim --serial-dir' running?)")
     return SerialLink(path=Path(path))
@@ -152,6 +166,8 @@ def _address(args: argparse.Namespace) -> int:
         if args.dir is None:
             raise CliError("say where to find NAME: --map FILE, --lab FILE, or --dir DIR (which holds "
                            "the map)")
+        if not Path(args.dir).is_dir():
+            raise CliError(no_serial_dir(args.dir))
         maps = sorted(Path(args.dir).glob("*.map"))
         if len(maps) != 1:
             raise CliError(f"{args.dir}: {'no' if not maps else len(maps)} .map files (give --map FILE)")

@@ -29,6 +29,7 @@ from crslab import os_support, resources
 from crslab.cache import CacheError, cache_dir
 from crslab.framework_facts import GEN_A, GEN_B, printf_buffer_chars
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
+from crslab.lab.lab_file import lab_file_problem
 from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, find_watched
 from crslab.sandbox.compile_sandbox import CompilerSandbox, compiler_sandbox, forbidden_read
@@ -220,8 +221,9 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path
     names.
     """
     src = Path(source) if source is not None else DEFAULT_LAB
-    if not src.is_file():
-        raise LabBuildError(f"{src}: no such lab file")
+    problem = lab_file_problem(src)
+    if problem:
+        raise LabBuildError(problem)
     try:
         text_bytes = src.read_bytes()
     except OSError as exc:
