@@ -79,7 +79,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--golden", type=Path, required=True, metavar="FILE",
                    help="the golden file (from 'crslab record', or a transcript from 'crslab sim')")
     add_tolerance_options(p)
-    p.add_argument("--junit", type=Path, metavar="FILE", help="also write a JUnit XML report")
+    p.add_argument("-o", "--junit", type=Path, metavar="FILE", help="also write a JUnit XML report")
     p.add_argument("--max-report", type=int, default=5, metavar="N",
                    help="differing lines to show (default: %(default)s)")
     p.set_defaults(func=run_check)
@@ -100,7 +100,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         if action.dest == "lab":
             action.help = argparse.SUPPRESS
     add_tolerance_options(p)
-    p.add_argument("--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
+    p.add_argument("-o", "--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
                    help="where the reports go (default: %(default)s)")
     add_executor_options(p, "submission")
     add_report_options(p)

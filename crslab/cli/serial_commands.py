@@ -86,7 +86,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--count", type=int, metavar="N", help="stop after N replies")
     s.add_argument("--print", dest="print_values", action="store_true",
                    help="print each reply (time in s, PlotVar1..4) instead of plotting")
-    s.add_argument("--rrd", type=Path, metavar="FILE", help="save the plot as a rerun recording (headless)")
+    s.add_argument("-o", "--rrd", type=Path, metavar="FILE",
+                   help="save the plot as a rerun recording (headless)")
     _add_link_options(s, "SerialB", needs_map=False)
     s.set_defaults(func=run_scope)
     o = verbs.add_parser("octave", help="where crslab's files for running the course's scripts in Octave are",

@@ -108,7 +108,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     pace.add_argument("--speed", type=positive, default=1.0, metavar="X",
                       help="simulated seconds per wall-clock second (default: 1, real time)")
     pace.add_argument("--fast", action="store_true", help="run as fast as the machine can")
-    p.add_argument("--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
+    p.add_argument("-o", "--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
     p.add_argument("--json", action="store_true", help="print the end-of-run summary as JSON on stderr")
     p.add_argument("--quiet", action="store_true",
                    help="no introduction before the first tick and no scenario events announced on stderr "
