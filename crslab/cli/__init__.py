@@ -176,11 +176,13 @@ def _unknown_command(parser: CommandsParser, argv: Sequence[str]) -> str | None:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``crslab`` console script; returns the exit status."""
     from crslab.resources import ResourceError
+    from crslab.sim import termination
 
     if argv is None:  # the crslab command itself: --rrd's writer starts now (see rerun_writer)
         from crslab.sinks.rerun_writer import start_writer
 
         start_writer(sys.argv[1:])
+        termination.install()  # SIGTERM and SIGHUP clean up as Ctrl-C does
     try:
         parser = build_parser()
     except ResourceError as exc:  # a broken installation: say how to repair it
@@ -198,12 +200,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         parser.print_help()
         return 2
     try:
-        return int(args.func(args) or 0)
+        status = int(args.func(args) or 0)
     except CliError as exc:
         print(f"crslab {args.command}: {exc}", file=sys.stderr)
         return exc.status
+    except termination.Terminated as exc:
+        print(f"crslab {args.command}: terminated ({exc.name})", file=sys.stderr)
+        return termination.exit_status(exc.signum)
     except KeyboardInterrupt:
         print(f"crslab {args.command}: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:
         return 0
+    return termination.exit_status(termination.received) if termination.received else status
