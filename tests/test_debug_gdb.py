@@ -69,7 +69,8 @@ def test_break_tick_stops_in_lab_with_that_ticks_globals_and_continues_to_the_pl
     assert gdb_values(r.stdout) == [str(5000 - STARTUP_TICKS), "5000", str(5001 - STARTUP_TICKS), "5001"]
     assert "crslab: tick 5000 (t = 5.000 s)" in r.stdout
     assert "lab (theta1motor=" in r.stdout and f"{COUNTER.name}:" in r.stdout  # stopped inside lab()
-    assert "crslab debug: t = 5.0 s: hand to DH (0.00, -90.00, 90.00) deg over 2 s" in r.stderr
+    assert ("crslab debug: t = 5.0 s: hand to motor (0.00, 0.00, 0.00) = DH (0.00, -90.00, 90.00) deg over 2"
+            in r.stderr)
     s = crslab("sim", "--fast", "--quiet", *tour, "--transcript", str(plain))
     assert s.returncode == 0, s.stderr
     assert debugged.read_bytes() == plain.read_bytes()  # the hand moved the arm from its tick, as in sim

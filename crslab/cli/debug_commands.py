@@ -132,8 +132,8 @@ def introduction(plan: DebugPlan, *, lab: Path, scenario_name: str, end_tick: in
     """The paragraph printed before the first tick.
 
     >>> print(introduction(DebugPlan(break_tick=5000), lab=Path("mylab.c"), scenario_name="tour",
-    ...                    end_tick=30000, first_lab_tick=4100, speed=None), end="")
-    crslab debug: mylab.c (built -O0 -g) on scenario tour for 30.0 s, as fast as it can, under gdb.
+    ...                    end_tick=25000, first_lab_tick=4100, speed=None), end="")
+    crslab debug: mylab.c (built -O0 -g) on scenario tour for 25.0 s, as fast as it can, under gdb.
       It stops inside lab() at tick 5000 (t = 5.0 s). A crash stops at the lab's line. Simulated time
       stands still while gdb holds the lab: print VAR, next, step, break LINE, continue; tick shows the
       tick, next-tick runs to the next lab() call, quit lets the run go on without gdb.
