@@ -1,84 +1,31 @@
 """The slow packaging test (marked ``packaging``): what a student gets from ``pip install crslab``.
 
-From a clean copy of this checkout (its tracked files, nothing built), ``python -m build`` makes
-the sdist and then the wheel *from the sdist*, so the sdist is shown to hold what the wheel build
-needs. The wheel goes into a fresh venv with its dependencies (from PyPI, or pip's cache), and
-every command a student or TA uses runs from a folder outside the checkout, with a fresh build
-cache so each lab is compiled from the files the wheel installed. Deselect with
-``-m "not packaging"``.
+The wheel is built from a clean copy of this checkout (the sdist first, the wheel from it) and
+installed by docs/first-lab.md's install block into a fresh venv (tests/wheel_install.py); every
+command a student or TA uses runs from a folder outside the checkout, with a fresh build cache.
+Deselect with ``-m "not packaging"``.
 """
 
-import os
 import shutil
-import subprocess
-import sys
 import tarfile
 import zipfile
-from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from wheel_install import run
 
 from crslab.regress.transcript import read_golden
 
 pytestmark = pytest.mark.packaging
 
-ROOT = Path(__file__).resolve().parents[1]
 LABS = Path(__file__).parent / "labs"
 OWN_IK = LABS / "lab1_own_ik.c"
 IK_SIGN = "atan2(-s_in, r_in)"  # th2 of lab1_own_ik.c's elbow-up IK
 
 
-def run(*cmd, cwd=None, env=None, timeout=600):
-    return subprocess.run([str(c) for c in cmd], cwd=cwd, env=env, capture_output=True, text=True,
-                          timeout=timeout)
-
-
-def clean_copy(dest: Path) -> Path:
-    """The checkout's tracked files as they are now (uncommitted edits included), without anything
-    built or cached in it."""
-    files = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=True).stdout
-    for rel in filter(None, files.decode().split("\0")):
-        src = ROOT / rel
-        if src.is_file():
-            (dest / rel).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(src, dest / rel)
-    return dest
-
-
-@dataclass
-class Installed:
-    """A fresh venv holding the wheel, and a work folder outside the checkout."""
-
-    venv: Path
-    work: Path
-    env: dict
-    wheel: Path
-    sdist: Path
-
-    def crslab(self, *args, cwd=None, timeout=300):
-        return run(self.venv / "bin" / "crslab", *args, cwd=cwd or self.work, env=self.env, timeout=timeout)
-
-
-@pytest.fixture(scope="module")
-def installed(tmp_path_factory) -> Installed:
-    base = tmp_path_factory.mktemp("packaging")
-    source = clean_copy(base / "crslab-src")
-    dist = base / "dist"
-    r = run(sys.executable, "-m", "build", "--outdir", dist, source)  # the sdist, then the wheel from it
-    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
-    [wheel], [sdist] = sorted(dist.glob("*.whl")), sorted(dist.glob("*.tar.gz"))
-    venv = base / "venv"
-    r = run(sys.executable, "-m", "venv", venv)
-    assert r.returncode == 0, r.stderr
-    r = run(venv / "bin" / "python", "-m", "pip", "install", "--quiet", "--no-compile", wheel, "pytest")
-    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
-    work = base / "work"
-    work.mkdir()
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "CRSLAB_CACHE_DIR")}
-    env.update(PATH=f"{venv / 'bin'}{os.pathsep}{os.environ['PATH']}", CRSLAB_CACHE_DIR=str(base / "cache"),
-               PYTHONNOUSERSITE="1")
-    return Installed(venv, work, env, wheel, sdist)
+@pytest.fixture
+def installed(installed_wheel):
+    return installed_wheel
 
 
 def test_the_sdist_and_the_wheel_carry_the_c_sources_and_the_models(installed):

@@ -20,7 +20,7 @@ from crslab.cli.sim_commands import (
     add_run_options,
     config_from_args,
     limits_from_args,
-    lost_serial_notice,
+    notices,
 )
 from crslab.executors.job import Executor
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
@@ -128,9 +128,8 @@ def _run(config: SimConfig, args: argparse.Namespace, end_tick: int) -> RunResul
         raise CliError(str(exc), status=exc.status.exit_status) from None
     if result.status is RunStatus.NO_LAB:
         raise CliError(result.message, status=result.exit_status)
-    lost = lost_serial_notice(config.build.source.name, result.stats)
-    if lost:
-        print(f"crslab {args.command}: {lost}", file=sys.stderr)
+    for line in notices(config.build.source.name, result.stats, config.build.generation, config.build.source):
+        print(f"crslab {args.command}: {line}", file=sys.stderr)
     return result
 
 

@@ -23,6 +23,7 @@ from crslab.framework_facts import (
     tx_ring_chars,
 )
 from crslab.lab.build import LabBuildError, LabForbidden
+from crslab.lab.print_trigger import missing_printing_notice
 from crslab.live.console import VarConsole
 from crslab.plant.plant_params import PlantParamsError
 from crslab.sandbox import missing as sandbox_missing
@@ -242,16 +243,27 @@ def lost_serial_notice(lab_name: str, stats: dict) -> str | None:
 def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: int) -> None:
     """On stderr after a run (``crslab sim`` and ``crslab debug``): its :func:`notices` and its
     failed scenario expectations, one line each."""
-    for line in notices(lab_name, result.stats, generation):
+    for line in notices(lab_name, result.stats, generation, result.lab_file):
         print(f"{prefix}{line}", file=sys.stderr)
     for expectation in result.failed_expectations:
         for line in expectation.lines():
             print(f"{prefix}expectation failed: {line}", file=sys.stderr)
 
 
-def notices(lab_name: str, stats: dict, generation: int) -> list[str]:
-    """One-line warnings about the run (printed on stderr)."""
+def notices(lab_name: str, stats: dict, generation: int, source: Path | None = None) -> list[str]:
+    """One-line warnings about the run (printed on stderr); ``source``, the lab file, names the
+    function a lab that triggers printing without a ``printing()`` probably meant."""
     out = []
+    if source is not None and "lab_symbols" in stats:
+        try:
+            text = source.read_bytes().decode("utf-8", "replace")
+        except OSError:
+            text = ""
+        missing = missing_printing_notice(
+            lab_name, text, has_printing=bool(stats["lab_symbols"] & board_constants().CRS_LAB_HAS_PRINTING),
+            triggers=int(stats.get("print_triggers", 0)), generation=generation)
+        if missing:
+            out.append(missing)
     lost = lost_serial_notice(lab_name, stats)
     if lost:
         out.append(lost)

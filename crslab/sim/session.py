@@ -540,7 +540,7 @@ class Simulation:
         def ended(status: RunStatus, tick: int, message: str = "") -> RunResult:
             self._drain_serial(counted, sink)
             self._drain_line(counted, tick)
-            stats = {**self.stats, "serial_dropped": self.serial_dropped,
+            stats = {**self.stats, "serial_dropped": self.serial_dropped, "lab_symbols": self.symbols,
                      "motor_board_events": list(self.motor_board_events)}
             expectations = self.judge.results()
             failed = sum(bool(e.failures) for e in expectations)

@@ -54,7 +54,7 @@ _C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *",
 
 STAT_FIELDS = (
     "lab_calls", "lab_ns_total", "lab_ns_max", "lab_max_tick", "over_budget", "nan_first_tick",
-    "nan_first_joint", "nan_count", "printing_runs", "safety_flag", "leds", "estop_latched",
+    "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag", "leds", "estop_latched",
     "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars", "overflow_phase",
 )
 

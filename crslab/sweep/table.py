@@ -184,6 +184,12 @@ def summary(rows: Sequence[Row], varies: Sequence[Vary], *, total: int, golden: 
         if k:
             why.append(f"{label}: {k}")
     lines.append(f"passed: {passed} of {n}{rate}" + (f"; {', '.join(why)}" if why else ""))
+    early = sum(1 for r in rows if _num(r["trips_before_lab"]) > 0)
+    if early:
+        lines.append(f"note: in {early} of {n} runs the arm left the safety envelope or the motor board cut "
+                     "out by lab()'s first call, before its torques moved the arm: the arm and its setup, "
+                     "not the lab (the hold controller alone could not hold it; a lighter payload or "
+                     "another scenario?)")
     metrics = shown_metrics(rows)
     if metrics:
         width = max(len(m) for m in metrics)

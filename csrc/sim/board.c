@@ -96,6 +96,7 @@ void crs_board_after_lab(crs_sim *sim)
         SWI_printf.posted = 0;
         run = 1;
     }
+    sim->print_triggers += run;
     if (run && printing != NULL) {
         sim->shared->phase = CRS_PHASE_PRINTING;
         sim->shared->phase_start_ns = crs_now_ns();
