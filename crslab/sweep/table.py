@@ -188,8 +188,7 @@ def summary(rows: Sequence[Row], varies: Sequence[Vary], *, total: int, golden: 
     if early:
         lines.append(f"note: in {early} of {n} runs the arm left the safety envelope or the motor board cut "
                      "out by lab()'s first call, before its torques moved the arm: the arm and its setup, "
-                     "not the lab (the hold controller alone could not hold it; a lighter payload or "
-                     "another scenario?)")
+                     "not the lab (the hold controller alone could not hold it with those variations)")
     metrics = shown_metrics(rows)
     if metrics:
         width = max(len(m) for m in metrics)
