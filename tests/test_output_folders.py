@@ -57,6 +57,16 @@ def test_toolbox_outputs_make_their_folders(tmp_path, args, made):
     assert (tmp_path / made).stat().st_size > 0
 
 
+def test_grade_makes_its_report_folder(tmp_path):
+    (tmp_path / "subs").mkdir()
+    (tmp_path / "subs" / "alice.c").write_bytes(LAB.read_bytes())
+    r = crslab("grade", "subs", "--reference", LAB, "--duration", "4.2", "--jobs", "1", "-o", "reports/lab1",
+               cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    rows = (tmp_path / "reports" / "lab1" / "grades.csv").read_text().splitlines()
+    assert rows[1].startswith("alice.c,pass")
+
+
 def test_a_folder_that_cannot_be_made_is_one_line(tmp_path):
     (tmp_path / "golden").write_text("a file, not a folder")
     r = crslab("record", "--lab", LAB, "--duration", "4.2", "-o", "golden/lab1.txt", cwd=tmp_path)

@@ -23,6 +23,7 @@ from crslab.cli.sim_commands import (
     notices,
 )
 from crslab.executors.job import Executor
+from crslab.output_paths import folder as made_folder
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.runner import plant_fields, run_header, run_lab
@@ -232,7 +233,7 @@ def run_grade(args: argparse.Namespace) -> int:
         raise CliError(f"{folder}: no lab files (.c, .cpp) to grade")
     try:
         for sub_dir in ("transcripts", "reports"):
-            folder(args.out / sub_dir)
+            made_folder(args.out / sub_dir)
     except OSError as exc:
         raise CliError(f"{args.out}: cannot write the reports there ({exc.strerror})") from None
 

@@ -213,15 +213,46 @@ def summary(rows: Sequence[Row], varies: Sequence[Vary], *, total: int, golden: 
     return lines
 
 
-def plot(path: Path, rows: Sequence[Row], varies: Sequence[Vary], *, title: str) -> None:
-    """One panel per (metric, varied quantity): the metric of every run against that quantity,
+DEFAULT_PLOT_METRICS = ("safety_trips", "motor_board_cutouts", "plotvar1_err_rms", "plotvar2_err_rms",
+                        "plotvar3_err_rms", "clamp_share")
+"""What ``--plot`` draws when ``--plot-metrics`` is not given: those of these that vary, at most
+:data:`DEFAULT_PLOT_COUNT`."""
+DEFAULT_PLOT_COUNT = 4
+
+
+def varying(rows: Sequence[Row], name: str) -> bool:
+    """Whether ``name`` takes more than one value (NaN counting as one) over ``rows``.
+
+    >>> varying([{"a": 1.0}, {"a": 1.0}], "a"), varying([{"a": 1.0}, {"a": float("nan")}], "a")
+    (False, True)
+    """
+    values = {str(float(r[name])) for r in rows}  # type: ignore[arg-type]
+    return len(values) > 1
+
+
+def plot_metrics(rows: Sequence[Row], asked: Sequence[str] | None) -> tuple[list[str], list[str]]:
+    """The metrics to plot and the asked ones left out because every run has the same value.
+    Without ``asked``: the first :data:`DEFAULT_PLOT_COUNT` of :data:`DEFAULT_PLOT_METRICS` that
+    vary, else every varying metric up to that count, else ``end_s``."""
+    if asked:
+        kept = [m for m in asked if varying(rows, m)]
+        return kept, [m for m in asked if m not in kept]
+    kept = [m for m in DEFAULT_PLOT_METRICS if varying(rows, m)]
+    kept += [m for m in METRIC_NAMES if m not in kept and varying(rows, m)]
+    return kept[:DEFAULT_PLOT_COUNT] or ["end_s"], []
+
+
+def plot(path: Path, rows: Sequence[Row], varies: Sequence[Vary], *, title: str,
+         metrics: Sequence[str] | None = None) -> None:
+    """One panel per varied quantity for each of ``metrics`` (default: see :func:`plot_metrics`,
+    never one every run has the same value of): the metric of every run against that quantity,
     passed runs in one colour and failed ones in another."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    metrics = shown_metrics(rows) or ["end_s"]
+    metrics = list(metrics) if metrics else plot_metrics(rows, None)[0]
     n_rows, n_cols = len(metrics), len(varies)
     fig, axes = plt.subplots(n_rows, n_cols, figsize=(3.4 * n_cols + 0.6, 2.3 * n_rows + 0.8), squeeze=False)
     ok = np.array([bool(r["passed"]) for r in rows])
