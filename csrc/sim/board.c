@@ -16,6 +16,7 @@
 serial_t SerialA;
 SWI_Obj SWI_printf;
 volatile struct GPIO_DATA_REGS GpioDataRegs;
+volatile unsigned int IFR, IER; /* named by labs (IER |= M_INT1), nothing on a host */
 
 static crs_sim *board_sim; /* the one board of this process */
 
