@@ -12,7 +12,7 @@ def deg(*a):
     return np.radians(a)
 
 
-# crs-facts section 3 "Checks", derived by hand from the DH table (inches).
+# docs/framework.md section 10's checks, derived by hand from the DH table (inches).
 @pytest.mark.parametrize(
     "motor_deg, xyz_in",
     [
@@ -26,8 +26,9 @@ def test_fk_known_poses(motor_deg, xyz_in):
     np.testing.assert_allclose(crs.fk(deg(*motor_deg)), xyz_in, atol=1e-12)
 
 
-# Seed 000 Tera Term tables: what a real board printed with %.2f, motor angles (deg) and xyz (in)
-# (crs-facts section 3; the seed's "-87.06" is a transcription slip for 87.06, the DH-zero pose).
+# A Lab 1 report's Tera Term tables: what a real board printed with %.2f, motor angles (deg) and
+# xyz (in) (docs/framework.md section 10; the report's "-87.06" is a slip for 87.06, the DH-zero
+# pose).
 # The board printed float32 values of unrounded angles, so FK of the printed (rounded) angles,
 # printed the same way, agrees to one unit in the last printed digit (0.01 in).
 @pytest.mark.parametrize(
@@ -111,7 +112,7 @@ def test_fk_of_ik_thousands_of_points():
 
 
 def test_elbow_up_matches_lab_formula():
-    # The lab's own IK (seed 000): th2 = -gamma - alpha, th3 = pi - beta.
+    # The Lab 1 report's IK (docs/framework.md section 10): th2 = -gamma - alpha, th3 = pi - beta.
     x, y, z = 12.0, 5.0, 14.0
     r = np.hypot(x, y)
     gamma = np.arctan2(z - 10, r)
@@ -156,7 +157,8 @@ def test_dimensions_come_from_the_c_core():
 
 
 def test_safety_envelope_by_hand():
-    # crs-facts section 2: |th1| <= 0.6667 pi, th2 in [-2.3, 0.15], th3 in [0.15, 2.3], z >= 4 in
+    # docs/framework.md section 3: |th1| <= 0.6667 pi, th2 in [-2.3, 0.15], th3 in [0.15, 2.3],
+    # z >= 4 in
     rest = [0.0, -0.42, 0.24]
     th3_edge = crs.dh_to_motor([0.0, -1.0, 0.1501])  # th3 DH just above its lower bound: inside
     cases = {

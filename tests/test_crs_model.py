@@ -22,8 +22,8 @@ from crslab.plant.params import PARAMS
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.81
-NM_PER_UNIT = 6.0  # crs-facts 2.6
-# The course's 2-link model in motor angles and command units (crs-facts 4).
+NM_PER_UNIT = 6.0  # docs/framework.md section 11
+# The course's 2-link model in motor angles and command units (docs/framework.md section 11).
 P_BARE = (0.0300, 0.0128, 0.0076, 0.0753, 0.0298)
 P_END_MASS = (0.0466, 0.0388, 0.0284, 0.1405, 0.1298)
 
@@ -111,8 +111,8 @@ def test_joints_actuators_and_tendon_are_named_and_ordered_as_documented(model):
 
 
 def test_actuators_give_the_course_torque_relations(model):
-    # crs-facts 3: tau2DH = tau2M + tau3M, tau3DH = tau3M, with 6 N.m per command unit; each motor
-    # also carries the constant torque of its friction's asymmetry, -(Cpos + Cneg) / 2 (params.toml)
+    # docs/framework.md section 10: tau2DH = tau2M + tau3M, tau3DH = tau3M, with 6 N.m per command unit; each
+    # motor also carries the constant torque of its friction's asymmetry, -(Cpos + Cneg) / 2 (params.toml)
     rows = [PARAMS["friction"][f"motor{m}"] for m in (1, 2, 3)]
     bias = [-(row["Cpos_nm"] + row["Cneg_nm"]) / 2 for row in rows]
     data = fresh(model, REST_MOTOR_RAD)
@@ -168,7 +168,7 @@ def test_course_check_poses_in_metres(model):
 # --- dynamics ---------------------------------------------------------------------------------
 
 def test_gravity_torques_match_the_course_p_values(model):
-    # Course: G = [-p4 g sin th2M, -p5 g cos th3M] in command units (crs-facts 4).
+    # Course: G = [-p4 g sin th2M, -p5 g cos th3M] in command units (docs/framework.md section 11).
     rng = np.random.default_rng(11)
     for motor in rng.uniform(-1.5, 1.5, (50, 3)):
         data = fresh(model, motor)
@@ -217,7 +217,7 @@ def test_friction_comes_from_params_toml_and_rotor_inertia_from_the_course(model
     np.testing.assert_allclose(model.dof_damping, [rows[0]["V_nm_s_per_rad"], rows[1]["V_nm_s_per_rad"], 0])
     np.testing.assert_allclose(model.tendon_frictionloss, [half[2]])
     np.testing.assert_allclose(model.tendon_damping, [rows[2]["V_nm_s_per_rad"]])
-    np.testing.assert_allclose(model.dof_armature, [0, 0.075, 0])  # crs-facts 4
+    np.testing.assert_allclose(model.dof_armature, [0, 0.075, 0])  # docs/framework.md section 11
     np.testing.assert_allclose(model.tendon_armature, [0.0375])
 
 

@@ -1,4 +1,4 @@
-"""One test per rule of the real framework's 1 ms tick (crs-facts sections 2 and 7), each asserting
+"""One test per rule of the real framework's 1 ms tick (docs/framework.md sections 3 to 6), each asserting
 the rule's own number.
 
 Every number is written here by hand from the course's facts, and where crslab exposes it (the C

@@ -2,7 +2,7 @@
 scripts parse: every global parsed from the file, laid out as the TI linker would (16-bit words,
 32-bit types at even addresses, .my_arrs / .my_vars / .ebss at their origins), written as a map that
 the course's parseMap reads (checked with a second implementation of that parse, written here from
-serial-protocols.md section 2.4). Expected addresses are worked by hand from those rules."""
+docs/host-tools.md, "The map parseMap reads"). Expected addresses are worked by hand from those rules."""
 
 import re
 import subprocess
@@ -32,7 +32,7 @@ def is_hex(text: str) -> bool:
 
 
 def course_parse_map(text: str) -> list[tuple[str, str, str]]:
-    """What the course's parseMap returns, as serial-protocols.md section 2.4 describes it."""
+    """What the course's parseMap returns, as docs/host-tools.md describes it."""
     lines = re.split(r"\r\n|\r|\n", text)
     arrs = vars_ = None
     i = 0
@@ -140,7 +140,7 @@ def test_gen_a_layout_puts_the_sections_at_the_2019_maps_origins():
     # then the framework's seven SIMU inputs (the lab only declares two of them extern)
     assert [at[f"SIMU_Var{k}_fromSIMU_16bit"] for k in (1, 7)] == [(0x9014, 1), (0x901A, 1)]
     # .my_arrs at 0xc4c0: theta1array (200 words) then timearray; .my_vars at 0xc816: whattoprint
-    # (serial-protocols.md's worked vector), Kp1, samples, then the framework's matlabLock
+    # (docs/host-tools.md's worked vectors), Kp1, samples, then the framework's matlabLock
     assert at["theta1array"] == (0xC4C0, 200) and at["timearray"] == (0xC588, 200)
     assert [at[n][0] for n in ("whattoprint", "Kp1", "samples", "matlabLock")] == [
         0xC816, 0xC818, 0xC81A, 0xC81C]

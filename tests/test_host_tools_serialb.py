@@ -1,6 +1,6 @@
 """SerialB, the course's Simulink link: a host sends FF 7F and seven int16 values every 5 ms; the
 board answers at once with int32(10000 * Simulink_PlotVarN) and stores the values into
-SIMU_Var1..7_fromSIMU_16bit (serial-protocols.md section 3).
+SIMU_Var1..7_fromSIMU_16bit (docs/host-tools.md, "SerialB: the Simulink packets").
 
 In process, a Python host hands a packet to the board every 5 ticks, exactly as the bridge does
 between chunks, so every tick is known: the packet's sync arrives during its tick, the reply holds

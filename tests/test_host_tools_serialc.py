@@ -1,9 +1,9 @@
 """SerialC, the course's MATLAB protocol, against a real lab in its (sandboxed) worker: reads
 return the current value of the lab's globals as the C28x holds them, writes take effect between
-ticks, replies leave at the baud rate through the port's transmit ring (serial-protocols.md
-section 2). Requests are handed to the board as the bridge does (``Simulation.exchange``) between
-chunks; the expected bytes are the doc's worked vectors, or struct packing of values the lab
-itself printed or stored."""
+ticks, replies leave at the baud rate through the port's transmit ring (docs/host-tools.md,
+"SerialC: a MATLAB message"). Requests are handed to the board as the bridge does
+(``Simulation.exchange``) between chunks; the expected bytes are the doc's worked vectors, or
+struct packing of values the lab itself printed or stored."""
 
 import struct
 from pathlib import Path
@@ -43,7 +43,7 @@ def test_gen_a_answers_the_worked_vectors_and_writes_reach_the_next_print(gen_a_
     out = MemorySink()
     with Simulation(gen_a_config) as sim:
         sim.run(100, out)
-        # whattoprint = 1.25 at 0xc816: serial-protocols.md's first worked vector
+        # whattoprint = 1.25 at 0xc816: docs/host-tools.md's first worked vector
         assert ask(sim, bytes.fromhex("2a 09 32 00 00 c8 16 00 01")) == bytes.fromhex("2a 04 33 00 00 a0 3f")
         # a read arrives during the tick it is handed over (9 bytes = 90 000 of 115 200 line units),
         # after that tick's lab(); its reply leaves at once: 2 bytes during that tick, 5 in the next

@@ -1,4 +1,4 @@
-"""The framework's tick as crs-facts section 2 describes it, shown on the simulated arm."""
+"""The framework's tick as docs/framework.md section 3 describes it, shown on the simulated arm."""
 
 from pathlib import Path
 

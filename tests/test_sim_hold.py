@@ -1,4 +1,4 @@
-"""The framework's hold controller on the simulated arm, as the real one (crs-facts section 7):
+"""The framework's hold controller on the simulated arm, as the real one (docs/framework.md section 4):
 references from 0, following the arm inside the envelope, re-anchored outside when more than
 0.15 rad away; Kp 15/25 by the 0.1 rad error; Kd 1 on the recursively averaged velocity, with
 joint 2's quirk. Checked tick for tick against a second implementation written here in numpy

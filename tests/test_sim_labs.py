@@ -1,5 +1,5 @@
-"""Lab files in both framework generations' styles, with the quirks of real ones (crs-facts 6),
-compile unmodified and print what they should."""
+"""Lab files in both framework generations' styles, with the quirks of real ones (docs/framework.md
+section 12), compile unmodified and print what they should."""
 
 from pathlib import Path
 

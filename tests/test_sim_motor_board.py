@@ -1,4 +1,4 @@
-"""The motor board between the framework and the arm (crs-facts section 7): on Gen B's Piccolo
+"""The motor board between the framework and the arm (docs/framework.md section 5): on Gen B's Piccolo
 board a joint commanded beyond 4 units for 500 consecutive ms cuts every output until its command
 is back within 4 units. Reported on stderr as it happens, as a scope signal, in the summary and in
 the run's result; ``--motor-board`` chooses the board, by default the lab's generation's."""

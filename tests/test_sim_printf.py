@@ -1,5 +1,5 @@
 """What serial_printf prints, digit for digit: Gen A through the course's small printf (truncating,
-in float arithmetic), Gen B through TI's rounding vsprintf (crs-facts section 7).
+in float arithmetic), Gen B through TI's rounding vsprintf (docs/framework.md section 7).
 
 The expected lines are made here by a second implementation of the rules, in numpy float32
 arithmetic, not by crslab's C formatter.
@@ -65,7 +65,7 @@ def gen_b():
 
 
 def test_the_reference_rules_give_the_issues_worked_digits():
-    # the rules themselves, on the values crs-facts works through by hand
+    # the rules themselves, on the values docs/framework.md section 7 works through by hand
     assert [small_printf_f(v, 2) for v in (1.41, 87.06, -1.99, 29.82)] == ["1.40", "87.05", "-1.98", "29.81"]
 
 

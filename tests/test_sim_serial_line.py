@@ -1,4 +1,4 @@
-"""The board's serial line (crs-facts section 7): serial_printf formats into a buffer of its
+"""The board's serial line (docs/framework.md section 6): serial_printf formats into a buffer of its
 generation's size (a line that does not fit stops the run: the real board's memory is corrupt),
 queues into the transmit ring (136 bytes on Gen B, 2048 on Gen A) in front of the SCI's 16-byte
 FIFO and shift register, and the line sends 11.52 characters per ms (115200 baud, 8N1). What

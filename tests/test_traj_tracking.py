@@ -17,9 +17,9 @@ FIGURE = Path(__file__).parent / "data" / "gentle_figure.csv"
 
 # The bound: the lab's PD (Kp = 60 units/rad) with inertia feedforward leaves a steady error of
 # (constant disturbance) / Kp. The largest constant disturbance it meets is on motor 2: gravity
-# p4 g = 0.0753 * 9.81 = 0.74 units plus Coulomb friction of about 0.50 units (crs-facts 4), so
-# 1.24 / 60 = 0.0207 rad. Feedforward cancels the inertial part of the error, so the RMS error of
-# every joint over a gentle path must stay below that static bound.
+# p4 g = 0.0753 * 9.81 = 0.74 units plus Coulomb friction of about 0.50 units (docs/framework.md
+# section 11), so 1.24 / 60 = 0.0207 rad. Feedforward cancels the inertial part of the error, so the
+# RMS error of every joint over a gentle path must stay below that static bound.
 KP_UNITS_PER_RAD = 60.0
 RMS_BOUND_RAD = (0.0753 * 9.81 + 0.50) / KP_UNITS_PER_RAD
 

@@ -43,7 +43,7 @@ def vec(*xs: float) -> str:
 
 
 def dh_layout() -> dict[str, float]:
-    """The DH table's constants in metres, from crslab.crs (crs-facts section 3)."""
+    """The DH table's constants in metres, from crslab.crs (docs/framework.md section 10)."""
     return {
         "d1": crs.BASE_HEIGHT_IN * crs.M_PER_IN,
         "a2": crs.UPPER_ARM_IN * crs.M_PER_IN,

@@ -2,8 +2,8 @@
 crslab's own reading of one (for ``crslab serial``).
 
 The course's scripts find a variable's address in the map CCS writes next to the build
-(serial-protocols.md section 2.4): the first line naming ``.my_arrs`` (and ``.my_vars``) gives the
-section's origin and length as its third and fourth words, and the table after
+(docs/host-tools.md, "The map parseMap reads"): the first line naming ``.my_arrs`` (and
+``.my_vars``) gives the section's origin and length as its third and fourth words, and the table after
 ``GLOBAL SYMBOLS: SORTED BY Symbol Address`` gives each symbol's page, 8-hex-digit address and
 name with the COFF ABI's leading underscore; those inside either section are the variables the
 scripts can read and write. :func:`write_map` writes those parts as the TI linker does (section

@@ -1,6 +1,6 @@
-"""The course's two serial protocols as a host program speaks them (serial-protocols.md sections 2
-and 3): what ``ME446_serialread`` / ``ME446_serialwrite`` send on SerialC, and the 16-byte
-packets the Simulink model exchanges on SerialB every 5 ms.
+"""The course's two serial protocols as a host program speaks them (docs/host-tools.md, "The
+protocols byte by byte"): what ``ME446_serialread`` / ``ME446_serialwrite`` send on SerialC, and
+the 16-byte packets the Simulink model exchanges on SerialB every 5 ms.
 
 >>> read_request(0xc816, 1).hex(" ")                   # the doc's worked vector
 '2a 09 32 00 00 c8 16 00 01'

@@ -54,7 +54,8 @@ GROUPS: dict[str, tuple[str, ...]] = {
 DEFAULT_FIT = ("drive", "friction")
 HOLD_MARGIN = 1.02
 """The dry friction a fit may end on must hold the arm at its resting pose with this margin: the
-real arm rests where it is put with zero torque (crs-facts 4), which the recordings may not show."""
+real arm rests where it is put with zero torque (docs/framework.md section 11), which the recordings
+may not show."""
 REST_RANGE_RAD = 0.02
 PHASE_STEP_MS = 0.05
 DRIFT_STEP = 2e-6

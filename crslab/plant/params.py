@@ -27,7 +27,8 @@ with PARAMS_TOML.open("rb") as _f:
 
 _REST = PARAMS["rest_motor_rad"]
 REST_MOTOR_RAD: tuple[float, float, float] = (float(_REST["th1"]), float(_REST["th2"]), float(_REST["th3"]))
-"""Default true resting motor angles (rad): the pose the encoders are zeroed in (crs-facts 2.1)."""
+"""Default true resting motor angles (rad): the pose the encoders are zeroed in (docs/framework.md
+section 3)."""
 
 NEWTON_METRE_PER_UNIT: float = float(PARAMS["command"]["newton_metre_per_unit"])
 """Joint torque of one course command unit (N.m), the actuators' gear."""

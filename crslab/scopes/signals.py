@@ -18,7 +18,7 @@ import numpy as np
 from crslab.framework_facts import SIMULINK_PERIOD_MS, SIMULINK_SCALE
 
 SIMULINK_PERIOD_TICKS = SIMULINK_PERIOD_MS
-"""The board sends the four ``Simulink_PlotVar`` to Simulink every 5 ms (crs-facts 1), as
+"""The board sends the four ``Simulink_PlotVar`` to Simulink every 5 ms (docs/framework.md section 8), as
 ``int32(SIMULINK_SCALE * value)``: Simulink sees them in steps of 1e-4 (framework_facts.h)."""
 
 

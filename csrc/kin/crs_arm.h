@@ -1,7 +1,7 @@
 /* The CRS arm (CataLyst/A255, 3 driven joints): dimensions, motor<->DH angles, FK, IK, Jacobian.
  *
  * Units: lengths in inches (the course's unit), angles in radians.
- * "Motor angles" are what the lab's encoders report (crs-facts section 3); "DH angles" follow the
+ * "Motor angles" are what the lab's encoders report (docs/framework.md section 10); "DH angles" follow the
  * DH table (a, alpha, d, theta) = (0, -90 deg, 10, th1), (10, 0, 0, th2), (10, 0, 0, th3).
  * Pure functions on caller-owned memory; no globals.
  */
@@ -16,7 +16,7 @@ static const double CRS_UPPER_ARM_IN = 10.0;   /* a2: shoulder axis to elbow axi
 static const double CRS_FOREARM_IN = 10.0;     /* a3: elbow axis to the end-effector point */
 static const double CRS_M_PER_IN = 0.0254;     /* exact */
 
-/* The course framework's safety envelope (crs-facts section 2), on DH angles from the motor
+/* The course framework's safety envelope (docs/framework.md section 3), on DH angles from the motor
  * angles and the end-effector height: outside it the framework holds the arm itself. */
 static const double CRS_ENVELOPE_TH1_MAX_RAD = 0.6667 * 3.14159265358979323846; /* 0.6667 pi */
 static const double CRS_ENVELOPE_TH2_MIN_RAD = -2.3;

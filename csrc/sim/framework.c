@@ -1,4 +1,4 @@
-/* The real framework's 1 ms duties, as crs-facts sections 2 and 7 describe them: the encoders,
+/* The real framework's 1 ms duties, as docs/framework.md sections 3 and 4 describe them: the encoders,
  * the hold controller, the scenario's hand. */
 #include "framework.h"
 

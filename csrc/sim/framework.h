@@ -1,4 +1,4 @@
-/* Internal: the pieces of the real framework's 1 ms tick (crs-facts sections 2 and 7). */
+/* Internal: the pieces of the real framework's 1 ms tick (docs/framework.md sections 3 and 4). */
 #ifndef CRSLAB_FRAMEWORK_H
 #define CRSLAB_FRAMEWORK_H
 

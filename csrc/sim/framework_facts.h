@@ -1,4 +1,5 @@
-/* The course framework's numbers, written once (crs-facts sections 1, 2 and 7).
+/* The course framework's numbers, written once (docs/framework.md sections 2 to 9, each with its
+ * public source).
  *
  * Everything the real framework, its serial port and the motor board do by number lives here:
  * the emulated board (csrc/sim) uses these values, and Python reads them through cffi
@@ -67,9 +68,9 @@ enum {
     CRS_SERIAL_BITS_PER_CHAR = 10   /* 8N1: start bit, 8 data bits, stop bit; 11.52 chars per ms */
 };
 
-/* The host ports (serial-protocols.md): SCI-B carries the Simulink link, SCI-C the MATLAB
- * variable protocol, both at CRS_SERIAL_BAUD through a transmit ring of their own in front of
- * the SCI's FIFO and shift register; the host always talks first. */
+/* The host ports (docs/framework.md section 8; the bytes in docs/host-tools.md): SCI-B carries the
+ * Simulink link, SCI-C the MATLAB variable protocol, both at CRS_SERIAL_BAUD through a transmit
+ * ring of their own in front of the SCI's FIFO and shift register; the host always talks first. */
 enum {
     CRS_GEN_A_SCIB_TX_RING = 2048,   /* chars (Gen A: one BUF_SIZE for every port) */
     CRS_GEN_A_SCIC_TX_RING = 2048,

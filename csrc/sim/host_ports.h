@@ -1,6 +1,6 @@
 /* The host ports: SerialB (the course's Simulink model) and SerialC (its MATLAB scripts), as the
- * framework's receive interrupts and command code handle them (serial-protocols.md sections 2
- * and 3). Internal to the board; not read by cffi.
+ * framework's receive interrupts and command code handle them (docs/framework.md section 8; the
+ * bytes in docs/host-tools.md, "The protocols byte by byte"). Internal to the board; not read by cffi.
  *
  * Time: what the host sent between two chunks goes onto the port's receive line at the start of
  * the next tick to run and arrives at the baud rate (11.52 bytes per ms). A byte whose last bit

@@ -1,6 +1,7 @@
-/* SerialC: the course's MATLAB variable protocol (serial-protocols.md section 2), as the framework
- * receives and answers it: Gen A's matlab_serialRX and matlab_serialSWI, Gen B's RXCINT_recv_ready
- * and the idle loop's command code.
+/* SerialC: the course's MATLAB variable protocol (docs/framework.md section 8; the bytes in
+ * docs/host-tools.md, "SerialC: a MATLAB message"), as the framework receives and answers it:
+ * Gen A's matlab_serialRX and matlab_serialSWI, Gen B's RXCINT_recv_ready and the idle loop's
+ * command code.
  *
  * A message is '*', a length byte L that counts the whole message, and L - 2 payload bytes, the
  * command first; no checksum and no timeout. Commands (addresses are 16-bit-word addresses, big

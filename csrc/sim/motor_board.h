@@ -1,4 +1,4 @@
-/* The motor board between the framework's commands and the amplifiers (crs-facts section 7).
+/* The motor board between the framework's commands and the amplifiers (docs/framework.md section 5).
  * Internal to the board; not read by cffi (its state, crs_motor_board, is in sim.h).
  *
  * Piccolo: each command arrives as whole PWM counts (CRS_MB_COUNTS_PER_UNIT per command unit,

@@ -1,5 +1,5 @@
 /* How each framework generation's serial_printf turns a format and its arguments into
- * characters (crs-facts section 7). Internal to the board; not read by cffi.
+ * characters (docs/framework.md section 7). Internal to the board; not read by cffi.
  *
  * Both take their arguments as a C28x would have passed them: `int` is 16 bits, `long` 32 bits,
  * and `float` and `double` are both 32-bit floats, so a float argument (promoted to double by

@@ -122,7 +122,7 @@ typedef struct {
     double *qpos_dh_rad;         /* 3 per row: the true plant joint angles (DH, rad) */
 } crs_log;
 
-/* The framework's hold controller (crs-facts section 7), in the DSP's float arithmetic. */
+/* The framework's hold controller (docs/framework.md section 4), in the DSP's float arithmetic. */
 typedef struct {
     float ref_rad[3];            /* references (motor angles), 0 at power-up */
     float prev_enc_rad[3];       /* last tick's angles, 0 at power-up */
@@ -175,8 +175,8 @@ typedef struct {
     crs_mem_var *vars;
 } crs_c28x_memory;
 
-/* The receivers of the host ports, as the framework's RX interrupts keep them (serial-protocols.md
- * sections 2.1 and 3); room for more than the board keeps (framework_facts.h). */
+/* The receivers of the host ports, as the framework's RX interrupts keep them (docs/host-tools.md,
+ * "The protocols byte by byte"); room for more than the board keeps (framework_facts.h). */
 enum { CRS_MATLAB_BUFFER = 256, CRS_MATLAB_ECHO_BUFFER = 64, CRS_SIMULINK_BUFFER = 16 };
 typedef struct {
     int32_t receiving;    /* 1 after a '*': counting the message */

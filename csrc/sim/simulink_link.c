@@ -1,5 +1,6 @@
-/* SerialB: the course's Simulink link (serial-protocols.md section 3), as Gen A's
- * simulink_serialRX and Gen B's RXBINT_recv_ready handle it (the same logic).
+/* SerialB: the course's Simulink link (docs/framework.md section 8; the bytes in docs/host-tools.md,
+ * "SerialB: the Simulink packets"), as Gen A's simulink_serialRX and Gen B's RXBINT_recv_ready
+ * handle it (the same logic).
  *
  * Every 5 ms the model sends 16 bytes: FF 7F, then seven int16 values, little endian. The board
  * answers at once on the 7F, before the data bytes arrive, with Simulink_PlotVar1..4 as

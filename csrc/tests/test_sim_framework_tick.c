@@ -2,7 +2,7 @@
  * plant whose motor angles follow a script, and a small test lab compiled in. Built with -Werror
  * and under ASan/UBSan by tests/test_c_core.py; exit status 0 when every check passes.
  *
- * The expected commands are worked by hand from crs-facts sections 2 and 7: the hold
+ * The expected commands are worked by hand from docs/framework.md sections 3 to 6: the hold
  * controller's u = Kp e - Kd v with its recursive velocity average, the references, the startup
  * gate, the clamp, the one-tick delay of `error`, the print triggers, the motor board, the drive
  * (the amplifier's torque-speed envelope and lag) and the serial line's ring. */

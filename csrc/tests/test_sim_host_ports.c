@@ -1,9 +1,10 @@
-/* C-level tests of the host ports (serial-protocols.md sections 2 and 3), driven alone: the
+/* C-level tests of the host ports (docs/host-tools.md, "The protocols byte by byte"), driven
+ * alone: the
  * emulated C28x memory over hand-made variables, SerialC's MATLAB messages and SerialB's Simulink
  * packets through crs_sim_run with a stub plant. Built with -Werror and under ASan/UBSan by
  * tests/test_c_core.py; exit status 0 when every check passes.
  *
- * Expected bytes are the worked vectors of serial-protocols.md (whattoprint = 1.25 at 0xc816 reads
+ * Expected bytes are the worked vectors of docs/host-tools.md (whattoprint = 1.25 at 0xc816 reads
  * back as 2A 04 33 00 00 A0 3F); expected ticks are worked by hand from the line's 10 000 units
  * per character and 115 200 per ms: bytes 1..11 of a burst arrive during its first tick, and a
  * reply leaves from the moment its request's last byte arrived. */

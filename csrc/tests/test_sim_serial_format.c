@@ -2,7 +2,7 @@
  * built with -Werror and under ASan/UBSan by tests/test_c_core.py. Exit status 0 when every
  * check passes.
  *
- * Every expected string is worked by hand from the rules in crs-facts section 7 (Gen A) or is
+ * Every expected string is worked by hand from the rules in docs/framework.md section 7 (Gen A) or is
  * what C's printf gives for the float value (Gen B). For Gen A's %f the float digit loop is
  * spelled out in the comments: v is the float, "whole" the integer part, then per digit
  * v = (v - whole) * 10 in float and the digit is floor(v). */

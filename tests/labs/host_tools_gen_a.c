@@ -3,8 +3,8 @@
  * theta1array every 50 ms, and beside it in timearray the time of each sample (ms), so a host
  * reading the 100 floats finds 100 consecutive multiples of 50 however late it reads. Kp1 is a
  * gain the host writes: its value is printed every 250 ms with the first two values Simulink
- * sent. whattoprint = 1.25 sits first in .my_vars, at the address of serial-protocols.md's
- * worked vector. */
+ * sent. whattoprint = 1.25 sits first in .my_vars, at the address of docs/host-tools.md's
+ * worked vectors. */
 #include <tistdtypes.h>
 #include <coecsl.h>
 #include "user_includes.h"

@@ -1,5 +1,5 @@
 ## crslab's own implementation of what the course's parseMap does with a TI linker map (written
-## from serial-protocols.md section 2.4, not copied): pass 1 takes the third and fourth words of
+## from docs/host-tools.md's description, not copied): pass 1 takes the third and fourth words of
 ## the first line naming .my_arrs and of the first naming .my_vars (origin and length), up to the
 ## line "SORTED BY Symbol Address"; pass 2 keeps each later line whose second word is hex and third
 ## is not, inside either section, as {name without its first character, address text, type}.
