@@ -8,6 +8,7 @@ Exit statuses: 0 match (every submission passes), 1 mismatch or a failed scenari
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -17,12 +18,14 @@ from crslab.cli.autograder_report import add_report_options, run_report
 from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.sim_commands import (
     DEFAULT_REST_MOTOR_RAD,
+    add_c28x_option,
     add_run_options,
     config_from_args,
     limits_from_args,
     notices,
 )
 from crslab.executors.job import Executor
+from crslab.lab.c28x_check import C28xReport, check_lab
 from crslab.output_paths import folder as made_folder
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
@@ -105,6 +108,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="where the reports go (default: %(default)s)")
     add_executor_options(p, "submission")
     add_report_options(p)
+    add_c28x_option(p)
     # grading runs many untrusted labs at once: bound each one's memory and CPU by default
     p.set_defaults(func=run_grade, mem_limit_mb=GRADE_MEM_LIMIT_MB, cpu_limit=GRADE_CPU_LIMIT_S)
     for action in p._actions:
@@ -281,17 +285,36 @@ def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, refe
 
     ordered = [grades[p] for p in subs]
     out = args.out
+    c28x = {} if args.no_c28x_check else c28x_reports(subs, sandboxed=not args.no_sandbox,
+                                                      jobs=args.jobs or os.cpu_count() or 1)
     (out / "transcripts" / f"{args.reference.name}.reference.txt").write_bytes(reference.transcript)
     for grade in ordered:
         (out / "transcripts" / f"{grade.path.name}.txt").write_bytes(grade.result.transcript)
+        board = c28x.get(grade.path, C28xReport()).lines()
+        extra = "\n" + "\n".join(board) + "\n" if board else ""
         if grade.grade != GradeClass.PASS:
             (out / "reports" / f"{grade.path.name}.txt").write_text(f"{grade.grade}: {grade.detail}\n\n"
-                                                                   f"{grade.report}\n")
+                                                                   f"{grade.report}\n{extra}")
+        elif board:
+            (out / "reports" / f"{grade.path.name}.txt").write_text(f"{grade.grade}{extra}")
     g.write_csv(out / "grades.csv", ordered)
     g.write_junit_grades(out / "junit.xml", ordered, f"crslab.grade.{config.scenario.name}")
     with (out / "summary.txt").open("w") as f:
         g.summary_table(ordered, f)
     g.summary_table(ordered, sys.stdout)
+    differ = sum(1 for r in c28x.values() if r.findings)
+    if differ:
+        print(f"crslab grade: {differ} of {len(subs)} submissions have places where the board's arithmetic "
+              "gives another result (int 16 bits, double 32): in their reports", file=sys.stderr)
     print(f"crslab grade: reports in {out}/ (summary.txt, grades.csv, junit.xml, transcripts/, reports/)",
           file=sys.stderr)
     return ExitStatus.OK if all(x.grade == GradeClass.PASS for x in ordered) else ExitStatus.MISMATCH
+
+
+def c28x_reports(subs: list[Path], *, sandboxed: bool, jobs: int) -> dict[Path, C28xReport]:
+    """The C28x arithmetic check of every submission, a few at a time (each is two compiles)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        reports = pool.map(lambda p: check_lab(p, sandboxed=sandboxed), subs)
+        return dict(zip(subs, reports))

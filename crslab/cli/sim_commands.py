@@ -23,6 +23,7 @@ from crslab.framework_facts import (
     tx_ring_chars,
 )
 from crslab.lab.build import LabBuildError, LabForbidden
+from crslab.lab.c28x_check import first_run_check, remember
 from crslab.lab.print_trigger import missing_printing_notice
 from crslab.live.console import VarConsole
 from crslab.plant.plant_params import PlantParamsError
@@ -89,6 +90,14 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
                    "then read and write your files, start programs and use the network)")
 
 
+def add_c28x_option(p: argparse.ArgumentParser) -> None:
+    """--no-c28x-check (sim, grade)."""
+    p.add_argument("--no-c28x-check", action="store_true",
+                   help="do not compile the lab a second time with the C28x's widths (int 16 bits, long 32, "
+                   "double 32) to report where the board's arithmetic gives another result (sim: on a "
+                   "lab's first run; grade: in each report)")
+
+
 def limits_from_args(args: argparse.Namespace) -> Limits:
     """The worker limits the run options ask for."""
     return Limits(memory_mb=args.mem_limit_mb, cpu_s=args.cpu_limit,
@@ -114,6 +123,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--quiet", action="store_true",
                    help="no introduction before the first tick and no scenario events announced on stderr "
                    "(warnings, errors and the summary stay)")
+    add_c28x_option(p)
     add_live_options(p)
     add_host_options(p)
     add_tracking_options(p)
@@ -302,6 +312,18 @@ def run_sim(args: argparse.Namespace) -> int:
     """``crslab sim``."""
     tracking = TrackingRun(args)
     config = config_from_args(args, log=live_needs_log(args) or tracking.active)
+    c28x = None if args.no_c28x_check else first_run_check(config.build.source, sandboxed=config.sandboxed)
+    try:
+        return _run_sim(args, config, tracking)
+    finally:
+        if c28x is not None:  # it compiled while the lab ran: said after the run, on its first run only
+            report = c28x.report()
+            for line in report.lines():
+                print(f"crslab sim: {line}", file=sys.stderr)
+            remember(config.build.source, report)
+
+
+def _run_sim(args: argparse.Namespace, config: SimConfig, tracking: TrackingRun) -> int:
     live = LiveRun(args, config)
     host = HostRun(args, config)
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
