@@ -23,7 +23,7 @@ from crslab.framework_facts import (
     tx_ring_chars,
 )
 from crslab.lab.build import LabBuildError, LabForbidden
-from crslab.lab.c28x_check import first_run_check, remember
+from crslab.lab.c28x_check import C28xCheck, first_run_check, remember
 from crslab.lab.print_trigger import missing_printing_notice
 from crslab.live.console import VarConsole
 from crslab.plant.plant_params import PlantParamsError
@@ -314,16 +314,26 @@ def run_sim(args: argparse.Namespace) -> int:
     config = config_from_args(args, log=live_needs_log(args) or tracking.active)
     c28x = None if args.no_c28x_check else first_run_check(config.build.source, sandboxed=config.sandboxed)
     try:
-        return _run_sim(args, config, tracking)
+        return _run_sim(args, config, tracking, c28x)
     finally:
-        if c28x is not None:  # it compiled while the lab ran: said after the run, on its first run only
-            report = c28x.report()
-            for line in report.lines():
-                print(f"crslab sim: {line}", file=sys.stderr)
-            remember(config.build.source, report)
+        if c28x is not None:
+            c28x.close()
 
 
-def _run_sim(args: argparse.Namespace, config: SimConfig, tracking: TrackingRun) -> int:
+def say_c28x_report(check: C28xCheck | None, lab: Path) -> None:
+    """The C28x arithmetic check's findings (it compiled while the lab ran), on a lab's first run;
+    nothing when it could not run (a header it lacks: it is an extra, not the run)."""
+    if check is None:
+        return
+    report = check.report()
+    if not report.skipped:
+        for line in report.lines():
+            print(f"crslab sim: {line}", file=sys.stderr)
+    remember(lab, report)
+
+
+def _run_sim(args: argparse.Namespace, config: SimConfig, tracking: TrackingRun,
+             c28x: C28xCheck | None) -> int:
     live = LiveRun(args, config)
     host = HostRun(args, config)
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
@@ -376,6 +386,7 @@ def _run_sim(args: argparse.Namespace, config: SimConfig, tracking: TrackingRun)
             raise CliError(str(exc)) from None
     wall = time.monotonic() - start
     tracking.finish()
+    say_c28x_report(c28x, config.build.source)
     print_run_notes("crslab sim: ", lab_name, result, config.build.generation)
     info = summary(result, wall, args.budget_us)
     if args.json:

@@ -23,7 +23,9 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import re
+import signal
 import subprocess
 import tempfile
 from collections.abc import Sequence
@@ -123,7 +125,7 @@ class C28xCheck:
 
     def __init__(self, lab: Path, *, sandboxed: bool = True) -> None:
         self.lab = Path(lab).absolute()
-        self._tmp = tempfile.TemporaryDirectory(prefix="crslab-c28x-")
+        self._tmp = tempfile.TemporaryDirectory(prefix="crslab-c28x-", ignore_cleanup_errors=True)
         self._procs: list[subprocess.Popen] = []
         self._rules: list = []
         self._skipped = ""
@@ -149,7 +151,7 @@ class C28xCheck:
                     extra = {"preexec_fn": box.preexec(rules.fd), "pass_fds": (rules.fd,)}
                 self._procs.append(subprocess.Popen(
                     [*argv, *target, *FLAGS, *include_dirs(), str(self.lab), "-o", str(work / "lab.o")],
-                    stdout=subprocess.DEVNULL,
+                    stdout=subprocess.DEVNULL, start_new_session=True,
                     stderr=subprocess.PIPE, text=True, env=env, cwd=work, **extra))
         except (ImportError, FileNotFoundError, OSError) as exc:
             self._skipped = f"zig cannot be run ({exc})"
@@ -178,10 +180,13 @@ class C28xCheck:
             self.close()
 
     def close(self) -> None:
-        """Stop what still runs and remove the temporary folder."""
-        for proc in self._procs:
+        """Stop what still runs and remove the temporary folder (again: nothing)."""
+        for proc in self._procs:  # zig and the clang it runs: the whole group
             if proc.poll() is None:
-                proc.kill()
+                try:
+                    os.killpg(proc.pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
                 proc.wait()
         for rules in self._rules:
             rules.close()
@@ -214,12 +219,11 @@ def first_run_check(lab: Path, *, sandboxed: bool = True) -> C28xCheck | None:
 
 
 def remember(lab: Path, report: C28xReport) -> None:
-    """Record that ``lab``'s report was shown (not when the check could not run)."""
-    if report.skipped:
-        return
+    """Record that ``lab``'s report was given (or that the check cannot run on it)."""
     try:
         folder = cache_dir() / "c28x"
         folder.mkdir(parents=True, exist_ok=True)
-        (folder / f"{_key(lab)}.json").write_text(json.dumps([asdict(f) for f in report.findings]))
+        kept = {"skipped": report.skipped, "findings": [asdict(f) for f in report.findings]}
+        (folder / f"{_key(lab)}.json").write_text(json.dumps(kept))
     except (CacheError, OSError):
         pass

@@ -85,7 +85,8 @@ def is_prepared(target: str) -> bool:
     return _stamp(target).exists()
 
 
-PROBE = "#include <math.h>\n#include <stdio.h>\nint crs_probe(double x){char b[32];return snprintf(b,32,\"%f\",sin(x));}\n"
+PROBE = ("#include <math.h>\n#include <stdio.h>\n"
+         "int crs_probe(double x){char b[32];return snprintf(b,32,\"%f\",sin(x));}\n")
 
 
 def prepare(target: str, flags: list[str], stream: TextIO | None = None) -> None:
@@ -114,7 +115,8 @@ def prepare(target: str, flags: list[str], stream: TextIO | None = None) -> None
         with tempfile.TemporaryDirectory(prefix="crslab-zig-") as tmp:
             src = Path(tmp) / "probe.c"
             src.write_text(PROBE)
-            r = subprocess.run([*zig_cc(), f"--target={target}", *flags, str(src), "-o", str(Path(tmp) / "probe")],
+            r = subprocess.run([*zig_cc(), f"--target={target}", *flags, str(src), "-o",
+                                str(Path(tmp) / "probe")],
                                capture_output=True, text=True, env=zig_environment(Path(tmp) / "cache"),
                                timeout=FIRST_USE_TIMEOUT_S)
     except subprocess.TimeoutExpired:

@@ -22,7 +22,7 @@ Signals are taken from the tick the startup gate opens (the lab's first call) to
 >>> m["safety_trips"], m["motor_board_cutouts"], m["clamp_share"], m["plotvar1_rms"], m["plotvar1_err_maxabs"]
 (2, 1, 0.5, 2.23606797749979, 2.0)
 >>> run_metrics(log, {"motor_board_events": [(2, 1, 1), (9, 1, 0)]}, startup_ticks=3)["trips_before_lab"]
-2
+3
 """
 
 from __future__ import annotations
