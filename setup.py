@@ -5,6 +5,9 @@
   data in ``crslab/_data/`` (``build_py`` below), where :mod:`crslab.resources` finds them. An
   editable install copies nothing: it uses the checkout's own folders.
 - The sdist carries all of ``csrc/`` and ``models/`` (``sdist`` below), so a wheel builds from it.
+- The C core uses only CPython's stable ABI (cffi builds it ``py_limited_api``, as
+  ``_core.abi3.so``), so the wheel is tagged ``cp311-abi3``: one wheel installs on every CPython
+  from 3.11 on (``LIMITED_API`` below).
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ ROOT = Path(__file__).resolve().parent
 PACKAGED = Path("crslab") / "_data"  # crslab.resources.PACKAGED
 SKIP_DIRS = {"__pycache__", "tests"}  # csrc/tests: the C core's own tests, not needed at run time
 SKIP_SUFFIXES = {".o", ".so", ".pyc", ".tmp"}
+LIMITED_API = "cp311"  # the oldest CPython the wheel installs on: pyproject.toml's requires-python
 
 
 def runtime_files() -> list[Path]:
@@ -68,4 +72,5 @@ class sdist(_sdist):  # noqa: N801 - setuptools' command name
 setup(
     cffi_modules=["csrc/cffi_build.py:ffibuilder"],
     cmdclass={"build_py": build_py, "sdist": sdist},
+    options={"bdist_wheel": {"py_limited_api": LIMITED_API}},
 )

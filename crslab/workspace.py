@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab.closed_ik import OK
+from crslab.output_paths import with_parent
 from crslab.robots import Robot
 
 
@@ -84,6 +85,6 @@ def plot(robot: Robot, path: str | Path, n: int = 20000, dextrous: bool = False,
     fig.suptitle(f"{robot.name}: reachable workspace ({n} random in-limit configurations)", fontsize=10)
     fig.tight_layout()
     out = Path(path)
-    fig.savefig(out, dpi=110)
+    fig.savefig(with_parent(out), dpi=110)
     plt.close(fig)
     return out

@@ -59,3 +59,12 @@ def drawn_figures(monkeypatch: pytest.MonkeyPatch) -> list:
 
     monkeypatch.setattr(Figure, "savefig", keep)
     return saved
+
+
+@pytest.fixture(scope="session")
+def installed_wheel(tmp_path_factory: pytest.TempPathFactory):  # noqa: ANN201 - tests/wheel_install.Installed
+    """crslab's wheel built from a clean copy of the checkout and installed as docs/first-lab.md
+    says (tests/wheel_install.py): the packaging test and the docs test share it."""
+    from wheel_install import install_wheel
+
+    return install_wheel(tmp_path_factory.mktemp("packaging"))

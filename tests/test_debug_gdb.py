@@ -69,7 +69,8 @@ def test_break_tick_stops_in_lab_with_that_ticks_globals_and_continues_to_the_pl
     assert gdb_values(r.stdout) == [str(5000 - STARTUP_TICKS), "5000", str(5001 - STARTUP_TICKS), "5001"]
     assert "crslab: tick 5000 (t = 5.000 s)" in r.stdout
     assert "lab (theta1motor=" in r.stdout and f"{COUNTER.name}:" in r.stdout  # stopped inside lab()
-    assert "crslab debug: t = 5.0 s: hand to DH (0.00, -90.00, 90.00) deg over 2 s" in r.stderr
+    assert ("crslab debug: t = 5.0 s: hand to motor (0.00, 0.00, 0.00) = DH (0.00, -90.00, 90.00) deg over 2"
+            in r.stderr)
     s = crslab("sim", "--fast", "--quiet", *tour, "--transcript", str(plain))
     assert s.returncode == 0, s.stderr
     assert debugged.read_bytes() == plain.read_bytes()  # the hand moved the arm from its tick, as in sim
@@ -235,3 +236,21 @@ def test_the_hang_watchdog_never_fires_while_gdb_holds_the_lab(tmp_path):
     assert gdb_values(r.stdout) == [str(5000 - STARTUP_TICKS)]
     plain_run("--transcript", str(plain))
     assert debugged.read_bytes() == plain.read_bytes()
+
+
+@pytest.mark.requires("gdb")
+def test_bt_shows_the_lab_and_the_framework_only_and_gdb_keeps_its_chatter_off_stdout():
+    """``bt`` stops at the framework's loop (crs_sim_run), not ~180 frames of CPython and cffi
+    below it (``bt -no-filters`` still shows them); stdout carries what the lab printed and the
+    user's commands' output, not gdb's thread-library notices."""
+    r = crslab("debug", *RUN, "--break-tick", "5000", "--batch", "--ex", "bt", "--ex", "echo --all--\\n",
+               "--ex", "bt -no-filters")
+    assert r.returncode == 0, r.stderr
+    filtered, everything = r.stdout.split("--all--\n")
+    frames = re.findall(r"^#(\d+)\s+(?:0x[0-9a-f]+ in )?(\w+) ", filtered, re.MULTILINE)
+    assert [name for _, name in frames] == ["lab", "call_lab", "lab_tick", "framework_tick", "crs_sim_run"]
+    assert frames[-1][0] == "4"
+    unfiltered = re.findall(r"^#\d+\s+(?:0x[0-9a-f]+ in )?(\w+) ", everything, re.MULTILINE)
+    assert len(unfiltered) > 20 and any(name.startswith("_PyEval") for name in unfiltered)
+    assert "libthread_db" not in r.stdout and "Thread debugging" not in r.stdout
+    assert r.stdout.splitlines()[0] == "count 1 theta1 0.000"  # the lab's first line comes first

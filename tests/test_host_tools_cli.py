@@ -153,7 +153,7 @@ def test_bad_host_options_are_one_line(tmp_path):
         for args, why in [
             (["--serial-dir", str(tmp_path / "p"), "--pty-link", str(tmp_path / "tty")], "drop --pty"),
             (["--serial-dir", str(a_file)], "is not a directory"),
-            (["--serial-dir", str(tmp_path / "no" / "such")], "no such directory"),
+            (["--serial-dir", str(a_file / "such")], "cannot make this folder (Not a directory)"),
             (["--serial-tcp", "70000"], "give a port from 1 to 65533"),
             (["--serial-tcp", str(port)], f"cannot listen on TCP 127.0.0.1:{port}"),
             (["--map", str(tmp_path)], "is a directory"),

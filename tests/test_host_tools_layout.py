@@ -222,7 +222,8 @@ def test_map_and_bad_input(tmp_path, capsys):
     assert main(["map", "--lab", str(tmp_path / "missing.c")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no such lab file" in err
-    assert main(["map", "--lab", str(GEN_A_LAB), "-o", str(tmp_path / "no" / "such" / "x.map")]) == 2
+    (tmp_path / "a_file").write_text("not a folder")
+    assert main(["map", "--lab", str(GEN_A_LAB), "-o", str(tmp_path / "a_file" / "x.map")]) == 2
     assert "cannot write the map" in capsys.readouterr().err
     with pytest.raises(MapError, match="not a TI linker map"):
         read_map("hello")

@@ -1,84 +1,31 @@
 """The slow packaging test (marked ``packaging``): what a student gets from ``pip install crslab``.
 
-From a clean copy of this checkout (its tracked files, nothing built), ``python -m build`` makes
-the sdist and then the wheel *from the sdist*, so the sdist is shown to hold what the wheel build
-needs. The wheel goes into a fresh venv with its dependencies (from PyPI, or pip's cache), and
-every command a student or TA uses runs from a folder outside the checkout, with a fresh build
-cache so each lab is compiled from the files the wheel installed. Deselect with
-``-m "not packaging"``.
+The wheel is built from a clean copy of this checkout (the sdist first, the wheel from it) and
+installed by docs/first-lab.md's install block into a fresh venv (tests/wheel_install.py); every
+command a student or TA uses runs from a folder outside the checkout, with a fresh build cache.
+Deselect with ``-m "not packaging"``.
 """
 
-import os
 import shutil
-import subprocess
-import sys
 import tarfile
 import zipfile
-from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+from wheel_install import run
 
 from crslab.regress.transcript import read_golden
 
 pytestmark = pytest.mark.packaging
 
-ROOT = Path(__file__).resolve().parents[1]
 LABS = Path(__file__).parent / "labs"
 OWN_IK = LABS / "lab1_own_ik.c"
 IK_SIGN = "atan2(-s_in, r_in)"  # th2 of lab1_own_ik.c's elbow-up IK
 
 
-def run(*cmd, cwd=None, env=None, timeout=600):
-    return subprocess.run([str(c) for c in cmd], cwd=cwd, env=env, capture_output=True, text=True,
-                          timeout=timeout)
-
-
-def clean_copy(dest: Path) -> Path:
-    """The checkout's tracked files as they are now (uncommitted edits included), without anything
-    built or cached in it."""
-    files = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=True).stdout
-    for rel in filter(None, files.decode().split("\0")):
-        src = ROOT / rel
-        if src.is_file():
-            (dest / rel).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(src, dest / rel)
-    return dest
-
-
-@dataclass
-class Installed:
-    """A fresh venv holding the wheel, and a work folder outside the checkout."""
-
-    venv: Path
-    work: Path
-    env: dict
-    wheel: Path
-    sdist: Path
-
-    def crslab(self, *args, cwd=None, timeout=300):
-        return run(self.venv / "bin" / "crslab", *args, cwd=cwd or self.work, env=self.env, timeout=timeout)
-
-
-@pytest.fixture(scope="module")
-def installed(tmp_path_factory) -> Installed:
-    base = tmp_path_factory.mktemp("packaging")
-    source = clean_copy(base / "crslab-src")
-    dist = base / "dist"
-    r = run(sys.executable, "-m", "build", "--outdir", dist, source)  # the sdist, then the wheel from it
-    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
-    [wheel], [sdist] = sorted(dist.glob("*.whl")), sorted(dist.glob("*.tar.gz"))
-    venv = base / "venv"
-    r = run(sys.executable, "-m", "venv", venv)
-    assert r.returncode == 0, r.stderr
-    r = run(venv / "bin" / "python", "-m", "pip", "install", "--quiet", "--no-compile", wheel, "pytest")
-    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
-    work = base / "work"
-    work.mkdir()
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "CRSLAB_CACHE_DIR")}
-    env.update(PATH=f"{venv / 'bin'}{os.pathsep}{os.environ['PATH']}", CRSLAB_CACHE_DIR=str(base / "cache"),
-               PYTHONNOUSERSITE="1")
-    return Installed(venv, work, env, wheel, sdist)
+@pytest.fixture
+def installed(installed_wheel):
+    return installed_wheel
 
 
 def test_the_sdist_and_the_wheel_carry_the_c_sources_and_the_models(installed):
@@ -94,6 +41,51 @@ def test_the_sdist_and_the_wheel_carry_the_c_sources_and_the_models(installed):
             "crslab/scenarios/tour.toml", "crslab/robots/crs.toml"} <= in_wheel
     assert any(n.startswith("crslab/_core") and n.endswith(".so") for n in in_wheel)
     assert not any("/tests/" in n or n.endswith("cffi_build.py") for n in in_wheel)
+
+
+def test_the_wheel_is_abi3_and_installs_on_every_cpython_from_3_11(installed):
+    """One wheel for every CPython >= 3.11 (Ubuntu 24.04's 3.12 included): tagged cp311-abi3, its
+    C core the stable ABI's ``_core.abi3.so``; a second CPython on this machine installs it."""
+    from packaging.tags import Tag, cpython_tags
+    from packaging.utils import parse_wheel_filename
+
+    name, version, _, tags = parse_wheel_filename(installed.wheel.name)
+    assert {(t.interpreter, t.abi) for t in tags} == {("cp311", "abi3")}, installed.wheel.name
+    platform = next(iter(tags)).platform
+    for minor in (11, 12, 13, 14):  # what pip on each CPython accepts includes the wheel's tag
+        accepted = set(cpython_tags((3, minor), platforms=[platform]))
+        assert Tag("cp311", "abi3", platform) in accepted, minor
+    assert Tag("cp311", "abi3", platform) not in set(cpython_tags((3, 10), platforms=[platform]))
+    with zipfile.ZipFile(installed.wheel) as whl:
+        cores = [n for n in whl.namelist() if n.startswith("crslab/_core")]
+        wheel_meta = whl.read(f"{name}-{version}.dist-info/WHEEL").decode()
+    assert cores == ["crslab/_core.abi3.so"]
+    assert "Root-Is-Purelib: false" in wheel_meta
+    for python in other_cpythons():  # where this machine has another CPython: the wheel installs there
+        venv = installed.work / f"venv-{python.parent.parent.name}"
+        assert run(python, "-m", "venv", venv).returncode == 0
+        r = run(venv / "bin" / "python", "-m", "pip", "install", "--quiet", "--no-deps", installed.wheel,
+                "numpy", "cffi")  # what the C core and the kinematics need; MuJoCo is not asked here
+        assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
+        r = run(venv / "bin" / "python", "-c", "from crslab import crs; print(crs.fk([0, 1.5707963268, 0]))",
+                cwd=installed.work)
+        assert r.returncode == 0 and r.stdout.split() == ["[20.", "0.", "10.]"], r.stdout + r.stderr
+
+
+def other_cpythons() -> list[Path]:
+    """The CPythons from 3.12 on that this machine has besides the one running the tests (on PATH as
+    ``python3.N``, or installed by pyenv), one per version."""
+    found: dict[str, Path] = {}
+    candidates = [shutil.which(f"python3.{m}") for m in range(12, 16)]
+    candidates += [str(p) for p in sorted(Path.home().glob(".pyenv/versions/3.*/bin/python3"))]
+    for candidate in filter(None, candidates):
+        r = run(candidate, "-c", "import sys; print('%d.%d' % sys.version_info[:2], sys.prefix)")
+        if r.returncode != 0:
+            continue  # a pyenv shim of a version that is not selected
+        version, prefix = r.stdout.split()
+        if tuple(map(int, version.split("."))) >= (3, 12) and version not in found:
+            found[version] = Path(prefix) / "bin" / "python3"
+    return list(found.values())
 
 
 def test_the_installed_package_finds_its_files_in_site_packages(installed):

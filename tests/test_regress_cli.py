@@ -111,7 +111,7 @@ def test_a_crash_while_checking_exits_as_the_simulator_does(golden):
     (["check", "--lab", "x.c"], "crslab check: error: the following arguments are required: --golden"),
     (["record", "--lab", LABS / "does_not_compile.c", "-o", "{tmp}/g.txt"],
      "crslab record: does_not_compile.c does not compile"),
-    (["record", "-o", "{tmp}/no/such/dir/g.txt"], "crslab record: {tmp}/no/such/dir/g.txt: cannot write"),
+    (["record", "-o", "{bad_header}/g.txt"], "crslab record: {bad_header}/g.txt: cannot write"),
 ])
 def test_bad_input_is_one_line_and_status_2(golden, tmp_path, args, message):
     bad_header = tmp_path / "bad.txt"

@@ -108,15 +108,17 @@ def test_plot_bad_input_is_one_line_and_status_2(tmp_path, capsys):
     for args, why in [([str(tmp_path / "none.csv")], "no such file"),
                       ([str(other)], "not a crslab scope CSV"), ([str(empty)], "holds no rows"),
                       ([str(good), "--from", "5"], "no rows between"),
-                      ([str(good), "-o", str(tmp_path / "no" / "f.png")], "cannot write the figure")]:
+                      ([str(good), "-o", str(good / "f.png")], "cannot write the figure")]:
         assert main(["plot", *args]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and why in err, err
 
 
 def test_unwritable_scope_files_are_one_line_and_status_2(tmp_path, capsys):
-    for option, path, why in [("--csv", tmp_path / "no" / "run.csv", "cannot write the CSV"),
-                              ("--rrd", tmp_path / "no" / "run.rrd", "cannot write the rerun recording"),
+    a_file = tmp_path / "a_file"
+    a_file.write_text("not a folder")
+    for option, path, why in [("--csv", a_file / "run.csv", "cannot write the CSV"),
+                              ("--rrd", a_file / "run.rrd", "cannot write the rerun recording"),
                               ("--csv", tmp_path, "is a directory")]:
         assert main(["sim", "--fast", "--duration", "1", option, str(path)]) == 2
         err = capsys.readouterr().err

@@ -10,8 +10,10 @@ from pathlib import Path
 
 LABS = Path(__file__).parent / "labs"
 PRINT_TICKS = range(4100, 10_000, 500)  # Lab 1 prints three lines at each
-EVENTS = {5000: "crslab sim: t = 5.0 s: hand to DH (0.00, -90.00, 90.00) deg over 2 s",
-          9500: "crslab sim: t = 9.5 s: hand to DH (0.00, 0.00, 0.00) deg over 2 s"}
+EVENTS = {5000: "crslab sim: t = 5.0 s: hand to motor (0.00, 0.00, 0.00) = DH (0.00, -90.00, 90.00) deg "
+                "over 2 s (there at t = 7.0 s)",
+          9500: "crslab sim: t = 9.5 s: hand to motor (0.00, 90.00, 0.00) = DH (0.00, 0.00, 0.00) deg "
+                "over 2 s (there at t = 11.5 s)"}
 
 
 def sim(*args, merged=False, cwd=None):

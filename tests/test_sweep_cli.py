@@ -177,7 +177,10 @@ def test_metrics_are_those_of_the_runs_signals(tmp_path, drawn_figures):
     )
     rows = rows_of(out)
     [fig] = drawn_figures
-    metrics = [m for m in METRIC_NAMES if any(float(r[m]) != 0 for r in rows)]
+    # without --plot-metrics: up to four of the usual ones, of those whose value differs between runs
+    varying = [m for m in METRIC_NAMES if len({r[m] for r in rows}) > 1]
+    metrics = [m for m in ("safety_trips", "motor_board_cutouts", "plotvar1_err_rms", "plotvar2_err_rms",
+                           "plotvar3_err_rms", "clamp_share") if m in varying][:4]
     assert "plotvar2_err_rms" in metrics and len(fig.axes) == 2 * len(metrics)
     for i, metric in enumerate(metrics):
         for j, varied in enumerate(("var:Kp2", "var:tau1_open")):
@@ -296,3 +299,23 @@ def test_ctrl_c_keeps_the_finished_rows(tmp_path):
     assert f"interrupted after {len(rows)} of 40 runs" in text and "Traceback" not in text
     assert not (tmp_path / "r.csv.partial.csv").exists()
     assert np.all([r["status"] == "ok" for r in rows])
+
+
+def test_plot_metrics_draws_a_panel_per_varied_quantity_for_each_metric_asked(tmp_path, drawn_figures,
+                                                                              capsys):
+    """--plot-metrics: the metrics asked, one panel per varied quantity each; one every run has the
+    same value of is left out, and said so; a misspelt one is one line with the right name."""
+    out = tmp_path / "r.csv"
+    asked = "plotvar2_err_rms,motor_board_cutouts,safety_trips"
+    sweep("--lab", PD, *FAST, "--vary", "var:Kp2=40:80", "--vary", "var:tau1_open=0:1", "--grid", "2",
+          "-o", out, "--plot", tmp_path / "p.png", "--plot-metrics", asked)
+    rows = rows_of(out)
+    assert {r["motor_board_cutouts"] for r in rows} == {"0"}  # Gen B's board never cut out here
+    [fig] = drawn_figures
+    assert [ax.get_ylabel() for ax in fig.axes[::2]] == ["plotvar2_err_rms", "safety_trips"]
+    assert [ax.get_xlabel() for ax in fig.axes[-2:]] == ["var:Kp2", "var:tau1_open"]
+    err = capsys.readouterr().err
+    assert "--plot leaves out motor_board_cutouts: every run has the same value (0)" in err
+    assert sweep("--lab", PD, *FAST, "--vary", "var:Kp2=40:80", "--grid", "2", "-o", out, "--plot",
+                 tmp_path / "p.png", "--plot-metrics", "plotvar2_err_rm") == 2
+    assert "no metric 'plotvar2_err_rm' (did you mean plotvar2_err_rms?)" in capsys.readouterr().err

@@ -71,7 +71,7 @@ def test_an_unreachable_row_is_one_line_naming_file_and_line_with_status_2(tmp_p
     (["--waypoints", "nope.csv", "-o", "o.csv"], "nope.csv: no such file"),
     (["--waypoints", "pts.csv", "-o", "o.csv", "--vmax", "-1"], "--vmax must be a finite number >= 0"),
     (["--waypoints", "pts.csv", "-o", "o.csv", "--vmax", "0"], "give a duration or a speed limit"),
-    (["--waypoints", "pts.csv", "-o", "no/such/dir/o.csv"], "cannot write no/such/dir/o.csv"),
+    (["--waypoints", "pts.csv", "-o", "pts.csv/o.csv"], "cannot write pts.csv/o.csv"),  # a file as a folder
     (["--waypoints", "pts.csv", "-o", "o.csv", "--profile", "sine"], "invalid choice: 'sine'"),
 ])
 def test_user_errors_are_one_line_with_status_2(tmp_path, args, words):

@@ -83,9 +83,14 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="a gdb command to run at the first stop (repeatable), e.g. --ex 'print mycount'")
     g.add_argument("--batch", action="store_true",
                    help="gdb runs the --ex commands and ends; the run goes on to its end (scripts, CI)")
-    p.add_argument("--speed", type=positive, metavar="X",
-                   help="simulated seconds per wall-clock second once running (default: as fast as it can)")
-    p.add_argument("--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
+    pace = p.add_mutually_exclusive_group()
+    pace.add_argument("--speed", type=positive, metavar="X",
+                      help="simulated seconds per wall-clock second once running (default: as fast as it "
+                      "can)")
+    pace.add_argument("--fast", action="store_true",
+                      help="run as fast as the machine can once running (the default; as 'crslab sim "
+                      "--fast')")
+    p.add_argument("-o", "--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
     p.add_argument("--json", action="store_true", help="print the end-of-run summary as JSON on stderr")
     p.add_argument("--quiet", action="store_true",
                    help="no introduction and no scenario events on stderr (gdb's output stays)")
@@ -127,8 +132,8 @@ def introduction(plan: DebugPlan, *, lab: Path, scenario_name: str, end_tick: in
     """The paragraph printed before the first tick.
 
     >>> print(introduction(DebugPlan(break_tick=5000), lab=Path("mylab.c"), scenario_name="tour",
-    ...                    end_tick=30000, first_lab_tick=4100, speed=None), end="")
-    crslab debug: mylab.c (built -O0 -g) on scenario tour for 30.0 s, as fast as it can, under gdb.
+    ...                    end_tick=25000, first_lab_tick=4100, speed=None), end="")
+    crslab debug: mylab.c (built -O0 -g) on scenario tour for 25.0 s, as fast as it can, under gdb.
       It stops inside lab() at tick 5000 (t = 5.0 s). A crash stops at the lab's line. Simulated time
       stands still while gdb holds the lab: print VAR, next, step, break LINE, continue; tick shows the
       tick, next-tick runs to the next lab() call, quit lets the run go on without gdb.

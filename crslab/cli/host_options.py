@@ -21,6 +21,7 @@ from crslab.host_tools.bridge import SerialBridge
 from crslab.host_tools.c28x_memory import lab_memory
 from crslab.host_tools.linker_map import write_map
 from crslab.host_tools.ports import HostPort, PortError, PtyPort, TcpPort
+from crslab.output_paths import folder, with_parent
 from crslab.sim.config import SimConfig
 from crslab.sim.running import LiveControl
 from crslab.sinks.serial_pty import PortSink
@@ -70,8 +71,10 @@ class HostRun:
                                "drop --pty / --pty-link")
             if d.exists() and not d.is_dir():
                 raise CliError(f"--serial-dir {d}: is not a directory")
-            if not d.exists() and not d.parent.is_dir():
-                raise CliError(f"--serial-dir {d}: no such directory {d.parent}")
+            try:
+                folder(d)
+            except OSError as exc:
+                raise CliError(f"--serial-dir {d}: cannot make this folder ({exc.strerror})") from None
             for name in PORT_ROLES:
                 link = d / name
                 if link.exists() and not link.is_symlink():
@@ -88,12 +91,12 @@ class HostRun:
         text = write_map(lab_memory(build), build.source.name)
         targets = [a.map] if a.map is not None else []
         if a.serial_dir is not None:
-            a.serial_dir.mkdir(exist_ok=True)
+            folder(a.serial_dir)
             self._map_in_dir = a.serial_dir / f"{build.source.stem}.map"
             targets.append(self._map_in_dir)
         for path in targets:
             try:
-                Path(path).write_bytes(text.encode())
+                with_parent(path).write_bytes(text.encode())
             except OSError as exc:
                 raise CliError(f"{path}: cannot write the map ({exc.strerror})") from None
         if a.map is not None:

@@ -11,6 +11,7 @@ from typing import TextIO
 from crslab.cli import CliError
 from crslab.cli.sim_commands import sandbox_from_args
 from crslab.lab.build import LabBuildError, LabForbidden
+from crslab.output_paths import with_parent
 from crslab.plant.plant_params import PlantParams, PlantParamsError
 from crslab.resources import path as resource_path
 from crslab.sim.status import RunStatus
@@ -169,7 +170,7 @@ def run_identify(args: argparse.Namespace) -> int:
         print(line)
     header = report.plant_file_header(result, sources, fitted_names)
     try:
-        args.output.write_text(result.plant.to_toml(header))
+        with_parent(args.output).write_text(result.plant.to_toml(header))
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the plant file ({exc.strerror})") from None
     figure = args.plot if args.plot is not None else args.output.with_suffix(".png")

@@ -24,6 +24,7 @@ from pathlib import Path
 from crslab.cli import CliError
 from crslab.framework_facts import SERIAL_BAUD
 from crslab.live.console import VarConsole
+from crslab.output_paths import with_parent
 from crslab.scopes.display import missing_display
 from crslab.sim.config import SimConfig
 from crslab.sim.running import LiveControl
@@ -66,7 +67,7 @@ def _writable(path: Path, what: str) -> None:
     if path.is_dir():
         raise CliError(f"{path}: is a directory; give a file name for {what}")
     try:
-        with open(path, "ab"):
+        with open(with_parent(path), "ab"):
             pass
     except OSError as exc:
         raise CliError(f"{path}: cannot write {what} ({exc.strerror})") from None
@@ -103,8 +104,10 @@ class LiveRun:
             link = args.pty_link
             if link.exists() and not link.is_symlink():
                 raise CliError(f"--pty-link {link}: exists and is not a symlink; not replacing it")
-            if not link.parent.is_dir():
-                raise CliError(f"--pty-link {link}: no such directory {link.parent}")
+            try:
+                with_parent(link)
+            except OSError as exc:
+                raise CliError(f"--pty-link {link}: cannot make its folder ({exc.strerror})") from None
         self._rrd_writer: WriterSink | None = None
         """--rrd's sink when the writer process forked at the command's start writes it: opened
         now, so that the recording is set up before the first tick."""

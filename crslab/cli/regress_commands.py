@@ -8,6 +8,7 @@ Exit statuses: 0 match (every submission passes), 1 mismatch or a failed scenari
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
@@ -17,12 +18,15 @@ from crslab.cli.autograder_report import add_report_options, run_report
 from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.sim_commands import (
     DEFAULT_REST_MOTOR_RAD,
+    add_c28x_option,
     add_run_options,
     config_from_args,
     limits_from_args,
-    lost_serial_notice,
+    notices,
 )
 from crslab.executors.job import Executor
+from crslab.lab.c28x_check import C28xReport, check_lab
+from crslab.output_paths import folder as made_folder
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.runner import plant_fields, run_header, run_lab
@@ -80,7 +84,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--golden", type=Path, required=True, metavar="FILE",
                    help="the golden file (from 'crslab record', or a transcript from 'crslab sim')")
     add_tolerance_options(p)
-    p.add_argument("--junit", type=Path, metavar="FILE", help="also write a JUnit XML report")
+    p.add_argument("-o", "--junit", type=Path, metavar="FILE", help="also write a JUnit XML report")
     p.add_argument("--max-report", type=int, default=5, metavar="N",
                    help="differing lines to show (default: %(default)s)")
     p.set_defaults(func=run_check)
@@ -101,10 +105,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         if action.dest == "lab":
             action.help = argparse.SUPPRESS
     add_tolerance_options(p)
-    p.add_argument("--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
+    p.add_argument("-o", "--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
                    help="where the reports go (default: %(default)s)")
     add_executor_options(p, "submission")
     add_report_options(p)
+    add_c28x_option(p)
     # grading runs many untrusted labs at once: bound each one's memory and CPU by default
     p.set_defaults(func=run_grade, mem_limit_mb=GRADE_MEM_LIMIT_MB, cpu_limit=GRADE_CPU_LIMIT_S)
     for action in p._actions:
@@ -129,9 +134,8 @@ def _run(config: SimConfig, args: argparse.Namespace, end_tick: int) -> RunResul
         raise CliError(str(exc), status=exc.status.exit_status) from None
     if result.status is RunStatus.NO_LAB:
         raise CliError(result.message, status=result.exit_status)
-    lost = lost_serial_notice(config.build.source.name, result.stats)
-    if lost:
-        print(f"crslab {args.command}: {lost}", file=sys.stderr)
+    for line in notices(config.build.source.name, result.stats, config.build.generation, config.build.source):
+        print(f"crslab {args.command}: {line}", file=sys.stderr)
     return result
 
 
@@ -236,7 +240,7 @@ def run_grade(args: argparse.Namespace) -> int:
         raise CliError(f"{folder}: no lab files (.c, .cpp) to grade")
     try:
         for sub_dir in ("transcripts", "reports"):
-            (args.out / sub_dir).mkdir(parents=True, exist_ok=True)
+            made_folder(args.out / sub_dir)
     except OSError as exc:
         raise CliError(f"{args.out}: cannot write the reports there ({exc.strerror})") from None
 
@@ -284,17 +288,36 @@ def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, refe
 
     ordered = [grades[p] for p in subs]
     out = args.out
+    c28x = {} if args.no_c28x_check else c28x_reports(subs, sandboxed=not args.no_sandbox,
+                                                      jobs=args.jobs or os.cpu_count() or 1)
     (out / "transcripts" / f"{args.reference.name}.reference.txt").write_bytes(reference.transcript)
     for grade in ordered:
         (out / "transcripts" / f"{grade.path.name}.txt").write_bytes(grade.result.transcript)
+        board = c28x.get(grade.path, C28xReport()).lines()
+        extra = "\n" + "\n".join(board) + "\n" if board else ""
         if grade.grade != GradeClass.PASS:
             (out / "reports" / f"{grade.path.name}.txt").write_text(
-                for_text(f"{grade.grade}: {grade.detail}\n\n{grade.report}\n"))
+                for_text(f"{grade.grade}: {grade.detail}\n\n{grade.report}\n{extra}"))
+        elif board:
+            (out / "reports" / f"{grade.path.name}.txt").write_text(for_text(f"{grade.grade}{extra}"))
     g.write_csv(out / "grades.csv", ordered)
     g.write_junit_grades(out / "junit.xml", ordered, f"crslab.grade.{config.scenario.name}")
     with (out / "summary.txt").open("w") as f:
         g.summary_table(ordered, f)
     g.summary_table(ordered, sys.stdout)
+    differ = sum(1 for r in c28x.values() if r.findings)
+    if differ:
+        print(f"crslab grade: {differ} of {len(subs)} submissions have places where the board's arithmetic "
+              "gives another result (int 16 bits, double 32): in their reports", file=sys.stderr)
     print(f"crslab grade: reports in {out}/ (summary.txt, grades.csv, junit.xml, transcripts/, reports/)",
           file=sys.stderr)
     return ExitStatus.OK if all(x.grade == GradeClass.PASS for x in ordered) else ExitStatus.MISMATCH
+
+
+def c28x_reports(subs: list[Path], *, sandboxed: bool, jobs: int) -> dict[Path, C28xReport]:
+    """The C28x arithmetic check of every submission, a few at a time (each is two compiles)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        reports = pool.map(lambda p: check_lab(p, sandboxed=sandboxed), subs)
+        return dict(zip(subs, reports))

@@ -21,8 +21,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 def timeline(name_or_path: str) -> list[str]:
     """One line per event of a scenario, in the order they happen.
 
-    >>> timeline("tour")[1]
-    '   5.000 s  hand to DH (0.00, -90.00, 90.00) deg over 2 s  (line 11)'
+    >>> print(timeline("tour")[1])  # doctest: +NORMALIZE_WHITESPACE
+    5.000 s  hand to motor (0.00, 0.00, 0.00) = DH (0.00, -90.00, 90.00) deg over 2 s
+    (there at t = 7.0 s)  (line 11)
     """
     s = load_scenario(name_or_path)
     out = [f"{s.name}: {s.description}" if s.description else s.name]

@@ -49,11 +49,13 @@ def watched_rows(lab: Path | None, every: bool = False) -> list[dict]:
     their C28x addresses (``every``: all its globals)."""
     from crslab.host_tools.c28x_memory import text_memory
     from crslab.lab.build import DEFAULT_LAB
+    from crslab.lab.lab_file import lab_file_problem
     from crslab.lab.variables import find_variables
 
     path = lab if lab is not None else DEFAULT_LAB
-    if not path.is_file():
-        raise CliError(f"{path}: no such lab file")
+    problem = lab_file_problem(path)
+    if problem:
+        raise CliError(problem)
     try:
         text = path.read_bytes().decode("utf-8", "replace")
     except OSError as exc:

@@ -13,16 +13,19 @@ from crslab.host_tools.c28x_memory import MemoryLayout, text_memory
 from crslab.host_tools.client import MATLAB_TIMEOUT_S, LinkError, SerialLink, read_floats, write_float
 from crslab.host_tools.linker_map import MapError, read_map_file, write_map
 from crslab.host_tools.protocols import ADDRESS_MASK, MAX_FLOATS
+from crslab.output_paths import with_parent
 
 
 def lab_layout(lab: Path | None) -> tuple[Path, MemoryLayout]:
     """The lab file (default: crslab's Lab 1) and its variables' layout, read from its text (no
     build needed: the layout depends on the text alone)."""
     from crslab.lab.build import DEFAULT_LAB
+    from crslab.lab.lab_file import lab_file_problem
 
     path = lab if lab is not None else DEFAULT_LAB
-    if not path.is_file():
-        raise CliError(f"{path}: no such lab file")
+    problem = lab_file_problem(path)
+    if problem:
+        raise CliError(problem)
     try:
         text = path.read_bytes().decode("utf-8", "replace")
     except OSError as exc:
@@ -83,7 +86,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--count", type=int, metavar="N", help="stop after N replies")
     s.add_argument("--print", dest="print_values", action="store_true",
                    help="print each reply (time in s, PlotVar1..4) instead of plotting")
-    s.add_argument("--rrd", type=Path, metavar="FILE", help="save the plot as a rerun recording (headless)")
+    s.add_argument("-o", "--rrd", type=Path, metavar="FILE",
+                   help="save the plot as a rerun recording (headless)")
     _add_link_options(s, "SerialB", needs_map=False)
     s.set_defaults(func=run_scope)
     o = verbs.add_parser("octave", help="where crslab's files for running the course's scripts in Octave are",
@@ -117,6 +121,16 @@ def _add_link_options(p: argparse.ArgumentParser, port: str, needs_map: bool = T
     p.set_defaults(port_name=port)
 
 
+def no_serial_dir(folder: Path) -> str:
+    """The error for a ``--dir`` that is not there.
+
+    >>> no_serial_dir(Path("nope"))
+    "--dir nope: no such folder (start 'crslab sim --serial-dir nope' first; it makes the folder)"
+    """
+    return (f"--dir {folder}: no such folder (start 'crslab sim --serial-dir {folder}' first; "
+            "it makes the folder)")
+
+
 def _open_link(args: argparse.Namespace) -> SerialLink:
     if args.tcp is not None:
         return SerialLink(tcp=args.tcp)
@@ -124,6 +138,8 @@ def _open_link(args: argparse.Namespace) -> SerialLink:
     if path is None:
         raise CliError("say where the board is: --dir DIR (of 'crslab sim --serial-dir DIR'), --port PATH or "
                        "--tcp PORT")
+    if args.port is None and args.dir is not None and not Path(args.dir).is_dir():
+        raise CliError(no_serial_dir(args.dir))
     if not Path(path).exists():
         raise CliError(f"{path}: no such port (is 'crslab sim --serial-dir' running?)")
     return SerialLink(path=Path(path))
@@ -151,6 +167,8 @@ def _address(args: argparse.Namespace) -> int:
         if args.dir is None:
             raise CliError("say where to find NAME: --map FILE, --lab FILE, or --dir DIR (which holds "
                            "the map)")
+        if not Path(args.dir).is_dir():
+            raise CliError(no_serial_dir(args.dir))
         maps = sorted(Path(args.dir).glob("*.map"))
         if len(maps) != 1:
             raise CliError(f"{args.dir}: {'no' if not maps else len(maps)} .map files (give --map FILE)")
@@ -173,7 +191,7 @@ def run_map(args: argparse.Namespace) -> int:
         sys.stdout.write(text.replace("\r\n", "\n"))
         return 0
     try:
-        args.output.write_bytes(text.encode())
+        with_parent(args.output).write_bytes(text.encode())
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the map ({exc.strerror})") from None
     print(f"crslab map: {args.output}: {len(mem.symbols())} symbols of {path.name}", file=sys.stderr)

@@ -25,6 +25,8 @@ from crslab.framework_facts import (
     tx_ring_chars,
 )
 from crslab.lab.build import LabBuildError, LabForbidden
+from crslab.lab.c28x_check import C28xCheck, first_run_check, remember
+from crslab.lab.print_trigger import missing_printing_notice
 from crslab.live.console import VarConsole
 from crslab.plant.plant_params import PlantParamsError
 from crslab.sandbox import missing as sandbox_missing
@@ -107,6 +109,14 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
                    "then read and write your files, start programs and use the network)")
 
 
+def add_c28x_option(p: argparse.ArgumentParser) -> None:
+    """--no-c28x-check (sim, grade)."""
+    p.add_argument("--no-c28x-check", action="store_true",
+                   help="do not compile the lab a second time with the C28x's widths (int 16 bits, long 32, "
+                   "double 32) to report where the board's arithmetic gives another result (sim: on a "
+                   "lab's first run; grade: in each report)")
+
+
 def limits_from_args(args: argparse.Namespace) -> Limits:
     """The worker limits the run options ask for."""
     return Limits(memory_mb=args.mem_limit_mb, cpu_s=args.cpu_limit,
@@ -127,11 +137,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     pace.add_argument("--speed", type=positive, default=1.0, metavar="X",
                       help="simulated seconds per wall-clock second (default: 1, real time)")
     pace.add_argument("--fast", action="store_true", help="run as fast as the machine can")
-    p.add_argument("--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
+    p.add_argument("-o", "--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
     p.add_argument("--json", action="store_true", help="print the end-of-run summary as JSON on stderr")
     p.add_argument("--quiet", action="store_true",
                    help="no introduction before the first tick and no scenario events announced on stderr "
                    "(warnings, errors and the summary stay)")
+    add_c28x_option(p)
     add_live_options(p)
     add_host_options(p)
     add_tracking_options(p)
@@ -290,16 +301,27 @@ def near_budget_warning(lab_name: str, info: dict) -> str | None:
 def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: int) -> None:
     """On stderr after a run (``crslab sim`` and ``crslab debug``): its :func:`notices` and its
     failed scenario expectations, one line each."""
-    for line in notices(lab_name, result.stats, generation):
+    for line in notices(lab_name, result.stats, generation, result.lab_file):
         print(f"{prefix}{for_terminal(line)}", file=sys.stderr)
     for expectation in result.failed_expectations:
         for line in expectation.lines():
             print(f"{prefix}expectation failed: {for_terminal(line)}", file=sys.stderr)
 
 
-def notices(lab_name: str, stats: dict, generation: int) -> list[str]:
-    """One-line warnings about the run (printed on stderr)."""
+def notices(lab_name: str, stats: dict, generation: int, source: Path | None = None) -> list[str]:
+    """One-line warnings about the run (printed on stderr); ``source``, the lab file, names the
+    function a lab that triggers printing without a ``printing()`` probably meant."""
     out = []
+    if source is not None and "lab_symbols" in stats:
+        try:
+            text = source.read_bytes().decode("utf-8", "replace")
+        except OSError:
+            text = ""
+        missing = missing_printing_notice(
+            lab_name, text, has_printing=bool(stats["lab_symbols"] & board_constants().CRS_LAB_HAS_PRINTING),
+            triggers=int(stats.get("print_triggers", 0)), generation=generation)
+        if missing:
+            out.append(missing)
     lost = lost_serial_notice(lab_name, stats)
     if lost:
         out.append(lost)
@@ -342,6 +364,28 @@ def run_sim(args: argparse.Namespace) -> int:
     """``crslab sim``."""
     tracking = TrackingRun(args)
     config = config_from_args(args, log=live_needs_log(args) or tracking.active)
+    c28x = None if args.no_c28x_check else first_run_check(config.build.source, sandboxed=config.sandboxed)
+    try:
+        return _run_sim(args, config, tracking, c28x)
+    finally:
+        if c28x is not None:
+            c28x.close()
+
+
+def say_c28x_report(check: C28xCheck | None, lab: Path) -> None:
+    """The C28x arithmetic check's findings (it compiled while the lab ran), on a lab's first run;
+    nothing when it could not run (a header it lacks: it is an extra, not the run)."""
+    if check is None:
+        return
+    report = check.report()
+    if not report.skipped:
+        for line in report.lines():
+            print(f"crslab sim: {line}", file=sys.stderr)
+    remember(lab, report)
+
+
+def _run_sim(args: argparse.Namespace, config: SimConfig, tracking: TrackingRun,
+             c28x: C28xCheck | None) -> int:
     live = LiveRun(args, config)
     host = HostRun(args, config)
     end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
@@ -394,6 +438,7 @@ def run_sim(args: argparse.Namespace) -> int:
             raise CliError(str(exc)) from None
     wall = time.monotonic() - start
     tracking.finish()
+    say_c28x_report(c28x, config.build.source)
     print_run_notes("crslab sim: ", lab_name, result, config.build.generation)
     info = summary(result, wall, args.budget)
     if args.json:

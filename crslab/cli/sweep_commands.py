@@ -10,7 +10,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from crslab.cli import CliError
+from crslab.cli import CliError, did_you_mean
 from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.regress_commands import add_tolerance_options
 from crslab.cli.sim_commands import (
@@ -21,11 +21,13 @@ from crslab.cli.sim_commands import (
 )
 from crslab.lab.build import DEFAULT_LAB, LabBuildError
 from crslab.lab.source import LabSource
+from crslab.output_paths import with_parent
 from crslab.scenario.event import seconds_to_tick
 from crslab.sim.status import ExitStatus
 from crslab.sweep import sampling, variations
 from crslab.sweep import table as tbl
 from crslab.sweep.job import Row, SweepJob, SweepSpec
+from crslab.sweep.metrics import METRIC_NAMES
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -87,7 +89,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     add_tolerance_options(p)
     p.add_argument(
-        "--plot", type=Path, metavar="FILE.png", help="plot each metric against each varied quantity"
+        "--plot", type=Path, metavar="FILE.png",
+        help="plot the metrics against each varied quantity, one panel per quantity and metric (a metric "
+        "every run has the same value of is left out)"
+    )
+    p.add_argument(
+        "--plot-metrics", metavar="NAME,...",
+        help="the metrics --plot draws (default: up to 4 of safety_trips, motor_board_cutouts, "
+        "plotvar1..3_err_rms, clamp_share that vary); the table's columns name them all"
     )
     add_executor_options(p, "sample")
     p.set_defaults(func=run_sweep)
@@ -118,6 +127,22 @@ def _golden(args: argparse.Namespace) -> bytes | None:
     return golden.body
 
 
+def _plot_metrics(args: argparse.Namespace) -> list[str] | None:
+    """``--plot-metrics``, checked against the table's metric names."""
+    if args.plot_metrics is None:
+        return None
+    if args.plot is None:
+        raise CliError("--plot-metrics chooses what --plot draws: give --plot FILE.png too")
+    names = [n.strip() for n in args.plot_metrics.split(",") if n.strip()]
+    for name in names:
+        if name not in METRIC_NAMES and name != "end_s":
+            raise CliError(f"--plot-metrics: no metric {name!r}{did_you_mean(name, METRIC_NAMES)}; the "
+                           "metrics are the table's columns from safety_trips on")
+    if not names:
+        raise CliError("--plot-metrics: name at least one metric")
+    return names
+
+
 def run_sweep(args: argparse.Namespace) -> int:
     """``crslab sweep``."""
     try:
@@ -129,6 +154,7 @@ def run_sweep(args: argparse.Namespace) -> int:
         raise CliError(f"{output}: the table must be a .csv or a .parquet file")
     if args.plot is not None and args.plot.suffix.lower() not in (".png", ".pdf", ".svg"):
         raise CliError(f"{args.plot}: the plot must be a .png, .pdf or .svg file")
+    asked = _plot_metrics(args)
     golden = _golden(args)
     config = config_from_args(args)
     lab_path = args.lab if args.lab is not None else DEFAULT_LAB
@@ -171,7 +197,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     columns = spec.columns()
     journal_file = tbl.journal_path(output)
     try:
-        output.parent.mkdir(parents=True, exist_ok=True)
+        with_parent(output)
         journal = tbl.Journal(journal_file, columns)
     except OSError as exc:
         raise CliError(f"{output}: cannot write the table there ({exc.strerror})") from None
@@ -218,8 +244,12 @@ def run_sweep(args: argparse.Namespace) -> int:
     ordered = sorted(rows, key=lambda r: int(r["sample"]))  # type: ignore[call-overload]
     title = f"{source.name} on {config.scenario.name}: {len(rows)} runs"
     if args.plot is not None and rows:
+        drawn, constant = tbl.plot_metrics(ordered, asked)
+        for name in constant:
+            print(f"crslab sweep: --plot leaves out {name}: every run has the same value "
+                  f"({ordered[0][name]})", file=sys.stderr)
         try:
-            tbl.plot(args.plot, ordered, varies, title=title)
+            tbl.plot(args.plot, ordered, varies, title=title, metrics=drawn or ["end_s"])
         except OSError as exc:
             raise CliError(f"{args.plot}: cannot write the plot ({exc.strerror})") from None
     print(f"crslab sweep: {title}")

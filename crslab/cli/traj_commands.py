@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab.cli import CliError
+from crslab.output_paths import with_parent
 from crslab.traj.joint_space import ARMS
 from crslab.traj.profiles import PROFILES
 from crslab.traj.waypoints import WaypointError, plan_waypoints, read_waypoints
@@ -81,7 +82,7 @@ def run_traj(args: argparse.Namespace) -> int:
     t, s = plan.trajectory.sample(RATE_HZ)
     table = np.column_stack([t, s.q, s.qd, s.qdd, s.jerk]) + 0.0  # no "-0" in the file
     try:
-        np.savetxt(args.output, table, fmt="%.12g", delimiter=",",
+        np.savetxt(with_parent(args.output), table, fmt="%.12g", delimiter=",",
                    header=",".join(_columns(arm.n_joints)), comments="")
     except OSError as exc:
         raise CliError(f"cannot write {args.output}: {exc.strerror or exc}") from None

@@ -33,6 +33,9 @@ BEFORE_ATTACH = (
     "set print thread-events off",
     "set print inferior-events off",
     "set print symbol-loading off",
+    # the worker is one thread (the sandbox checks it): without libthread_db gdb prints no "[Thread
+    # debugging using libthread_db enabled]" onto the transcript's stdout (one warning on stderr)
+    "set libthread-db-search-path /nonexistent",
     "set suppress-cli-notifications on",  # no "stopped in read()" when it attaches: turned off after
 )
 """Settings given before gdb attaches (``-iex``); one an older gdb lacks is only a warning."""

@@ -7,6 +7,9 @@ terminal. It reads the settings of crslab's setup script (``$crs_csrc``, ``$crs_
   it arms a temporary breakpoint on ``lab()`` and goes on, so gdb stops inside ``lab()`` at that
   very tick (:func:`crslab_stop_in_lab`, also behind the ``next-tick`` command);
 - quits when the lab's process has ended (the run is over), unless in ``-batch``;
+- shows, in ``bt``, the lab's frames and the framework's down to its loop (``crs_sim_run``), not
+  the hundred-odd frames of CPython and cffi below it (:class:`LabFrames`, a gdb frame filter;
+  ``bt -no-filters`` shows them all);
 - when the lab crashes, stops at the lab's own line: a segfault stops in the lab's code
   already, but a sanitizer finding or an ``abort()`` stops deep in a runtime library, and a NaN
   made inside ``sqrt`` in libm. It selects the innermost frame in the lab's file
@@ -21,6 +24,11 @@ functions.
 'an invalid operation made a NaN'
 >>> lab_frame_index(["/usr/lib/libc.so.6", None, "/home/s/lab.c", "/home/s/lab.c"], "/home/s/lab.c")
 2
+>>> class Frame:
+...     def __init__(self, name): self.name = name
+...     def function(self): return self.name
+>>> [f.name for f in LabFrames().filter(iter(map(Frame, ["lab", "lab_tick", "crs_sim_run", "ffi_call"])))]
+['lab', 'lab_tick', 'crs_sim_run']
 """
 
 from __future__ import annotations
@@ -126,6 +134,29 @@ def _on_stop(event: object) -> None:
         gdb.execute("frame")
 
 
+FRAMEWORK_LOOP = "crs_sim_run"
+"""The framework's loop: the outermost frame ``bt`` shows (below it: cffi and CPython)."""
+
+
+class LabFrames:
+    """A gdb frame filter: the frames up to :data:`FRAMEWORK_LOOP`, innermost first (all of them
+    when it is not on the stack, as in a constructor of the lab)."""
+
+    name = "crslab-lab-frames"
+    priority = 100
+    enabled = True
+
+    def filter(self, frames: object) -> object:
+        return _up_to_the_loop(frames)
+
+
+def _up_to_the_loop(frames: object) -> object:
+    for frame in frames:  # type: ignore[attr-defined]
+        yield frame
+        if frame.function() == FRAMEWORK_LOOP:
+            return
+
+
 def crslab_stop_in_lab() -> None:
     """Stop at the next ``lab()`` call (a temporary breakpoint, set without a word)."""
     gdb.execute("tbreak lab", to_string=True)
@@ -168,6 +199,7 @@ def _setup() -> None:
     armed = gdb.Breakpoint("crs_debug_break", internal=True)
     armed.silent = True
     armed.commands = "python crslab_stop_in_lab()\ncontinue"
+    gdb.frame_filters[LabFrames.name] = LabFrames()
     gdb.events.stop.connect(_on_stop)
     gdb.events.exited.connect(_quit_after)
 

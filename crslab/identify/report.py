@@ -12,6 +12,7 @@ import numpy as np
 
 from crslab import __version__
 from crslab.identify.fit import FitResult, Source
+from crslab.output_paths import with_parent
 
 
 def residual_table(result: FitResult, sources: Sequence[Source]) -> list[str]:
@@ -84,7 +85,7 @@ def plot_fit(path: Path, result: FitResult, sources: Sequence[Source]) -> None:
         for a in axes[len(rec.joints) - 1][2 * c:2 * c + 2]:
             a.set_xlabel("time in the recording [s]")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(with_parent(path), dpi=110)
     plt.close(fig)
 
 

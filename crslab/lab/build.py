@@ -31,6 +31,7 @@ from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START, GEN_A, GEN_B, p
 from crslab.lab import firmware, zig
 from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
+from crslab.lab.lab_file import lab_file_problem
 from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, find_watched
 from crslab.sandbox.compile_sandbox import compiler_sandbox
@@ -297,8 +298,9 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     compiler was refused a file the lab names.
     """
     src = Path(source) if source is not None else DEFAULT_LAB
-    if not src.is_file():
-        raise LabBuildError(f"{src}: no such lab file")
+    problem = lab_file_problem(src)
+    if problem:
+        raise LabBuildError(problem)
     try:
         text_bytes = src.read_bytes()
     except OSError as exc:

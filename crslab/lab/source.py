@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from crslab.lab.build import LabBuild, LabBuildError, build_lab
+from crslab.lab.lab_file import lab_file_problem
 
 
 @dataclass(frozen=True)
@@ -30,10 +31,11 @@ class LabSource:
     @classmethod
     def read(cls, path: Path) -> LabSource:
         """The lab file at ``path``; a missing or unreadable one is a :class:`LabBuildError`."""
+        problem = lab_file_problem(path)
+        if problem:
+            raise LabBuildError(problem)
         try:
             return cls(path.name, path.read_bytes())
-        except FileNotFoundError:
-            raise LabBuildError(f"{path}: no such lab file") from None
         except OSError as exc:
             raise LabBuildError(f"{path}: cannot be read ({exc.strerror})") from None
 

@@ -30,6 +30,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from crslab.output_paths import with_parent
 from crslab.regress.grade import Grade
 from crslab.scenario.load import resolve
 from crslab.scenario.table import ScenarioError, TableReader
@@ -196,5 +197,4 @@ def _describe(test: PlatformTest) -> str:
 
 def write_results(path: Path, results: dict) -> None:
     """Write a results file (its folder is made when missing: PrairieLearn does not make it)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(results, indent=2) + "\n")
+    with_parent(path).write_text(json.dumps(results, indent=2) + "\n")

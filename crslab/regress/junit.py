@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from crslab.output_paths import with_parent
 from crslab.untrusted_text import for_xml as _clean
 
 
@@ -50,4 +51,4 @@ def junit_xml(suite: str, cases: Sequence[Case]) -> bytes:
 
 def write_junit(path: Path, suite: str, cases: Sequence[Case]) -> None:
     """Write :func:`junit_xml` to ``path``."""
-    path.write_bytes(junit_xml(suite, cases))
+    with_parent(path).write_bytes(junit_xml(suite, cases))

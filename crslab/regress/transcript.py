@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from crslab.framework_facts import MOTOR_BOARDS
+from crslab.output_paths import with_parent
 
 MAGIC = b"# crslab transcript"
 DEFAULT_PLANT = "default"
@@ -232,7 +233,7 @@ def make_header(fields: dict[str, str]) -> bytes:
 
 def write_golden(path: Path, fields: dict[str, str], transcript: bytes) -> None:
     """Write a golden file: the header, then the transcript bytes exactly."""
-    path.write_bytes(make_header(fields) + transcript)
+    with_parent(path).write_bytes(make_header(fields) + transcript)
 
 
 def read_golden(path: Path) -> Golden:

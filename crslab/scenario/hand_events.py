@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from crslab import crs
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
 from crslab.scenario.table import TableReader, hand_target
 
@@ -16,8 +17,12 @@ class HandMove(Event):
 
     ``target_dh_rad`` is None for the arm's true resting pose (known only when the run starts).
 
+    Described in the motor angles Lab 1 prints and in DH angles:
+
     >>> HandMove(tick=5000, target_dh_rad=None, duration_ticks=2000).describe()
-    'hand to rest over 2 s'
+    'hand to rest over 2 s (there at t = 7.0 s)'
+    >>> HandMove(tick=5000, target_dh_rad=(0.0, -math.pi / 2, math.pi / 2), duration_ticks=2000).describe()
+    'hand to motor (0.00, 0.00, 0.00) = DH (0.00, -90.00, 90.00) deg over 2 s (there at t = 7.0 s)'
     """
 
     target_dh_rad: tuple[float, float, float] | None
@@ -35,9 +40,18 @@ class HandMove(Event):
         return out
 
     def describe(self) -> str:
-        to = "rest" if self.target_dh_rad is None else (
-            "DH (" + ", ".join(f"{math.degrees(v):.2f}" for v in self.target_dh_rad) + ") deg")
-        return f"hand to {to} over {self.duration_ticks / 1000:g} s"
+        to = "rest"
+        if self.target_dh_rad is not None:
+            motor = crs.dh_to_motor(self.target_dh_rad)
+            to = f"motor {_degrees(motor)} = DH {_degrees(self.target_dh_rad)} deg"
+        there = (self.tick + self.duration_ticks) / 1000
+        return f"hand to {to} over {self.duration_ticks / 1000:g} s (there at t = {there:.1f} s)"
+
+
+def _degrees(angles_rad: object) -> str:
+    """``(a, b, c)`` in degrees with two decimals (``-0.00`` shown as ``0.00``)."""
+    return "(" + ", ".join(f"{math.degrees(v) + 0.0:.2f}".replace("-0.00", "0.00")
+                           for v in angles_rad) + ")"  # type: ignore[attr-defined]
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from crslab.output_paths import with_parent
 from crslab.scopes.signals import GROUPS, SIGNALS, TORQUE, Signal
 
 TIME_COLUMN = "t [s]"
@@ -93,7 +94,7 @@ def plot_scope_csv(path: Path, out: Path, *, t_from: float | None = None, t_to: 
                         f"{t[0]:g} to {t[-1]:g} s)")
     fig = scope_figure(t[keep], {s: v[keep] for s, v in values.items()}, title or path.name)
     try:
-        fig.savefig(out, dpi=110)
+        fig.savefig(with_parent(out), dpi=110)
     except (OSError, ValueError) as exc:
         raise PlotError(f"{out}: cannot write the figure ({exc})") from None
     finally:

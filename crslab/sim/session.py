@@ -31,6 +31,7 @@ import numpy as np
 from crslab import os_support
 from crslab.host_tools.board_ports import PortExchange, exchange, port_index
 from crslab.scenario.expect_events import ExpectOutcome, Judge, Observation
+from crslab.sim import termination
 from crslab.sim.board_ffi import board_constants, board_ffi, shared_size
 from crslab.sim.config import SimConfig
 from crslab.sim.debug_setup import DebugSetup
@@ -134,23 +135,35 @@ class CtrlC:
 
     def __init__(self) -> None:
         self.holding = False
-        self.pending = False
+        self.pending: int | bool = False
+        """The signal held back (SIGINT, SIGTERM, SIGHUP) while a chunk's bytes were handed on."""
         self._old: object = None
 
     def __enter__(self) -> CtrlC:
+        self._taken: dict[int, object] = {}  # SIGTERM and SIGHUP too, where crslab's command raises them
         if (threading.current_thread() is threading.main_thread()
                 and signal.getsignal(signal.SIGINT) is signal.default_int_handler):
             self._old = signal.signal(signal.SIGINT, self._on_sigint)
+            for signum in termination.SIGNALS:
+                if signal.getsignal(signum) is termination.raise_terminated:
+                    self._taken[signum] = signal.signal(signum, self._on_sigint)
         return self
 
     def __exit__(self, *exc: object) -> None:
         if self._old is not None:
             signal.signal(signal.SIGINT, self._old)
             self._old = None
+        for signum, old in self._taken.items():
+            signal.signal(signum, old)  # type: ignore[arg-type]
+        self._taken = {}
 
     def _on_sigint(self, signum: int, frame: object) -> None:
         if self.holding:
-            self.pending = True
+            self.pending = self.pending or signum
+            if signum != signal.SIGINT:
+                termination.received = signum
+        elif signum != signal.SIGINT:
+            termination.raise_terminated(signum, frame)
         else:
             raise KeyboardInterrupt
 
@@ -163,7 +176,9 @@ class CtrlC:
         finally:
             self.holding = False
         if self.pending:
-            self.pending = False
+            signum, self.pending = self.pending, False
+            if signum != signal.SIGINT:
+                termination.raise_terminated(int(signum), None)
             raise KeyboardInterrupt
 
 
@@ -637,7 +652,7 @@ class Simulation:
         def ended(status: RunStatus, tick: int, message: str = "") -> RunResult:
             self._drain_serial(counted, sink)
             self._drain_line(counted, tick)
-            stats = {**self.stats, "serial_dropped": self.serial_dropped,
+            stats = {**self.stats, "serial_dropped": self.serial_dropped, "lab_symbols": self.symbols,
                      "motor_board_events": list(self.motor_board_events),
                      "console_bytes": max(int(self.stats.get("console_bytes", 0)), self.console_bytes)}
             expectations = self.judge.results()
@@ -738,12 +753,13 @@ class Simulation:
                             sim_s = (self.tick - tick0) / 1000.0
                             on_behind(sim_s / (time.monotonic() - wall0))
                             warned = True
-            except KeyboardInterrupt:
+            except KeyboardInterrupt as exc:
                 ctrl_c.holding = True  # another Ctrl-C now waits for the last bytes too
                 self.process.kill()
                 self.process.join()
                 tick = int(self.shared.tick)
-                return ended(RunStatus.INTERRUPTED, tick, f"interrupted at t = {tick / 1000:.3f} s")
+                how = f"terminated ({exc.name})" if isinstance(exc, termination.Terminated) else "interrupted"
+                return ended(RunStatus.INTERRUPTED, tick, f"{how} at t = {tick / 1000:.3f} s")
             ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
             return ended(RunStatus.OK, self.tick)
 

@@ -27,6 +27,7 @@ from typing import BinaryIO
 
 import numpy as np
 
+from crslab.output_paths import with_parent
 from crslab.scopes.signals import SIGNALS, csv_header, signal_values
 from crslab.sinks.sink import Sink
 
@@ -46,7 +47,7 @@ class CsvSink(Sink):
 
     def __init__(self, target: Path | BinaryIO) -> None:
         if isinstance(target, (str, Path)):
-            self.file = open(target, "wb")  # noqa: SIM115 - closed in close()
+            self.file = open(with_parent(target), "wb")  # noqa: SIM115 - closed in close()
             self._own = True
         else:
             self.file, self._own = target, False

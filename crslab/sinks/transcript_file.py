@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from crslab.output_paths import with_parent
 from crslab.sinks.sink import Sink
 
 
@@ -12,7 +13,7 @@ class TranscriptSink(Sink):
     """The exact serial bytes, in a file."""
 
     def __init__(self, path: Path) -> None:
-        self.file = open(path, "wb")  # noqa: SIM115 - closed in close()
+        self.file = open(with_parent(path), "wb")  # noqa: SIM115 - closed in close()
 
     def on_serial(self, tick: int, data: bytes) -> None:
         self.file.write(data)

@@ -5,6 +5,9 @@ Signals are taken from the tick the startup gate opens (the lab's first call) to
 
 - ``safety_trips``: times the arm left the safety envelope (the flag's rises);
 - ``motor_board_cutouts``: times the motor board cut every output;
+- ``trips_before_lab``: how many of those trips and cut-outs came by the lab's first call, on angles
+  its torques never moved (the arm and its setup, not the lab: a payload the hold controller
+  cannot hold, say);
 - ``clamp_share``: share of the lab's ticks where it commanded a joint at or beyond the +-5 clamp;
 - ``plotvarK_rms`` / ``plotvarK_maxabs``: RMS and largest magnitude of ``Simulink_PlotVarK``;
 - ``plotvarK_err_rms`` / ``plotvarK_err_maxabs`` (K = 1..3): the same of PlotVarK - PlotVar4, the
@@ -18,6 +21,8 @@ Signals are taken from the tick the startup gate opens (the lab's first call) to
 >>> m = run_metrics(log, {"motor_board_events": [(2, 1, 1), (9, 1, 0)]}, startup_ticks=0)
 >>> m["safety_trips"], m["motor_board_cutouts"], m["clamp_share"], m["plotvar1_rms"], m["plotvar1_err_maxabs"]
 (2, 1, 0.5, 2.23606797749979, 2.0)
+>>> run_metrics(log, {"motor_board_events": [(2, 1, 1), (9, 1, 0)]}, startup_ticks=3)["trips_before_lab"]
+3
 """
 
 from __future__ import annotations
@@ -32,13 +37,13 @@ PLOT_VARS = 4
 ACTUAL_VS_DESIRED = (1, 2, 3)
 """PlotVars compared with PlotVar4."""
 METRIC_NAMES: tuple[str, ...] = (
-    "safety_trips", "motor_board_cutouts", "clamp_share",
+    "safety_trips", "motor_board_cutouts", "trips_before_lab", "clamp_share",
     *(f"plotvar{k}_{s}" for k in range(1, PLOT_VARS + 1) for s in ("rms", "maxabs")),
     *(f"plotvar{k}_err_{s}" for k in ACTUAL_VS_DESIRED for s in ("rms", "maxabs")),
     *(f"theta{j}motor_final_rad" for j in (1, 2, 3)),
 )
 """Every metric, in table order."""
-INTEGER_METRICS = frozenset({"safety_trips", "motor_board_cutouts"})
+INTEGER_METRICS = frozenset({"safety_trips", "motor_board_cutouts", "trips_before_lab"})
 
 
 def _rms(x: np.ndarray) -> float:
@@ -53,12 +58,18 @@ def run_metrics(log: dict[str, np.ndarray] | None, stats: dict, *, startup_ticks
     """Every metric of :data:`METRIC_NAMES` for one run (NaN where the run gave no signal: it
     ended before the lab's first call)."""
     out: dict[str, float] = {name: math.nan for name in METRIC_NAMES}
-    out["motor_board_cutouts"] = sum(1 for event in stats.get("motor_board_events", []) if event[2])
+    cutouts = [event[0] for event in stats.get("motor_board_events", []) if event[2]]
+    out["motor_board_cutouts"] = len(cutouts)
+    early_cutouts = sum(1 for tick in cutouts if tick <= startup_ticks)
     if log is None or len(log["tick"]) == 0:
         out["safety_trips"] = 0
+        out["trips_before_lab"] = early_cutouts
         return out
     safety = log["safety"].ravel().astype(np.int64)
-    out["safety_trips"] = int(np.count_nonzero(np.diff(safety, prepend=0) > 0))
+    rises = np.diff(safety, prepend=0) > 0
+    out["safety_trips"] = int(np.count_nonzero(rises))
+    early_trips = int(np.count_nonzero(rises & (log["tick"].ravel() <= startup_ticks)))
+    out["trips_before_lab"] = early_trips + early_cutouts
     enc = log["enc_rad"][-1]
     for j in range(3):
         out[f"theta{j + 1}motor_final_rad"] = float(enc[j])

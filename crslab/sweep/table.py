@@ -20,6 +20,7 @@ from typing import TextIO
 
 import numpy as np
 
+from crslab.output_paths import with_parent
 from crslab.sweep.job import Row
 from crslab.sweep.metrics import INTEGER_METRICS, METRIC_NAMES
 from crslab.sweep.variations import Vary, describe
@@ -183,6 +184,11 @@ def summary(rows: Sequence[Row], varies: Sequence[Vary], *, total: int, golden: 
         if k:
             why.append(f"{label}: {k}")
     lines.append(f"passed: {passed} of {n}{rate}" + (f"; {', '.join(why)}" if why else ""))
+    early = sum(1 for r in rows if _num(r["trips_before_lab"]) > 0)
+    if early:
+        lines.append(f"note: in {early} of {n} runs the arm left the safety envelope or the motor board cut "
+                     "out by lab()'s first call, before its torques moved the arm: the arm and its setup, "
+                     "not the lab (the hold controller alone could not hold it with those variations)")
     metrics = shown_metrics(rows)
     if metrics:
         width = max(len(m) for m in metrics)
@@ -207,15 +213,46 @@ def summary(rows: Sequence[Row], varies: Sequence[Vary], *, total: int, golden: 
     return lines
 
 
-def plot(path: Path, rows: Sequence[Row], varies: Sequence[Vary], *, title: str) -> None:
-    """One panel per (metric, varied quantity): the metric of every run against that quantity,
+DEFAULT_PLOT_METRICS = ("safety_trips", "motor_board_cutouts", "plotvar1_err_rms", "plotvar2_err_rms",
+                        "plotvar3_err_rms", "clamp_share")
+"""What ``--plot`` draws when ``--plot-metrics`` is not given: those of these that vary, at most
+:data:`DEFAULT_PLOT_COUNT`."""
+DEFAULT_PLOT_COUNT = 4
+
+
+def varying(rows: Sequence[Row], name: str) -> bool:
+    """Whether ``name`` takes more than one value (NaN counting as one) over ``rows``.
+
+    >>> varying([{"a": 1.0}, {"a": 1.0}], "a"), varying([{"a": 1.0}, {"a": float("nan")}], "a")
+    (False, True)
+    """
+    values = {str(float(r[name])) for r in rows}  # type: ignore[arg-type]
+    return len(values) > 1
+
+
+def plot_metrics(rows: Sequence[Row], asked: Sequence[str] | None) -> tuple[list[str], list[str]]:
+    """The metrics to plot and the asked ones left out because every run has the same value.
+    Without ``asked``: the first :data:`DEFAULT_PLOT_COUNT` of :data:`DEFAULT_PLOT_METRICS` that
+    vary, else every varying metric up to that count, else ``end_s``."""
+    if asked:
+        kept = [m for m in asked if varying(rows, m)]
+        return kept, [m for m in asked if m not in kept]
+    kept = [m for m in DEFAULT_PLOT_METRICS if varying(rows, m)]
+    kept += [m for m in METRIC_NAMES if m not in kept and varying(rows, m)]
+    return kept[:DEFAULT_PLOT_COUNT] or ["end_s"], []
+
+
+def plot(path: Path, rows: Sequence[Row], varies: Sequence[Vary], *, title: str,
+         metrics: Sequence[str] | None = None) -> None:
+    """One panel per varied quantity for each of ``metrics`` (default: see :func:`plot_metrics`,
+    never one every run has the same value of): the metric of every run against that quantity,
     passed runs in one colour and failed ones in another."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    metrics = shown_metrics(rows) or ["end_s"]
+    metrics = list(metrics) if metrics else plot_metrics(rows, None)[0]
     n_rows, n_cols = len(metrics), len(varies)
     fig, axes = plt.subplots(n_rows, n_cols, figsize=(3.4 * n_cols + 0.6, 2.3 * n_rows + 0.8), squeeze=False)
     ok = np.array([bool(r["passed"]) for r in rows])
@@ -235,5 +272,5 @@ def plot(path: Path, rows: Sequence[Row], varies: Sequence[Vary], *, title: str)
     axes[0][0].legend(fontsize=7, loc="best")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout(rect=(0.0, 0.0, 1.0, 1.0 - 0.5 / fig.get_figheight()))
-    fig.savefig(path, dpi=100)
+    fig.savefig(with_parent(path), dpi=100)
     plt.close(fig)

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from crslab.output_paths import with_parent
 from crslab.traj.profiles import Samples
 
 ROWS = (("q", "position (rad)"), ("qd", "velocity (rad/s)"), ("qdd", "acceleration (rad/s$^2$)"),
@@ -38,6 +39,6 @@ def plot_trajectory(t_s: np.ndarray, samples: Samples, path: str | Path, title: 
         axes[-1].set_xlabel("time (s)")
         if title:
             axes[0].set_title(title)
-        fig.savefig(path, dpi=110)
+        fig.savefig(with_parent(path), dpi=110)
     finally:
         plt.close(fig)

@@ -18,6 +18,7 @@ import numpy as np
 
 from crslab import resources
 from crslab.framework_facts import CLAMP_UNITS
+from crslab.output_paths import with_parent
 from crslab.sim.running import RunningLab
 from crslab.traj.profiles import PROFILES
 from crslab.traj.waypoints import WaypointPlan
@@ -112,5 +113,5 @@ def plot_tracking(report: TrackingReport, path: Path) -> None:
     axes[0].set_title("Tracking: desired vs actual motor angles")
     axes[-1].set_xlabel("time along the path (s)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(with_parent(path), dpi=110)
     plt.close(fig)

@@ -26,6 +26,7 @@ extern float Simulink_PlotVar4 __attribute__((weak));
 /* ---- the framework's objects a lab file names --------------------------------------------- */
 SWI_Obj SWI_printf;
 volatile struct GPIO_DATA_REGS GpioDataRegs;
+volatile unsigned int IFR, IER; /* named by labs (IER |= M_INT1); nothing reads them */
 
 /* What Simulink sends down to the board: seven int16 values, which the course framework keeps in
  * these globals (the names of its Gen B serial code). A lab reads them by declaring

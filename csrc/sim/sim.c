@@ -43,10 +43,13 @@ static int lab_tick(crs_sim *sim)
     if (code) return code;
     if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
     if (print) {
-        code = crs_fw_call_printing(sim);
-        if (code) return code;
-        sim->printing_runs++;
-        if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
+        sim->print_triggers++;
+        if (sim->fw.symbols & CRS_LAB_HAS_PRINTING) {
+            code = crs_fw_call_printing(sim);
+            if (code) return code;
+            sim->printing_runs++;
+            if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
+        }
     }
     sim->leds = crs_board_update_gpio(sim);
     for (int j = 0; j < 3; ++j) sim->tau[j] = sim->fw.tau[j];

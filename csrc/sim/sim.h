@@ -326,6 +326,7 @@ typedef struct {
     int32_t nan_first_joint;     /* 1..3 */
     int32_t nan_count;
     int64_t printing_runs;
+    int64_t print_triggers;      /* ticks whose lab() triggered printing (SWI post, UARTprint) */
     int64_t tx_dropped;          /* characters the transmit ring had no room for */
     int64_t tx_first_drop_tick;  /* -1 until one is dropped */
     int64_t overflow_tick;       /* -1 until a serial_printf overflows the format buffer */

@@ -1,9 +1,92 @@
-/* crslab host stand-in for TI's DSP2833x_Device.h: integer types, interrupt and protected-
- * register macros (no-ops on a host), and the GPIO data registers the labs toggle LEDs with. */
+/* crslab host stand-in for TI's DSP2833x_Device.h: the device selection, integer types,
+ * interrupt and protected-register macros (no-ops on a host), the interrupt mask and bit
+ * constants, the GPIO data registers the labs toggle LEDs with, and the other peripherals' names
+ * (crslab_peripherals.h). Gen B's copy (C2000Ware 4.01, as the course ships it) also includes
+ * <stdbool.h>, <stddef.h> and <stdint.h>, so a Gen B lab uses bool, size_t and uint16_t without
+ * including them; Gen A's older copy does not (coecsl.h says which generation includes it). */
 #ifndef CRSLAB_DSP2833X_DEVICE_H
 #define CRSLAB_DSP2833X_DEVICE_H
 
-#include <stdint.h>
+#include <stdint.h> /* the stand-ins' own types, both generations */
+#ifndef CRSLAB_FRAMEWORK_GEN_A
+#include <stdbool.h>
+#include <stddef.h>
+#endif
+
+#define TARGET 1
+#define DSP28_28335 TARGET
+#define DSP28_28334 0
+#define DSP28_28333 0
+#define DSP28_28332 0
+
+/* TI compiler keywords a lab may write; nothing on a host */
+#ifndef __interrupt
+#define __interrupt
+#endif
+#ifndef cregister
+#define cregister
+#endif
+extern volatile unsigned int IFR; /* the CPU's interrupt flag and enable registers */
+extern volatile unsigned int IER;
+
+#define M_INT1 0x0001
+#define M_INT2 0x0002
+#define M_INT3 0x0004
+#define M_INT4 0x0008
+#define M_INT5 0x0010
+#define M_INT6 0x0020
+#define M_INT7 0x0040
+#define M_INT8 0x0080
+#define M_INT9 0x0100
+#define M_INT10 0x0200
+#define M_INT11 0x0400
+#define M_INT12 0x0800
+#define M_INT13 0x1000
+#define M_INT14 0x2000
+#define M_DLOG 0x4000
+#define M_RTOS 0x8000
+
+#define BIT0 0x0001
+#define BIT1 0x0002
+#define BIT2 0x0004
+#define BIT3 0x0008
+#define BIT4 0x0010
+#define BIT5 0x0020
+#define BIT6 0x0040
+#define BIT7 0x0080
+#define BIT8 0x0100
+#define BIT9 0x0200
+#define BIT10 0x0400
+#define BIT11 0x0800
+#define BIT12 0x1000
+#define BIT13 0x2000
+#define BIT14 0x4000
+#define BIT15 0x8000
+
+/* the F28335's peripherals, all present */
+#define DSP28_EPWM1 1
+#define DSP28_EPWM2 1
+#define DSP28_EPWM3 1
+#define DSP28_EPWM4 1
+#define DSP28_EPWM5 1
+#define DSP28_EPWM6 1
+#define DSP28_ECAP1 1
+#define DSP28_ECAP2 1
+#define DSP28_ECAP3 1
+#define DSP28_ECAP4 1
+#define DSP28_ECAP5 1
+#define DSP28_ECAP6 1
+#define DSP28_EQEP1 1
+#define DSP28_EQEP2 1
+#define DSP28_ECANA 1
+#define DSP28_ECANB 1
+#define DSP28_MCBSPA 1
+#define DSP28_MCBSPB 1
+#define DSP28_SPIA 1
+#define DSP28_SCIA 1
+#define DSP28_SCIB 1
+#define DSP28_SCIC 1
+#define DSP28_I2CA 1
 
 #ifndef DSP28_DATA_TYPES
 #define DSP28_DATA_TYPES
@@ -55,5 +138,7 @@ struct GPIO_DATA_REGS {
     union CRS_GPB_REG GPBDAT, GPBSET, GPBCLEAR, GPBTOGGLE;
 };
 extern volatile struct GPIO_DATA_REGS GpioDataRegs;
+
+#include "crslab_peripherals.h"
 
 #endif

@@ -1,0 +1,51 @@
+"""``crslab new LAB FILE``: write a starting lab file (crslab/starters) to begin a lab from."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from crslab.cli import CliError
+from crslab.output_paths import with_parent
+from crslab.starters import GENERATIONS, LABS, starter_text
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``new`` subcommand."""
+    p = sub.add_parser(
+        "new", help="write a starting lab file (lab1..lab4, Gen A or B) to begin a lab from",
+        description="Write a starting file for one of the course's labs, with the structure of the "
+        "course's template (the encoder offsets, mycount, watched variables, printing from printing(), "
+        "the Simulink PlotVars, the generation's includes), ready for 'crslab sim --lab FILE'. "
+        + " ".join(f"{k}: {v}." for k, v in LABS.items()))
+    p.add_argument("lab", choices=list(LABS), help="which lab")
+    p.add_argument("file", type=Path, metavar="FILE", nargs="?",
+                   help="the file to write (default: LAB.c, e.g. lab1.c); an existing file is kept")
+    p.add_argument("-o", "--output", type=Path, metavar="FILE", help="the file to write (instead of FILE)")
+    p.add_argument("--gen", choices=list(GENERATIONS), default="B",
+                   help="framework generation: A, the 'CRSRobot' DSP/BIOS framework (SWI_post), or B, "
+                   "the 'me446 starter' C2000Ware framework (UARTprint) (default: %(default)s)")
+    p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
+    p.intermixed = True  # crslab new lab1 --gen A lab1.c
+    p.set_defaults(func=run_new)
+
+
+def run_new(args: argparse.Namespace) -> int:
+    """``crslab new``."""
+    if args.file is not None and args.output is not None:
+        raise CliError("give the file once: FILE or -o FILE")
+    path: Path = args.output or args.file or Path(f"{args.lab}.c")
+    if path.suffix.lower() not in (".c", ".cpp"):
+        raise CliError(f"{path}: a lab file is a .c file (crslab compiles .c, and .cpp holding C)")
+    if path.is_dir():
+        raise CliError(f"{path}: is a folder; give the lab file's name, e.g. {path / (args.lab + '.c')}")
+    if path.exists() and not args.force:
+        raise CliError(f"{path}: exists; not replacing it (--force overwrites it)")
+    try:
+        with_parent(path).write_text(starter_text(args.lab, args.gen))
+    except OSError as exc:
+        raise CliError(f"{path}: cannot write it ({exc.strerror})") from None
+    print(f"crslab new: {path}: {LABS[args.lab]} for {GENERATIONS[args.gen]}; run it with "
+          f"'crslab sim --lab {path}'", file=sys.stderr)
+    return 0

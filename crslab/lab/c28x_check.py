@@ -1,0 +1,229 @@
+"""What the board's arithmetic would have said: the C28x (COFF ABI) has a 16-bit ``int``, a 32-bit
+``long`` and a 32-bit ``double``; crslab runs labs with a 32-bit ``int`` and a 64-bit ``double``.
+So ``300*300`` in an ``int``, a constant past 32767 stored in an ``int`` or compared with one, or
+a constant a 32-bit ``double`` cannot hold, gives another result on the board.
+
+For analysis only, the lab is compiled twice more with zig's clang (``crslab.lab.zig``), with the
+same headers, the same diagnostics and no C library (an object file, then thrown away): once for
+a target with the C28x's widths (AVR: int 16, long 32, double 32) and once for the host's
+(x86-64). A diagnostic that only the first compile gives is a place where the board's result
+differs; each is reported with its file and line. Nothing is linked or run, and the lab's own
+build is untouched.
+
+``crslab sim`` runs the check on a lab's first run (per content: a result is kept in the cache),
+``crslab grade`` on every submission, into its report; ``--no-c28x-check`` turns it off.
+
+>>> [f] = parse_diagnostics("lab.c:3:15: warning: overflow in expression; result is 24'464 with type "
+...                         "'int' [-Winteger-overflow]\\n3 | int big = 300 * 300;\\n")
+>>> f.file, f.line, f.flag, f.message
+('lab.c', 3, 'integer-overflow', "overflow in expression; result is 24464 with type 'int'")
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+import signal
+import subprocess
+import tempfile
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+from crslab import resources
+from crslab.cache import CacheError, cache_dir
+
+BOARD_TARGET = ["--target=avr-freestanding", "-mmcu=atmega2560"]
+"""A target whose C widths are the C28x's: int 16 bits, long 32, double 32."""
+HOST_TARGET = ["--target=x86_64-freestanding"]
+"""The host's widths (int 32, long 64, double 64), compiled the same way to tell what differs."""
+DIAGNOSTICS = ["integer-overflow", "constant-conversion", "implicit-const-int-float-conversion",
+               "literal-range", "tautological-constant-out-of-range-compare", "shift-overflow",
+               "shift-count-overflow", "bitfield-constant-conversion", "implicit-int-float-conversion"]
+"""The diagnostics that say a value changes (overflow, truncation, precision)."""
+FLAGS = ["-std=c11", "-c", "-nostdlib", "-ffreestanding", "-x", "c", "-Wno-everything",
+         *(f"-W{d}" for d in DIAGNOSTICS), "-fno-color-diagnostics", "-fno-caret-diagnostics",
+         "-Wno-unused-command-line-argument"]
+TIMEOUT_S = 60.0
+_LINE = re.compile(r"^(?P<file>.+?):(?P<line>\d+):\d+: warning: (?P<message>.*?) \[-W(?P<flag>[\w-]+)\]$",
+                   re.MULTILINE)
+WIDTHS = "on the C28x int is 16 bits, long 32 and double 32"
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One place where the board's result differs: the file and line, and the compiler's words."""
+
+    file: str
+    line: int
+    message: str
+    flag: str
+
+    def describe(self) -> str:
+        """One line for a person.
+
+        >>> Finding("lab.c", 3, "overflow in expression; result is 24464 with type 'int'", "x").describe()
+        "lab.c:3: overflow in expression; result is 24464 with type 'int'"
+        """
+        return f"{self.file}:{self.line}: {self.message}"
+
+
+@dataclass(frozen=True)
+class C28xReport:
+    """The check's outcome: its findings, or why it could not run (``skipped``)."""
+
+    findings: tuple[Finding, ...] = ()
+    skipped: str = ""
+
+    def lines(self) -> list[str]:
+        """What is said about it, one line each (nothing when all is well)."""
+        if self.skipped:
+            return [f"note: the C28x arithmetic check did not run: {self.skipped}"]
+        if not self.findings:
+            return []
+        head = (f"warning: {len(self.findings)} place{'s' if len(self.findings) != 1 else ''} where the "
+                f"board's arithmetic gives another result ({WIDTHS}; crslab's host: 32, 64, 64):")
+        return [head, *(f"  {f.describe()}" for f in self.findings)]
+
+
+def parse_diagnostics(text: str) -> list[Finding]:
+    """The warnings in a compiler's output (digit separators such as ``24'464`` removed)."""
+    out = []
+    for m in _LINE.finditer(text):
+        message = re.sub(r"(?<=\d)'(?=\d)", "", m["message"])
+        out.append(Finding(Path(m["file"]).name, int(m["line"]), message, m["flag"]))
+    return out
+
+
+def board_only(board: Sequence[Finding], host: Sequence[Finding]) -> list[Finding]:
+    """The board compile's findings that the host compile does not give at the same line.
+
+    >>> a, b = Finding("l.c", 3, "x", "integer-overflow"), Finding("l.c", 9, "y", "integer-overflow")
+    >>> board_only([a, b], [Finding("l.c", 9, "z", "integer-overflow")]) == [a]
+    True
+    """
+    seen = {(f.file, f.line, f.flag) for f in host}
+    unique: list[Finding] = []
+    for f in board:
+        if (f.file, f.line, f.flag) not in seen and f not in unique:
+            unique.append(f)
+    return unique
+
+
+def include_dirs() -> list[str]:
+    """The check's own headers (a math.h: no C library), then those a lab is built with."""
+    csrc = resources.path("csrc")
+    return ["-I", str(csrc / "board" / "c28x_check"), "-I", str(csrc / "board" / "include"),
+            "-I", str(csrc / "kin")]
+
+
+class C28xCheck:
+    """The two compiles of one lab, started at once (they run while the lab runs) and awaited by
+    :meth:`report`. ``sandboxed`` runs them in the compile sandbox (a class's submissions)."""
+
+    def __init__(self, lab: Path, *, sandboxed: bool = True) -> None:
+        self.lab = Path(lab).absolute()
+        self._tmp = tempfile.TemporaryDirectory(prefix="crslab-c28x-", ignore_cleanup_errors=True)
+        self._procs: list[subprocess.Popen] = []
+        self._rules: list = []
+        self._skipped = ""
+        try:
+            from crslab.lab.zig import zig_cc, zig_dir, zig_environment
+
+            argv = zig_cc()
+            for name, target in (("board", BOARD_TARGET), ("host", HOST_TARGET)):
+                work = Path(self._tmp.name) / name
+                for sub in ("cache", "global"):
+                    (work / sub).mkdir(parents=True)
+                env = zig_environment(work / "cache")
+                env["ZIG_GLOBAL_CACHE_DIR"] = str(work / "global")  # nothing of the lab's is kept
+                extra: dict = {}
+                if sandboxed:
+                    from crslab.sandbox.compile_sandbox import compiler_sandbox
+
+                    box = compiler_sandbox([self.lab], work, [resources.path("csrc"), zig_dir()],
+                                           compiler=argv)
+                    rules = box.ruleset()
+                    self._rules.append(rules)
+                    env.update({k: str(work) for k in ("TMPDIR", "TMP", "TEMP")})
+                    extra = {"preexec_fn": box.preexec(rules.fd), "pass_fds": (rules.fd,)}
+                self._procs.append(subprocess.Popen(
+                    [*argv, *target, *FLAGS, *include_dirs(), str(self.lab), "-o", str(work / "lab.o")],
+                    stdout=subprocess.DEVNULL, start_new_session=True,
+                    stderr=subprocess.PIPE, text=True, env=env, cwd=work, **extra))
+        except (ImportError, FileNotFoundError, OSError) as exc:
+            self._skipped = f"zig cannot be run ({exc})"
+
+    def report(self) -> C28xReport:
+        """Wait for both compiles and compare them."""
+        try:
+            if self._skipped:
+                return C28xReport(skipped=self._skipped)
+            outputs = []
+            for proc in self._procs:
+                try:
+                    _, err = proc.communicate(timeout=TIMEOUT_S)
+                except subprocess.TimeoutExpired:
+                    proc.kill()
+                    proc.communicate()
+                    return C28xReport(skipped=f"zig took longer than {TIMEOUT_S:.0f} s")
+                outputs.append(err)
+                if proc.returncode != 0 and "error:" in err:
+                    first = next(line for line in err.splitlines() if "error:" in line)
+                    return C28xReport(skipped=f"the lab does not compile without a C library: "
+                                              f"{first.split('error:', 1)[1].strip()}")
+            board, host = (parse_diagnostics(o) for o in outputs)
+            return C28xReport(tuple(board_only(board, host)))
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        """Stop what still runs and remove the temporary folder (again: nothing)."""
+        for proc in self._procs:  # zig and the clang it runs: the whole group
+            if proc.poll() is None:
+                try:
+                    os.killpg(proc.pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+                proc.wait()
+        for rules in self._rules:
+            rules.close()
+        self._rules = []
+        self._tmp.cleanup()
+
+
+def check_lab(lab: Path, *, sandboxed: bool = True) -> C28xReport:
+    """Run the check on ``lab`` and wait for it."""
+    return C28xCheck(lab, sandboxed=sandboxed).report()
+
+
+def _key(lab: Path) -> str:
+    h = hashlib.sha256(Path(lab).read_bytes())
+    for header in sorted((resources.path("csrc") / "board").rglob("*.h")):
+        h.update(header.read_bytes())
+    h.update(" ".join([*BOARD_TARGET, *FLAGS]).encode())
+    return h.hexdigest()[:20]
+
+
+def first_run_check(lab: Path, *, sandboxed: bool = True) -> C28xCheck | None:
+    """The check of ``lab`` when this content has not been checked before (``crslab sim`` says it
+    on a lab's first run only), else None; :func:`remember` records that it was shown."""
+    try:
+        if (cache_dir() / "c28x" / f"{_key(lab)}.json").exists():
+            return None
+    except (CacheError, OSError):
+        return None
+    return C28xCheck(lab, sandboxed=sandboxed)
+
+
+def remember(lab: Path, report: C28xReport) -> None:
+    """Record that ``lab``'s report was given (or that the check cannot run on it)."""
+    try:
+        folder = cache_dir() / "c28x"
+        folder.mkdir(parents=True, exist_ok=True)
+        kept = {"skipped": report.skipped, "findings": [asdict(f) for f in report.findings]}
+        (folder / f"{_key(lab)}.json").write_text(json.dumps(kept))
+    except (CacheError, OSError):
+        pass

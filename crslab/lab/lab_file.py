@@ -1,0 +1,40 @@
+"""What is wrong with a path given as a lab file, in one line, before anything reads it: a path
+that does not exist, a folder (``--lab .``), or a header (``--lab lab.h``: the lab is the ``.c``
+file that includes it). Every command that takes a lab file asks :func:`lab_file_problem`.
+
+>>> import tempfile
+>>> folder = Path(tempfile.mkdtemp())
+>>> _ = (folder / "lab1.c").write_text("void lab(void) {}")
+>>> _ = (folder / "mine.h").write_text("#define K 1")
+>>> lab_file_problem(folder / "lab1.c") is None
+True
+>>> lab_file_problem(folder / "nope.c").endswith("nope.c: no such lab file")
+True
+>>> lab_file_problem(folder).endswith("is a folder, not a lab file: give the lab file in it (lab1.c)")
+True
+>>> lab_file_problem(folder / "mine.h").endswith("mine.h: is a header, not a lab file: give the .c file "
+...                                              "that defines lab()")
+True
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+LAB_SUFFIXES = (".c", ".cpp")
+HEADER_SUFFIXES = (".h", ".hpp", ".hh")
+
+
+def lab_file_problem(path: Path) -> str | None:
+    """Why ``path`` cannot be a lab file (one line naming it), or None when it can be read as one."""
+    if path.is_dir():
+        labs = sorted(p.name for p in path.iterdir() if p.suffix.lower() in LAB_SUFFIXES and p.is_file())
+        hint = f" ({', '.join(labs[:4])}{', ...' if len(labs) > 4 else ''})" if labs else " (it holds none)"
+        return f"{path}: is a folder, not a lab file: give the lab file in it{hint}"
+    if not path.exists():
+        return f"{path}: no such lab file"
+    if path.suffix.lower() in HEADER_SUFFIXES:
+        return f"{path}: is a header, not a lab file: give the .c file that defines lab()"
+    if not path.is_file():
+        return f"{path}: is not a regular file, so not a lab file"
+    return None

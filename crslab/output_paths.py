@@ -1,0 +1,31 @@
+"""Every file or folder crslab writes is made where the user named it, folders included:
+``crslab record --lab lab1.c -o golden/lab1_tour.txt`` works in a repository with no ``golden/``
+yet. Writers call :func:`with_parent` on the path first; a folder that cannot be made raises
+``OSError`` as the write itself would, and the caller turns it into its one-line error.
+
+>>> import tempfile
+>>> base = Path(tempfile.mkdtemp())
+>>> with_parent(base / "golden" / "lab1_tour.txt").parent.is_dir()
+True
+>>> with_parent("plain.txt")
+PosixPath('plain.txt')
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+
+def with_parent(path: str | os.PathLike[str]) -> Path:
+    """``path``, its folder (and the folders above it) made if missing."""
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    return target
+
+
+def folder(path: str | os.PathLike[str]) -> Path:
+    """The folder ``path``, made (with the folders above it) if missing."""
+    target = Path(path)
+    target.mkdir(parents=True, exist_ok=True)
+    return target
