@@ -64,9 +64,9 @@ _C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *",
 
 STAT_FIELDS = (
     "lab_calls", "lab_cost_total", "lab_cost_max", "lab_max_tick", "over_budget", "cost_unit", "budget",
-    "nan_first_tick", "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag", "leds",
-    "estop_latched", "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars", "overflow_phase",
-    "console_bytes",
+    "nan_first_tick", "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag",
+    "leds", "estop_latched", "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars",
+    "overflow_phase", "console_bytes",
 )
 
 
