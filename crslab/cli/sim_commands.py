@@ -91,7 +91,7 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
                    "(default: %(default)s)")
     p.add_argument("--budget", type=positive_int, default=LAB_BUDGET_INSTRUCTIONS, metavar="INSTRUCTIONS",
                    help="what one lab() call may cost, in WebAssembly instructions (about one per cycle of "
-                   "the 150 MHz F28335; a --native run compares its CPU time at that rate; default: "
+                   "the 150 MHz F28335; a --native run compares the time its lab() takes at that rate; default: "
                    "%(default)s, half a tick)")
     p.add_argument("--strict", action="store_true", help="a NaN or Inf torque ends the run with an error")
     p.add_argument("--native", action="store_true",
@@ -194,15 +194,15 @@ def config_from_args(args: argparse.Namespace, *, log: bool = False,
 
 
 def lab_cost(stats: dict, budget: int) -> dict:
-    """lab()'s cost per call, in the firmware's unit: WebAssembly instructions, or (native) CPU
-    microseconds, with the budget in the same unit (``budget`` is in instructions, one per cycle
+    """lab()'s cost per call, in the firmware's unit: WebAssembly instructions, or (native) the
+    microseconds it took, with the budget in the same unit (``budget`` is in instructions, one per cycle
     of the 150 MHz F28335)."""
     calls = stats.get("lab_calls", 0)
     instructions = stats.get("cost_unit", board_constants().CRS_COST_INSTRUCTIONS) == \
         board_constants().CRS_COST_INSTRUCTIONS
-    scale = 1.0 if instructions else 1e-3  # ns of CPU time to us
+    scale = 1.0 if instructions else 1e-3  # ns to us
     return {
-        "lab_cost_unit": "instructions" if instructions else "us of CPU time",
+        "lab_cost_unit": "instructions" if instructions else "us",
         "lab_cost_mean": round(stats.get("lab_cost_total", 0) * scale / calls, 1) if calls else 0.0,
         "lab_cost_max": round(stats.get("lab_cost_max", 0) * scale, 1),
         "lab_max_tick": stats.get("lab_max_tick", 0),

@@ -36,7 +36,7 @@ class SimConfig:
     strict_nan: bool = False
     budget_instructions: int = LAB_BUDGET_INSTRUCTIONS
     """What one lab() call may cost before it is counted over budget: WebAssembly instructions (a
-    native firmware's CPU time is compared at one instruction per cycle of the 150 MHz F28335)."""
+    time a native firmware's lab() takes is compared at one instruction per cycle of the 150 MHz F28335)."""
     log_signals: bool = False
     hand: HandGains = HandGains()
     sandboxed: bool = True  # compiled and run in crslab.sandbox (it never changes the transcript)

@@ -135,7 +135,7 @@ class Worker:
         sim.motor_board.model = MOTOR_BOARDS[config.motor_board_model]
         sim.strict_nan = int(config.strict_nan)
         sim.startup_ticks = config.startup_ticks
-        # lab()'s budget in the firmware's cost unit: instructions, or (native) CPU ns at one
+        # lab()'s budget in the firmware's cost unit: instructions, or (native) ns at one
         # instruction per cycle of the F28335 (CPU_CYCLES_PER_TICK per ms)
         sim.budget = (config.budget_instructions if sim.cost_unit == board_constants().CRS_COST_INSTRUCTIONS
                       else config.budget_instructions * 1_000_000 // CPU_CYCLES_PER_TICK)

@@ -261,7 +261,7 @@ typedef struct {
 
 /* What lab()'s cost is counted in (crs_sim.cost_unit). */
 enum {
-    CRS_COST_CPU_NS = 0,         /* native firmware: the worker thread's CPU time, ns */
+    CRS_COST_NS = 0,             /* native firmware: the time lab() took, ns (monotonic clock) */
     CRS_COST_INSTRUCTIONS = 1    /* WebAssembly firmware: instructions executed (wasmtime's fuel) */
 };
 
