@@ -90,6 +90,15 @@ SIMULINK_PERIOD_MS: int = lib.CRS_SIMULINK_PERIOD_MS
 SIMULINK_SYNC = bytes([lib.CRS_SIMULINK_SYNC_1, lib.CRS_SIMULINK_SYNC_2])
 """A Simulink packet starts FF 7F."""
 
+DATA_RAM_START: int = lib.CRS_DATA_RAM_START
+"""The first word of the F28335's data memory the course's linker gives a lab (L1)."""
+DATA_RAM_END: int = lib.CRS_DATA_RAM_END
+"""One past its last word (the end of L7)."""
+LAB_BUDGET_INSTRUCTIONS: int = lib.CRS_LAB_BUDGET_INSTRUCTIONS
+"""What one lab() call may cost by default, in WebAssembly instructions (half of a tick's cycles)."""
+CPU_CYCLES_PER_TICK: int = lib.CRS_CPU_CYCLES_PER_TICK
+"""The F28335's cycles in one 1 ms tick (150 MHz)."""
+
 SECTION_ORIGINS = {
     GEN_A: {".ebss": lib.CRS_GEN_A_EBSS_ORIGIN, ".my_arrs": lib.CRS_GEN_A_MY_ARRS_ORIGIN,
             ".my_vars": lib.CRS_GEN_A_MY_VARS_ORIGIN},

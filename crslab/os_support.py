@@ -69,12 +69,15 @@ MATH_LIBS = ["-lm", "-lmvec"] if platform.machine() == "x86_64" and sys.platform
 
 
 # -- Shared memory between crslab and the worker ----------------------------------------------
-# Linux: a file in /dev/shm (tmpfs), mapped by both processes: the serial bytes never touch a
-# disk and outlive a worker that crashes.
-# macOS: no /dev/shm; the temporary directory works (None below), or shm_open.
-def shared_memory_dir() -> str | None:
-    """Folder for the shared block's file (None: the temporary directory)."""
-    return "/dev/shm" if os.path.isdir("/dev/shm") else None
+# Linux: a memfd (memory with no name in any file system), mapped by both processes: the serial
+# bytes never touch a disk, outlive a worker that crashes, and go with the last process that holds
+# them, however it ends.
+# macOS: no memfd_create; shm_open then shm_unlink at once does the same.
+def anonymous_shared_file(name: str, size: int) -> int:
+    """A descriptor of ``size`` bytes of shared memory named nowhere (``name`` is only a label)."""
+    fd = os.memfd_create(name, os.MFD_CLOEXEC)
+    os.ftruncate(fd, size)
+    return fd
 
 
 # -- MuJoCo's C library ----------------------------------------------------------------------------

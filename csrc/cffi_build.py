@@ -2,9 +2,12 @@
 
 The Python-visible declarations are read from the public headers listed in ``HEADERS``
 (crslab/cheaders.py drops preprocessor lines and ``static const`` initialisers), so every fact
-and every prototype is written once, in its header. Every ``*.c`` file under ``csrc/kin``
-is compiled in. The course framework's numbers (``csrc/sim/framework_facts.h``, declarations
-only) come along so that Python reads them from the same header the emulated board is built with.
+and every prototype is written once, in its header. Every ``*.c`` file under ``csrc/kin`` is
+compiled in, and so is the board (``csrc/sim``) with the WebAssembly firmware's port
+(``firmware_wasm.c``; the native port is linked with a lab instead, crslab/lab/build.py): the
+worker runs a lab's WebAssembly firmware on this board. The course framework's numbers
+(``csrc/sim/framework_facts.h``, declarations only) come along so that Python reads them from the
+same header the emulated board is built with.
 """
 
 from __future__ import annotations
@@ -20,11 +23,15 @@ HERE = Path(__file__).resolve().parent
 KIN = HERE / "kin"
 SIM = HERE / "sim"
 # vector_math.h is internal (attributes, no API); every other header is the Python-visible API.
-HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [SIM / "framework_facts.h"]
-SOURCES = sorted(KIN.glob("*.c"))
+HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [
+    SIM / "framework_facts.h", SIM / "sim.h", SIM / "firmware_wasm.h"]
+NATIVE_ONLY = {"firmware_native.c", "debug.c"}
+"""Board sources linked only with a native lab (crslab/lab/build.py), never into the core: the
+native port and what a debugger reads (a second ``crs_tick`` here would be the one gdb finds)."""
+SOURCES = sorted(KIN.glob("*.c")) + sorted(p for p in SIM.glob("*.c") if p.name not in NATIVE_ONLY)
 C_FLAGS = ["-std=c11", "-O3", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-fno-trapping-math"]
 # glibc's vector math (libmvec) backs the vectorized batch loops on x86-64 Linux.
-LIBRARIES = ["m", "mvec"] if platform.machine() == "x86_64" and sys.platform == "linux" else ["m"]
+LIBRARIES = (["m", "mvec"] if platform.machine() == "x86_64" and sys.platform == "linux" else ["m"]) + ["dl"]
 
 
 def _load_cheaders():

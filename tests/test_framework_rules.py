@@ -20,11 +20,11 @@ import numpy as np
 import pytest
 from cffi import FFI
 
-from crslab import crs, framework_facts
+from crslab import crs, framework_facts, resources
+from crslab.cheaders import cdef_from_header
 from crslab.scenario.events import WristEstop
 from crslab.scenario.load import load_scenario
 from crslab.sim.api import make_config
-from crslab.sim.board_ffi import board_ffi
 from crslab.sim.inprocess import InProcessRun
 
 LAB = Path(__file__).parent / "labs" / "framework_rules.c"
@@ -47,7 +47,6 @@ MB_COUNTS_PER_UNIT, MB_REJECT_COUNTS, MB_LIMIT_COUNTS = 300, 1500, 1200
 MB_OVER_LIMIT_MS, MB_TIMEOUT_MS = 500, 100
 
 BOARD_FUNCTIONS = """
-void crs_sim_init(crs_sim *sim);
 void crs_hold_update(crs_hold *h, const double enc_rad[3]);
 void crs_hold_follow(crs_hold *h, const double enc_rad[3]);
 void crs_hold_reanchor(crs_hold *h, const double enc_rad[3]);
@@ -66,14 +65,27 @@ class Board:
     """The test lab's worker in this process, and the board's own functions in its shared object."""
 
     def __init__(self, scenario: str = "hands_off", startup_delay: bool = False, lab: Path = LAB) -> None:
-        self.run = InProcessRun(make_config(lab, scenario, startup_delay=startup_delay, sandbox=False))
+        # native: the board's own functions are reached in the lab's shared object (the WebAssembly
+        # firmware runs on the same board: tests/test_wasm_firmware.py compares the two)
+        self.run = InProcessRun(make_config(lab, scenario, startup_delay=startup_delay, sandbox=False,
+                                            native=True))
         self.worker = self.run.worker
         self.sim = self.worker.sim
         self.ffi = FFI()
-        self.ffi.include(board_ffi())
+        for header in ("sim.h", "debug.h"):
+            self.ffi.cdef(cdef_from_header(resources.path("csrc", "sim", header).read_text()))
         self.ffi.cdef(BOARD_FUNCTIONS + LAB_VARIABLES[lab])
         # the library the worker loaded (found among those loaded, not opened again)
         self.lib = self.ffi.dlopen(str(self.worker.config.build.shared_object))
+
+    def new_sim(self) -> object:
+        """A fresh board (``crs_sim_init``) that sees the worker's firmware (its variables)."""
+        sim = self.ffi.new("crs_sim *")
+        self.lib.crs_sim_init(sim)
+        worker_fw = int(self.worker.ffi.cast("uintptr_t", self.worker.ffi.addressof(self.sim, "fw")))
+        self.ffi.memmove(self.ffi.addressof(sim, "fw"), self.ffi.cast("void *", worker_fw),
+                         self.ffi.sizeof("crs_fw_view"))
+        return sim
 
     def tick(self, dh_rad: object | None = None) -> None:
         """Run one tick, with the arm put at ``dh_rad`` (still) first when given."""
@@ -346,8 +358,7 @@ def test_a_wrist_turned_past_0_11_rad_latches_every_output_to_zero(tmp_path):
 # -- the encoders -------------------------------------------------------------------------------
 
 def test_encoders_are_whole_counts_plus_the_offset_rounded_to_float32(board):
-    sim = board.ffi.new("crs_sim *")
-    board.lib.crs_sim_init(sim)
+    sim = board.new_sim()
     rest = (0.0, -0.42, 0.24)
     for j in range(3):
         sim.rest_motor_rad[j] = rest[j]

@@ -5,7 +5,8 @@ at 0.6 s; ``--strict`` makes a NaN torque end the run; ``--max-output-mb 0.002``
 cuts a flood off; ``--deadline 0.5`` calls a lab() that does not return hung.
 
 Each submission's class is checked in grades.csv (with how its run ended and the exit status
-``crslab check`` gives such a run), in the summary table, in its report and in junit.xml."""
+``crslab check`` gives such a run), in the summary table, in its report and in junit.xml. The labs
+run as WebAssembly firmware (crslab's default), whose diagnoses name the lab's line."""
 
 import csv
 import shutil
@@ -24,12 +25,15 @@ EXPECTED = {
     "pass.c": ("pass", "ok", 0, "6 lines match"),
     "mismatch.c": ("mismatch", "ok", 1,
                    "6 lines differ; line 1 (t = 0.000 s): number 2 is 1, expected 0 (off by 1)"),
-    "segfault.c": ("crashed", "crashed", 3, f"segfault.c crashed (SIGSEGV) in lab() {AT_1000}"),
-    "calls_exit.c": ("crashed", "exited", 3, f"calls_exit.c called exit(1) in lab() {AT_1000}"),
+    "segfault.c": ("crashed", "crashed", 3,
+                   f"segfault.c used a NULL pointer (one that was never set) at segfault.c:31 in lab() "
+                   f"{AT_1000}"),
+    "calls_exit.c": ("crashed", "exited", 3,
+                     f"calls_exit.c called exit(1) at calls_exit.c:32 in lab() {AT_1000}"),
     "hangs.c": ("hung", "hung", 4, f"hangs.c hung: lab() did not return within 0.5 s {AT_1000}"),
     "opens_file.c": ("forbidden", "forbidden", 3,
-                     "opens_file.c was stopped by the sandbox: it tried to open /etc/hostname for reading in "
-                     f"lab() {AT_1000}"),
+                     "opens_file.c was stopped by the sandbox: it tried to open /etc/hostname for reading at "
+                     f"opens_file.c:31 in lab() {AT_1000}"),
     "typo.c": ("does not compile", "build-error", 2, "typo.c:26:21: error:"),
     "no_lab.c": ("does not compile", "no-lab", 2, "no_lab.c defines no lab() function"),
     "nan_torque.c": ("crashed", "nan", 5,

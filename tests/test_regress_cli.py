@@ -12,6 +12,9 @@ import pytest
 from crslab import __version__
 from crslab.regress.transcript import read_golden
 
+NULL_AT = ("crash_after_5s.c used a NULL pointer (one that was never set) at crash_after_5s.c:27 in "
+           "lab() at tick 5100")
+
 LABS = Path(__file__).parent / "labs"
 OWN_IK = LABS / "lab1_own_ik.c"
 IK_SIGN = "atan2(-s_in, r_in)"  # th2 of the lab's elbow-up IK
@@ -89,14 +92,13 @@ def test_recording_a_lab_that_crashes_writes_nothing(tmp_path):
     out = tmp_path / "g.txt"
     r = crslab("record", "--lab", LABS / "crash_after_5s.c", "-o", out)
     assert r.returncode == 3 and not out.exists()
-    assert r.stderr.strip() == ("crslab record: crash_after_5s.c crashed (SIGSEGV) in lab() at tick 5100 "
-                                "(t = 5.100 s); nothing was written")
+    assert r.stderr.strip() == f"crslab record: {NULL_AT} (t = 5.100 s); nothing was written"
 
 
 def test_a_crash_while_checking_exits_as_the_simulator_does(golden):
     r = crslab("check", "--lab", LABS / "crash_after_5s.c", "--golden", golden)
     assert r.returncode == 3
-    assert r.stdout.startswith("crash_after_5s.c crashed (SIGSEGV) in lab() at tick 5100 (t = 5.100 s)\n")
+    assert r.stdout.startswith(NULL_AT + " (t = 5.100 s)\n")
     assert "Traceback" not in r.stdout + r.stderr
 
 

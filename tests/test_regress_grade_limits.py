@@ -1,5 +1,6 @@
-"""``crslab grade`` bounds every submission's memory by default: a leaking lab is classed
-crashed and the rest of the class is graded."""
+"""``crslab grade`` bounds every submission's memory: a leaking lab is classed crashed and the
+rest of the class is graded. A WebAssembly firmware has the board's memory and no more; a native
+one (--native) is limited by default."""
 
 import csv
 import shutil
@@ -7,10 +8,14 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def test_grade_limits_memory_by_default(tmp_path):
+
+@pytest.mark.parametrize("board", ["wasm", "native"])
+def test_grade_limits_memory_by_default(tmp_path, board):
     subs = tmp_path / "subs"
     subs.mkdir()
     shutil.copy(ROOT / "tests" / "labs" / "faulty" / "memory_hog.c", subs / "leaky.c")
@@ -18,9 +23,13 @@ def test_grade_limits_memory_by_default(tmp_path):
     out = tmp_path / "out"
     r = subprocess.run([sys.executable, "-m", "crslab", "grade", str(subs), "--reference",
                         str(ROOT / "csrc" / "labs" / "lab1_kinematics.c"), "--scenario", "hands_off",
-                        "--duration", "6", "--out", str(out)], capture_output=True, text=True, timeout=300)
+                        "--duration", "6", "--out", str(out), *(["--native"] if board == "native" else [])],
+                       capture_output=True, text=True, timeout=300)
     rows = {row["submission"]: row for row in csv.DictReader((out / "grades.csv").open())}
     assert rows["good.c"]["result"] == "pass"
     assert rows["leaky.c"]["result"] == "crashed"
-    assert rows["leaky.c"]["detail"].endswith("its memory limit was 2048 MB")
+    if board == "native":
+        assert rows["leaky.c"]["detail"].endswith("its memory limit was 2048 MB")
+    else:  # malloc found no room and returned NULL, which memset ran through
+        assert rows["leaky.c"]["detail"].startswith("leaky.c read or wrote outside its memory ")
     assert r.returncode == 1  # not every submission passed

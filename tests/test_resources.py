@@ -54,7 +54,7 @@ from crslab.plant.params import SCENE_XML
 assert resources.__file__.startswith(sys.argv[1]), resources.__file__
 b = build_lab()
 m = mujoco.MjModel.from_xml_path(str(SCENE_XML))
-print(resources.path("csrc"), b.shared_object.is_file(), m.nq, SCENE_XML)
+print(resources.path("csrc"), b.image.is_file(), m.nq, SCENE_XML)
 """
 
 

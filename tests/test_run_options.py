@@ -102,20 +102,25 @@ def test_rel_tol_scales_by_the_larger_number(crslab, motor_zero, tmp_path):
     assert "line 96 at t = 0.950 s: number 1 is 950, expected 1050 (off by 100)" in r.stdout
 
 
-def test_budget_us_counts_the_calls_over_it(crslab, tmp_path):
-    """slow_lab.c spins 3 ms of CPU time in every lab() call: always over 2500 us, never near
-    100 ms."""
-    def run(budget_us):
-        r = crslab("sim", "--fast", "--quiet", "--lab", LABS / "faulty" / "slow_lab.c", "--scenario",
+def test_budget_counts_the_calls_over_it(crslab, tmp_path):
+    """busy_lab.c runs 100 000 rounds of a multiply-add in every lab() call: well over 200 000
+    WebAssembly instructions, never near 20 million; a native run is compared in time at 150
+    instructions per microsecond (the F28335's 150 MHz)."""
+    def run(budget, *extra, lab="busy_lab.c"):
+        r = crslab("sim", "--fast", "--quiet", "--lab", LABS / "faulty" / lab, "--scenario",
                    "hands_off", "--no-startup-delay", "--duration", "0.005", "--json",
-                   "--budget-us", budget_us)
+                   "--budget", budget, *extra)
         assert r.returncode == 0, r.stderr
         return json.loads(r.stderr.strip().splitlines()[-1])
 
-    tight, loose = run(2500), run(100000)
-    assert (tight["budget_us"], tight["lab_calls"], tight["over_budget"]) == (2500, 5, 5)
+    tight, loose = run(200_000), run(20_000_000)
+    assert (tight["budget"], tight["lab_calls"], tight["over_budget"]) == (200_000, 5, 5)
     assert tight["over_budget_ticks"] == [0, 1, 2, 3, 4]
-    assert (loose["budget_us"], loose["lab_calls"], loose["over_budget"]) == (100000, 5, 0)
+    assert (loose["budget"], loose["lab_calls"], loose["over_budget"]) == (20_000_000, 5, 0)
+    # slow_lab.c spins 3 ms of CPU time per call: over 375 000 instructions' 2500 us, never 100 ms
+    tight, loose = run(375_000, "--native", lab="slow_lab.c"), run(15_000_000, "--native", lab="slow_lab.c")
+    assert (tight["budget"], tight["lab_cost_unit"], tight["over_budget"]) == (2500.0, "us", 5)
+    assert (loose["budget"], loose["over_budget"]) == (100000.0, 0)
 
 
 def test_amax_bounds_the_acceleration_and_sets_the_shortest_time(crslab, tmp_path):

@@ -1,6 +1,7 @@
-"""Hostile labs (tests/labs/hostile/): each one is contained and named, in ``crslab sim`` and in
-``crslab grade``; an honest lab still passes; no secret's contents appear in any output or
-report; no file appears outside the run's folders.
+"""Hostile labs (tests/labs/hostile/) built natively (``--native``): each one is contained by the
+run sandbox and named, in ``crslab sim`` and in ``crslab grade``; an honest lab still passes; no
+secret's contents appear in any output or report; no file appears outside the run's folders. (The
+same labs as WebAssembly firmware, crslab's default: tests/test_firmware_hostile.py.)
 
 Every hostile lab prints like the faulty labs (``count 1``, ``count 501``, ``count 1001``) and
 does its deed on its 1024th call, at tick 5123; the constructor and the includes act before the
@@ -39,6 +40,9 @@ IN_LAB = {
     "kill_parent.c": "send SIGKILL to process ",
     "ptrace_self.c": "call ptrace (PTRACE_TRACEME)",
     "big_allocation.c": "allocate 1024 MB at once",
+    "stat_file.c": "look up {secret} (newfstatat)",
+    "parent_limits.c": "read process ",
+    "sigio_owner.c": "make descriptor 0 signal a process (fcntl command 8: F_SETOWN, O_ASYNC)",
     "int80_open.c": "make the open system call of another architecture (a 32-bit call)"
     if platform.machine() == "x86_64" else "open /etc/hostname for reading",
 }
@@ -86,8 +90,9 @@ def place(tmp_path_factory):
 
 def sim(place, lab, *extra, duration="5.2", timeout=120):
     transcript = place.cwd.parent / "transcript.txt"
-    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(place.labs / lab),
-                        "--duration", duration, "--transcript", str(transcript), *extra],
+    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--native", "--fast", "--lab",
+                        str(place.labs / lab), "--duration", duration, "--transcript", str(transcript),
+                        *extra],
                        capture_output=True, timeout=timeout, cwd=place.cwd, env=place.env)
     data = transcript.read_bytes() if transcript.exists() else b""
     transcript.unlink(missing_ok=True)
@@ -199,7 +204,8 @@ def test_grade_classes_every_hostile_lab_forbidden_and_the_honest_one_pass(place
     before = {p.name: (p.is_symlink(), p.read_bytes() if not p.is_symlink() else b"") for p in subs.iterdir()}
     out = tmp_path / "grades"
     r = subprocess.run([sys.executable, "-m", "crslab", "grade", str(subs), "--reference", str(HONEST),
-                        "--scenario", "hands_off", "--duration", "5.2", "--jobs", "2", "--out", str(out)],
+                        "--scenario", "hands_off", "--duration", "5.2", "--jobs", "2", "--out", str(out),
+                        "--native"],
                        capture_output=True, timeout=600, cwd=place.cwd, env=place.env)
     assert r.returncode == 1, r.stderr.decode()[-2000:]
     rows = {row["submission"]: row for row in csv.DictReader((out / "grades.csv").open())}

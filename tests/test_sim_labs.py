@@ -57,8 +57,8 @@ def test_build_is_cached_by_content(tmp_path, monkeypatch):
     lab.write_text((LABS / "persistent_tau.c").read_text())
     first = build_lab(lab)
     again = build_lab(lab)
-    assert again.shared_object == first.shared_object
+    assert again.image == first.image
     lab.write_text(lab.read_text() + "\n/* edited */\n")
-    assert build_lab(lab).shared_object != first.shared_object
+    assert build_lab(lab).image != first.image
 
 

@@ -1,6 +1,9 @@
 """Untrusted lab code: crashes, hangs, exits, NaNs, memory errors and floods are diagnosed in
 one line with the right status, the transcript printed before the fault is kept, and no
-process is left behind."""
+process is left behind, on the WebAssembly board (the default) and on the native one (--native).
+
+The WebAssembly firmware names the lab's line (its trap's backtrace, or the check it was compiled
+with); a native one dies by a signal, which names only the function."""
 
 import json
 import subprocess
@@ -35,15 +38,25 @@ def no_process_left(lab):
     return found.stdout.strip() == ""
 
 
-@pytest.mark.parametrize("lab, diagnosis", [
-    ("segfault_in_lab.c", "segfault_in_lab.c crashed (SIGSEGV) in lab() at tick 5123 (t = 5.123 s)"),
-    ("abort_in_lab.c", "abort_in_lab.c crashed (SIGABRT) in lab() at tick 5123 (t = 5.123 s)"),
-    ("stack_overflow_in_lab.c",
-     "stack_overflow_in_lab.c crashed (SIGSEGV) in lab() at tick 5123 (t = 5.123 s)"),
-    ("exit_in_lab.c", "exit_in_lab.c called exit(0) in lab() at tick 5123 (t = 5.123 s)"),
+AT_5123 = "in lab() at tick 5123 (t = 5.123 s)"
+
+
+@pytest.mark.parametrize("lab, board, diagnosis", [
+    ("segfault_in_lab.c", "wasm",
+     f"segfault_in_lab.c used a NULL pointer (one that was never set) at segfault_in_lab.c:25 {AT_5123}"),
+    ("segfault_in_lab.c", "native", f"segfault_in_lab.c crashed (SIGSEGV) {AT_5123}"),
+    ("abort_in_lab.c", "wasm",
+     f"abort_in_lab.c called abort() (or an assertion failed) at abort_in_lab.c:24 {AT_5123}"),
+    ("abort_in_lab.c", "native", f"abort_in_lab.c crashed (SIGABRT) {AT_5123}"),
+    ("stack_overflow_in_lab.c", "wasm",
+     f"stack_overflow_in_lab.c overflowed its call stack (runaway recursion) at stack_overflow_in_lab.c:14 "
+     f"{AT_5123}"),
+    ("stack_overflow_in_lab.c", "native", f"stack_overflow_in_lab.c crashed (SIGSEGV) {AT_5123}"),
+    ("exit_in_lab.c", "wasm", f"exit_in_lab.c called exit(0) at exit_in_lab.c:24 {AT_5123}"),
+    ("exit_in_lab.c", "native", f"exit_in_lab.c called exit(0) {AT_5123}"),
 ])
-def test_crash_is_one_line_and_keeps_the_transcript(lab, diagnosis, tmp_path):
-    r, transcript = sim(lab, tmp_path)
+def test_crash_is_one_line_and_keeps_the_transcript(lab, board, diagnosis, tmp_path):
+    r, transcript = sim(lab, tmp_path, *(["--native"] if board == "native" else []))
     assert r.returncode == 3
     assert last_line(r) == f"crslab sim: {diagnosis}"
     assert transcript == BEFORE_FAULT
@@ -52,10 +65,12 @@ def test_crash_is_one_line_and_keeps_the_transcript(lab, diagnosis, tmp_path):
     assert no_process_left(lab)
 
 
+@pytest.mark.parametrize("board", ["wasm", "native"])
 @pytest.mark.parametrize("lab, func, tick", [("hang_in_lab.c", "lab()", 5123),
                                              ("hang_in_printing.c", "printing()", 5100)])
-def test_hang_is_stopped_and_named(lab, func, tick, tmp_path):
-    r, transcript = sim(lab, tmp_path, "--deadline", "0.5")  # (sim's timeout guards against no stop at all)
+def test_hang_is_stopped_and_named(lab, func, tick, board, tmp_path):
+    # (sim's timeout guards against no stop at all)
+    r, transcript = sim(lab, tmp_path, "--deadline", "0.5", *(["--native"] if board == "native" else []))
     assert r.returncode == 4
     assert last_line(r) == (f"crslab sim: {lab} hung: {func} did not return within 0.5 s "
                             f"at tick {tick} (t = {tick / 1000:.3f} s)")
@@ -149,23 +164,46 @@ def test_signed_overflow_under_sanitize(tmp_path):
     assert last_line(r).endswith(f"at int_overflow.c:20 in lab() at tick {tick} (t = {tick / 1000:.3f} s)")
 
 
-def test_over_budget_calls_are_counted_and_cpu_limit_stops_the_lab(tmp_path):
-    r, _ = sim("slow_lab.c", tmp_path, "--duration", "4.110", "--json")
-    assert r.returncode == 0
-    import json
-
+def test_over_budget_calls_are_counted_in_instructions_the_same_on_every_machine(tmp_path):
+    # 100 000 rounds of a float multiply-add: the loop body is a handful of instructions
+    r, _ = sim("busy_lab.c", tmp_path, "--duration", "4.110", "--json")
+    assert r.returncode == 0, r.stderr.decode()
     info = json.loads(r.stderr.decode().strip().splitlines()[-1])
+    assert info["lab_cost_unit"] == "instructions" and info["budget"] == 75_000
     assert info["lab_calls"] == 10 and info["over_budget"] == 10
     assert info["over_budget_ticks"] == list(range(4100, 4108))
-    assert info["lab_us_mean"] > 2500
-    r, _ = sim("slow_lab.c", tmp_path, "--duration", "8", "--cpu-limit", "1")
+    assert 400_000 < info["lab_cost_mean"] < 1_500_000
+    again = json.loads(sim("busy_lab.c", tmp_path, "--duration", "4.110", "--json")[0].stderr.decode()
+                       .strip().splitlines()[-1])
+    assert (again["lab_cost_mean"], again["lab_cost_max"]) == (info["lab_cost_mean"], info["lab_cost_max"])
+    r, _ = sim("busy_lab.c", tmp_path, "--duration", "4.110", "--json", "--budget", "10000000")
+    assert json.loads(r.stderr.decode().strip().splitlines()[-1])["over_budget"] == 0
+
+
+def test_a_native_lab_is_counted_in_cpu_time_and_cpu_limit_stops_the_lab(tmp_path):
+    r, _ = sim("slow_lab.c", tmp_path, "--duration", "4.110", "--json", "--native")
+    assert r.returncode == 0
+    info = json.loads(r.stderr.decode().strip().splitlines()[-1])
+    assert info["lab_cost_unit"] == "us" and info["budget"] == 500.0
+    assert info["lab_calls"] == 10 and info["over_budget"] == 10
+    assert info["over_budget_ticks"] == list(range(4100, 4108))
+    assert info["lab_cost_mean"] > 2500
+    r, _ = sim("slow_lab.c", tmp_path, "--duration", "8", "--cpu-limit", "1", "--native")
     assert r.returncode == 3
     assert "slow_lab.c used up its CPU-time limit (1 s) in lab() at tick" in last_line(r)
     assert no_process_left("slow_lab.c")
 
 
-def test_memory_limit_stops_a_leaking_lab(tmp_path):
-    r, transcript = sim("memory_hog.c", tmp_path, "--mem-limit-mb", "600")
+def test_a_leaking_lab_gets_the_boards_memory_and_no_more(tmp_path):
+    # the firmware's memory is fixed: malloc(64 MB) returns NULL, and memset through it runs off the end
+    r, _ = sim("memory_hog.c", tmp_path)
+    assert r.returncode == 3
+    assert last_line(r) == ("crslab sim: memory_hog.c read or wrote outside its memory (a wild pointer or an "
+                            f"index far out of an array) at memory_hog.c:25 {AT_5123}")
+
+
+def test_memory_limit_stops_a_leaking_native_lab(tmp_path):
+    r, transcript = sim("memory_hog.c", tmp_path, "--mem-limit-mb", "600", "--native")
     assert r.returncode == 3
     assert last_line(r).startswith("crslab sim: memory_hog.c crashed (SIG")
     assert " in lab() at tick " in last_line(r) and last_line(r).endswith("its memory limit was 600 MB")

@@ -13,6 +13,8 @@ import importlib
 import sys
 from collections.abc import Sequence
 
+from crslab.untrusted_text import for_terminal
+
 COMMANDS = [
     "crslab.cli.kinematics_commands",
     "crslab.cli.sim_commands",
@@ -202,7 +204,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         status = int(args.func(args) or 0)
     except CliError as exc:
-        print(f"crslab {args.command}: {exc}", file=sys.stderr)
+        # a message may quote what a lab controls (a path it tried, a file's name): one safe line
+        print(f"crslab {args.command}: {for_terminal(str(exc))}", file=sys.stderr)
         return exc.status
     except termination.Terminated as exc:
         print(f"crslab {args.command}: terminated ({exc.name})", file=sys.stderr)

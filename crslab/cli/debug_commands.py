@@ -224,7 +224,7 @@ def run_debug(args: argparse.Namespace) -> int:
     if unreached:
         print(f"{PREFIX}{unreached}", file=sys.stderr)
     print_run_notes(PREFIX, lab_name, result, config.build.generation)
-    info = summary(result, wall, args.budget_us)
+    info = summary(result, wall, args.budget)
     if args.json:
         print(json.dumps(info), file=sys.stderr)
     else:  # lab() timings mean nothing once a debugger has held it

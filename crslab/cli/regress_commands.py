@@ -42,6 +42,7 @@ from crslab.scenario.event import seconds_to_tick
 from crslab.sim.config import SimConfig
 from crslab.sim.session import SimError
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
+from crslab.untrusted_text import for_terminal, for_text
 
 
 def non_negative(text: str) -> float:
@@ -147,7 +148,8 @@ def run_record(args: argparse.Namespace) -> int:
         for expectation in result.failed_expectations:
             for line in expectation.lines():
                 print(f"crslab record: expectation failed: {line}", file=sys.stderr)
-        print(f"crslab record: {result.message or result.status}; nothing was written", file=sys.stderr)
+        print(f"crslab record: {for_terminal(result.message or result.status)}; nothing was written",
+              file=sys.stderr)
         return result.exit_status
     try:
         write_golden(args.output, run_header(config, end_tick, args.scenario, args.plant), result.transcript)
@@ -201,6 +203,7 @@ def run_check(args: argparse.Namespace) -> int:
     report = comparison.report(max_lines=args.max_report)
     if not result.ok:
         report = f"{result.diagnosis()}\n{report}"
+    report = for_text(report)  # it quotes what the lab printed
     print(report)
     status = result.exit_status if not result.ok else (
         ExitStatus.OK if comparison.ok else ExitStatus.MISMATCH)
@@ -293,10 +296,10 @@ def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, refe
         board = c28x.get(grade.path, C28xReport()).lines()
         extra = "\n" + "\n".join(board) + "\n" if board else ""
         if grade.grade != GradeClass.PASS:
-            (out / "reports" / f"{grade.path.name}.txt").write_text(f"{grade.grade}: {grade.detail}\n\n"
-                                                                   f"{grade.report}\n{extra}")
+            (out / "reports" / f"{grade.path.name}.txt").write_text(
+                for_text(f"{grade.grade}: {grade.detail}\n\n{grade.report}\n{extra}"))
         elif board:
-            (out / "reports" / f"{grade.path.name}.txt").write_text(f"{grade.grade}{extra}")
+            (out / "reports" / f"{grade.path.name}.txt").write_text(for_text(f"{grade.grade}{extra}"))
     g.write_csv(out / "grades.csv", ordered)
     g.write_junit_grades(out / "junit.xml", ordered, f"crslab.grade.{config.scenario.name}")
     with (out / "summary.txt").open("w") as f:

@@ -14,6 +14,8 @@ from crslab.cli.live_options import LiveRun, add_live_options, live_needs_log
 from crslab.cli.sim_narration import Narrator, introduction
 from crslab.cli.tracking_options import TrackingRun, add_tracking_options
 from crslab.framework_facts import (
+    CPU_CYCLES_PER_TICK,
+    LAB_BUDGET_INSTRUCTIONS,
     MB_LIMIT_UNITS,
     MB_OVER_LIMIT_MS,
     MB_TIMEOUT_MS,
@@ -39,8 +41,20 @@ from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.stdout import StdoutSink
 from crslab.sinks.transcript_file import TranscriptSink
+from crslab.untrusted_text import for_terminal, for_text
 
 NEAR_BUDGET = 0.8  # warn when a lab() call took this share of the budget
+
+
+def positive_int(text: str) -> int:
+    """argparse type: a whole number > 0."""
+    try:
+        value = int(text.replace("_", "").replace(",", ""))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a whole number, got {text}") from None
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
 
 
 def positive(text: str) -> float:
@@ -75,11 +89,16 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--deadline", type=positive, default=DEFAULT_DEADLINE_S, metavar="SECONDS",
                    help="wall-clock time one lab() or printing() call may take before it counts as hung "
                    "(default: %(default)s)")
-    p.add_argument("--budget-us", type=positive, default=1000.0, metavar="US",
-                   help="lab() time budget per call, as on the DSP (default: %(default)s)")
+    p.add_argument("--budget", type=positive_int, default=LAB_BUDGET_INSTRUCTIONS, metavar="INSTRUCTIONS",
+                   help="what one lab() call may cost, in WebAssembly instructions (about one per cycle of "
+                   "the 150 MHz F28335; a --native run compares the time its lab() takes at that rate; default: "
+                   "%(default)s, half a tick)")
     p.add_argument("--strict", action="store_true", help="a NaN or Inf torque ends the run with an error")
+    p.add_argument("--native", action="store_true",
+                   help="build the lab natively with the host's C compiler instead of as WebAssembly "
+                   "(it then runs in the worker process itself, inside the run sandbox)")
     p.add_argument("--sanitize", action="store_true",
-                   help="build the lab with AddressSanitizer and UBSan and report memory errors")
+                   help="build the lab natively with AddressSanitizer and UBSan and report memory errors")
     p.add_argument("--max-output-mb", type=positive, default=16.0, metavar="MB",
                    help="cut the run off when the lab has printed this much (default: %(default)g)")
     p.add_argument("--mem-limit-mb", type=int, metavar="MB", help="memory limit of the lab's process")
@@ -162,40 +181,54 @@ def config_from_args(args: argparse.Namespace, *, log: bool = False,
     try:
         return make_config(args.lab, args.scenario, startup_delay=not args.no_startup_delay,
                            rest_motor_rad=rest, log=log, strict=args.strict,
-                           budget_us=args.budget_us, sanitize=args.sanitize, sandbox=sandboxed,
+                           budget=args.budget, native=args.native, sanitize=args.sanitize, sandbox=sandboxed,
                            motor_board=args.motor_board, debug=debug, break_when=break_when,
                            plant=getattr(args, "plant", None))
     except LabBuildError as exc:
-        if exc.diagnostics:
-            sys.stderr.write(exc.diagnostics)
+        if exc.diagnostics:  # the compiler's messages quote the lab's own lines
+            sys.stderr.write(for_text(exc.diagnostics).rstrip("\n") + "\n")
         status = RunStatus.FORBIDDEN if isinstance(exc, LabForbidden) else RunStatus.BUILD_ERROR
         raise CliError(str(exc), status.exit_status) from None
     except (ScenarioError, PlantParamsError) as exc:
         raise CliError(str(exc)) from None
 
 
-def summary(result: RunResult, wall_s: float, budget_us: float) -> dict:
-    """The end-of-run numbers: time, lab() timing, NaN and long-line notices."""
+def lab_cost(stats: dict, budget: int) -> dict:
+    """lab()'s cost per call, in the firmware's unit: WebAssembly instructions, or (native) the
+    microseconds it took, with the budget in the same unit (``budget`` is in instructions, one per cycle
+    of the 150 MHz F28335)."""
+    calls = stats.get("lab_calls", 0)
+    instructions = stats.get("cost_unit", board_constants().CRS_COST_INSTRUCTIONS) == \
+        board_constants().CRS_COST_INSTRUCTIONS
+    scale = 1.0 if instructions else 1e-3  # ns to us
+    return {
+        "lab_cost_unit": "instructions" if instructions else "us",
+        "lab_cost_mean": round(stats.get("lab_cost_total", 0) * scale / calls, 1) if calls else 0.0,
+        "lab_cost_max": round(stats.get("lab_cost_max", 0) * scale, 1),
+        "lab_max_tick": stats.get("lab_max_tick", 0),
+        "budget": budget if instructions else round(budget * 1000 / CPU_CYCLES_PER_TICK, 1),
+        "over_budget": stats.get("over_budget", 0),
+        "over_budget_ticks": stats.get("first_over_tick", []),
+    }
+
+
+def summary(result: RunResult, wall_s: float, budget: int) -> dict:
+    """The end-of-run numbers: time, lab()'s cost, NaN and long-line notices."""
     st = result.stats
-    calls = st.get("lab_calls", 0)
     return {
         "status": result.status,
         "message": result.message,
         "simulated_s": result.end_tick / 1000.0,
         "wall_s": round(wall_s, 3),
-        "lab_calls": calls,
-        "lab_us_mean": round(st.get("lab_ns_total", 0) / calls / 1000.0, 3) if calls else 0.0,
-        "lab_us_max": round(st.get("lab_ns_max", 0) / 1000.0, 3),
-        "lab_max_tick": st.get("lab_max_tick", 0),
-        "budget_us": budget_us,
-        "over_budget": st.get("over_budget", 0),
-        "over_budget_ticks": st.get("first_over_tick", []),
+        "lab_calls": st.get("lab_calls", 0),
+        **lab_cost(st, budget),
         "nan_first_tick": st.get("nan_first_tick", -1),
         "nan_first_tau": st.get("nan_first_joint", 0),
         "nan_count": st.get("nan_count", 0),
         "serial_dropped": st.get("serial_dropped", 0),
         "tx_ring_dropped": st.get("tx_dropped", 0),
         "tx_ring_first_drop_tick": st.get("tx_first_drop_tick", -1),
+        "console_bytes": st.get("console_bytes", 0),
         "motor_board": st.get("motor_board", ""),
         "motor_board_cutouts": st.get("motor_board_cutouts", 0),
         "expectations_met": sum(e.met for e in result.expectations),
@@ -205,14 +238,18 @@ def summary(result: RunResult, wall_s: float, budget_us: float) -> dict:
     }
 
 
+def _count(value: float) -> str:
+    return f"{value:,.0f}" if value >= 100 else f"{value:.1f}"
+
+
 def summary_line(info: dict) -> str:
     """The end-of-run summary in one line.
 
-    >>> summary_line({"simulated_s": 25.0, "wall_s": 0.5, "lab_calls": 10, "lab_us_mean": 0.12,
-    ...               "lab_us_max": 3.4, "lab_max_tick": 4100, "over_budget": 2,
-    ...               "over_budget_ticks": [5000, 6000], "budget_us": 1000.0,
+    >>> summary_line({"simulated_s": 25.0, "wall_s": 0.5, "lab_calls": 10, "lab_cost_mean": 1234.0,
+    ...               "lab_cost_unit": "instructions", "lab_cost_max": 5678.0, "lab_max_tick": 4100,
+    ...               "over_budget": 2, "over_budget_ticks": [5000, 6000], "budget": 75000,
     ...               "motor_board": "piccolo", "motor_board_cutouts": 1})
-    '25.000 s simulated in 0.50 s; lab() x10: mean 0.1 us, max 3.4 us (tick 4100); 2 over the 1000 us ...'
+    '25.000 s simulated in 0.50 s; lab() x10: mean 1,234 instructions, max 5,678 (tick 4100); 2 over ...'
     >>> summary_line({"simulated_s": 1.0, "wall_s": 0.1, "lab_calls": 0, "motor_board": "piccolo",
     ...               "motor_board_cutouts": 2, "expectations_met": 1, "expectations_failed": 1,
     ...               "expectations_not_reached": 0, "expectations": [{}, {}]})
@@ -221,9 +258,10 @@ def summary_line(info: dict) -> str:
     """
     line = f"{info['simulated_s']:.3f} s simulated in {info['wall_s']:.2f} s"
     if info["lab_calls"]:
-        line += (f"; lab() x{info['lab_calls']}: mean {info['lab_us_mean']:.1f} us, "
-                 f"max {info['lab_us_max']:.1f} us (tick {info['lab_max_tick']}); "
-                 f"{info['over_budget']} over the {info['budget_us']:g} us budget")
+        unit = info["lab_cost_unit"]
+        line += (f"; lab() x{info['lab_calls']}: mean {_count(info['lab_cost_mean'])} {unit}, "
+                 f"max {_count(info['lab_cost_max'])} (tick {info['lab_max_tick']}); "
+                 f"{info['over_budget']} over the budget of {_count(info['budget'])}")
         if info["over_budget"]:
             line += f" (ticks {', '.join(map(str, info['over_budget_ticks']))})"
     if info.get("motor_board", "none") != "none":
@@ -250,14 +288,24 @@ def lost_serial_notice(lab_name: str, stats: dict) -> str | None:
             f"the {dropped} bytes after that are missing from the transcript")
 
 
+def near_budget_warning(lab_name: str, info: dict) -> str | None:
+    """A warning when no lab() call went over the budget but the slowest came close."""
+    if info.get("over_budget", 0) or not info.get("lab_calls"):
+        return None
+    if info["lab_cost_max"] <= NEAR_BUDGET * info["budget"]:
+        return None
+    return (f"warning: {lab_name}'s slowest lab() call cost {_count(info['lab_cost_max'])} "
+            f"{info['lab_cost_unit']}, close to the budget of {_count(info['budget'])}")
+
+
 def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: int) -> None:
     """On stderr after a run (``crslab sim`` and ``crslab debug``): its :func:`notices` and its
     failed scenario expectations, one line each."""
     for line in notices(lab_name, result.stats, generation, result.lab_file):
-        print(f"{prefix}{line}", file=sys.stderr)
+        print(f"{prefix}{for_terminal(line)}", file=sys.stderr)
     for expectation in result.failed_expectations:
         for line in expectation.lines():
-            print(f"{prefix}expectation failed: {line}", file=sys.stderr)
+            print(f"{prefix}expectation failed: {for_terminal(line)}", file=sys.stderr)
 
 
 def notices(lab_name: str, stats: dict, generation: int, source: Path | None = None) -> list[str]:
@@ -277,6 +325,10 @@ def notices(lab_name: str, stats: dict, generation: int, source: Path | None = N
     lost = lost_serial_notice(lab_name, stats)
     if lost:
         out.append(lost)
+    if stats.get("console_bytes", 0) > 0:
+        out.append(f"note: {lab_name} wrote {stats['console_bytes']} bytes with printf, puts or the like: "
+                   "on the board they go to Code Composer Studio's console, not to Tera Term, and crslab "
+                   "does not show them (serial_printf(&SerialA, ...) prints to Tera Term)")
     if stats.get("nan_first_tick", -1) >= 0:
         t = stats["nan_first_tick"]
         out.append(f"warning: {lab_name} returned a NaN or Inf in tau{stats['nan_first_joint']} at tick {t} "
@@ -388,14 +440,14 @@ def _run_sim(args: argparse.Namespace, config: SimConfig, tracking: TrackingRun,
     tracking.finish()
     say_c28x_report(c28x, config.build.source)
     print_run_notes("crslab sim: ", lab_name, result, config.build.generation)
-    info = summary(result, wall, args.budget_us)
+    info = summary(result, wall, args.budget)
     if args.json:
         print(json.dumps(info), file=sys.stderr)
     else:
         print(f"crslab sim: {summary_line(info)}", file=sys.stderr)
-    if info["over_budget"] == 0 and info["lab_us_max"] > NEAR_BUDGET * args.budget_us:
-        print(f"crslab sim: warning: {lab_name}'s slowest lab() call took {info['lab_us_max']:.0f} us, "
-              f"close to the {args.budget_us:g} us budget", file=sys.stderr)
+    warning = near_budget_warning(lab_name, info)
+    if warning:
+        print(f"crslab sim: {warning}", file=sys.stderr)
     if result.message:
-        print(f"crslab sim: {result.message}", file=sys.stderr)
+        print(f"crslab sim: {for_terminal(result.message)}", file=sys.stderr)
     return result.exit_status

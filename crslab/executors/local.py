@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import multiprocessing as mp
 import os
+import shutil
 import signal
+import tempfile
 import threading
 import time
 from collections.abc import Sequence
@@ -49,9 +51,13 @@ def context() -> mp.context.BaseContext:
     return mp.get_context("spawn")  # pragma: no cover - every Linux has the fork server
 
 
-def _child(conn: Connection, job: Job) -> None:
+def _child(conn: Connection, job: Job, scratch: str) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the process that started us's to handle
     os_support.die_with_parent()
+    # every temporary file of the job (a submission's private copy, a sanitizer's report) goes into
+    # the folder the executor removes when the job ends, however it ends
+    os.environ["TMPDIR"] = scratch
+    tempfile.tempdir = scratch
     try:
         result = job.run()
     except Exception as exc:  # noqa: BLE001 - reported as this job's crash, never raised
@@ -89,6 +95,7 @@ class LocalExecutor:
         ctx = context()
         pending = list(enumerate(jobs))
         running: dict[Connection, tuple[int, mp.process.BaseProcess, float]] = {}
+        scratch: dict[Connection, str] = {}
 
         def finish(conn: Connection, result: Any) -> None:
             index, proc, _ = running.pop(conn)
@@ -97,6 +104,7 @@ class LocalExecutor:
             if proc.is_alive():
                 proc.kill()
                 proc.join()
+            shutil.rmtree(scratch.pop(conn), ignore_errors=True)
             on_done(index, result)
 
         try:
@@ -106,9 +114,11 @@ class LocalExecutor:
                 while pending and len(running) < self.workers:
                     index, job = pending.pop(0)
                     parent, child = ctx.Pipe(duplex=False)
-                    proc = ctx.Process(target=_child, args=(child, job), name=f"crslab {job.name}")
+                    folder = tempfile.mkdtemp(prefix="crslab-job-")
+                    proc = ctx.Process(target=_child, args=(child, job, folder), name=f"crslab {job.name}")
                     proc.start()
                     running[parent] = (index, proc, time.monotonic())
+                    scratch[parent] = folder
                     child.close()
                 for conn in wait(list(running), timeout=0.2):
                     assert isinstance(conn, Connection)
@@ -134,6 +144,8 @@ class LocalExecutor:
                     proc.kill()
                     proc.join()
                 conn.close()
+                if conn in scratch:
+                    shutil.rmtree(scratch.pop(conn), ignore_errors=True)
 
 
 class _CtrlCFlag(threading.Event):

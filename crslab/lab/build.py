@@ -1,18 +1,19 @@
-"""Compile a lab file (unmodified) with the host C compiler into a shared object with the
-emulated board.
+"""Build a lab file (unmodified) into the firmware the board runs.
 
-The compiler is ``$CC``, else ``cc``, ``gcc`` or ``clang`` (:mod:`crslab.lab.compiler`). The lab is
-compiled as C11 (never a GNU dialect, so globals named ``gamma``, ``y0`` or ``j1`` do not clash
-with glibc's math declarations), a ``.cpp`` file holding C is compiled as C, and the object is
-linked so lab globals named like libc functions (``time``, ``index``, ``step``) bind to the
-lab's own definitions (:data:`crslab.os_support.SHARED_OBJECT_FLAGS`). The board's sources come
-from the installed package (:mod:`crslab.resources`). Builds are cached per user by the content
-of the lab, of every board source, of the flags and by the compiler's identity, so a second run
-starts at once.
+By default the lab becomes a WebAssembly module (:mod:`crslab.lab.firmware`): the lab file linked
+with the framework's stand-ins, compiled by zig for wasm32, run by the board in a store of its own
+(csrc/sim/firmware_wasm.c). ``native`` (crslab debug, ``--sanitize``, ``--native``) instead links
+the lab, the same stand-ins and the whole board into one shared object with the host C compiler
+(``$CC``, else ``cc``, ``gcc`` or ``clang``; :mod:`crslab.lab.compiler`), which the worker loads.
 
-The lab is compiled and linked inside the compile sandbox (crslab/sandbox/compile_sandbox.py):
-the compiler reads only the lab's folder, crslab's headers and objects and the compiler's own
-files, and writes only the build folder; reading anything else is :class:`LabForbidden`.
+Either way the lab is compiled as C11 (never a GNU dialect, so globals named ``gamma``, ``y0`` or
+``j1`` do not clash with the C library's math declarations), a ``.cpp`` file holding C is compiled
+as C, and the compiler runs contained (:mod:`crslab.lab.compile_process`: limits, its own process
+group) in the compile sandbox (crslab/sandbox/compile_sandbox.py: it reads only the lab's folder,
+crslab's headers and the compiler's own files, and writes only the build folder; reading anything
+else is :class:`LabForbidden`). A lab whose globals do not fit the F28335's data memory, as the TI
+linker would lay them out, does not build either (:func:`check_board_memory`). Builds are cached per
+user by the content of the lab, of every board source, of the flags and by the compiler's identity.
 """
 
 from __future__ import annotations
@@ -20,30 +21,36 @@ from __future__ import annotations
 import hashlib
 import os
 import re
-import subprocess
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from crslab import os_support, resources
 from crslab.cache import CacheError, cache_dir
-from crslab.framework_facts import GEN_A, GEN_B, printf_buffer_chars
+from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START, GEN_A, GEN_B, printf_buffer_chars
+from crslab.lab import firmware, zig
+from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.lab_file import lab_file_problem
 from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, find_watched
-from crslab.sandbox.compile_sandbox import CompilerSandbox, compiler_sandbox, forbidden_read
+from crslab.sandbox.compile_sandbox import compiler_sandbox
 
 CSRC = resources.path("csrc")
 SHIM_INCLUDE = CSRC / "board" / "include"
 KIN = CSRC / "kin"
 SIM = CSRC / "sim"
+FIRMWARE = CSRC / "firmware"
 DEFAULT_LAB = CSRC / "labs" / "lab1_kinematics.c"
-BOARD_SOURCES = sorted(SIM.glob("*.c")) + sorted(KIN.glob("*.c"))
-BOARD_HEADERS = sorted(SIM.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h"))
+WASM_ONLY = {"firmware_wasm.c"}
+"""Board sources of crslab._core alone (the native board is linked with a lab instead)."""
+BOARD_SOURCES = (sorted(p for p in SIM.glob("*.c") if p.name not in WASM_ONLY) + sorted(FIRMWARE.glob("*.c"))
+                 + sorted(KIN.glob("*.c")))
+BOARD_HEADERS = (sorted(SIM.glob("*.h")) + sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h"))
+                 + sorted(SHIM_INCLUDE.glob("*.h")))
 
-COMPILE_TIMEOUT_S = 60.0
-INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(KIN), "-I", str(SIM)]
+INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
+ERROR_LIMIT = ["-fmax-errors=50"]
 LAB_FLAGS = ["-std=c11", "-O2", "-fPIC", "-w", "-fno-common"]
 BOARD_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-fno-math-errno"]
 # ASan finds out-of-bounds reads and writes (and says which); UBSan the rest (overflow,
@@ -60,32 +67,18 @@ LINK_LIBS = os_support.MATH_LIBS
 _INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]', re.MULTILINE)
 
 
-class LabBuildError(Exception):
-    """The lab could not be built; ``diagnostics`` holds the compiler's own messages."""
-
-    def __init__(self, message: str, diagnostics: str = "") -> None:
-        super().__init__(message)
-        self.diagnostics = diagnostics
-
-
-class LabForbidden(LabBuildError):
-    """The sandboxed compiler was refused a file the lab names (an ``#include`` of a path
-    outside the lab's folder, a symbolic link out of it, an ``.incbin``): ``path`` is that file."""
-
-    def __init__(self, message: str, diagnostics: str, path: str) -> None:
-        super().__init__(message, diagnostics)
-        self.path = path
-
-
 @dataclass(frozen=True)
 class LabBuild:
-    """A compiled lab: the shared object and what was learned from the source."""
+    """A built lab: its firmware image and what was learned from the source."""
 
     source: Path
-    shared_object: Path
+    image: Path
+    """The firmware: ``lab.wasm`` (WebAssembly), or ``lab.so`` (native: the lab linked with the board)."""
     generation: int
     sanitized: bool
     digest: str
+    native: bool = False
+    """Built natively (crslab debug, --sanitize, --native) rather than as WebAssembly."""
     watched: tuple[WatchedVar, ...] = field(default=())
     compiler: Compiler | None = None
     debug: bool = False
@@ -94,12 +87,29 @@ class LabBuild:
     """The ``--break-when`` condition compiled in with the lab (``crs_debug_condition``), if any."""
     variables: tuple[LabVariable, ...] = field(default=())
     """Every global the file defines (laid out in C28x memory by crslab.host_tools.c28x_memory)."""
+    renamed: tuple[str, ...] = field(default=())
+    """Globals of the lab compiled under another name in its WebAssembly image, because the C
+    library defines theirs (:func:`crslab.lab.firmware.clashing_symbols`)."""
+    sized: tuple[str, ...] = field(default=())
+    """The lab's globals in its WebAssembly image's size table, in the table's order
+    (:func:`crslab.lab.firmware.unit_text`)."""
+
+    def image_name(self, name: str) -> str:
+        """What the lab's global ``name`` is called in its image."""
+        return firmware.RENAMED_PREFIX + name if name in self.renamed else name
 
     @property
     def printf_buffer_chars(self) -> int:
         """Characters the real board's serial_printf buffer holds for this framework generation
         (a line of this many or more overflows it)."""
         return printf_buffer_chars(self.generation)
+
+    @property
+    def shared_object(self) -> Path:
+        """The native build's shared object (the board and the lab)."""
+        if not self.native:
+            raise ValueError(f"{self.source.name} was built as WebAssembly, not as a shared object")
+        return self.image
 
 
 def detect_generation(source_text: str) -> int:
@@ -124,8 +134,8 @@ def content_digest(parts: list[bytes]) -> str:
 
 
 def compiler() -> Compiler:
-    """The compiler labs are built with; a missing one is a :class:`LabBuildError` saying how to
-    install one."""
+    """The host compiler native labs are built with; a missing one is a :class:`LabBuildError`
+    saying how to install one."""
     try:
         return find_compiler()
     except CompilerMissing as exc:
@@ -139,42 +149,29 @@ def _cache() -> Path:
         raise LabBuildError(str(exc)) from None
 
 
-def run_compiler(cc: Compiler, args: list[str], what: str, sandbox: CompilerSandbox | None = None) -> None:
-    """Run ``cc`` with ``args`` (inside ``sandbox`` when given); a failure is a LabBuildError."""
-    rules, extra = None, {}
-    if sandbox is not None:
-        try:
-            rules = sandbox.ruleset()
-        except OSError as exc:  # Landlock missing: the caller should not have asked for the sandbox
-            raise LabBuildError(f"the compile sandbox cannot be set up ({exc}); --no-sandbox compiles "
-                                "without it") from None
-        extra = {"preexec_fn": sandbox.preexec(rules.fd), "env": sandbox.environment()}
-    try:
-        r = subprocess.run([*cc.argv, *args], capture_output=True, text=True, timeout=COMPILE_TIMEOUT_S,
-                           **extra)  # type: ignore[call-overload]
-    except subprocess.TimeoutExpired:
-        raise LabBuildError(f"{what}: {cc.name} took longer than {COMPILE_TIMEOUT_S:.0f} s") from None
-    except OSError as exc:
-        raise LabBuildError(f"{cc.name} cannot be run ({exc.strerror})") from None
-    finally:
-        if rules is not None:
-            rules.close()
-    if r.returncode != 0:
-        refused = forbidden_read(r.stderr) if sandbox is not None else None
-        if refused:
-            shown = f"{refused} (a symbolic link to {os.path.realpath(refused)})" \
-                if os.path.islink(refused) else refused
-            raise LabForbidden(f"{what} was stopped by the sandbox: it tried to read {shown} while "
-                               "compiling (a lab may read only its own folder, crslab's headers and the "
-                               "compiler's files)", r.stderr, refused)
-        raise LabBuildError(f"{what} does not compile", r.stderr)
+def check_board_memory(variables: list[LabVariable], generation: int, source: Path) -> None:
+    """Refuse a lab whose globals, laid out as the TI linker would (16-bit words, the framework's
+    sections), run past the F28335's data memory (``DATA_RAM_START`` to ``DATA_RAM_END``): the
+    real board's link fails the same way."""
+    from crslab.host_tools.c28x_memory import layout
+
+    placed = layout(variables, generation, source.stem).variables
+    end = max((v.address + v.words for v in placed), default=DATA_RAM_START)
+    if end > DATA_RAM_END:
+        need_kb = (end - DATA_RAM_START) * 2 / 1024
+        have_kb = (DATA_RAM_END - DATA_RAM_START) * 2 / 1024
+        biggest = max(placed, key=lambda v: v.words)
+        raise LabBuildError(f"{source.name} does not fit the board: its globals need {need_kb:,.0f} KB, the "
+                            f"board has {have_kb:,.0f} KB for its data (the largest, {biggest.name}, takes "
+                            f"{biggest.words * 2 / 1024:,.1f} KB)")
 
 
 def _board_objects(cc: Compiler, sanitize: bool, cache: Path, debug: bool = False) -> list[Path]:
-    """The board, framework and kinematics objects, built once per content, flags and compiler."""
+    """The native board, framework stand-ins and kinematics objects, built once per content,
+    flags and compiler."""
     flags = BOARD_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_BOARD_FLAGS if debug else [])
     digest = content_digest([cc.identity.encode(), " ".join(flags).encode()]
-                     + [p.read_bytes() for p in BOARD_SOURCES + BOARD_HEADERS])
+                            + [p.read_bytes() for p in BOARD_SOURCES + BOARD_HEADERS])
     out_dir = cache / f"board-{digest}"
     objects = [out_dir / f"{p.parent.name}_{p.stem}.o" for p in BOARD_SOURCES]
     if all(o.exists() for o in objects):
@@ -182,7 +179,7 @@ def _board_objects(cc: Compiler, sanitize: bool, cache: Path, debug: bool = Fals
     out_dir.mkdir(parents=True, exist_ok=True)
     for src, obj in zip(BOARD_SOURCES, objects):
         tmp = obj.with_suffix(f".{os.getpid()}.tmp")
-        run_compiler(cc, [*flags, *INCLUDES, "-c", str(src), "-o", str(tmp)],
+        run_compiler([*cc.argv, *flags, *INCLUDES, "-c", str(src), "-o", str(tmp)],
                      f"crslab's board source {src.name}")
         tmp.replace(obj)
     return objects
@@ -208,33 +205,40 @@ def break_when_source(lab: Path, condition: str) -> str:
             f"{condition}\n) != 0; }}\n")
 
 
-def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path | None = None,
-              sandboxed: bool = True, debug: bool = False, break_when: str | None = None) -> LabBuild:
-    """Compile ``source`` (default: crslab's Lab 1) and link it with the board; cached in
-    ``cache`` (default: the per-user cache, :func:`crslab.cache.cache_dir`). ``sandboxed``
-    compiles it in the compile sandbox (see :func:`crslab.sandbox.resolve`). ``debug`` builds it
-    for a debugger (``crslab debug``): the lab ``-O0 -g``, the board with line information, and
-    with ``break_when`` (a C expression) that condition as ``crs_debug_condition()``.
-
-    Raises :class:`LabBuildError` for a missing file, a file that does not compile or a missing
-    compiler, and :class:`LabForbidden` when the sandboxed compiler was refused a file the lab
-    names.
-    """
-    src = Path(source) if source is not None else DEFAULT_LAB
-    problem = lab_file_problem(src)
-    if problem:
-        raise LabBuildError(problem)
+def _build_wasm(src: Path, text: str, variables: list[LabVariable], cache: Path,
+                sandboxed: bool) -> tuple[firmware.WasmImage, str]:
+    """The WebAssembly firmware of ``src`` (cached); returns (image, digest)."""
     try:
-        text_bytes = src.read_bytes()
-    except OSError as exc:
-        raise LabBuildError(f"{src}: cannot be read ({exc.strerror})") from None
-    text = text_bytes.decode("utf-8", "replace")
-    generation = detect_generation(text)
-    debug = debug or break_when is not None
-    flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_LAB_FLAGS if debug else [])
-    unit = break_when_source(src, break_when) if break_when is not None else None
+        firmware.prepare_zig()
+        objects = firmware.firmware_objects(cache, content_digest)
+    except (RuntimeError, zig.ZigMissing, OSError) as exc:
+        raise LabBuildError(f"the WebAssembly compiler cannot be used: {exc}") from None
+    globals_ = [v.name for v in variables if not v.static]
+    digest = content_digest([text.encode("utf-8", "surrogateescape"), src.suffix.encode(),
+                             str(src).encode(), " ".join(firmware.LAB_FLAGS + firmware.LINK_FLAGS).encode(),
+                             objects[0].parent.name.encode(), " ".join(globals_).encode()])
+    out_dir = cache / f"wasm-{digest}"
+    cached = firmware.WasmImage.load(out_dir)
+    if cached is not None:
+        return cached, digest
+    out_dir.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
+        build_dir = Path(tmp)
+        sandbox = compiler_sandbox([src], build_dir, [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent],
+                                   compiler=(), run_dirs=[zig.zig_dir()],
+                                   cache_dirs=[zig.zig_cache()]) if sandboxed else None
+        built = firmware.build_module(src, globals_, objects, build_dir, sandbox)
+        built.path.replace(out_dir / "lab.wasm")
+        built.save(out_dir)
+    image = firmware.WasmImage.load(out_dir)
+    assert image is not None
+    return image, digest
+
+
+def _build_native(src: Path, text_bytes: bytes, flags: list[str], unit: str | None, break_when: str | None,
+                  sanitize: bool, debug: bool, cache: Path, sandboxed: bool) -> tuple[Path, str, Compiler]:
+    """The native shared object of ``src`` linked with the board (cached); returns (image, digest, cc)."""
     cc = compiler()
-    cache = cache if cache is not None else _cache()
     objects = _board_objects(cc, sanitize, cache, debug)
     digest = content_digest([text_bytes, " ".join(flags).encode(), src.suffix.encode()]
                             + [o.parent.name.encode() for o in objects[:1]]  # it names the compiler
@@ -246,8 +250,8 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path
     if not so.exists():
         out_dir.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
-            sandbox = compiler_sandbox([src], Path(tmp), [SHIM_INCLUDE, KIN, SIM, objects[0].parent],
-                                       compiler=cc.argv) if sandboxed else None
+            readable = [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent]
+            sandbox = compiler_sandbox([src], Path(tmp), readable, compiler=cc.argv) if sandboxed else None
             obj = Path(tmp) / "lab.o"
             # compile the user's own path so the compiler's messages name the user's file and line
             # (absolute for a debugger, which then finds the source from any folder)
@@ -256,17 +260,69 @@ def build_lab(source: Path | None = None, *, sanitize: bool = False, cache: Path
                 compiled = Path(tmp) / "break_when.c"
                 compiled.write_text(unit)
                 what = f"{src.name} with --break-when {break_when!r}"
-            run_compiler(cc, [*flags, *INCLUDES, "-x", "c", "-c", str(compiled), "-o", str(obj)], what,
-                         sandbox)
+            run_compiler([*cc.argv, *flags, *ERROR_LIMIT, *INCLUDES, "-x", "c", "-c", str(compiled), "-o",
+                          str(obj)], what, sandbox)
             tmp_so = Path(tmp) / "lab.so"
             link_flags = [*os_support.SHARED_OBJECT_FLAGS, *(cc.sanitizer_link_flags() if sanitize else [])]
-            run_compiler(cc, [*link_flags, "-o", str(tmp_so), str(obj), *map(str, objects), *LINK_LIBS],
-                         f"{src.name} (link)", sandbox)
+            try:
+                run_compiler([*cc.argv, *link_flags, "-Wl,--no-undefined", "-o", str(tmp_so), str(obj),
+                              *map(str, objects), *LINK_LIBS], f"{src.name} (link)", sandbox)
+            except LabForbidden:
+                raise
+            except LabBuildError as exc:
+                if "undefined reference to `" in exc.diagnostics:
+                    text = exc.diagnostics.replace("undefined reference to `", "undefined symbol: ")
+                    raise firmware.link_failure(src, text) from None
+                raise
+            check_image(tmp_so, src.name)
             tmp_so.replace(so)
     if sandboxed:  # the worker's SIGSYS trap, built here so that no worker ever compiles
         from crslab.sandbox.trap import helper_library
 
         helper_library()
-    return LabBuild(source=src, shared_object=so, generation=generation, sanitized=sanitize, digest=digest,
-                    watched=tuple(find_watched(text)), compiler=cc, debug=debug, break_when=break_when,
-                    variables=tuple(find_variables(text)))
+    return so, digest, cc
+
+
+def build_lab(source: Path | None = None, *, native: bool = False, sanitize: bool = False,
+              cache: Path | None = None, sandboxed: bool = True, debug: bool = False,
+              break_when: str | None = None) -> LabBuild:
+    """Build ``source`` (default: crslab's Lab 1) into its firmware, cached in ``cache`` (default:
+    the per-user cache, :func:`crslab.cache.cache_dir`): WebAssembly, unless ``native``,
+    ``sanitize`` (ASan and UBSan) or ``debug`` (``crslab debug``: the lab ``-O0 -g``, the board
+    with line information, and with ``break_when`` (a C expression) that condition as
+    ``crs_debug_condition()``) ask for a native shared object. ``sandboxed`` compiles it in the
+    compile sandbox (see :func:`crslab.sandbox.resolve`).
+
+    Raises :class:`LabBuildError` for a missing file, a file that does not compile (or link, or
+    fit the board's memory) or a missing compiler, and :class:`LabForbidden` when the sandboxed
+    compiler was refused a file the lab names.
+    """
+    src = Path(source) if source is not None else DEFAULT_LAB
+    problem = lab_file_problem(src)
+    if problem:
+        raise LabBuildError(problem)
+    try:
+        text_bytes = src.read_bytes()
+    except OSError as exc:
+        raise LabBuildError(f"{src}: cannot be read ({exc.strerror})") from None
+    text = text_bytes.decode("utf-8", "replace")
+    generation = detect_generation(text)
+    variables = find_variables(text)
+    check_board_memory(variables, generation, src)
+    debug = debug or break_when is not None
+    native = native or sanitize or debug
+    cache = cache if cache is not None else _cache()
+    cc: Compiler | None = None
+    renamed: tuple[str, ...] = ()
+    sized: tuple[str, ...] = ()
+    if native:
+        flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_LAB_FLAGS if debug else [])
+        unit = break_when_source(src, break_when) if break_when is not None else None
+        image, digest, cc = _build_native(src, text_bytes, flags, unit, break_when, sanitize, debug, cache,
+                                          sandboxed)
+    else:
+        wasm, digest = _build_wasm(src, text, variables, cache, sandboxed)
+        image, renamed, sized = wasm.path, wasm.renamed, wasm.sized
+    return LabBuild(source=src, image=image, generation=generation, sanitized=sanitize, digest=digest,
+                    native=native, watched=tuple(find_watched(text)), compiler=cc, debug=debug,
+                    break_when=break_when, variables=tuple(variables), renamed=renamed, sized=sized)

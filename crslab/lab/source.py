@@ -40,10 +40,11 @@ class LabSource:
             raise LabBuildError(f"{path}: cannot be read ({exc.strerror})") from None
 
     @contextmanager
-    def private_build(self, *, sanitize: bool = False, sandboxed: bool = True) -> Iterator[LabBuild]:
+    def private_build(self, *, native: bool = False, sanitize: bool = False,
+                      sandboxed: bool = True) -> Iterator[LabBuild]:
         """Write the text into a fresh folder of its own and build it there; the folder is removed
         when the block ends. Raises what :func:`build_lab` raises."""
         with tempfile.TemporaryDirectory(prefix="crslab-lab-") as folder:
             copy = Path(folder) / self.name
             copy.write_bytes(self.text)
-            yield build_lab(copy, sanitize=sanitize, sandboxed=sandboxed)
+            yield build_lab(copy, native=native, sanitize=sanitize, sandboxed=sandboxed)

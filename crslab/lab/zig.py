@@ -86,7 +86,7 @@ def is_prepared(target: str) -> bool:
 
 
 PROBE = ("#include <math.h>\n#include <stdio.h>\n"
-         "int crs_probe(double x){char b[32];return snprintf(b,32,\"%f\",sin(x));}\n")
+         "int crs_probe(double x) { char b[32]; return snprintf(b, 32, \"%f\", sin(x)); }\n")
 
 
 def prepare(target: str, flags: list[str], stream: TextIO | None = None) -> None:
@@ -116,9 +116,8 @@ def prepare(target: str, flags: list[str], stream: TextIO | None = None) -> None
             src = Path(tmp) / "probe.c"
             src.write_text(PROBE)
             r = subprocess.run([*zig_cc(), f"--target={target}", *flags, str(src), "-o",
-                                str(Path(tmp) / "probe")],
-                               capture_output=True, text=True, env=zig_environment(Path(tmp) / "cache"),
-                               timeout=FIRST_USE_TIMEOUT_S)
+                                str(Path(tmp) / "probe")], capture_output=True, text=True,
+                               env=zig_environment(Path(tmp) / "cache"), timeout=FIRST_USE_TIMEOUT_S)
     except subprocess.TimeoutExpired:
         raise RuntimeError(f"zig did not finish building its C library for {target} within "
                            f"{FIRST_USE_TIMEOUT_S:.0f} s") from None

@@ -28,6 +28,7 @@ from crslab.regress.transcript import split_lines
 from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
+from crslab.untrusted_text import for_csv, for_terminal
 
 SHOWN_ALWAYS = (GradeClass.PASS, GradeClass.MISMATCH, GradeClass.DOES_NOT_COMPILE, GradeClass.CRASHED,
                 GradeClass.HUNG)
@@ -121,7 +122,8 @@ def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, d
                          wall_s=time.monotonic() - start)
 
     try:
-        build = build_lab(source, sanitize=config.build.sanitized, sandboxed=config.sandboxed)
+        build = build_lab(source, native=config.build.native, sanitize=config.build.sanitized,
+                          sandboxed=config.sandboxed)
     except LabForbidden as exc:
         return ended(RunStatus.FORBIDDEN, str(exc), exc.diagnostics)
     except LabBuildError as exc:
@@ -233,12 +235,14 @@ def grade_result(result: RunResult, reference: RunResult, *, abs_tol: float = DE
 
 def summary_table(grades: Sequence[Grade], stream: TextIO, *, width: int = 100) -> None:
     """The table a TA reads: one row per submission, then the counts."""
-    name_w = max([len("submission")] + [len(g.path.name) for g in grades])
+    names = [for_terminal(g.path.name) for g in grades]  # a file's name is the submitter's to choose
+    name_w = max([len("submission")] + [len(n) for n in names])
     grade_w = max(len(c) for c in GradeClass)
     stream.write(f"{'submission':<{name_w}}  {'result':<{grade_w}}  detail\n")
-    for g in grades:
-        detail = g.detail if len(g.detail) <= width else g.detail[:width - 3] + "..."
-        stream.write(f"{g.path.name:<{name_w}}  {g.grade:<{grade_w}}  {detail}\n")
+    for name, g in zip(names, grades):
+        detail = for_terminal(g.detail)
+        detail = detail if len(detail) <= width else detail[:width - 3] + "..."
+        stream.write(f"{name:<{name_w}}  {g.grade:<{grade_w}}  {detail}\n")
     stream.write(counts_line(grades) + "\n")
 
 
@@ -265,7 +269,7 @@ def write_csv(path: Path, grades: Sequence[Grade]) -> None:
                 first_line = str(d.number)
                 if d.got is not None and d.got.tick is not None:
                     first_t = f"{d.got.tick / 1000:.3f}"
-            w.writerow([g.path.name, g.grade, g.detail, lines, first_line, first_t,
+            w.writerow([for_csv(g.path.name), g.grade, for_csv(g.detail), lines, first_line, first_t,
                         f"{g.result.wall_s:.2f}", len(g.result.failed_expectations), g.result.status,
                         int(g.exit_status)])
 
@@ -298,11 +302,11 @@ class Progress:
             filled = width * self.done // max(1, self.total)
             elapsed = time.monotonic() - self.start
             self.stream.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} "
-                              f"{elapsed:5.1f} s  {name[:30]:<30} {grade:<16}")
+                              f"{elapsed:5.1f} s  {for_terminal(name)[:30]:<30} {grade:<16}")
             if self.done == self.total:
                 self.stream.write("\n")
         else:
-            self.stream.write(f"[{self.done}/{self.total}] {name}: {grade}\n")
+            self.stream.write(f"[{self.done}/{self.total}] {for_terminal(name)}: {grade}\n")
         self.stream.flush()
 
 

@@ -14,13 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from crslab.output_paths import with_parent
-
-_XML_BAD = dict.fromkeys([c for c in range(32) if c not in (9, 10, 13)])
-
-
-def _clean(text: str) -> str:
-    """Text XML 1.0 can hold: control characters other than tab and newlines are dropped."""
-    return text.translate(_XML_BAD)
+from crslab.untrusted_text import for_xml as _clean
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,7 @@ SYSTEM_RUN_DIRS = ("/usr/bin", "/bin", "/usr/libexec", "/usr/lib", "/usr/lib64",
                    "/lib64", "/lib32", "/usr/local/bin", "/usr/local/lib", "/usr/local/libexec")
 """Programs and libraries a compiler driver runs and links with."""
 SYSTEM_READ_PATHS = ("/usr/include", "/usr/local/include", "/etc/ld.so.cache", "/etc/ld.so.conf",
-                     "/etc/ld.so.conf.d", "/dev/urandom")
+                     "/etc/ld.so.conf.d")
 """Headers, and what the dynamic loader and the linker read to find libraries."""
 
 _REFUSED = (re.compile(r"cannot open file '(.+?)': Permission denied"),  # clang, #include
@@ -102,15 +102,23 @@ class CompilerSandbox:
     read: tuple[Path, ...]
     write: Path
     compiler: tuple[str, ...] = ("gcc",)
+    run: tuple[Path, ...] = ()
+    """Folders of programs and libraries it runs beyond the system's and the compiler's own (zig's)."""
+    cache: tuple[Path, ...] = ()
+    """Folders the compiler keeps its own cache in and must write (zig's: it writes its manifests
+    there at every run; the lab's code cannot choose what goes there)."""
 
     def ruleset(self) -> landlock.Ruleset:
         """The Landlock ruleset (its descriptor must reach the child: ``pass_fds``)."""
         rs = landlock.Ruleset()
-        for d in (*SYSTEM_RUN_DIRS, *compiler_dirs(self.compiler)):
+        own = compiler_dirs(self.compiler) if self.compiler else ()
+        for d in (*SYSTEM_RUN_DIRS, *own, *self.run):
             rs.allow(d, RUN)
         for p in (*SYSTEM_READ_PATHS, *self.read):
             rs.allow(p, READ)
         rs.allow(self.write, READ | WRITE_TREE)
+        for d in self.cache:
+            rs.allow(d, READ | WRITE_TREE)
         rs.allow(os.devnull, landlock.READ_FILE | landlock.WRITE_FILE)
         return rs
 
@@ -131,10 +139,12 @@ class CompilerSandbox:
 
 
 def compiler_sandbox(lab_paths: Iterable[Path], build_dir: Path, extra_read: Iterable[Path] = (),
-                     compiler: Sequence[str] | str = ("gcc",)) -> CompilerSandbox:
+                     compiler: Sequence[str] | str = ("gcc",), run_dirs: Iterable[Path] = (),
+                     cache_dirs: Iterable[Path] = ()) -> CompilerSandbox:
     """The sandbox for compiling a lab: ``lab_paths`` are the lab's own file(s), whose folders
     (as named and as resolved) may be read; ``extra_read`` crslab's headers and objects;
-    ``compiler`` the command that runs the compiler."""
+    ``compiler`` the command that runs the compiler (empty: none beyond ``run_dirs``, the folders
+    of a compiler that brings its own, such as zig)."""
     read: list[Path] = []
     for p in lab_paths:
         for folder in (Path(p).absolute().parent, Path(p).resolve().parent):
@@ -142,4 +152,5 @@ def compiler_sandbox(lab_paths: Iterable[Path], build_dir: Path, extra_read: Ite
                 read.append(folder)
     read += [Path(p) for p in extra_read]
     command = (compiler,) if isinstance(compiler, str) else tuple(compiler)
-    return CompilerSandbox(tuple(read), Path(build_dir), command)
+    return CompilerSandbox(tuple(read), Path(build_dir), command, tuple(Path(d) for d in run_dirs),
+                           tuple(Path(d) for d in cache_dirs))

@@ -77,6 +77,14 @@ def describe(syscall: str, args: list[int], path: str, *, parent_pid: int | None
         elif parent_pid is not None and target == parent_pid:
             whom += " (crslab itself)"
         return f"send {_signal_name(sig)} to {whom}"
+    if syscall in ("prlimit64", "setrlimit"):
+        target = args[0] & 0xFFFFFFFF if syscall == "prlimit64" else 0
+        whom = "its own" if target == 0 else f"process {target}'s"
+        if parent_pid is not None and target == parent_pid:
+            whom += " (crslab itself)"
+        return f"{'set' if syscall == 'setrlimit' or args[2] else 'read'} {whom} resource limits ({syscall})"
+    if syscall == "fcntl":
+        return f"make descriptor {args[0]} signal a process (fcntl command {args[1]}: F_SETOWN, O_ASYNC)"
     if syscall == "ptrace":
         return f"call ptrace ({_PTRACE.get(args[0], f'request {args[0]}')})"
     if syscall in ("mmap", "mremap"):

@@ -10,10 +10,14 @@ What is allowed is narrowed by its arguments where an argument decides the risk:
 - signals: only to the worker itself (``raise``, ``abort``); the sandbox's own SIGSYS
   handler cannot be replaced, and SIGSYS cannot be blocked (the handler applies such a mask
   without it);
-- file status: only of a descriptor already open (``fstat``), never of a path;
+- file status: only of a descriptor already open (``fstat``; the C library's ``newfstatat`` with
+  an empty path is answered by the trap), never of a path;
+- descriptors: ``fcntl`` may read and set a descriptor's flags, never make it signal a process
+  (``F_SETOWN``, ``O_ASYNC``: SIGIO to ``crslab grade``);
 - terminals: ``ioctl`` only to ask whether a descriptor is one (``isatty``), never to type
   into it (``TIOCSTI``) or change it;
-- resource limits: read, never raised.
+- resource limits: its own, read, never raised (``prlimit64`` of another process, the crslab
+  process above all, is refused).
 
 A ``--sanitize`` run is allowed what the sanitizer runtime needs besides (any mapping size,
 reading its own /proc files and the lab's debug information, through the trap).
@@ -35,11 +39,15 @@ MAX_MAPPING_BYTES = 256 * 1024 * 1024
 
 AT_EMPTY_PATH = 0x1000
 TCGETS = 0x5401
+F_DUPFD, F_GETFD, F_SETFD, F_GETFL, F_SETFL, F_DUPFD_CLOEXEC = 0, 1, 2, 3, 4, 1030
+O_ASYNC = 0o20000
+FCNTL_COMMANDS = (F_DUPFD, F_GETFD, F_SETFD, F_GETFL, F_DUPFD_CLOEXEC)
+"""What ``fcntl`` may do besides ``F_SETFL`` without ``O_ASYNC``."""
 
 # no argument decides anything: allowed as they are
 _PLAIN = (
     # the pipe to the crslab process, the standard streams, the loader reading the lab
-    "read", "write", "readv", "writev", "pread64", "close", "fstat", "lseek", "fcntl", "dup", "dup3",
+    "read", "write", "readv", "writev", "pread64", "close", "fstat", "lseek", "dup", "dup3",
     "poll", "ppoll", "select", "pselect6",
     # memory
     "brk", "munmap", "madvise", "mprotect", "membarrier",
@@ -96,10 +104,11 @@ def run_filter(worker_pid: int, *, sanitizer: bool = False) -> seccomp.Filter:
         else:
             f.add(ALLOW, "mmap", le(1, MAX_MAPPING_BYTES))
             f.add(ALLOW, "mremap", le(2, MAX_MAPPING_BYTES))
-            f.add(ALLOW, "newfstatat", masked_eq(3, AT_EMPTY_PATH, AT_EMPTY_PATH))
-            f.add(ALLOW, "statx", masked_eq(2, AT_EMPTY_PATH, AT_EMPTY_PATH))
-            f.add(ALLOW, "prlimit64", eq(2, 0))  # read a limit, never set one
+            f.add(ALLOW, "prlimit64", eq(0, 0), eq(2, 0))  # read its own limit, never set one
             f.add(ALLOW, "getrlimit")
+        for command in FCNTL_COMMANDS:
+            f.add(ALLOW, "fcntl", eq(1, command))
+        f.add(ALLOW, "fcntl", eq(1, F_SETFL), masked_eq(2, O_ASYNC, 0))
         f.add(ALLOW, "ioctl", eq(1, TCGETS))  # isatty(): reads a terminal's settings, changes nothing
         f.add(ALLOW, "rt_sigaction", ne(0, signal.SIGSYS))
         # reading the signal mask or unblocking is allowed; a change that may block SIGSYS is

@@ -38,7 +38,7 @@ def helper_library() -> Path:
     if not out.exists():
         out.parent.mkdir(parents=True, exist_ok=True)
         tmp = out.with_suffix(f".{os.getpid()}.tmp")
-        run_compiler(cc, [*TRAP_FLAGS, "-I", str(SIM), str(TRAP_SOURCE), "-o", str(tmp)],
+        run_compiler([*cc.argv, *TRAP_FLAGS, "-I", str(SIM), str(TRAP_SOURCE), "-o", str(tmp)],
                      "crslab's sandbox trap")
         tmp.replace(out)
     return out

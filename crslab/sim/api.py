@@ -11,7 +11,7 @@ import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
 
-from crslab.framework_facts import MOTOR_BOARDS, STARTUP_TICKS
+from crslab.framework_facts import LAB_BUDGET_INSTRUCTIONS, MOTOR_BOARDS, STARTUP_TICKS
 from crslab.lab.build import build_lab
 from crslab.plant.params import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
@@ -35,7 +35,8 @@ def make_config(
     rest_motor_rad: Sequence[float] | None = None,
     log: bool = False,
     strict: bool = False,
-    budget_us: float = 1000.0,
+    budget: int = LAB_BUDGET_INSTRUCTIONS,
+    native: bool = False,
     sanitize: bool = False,
     sandbox: bool | None = None,
     motor_board: str | None = None,
@@ -46,7 +47,9 @@ def make_config(
     """Build the lab (cached) and load the scenario into one run's configuration.
 
     The arm's true resting pose is ``rest_motor_rad``, else the scenario's, else the default.
-    ``sandbox``: True requires the sandbox, False turns it off, None (default) uses it when
+    ``budget`` is what one lab() call may cost (WebAssembly instructions); ``native`` builds the
+    lab with the host's compiler instead of as WebAssembly. ``sandbox``: True requires the sandbox,
+    False turns it off, None (default) uses it when
     this machine has it (see :func:`crslab.sandbox.resolve`). ``motor_board`` is ``none`` or
     ``piccolo``; None takes the lab's generation's (Gen A: none, Gen B: piccolo). ``debug`` and
     ``break_when`` build the lab for a debugger (:func:`crslab.lab.build.build_lab`). ``plant`` is
@@ -63,8 +66,8 @@ def make_config(
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     rest = tuple(float(v) for v in (rest_motor_rad or sc.rest_motor_rad or DEFAULT_REST_MOTOR_RAD))
     sandboxed = resolve_sandbox(sandbox)
-    build = build_lab(Path(lab) if lab is not None else None, sanitize=sanitize, sandboxed=sandboxed,
-                      debug=debug, break_when=break_when)
+    build = build_lab(Path(lab) if lab is not None else None, native=native, sanitize=sanitize,
+                      sandboxed=sandboxed, debug=debug, break_when=break_when)
     check_lab(sc, build)
     return SimConfig(
         build=build,
@@ -72,7 +75,7 @@ def make_config(
         rest_motor_rad=rest,  # type: ignore[arg-type]
         startup_ticks=STARTUP_TICKS if startup_delay else 0,
         strict_nan=strict,
-        budget_ns=int(budget_us * 1000),
+        budget_instructions=int(budget),
         log_signals=log,
         sandboxed=sandboxed,
         motor_board=motor_board,

@@ -1,8 +1,11 @@
-"""cffi declarations of the emulated board (csrc/sim/sim.h), for the worker and the reader, and
-its constants (phases, run codes, lab-symbol bits), so Python never writes them again.
+"""cffi declarations of the emulated board (csrc/sim/sim.h), for the native worker and the reader,
+and its constants (phases, run codes, lab-symbol bits, trap kinds), so Python never writes them
+again.
 
-ABI mode: the worker dlopens a lab's shared object with these declarations; the crslab process
-uses the same declarations, without loading any lab code, to read the shared-memory block.
+ABI mode: a native worker dlopens its lab's shared object (the board linked with the firmware) with
+these declarations and the native port's (firmware_native.h); the crslab process uses the same
+declarations, without loading any lab code, to read the shared-memory block. A WebAssembly worker
+uses crslab._core, which holds the board itself (API mode, from the same headers).
 """
 
 from __future__ import annotations
@@ -21,6 +24,16 @@ def board_ffi() -> FFI:
     """The FFI holding every declaration of sim.h."""
     ffi = FFI()
     ffi.cdef(cdef_from_header(resources.path("csrc", "sim", "sim.h").read_text()))
+    return ffi
+
+
+@cache
+def native_board_ffi() -> FFI:
+    """sim.h's declarations, the debugger's (debug.h) and the native firmware port's
+    (crs_fw_native_attach): a native lab's shared object holds all of them."""
+    ffi = FFI()
+    for header in ("sim.h", "debug.h", "firmware_native.h"):
+        ffi.cdef(cdef_from_header(resources.path("csrc", "sim", header).read_text()))
     return ffi
 
 

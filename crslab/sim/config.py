@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from crslab.framework_facts import STARTUP_TICKS, default_motor_board
+from crslab.framework_facts import LAB_BUDGET_INSTRUCTIONS, STARTUP_TICKS, default_motor_board
 from crslab.lab.build import LabBuild
 from crslab.plant.params import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
@@ -34,7 +34,9 @@ class SimConfig:
     rest_motor_rad: tuple[float, float, float] = REST_MOTOR_RAD
     startup_ticks: int = STARTUP_TICKS
     strict_nan: bool = False
-    budget_ns: int = 1_000_000
+    budget_instructions: int = LAB_BUDGET_INSTRUCTIONS
+    """What one lab() call may cost before it is counted over budget: WebAssembly instructions (a
+    time a native firmware's lab() takes is compared at one instruction per cycle of the 150 MHz F28335)."""
     log_signals: bool = False
     hand: HandGains = HandGains()
     sandboxed: bool = True  # compiled and run in crslab.sandbox (it never changes the transcript)

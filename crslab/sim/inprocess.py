@@ -20,20 +20,26 @@ class InProcessRun:
     def __init__(self, config: SimConfig) -> None:
         from crslab.sim.worker import Worker
 
-        # a private copy of the lab's shared object: loading the cached one here would leave its
-        # globals (counters, arrays) changed for every worker this process forks later
+        # a native firmware from a private copy of the lab's shared object: loading the cached one
+        # here would leave its globals (counters, arrays) changed for every worker this process
+        # forks later (a WebAssembly firmware gets a store of its own in any case)
         self._dir = tempfile.TemporaryDirectory(prefix="crslab-inprocess-")
-        private = Path(self._dir.name) / "lab.so"
-        shutil.copyfile(config.build.shared_object, private)
+        if config.build.native:
+            private = Path(self._dir.name) / "lab.so"
+            shutil.copyfile(config.build.image, private)
+            config = dataclasses.replace(config, build=dataclasses.replace(config.build, image=private))
         # never sandboxed: the sandbox would close this very process
-        config = dataclasses.replace(config, build=dataclasses.replace(config.build, shared_object=private),
-                                     sandboxed=False)
+        config = dataclasses.replace(config, sandboxed=False)
         self._shared = mmap.mmap(-1, shared_size())
         self.worker = Worker(config, self._shared)
         self.worker.sim.time_lab = 0
         ffi = board_ffi()
         self._ffi = ffi
         self._sh = ffi.cast("crs_shared *", ffi.from_buffer(self._shared))
+
+    def close(self) -> None:
+        """Free the firmware."""
+        self.worker.close()
 
     def run(self, end_tick: int, chunk_ticks: int = 20_000) -> bytes:
         """Run to ``end_tick`` in chunks as ``crslab sim --fast`` does; returns the serial bytes

@@ -22,7 +22,8 @@ import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
-from multiprocessing.connection import Connection
+from multiprocessing.connection import Connection, wait
+from multiprocessing.reduction import DupFd
 from pathlib import Path
 
 import numpy as np
@@ -34,13 +35,21 @@ from crslab.sim import termination
 from crslab.sim.board_ffi import board_constants, board_ffi, shared_size
 from crslab.sim.config import SimConfig
 from crslab.sim.debug_setup import DebugSetup
+from crslab.sim.firmware_trap import diagnose
 from crslab.sim.running import LiveControl, PacedControl, RunDebugger
 from crslab.sim.sanitizer import asan_runtime, summarize_sanitizer_report
 from crslab.sim.status import RunResult, RunStatus
+from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL
 from crslab.sim.worker_reply import UnreadableReply, receive
 from crslab.sinks.sink import Sink
+from crslab.untrusted_text import for_terminal
 
 DEFAULT_DEADLINE_S = 2.0
+INTERRUPT_GRACE_S = 2.0
+"""How long a WebAssembly worker has to answer once its firmware's call was interrupted."""
+CPU_S_PER_TICK = 1e-3
+"""The CPU time a chunk may use per tick before the worker counts as hung whatever it reports
+(a native lab could hide that it is stuck in lab()): a millisecond, a slow lab's whole tick."""
 READY_TIMEOUT_S = 60.0
 SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
 ABORT_ON_ERROR = ":abort_on_error=1"
@@ -89,13 +98,19 @@ class Limits:
 NO_LIMITS = Limits()
 
 
-def _child(conn: Connection, config: SimConfig, shared_path: str, limits: Limits = NO_LIMITS,
-           debug: DebugSetup | None = None) -> None:
+def _child(conn: Connection, config: SimConfig, shared: DupFd, limits: Limits = NO_LIMITS,
+           debug: DebugSetup | None = None, console: DupFd | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
-    faulthandler.disable()  # a crash is diagnosed by the crslab process, not dumped here
+    if config.build.native:  # a crash is diagnosed by the crslab process, not dumped here (a WebAssembly
+        faulthandler.disable()  # firmware's faults are wasmtime's: its handlers stay as they are)
     os_support.die_with_parent()  # whatever kills the crslab process
     if debug is not None:  # Ctrl-C on the terminal is the debugger's: it interrupts the lab itself
         os.setpgid(0, 0)
+    if console is not None:  # a native lab's printf: counted by the crslab process, never shown
+        fd = console.detach()
+        os.dup2(fd, 1)
+        os.dup2(fd, 2)
+        os.close(fd)
     report = os.environ.pop(SANITIZER_REPORT_ENV, None)
     if report:  # the sanitizers write to stderr: keep it for the crslab process to read
         fd = os.open(report, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
@@ -108,7 +123,7 @@ def _child(conn: Connection, config: SimConfig, shared_path: str, limits: Limits
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
     from crslab.sim.worker import serve
 
-    serve(conn, config, shared_path, debug)
+    serve(conn, config, shared.detach(), debug)
     os._exit(0)
 
 
@@ -185,14 +200,16 @@ class Simulation:
         self.debug = debug
         self.limits = limits
         self.sanitizer_dir: str | None = None
+        self._rss_limit_mb: int | None = None
         self.lab_name = config.build.source.name
         self.ffi = board_ffi()
-        fd, self.shared_path = tempfile.mkstemp(prefix="crslab-", dir=os_support.shared_memory_dir())
-        os.ftruncate(fd, shared_size())
+        # the shared block is memory with no name in any file system: it goes when both processes do,
+        # however they end (killed by a grader's time limit included)
+        fd = os_support.anonymous_shared_file("crslab-shared", shared_size())
         import mmap
 
         self._shared_mm = mmap.mmap(fd, 0)
-        os.close(fd)
+        self._shared_fd = fd
         self.shared = self.ffi.cast("crs_shared *", self.ffi.from_buffer(self._shared_mm))
         self.tick = 0
         self.stats: dict = {}
@@ -220,18 +237,32 @@ class Simulation:
             }
             # one thread, as the sandbox needs: no BLAS thread pool in the fresh interpreter
             env.update({k: "1" for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")})
-            limits = Limits(None, limits.cpu_s, limits.output_bytes)  # ASan reserves terabytes
+            # ASan reserves terabytes of address space: its memory is watched instead (resident)
+            self._rss_limit_mb = limits.memory_mb
+            limits = Limits(None, limits.cpu_s, limits.output_bytes)
         else:
             ctx = mp.get_context(os_support.WORKER_START_METHOD)
             env = {}
+        # a native lab may write to its standard streams (printf, a flood, fake progress lines): a pipe
+        # the crslab process drains, counts toward the output limit and never shows (a debugged one
+        # keeps the terminal); a WebAssembly firmware has no descriptor at all (the board counts)
+        self._console = -1
+        self.console_bytes = 0
+        console = None
+        if config.build.native and debug is None:
+            self._console, console_w = os.pipe()
+            os.set_blocking(self._console, False)
+            console = DupFd(console_w)
         saved = {k: os.environ.get(k) for k in env}
         os.environ.update(env)
         try:
             self._conn, child_conn = ctx.Pipe()
-            self.process = ctx.Process(target=_child, args=(child_conn, config, self.shared_path, limits,
-                                                            debug), daemon=True)
+            args = (child_conn, config, DupFd(self._shared_fd), limits, debug, console)
+            self.process = ctx.Process(target=_child, args=args, daemon=True)
             self.process.start()
         finally:
+            if console is not None:
+                os.close(console_w)
             for k, v in saved.items():
                 if v is None:
                     os.environ.pop(k, None)
@@ -240,8 +271,12 @@ class Simulation:
         child_conn.close()
         if on_started is not None:
             on_started()
-        reply = self._expect(self._wait_reply(READY_TIMEOUT_S, during_setup=True), ("ready", "failed"), 2)
-        if not isinstance(reply, RunResult) and (reply[0] == "failed" or not isinstance(reply[1], int)):
+        reply = self._expect(self._wait_reply(READY_TIMEOUT_S, during_setup=True),
+                             ("ready", "failed", "trapped"), 2)
+        if not isinstance(reply, RunResult) and reply[0] == "trapped" and isinstance(reply[1], dict):
+            status, message = diagnose(reply[1], self.lab_name, deadline_s=self.deadline_s)
+            reply = RunResult(status, 0, message)
+        elif not isinstance(reply, RunResult) and (reply[0] != "ready" or not isinstance(reply[1], int)):
             reply = RunResult(RunStatus.CRASHED, 0, f"{self.lab_name}: {reply[1]}")
         if isinstance(reply, RunResult):
             self.close()
@@ -283,10 +318,12 @@ class Simulation:
                 self.process.kill()
         self.process.join()
         self._conn.close()
-        try:
-            os.unlink(self.shared_path)
-        except FileNotFoundError:
-            pass
+        if self._shared_fd >= 0:
+            os.close(self._shared_fd)
+            self._shared_fd = -1
+        if self._console >= 0:
+            os.close(self._console)
+            self._console = -1
         if self.sanitizer_dir:
             for p in Path(self.sanitizer_dir).glob("*"):
                 p.unlink()
@@ -387,7 +424,7 @@ class Simulation:
 
         phase = int(record.phase) if record.refused else int(self.shared.phase)
         tick = int(record.tick) if record.refused else int(self.shared.tick)
-        what = tried(record, self.ffi, parent_pid=os.getpid()) if record.refused else \
+        what = for_terminal(tried(record, self.ffi, parent_pid=os.getpid())) if record.refused else \
             "make a system call the sandbox refuses"
         at = "before the first tick" if phase == board_constants().CRS_PHASE_LOADING else \
             f"at tick {tick} (t = {tick / 1000:.3f} s)"
@@ -453,12 +490,32 @@ class Simulation:
                 return found
         return None
 
-    def _wait_reply(self, timeout_s: float | None, during_setup: bool = False) -> tuple | RunResult:
+    def _worker_cpu_s(self) -> float | None:
+        """The worker's CPU time so far (the kernel's count, which nothing in the worker can
+        change), or None when it cannot be read."""
+        try:
+            fields = Path(f"/proc/{self.worker_pid}/stat").read_text().rsplit(")", 1)[1].split()
+            return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+        except (OSError, IndexError, ValueError):
+            return None
+
+    def _wait_reply(self, timeout_s: float | None, during_setup: bool = False,
+                    cpu_allowance_s: float | None = None) -> tuple | RunResult:
+        """The worker's next reply, or how the run ended meanwhile: the worker died, or a lab()
+        or printing() call ran past the deadline (a WebAssembly firmware is interrupted and the
+        worker answers; a native worker is killed), or the worker used more than
+        ``cpu_allowance_s`` of CPU time on this request (a native lab that hides where it is)."""
         c = board_constants()
         start = time.monotonic()
+        cpu0 = self._worker_cpu_s() if cpu_allowance_s is not None else None
+        interrupted_at: float | None = None
+        polls = 0
         while True:
             try:
-                if self._conn.poll(0.05):
+                ready = wait([self._conn, *([self._console] if self._console >= 0 else [])], 0.05)
+                if self._console in ready and self._drain_console():
+                    return self._cut_off(int(self.shared.tick))
+                if self._conn in ready and self._conn.poll(0):
                     return receive(self._conn)
             except (EOFError, ConnectionResetError):
                 pass
@@ -478,18 +535,72 @@ class Simulation:
             if self.deadline_s is not None and phase in (c.CRS_PHASE_LAB, c.CRS_PHASE_PRINTING):
                 busy_s = (time.monotonic_ns() - int(self.shared.phase_start_ns)) / 1e9
                 if busy_s > self.deadline_s:
-                    tick = int(self.shared.tick)
-                    self.process.kill()
-                    self.process.join()
-                    func = "lab()" if phase == c.CRS_PHASE_LAB else "printing()"
-                    return RunResult(
-                        RunStatus.HUNG, tick,
-                        f"{self.lab_name} hung: {func} did not return within {self.deadline_s:g} s "
-                        f"at tick {tick} (t = {tick / 1000:.3f} s)", self.stats)
+                    if not self.config.build.native and interrupted_at is None:
+                        # the firmware's call traps at its next loop or call; the worker answers
+                        os.kill(self.worker_pid, INTERRUPT_SIGNAL)
+                        interrupted_at = time.monotonic()
+                    elif interrupted_at is None or time.monotonic() - interrupted_at > INTERRUPT_GRACE_S:
+                        return self._hung(phase)
+            if self._rss_limit_mb is not None and self._worker_rss_mb() > self._rss_limit_mb:
+                return self._over_memory()
+            polls += 1
+            if cpu0 is not None and polls % 20 == 0:
+                cpu = self._worker_cpu_s()
+                if cpu is not None and cpu - cpu0 > cpu_allowance_s:  # type: ignore[operator]
+                    return self._hung(c.CRS_PHASE_LAB)
             if timeout_s is not None and time.monotonic() - start > timeout_s:
                 self.process.kill()
                 return RunResult(RunStatus.CRASHED, int(self.shared.tick),
                                  f"{self.lab_name}: the worker stopped answering")
+
+    def _worker_rss_mb(self) -> float:
+        """The worker's resident memory (the kernel's count), MB; 0 when it cannot be read."""
+        try:
+            pages = int(Path(f"/proc/{self.worker_pid}/statm").read_text().split()[1])
+        except (OSError, IndexError, ValueError):
+            return 0.0
+        return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+    def _over_memory(self) -> RunResult:
+        """The worker is killed: a sanitized lab used more memory than its limit."""
+        tick = int(self.shared.tick)
+        where = phase_where(int(self.shared.phase))
+        self.process.kill()
+        self.process.join()
+        return RunResult(RunStatus.CRASHED, tick, f"{self.lab_name} used more than its memory limit "
+                         f"({self.limits.memory_mb} MB) {where} at tick {tick} (t = {tick / 1000:.3f} s)",
+                         self.stats)
+
+    def _drain_console(self) -> bool:
+        """Read (and drop) what a native lab wrote to its standard streams; True once it is more
+        than the output limit."""
+        while True:
+            try:
+                data = os.read(self._console, 1 << 20)
+            except BlockingIOError:
+                break
+            if not data:
+                break
+            self.console_bytes += len(data)
+        return self.console_bytes > self.limits.output_bytes
+
+    def _cut_off(self, tick: int) -> RunResult:
+        """The worker is killed: the lab printed more than the output limit."""
+        self.process.kill()
+        self.process.join()
+        return RunResult(RunStatus.OUTPUT_LIMIT, tick, f"{self.lab_name} printed more than "
+                         f"{self.limits.output_bytes / 1e6:g} MB; the run was cut off at tick {tick} "
+                         f"(t = {tick / 1000:.3f} s)", self.stats)
+
+    def _hung(self, phase: int) -> RunResult:
+        """The worker is killed: its lab() or printing() did not return."""
+        tick = int(self.shared.tick)
+        self.process.kill()
+        self.process.join()
+        func = "printing()" if phase == board_constants().CRS_PHASE_PRINTING else "lab()"
+        within = f" within {self.deadline_s:g} s" if self.deadline_s is not None else ""
+        return RunResult(RunStatus.HUNG, tick, f"{self.lab_name} hung: {func} did not return{within} at tick "
+                         f"{tick} (t = {tick / 1000:.3f} s)", self.stats)
 
     def run(
         self,
@@ -528,6 +639,7 @@ class Simulation:
         pace_wall, pace_tick = wall0, tick0  # where pacing counts from
         warned = False
         printed = 0
+        console_seen = 0
         cap = self.limits.output_bytes
 
         def counted(tick: int, data: bytes) -> None:
@@ -541,7 +653,8 @@ class Simulation:
             self._drain_serial(counted, sink)
             self._drain_line(counted, tick)
             stats = {**self.stats, "serial_dropped": self.serial_dropped, "lab_symbols": self.symbols,
-                     "motor_board_events": list(self.motor_board_events)}
+                     "motor_board_events": list(self.motor_board_events),
+                     "console_bytes": max(int(self.stats.get("console_bytes", 0)), self.console_bytes)}
             expectations = self.judge.results()
             failed = sum(bool(e.failures) for e in expectations)
             if status is RunStatus.OK and failed:
@@ -564,7 +677,10 @@ class Simulation:
                         if pause is not None and pause > self.tick:
                             target = min(target, pause)
                     self._conn.send(("run", target))
-                    reply = self._expect(self._wait_reply(None), ("ran",), 5)
+                    # a chunk may use up to a millisecond of CPU per tick, and a deadline's worth more
+                    allowance = (target - self.tick) * CPU_S_PER_TICK + (self.deadline_s or 0.0) \
+                        if self.deadline_s is not None else None
+                    reply = self._expect(self._wait_reply(None, cpu_allowance_s=allowance), ("ran",), 5)
                     if not isinstance(reply, RunResult) and not (isinstance(reply[2], int)
                                                                  and isinstance(reply[3], dict)):
                         reply = self._tampered("not the reply to a run request")
@@ -572,6 +688,12 @@ class Simulation:
                         ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
                         return ended(reply.status, reply.end_tick, reply.message)
                     _, code, self.tick, self.stats, log = reply
+                    if code == board_constants().CRS_RUN_TRAPPED:
+                        ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
+                        trap = self.stats.get("trap")
+                        status, message = diagnose(trap if isinstance(trap, dict) else {}, self.lab_name,
+                                                   deadline_s=self.deadline_s)
+                        return ended(status, self.tick, message)
                     for event in self.stats.pop("motor_board_events", []):
                         self.motor_board_events.append(tuple(event))
                         if on_motor_board is not None:
@@ -589,6 +711,10 @@ class Simulation:
                     with ctrl_c.held():  # every sink gets all of the chunk, or none of it
                         lost = self._drain_serial(counted, sink)
                         printed += lost  # what was lost counts toward the limit too
+                        # printf: counted, never shown (the board's count, or what a native lab wrote)
+                        console = max(int(self.stats.get("console_bytes", 0)), self.console_bytes)
+                        printed += console - console_seen
+                        console_seen = console
                         if printed <= cap:
                             if log is not None:
                                 sink.on_log(log)

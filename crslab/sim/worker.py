@@ -1,11 +1,14 @@
-"""The worker process: owns the MuJoCo plant and the lab's code, and runs ticks on request.
+"""The worker process: owns the MuJoCo plant, the board and the lab's firmware, and runs ticks on
+request.
 
 Messages from the crslab process (tuples): ``("run", until_tick)``, ``("get", name)``,
 ``("set", name, index, value)``, ``("push", body_forces)``, ``("break",)`` (a debugged run:
 call ``crs_debug_break``, where the debugger stops and arms its breakpoint on ``lab()``),
 ``("stop",)``. Replies:
-``("ready", symbols)`` (or ``("failed", message)`` when the sandbox cannot be entered) first,
-then ``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of numpy columns and
+``("ready", symbols)`` first (or ``("failed", message)`` when the sandbox cannot be entered, or
+``("trapped", trap)`` when the firmware could not be loaded or stopped in a constructor: see
+:func:`trap_info`), then ``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of
+numpy columns, ``stats["trap"]`` how the firmware stopped when ``code`` is ``CRS_RUN_TRAPPED``,
 ``stats["motor_board_events"]`` lists the motor board's cut-outs starting or ending since the last
 reply as ``(tick, joint, off)`` (joint 1..3, or 0 for a missing command; off 1 starts, 0 ends)
 and ``stats["observations"]`` what each expectation reached since the last reply saw (dicts, see
@@ -14,16 +17,20 @@ and ``stats["observations"]`` what each expectation reached since the last reply
 board writes them into the shared block, where the crslab process reads them even if this
 process dies.
 
-With ``SimConfig.sandboxed`` the worker builds the plant, then closes itself in the run
-sandbox (crslab/sandbox/run_sandbox.py), then loads the lab: from the lab's first constructor
-on, it may compute and print, and nothing else. Everything this process sends is read by the
-crslab process as untrusted (crslab/sim/worker_reply.py).
+The lab's firmware is a WebAssembly module by default: the board (crslab._core) runs it in a
+store of its own, and it can reach nothing of this process (csrc/sim/firmware_wasm.c). A native
+firmware (crslab debug, --sanitize, --native) is a shared object holding the board too; with
+``SimConfig.sandboxed`` the worker builds the plant, then closes itself in the run sandbox
+(crslab/sandbox/run_sandbox.py), then loads it: from the lab's first constructor on, it may
+compute and print, and nothing else. Everything a native worker sends is read by the crslab
+process as untrusted (crslab/sim/worker_reply.py).
 """
 
 from __future__ import annotations
 
 import contextlib
 import mmap
+import os
 from collections.abc import Iterable
 from multiprocessing.connection import Connection
 
@@ -31,16 +38,19 @@ import numpy as np
 from cffi import FFI
 
 from crslab import crs, os_support
-from crslab.framework_facts import MOTOR_BOARDS
-from crslab.host_tools.c28x_memory import SIMULINK_INPUT_NAMES, lab_memory
+from crslab.framework_facts import CPU_CYCLES_PER_TICK, MOTOR_BOARDS
+from crslab.host_tools.c28x_memory import lab_memory
+from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
 from crslab.plant.model import apply_friction, apply_plant, load_model, motor_to_qpos
 from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
 from crslab.plant.plant_params import PlantParams
-from crslab.sim.board_ffi import board_constants, board_ffi
+from crslab.sim.board_ffi import board_constants, native_board_ffi
 from crslab.sim.config import SimConfig
 from crslab.sim.debug_setup import DebugSetup
 from crslab.sim.event_effects import apply_event
+from crslab.sim.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.sim.memory_table import fill_memory_table
+from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL, wasmtime_library
 
 LOG_ROWS = 2000  # rows per scope-log block
 
@@ -53,10 +63,28 @@ _C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *",
 
 
 STAT_FIELDS = (
-    "lab_calls", "lab_ns_total", "lab_ns_max", "lab_max_tick", "over_budget", "nan_first_tick",
-    "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag", "leds", "estop_latched",
-    "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars", "overflow_phase",
+    "lab_calls", "lab_cost_total", "lab_cost_max", "lab_max_tick", "over_budget", "cost_unit", "budget",
+    "nan_first_tick", "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag",
+    "leds", "estop_latched", "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars",
+    "overflow_phase", "console_bytes",
 )
+
+
+class FirmwareStopped(Exception):
+    """The firmware could not be loaded, or stopped in a constructor: ``trap`` says how
+    (:func:`trap_info`)."""
+
+    def __init__(self, trap: dict) -> None:
+        super().__init__(trap.get("text", ""))
+        self.trap = trap
+
+
+def trap_info(ffi: FFI, sim: object) -> dict:
+    """How the firmware stopped (``crs_sim.trap``), as plain data: kind, phase, tick, exit code and
+    wasmtime's text (the firmware's frames included)."""
+    t = sim.trap  # type: ignore[attr-defined]
+    return {"kind": int(t.kind), "phase": int(t.phase), "tick": int(t.tick), "exit_code": int(t.exit_code),
+            "line": int(t.line), "text": ffi.string(t.text).decode("utf-8", "replace")}
 
 
 class Worker:
@@ -67,7 +95,6 @@ class Worker:
         import mujoco
 
         self.config = config
-        self.ffi = ffi = board_ffi()
         self.model = load_model()
         apply_plant(self.model, config.plant, loaded=load_model())
         self.plant = config.plant
@@ -79,39 +106,25 @@ class Worker:
         self.rest_dh = crs.motor_to_dh(rest)
         mj_step = mj_step_address()
         stop_stage_timers()  # nothing reads mjData.timer: mj_step does the physics and only that
-        block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
         self.watched = {v.name: v for v in config.build.watched}
-        var_ffi = None
-        if self.watched:
-            var_ffi = FFI()
-            var_ffi.cdef("\n".join(v.cdecl for v in self.watched.values()))
-        simulink_ffi = FFI()
-        simulink_ffi.cdef("\n".join(f"extern int {name};" for name in SIMULINK_INPUT_NAMES))
-
-        so = str(config.build.shared_object)
         self.sandbox = None
-        tracer = debug.tracer_pid if debug is not None else None
-        if config.sandboxed:
-            from crslab.sandbox.run_sandbox import enter_run_sandbox
+        self._keep: list[object] = [shared]
+        if config.build.native:
+            ffi = self.ffi = native_board_ffi()
+            block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
+            self.lib, sim = self._load_native(config, block, keep_fds, debug)
+            names = [v.name for v in config.build.variables]
+            self.firmware: FirmwareMemory = NativeMemory(config.build.image, names)
+        else:
+            from crslab._core import ffi, lib
 
-            self.sandbox = enter_run_sandbox(block, config.build.shared_object, keep_fds,
-                                             sanitizer=config.build.sanitized, tracer_pid=tracer)
-        elif tracer is not None:
-            os_support.allow_tracer(tracer)
-        block.phase = board_constants().CRS_PHASE_LOADING  # the lab's constructors run now
-        with self.sandbox.loading() if self.sandbox is not None else contextlib.nullcontext():
-            self.lib = ffi.dlopen(so)
-        block.phase = board_constants().CRS_PHASE_IDLE
-        # the same library again: found by its path among those loaded, never opened
-        self.var_lib = var_ffi.dlopen(so) if var_ffi is not None else None
-        self._simulink = simulink_ffi.dlopen(so)
-
-        sim = self.sim = ffi.new("crs_sim *")
-        self.lib.crs_sim_init(sim)
-        self._keep = [shared, var_ffi, simulink_ffi]
-        sim.shared = block
+            self.ffi, self.lib = ffi, lib
+            block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
+            sim = self._load_wasm(config, block)
+            self.firmware = WasmMemory(ffi, lib, sim, config.build)
+        self.sim = sim
         # the lab's globals as the board's MATLAB code sees them (C28x addresses)
-        self._keep += fill_memory_table(sim, ffi, config.build.shared_object, lab_memory(config.build))
+        self._keep += fill_memory_table(sim, ffi, self.firmware, lab_memory(config.build))
         sim.mj_model = ffi.cast("void *", self.model._address)
         sim.mj_data = ffi.cast("void *", self.data._address)
         sim.mj_step = ffi.cast("crs_mj_step_fn", mj_step)
@@ -119,11 +132,13 @@ class Worker:
         sim.qvel = self._ptr("double *", self.data.qvel)
         sim.ctrl = self._ptr("double *", self.data.ctrl)
         sim.qfrc_applied = self._ptr("double *", self.data.qfrc_applied)
-        sim.generation = config.build.generation
         sim.motor_board.model = MOTOR_BOARDS[config.motor_board_model]
         sim.strict_nan = int(config.strict_nan)
         sim.startup_ticks = config.startup_ticks
-        sim.budget_ns = config.budget_ns
+        # lab()'s budget in the firmware's cost unit: instructions, or (native) ns at one
+        # instruction per cycle of the F28335 (CPU_CYCLES_PER_TICK per ms)
+        sim.budget = (config.budget_instructions if sim.cost_unit == board_constants().CRS_COST_INSTRUCTIONS
+                      else config.budget_instructions * 1_000_000 // CPU_CYCLES_PER_TICK)
         for j in range(3):
             sim.rest_motor_rad[j] = rest[j]
         self._set_drive(config.plant)
@@ -144,6 +159,60 @@ class Worker:
             for k, arr in self._log_arrays.items():
                 setattr(sim.log, k, self._ptr(_C_TYPE[_LOG_COLUMNS[k][1]], arr))
 
+    def _new_sim(self, config: SimConfig, block: object) -> object:
+        sim = self.ffi.new("crs_sim *")
+        self.lib.crs_sim_init(sim)
+        sim.generation = config.build.generation
+        sim.shared = block
+        return sim
+
+    def _load_native(self, config: SimConfig, block: object, keep_fds: Iterable[int],
+                     debug: DebugSetup | None) -> tuple[object, object]:
+        """The native firmware's shared object, loaded (in the run sandbox when asked) and
+        attached to a new board; returns (library, sim)."""
+        tracer = debug.tracer_pid if debug is not None else None
+        if config.sandboxed:
+            from crslab.sandbox.run_sandbox import enter_run_sandbox
+
+            self.sandbox = enter_run_sandbox(block, config.build.image, keep_fds,
+                                             sanitizer=config.build.sanitized, tracer_pid=tracer)
+        elif tracer is not None:
+            os_support.allow_tracer(tracer)
+        block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
+        with self.sandbox.loading() if self.sandbox is not None else contextlib.nullcontext():
+            lib = self.ffi.dlopen(str(config.build.image))
+        block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
+        self.lib = lib
+        sim = self._new_sim(config, block)
+        lib.crs_fw_native_attach(sim)
+        return lib, sim
+
+    def _load_wasm(self, config: SimConfig, block: object) -> object:
+        """The WebAssembly firmware, loaded into a new board (crslab._core); raises
+        :class:`FirmwareStopped` when it cannot be loaded or stops in a constructor."""
+        sim = self._new_sim(config, block)
+        self.lib.crs_fw_wasm_interrupt_on(INTERRUPT_SIGNAL)
+        # a trap's backtrace names the lab's file and line (the firmware carries its DWARF)
+        os.environ["WASMTIME_BACKTRACE_DETAILS"] = "1"
+        wasm = config.build.image.read_bytes()
+        library = self.ffi.new("char[]", str(wasmtime_library()).encode())
+        image = self.ffi.new("uint8_t[]", wasm)
+        options = self.ffi.new("crs_wasm_options *", {
+            "libwasmtime": library, "wasm": image, "wasm_len": len(wasm), "memory_bytes": MEMORY_BYTES,
+            "stack_bytes": NATIVE_STACK_BYTES})
+        self._keep += [library, image, options]
+        block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
+        code = self.lib.crs_fw_wasm_load(sim, options)
+        if code != 0:
+            raise FirmwareStopped(trap_info(self.ffi, sim))
+        block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
+        return sim
+
+    def close(self) -> None:
+        """Free the firmware (a WebAssembly one; a native one stays loaded with the process)."""
+        if not self.config.build.native and self.sim is not None:
+            self.lib.crs_fw_wasm_unload(self.sim)
+
     def _set_drive(self, plant: PlantParams) -> None:
         drive = self.sim.drive
         drive.lag_s = plant.drive_lag_s
@@ -162,32 +231,41 @@ class Worker:
         return self.ffi.cast(ctype, arr.ctypes.data)
 
     # -- watched variables -------------------------------------------------------------------
-    def _var(self, name: str) -> object:
+    def _var(self, name: str) -> tuple[object, int]:
+        """A watched variable's first element (a cffi pointer) and its element count."""
         if name not in self.watched:
             known = ", ".join(self.watched) or "none"
             raise KeyError(f"{name} is not a watched (#pragma DATA_SECTION) variable (watched: {known})")
-        return self.watched[name]
+        var = self.watched[name]
+        element = self.firmware.element_type(var.ctype)
+        count = var.length if var.length is not None else 1
+        address = None
+        if element is not None:
+            address = self.firmware.address(name, count * self.firmware.ffi.sizeof(element))
+        if address is None:
+            raise KeyError(f"{name} cannot be reached in the lab's firmware")
+        return self.firmware.ffi.cast(f"{element} *", address), count
 
     def get_var(self, name: str) -> float | list[float]:
         """Current value of a watched variable (a list for arrays)."""
-        var = self._var(name)
-        value = getattr(self.var_lib, name)
-        if var.length is not None:
-            return [float(value[i]) for i in range(var.length)]
-        return float(value)
+        pointer, count = self._var(name)
+        if self.watched[name].length is not None:
+            return [float(pointer[i]) for i in range(count)]  # type: ignore[index]
+        return float(pointer[0])  # type: ignore[index]
 
     def set_var(self, name: str, index: int | None, value: float) -> None:
         """Write a watched variable (or one element of a watched array) between ticks."""
-        var = self._var(name)
+        pointer, count = self._var(name)
+        var = self.watched[name]
         v = int(round(value)) if var.is_integer else float(value)
         if var.length is None:
             if index is not None:
                 raise KeyError(f"{name} is not an array")
-            setattr(self.var_lib, name, v)
+            pointer[0] = v  # type: ignore[index]
             return
-        if index is None or not 0 <= index < var.length:
-            raise KeyError(f"{name} has {var.length} elements: give an index 0..{var.length - 1}")
-        getattr(self.var_lib, name)[index] = v
+        if index is None or not 0 <= index < count:
+            raise KeyError(f"{name} has {count} elements: give an index 0..{count - 1}")
+        pointer[index] = v  # type: ignore[index]
 
     def observe(self, var: tuple[str, int | None] | None) -> None:
         """Note what an expectation sees now, before this tick runs: the motor board and the
@@ -212,7 +290,9 @@ class Worker:
 
     def set_simulink_input(self, number: int, value: int) -> None:
         """What Simulink sent on input ``number`` (1..7), as the lab sees it from the next tick."""
-        setattr(self._simulink, SIMULINK_INPUT_NAMES[number - 1], int(value))
+        pointer = self.sim.fw.simulink_input[number - 1]
+        if pointer != self.ffi.NULL:
+            pointer[0] = int(value)
 
     def _drain_log(self) -> None:
         log = self.sim.log
@@ -255,6 +335,7 @@ class Worker:
         out = {name: int(getattr(s, name)) for name in STAT_FIELDS}
         out["tick"] = int(s.tick)
         out["first_over_tick"] = [int(s.first_over_tick[i]) for i in range(min(8, int(s.over_budget)))]
+        out["native"] = self.config.build.native
         out["motor_board"] = self.config.motor_board_model
         out["motor_board_cutouts"] = int(s.motor_board.cutouts)
         return out
@@ -276,18 +357,21 @@ class Worker:
         return {k: np.concatenate([b[k] for b in blocks]) for k in _LOG_COLUMNS}
 
 
-def serve(conn: Connection, config: SimConfig, shared_path: str, debug: DebugSetup | None = None) -> None:
+def serve(conn: Connection, config: SimConfig, shared_fd: int, debug: DebugSetup | None = None) -> None:
     """Worker entry point: answer ``run`` requests until ``stop`` or the pipe closes."""
     from crslab.sandbox.run_sandbox import SandboxError
 
-    with open(shared_path, "r+b") as f:
-        shared = mmap.mmap(f.fileno(), 0)
+    shared = mmap.mmap(shared_fd, 0)
+    os.close(shared_fd)
     try:
         worker = Worker(config, shared, keep_fds=[conn.fileno()], debug=debug)
     except SandboxError as exc:
         conn.send(("failed", str(exc)))
         return
-    conn.send(("ready", worker.lib.crs_lab_symbols()))
+    except FirmwareStopped as exc:
+        conn.send(("trapped", exc.trap))
+        return
+    conn.send(("ready", int(worker.sim.fw.symbols)))
     while True:
         try:
             msg = conn.recv()
@@ -296,6 +380,8 @@ def serve(conn: Connection, config: SimConfig, shared_path: str, debug: DebugSet
         if msg[0] == "run":
             code = worker.run(int(msg[1]))
             stats = worker.stats()
+            if code == worker.lib.CRS_RUN_TRAPPED:
+                stats["trap"] = trap_info(worker.ffi, worker.sim)
             stats["motor_board_events"] = worker.take_motor_board_events()
             stats["observations"] = worker.take_observations()
             conn.send(("ran", code, int(worker.sim.tick), stats, worker.take_log()))
@@ -319,4 +405,5 @@ def serve(conn: Connection, config: SimConfig, shared_path: str, debug: DebugSet
             conn.send(("value", None))
         elif msg[0] == "stop":
             conn.send(("stopped", worker.stats(), worker.take_log()))
+            worker.close()
             return

@@ -107,7 +107,8 @@ class SweepJob:
         spec = self.spec
         try:
             with spec.lab.private_build(
-                sanitize=spec.config.build.sanitized, sandboxed=spec.config.sandboxed
+                native=spec.config.build.native, sanitize=spec.config.build.sanitized,
+                sandboxed=spec.config.sandboxed
             ) as build:
                 config = variations.apply(
                     dataclasses.replace(spec.config, build=build, log_signals=True),

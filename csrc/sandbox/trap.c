@@ -114,6 +114,23 @@ static int answer_open(ucontext_t *uc, int nr)
     return 0;
 }
 
+/* newfstatat(fd, "", buf, AT_EMPTY_PATH), which is how the C library's fstat() asks: the status of
+ * an open descriptor, answered with fstat. With any path it would tell whether a file exists, its
+ * size and its times: refused. (statx is refused outright: the C library falls back to this.) */
+static int answer_fstat(ucontext_t *uc, int nr)
+{
+#ifdef SYS_newfstatat
+    if (nr != SYS_newfstatat || !(arg_of(uc, 3) & AT_EMPTY_PATH)) return 0;
+    const char *path = (const char *)arg_of(uc, 1);
+    if (path == NULL || path[0] != '\0') return 0;
+    set_result(uc, syscall(SYS_fstat, (long)arg_of(uc, 0), (void *)arg_of(uc, 2)));
+    return 1;
+#else
+    (void)uc, (void)nr;
+    return 0;
+#endif
+}
+
 /* rt_sigprocmask(how, set, old, size) that would change the mask: applied, SIGSYS kept open. */
 static int answer_signal_mask(ucontext_t *uc, int nr)
 {
@@ -145,7 +162,7 @@ static void on_sigsys(int sig, siginfo_t *info, void *context)
     (void)sig;
     ucontext_t *uc = context;
     const int nr = info->si_syscall;
-    if (answer_open(uc, nr) || answer_signal_mask(uc, nr)) return;
+    if (answer_open(uc, nr) || answer_signal_mask(uc, nr) || answer_fstat(uc, nr)) return;
 
     crs_refusal *r = &g_shared->refusal;
     if (!r->refused) {

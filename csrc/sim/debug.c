@@ -7,7 +7,7 @@
 #include <fenv.h>
 #include <stddef.h>
 
-#include "board.h"
+#include "debug.h"
 
 volatile int64_t crs_tick = -1;
 
@@ -20,7 +20,9 @@ int crs_debug_tick_begins(crs_sim *sim)
 {
     crs_tick = sim->tick;
     if (!sim->debug.break_when || crs_debug_condition == NULL) return 0;
-    if (sim->tick < sim->startup_ticks || lab == NULL) return 0; /* no lab() call this tick */
+    if (sim->tick < sim->startup_ticks || !(sim->fw.symbols & CRS_LAB_HAS_LAB)) {
+        return 0; /* no lab() call this tick */
+    }
     if (!crs_debug_condition(sim->safety_flag)) return 0;
     sim->debug.break_when = 0; /* once: the debugger takes over from here */
     return 1;

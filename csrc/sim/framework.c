@@ -4,7 +4,6 @@
 
 #include <math.h>
 
-#include "board.h"
 #include "crs_arm.h"
 #include "framework_facts.h"
 #include "traj_profiles.h"
@@ -39,8 +38,8 @@ void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3
     crs_faults *f = &sim->faults;
     const double offset[3] = {
         0.0,
-        &offset_Enc2_rad != NULL ? (double)offset_Enc2_rad : 0.0,
-        &offset_Enc3_rad != NULL ? (double)offset_Enc3_rad : 0.0,
+        sim->fw.offset_enc2 != NULL ? (double)*sim->fw.offset_enc2 : 0.0,
+        sim->fw.offset_enc3 != NULL ? (double)*sim->fw.offset_enc3 : 0.0,
     };
     for (int j = 0; j < 3; ++j) {
         int64_t counts = crs_encoder_counts(motor_rad[j], sim->rest_motor_rad[j]);

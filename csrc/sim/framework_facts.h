@@ -102,6 +102,17 @@ enum {
     CRS_GEN_B_MY_ARRS_ORIGIN = 0xE000
 };
 
+/* The F28335's data memory the course's linker command files give a lab's globals: the SARAM
+ * blocks L1 to L7 on page 1 (4 K words each; TI's F28335 data sheet, memory map). A lab whose
+ * sections end past it does not link on the real board, nor in crslab. 16-bit-word addresses. */
+enum { CRS_DATA_RAM_START = 0x9000, CRS_DATA_RAM_END = 0x10000 };
+
+/* What crslab lets one lab() call cost by default, in WebAssembly instructions: the F28335 has
+ * 150 000 cycles per 1 ms tick, about half of which the framework leaves lab() before the next
+ * tick's SPI read finds the last one unfinished; one instruction is counted as one cycle (see
+ * docs/sandbox.md for what that comparison is worth). */
+enum { CRS_LAB_BUDGET_INSTRUCTIONS = 75000, CRS_CPU_CYCLES_PER_TICK = 150000 };
+
 /* Gen A's small printf: precision of a bare %f. */
 enum { CRS_GEN_A_DEFAULT_PRECISION = 5 };
 

@@ -13,17 +13,13 @@
  *       (3 + 8m) & 0xFF, '0', then each address and value, both big endian
  * Gen B parses and samples '0' too but answers neither '0' nor '1'. An unknown command is ignored.
  * Every Gen A read also sets the framework's matlabLock (a float in .my_vars) to 1. */
+#include <stddef.h>
 #include <stdint.h>
 
-#include "board.h"
 #include "c28x_memory.h"
 #include "framework_facts.h"
 #include "host_ports.h"
 #include "serial_line.h"
-
-/* Gen A's framework variable in .my_vars, set to 1.0 by every read and used by nothing else. Weak:
- * a lab that defines the name keeps its own. */
-__attribute__((weak)) float matlabLock = 0.0f;
 
 enum { ADDRESS_MASK = 0x3FFFFF, MAX_PAIRS = (CRS_MATLAB_MESSAGE_CHARS - 1) / 8 };
 
@@ -53,7 +49,8 @@ static void read_floats(crs_sim *sim, int64_t now, const uint8_t *m)
 {
     const uint32_t address = big_endian32(m + 1) & ADDRESS_MASK;
     const uint32_t floats = (uint32_t)m[5] << 8 | m[6];
-    if (sim->generation == CRS_GEN_A) matlabLock = 1.0f;
+    /* Gen A's framework variable in .my_vars (csrc/firmware/firmware.c) */
+    if (sim->generation == CRS_GEN_A && sim->fw.matlab_lock != NULL) *sim->fw.matlab_lock = 1.0f;
     crs_host_port *hp = &sim->shared->host_ports[CRS_HOST_PORT_C];
     const char header[3] = {(char)CRS_MATLAB_START, (char)((3 + floats) & 0xFF), '3'};
     crs_host_reply(sim, CRS_HOST_PORT_C, now, header, sizeof header);

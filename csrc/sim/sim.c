@@ -8,6 +8,7 @@
 #include "board.h"
 #include "crs_arm.h"
 #include "drive.h"
+#include "firmware_port.h"
 #include "framework.h"
 #include "framework_facts.h"
 #include "host_ports.h"
@@ -19,7 +20,7 @@ void crs_sim_init(crs_sim *sim)
     memset(sim, 0, sizeof *sim);
     sim->generation = CRS_GEN_A;
     sim->startup_ticks = CRS_STARTUP_TICKS;
-    sim->budget_ns = 1000000;
+    sim->budget = INT64_MAX;
     sim->time_lab = 1;
     sim->leds = CRS_LEDS_AT_START;
     sim->nan_first_tick = -1;
@@ -30,34 +31,6 @@ void crs_sim_init(crs_sim *sim)
     crs_motor_board_init(&sim->motor_board, CRS_MOTOR_BOARD_NONE);
     /* an ideal drive (every command delivered at once) until the plant parameters are set */
     for (int j = 0; j < 3; ++j) sim->drive.stall_units[j] = HUGE_VAL;
-    crs_board_reset();
-}
-
-static void call_lab(crs_sim *sim)
-{
-    crs_shared *sh = sim->shared;
-    sim->lab_calls++;
-    if (!sim->time_lab) {
-        sh->phase = CRS_PHASE_LAB;
-        lab((float)sim->enc_rad[0], (float)sim->enc_rad[1], (float)sim->enc_rad[2], &sim->tau[0],
-            &sim->tau[1], &sim->tau[2], sim->safety_flag);
-        return;
-    }
-    const int64_t t0 = crs_now_ns();
-    sh->phase_start_ns = t0;
-    sh->phase = CRS_PHASE_LAB;
-    lab((float)sim->enc_rad[0], (float)sim->enc_rad[1], (float)sim->enc_rad[2], &sim->tau[0],
-        &sim->tau[1], &sim->tau[2], sim->safety_flag);
-    const int64_t dt = crs_now_ns() - t0;
-    sim->lab_ns_total += dt;
-    if (dt > sim->lab_ns_max) {
-        sim->lab_ns_max = dt;
-        sim->lab_max_tick = sim->tick;
-    }
-    if (dt > sim->budget_ns) {
-        if (sim->over_budget < 8) sim->first_over_tick[sim->over_budget] = sim->tick;
-        sim->over_budget++;
-    }
 }
 
 /* The framework's command for this tick once the startup gate is open: lab(), printing(), the
@@ -65,13 +38,21 @@ static void call_lab(crs_sim *sim)
  * a CRS_RUN_* code to stop the run, else 0. */
 static int lab_tick(crs_sim *sim)
 {
-    if (sim->debug.trap_fp) crs_debug_fp_traps(1); /* crslab debug --debug-on-crash --strict */
-    call_lab(sim);
-    if (sim->debug.trap_fp) crs_debug_fp_traps(0);
+    int32_t print = 0;
+    int code = crs_fw_call_lab(sim, &print);
+    if (code) return code;
     if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
-    crs_board_after_lab(sim);
-    if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
-    sim->leds = crs_board_update_gpio();
+    if (print) {
+        sim->print_triggers++;
+        if (sim->fw.symbols & CRS_LAB_HAS_PRINTING) {
+            code = crs_fw_call_printing(sim);
+            if (code) return code;
+            sim->printing_runs++;
+            if (sim->overflow_tick >= 0) return CRS_RUN_PRINTF_OVERFLOW;
+        }
+    }
+    sim->leds = crs_board_update_gpio(sim);
+    for (int j = 0; j < 3; ++j) sim->tau[j] = sim->fw.tau[j];
 
     int stop = 0;
     const float clamp = (float)CRS_CLAMP_UNITS;
@@ -110,9 +91,9 @@ static int framework_tick(crs_sim *sim)
     crs_hold_update(&sim->hold, sim->enc_rad);
 
     int stop = 0;
-    if (sim->tick >= sim->startup_ticks && lab != NULL) {
+    if (sim->tick >= sim->startup_ticks && (sim->fw.symbols & CRS_LAB_HAS_LAB)) {
         stop = lab_tick(sim);
-        if (stop == CRS_RUN_PRINTF_OVERFLOW) return stop;
+        if (stop == CRS_RUN_PRINTF_OVERFLOW || stop == CRS_RUN_TRAPPED) return stop;
     } else {
         /* before the startup gate opens lab() is not called and the commands are zero */
         memset(sim->command, 0, sizeof sim->command);
@@ -126,6 +107,8 @@ static int framework_tick(crs_sim *sim)
     return stop;
 }
 
+static double plot_var(const float *v) { return v != NULL ? (double)*v : 0.0; }
+
 static void log_tick(crs_sim *sim, int plots)
 {
     crs_log *lg = &sim->log;
@@ -137,10 +120,7 @@ static void log_tick(crs_sim *sim, int plots)
         lg->tau_applied[3 * i + j] = sim->applied[j];
         lg->qpos_dh_rad[3 * i + j] = sim->qpos[j];
     }
-    lg->plot[4 * i + 0] = plots ? Simulink_PlotVar1 : 0.0;
-    lg->plot[4 * i + 1] = plots ? Simulink_PlotVar2 : 0.0;
-    lg->plot[4 * i + 2] = plots ? Simulink_PlotVar3 : 0.0;
-    lg->plot[4 * i + 3] = plots ? Simulink_PlotVar4 : 0.0;
+    for (int k = 0; k < 4; ++k) lg->plot[4 * i + k] = plots ? plot_var(sim->fw.plot[k]) : 0.0;
     lg->safety[i] = sim->safety_flag;
     lg->leds[i] = sim->leds;
     lg->motor_board_off[i] = sim->motor_board.off;
@@ -148,19 +128,19 @@ static void log_tick(crs_sim *sim, int plots)
 
 int crs_sim_run(crs_sim *sim, int64_t until_tick)
 {
-    crs_board_attach(sim);
     crs_shared *sh = sim->shared;
     /* what changes only between chunks (the lab's symbols never; the drive's lag and the hand's
      * move at scenario events, which end chunks): worked out once per chunk, not every tick */
-    const int plots = (crs_lab_symbols() & CRS_LAB_HAS_PLOTVARS) != 0;
+    const int plots = (sim->fw.symbols & CRS_LAB_HAS_PLOTVARS) != 0;
     const double drive_follow = crs_drive_follow(&sim->drive);
     crs_hand_path hand_path;
     crs_hand_plan(&sim->hand, &hand_path);
     while (sim->tick < until_tick) {
         sh->tick = sim->tick;
-        if (crs_debug_tick_begins(sim)) return CRS_RUN_BREAK;
+        if (crs_fw_tick_begins(sim)) return CRS_RUN_BREAK;
         const int stop = framework_tick(sim);
-        if (stop == CRS_RUN_PRINTF_OVERFLOW) return stop; /* the board's memory is corrupt */
+        /* the board's memory is corrupt, or the firmware stopped: the tick goes no further */
+        if (stop == CRS_RUN_PRINTF_OVERFLOW || stop == CRS_RUN_TRAPPED) return stop;
         /* motor speeds: motor 3 turns with the forearm's absolute angle, j2 + j3 */
         const double speed[3] = {sim->qvel[0], sim->qvel[1], sim->qvel[1] + sim->qvel[2]};
         crs_drive_step(&sim->drive, drive_follow, sim->applied, speed, sim->faults.dead_motor, sim->ctrl);

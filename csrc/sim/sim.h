@@ -1,9 +1,12 @@
 /* The emulated CRS board and its simulation loop: what runs every 1 ms tick.
  *
- * Compiled together with one lab file into one shared object per lab (see crslab/lab/build.py)
- * and driven from Python in chunks of ticks (crslab/sim/worker.py). Everything the tick needs
- * lives in caller-owned structs; the only globals are the framework objects a lab file names
- * (SerialA, SWI_printf, GpioDataRegs), defined in board.c.
+ * The board is trusted C: the framework's tick, the hold controller, the safety envelope, the
+ * clamp, the motor board, the drive, the serial lines, the host ports, MuJoCo's step. It calls the
+ * firmware (the lab file linked with the framework's stand-ins, csrc/firmware) through its port
+ * (firmware_port.h): a WebAssembly module run by wasmtime (firmware_wasm.c, compiled into
+ * crslab._core), or the same firmware linked natively into one shared object with the board
+ * (firmware_native.c: crslab debug, --sanitize, --native). Python drives it in chunks of ticks
+ * (crslab/sim/worker.py). Everything the tick needs lives in caller-owned structs.
  *
  * Time: tick k happens at t = k ms. It sees the plant state after k physics steps of 1 ms, runs
  * the framework (and lab() once the startup gate is open), then the plant steps to t = k+1 ms.
@@ -19,7 +22,7 @@ enum {
     CRS_LINE_QUEUE_CAPACITY = 4096
 };
 enum { CRS_PHASE_IDLE = 0, CRS_PHASE_LAB = 1, CRS_PHASE_PRINTING = 2, CRS_PHASE_PHYSICS = 3,
-       CRS_PHASE_LOADING = 4 /* the lab's shared object is being loaded: its constructors run */ };
+       CRS_PHASE_LOADING = 4 /* the firmware is being loaded: its constructors run */ };
 enum { CRS_REFUSAL_TEXT = 256 };
 
 /* A system call the sandbox refused: written by the worker's SIGSYS handler
@@ -206,6 +209,62 @@ typedef struct {
     double torque_units[3];            /* state: the torque each motor delivers now, command units */
 } crs_drive;
 
+/* Where the board finds the firmware's variables: pointers into the firmware's memory, checked
+ * to lie inside it when the firmware was loaded (firmware_port.h); NULL where the lab defines no
+ * such symbol. The firmware may write anything there: the board reads it as data. */
+typedef struct {
+    float *tau;                  /* [3]: the lab's persistent torque variables, command units */
+    float *offset_enc2;          /* offset_Enc2_rad, rad */
+    float *offset_enc3;          /* offset_Enc3_rad, rad */
+    float *plot[4];              /* Simulink_PlotVar1..4 */
+    uint32_t *gpio;              /* GpioDataRegs: GPA DAT SET CLEAR TOGGLE, GPB DAT SET CLEAR TOGGLE */
+    int32_t *simulink_input[7];  /* SIMU_Var1..7_fromSIMU_16bit (int: 32 bits in the firmware) */
+    float *matlab_lock;          /* Gen A's matlabLock */
+    int32_t symbols;             /* CRS_LAB_HAS_* */
+    int32_t pad;
+} crs_fw_view;
+
+/* Which symbols the lab file defines (crs_fw_view.symbols): a bit each. */
+enum {
+    CRS_LAB_HAS_LAB = 1, CRS_LAB_HAS_PRINTING = 2, CRS_LAB_HAS_UARTPRINT = 4,
+    CRS_LAB_HAS_OFFSET2 = 8, CRS_LAB_HAS_OFFSET3 = 16, CRS_LAB_HAS_PLOTVARS = 32
+};
+
+/* How the firmware stopped the run (the WebAssembly board; a native firmware dies by a signal). */
+enum {
+    CRS_FW_TRAP_NONE = 0,
+    CRS_FW_TRAP_MEMORY = 1,       /* a load or store outside the firmware's memory */
+    CRS_FW_TRAP_STACK = 2,        /* the call stack overflowed (runaway recursion) */
+    CRS_FW_TRAP_DIVIDE = 3,       /* an integer division by zero */
+    CRS_FW_TRAP_OVERFLOW = 4,     /* INT_MIN / -1 */
+    CRS_FW_TRAP_CONVERSION = 5,   /* a float too large, or NaN, converted to an integer */
+    CRS_FW_TRAP_UNREACHABLE = 6,  /* abort(), assert(), __builtin_trap(), and the check the lab is
+                                     compiled with that a pointer it dereferences is not NULL */
+    CRS_FW_TRAP_CALL = 7,         /* a call through a bad function pointer */
+    CRS_FW_TRAP_INTERRUPT = 8,    /* stopped at its deadline: lab() or printing() did not return */
+    CRS_FW_TRAP_EXIT = 9,         /* exit(code) */
+    CRS_FW_TRAP_REFUSED = 10,     /* a call the board does not give a firmware (a file, the clock...) */
+    CRS_FW_TRAP_OTHER = 11,       /* anything else wasmtime reports */
+    CRS_FW_TRAP_LOAD = 12,        /* the firmware could not be loaded */
+    CRS_FW_TRAP_NULL = 13         /* a NULL pointer dereferenced (a check compiled into the lab) */
+};
+enum { CRS_FW_TRAP_TEXT = 1024 };
+typedef struct {
+    int32_t kind;                /* CRS_FW_TRAP_* */
+    int32_t phase;               /* CRS_PHASE_* it happened in */
+    int64_t tick;
+    int32_t exit_code;           /* CRS_FW_TRAP_EXIT: the code passed to exit() */
+    int32_t line;                /* the lab file's line, when a check compiled into the lab said (0: not) */
+    char text[CRS_FW_TRAP_TEXT];    /* wasmtime's message and the firmware's frames, or what a refused
+                                    call tried; NUL-terminated, untrusted text */
+} crs_fw_trap;
+
+/* What lab()'s cost is counted in (crs_sim.cost_unit). */
+enum {
+    CRS_COST_NS = 0,             /* native firmware: the time lab() took, ns (monotonic clock) */
+    CRS_COST_INSTRUCTIONS = 1    /* WebAssembly firmware: instructions executed (wasmtime's fuel) */
+};
+
 /* Why crs_sim_run returned. */
 enum {
     CRS_RUN_DONE = 0,        /* reached until_tick */
@@ -214,6 +273,7 @@ enum {
     CRS_RUN_NAN_STRICT = 3,  /* a NaN/Inf torque in strict mode */
     CRS_RUN_PRINTF_OVERFLOW = 4, /* a serial_printf overflowed the board's format buffer */
     CRS_RUN_EVENTS_FULL = 5, /* motor-board events full: take them and go on */
+    CRS_RUN_TRAPPED = 6,     /* the firmware stopped (crs_sim.trap says how) */
     CRS_RUN_BREAK = 9        /* crslab debug --break-when: its condition holds before this tick */
 };
 
@@ -242,9 +302,9 @@ typedef struct {
     int32_t strict_nan;          /* 1: a NaN/Inf torque stops the run */
     int64_t startup_ticks;       /* lab() first runs at this tick (CRS_STARTUP_TICKS, or 0) */
     double rest_motor_rad[3];    /* true resting pose the encoders were zeroed at */
-    int64_t budget_ns;           /* lab() time budget for the overrun count */
-    int32_t time_lab;            /* 1: time every lab() call (and let a hang be seen); 0: don't */
-    int32_t pad0;
+    int64_t budget;              /* lab()'s budget per call, in cost_unit, for the overrun count */
+    int32_t time_lab;            /* 1: count every lab() call's cost (and let a hang be seen) */
+    int32_t cost_unit;           /* CRS_COST_*: set by the firmware's port */
 
     /* framework state */
     int64_t tick;                /* next tick to run */
@@ -259,8 +319,8 @@ typedef struct {
 
     /* diagnostics */
     int64_t lab_calls;
-    int64_t lab_ns_total, lab_ns_max, lab_max_tick;
-    int64_t over_budget;         /* calls slower than budget_ns */
+    int64_t lab_cost_total, lab_cost_max, lab_max_tick; /* lab()'s cost, in cost_unit */
+    int64_t over_budget;         /* calls that cost more than budget */
     int64_t first_over_tick[8];  /* first few ticks that overran */
     int64_t nan_first_tick;      /* -1 until a NaN/Inf torque is seen */
     int32_t nan_first_joint;     /* 1..3 */
@@ -272,6 +332,13 @@ typedef struct {
     int64_t overflow_tick;       /* -1 until a serial_printf overflows the format buffer */
     uint32_t overflow_chars;     /* how many characters that serial_printf formatted */
     int32_t overflow_phase;      /* CRS_PHASE_LAB or CRS_PHASE_PRINTING */
+    int64_t console_bytes;       /* what the firmware wrote with printf/puts (CCS's console on the
+                                    real board, not Tera Term): counted, never shown */
+    crs_fw_trap trap;               /* how the firmware stopped, when crs_sim_run says CRS_RUN_TRAPPED */
+
+    /* the firmware */
+    crs_fw_view fw;
+    void *firmware;              /* its port's state (firmware_wasm.c); NULL for a native firmware */
 
     crs_shared *shared;
     crs_faults faults;
@@ -287,8 +354,8 @@ typedef struct {
     crs_simulink_rx simulink;
 } crs_sim;
 
-/* Zero everything and set the defaults (Gen A, startup gate at CRS_STARTUP_TICKS, budget 1 ms,
- * no motor board, ...). */
+/* Zero everything and set the defaults (Gen A, startup gate at CRS_STARTUP_TICKS, no motor board,
+ * ...); the firmware's port then sets the view, the cost unit and the budget. */
 void crs_sim_init(crs_sim *sim);
 /* Run ticks until sim->tick == until_tick or an early stop (CRS_RUN_*). */
 int crs_sim_run(crs_sim *sim, int64_t until_tick);
@@ -296,19 +363,6 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick);
 int64_t crs_encoder_counts(double motor_rad, double rest_motor_rad);
 /* The framework's safety envelope on motor angles (rad): 1 when outside. */
 int crs_outside_envelope(const double enc_rad[3]);
-/* Which framework-used symbols the lab file defines: a bit per CRS_LAB_HAS_*. */
-enum {
-    CRS_LAB_HAS_LAB = 1, CRS_LAB_HAS_PRINTING = 2, CRS_LAB_HAS_UARTPRINT = 4,
-    CRS_LAB_HAS_OFFSET2 = 8, CRS_LAB_HAS_OFFSET3 = 16, CRS_LAB_HAS_PLOTVARS = 32
-};
-int crs_lab_symbols(void);
 
-/* For debuggers (csrc/sim/debug.c): the tick being run, which gdb shows; the check at the start of
- * every tick (1: stop for --break-when); the function gdb breaks on when crslab asks for a stop
- * (it then stops at the next lab() call); floating-point traps on (1) or off (0). */
-extern volatile int64_t crs_tick;
-int crs_debug_tick_begins(crs_sim *sim);
-void crs_debug_break(int64_t tick);
-void crs_debug_fp_traps(int on);
 
 #endif

@@ -12,7 +12,6 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "board.h"
 #include "framework_facts.h"
 #include "host_ports.h"
 
@@ -31,25 +30,20 @@ static float plot_var(const float *v) { return v != NULL ? *v : 0.0f; }
 
 static void reply(crs_sim *sim, int64_t now)
 {
-    const float *plots[CRS_SIMULINK_PLOTS] = {&Simulink_PlotVar1, &Simulink_PlotVar2, &Simulink_PlotVar3,
-                                              &Simulink_PlotVar4};
     char out[4 * CRS_SIMULINK_PLOTS];
     for (int i = 0; i < CRS_SIMULINK_PLOTS; ++i) {
-        const uint32_t v = (uint32_t)crs_simulink_scaled(plot_var(plots[i]));
+        const uint32_t v = (uint32_t)crs_simulink_scaled(plot_var(sim->fw.plot[i]));
         for (int b = 0; b < 4; ++b) out[4 * i + b] = (char)(v >> (8 * b));
     }
     crs_host_reply(sim, CRS_HOST_PORT_B, now, out, sizeof out);
 }
 
-static void store(const crs_simulink_rx *rx)
+static void store(crs_sim *sim, const crs_simulink_rx *rx)
 {
-    int *inputs[CRS_SIMULINK_INPUTS] = {
-        &SIMU_Var1_fromSIMU_16bit, &SIMU_Var2_fromSIMU_16bit, &SIMU_Var3_fromSIMU_16bit,
-        &SIMU_Var4_fromSIMU_16bit, &SIMU_Var5_fromSIMU_16bit, &SIMU_Var6_fromSIMU_16bit,
-        &SIMU_Var7_fromSIMU_16bit};
     for (int i = 0; i < CRS_SIMULINK_INPUTS; ++i) {
         /* the C28x's int is 16 bits */
-        *inputs[i] = (int16_t)(uint16_t)(rx->data[2 * i] | rx->data[2 * i + 1] << 8);
+        int32_t *input = sim->fw.simulink_input[i];
+        if (input != NULL) *input = (int16_t)(uint16_t)(rx->data[2 * i] | rx->data[2 * i + 1] << 8);
     }
 }
 
@@ -59,7 +53,7 @@ void crs_simulink_receive(crs_sim *sim, int64_t now, uint8_t byte)
     if (rx->receiving) {
         rx->data[rx->count++] = byte;
         if (rx->count == 2 * CRS_SIMULINK_INPUTS) {
-            store(rx);
+            store(sim, rx);
             rx->receiving = 0;
         }
         return;

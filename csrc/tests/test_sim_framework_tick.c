@@ -16,6 +16,7 @@
 #include "drive.h"
 #include "framework_facts.h"
 #include "motor_board.h"
+#include "firmware_native.h"
 #include "sim.h"
 
 static int failures = 0;
@@ -138,6 +139,7 @@ static crs_sim *new_sim(int generation, int64_t startup_ticks, void (*script)(in
     crs_sim_init(sim);
     sim->shared = calloc(1, sizeof(crs_shared));
     sim->generation = generation;
+    crs_fw_native_attach(sim); /* the test lab above is this board's firmware */
     sim->startup_ticks = startup_ticks;
     sim->time_lab = 0;
     memcpy(sim->rest_motor_rad, REST_MOTOR_RAD, sizeof REST_MOTOR_RAD);

@@ -19,6 +19,11 @@
 #include "crs_arm.h"
 #include "framework_facts.h"
 #include "host_ports.h"
+
+/* the framework's own globals, in its stand-ins (csrc/firmware/firmware.c) */
+extern int SIMU_Var1_fromSIMU_16bit, SIMU_Var7_fromSIMU_16bit;
+extern float matlabLock;
+#include "firmware_native.h"
 #include "sim.h"
 
 static int failures = 0;
@@ -106,6 +111,7 @@ static crs_sim *new_sim(int generation)
     crs_sim_init(sim);
     sim->shared = calloc(1, sizeof(crs_shared));
     sim->generation = generation;
+    crs_fw_native_attach(sim); /* the test lab above is this board's firmware */
     sim->startup_ticks = 0;
     sim->time_lab = 0;
     const double rest[3] = {0.0, -0.42, 0.24};

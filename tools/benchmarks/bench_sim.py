@@ -1,17 +1,22 @@
-"""Issues 3 and 19: the simulator's throughput against physics-only baselines doing the same
-physics, and the command as a user runs it.
+"""Issues 3, 19 and 22: the simulator's throughput against physics-only baselines doing the same
+physics, the lab as WebAssembly firmware against the same lab built natively, and the command as
+a user runs it.
 
 Everything runs crslab's default lab (Lab 1) on the default scenario (the tour, 25 000 ticks).
 
 * **crslab, API**: ticks per second of ``Simulation.run`` at ``--fast``, the worker already
-  started (not timed): per tick the framework, ``lab()`` (timed, as ``crslab sim`` does), the
-  hand, ``mj_step``; per chunk the pipe and the serial bytes. Best of ``2 * REPEATS``, each in a
-  fresh worker (as many tries as the bare loop's passes).
+  started (not timed): per tick the framework, ``lab()`` (its instructions counted, as ``crslab
+  sim`` does), the hand, ``mj_step``; per chunk the pipe and the serial bytes. The lab runs as
+  WebAssembly firmware (crslab's default). Best of ``2 * REPEATS``, each in a fresh worker (as
+  many tries as the bare loop's passes).
+* **crslab, native**: the same with the lab built natively (``--native``: the firmware linked
+  with the board, lab() timed by the thread's CPU clock), interleaved with the WebAssembly runs.
+  Target (issue 22): WebAssembly >= 0.95 of it.
 * **bare C loop** (``bare_mj_step.c``, see ``baselines.py``): ``mj_step`` of the same
   ``libmujoco`` on the same model, replaying the ``ctrl`` and ``qfrc_applied`` recorded from the
   same run tick by tick, nothing else per step; it must end in that run's state bit for bit.
   Best of ``REPEATS`` processes x 2 passes (the later passes warm): the strongest baseline.
-  Target (issue 19): crslab >= 0.9 of it.
+  Targets: crslab >= 0.9 of it (issue 19), the WebAssembly firmware >= 0.88 (issue 22).
 * **CPU time** of the same runs (Linux): the worker's time on a CPU during ``Simulation.run``
   (``/proc/PID/schedstat``; the crslab process's share, about 1.5 ms a run, is left out) against
   the bare loop's process CPU time per pass. Wall time on a loaded machine (other programs, this
@@ -83,9 +88,12 @@ def command_s(args: list[str], out_dir: Path) -> float:
 
 
 def run() -> list[str]:
-    config = make_config()  # the default lab and the tour
+    config = make_config()  # the default lab and the tour, as WebAssembly firmware
+    native = make_config(native=True)
     ticks = config.scenario.end_tick
-    rec = record_run(config, ticks)
+    # recorded in this process with the native firmware: a WebAssembly one would start wasmtime here,
+    # in the process that then forks every worker (the physics is the same: same torques, same steps)
+    rec = record_run(native, ticks)
     fast, first_call = ["sim", "--fast"], ["sim", "--fast", "--no-startup-delay", "--duration", "0.001"]
     with tempfile.TemporaryDirectory(prefix="crslab-bench-") as tmp:
         tmp = Path(tmp)
@@ -93,12 +101,17 @@ def run() -> list[str]:
         controls = rec.save(tmp / "controls.bin")
         command_s(fast, tmp)  # the lab build is cached before anything is timed
         sims, sims_cpu, bare, bare_cpu, rolls, commands, starts = [], [], [], [], [], [], []
+        natives, natives_cpu = [], []
         for _ in range(REPEATS):  # interleaved: every side sees the same machine load
             for _ in range(2):  # as many tries as the bare loop's passes
                 wall, cpu = sim_rate(config, ticks)
                 sims.append(wall)
                 if cpu is not None:
                     sims_cpu.append(cpu)
+                wall, cpu = sim_rate(native, ticks)
+                natives.append(wall)
+                if cpu is not None:
+                    natives_cpu.append(cpu)
             loop = run_bare_loop(exe, controls, passes=2)
             same_physics(rec, loop.qpos_end, loop.qvel_end, "the bare C loop")
             assert loop.ticks == ticks
@@ -109,7 +122,7 @@ def run() -> list[str]:
             rolls.append(ticks / seconds)
             commands.append(command_s(fast, tmp))
             starts.append(command_s(first_call, tmp))
-    sim, c_loop, roll = max(sims), max(bare), max(rolls)
+    sim, c_loop, roll, nat = max(sims), max(bare), max(rolls), max(natives)
     command, start = min(commands), min(starts)
     cpu_line = (f"  by CPU time (load-insensitive): crslab's worker {max(sims_cpu):,.0f} ticks/s, the bare C "
                 f"loop {max(bare_cpu):,.0f} steps/s: ratio {max(sims_cpu) / max(bare_cpu):.2f}, best of "
@@ -119,10 +132,16 @@ def run() -> list[str]:
         f"ctrl and qfrc_applied end in its state bit for bit (max |qfrc_applied| "
         f"{np.abs(rec.qfrc_applied).max():.1f} N.m)",
         f"crslab Simulation.run --fast (API, worker started; framework + lab() + hand + mj_step + pipe), "
-        f"best of {2 * REPEATS}: {sim:,.0f} ticks/s",
+        f"lab as WebAssembly firmware, best of {2 * REPEATS}: {sim:,.0f} ticks/s",
+        f"the same with the lab built natively (--native), interleaved, best of {2 * REPEATS}: {nat:,.0f} "
+        f"ticks/s",
+        f"  ratio WebAssembly / native, wall time: {sim / nat:.2f}"
+        + (f"; by the worker's CPU time: {max(sims_cpu) / max(natives_cpu):.2f}" if natives_cpu else "")
+        + " (target >= 0.95, issue 22)",
         f"bare C loop (copy ctrl, qfrc_applied; mj_step; same libmujoco), best of {2 * REPEATS} passes: "
         f"{c_loop:,.0f} steps/s",
-        f"  ratio crslab API / bare C loop, wall time: {sim / c_loop:.2f} (target >= 0.9, issue 19)",
+        f"  ratio crslab API (WebAssembly) / bare C loop, wall time: {sim / c_loop:.2f} (target >= 0.9, "
+        f"issue 19; >= 0.88, issue 22); native / bare C loop: {nat / c_loop:.2f}",
         cpu_line,
         f"mujoco.rollout of the same controls and forces (one call, stores each state), best of {REPEATS}: "
         f"{roll:,.0f} steps/s",

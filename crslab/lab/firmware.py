@@ -1,0 +1,344 @@
+"""Build a lab's WebAssembly firmware: the lab file, unmodified, linked with the framework's
+stand-ins (``csrc/firmware``) and crslab's kinematics (``csrc/kin``, for labs that call it) into
+one WebAssembly module, as the real lab is linked with the framework into the F28335's image.
+
+zig's clang compiles it for wasm32 (:mod:`crslab.lab.zig`), with wasi-libc as its C library, in
+the compile sandbox. The module's memory is fixed when it is linked (:data:`MEMORY_BYTES`, the
+call stack first, so that a runaway recursion runs off its bottom and traps), and it imports only
+the board's functions and the WASI calls the C library makes, which the board answers or refuses
+(``csrc/sim/firmware_wasm.c``). Every global variable of the lab file that has a symbol is
+exported by name, so the board finds its address (watched variables, the MATLAB tools).
+
+A lab that calls a function nobody defines does not link: the message names the function. One
+whose data does not fit the memory says how much it needs.
+
+>>> undefined_functions("wasm-ld: error: /tmp/x/lab.o: undefined symbol: uname\\n")
+['uname']
+>>> memory_needed("wasm-ld: error: initial memory too small, 4196352 bytes needed")
+4196352
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import shutil
+import subprocess
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+from crslab import resources
+from crslab.lab import zig
+from crslab.lab.compile_process import (
+    COMPILE_TIMEOUT_S,
+    CompilerStopped,
+    LabBuildError,
+    LabForbidden,
+    check_image,
+    run_compiler,
+)
+from crslab.sandbox.compile_sandbox import CompilerSandbox
+
+TARGET = "wasm32-wasi"
+STACK_BYTES = 64 * 1024
+"""The firmware's C stack, at the bottom of its memory (the F28335's is 1 K words in M1; students'
+local arrays need more on a host)."""
+MEMORY_BYTES = 1024 * 1024
+"""The firmware's whole memory at most: stack, data, and the heap malloc grows (docs/sandbox.md)."""
+NATIVE_STACK_BYTES = 512 * 1024
+"""The native stack wasmtime lets the firmware's calls use (recursion depth)."""
+
+FIRMWARE = resources.path("csrc", "firmware")
+KIN = resources.path("csrc", "kin")
+SIM = resources.path("csrc", "sim")
+SHIM_INCLUDE = resources.path("csrc", "board", "include")
+INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
+COMPILE_FLAGS = ["-std=c11", "-O2", "-mexec-model=reactor", "-fno-common", "-g"]
+LAB_CHECKS = "null,integer-divide-by-zero"
+LAB_FLAGS = [*COMPILE_FLAGS, "-w", f"-fsanitize={LAB_CHECKS}", f"-fno-sanitize-recover={LAB_CHECKS}"]
+"""The lab's flags: a NULL pointer dereferenced or an integer divided by zero stops the run at its
+line (the handlers are the firmware's, csrc/firmware/firmware.c). On the F28335 neither stops the
+board (address 0 is RAM; the division's result is undefined); a native build stops too."""
+FIRMWARE_FLAGS = [*COMPILE_FLAGS, "-Wall", "-Wextra", "-Werror"]
+LINK_FLAGS = ["-mexec-model=reactor", f"-Wl,-z,stack-size={STACK_BYTES}", f"-Wl,--max-memory={MEMORY_BYTES}"]
+"""zig's linker puts the stack first (tests/test_wasm_firmware.py checks it), then the data, then the heap."""
+FIRMWARE_SOURCES = sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c"))
+FIRMWARE_HEADERS = (sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h"))
+                    + [SIM / "sim.h", SIM / "framework_facts.h"])
+
+FRAMEWORK_VARIABLES = ("matlabLock", *(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, 8)))
+"""The framework's globals in the firmware that the board's memory map holds (firmware.c)."""
+
+_UNDEFINED = re.compile(r"undefined symbol: (\w+)")
+_NOT_EXPORTED = re.compile(r"symbol exported via --export not found: (\w+)")
+_CLASH = re.compile(r"(?:symbol type mismatch|duplicate symbol): (\w+)")
+RENAMED_PREFIX = "crs_lab_"
+"""A lab global whose name the C library also defines is compiled under this prefix (see
+:func:`clashing_symbols`); the board finds it by the new name."""
+_MEMORY = re.compile(r"(?:initial|maximum) memory too small, (\d+) bytes needed")
+
+
+def undefined_functions(diagnostics: str) -> list[str]:
+    """The symbols the linker could not find, in order, once each."""
+    out: list[str] = []
+    for name in _UNDEFINED.findall(diagnostics):
+        if name not in out:
+            out.append(name)
+    return out
+
+
+def not_exported(diagnostics: str) -> list[str]:
+    """Variables the build was told to export that the lab does not define after all.
+
+    >>> not_exported("wasm-ld: error: symbol exported via --export not found: x_in")
+    ['x_in']
+    """
+    return _NOT_EXPORTED.findall(diagnostics)
+
+
+def clashing_symbols(diagnostics: str) -> list[str]:
+    """Globals of the lab that the WebAssembly C library also defines (course labs name variables
+    ``index``, ``time``, ``step``...): on the board, and in a native build (``-Bsymbolic``), the
+    lab's own win; here the lab file is compiled again with each renamed (``-Dindex=crs_lab_index``),
+    which changes nothing the lab computes.
+
+    >>> clashing_symbols("wasm-ld: error: symbol type mismatch: index\\n>>> defined as ...")
+    ['index']
+    """
+    return list(dict.fromkeys(_CLASH.findall(diagnostics)))
+
+
+def memory_needed(diagnostics: str) -> int | None:
+    """The memory (bytes) the linker said the firmware needs, when it does not fit."""
+    m = _MEMORY.search(diagnostics)
+    return int(m.group(1)) if m else None
+
+
+def prepare_zig() -> None:
+    """zig's C library for wasm32, built once (with progress on stderr): see :func:`zig.prepare`."""
+    zig.prepare(TARGET, LINK_FLAGS)
+
+
+def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - build.content_digest
+    """The stand-ins and the kinematics compiled for wasm32, once per content, flags and zig."""
+    digest = digest_of([zig.zig_version().encode(), " ".join(FIRMWARE_FLAGS).encode()]
+                       + [p.read_bytes() for p in FIRMWARE_SOURCES + FIRMWARE_HEADERS])
+    out_dir = cache / f"firmware-{digest}"
+    objects = [out_dir / f"{p.parent.name}_{p.stem}.o" for p in FIRMWARE_SOURCES]
+    if all(o.exists() for o in objects):
+        return objects
+    out_dir.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
+        procs = []
+        for src, obj in zip(FIRMWARE_SOURCES, objects):
+            part = Path(tmp) / obj.name
+            procs.append((subprocess.Popen([*zig.zig_cc(), f"--target={TARGET}", *FIRMWARE_FLAGS, *INCLUDES,
+                                            "-c", str(src), "-o", str(part)],
+                                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                           env=zig.zig_environment(Path(tmp) / "cache")), src, part, obj))
+        failed = []
+        for proc, src, part, obj in procs:
+            _, err = proc.communicate(timeout=COMPILE_TIMEOUT_S)
+            if proc.returncode != 0:
+                failed.append(f"crslab's firmware source {src.name} does not compile for wasm32:\n{err}")
+            else:
+                part.replace(obj)
+        if failed:
+            raise RuntimeError("\n".join(failed))
+    return objects
+
+
+def exported_variables(names: list[str]) -> list[str]:
+    """Linker flags exporting each of ``names`` (a data symbol's export holds its address)."""
+    return [f"-Wl,--export={n}" for n in names if re.fullmatch(r"[A-Za-z_]\w*", n)]
+
+
+GLOBALS_UNIT = "crslab-globals"
+"""The name the size table's lines go by in the compiler's messages (:func:`unit_text`)."""
+SIZES_SYMBOL = "crs_fw_global_sizes"
+"""The table of the lab's globals' sizes in bytes, exported with the image."""
+MAX_ROUNDS = 12
+"""Compiles of one build: each round drops a name the lab does not define after all, or renames
+one the C library also defines."""
+
+
+def unit_text(lab: Path, sized: list[str]) -> str:
+    """The translation unit the firmware is compiled from: the lab file itself, then the size in
+    bytes of each of its globals ``sized`` as the compiler laid it out, so the board never reads or
+    writes a variable past its end (the source's reading of a size may be wrong).
+
+    >>> print(unit_text(Path("/labs/lab1.c"), ["mycount", "theta1array"]))
+    #include "/labs/lab1.c"
+    #line 1 "crslab-globals"
+    const unsigned int crs_fw_global_sizes[] = {0
+    , sizeof(mycount)
+    , sizeof(theta1array)
+    };
+    <BLANKLINE>
+    """
+    lines = [f'#include "{lab.absolute()}"', f'#line 1 "{GLOBALS_UNIT}"',
+             f"const unsigned int {SIZES_SYMBOL}[] = {{0"]
+    lines += [f", sizeof({name})" for name in sized]
+    return "\n".join([*lines, "};", ""])
+
+
+def includable(lab: Path) -> bool:
+    """Whether ``#include "path"`` can name the lab (a quote or a line break in its path cannot be).
+
+    >>> includable(Path("/labs/lab1.c")), includable(Path('/labs/=F("x").c'))
+    (True, False)
+    """
+    return not any(ch in str(lab.absolute()) for ch in '"\n\r')
+
+
+def failed_sizes(diagnostics: str, sized: list[str]) -> list[str]:
+    """The names whose line of the size table did not compile (a global the source's reading found
+    that the compiler does not see: in a branch of an ``#if``, a macro).
+
+    >>> failed_sizes("crslab-globals:3:10: error: use of undeclared identifier 'x_in'", ["a", "x_in"])
+    ['x_in']
+    """
+    lines = {int(n) for n in re.findall(rf"{re.escape(GLOBALS_UNIT)}:(\d+):\d+: error", diagnostics)}
+    return [name for i, name in enumerate(sized) if i + 2 in lines]
+
+
+def visible_files(build_dir: Path, folders: list[Path]) -> Path:
+    """A file-system overlay for clang (``-ivfsoverlay``) in which only ``folders`` exist: the lab's
+    folder, crslab's headers, zig's C library, the build folder. Everything else is not found, as if
+    it were not there, so ``#include`` and ``__has_include`` of a path outside cannot even tell
+    whether a file exists (the compile sandbox, which refuses to read it, would). Returns its path.
+
+    >>> import tempfile
+    >>> path = visible_files(Path(tempfile.mkdtemp()), [Path("/labs/me")])
+    >>> json.loads(path.read_text())["roots"][0]["name"]
+    '/labs/me'
+    """
+    roots = [{"name": str(f), "type": "directory-remap", "external-contents": str(f)}
+             for f in dict.fromkeys(folders)]
+    path = build_dir / "visible-files.json"
+    path.write_text(json.dumps({"version": 0, "fallthrough": False, "roots": roots}))
+    return path
+
+
+def compile_command(unit: Path, lab: Path, objects: list[Path], out: Path, exported: list[str],
+                    renamed: list[str]) -> list[str]:
+    """zig's command that compiles ``unit`` (the lab file ``lab`` and its size table; the lab's
+    globals ``renamed`` under :data:`RENAMED_PREFIX`) and links it into ``out``, exporting
+    ``exported`` (as they are named in the image). A lab's ``main()`` is never called (the board
+    runs the framework's loop), so it is compiled as an ordinary function: the course's
+    ``void main(void)`` is fine on the C28x. ``__FILE__`` names the lab as it was given."""
+    renames = [f"-D{n}={RENAMED_PREFIX}{n}" for n in renamed]
+    given = "" if str(lab.parent) == "." else f"{lab.parent}/"
+    folders = [lab.absolute().parent, lab.resolve().parent, SHIM_INCLUDE, FIRMWARE, KIN, SIM,
+               zig.zig_dir() / "lib", unit.parent]
+    overlay = visible_files(unit.parent, [f.absolute() for f in folders])
+    return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,
+            f"-fmacro-prefix-map={lab.absolute().parent}/={given}", "-ivfsoverlay", str(overlay),
+            "-iquote", str(lab.absolute().parent), *INCLUDES,
+            "-x", "c", str(unit), "-x", "none", *map(str, objects), *LINK_FLAGS,
+            *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
+
+
+@dataclass(frozen=True)
+class WasmImage:
+    """A built firmware module and what the board needs to know of its names."""
+
+    path: Path
+    renamed: tuple[str, ...]
+    """The lab's globals compiled under another name (:func:`clashing_symbols`)."""
+    sized: tuple[str, ...]
+    """The lab's globals in the module's size table, in its order."""
+
+    def save(self, folder: Path) -> None:
+        (folder / "names.json").write_text(json.dumps({"renamed": self.renamed, "sized": self.sized}))
+
+    @staticmethod
+    def load(folder: Path) -> WasmImage | None:
+        """The image cached in ``folder``, or None."""
+        try:
+            names = json.loads((folder / "names.json").read_text())
+        except (OSError, ValueError):
+            return None
+        image = folder / "lab.wasm"
+        return WasmImage(image, tuple(names["renamed"]), tuple(names["sized"])) if image.exists() else None
+
+
+def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir: Path,
+                 sandbox: CompilerSandbox | None) -> WasmImage:
+    """Compile and link ``lab`` into ``build_dir/lab.wasm``, exporting and sizing ``globals_`` (its
+    globals as the source reads them) and the framework's variables. Raises LabBuildError (one line
+    naming the problem) or LabForbidden."""
+    sized = list(globals_)
+    exported = sorted(set(globals_) | set(FRAMEWORK_VARIABLES))
+    renamed: list[str] = []
+    unit = build_dir / "firmware.c"
+    out = build_dir / "lab.wasm"
+    included = lab
+    if not includable(lab):  # a name an #include cannot spell: a copy under a plain one (same folder's
+        included = build_dir / "submission" / re.sub(r"[^\w.+-]", "_", lab.name)  # files via -iquote)
+        included.parent.mkdir()
+        shutil.copyfile(lab, included)
+    for _ in range(MAX_ROUNDS):
+        unit.write_text(unit_text(included, sized))
+        names = [RENAMED_PREFIX + n if n in renamed else n for n in exported]
+        try:
+            run_compiler(compile_command(unit, lab, objects, out, names, renamed), lab.name, sandbox,
+                         env=compile_environment(build_dir))
+            break
+        except (LabForbidden, CompilerStopped) as exc:
+            exc.diagnostics = shown_diagnostics(exc.diagnostics, unit, lab)
+            raise
+        except LabBuildError as exc:
+            text = shown_diagnostics(exc.diagnostics, unit, lab)
+            absent = {n.removeprefix(RENAMED_PREFIX) for n in not_exported(text)}
+            absent |= set(failed_sizes(text, sized))
+            clashes = [n for n in clashing_symbols(text) if n not in renamed]
+            if absent & set(exported) or clashes:
+                exported = [n for n in exported if n not in absent]
+                sized = [n for n in sized if n not in absent]
+                renamed += clashes
+                continue
+            raise link_failure(lab, text) from None
+    else:
+        raise LabBuildError(f"{lab.name} does not link: too many of its names clash with the C library's")
+    check_image(out, lab.name)
+    return WasmImage(out, tuple(renamed), tuple(sized))
+
+
+def shown_diagnostics(diagnostics: str, unit: Path, lab: Path) -> str:
+    """The compiler's messages as the user should read them: about the lab as they named it, without
+    the line that says the lab was included by crslab's unit.
+
+    >>> shown_diagnostics("In file included from /b/firmware.c:1:\\n/abs/x/lab.c:3:1: error: e",
+    ...                   Path("/b/firmware.c"), Path("/abs/x/lab.c"))
+    '/abs/x/lab.c:3:1: error: e'
+    """
+    lines = [line for line in diagnostics.splitlines(keepends=True)
+             if not line.startswith(f"In file included from {unit}:")]
+    return "".join(lines).replace(str(lab.absolute()), str(lab))
+
+
+def link_failure(lab: Path, diagnostics: str) -> LabBuildError:
+    """The one-line error of a failed build: a function nobody defines, memory the board lacks."""
+    missing = undefined_functions(diagnostics)
+    if missing:
+        shown = ", ".join(f"{m}()" for m in missing[:4]) + (", ..." if len(missing) > 4 else "")
+        return LabBuildError(f"{lab.name} does not compile: it calls {shown}, which neither the file nor the "
+                             "board's framework defines", diagnostics)
+    needed = memory_needed(diagnostics)
+    if needed is not None:
+        return LabBuildError(f"{lab.name} does not fit the board: it needs {needed / 1024:,.0f} KB of "
+                             f"memory, crslab's board gives a lab {MEMORY_BYTES // 1024:,} KB (stack, data "
+                             "and heap)", diagnostics)
+    return LabBuildError(f"{lab.name} does not compile", diagnostics)
+
+
+def compile_environment(build_dir: Path) -> dict[str, str]:
+    """zig's environment for one build: its own local cache inside the build folder."""
+    env = zig.zig_environment(build_dir / "zig-cache")
+    for key in ("TMPDIR", "TMP", "TEMP"):
+        env[key] = str(build_dir)
+    return env
+
+

@@ -1,0 +1,131 @@
+"""Where the lab's global variables are in the worker, and in which C types, for both kinds of
+firmware: the watched variables' ``get``/``set``, the expectations' reads, the scenarios' writes,
+and the emulated C28x memory the course's MATLAB tools read and write (``crs_sim.memory``).
+
+- WebAssembly: a variable lives in the firmware's linear memory, at the address its export holds
+  (the build exports every global of the lab file); its types are wasm32's (``int`` and ``long``
+  32 bits, ``double`` 64, pointers 32). The memory's size is fixed, so an address and a size are
+  checked once against it.
+- native: a variable is the loaded shared object's symbol; its types are the host's; its size is
+  the symbol's, as the dynamic loader knows it.
+
+Everything read is data the firmware wrote; nothing here trusts it beyond its bounds.
+
+>>> wasm_element_type("long"), wasm_element_type("Uint16"), wasm_element_type("double")
+('int32_t', 'uint16_t', 'double')
+>>> wasm_element_type("long double") is None
+True
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Protocol
+
+from cffi import FFI
+
+from crslab.lab.firmware import FRAMEWORK_VARIABLES, SIZES_SYMBOL
+from crslab.lab.variables import HOST_TYPES
+from crslab.os_support import loaded_symbol_size
+
+if TYPE_CHECKING:
+    from crslab.lab.build import LabBuild
+
+_WASM32 = {
+    "char": "int8_t", "signed char": "int8_t", "unsigned char": "uint8_t", "short": "int16_t",
+    "unsigned short": "uint16_t", "int": "int32_t", "unsigned int": "uint32_t", "long": "int32_t",
+    "unsigned long": "uint32_t", "long long": "int64_t", "unsigned long long": "uint64_t",
+    "float": "float", "double": "double", "_Bool": "uint8_t", "bool": "uint8_t",
+    "int8_t": "int8_t", "uint8_t": "uint8_t", "int16_t": "int16_t", "uint16_t": "uint16_t",
+    "int32_t": "int32_t", "uint32_t": "uint32_t", "int64_t": "int64_t", "uint64_t": "uint64_t",
+}
+"""A C type (qualifiers dropped) to the fixed-width type wasm32 gives it; ``long double`` (128-bit
+in wasm32) and pointers have none crslab reads."""
+
+
+def wasm_element_type(ctype: str, pointer: bool = False) -> str | None:
+    """The cffi type of one element of a variable of ``ctype`` in a WebAssembly firmware."""
+    if pointer:
+        return None
+    host = HOST_TYPES.get(ctype, ctype)
+    return _WASM32.get(host)
+
+
+def native_element_type(ctype: str, pointer: bool = False) -> str | None:
+    """The cffi type of one element of a variable of ``ctype`` in a native firmware."""
+    if pointer:
+        return None
+    host = HOST_TYPES.get(ctype, ctype)
+    return None if host.endswith("*") else host
+
+
+class FirmwareMemory(Protocol):
+    """The lab's variables in one loaded firmware."""
+
+    ffi: FFI
+
+    def element_type(self, ctype: str, pointer: bool = False) -> str | None:
+        """The cffi type of one element of ``ctype`` in this firmware (None: not readable)."""
+
+    def address(self, name: str, nbytes: int) -> int | None:
+        """The worker's address of the global ``name`` when ``nbytes`` of it lie in the firmware
+        (None: not there, or smaller than that)."""
+
+
+class WasmMemory:
+    """A WebAssembly firmware's memory (``crs_fw_wasm_memory``, ``crs_fw_wasm_variable``), for the
+    lab ``build`` (what its globals are called in the image, and the size of each)."""
+
+    def __init__(self, ffi: FFI, lib: object, sim: object, build: LabBuild) -> None:
+        self.ffi, self._lib, self._sim, self._image_name = ffi, lib, sim, build.image_name
+        size = ffi.new("uint64_t *")
+        base = lib.crs_fw_wasm_memory(sim, size)  # type: ignore[attr-defined]
+        self.base = int(ffi.cast("uintptr_t", base))
+        self.size = int(size[0])
+        # the size the compiler gave each of the lab's globals (the build's table, read once)
+        self._sizes: dict[str, int] = {}
+        table = self._offset(SIZES_SYMBOL)
+        n = len(build.sized)
+        if table and table + 4 * (n + 1) <= self.size:
+            values = ffi.unpack(ffi.cast("uint32_t *", self.base + table), n + 1)
+            self._sizes = dict(zip(build.sized, values[1:]))
+
+    def _offset(self, exported: str) -> int:
+        return int(self._lib.crs_fw_wasm_variable(self._sim, exported.encode()))  # type: ignore[attr-defined]
+
+    def element_type(self, ctype: str, pointer: bool = False) -> str | None:
+        return wasm_element_type(ctype, pointer)
+
+    def address(self, name: str, nbytes: int) -> int | None:
+        offset = self._offset(self._image_name(name))
+        if offset == 0 or offset + nbytes > self.size:
+            return None
+        # never trust the source's parse beyond the object the compiler laid out (the framework's own
+        # variables, an int or a float each, are not in the lab's table)
+        size = self._sizes.get(name, 4 if name in FRAMEWORK_VARIABLES else 0)
+        return self.base + offset if size >= nbytes else None
+
+
+class NativeMemory:
+    """A native firmware's globals: the loaded shared object's symbols."""
+
+    def __init__(self, shared_object: Path, names: list[str]) -> None:
+        self.ffi = FFI()
+        declared = [n for n in dict.fromkeys(names) if n.isidentifier()]
+        self.ffi.cdef("\n".join(f"extern char {n};" for n in declared))
+        self._lib = self.ffi.dlopen(str(shared_object))  # already loaded: found by its path, never opened
+        self._names = set(declared)
+
+    def element_type(self, ctype: str, pointer: bool = False) -> str | None:
+        return native_element_type(ctype, pointer)
+
+    def address(self, name: str, nbytes: int) -> int | None:
+        if name not in self._names:
+            return None
+        try:
+            address = int(self.ffi.cast("uintptr_t", self.ffi.addressof(self._lib, name)))
+        except (AttributeError, KeyError, NotImplementedError, self.ffi.error):
+            return None
+        # never trust the source's parse beyond the object the compiler laid out
+        size = loaded_symbol_size(address)
+        return address if size is not None and size >= nbytes else None

@@ -1,0 +1,108 @@
+"""One line of diagnosis for a WebAssembly firmware that stopped (``crs_sim.trap``, sent by the
+worker as a dict, see :func:`crslab.sim.worker.trap_info`): what happened, in which function and
+line of the lab file, where in the tick, and how the run is classed.
+
+The board is trusted and the worker survives the firmware's trap, so the transcript up to the trap
+is whole. wasmtime names the firmware's frames with their file and line (the firmware carries its
+debug information); the first frame in the lab's own file is the line shown.
+
+>>> t = {"kind": 3, "phase": 1, "tick": 5123, "exit_code": 0,
+...      "text": "wasm backtrace:\\n    0:   0x1a - lab\\n      at /tmp/x/div.c:12:9\\n\\nCaused by: ..."}
+>>> status, line = diagnose(t, "div.c", deadline_s=2.0)
+>>> status
+<RunStatus.CRASHED: 'crashed'>
+>>> line.split(";")[0]
+'div.c divided an integer by zero at div.c:12 in lab() at tick 5123 (t = 5.123 s)'
+>>> diagnose({**t, "kind": 8, "text": ""}, "div.c", deadline_s=2.0)[1]
+'div.c hung: lab() did not return within 2 s at tick 5123 (t = 5.123 s)'
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import PurePath
+
+from crslab.sim.board_ffi import board_constants
+from crslab.sim.status import RunStatus
+from crslab.untrusted_text import for_terminal
+
+_AT = re.compile(r"^\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
+_FRAME = re.compile(r"^\s*\d+:\s+0x[0-9a-f]+ - (\S+)", re.MULTILINE)
+RECURSION_FRAMES = 8
+"""A memory trap whose innermost frames are this many calls of one function ran off its stack."""
+
+
+def recursed(text: str) -> bool:
+    """Whether wasmtime's backtrace ``text`` starts with :data:`RECURSION_FRAMES` calls of one
+    function (the stack ran off the bottom of the firmware's memory).
+
+    >>> recursed("".join(f"  {i}: 0x10 - deep\\n" for i in range(9)))
+    True
+    """
+    names = _FRAME.findall(text)[:RECURSION_FRAMES]
+    return len(names) == RECURSION_FRAMES and len(set(names)) == 1
+
+
+def where_in(text: str, lab_name: str) -> str | None:
+    """``file:line`` of the innermost frame of wasmtime's backtrace ``text`` in the lab's own file.
+
+    >>> where_in("  0: 0x1 - f\\n      at /a/b/lab.c:7:3\\n  1: 0x2 - g\\n      at /a/b/lab.c:20:1", "lab.c")
+    'lab.c:7'
+    """
+    for path, line in _AT.findall(text):
+        if PurePath(path).name == lab_name and line:
+            return f"{lab_name}:{line}"
+    return None
+
+
+def _phase_words(phase: int) -> tuple[str, str]:
+    """(the function it was in, where in the tick) for a phase."""
+    c = board_constants()
+    if phase == c.CRS_PHASE_PRINTING:
+        return "printing()", "in printing()"
+    if phase == c.CRS_PHASE_LOADING:
+        return "a constructor", "in a constructor or static initializer"
+    return "lab()", "in lab()"
+
+
+def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[RunStatus, str]:
+    """How the run ends and the one line that says why."""
+    c = board_constants()
+    kind, phase, tick = int(trap.get("kind", 0)), int(trap.get("phase", 0)), int(trap.get("tick", 0))
+    text = str(trap.get("text", ""))
+    func, where = _phase_words(phase)
+    at = ("before the first tick" if phase == c.CRS_PHASE_LOADING
+          else f"at tick {tick} (t = {tick / 1000:.3f} s)")
+    line = f"{lab_name}:{int(trap['line'])}" if int(trap.get("line", 0)) > 0 else where_in(text, lab_name)
+    place = f"at {line} {where}" if line else where
+    if kind == c.CRS_FW_TRAP_INTERRUPT:
+        within = f" within {deadline_s:g} s" if deadline_s is not None else ""
+        return RunStatus.HUNG, f"{lab_name} hung: {func} did not return{within} {at}"
+    if kind == c.CRS_FW_TRAP_EXIT:
+        return RunStatus.EXITED, f"{lab_name} called exit({int(trap.get('exit_code', 0))}) {place} {at}"
+    if kind == c.CRS_FW_TRAP_REFUSED:
+        what = for_terminal(text.split("\n", 1)[0])  # it quotes what the lab named
+        return RunStatus.FORBIDDEN, f"{lab_name} was stopped by the sandbox: it tried to {what} {place} {at}"
+    if kind == c.CRS_FW_TRAP_LOAD:
+        first = for_terminal(text.split("\n", 1)[0]) if text else "no reason given"
+        return RunStatus.CRASHED, f"{lab_name} cannot be run: {first}"
+    what = {
+        c.CRS_FW_TRAP_MEMORY: "read or wrote outside its memory (a wild pointer or an index far out of an "
+                              "array)",
+        c.CRS_FW_TRAP_STACK: "overflowed its call stack (runaway recursion)",
+        c.CRS_FW_TRAP_DIVIDE: "divided an integer by zero",  # the C28x goes on: see the end of the line
+        c.CRS_FW_TRAP_OVERFLOW: "overflowed an integer division (the most negative int divided by -1)",
+        c.CRS_FW_TRAP_CONVERSION: "converted a float that is NaN or out of range to an integer",
+        c.CRS_FW_TRAP_UNREACHABLE: "called abort() (or an assertion failed)",
+        c.CRS_FW_TRAP_CALL: "called a function through a bad pointer",
+        c.CRS_FW_TRAP_NULL: "used a NULL pointer (one that was never set)",
+    }.get(kind)
+    if kind == c.CRS_FW_TRAP_MEMORY and recursed(text):
+        what = "overflowed its call stack (runaway recursion)"
+
+    if what is None:
+        first = for_terminal(next((s.strip() for s in text.split("\n") if s.strip()), "the board stopped it"))
+        return RunStatus.CRASHED, f"{lab_name} crashed ({first}) {place} {at}"
+    why = ("; on the C28x an integer division by zero does not stop the board: it goes on with an undefined "
+           "result" if kind == c.CRS_FW_TRAP_DIVIDE else "")
+    return RunStatus.CRASHED, f"{lab_name} {what} {place} {at}{why}"

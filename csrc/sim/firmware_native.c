@@ -1,0 +1,87 @@
+/* The native firmware's port (firmware_port.h): the firmware (csrc/firmware) linked into the same
+ * shared object as the board. crslab debug (gdb), --sanitize (ASan and UBSan) and --native run it.
+ * lab() is called directly and its cost is the worker thread's CPU time (host load that takes the
+ * CPU away from the worker does not count); the crslab process watches the worker from outside,
+ * and the run sandbox (crslab/sandbox) keeps the process from reaching anything. */
+#define _POSIX_C_SOURCE 199309L
+
+#include "firmware_native.h"
+
+#include <stddef.h>
+#include <time.h>
+
+#include "board.h"
+#include "debug.h"
+#include "firmware.h"
+#include "firmware_port.h"
+
+static crs_sim *board_sim; /* the one board of this process: serial_printf's way to it */
+
+static void *at(uintptr_t address) { return (void *)address; }
+
+void crs_fw_native_attach(crs_sim *sim)
+{
+    board_sim = sim;
+    const crs_fw_table *t = crs_fw_start(sim->generation);
+    crs_fw_view *v = &sim->fw;
+    v->tau = at(t->tau);
+    v->offset_enc2 = at(t->offset_enc2);
+    v->offset_enc3 = at(t->offset_enc3);
+    for (int i = 0; i < CRS_FW_PLOTS; ++i) v->plot[i] = at(t->plot[i]);
+    v->gpio = at(t->gpio);
+    for (int i = 0; i < CRS_FW_SIMULINK_INPUTS; ++i) v->simulink_input[i] = at(t->simulink_input[i]);
+    v->matlab_lock = at(t->matlab_lock);
+    v->symbols = t->symbols;
+    sim->cost_unit = CRS_COST_NS;
+}
+
+static void count_cost(crs_sim *sim, int64_t cost)
+{
+    sim->lab_cost_total += cost;
+    if (cost > sim->lab_cost_max) {
+        sim->lab_cost_max = cost;
+        sim->lab_max_tick = sim->tick;
+    }
+    if (cost > sim->budget) {
+        if (sim->over_budget < 8) sim->first_over_tick[sim->over_budget] = sim->tick;
+        sim->over_budget++;
+    }
+}
+
+int crs_fw_call_lab(crs_sim *sim, int32_t *print)
+{
+    crs_shared *sh = sim->shared;
+    const float th1 = (float)sim->enc_rad[0], th2 = (float)sim->enc_rad[1], th3 = (float)sim->enc_rad[2];
+    sim->lab_calls++;
+    if (!sim->time_lab) {
+        sh->phase = CRS_PHASE_LAB;
+        *print = crs_fw_lab(th1, th2, th3, sim->safety_flag);
+        return 0;
+    }
+    if (sim->debug.trap_fp) crs_debug_fp_traps(1); /* crslab debug --debug-on-crash --strict */
+    /* the monotonic clock (vDSO, no system call): a thread CPU-time clock costs two system
+     * calls per tick, a sixth of the worker's time */
+    const int64_t start_ns = crs_now_ns();
+    sh->phase_start_ns = start_ns;
+    sh->phase = CRS_PHASE_LAB;
+    *print = crs_fw_lab(th1, th2, th3, sim->safety_flag);
+    count_cost(sim, crs_now_ns() - start_ns);
+    if (sim->debug.trap_fp) crs_debug_fp_traps(0);
+    return 0;
+}
+
+int crs_fw_tick_begins(crs_sim *sim) { return crs_debug_tick_begins(sim); }
+
+int crs_fw_call_printing(crs_sim *sim)
+{
+    sim->shared->phase = CRS_PHASE_PRINTING;
+    sim->shared->phase_start_ns = crs_now_ns();
+    crs_fw_printing();
+    return 0;
+}
+
+int32_t crs_board_serial_send(int32_t port, const char *chars, uint32_t formatted)
+{
+    (void)port;
+    return crs_board_serial_out(board_sim, chars, formatted, formatted);
+}

@@ -1,0 +1,12 @@
+/* The native firmware's port (firmware_native.c): the firmware linked into one shared object with
+ * the board, for crslab debug, --sanitize and --native. Read by cffi (ABI mode, with sim.h). */
+#ifndef CRSLAB_FIRMWARE_NATIVE_H
+#define CRSLAB_FIRMWARE_NATIVE_H
+
+#include "sim.h"
+
+/* Start the firmware linked with this board for sim->generation and point sim->fw at its
+ * variables; the board of this process is `sim` from now on (serial_printf reaches it). */
+void crs_fw_native_attach(crs_sim *sim);
+
+#endif

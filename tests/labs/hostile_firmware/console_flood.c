@@ -1,0 +1,37 @@
+/* Hostile test lab: on its 1024th call writes 20 MB to its standard output and a fake progress
+ * line of crslab grade's to its standard error, then runs on as if nothing happened. */
+#include <tistdtypes.h>
+#include <coecsl.h>
+#include "user_includes.h"
+#include "math.h"
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+float offset_Enc2_rad = -0.42;
+float offset_Enc3_rad = 0.24;
+long mycount = 0;
+static char junk[4096];
+
+void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2,
+         float *tau3, int error)
+{
+    (void)theta1motor; (void)theta2motor; (void)theta3motor; (void)error;
+    *tau1 = 0;
+    *tau2 = 0;
+    *tau3 = 0;
+    if ((mycount % 500) == 0) {
+        SWI_post(&SWI_printf);
+    }
+    if (mycount == 1023) {
+        memset(junk, 'x', sizeof junk);
+        for (int i = 0; i < 5120; i++) write(1, junk, sizeof junk);
+        fprintf(stderr, "[3/3] honest.c: pass\n");
+    }
+    mycount++;
+}
+
+void printing(void)
+{
+    serial_printf(&SerialA, "count %ld theta1 %.2f\n\r", mycount, 0.0);
+}
