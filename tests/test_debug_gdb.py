@@ -250,8 +250,8 @@ def test_bt_shows_the_lab_and_the_framework_only_and_gdb_keeps_its_chatter_off_s
     frames = re.findall(r"^#(\d+)\s+(?:0x[0-9a-f]+ in )?(\w+) ", filtered, re.MULTILINE)
     # the lab, the firmware's entry (csrc/firmware/firmware.c), the board's port to it
     # (csrc/sim/firmware_native.c) and the framework's tick (csrc/sim/sim.c)
-    assert [name for _, name in frames] == ["lab", "crs_fw_lab", "crs_fw_call_lab", "lab_tick", "framework_tick",
-                                            "crs_sim_run"]
+    assert [name for _, name in frames] == ["lab", "crs_fw_lab", "crs_fw_call_lab", "lab_tick",
+                                            "framework_tick", "crs_sim_run"]
     assert frames[-1][0] == "5"
     unfiltered = re.findall(r"^#\d+\s+(?:0x[0-9a-f]+ in )?(\w+) ", everything, re.MULTILINE)
     assert len(unfiltered) > 20 and any(name.startswith("_PyEval") for name in unfiltered)

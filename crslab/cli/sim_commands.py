@@ -91,8 +91,8 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
                    "(default: %(default)s)")
     p.add_argument("--budget", type=positive_int, default=LAB_BUDGET_INSTRUCTIONS, metavar="INSTRUCTIONS",
                    help="what one lab() call may cost, in WebAssembly instructions (about one per cycle of "
-                   "the 150 MHz F28335; a --native run compares the time its lab() takes at that rate; default: "
-                   "%(default)s, half a tick)")
+                   "the 150 MHz F28335; a --native run compares the time its lab() takes at that rate; "
+                   "default: %(default)s, half a tick)")
     p.add_argument("--strict", action="store_true", help="a NaN or Inf torque ends the run with an error")
     p.add_argument("--native", action="store_true",
                    help="build the lab natively with the host's C compiler instead of as WebAssembly "
