@@ -43,7 +43,8 @@ def test_identify_writes_a_plant_file_a_plot_and_the_residuals(identified):
     assert plant.value("stall_nm1") == pytest.approx(14.4, rel=0.03)
     assert plant.value("stall_nm2") == PlantParams.defaults().value("stall_nm2")
     text = (out / "arm.toml").read_text()
-    assert "# Recordings (lab that produced each):" in text and "lab2_square_pid.c" in text
+    assert "# Recordings (lab that produced each, uncertainty per sample):" in text
+    assert "lab2_square_pid.c" in text
     # the plot: a row per joint, the angles and the residual side by side (12 by 3 x 2.6 in at 110
     # dpi), the fitted plant's red curve drawn in each of the six panels
     image = matplotlib.image.imread(out / "arm.png")

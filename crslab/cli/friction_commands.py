@@ -47,7 +47,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "reads what it printed on a real arm (a Tera Term log) instead, which gives you your arm's table.",
     )
     p.add_argument("--log", type=Path, metavar="FILE",
-                   help="a Tera Term log of the lab run on a real arm: fit it instead of running crslab's arm")
+                   help="a Tera Term log of the lab run on a real arm: fit it instead of running crslab's "
+                   "arm")
     p.add_argument("--lab", type=Path, metavar="FILE",
                    help="the lab to run (default: crslab's csrc/labs/lab3_friction_id.c; another lab must "
                    "print the same 'joint N speed W rad/s command U' lines and watch the same variables)")
@@ -73,12 +74,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run_friction(args: argparse.Namespace) -> int:
     """``crslab friction``."""
-    from crslab.identify.friction_lab import FRICTION_LAB, FrictionRunError, run_friction_lab
+    from crslab.identify.friction_lab import FRICTION_LAB, FrictionRunError, NotAFrictionLab, run_friction_lab
     from crslab.identify.friction_report import plot_table, table_lines
     from crslab.identify.friction_table import FrictionTableError, fit_lines, load_table, parse_points
     from crslab.lab.build import LabBuildError, LabForbidden
     from crslab.plant.plant_params import PlantParams, PlantParamsError
-    from crslab.scenario.load import ScenarioError
     from crslab.sim.status import RunStatus
 
     try:
@@ -125,8 +125,8 @@ def run_friction(args: argparse.Namespace) -> int:
                 sys.stderr.write(exc.diagnostics)
             status = RunStatus.FORBIDDEN if isinstance(exc, LabForbidden) else RunStatus.BUILD_ERROR
             raise CliError(str(exc), status.exit_status) from None
-        except ScenarioError as exc:  # a --lab without the variables this lab watches
-            raise CliError(f"{Path(lab).name} is not a Lab 3 friction lab crslab can drive: {exc}") from None
+        except NotAFrictionLab as exc:
+            raise CliError(str(exc)) from None
         except (FrictionRunError, KeyError) as exc:
             raise CliError(f"the run failed: {exc}", status=3) from None
         finally:
@@ -148,7 +148,8 @@ def run_friction(args: argparse.Namespace) -> int:
         raise CliError(f"{args.output}: cannot write the table ({exc.strerror})") from None
     figure = args.plot if args.plot is not None else args.output.with_suffix(".png")
     try:
-        plot_table(figure, table, reference, "real arm" if args.log else "crslab", reference.source or "reference")
+        plot_table(figure, table, reference, "real arm" if args.log else "crslab",
+                   reference.source or "reference")
     except (OSError, ValueError) as exc:
         raise CliError(f"{figure}: cannot write the plot ({exc})") from None
     print(f"crslab friction: wrote {args.output} and {figure}", file=sys.stderr)

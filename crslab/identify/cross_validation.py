@@ -43,7 +43,8 @@ def score(result: FitResult, experiment: Experiment, index: int) -> float:
 
 
 def cross_validate(sources: Sequence[Source], tables: Sequence[TableSource], *, names: Sequence[str],
-                   start: PlantParams, joint: FitResult | None = None, jobs: int = 1, max_iterations: int = 30,
+                   start: PlantParams, joint: FitResult | None = None, jobs: int = 1,
+                   max_iterations: int = 30,
                    on_fit: Callable[[str], None] | None = None) -> list[Prediction]:
     """Fit on each experiment alone and predict them all; with ``joint`` (the fit on all of them)
     its row too. ``on_fit(name)`` before each fit."""
@@ -68,7 +69,8 @@ def cross_validate(sources: Sequence[Source], tables: Sequence[TableSource], *, 
 
 def _row(label: str, result: FitResult, sources: Sequence[Source], tables: Sequence[TableSource],
          own: set[str]) -> list[Prediction]:
-    row = [Prediction(label, s.name, score(result, s, i), False, s.name in own) for i, s in enumerate(sources)]
+    row = [Prediction(label, s.name, score(result, s, i), False, s.name in own)
+           for i, s in enumerate(sources)]
     row += [Prediction(label, t.name, score(result, t, i), True, t.name in own) for i, t in enumerate(tables)]
     return row
 
@@ -76,7 +78,8 @@ def _row(label: str, result: FitResult, sources: Sequence[Source], tables: Seque
 def cross_validation_lines(predictions: Sequence[Prediction]) -> list[str]:
     """A table: one line per fit (on one experiment, or all together), one column per experiment.
 
-    >>> p = [Prediction("a.csv", "a.csv", 0.002, False, True), Prediction("a.csv", "t.toml", 0.184, True, False)]
+    >>> p = [Prediction("a.csv", "a.csv", 0.002, False, True),
+    ...      Prediction("a.csv", "t.toml", 0.184, True, False)]
     >>> for line in cross_validation_lines(p): print(line)
     cross-validation (recordings: RMS sim - real, rad; tables: RMS of predicted / tabled - 1)
       fitted on \\ predicts          a.csv            t.toml

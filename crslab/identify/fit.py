@@ -269,7 +269,8 @@ class Problem:
         self.sources = list(sources)
         self.tables = list(tables)
         self.names = list(names)
-        self.weights = [1.0 / s.sigma_rad for s in self.sources]  # autocorrelation added by weigh_recordings()
+        # one over each recording's uncertainty; weigh_recordings() adds its autocorrelation
+        self.weights = [1.0 / s.sigma_rad for s in self.sources]
         self.static_names = [n for n in self.names if n.startswith("static_")]
         self.start = start
         self.runner = runner
@@ -371,7 +372,8 @@ class Problem:
         """Every experiment's residual over its uncertainty: the recordings' samples, then the
         tables' numbers."""
         sims = self.simulated(x, plots) if self.sources else []
-        parts = [w * (s - src.recording.motor_rad).ravel() for s, src, w in zip(sims, self.sources, self.weights)]
+        parts = [w * (s - src.recording.motor_rad).ravel()
+                 for s, src, w in zip(sims, self.sources, self.weights)]
         if self.tables or self.static_names:
             plant, _ = self.split(x)
             parts += [(t.predicted(plant) - t.tabled()) / t.sigmas() for t in self.tables]
@@ -392,7 +394,8 @@ class Problem:
     def effective_count(self) -> float:
         """The number of independent residuals: each recording's samples over its autocorrelation
         time, and every table number."""
-        n = sum((src.sigma_rad * w) ** 2 * src.recording.motor_rad.size for src, w in zip(self.sources, self.weights))
+        n = sum((src.sigma_rad * w) ** 2 * src.recording.motor_rad.size
+                for src, w in zip(self.sources, self.weights))
         return n + sum(len(t.numbers()) for t in self.tables) + len(self.static_names)
 
     def jacobian(self, x: np.ndarray, columns: Sequence[int] | None = None) -> np.ndarray:
@@ -527,7 +530,8 @@ def fit(sources: Sequence[Source], *, names: Sequence[str] = DEFAULT_FIT, start:
         sim_before = problem.simulated(x0) if sources else []
         rms_before, _ = _rms(sim_before, sources)
         plant_before, _ = problem.split(x0)
-        state["rms"] = float(np.sqrt(np.mean(np.concatenate([r ** 2 for r in rms_before])))) if sources else None
+        if sources:
+            state["rms"] = float(np.sqrt(np.mean(np.concatenate([r ** 2 for r in rms_before]))))
 
         def fun(x: np.ndarray) -> np.ndarray:
             r = problem.residual(x)

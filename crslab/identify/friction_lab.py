@@ -24,8 +24,16 @@ SLICE_S = 20.0
 """The run is checked for ``done`` this often (simulated seconds)."""
 
 
+WATCHED = ("n_speeds", "speeds_rad_s", "measure_joint")
+"""The watched variables crslab sets before the first tick: a lab must have them."""
+
+
 class FrictionRunError(RuntimeError):
     """The lab did not finish its identification; the message says why."""
+
+
+class NotAFrictionLab(ValueError):
+    """The lab lacks the watched variables crslab drives the identification with."""
 
 
 @dataclass(frozen=True)
@@ -55,7 +63,8 @@ def run_friction_lab(plant: PlantParams | None = None, *, joints: Sequence[int] 
                      on_progress: Callable[[float, float], None] | None = None) -> FrictionRun:
     """Run the Lab 3 lab on crslab's arm with ``plant`` (default: crslab's) measuring ``joints`` at
     ``speeds_rad_s``; ``on_progress(simulated_s, bound_s)`` after every slice. Raises
-    :class:`FrictionRunError` when the run fails or the lab never says ``done``."""
+    :class:`FrictionRunError` when the run fails or the lab never says ``done``,
+    :class:`NotAFrictionLab` for a lab without the variables crslab sets."""
     from crslab.sim.api import make_config
     from crslab.sim.session import SimError, Simulation
     from crslab.sinks.memory import MemorySink
@@ -67,6 +76,10 @@ def run_friction_lab(plant: PlantParams | None = None, *, joints: Sequence[int] 
         raise FrictionRunError(f"joints are 1, 2 and 3, got {list(joints)}")
     config = make_config(lab, "hands_off", startup_delay=False, plant=plant or PlantParams.defaults(),
                          sandbox=sandbox)
+    missing = [name for name in WATCHED if name not in {v.name for v in config.build.watched}]
+    if missing:
+        raise NotAFrictionLab(f"{Path(lab).name} does not watch {', '.join(missing)} (#pragma DATA_SECTION): "
+                              f"not a Lab 3 friction lab crslab can drive")
     bound = lab_duration_s(speeds, joints)
     memory = MemorySink()
     tick, end = 0, int(bound * 1000)

@@ -111,7 +111,8 @@ class FrictionTable:
         lines = [f"# {line}" if line else "#" for line in header.splitlines()]
         lines += ["# Friction in command units against motor speed (rad/s): u = Vpos w + Cpos moving",
                   "# positive, u = Vneg w + Cneg moving negative (crslab friction, crslab identify).",
-                  f"uncertainty = {_num(self.uncertainty)}   # of each number, relative, one standard deviation",
+                  f"uncertainty = {_num(self.uncertainty)}   # relative, of each number, one standard "
+                  "deviation",
                   "speeds_rad_s = [" + ", ".join(_num(s) for s in self.speeds_rad_s) + "]"]
         if self.source:
             lines.append(f"source = {_quote(self.source)}")
@@ -175,7 +176,8 @@ def fit_lines(points: Iterable[Point], vmin_rad_s: float = 0.0, source: str = ""
         rows[joint] = JointRow(*lines)
     if not rows:
         raise FrictionTableError("no 'joint N speed W rad/s command U' lines: not the Lab 3 lab's output")
-    speeds = tuple(sorted({round(abs(p.speed_rad_s), 4) for p in points if abs(p.speed_rad_s) > vmin_rad_s}))
+    # the speeds the passes were asked for (a pass measures its own within a fraction of a percent)
+    speeds = tuple(sorted({round(abs(p.speed_rad_s), 2) for p in points if abs(p.speed_rad_s) > vmin_rad_s}))
     if uncertainty is None:
         shares = [max(line.slope_sd / abs(line.slope) if line.slope else 0.0,
                       line.intercept_sd / abs(line.intercept) if line.intercept else 0.0)
@@ -199,7 +201,7 @@ def predict(plant: PlantParams, speeds_rad_s: Sequence[float] = LAB_SPEEDS_RAD_S
     speeds = [float(s) for s in speeds_rad_s]
     points = [Point(j, sign * w, plant.friction_nm(j, sign * w) / plant.motor_gain)
               for j in joints for sign in (1, -1) for w in speeds]
-    return fit_lines(points, source="predicted from the plant's friction", uncertainty=0.0)
+    return fit_lines(points, source="predicted from the plant's friction")
 
 
 def load_table(path: str | Path) -> FrictionTable:

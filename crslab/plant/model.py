@@ -110,7 +110,8 @@ reflected inertia is the joints' armature and keeps its value)."""
 
 
 def apply_plant(model: mujoco.MjModel, plant: PlantParams, loaded: mujoco.MjModel | None = None) -> None:
-    """Give ``model`` the plant's motor gain, rotor inertias, friction, link masses and payload, in place (from the
+    """Give ``model`` the plant's motor gain, rotor inertias, friction, link masses and payload, in place
+    (from the
     next step on). ``loaded`` is the model as compiled from the MJCF (default: a fresh
     :func:`load_model`), the reference the mass scale applies to, so applying twice never
     compounds. The drive is the C board's (``crs_drive``, set by the worker).

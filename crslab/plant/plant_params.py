@@ -209,9 +209,11 @@ class PlantParams:
         if w == 0.0:
             return 0.0
         if w > 0:
-            static, coulomb, viscous = self.static_pos_nm[m], self.coulomb_pos_nm[m], self.viscous_pos_nm_s_per_rad[m]
+            static, coulomb = self.static_pos_nm[m], self.coulomb_pos_nm[m]
+            viscous = self.viscous_pos_nm_s_per_rad[m]
         else:
-            static, coulomb, viscous = self.static_neg_nm[m], self.coulomb_neg_nm[m], self.viscous_neg_nm_s_per_rad[m]
+            static, coulomb = self.static_neg_nm[m], self.coulomb_neg_nm[m]
+            viscous = self.viscous_neg_nm_s_per_rad[m]
         rise = -math.expm1(-abs(w) / self.friction_transition_rad_s)
         return scale * (static + (coulomb - static) * rise + viscous * w)
 
@@ -246,9 +248,11 @@ class PlantParams:
         def per_motor(values: Triple) -> tuple[float, ...]:
             return tuple(v * s / self.motor_gain for v, s in zip(values, self.friction_scale))
 
+        gap_pos = tuple(c - b for c, b in zip(self.coulomb_pos_nm, self.static_pos_nm))
+        gap_neg = tuple(c - b for c, b in zip(self.coulomb_neg_nm, self.static_neg_nm))
         return {
-            "slide_pos_units": per_motor(tuple(c - b for c, b in zip(self.coulomb_pos_nm, self.static_pos_nm))),
-            "slide_neg_units": per_motor(tuple(c - b for c, b in zip(self.coulomb_neg_nm, self.static_neg_nm))),
+            "slide_pos_units": per_motor(gap_pos),
+            "slide_neg_units": per_motor(gap_neg),
             "viscous_pos_units_s_per_rad": per_motor(self.viscous_pos_nm_s_per_rad),
             "viscous_neg_units_s_per_rad": per_motor(self.viscous_neg_nm_s_per_rad),
         }
