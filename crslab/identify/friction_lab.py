@@ -50,7 +50,7 @@ def lab_duration_s(speeds_rad_s: Sequence[float], joints: Sequence[int]) -> floa
     each joint's sweep, the pauses, the moves between poses.
 
     >>> round(lab_duration_s(LAB_SPEEDS_RAD_S, (1, 2, 3)))
-    414
+    415
     """
     sweep = {1: 1.2, 2: 1.2, 3: 0.8}  # twice the lab's sweep_rad: one pass, rad
     per_joint = {j: sum(2 * (sweep[j] / s + 0.3) for s in speeds_rad_s) + 6.0 for j in joints}
