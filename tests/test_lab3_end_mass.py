@@ -2,37 +2,16 @@
 course's p vector for the end mass holds the mass where it is told to; built on the bare arm's p
 vector, the forearm sags by the gravity it does not know about, as the lab shows students."""
 
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from crslab.plant.plant_params import PlantParams
-from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
-from crslab.sinks.memory import MemorySink
 
-LAB = Path(__file__).parent / "labs" / "lab3_inverse_dynamics.c"
-G = 9.81
-P_BARE = (0.0300, 0.0128, 0.0076, 0.0753, 0.0298)
-P_MASS = (0.0466, 0.0388, 0.0284, 0.1405, 0.1298)
-TARGET = (0.3, 0.0, 0.2)  # the lab's target, motor angles (rad); the upper arm upright
-KP = 2500.0               # its outer loop's gain, rad/s^2 per rad
-
-
-def hold(use_mass_p: bool) -> np.ndarray:
-    """The lab on the end_mass scenario (the mass on from the start, lab() from 4.1 s); its last
-    printed line, 8 s in: the three motor angles and the torques on motors 2 and 3."""
-    config = make_config(LAB, "end_mass", log=True)
-    memory = MemorySink()
-    with Simulation(config) as sim:
-        sim.set("use_mass_p", 1.0 if use_mass_p else 0.0)
-        result = sim.run(12100, memory)
-    assert result.ok and result.stats["motor_board_events"] == []
-    assert not memory.log["safety"].any()  # never outside the safety envelope
-    rows = np.array([[float(v) for v in d.split()] for _, d in memory.calls])
-    assert len(rows) == 80 and np.ptp(rows[-20:, :3], axis=0).max() < 1e-4  # at rest for 2 s
-    return rows[-1]
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools" / "benchmarks"))
+from lab3_end_mass import KP, P_BARE, P_MASS, TARGET, G, hold  # noqa: E402
 
 
 @pytest.fixture(scope="module")

@@ -82,23 +82,24 @@ def cross_validation_lines(predictions: Sequence[Prediction]) -> list[str]:
     ...      Prediction("a.csv", "t.toml", 0.184, True, False)]
     >>> for line in cross_validation_lines(p): print(line)
     cross-validation (recordings: RMS sim - real, rad; tables: RMS of predicted / tabled - 1)
-      fitted on \\ predicts          a.csv            t.toml
-      a.csv                         0.0020 (own)     18.4 %
+      fitted on \\ predicts                a.csv            t.toml
+      a.csv                               0.0020 (own)     18.4 %
     """
     columns = list(dict.fromkeys(p.experiment for p in predictions))
     rows = list(dict.fromkeys(p.fitted_on for p in predictions))
+    width = max(15, min(34, max(len(c) for c in columns)))
     corner = "fitted on \\ predicts"
     lines = ["cross-validation (recordings: RMS sim - real, rad; tables: RMS of predicted / tabled - 1)",
-             "  " + f"{corner:28s}" + "".join(f"  {c[:15]:15s}" for c in columns).rstrip()]
+             "  " + f"{corner:34s}" + "".join(f"  {c[:width]:{width}s}" for c in columns).rstrip()]
     for r in rows:
         cells = []
         for c in columns:
             hit = [p for p in predictions if p.fitted_on == r and p.experiment == c]
             if not hit:
-                cells.append(f"{'-':15s}")
+                cells.append(f"{'-':{width}s}")
                 continue
             p = hit[0]
             text = f"{100 * p.value:.1f} %" if p.is_table else f"{p.value:.4f}"
-            cells.append(f"{text + (' (own)' if p.own else ''):15s}")
-        lines.append("  " + f"{r[:28]:28s}" + "".join(f"  {c}" for c in cells).rstrip())
+            cells.append(f"{text + (' (own)' if p.own else ''):{width}s}")
+        lines.append("  " + f"{r[:34]:34s}" + "".join(f"  {c}" for c in cells).rstrip())
     return lines
