@@ -198,3 +198,40 @@ def test_a_plant_files_variations_reach_the_run(tmp_path):
     assert 3.0 < counts.std() < 5.5  # the difference of two readings: sqrt(2) x 3 counts
     sag = simulate(LAB_TAU1, "hands_off", duration_s=1.0, log=True, plant=heavy)
     assert sag.log["enc_rad"][-1, 2] - sag.log["enc_rad"][0, 2] > 0.05  # the forearm falls
+
+
+def test_a_plant_file_of_before_reads_as_the_arm_it_described(tmp_path):
+    """Before the course's lines, a plant file had one V_nm_s_per_rad and no static band: both
+    slopes take that value and the band is the Coulomb values (a joint stuck within [Cneg, Cpos],
+    as plain dry friction has it); [rotor] and [friction] transition_rad_s set the rotors and the
+    transition; a key [friction] does not know is one line naming it."""
+    old = tmp_path / "old.toml"
+    old.write_text("[friction.motor2]\nCpos_nm = 1.28\nCneg_nm = -2.14\nV_nm_s_per_rad = 0.24\n"
+                   "[rotor]\nmotor1 = 0.0\nmotor2 = 0.075\nmotor3 = 0.0375\n"
+                   "[friction]\ntransition_rad_s = 0.05\n")
+    p = PlantParams.load(old)
+    assert (p.viscous_pos_nm_s_per_rad[1], p.viscous_neg_nm_s_per_rad[1]) == (0.24, 0.24)
+    assert p.static_band_nm(2) == (-2.14, 1.28)
+    assert p.rotor_inertia_kg_m2 == (0.0, 0.075, 0.0375) and p.friction_transition_rad_s == 0.05
+    assert p.static_pos_nm[0] == PlantParams.defaults().static_pos_nm[0]  # motor 1: not in the file
+    # with no gap between the band and the line nothing changes at the band's edge: the law is the line
+    assert p.friction_nm(2, 1e-6) == pytest.approx(1.28, abs=1e-6)
+    assert p.friction_nm(2, -0.5) == pytest.approx(-2.14 - 0.24 * 0.5)
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[friction]\nwidth = 1\n")
+    with pytest.raises(PlantParamsError, match="unknown key width in \\[friction\\] \\(transition_rad_s"):
+        PlantParams.load(bad)
+
+
+def test_the_law_rises_from_the_band_edge_to_the_line_over_the_transition_speed():
+    """Hand-computed: Spos 1.0, Cpos 1.5, Vpos 0.2, w_t 0.02 rad/s. At w = w_t the gap is
+    1 - 1/e of the way; at 10 w_t all but e^-10 of it; moving negative the other side's numbers."""
+    p = PlantParams.defaults().with_values({
+        "static_pos1": 1.0, "coulomb_pos1": 1.5, "viscous_pos1": 0.2, "static_neg1": -2.0,
+        "coulomb_neg1": -1.8, "viscous_neg1": 0.4, "friction_transition_rad_s": 0.02})
+    assert p.friction_nm(1, 0.02) == pytest.approx(1.0 + 0.5 * (1 - math.exp(-1)) + 0.2 * 0.02)
+    assert p.friction_nm(1, 0.2) == pytest.approx(1.5 + 0.2 * 0.2, abs=0.5 * math.exp(-10) + 1e-12)
+    # stiction on the negative side: sliding friction falls from -2.0 towards the line -1.8 + 0.4 w
+    assert p.friction_nm(1, -0.02) == pytest.approx(-2.0 + 0.2 * (1 - math.exp(-1)) - 0.4 * 0.02)
+    assert p.friction_nm(1, 0.0) == 0.0
+    assert p.with_values({"friction1": 2.0}).friction_nm(1, 0.3) == pytest.approx(2 * p.friction_nm(1, 0.3))

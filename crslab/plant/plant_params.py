@@ -348,9 +348,11 @@ def _from_tables(tables: Mapping, where: str, base: PlantParams, whole_model: bo
                 if motor in _TABLE_KEYS["friction"]:
                     values[_TABLE_KEYS["friction"][motor]] = row
                     continue
-                if motor not in ("motor1", "motor2", "motor3") or not isinstance(row, Mapping):
-                    raise bad(f"unknown table [friction.{motor}] (motor1, motor2 or motor3) or key "
-                              f"({', '.join(_TABLE_KEYS['friction'])})")
+                if not isinstance(row, Mapping):
+                    raise bad(f"unknown key {motor} in [friction] ({', '.join(_TABLE_KEYS['friction'])}, "
+                              "and the tables [friction.motor1..3])")
+                if motor not in ("motor1", "motor2", "motor3"):
+                    raise bad(f"unknown table [friction.{motor}] (motor1, motor2 or motor3)")
                 for key, v in row.items():
                     if key not in _TABLE_KEYS["friction.motor"]:
                         known = ", ".join(_TABLE_KEYS["friction.motor"])

@@ -16,8 +16,8 @@
  *   (Cneg + Vneg w). At w = 0 it adds nothing: the band alone decides.
  *
  * It is explicit in time (the speed of the tick, before the step), which is stable while
- * 0.001 s x (the slope |C - S| / w_t + V) stays well under twice the motor's inertia: 1.5 N.m
- * over w_t >= 0.005 rad/s against at least 0.077 kg.m^2 keeps it below 0.4 of that. */
+ * 0.001 s x its steepest slope, |C - S| / w_t + V (N.m s/rad), stays well under twice the motor's
+ * inertia (kg.m^2): crslab's arm has at most about 15 N.m s/rad against at least 0.2 kg.m^2. */
 #ifndef CRSLAB_FRICTION_H
 #define CRSLAB_FRICTION_H
 
