@@ -120,3 +120,39 @@ def test_bad_input_is_one_line_naming_it_and_exit_2(tmp_path, recording, make, a
     errors = [line for line in r.stderr.splitlines() if line.startswith("crslab identify:")]
     assert len(errors) == 1 and words in errors[0], r.stderr
     assert "Traceback" not in r.stderr and not (tmp_path / "out.toml").exists()
+
+
+def test_identify_fits_a_friction_table_alone(tmp_path):
+    """A table (what crslab friction writes) from another arm: crslab identify finds that arm's
+    lines, prints the table before and after, writes the plant file; no recording, no plot."""
+    from crslab.identify.friction_table import predict
+
+    other = PlantParams.defaults().with_values({"coulomb_pos3": 3.5, "viscous_neg2": 2.2})
+    table = tmp_path / "other.toml"
+    table.write_text(predict(other).to_toml("another arm"))
+    r = crslab("identify", table, "--fit", "friction", "-o", tmp_path / "arm.toml", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    fitted = PlantParams.load(tmp_path / "arm.toml")
+    assert fitted.value("coulomb_pos3") == pytest.approx(3.5, rel=0.005)
+    assert fitted.value("viscous_neg2") == pytest.approx(2.2, rel=0.005)
+    assert "friction table other.toml" in r.stdout and "RMS gap" in r.stdout
+    assert "# Friction tables (relative uncertainty of each number):" in (tmp_path / "arm.toml").read_text()
+    assert not (tmp_path / "arm.png").exists() and "cross-validation" not in r.stdout
+
+
+@pytest.mark.parametrize("text, args, words", [
+    ("[joint1]\nVpos = 0.2\n", [], "[joint1] must give Vpos, Vneg, Cpos, Cneg"),
+    ("[joint1]\nVpos = 0.2\nVneg = 0.2\nCpos = -0.3\nCneg = -0.3\n", [], "friction opposes motion"),
+    ("uncertainty = 0\n[joint1]\nVpos = 0.2\nVneg = 0.2\nCpos = 0.3\nCneg = -0.3\n", [], "uncertainty = 0"),
+    ("[joint1]\nVpos = 0.2\nVneg = 0.2\nCpos = 0.3\nCneg = -0.3\n", ["--fit", "drive"],
+     "a friction table tells only friction"),
+    ("[joint1]\nVpos = 0.2\nVneg = 0.2\nCpos = 0.3\nCneg = -0.3\n", ["--lab", "x.c"], "are for recordings"),
+])
+def test_a_bad_friction_table_is_one_line_naming_it(tmp_path, text, args, words):
+    table = tmp_path / "t.toml"
+    table.write_text(text)
+    r = crslab("identify", table, *args, "-o", tmp_path / "out.toml", cwd=tmp_path)
+    assert r.returncode == 2, r.stderr
+    errors = [line for line in r.stderr.splitlines() if line.startswith("crslab identify:")]
+    assert len(errors) == 1 and words in errors[0], r.stderr
+    assert "Traceback" not in r.stderr and not (tmp_path / "out.toml").exists()

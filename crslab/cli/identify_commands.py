@@ -155,6 +155,8 @@ def run_identify(args: argparse.Namespace) -> int:
                       for r, m in zip(recording_paths, maps)]
         fitting.check_recordings(recordings)
         tables = [fitting.TableSource(load_table(t), str(t)) for t in table_paths]
+        if not recordings:
+            fitting.what_tables_tell(fitting.names_to_fit(names, {j for t in tables for j in t.table.rows}))
     except (RecordingError, fitting.FitError, FrictionTableError) as exc:
         raise CliError(str(exc)) from None
     sandboxed = sandbox_from_args(args) if recordings else True

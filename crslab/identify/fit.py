@@ -492,9 +492,7 @@ def fit(sources: Sequence[Source], *, names: Sequence[str] = DEFAULT_FIT, start:
     joints = {j for s in sources for j in s.recording.joints} | {j for t in tables for j in t.table.rows}
     fitted_names = names_to_fit(names, joints) if names else []
     if not sources:
-        fitted_names = [n for n in fitted_names if n.rstrip("0123456789") in TABLE_ONLY]
-        if names and not fitted_names:
-            raise FitError("a friction table tells only friction (and the motor gain): nothing else to fit")
+        fitted_names = what_tables_tell(fitted_names)
     check_recordings([s.recording for s in sources])
     state = {"rms": None}
     per_iteration = (len(fitted_names) + 1) * len(sources)
@@ -581,6 +579,15 @@ def _sigmas(jac: np.ndarray, chi2_reduced: float) -> np.ndarray:
     except np.linalg.LinAlgError:
         return np.full(p, math.inf)
     return np.sqrt(np.clip(np.diag(cov), 0.0, None))
+
+
+def what_tables_tell(names: Sequence[str]) -> list[str]:
+    """Of ``names``, those friction tables alone can tell (:data:`TABLE_ONLY`). Raises
+    :class:`FitError` when that is none of them."""
+    told = [n for n in names if n.rstrip("0123456789") in TABLE_ONLY]
+    if names and not told:
+        raise FitError("a friction table tells only friction (and the motor gain): nothing else to fit")
+    return told
 
 
 def check_recordings(recordings: Sequence[Recording]) -> None:
