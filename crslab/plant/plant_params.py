@@ -3,9 +3,9 @@ all set, by name.
 
 The defaults are ``models/crs_arm/params.toml`` (the one home of physics numbers). A plant file
 (``crslab identify`` writes one) is a TOML file with any of the same sections, ``[command]``,
-``[drive]`` and ``[friction.motorN]``, plus ``[variations]``: the scales a sweep varies. Every
-value is also reachable by a flat name (:data:`NAMES`), which is how sweeps and the fit address
-them:
+``[drive]``, ``[rotor]``, ``[friction]`` and ``[friction.motorN]``, plus ``[variations]``: the
+scales a sweep varies. Every value is also reachable by a flat name (:data:`NAMES`), which is how
+sweeps and the fit address them:
 
 >>> p = PlantParams.defaults()
 >>> p.motor_gain

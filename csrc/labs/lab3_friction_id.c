@@ -58,7 +58,7 @@ float p4 = 0.0753, p5 = 0.0298;
 
 /* per joint: the pose of the other joints, the centre of the sweep, how far each pass goes
  * either side of it and the half-width of the window measured (rad, motor angles) */
-float pose_rad[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, -0.6, -1.5707963}};
+float pose_rad[3][3] = {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}, {0.0, -0.6, -HALFPI}};
 float sweep_rad[3] = {0.6, 0.6, 0.4};
 float window_rad[3] = {0.3, 0.3, 0.2};
 
