@@ -74,11 +74,12 @@ GROUPS: dict[str, tuple[str, ...]] = {
     "static": tuple(f"{stem}{m}" for stem in ("static_pos", "static_neg") for m in (1, 2, 3)),
     "inertia": tuple(f"rotor_inertia{m}" for m in (1, 2, 3)),
 }
-"""Names of groups of values (``--fit drive,friction,inertia``, the default)."""
+"""Names of groups of values (``--fit drive,friction,static,inertia``, the default)."""
 DEFAULT_FIT = ("drive", "friction", "static", "inertia")
 RECORDING_SIGMA_RAD = 0.005
 """How closely the model is expected to follow a recording, per sample (rad): its uncertainty
-when none is given, about what crslab's arm achieves on the course's recording."""
+when none is given. Model error, not noise: about the repeatable wobble at each step's start that a
+rigid model cannot follow (models/crs_arm/README.md), half issue 23's 0.01 rad target."""
 STATIC_PRIOR_NM = 0.5
 """A fitted static value is held to its Coulomb value within about this much (N.m, one standard
 deviation) where the experiments say nothing about it: few recordings show a joint breaking free
@@ -88,7 +89,8 @@ TABLE_ONLY = ("coulomb_pos", "coulomb_neg", "viscous_pos", "viscous_neg", "stati
 """What a friction table alone can tell (the friction and the command's torque)."""
 HOLD_MARGIN = 1.02
 """The dry friction a fit may end on must hold the arm at its resting pose with this margin: the
-real arm rests where it is put with zero torque (crs-facts 4), which the recordings may not show."""
+real arm rests where it is put with zero torque (the course, [4] in models/crs_arm/README.md), which
+the recordings may not show."""
 REST_RANGE_RAD = 0.02
 PHASE_STEP_MS = 0.05
 DRIFT_STEP = 2e-6
