@@ -43,7 +43,8 @@ def test_identify_writes_a_plant_file_a_plot_and_the_residuals(identified):
     assert plant.value("stall_nm1") == pytest.approx(14.4, rel=0.03)
     assert plant.value("stall_nm2") == PlantParams.defaults().value("stall_nm2")
     text = (out / "arm.toml").read_text()
-    assert "# Recordings (lab that produced each):" in text and "lab2_square_pid.c" in text
+    assert "# Recordings (lab that produced each, uncertainty per sample):" in text
+    assert "lab2_square_pid.c" in text
     # the plot: a row per joint, the angles and the residual side by side (12 by 3 x 2.6 in at 110
     # dpi), the fitted plant's red curve drawn in each of the six panels
     image = matplotlib.image.imread(out / "arm.png")
@@ -115,6 +116,42 @@ def test_bad_input_is_one_line_naming_it_and_exit_2(tmp_path, recording, make, a
     args = [str(LABS / "does_not_compile.c") if a == "DOES_NOT_COMPILE" else str(rec) if a == "REC" else a
             for a in args]
     r = crslab("identify", *([rec] if make else []), *args, "-o", tmp_path / "out.toml", cwd=tmp_path)
+    assert r.returncode == 2, r.stderr
+    errors = [line for line in r.stderr.splitlines() if line.startswith("crslab identify:")]
+    assert len(errors) == 1 and words in errors[0], r.stderr
+    assert "Traceback" not in r.stderr and not (tmp_path / "out.toml").exists()
+
+
+def test_identify_fits_a_friction_table_alone(tmp_path):
+    """A table (what crslab friction writes) from another arm: crslab identify finds that arm's
+    lines, prints the table before and after, writes the plant file; no recording, no plot."""
+    from crslab.identify.friction_table import predict
+
+    other = PlantParams.defaults().with_values({"coulomb_pos3": 3.5, "viscous_neg2": 2.2})
+    table = tmp_path / "other.toml"
+    table.write_text(predict(other).to_toml("another arm"))
+    r = crslab("identify", table, "--fit", "friction", "-o", tmp_path / "arm.toml", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    fitted = PlantParams.load(tmp_path / "arm.toml")
+    assert fitted.value("coulomb_pos3") == pytest.approx(3.5, rel=0.005)
+    assert fitted.value("viscous_neg2") == pytest.approx(2.2, rel=0.005)
+    assert "friction table other.toml" in r.stdout and "RMS gap" in r.stdout
+    assert "# Friction tables (relative uncertainty of each number):" in (tmp_path / "arm.toml").read_text()
+    assert not (tmp_path / "arm.png").exists() and "cross-validation" not in r.stdout
+
+
+@pytest.mark.parametrize("text, args, words", [
+    ("[joint1]\nVpos = 0.2\n", [], "[joint1] must give Vpos, Vneg, Cpos, Cneg"),
+    ("[joint1]\nVpos = 0.2\nVneg = 0.2\nCpos = -0.3\nCneg = -0.3\n", [], "friction opposes motion"),
+    ("uncertainty = 0\n[joint1]\nVpos = 0.2\nVneg = 0.2\nCpos = 0.3\nCneg = -0.3\n", [], "uncertainty = 0"),
+    ("[joint1]\nVpos = 0.2\nVneg = 0.2\nCpos = 0.3\nCneg = -0.3\n", ["--fit", "drive"],
+     "a friction table tells only friction"),
+    ("[joint1]\nVpos = 0.2\nVneg = 0.2\nCpos = 0.3\nCneg = -0.3\n", ["--lab", "x.c"], "are for recordings"),
+])
+def test_a_bad_friction_table_is_one_line_naming_it(tmp_path, text, args, words):
+    table = tmp_path / "t.toml"
+    table.write_text(text)
+    r = crslab("identify", table, *args, "-o", tmp_path / "out.toml", cwd=tmp_path)
     assert r.returncode == 2, r.stderr
     errors = [line for line in r.stderr.splitlines() if line.startswith("crslab identify:")]
     assert len(errors) == 1 and words in errors[0], r.stderr

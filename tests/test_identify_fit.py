@@ -73,28 +73,41 @@ def test_identify_recovers_a_known_arm(other_arm_recording, calibration_lab):
     assert result.plant.value("stall_nm2") == PlantParams.defaults().value("stall_nm2")  # not fitted
 
 
+UNCERTAINTY_KEYS = {"stall_nm": "stall_nm", "backemf": "backemf_nm_s_per_rad", "coulomb_pos": "Cpos_nm",
+                    "coulomb_neg": "Cneg_nm", "viscous_pos": "Vpos_nm_s_per_rad",
+                    "viscous_neg": "Vneg_nm_s_per_rad", "static_pos": "Spos_nm", "static_neg": "Sneg_nm",
+                    "rotor_inertia": "rotor_kg_m2"}
+
+
 def stated_uncertainty(name: str) -> float:
-    keys = {"stall_nm": "stall_nm", "backemf": "backemf_nm_s_per_rad", "coulomb_pos": "Cpos_nm",
-            "coulomb_neg": "Cneg_nm", "viscous": "V_nm_s_per_rad"}
+    """params.toml's [identified.uncertainty] of a value (95 %)."""
     stem = name.rstrip("0123456789")
-    return PARAMS["identified"]["uncertainty"][keys[stem]][int(name[len(stem):]) - 1]
+    return PARAMS["identified"]["uncertainty"][UNCERTAINTY_KEYS[stem]][int(name[len(stem):]) - 1]
 
 
-def test_identify_on_the_real_recording_reproduces_the_shipped_values(calibration_lab):
-    """A reduced fit (four values of three motors, from 15-25 % off) on recordings/lab2_square_pid_real.csv;
-    ``make bench`` runs the full one."""
+def test_identify_on_the_real_recording_and_table_reproduces_the_shipped_values(calibration_lab):
+    """A reduced joint fit (four values of three motors, from 15-25 % off) on
+    recordings/lab2_square_pid_real.csv and the course's friction table, as the shipped values were
+    found (tools/fit_shipped_plant.py); ``make bench`` runs the full one."""
+    from crslab.identify.friction_table import load_table
+
     config, offsets = calibration_lab
     source = fitting.Source(read_recording(REAL_RECORDING), config, offsets)
+    table_file = REAL_RECORDING.parent / "lab3_friction_table_course.toml"
+    table = fitting.TableSource(load_table(table_file), str(table_file))
     shipped = PlantParams.defaults()
-    names = ["stall_nm1", "backemf1", "coulomb_neg2", "stall_nm3"]
+    names = ["stall_nm1", "rotor_inertia2", "coulomb_neg2", "stall_nm3"]
     start = shipped.with_values({"stall_nm1": 1.2 * shipped.value("stall_nm1"),
-                                 "backemf1": 0.8 * shipped.value("backemf1"),
+                                 "rotor_inertia2": 0.8 * shipped.value("rotor_inertia2"),
                                  "coulomb_neg2": 0.75 * shipped.value("coulomb_neg2"),
                                  "stall_nm3": 0.85 * shipped.value("stall_nm3")})
-    result = fitting.fit([source], names=names, start=start, jobs=2, max_iterations=12)
+    result = fitting.fit([source], tables=[table], names=names, start=start, jobs=2, max_iterations=12)
     for f in result.values:
         assert abs(f.value - shipped.value(f.name)) <= stated_uncertainty(f.name), f
-    np.testing.assert_array_less(result.rms_after[0], 1.1 * np.array(PARAMS["identified"]["rms_rad"]))
+    # as close to the recording as the shipped arm, within a third: joint 2's falling steps end
+    # just inside the lab's integral window or just outside it, which moves its RMS by that much
+    np.testing.assert_array_less(result.rms_after[0], 1.3 * np.array(PARAMS["identified"]["rms_rad"]))
+    assert result.tables[0].rms_gap() < 0.1
 
 
 def test_fit_refuses_what_it_cannot_use(tmp_path, calibration_lab):

@@ -27,21 +27,26 @@ def test_defaults_are_params_toml_values():
         row = ROOT_FRICTION[f"motor{m}"]
         assert p.value(f"coulomb_pos{m}") == row["Cpos_nm"]
         assert p.value(f"coulomb_neg{m}") == row["Cneg_nm"]
-        assert p.value(f"viscous{m}") == row["V_nm_s_per_rad"]
+        assert p.value(f"viscous_pos{m}") == row["Vpos_nm_s_per_rad"]
+        assert p.value(f"viscous_neg{m}") == row["Vneg_nm_s_per_rad"]
+        assert p.value(f"static_pos{m}") == row["Spos_nm"]
+        assert p.value(f"static_neg{m}") == row["Sneg_nm"]
+        assert p.value(f"rotor_inertia{m}") == PARAMS["rotor"][f"motor{m}"]
+    assert p.friction_transition_rad_s == ROOT_FRICTION["transition_rad_s"]
     assert p.friction_scale == (1.0, 1.0, 1.0) and p.mass_scale == 1.0 and p.payload_kg == 0.0
 
 
-def test_the_symmetric_band_and_its_constant_torque_give_cpos_and_cneg():
+def test_the_symmetric_band_and_its_constant_torque_give_spos_and_sneg():
     """MuJoCo's friction is -half sliding positive and +half sliding negative; with the constant
-    torque b added the joint feels -Cpos and -Cneg (and sticks in between)."""
-    p = PlantParams.defaults().with_values({"coulomb_pos1": 1.0, "coulomb_neg1": -3.0})
-    half, bias = p.coulomb_nm()[0], p.friction_bias_nm()[0]
+    torque b added the joint feels -Spos and -Sneg (and sticks in between)."""
+    p = PlantParams.defaults().with_values({"static_pos1": 1.0, "static_neg1": -3.0})
+    half, bias = p.band_half_nm()[0], p.friction_bias_nm()[0]
     assert (half, bias) == (2.0, 1.0)
     assert -half + bias == -1.0 and half + bias == 3.0
     for m in range(3):
-        half, bias = p.coulomb_nm()[m], p.friction_bias_nm()[m]
-        assert -half + bias == pytest.approx(-p.coulomb_pos_nm[m])
-        assert half + bias == pytest.approx(-p.coulomb_neg_nm[m])
+        half, bias = p.band_half_nm()[m], p.friction_bias_nm()[m]
+        assert -half + bias == pytest.approx(-p.static_pos_nm[m])
+        assert half + bias == pytest.approx(-p.static_neg_nm[m])
 
 
 def test_names_reach_every_field_and_sweep_names_exist():
@@ -54,8 +59,9 @@ def test_names_reach_every_field_and_sweep_names_exist():
     assert q.friction_scale == (2.0, 2.0, 1.0)  # friction3 multiplies the overall scale
     assert (q.mass_scale, q.motor_gain, q.payload_kg, q.encoder_noise_counts) == (1.3, 5.0, 0.4, 2.0)
     assert q.backemf_nm_s_per_rad[1] == 0.5 and q.drive_lag_s == 0.003
-    assert q.coulomb_nm()[0] == pytest.approx(2.0 * p.coulomb_nm()[0])
-    assert q.viscous_nm_s()[2] == pytest.approx(p.viscous_nm_s()[2])  # 2.0 * 0.5
+    assert q.band_half_nm()[0] == pytest.approx(2.0 * p.band_half_nm()[0])
+    assert q.friction_nm(1, 0.7) == pytest.approx(2.0 * p.friction_nm(1, 0.7))
+    assert q.friction_nm(3, -0.7) == pytest.approx(p.friction_nm(3, -0.7))  # 2.0 * 0.5
 
 
 @pytest.mark.parametrize("values, words", [
@@ -63,7 +69,9 @@ def test_names_reach_every_field_and_sweep_names_exist():
     ({"payload_kg": -1.0}, "payload_kg = -1.0 is outside 0 .. inf"),
     ({"coulomb_neg2": 1.0}, "coulomb_neg2 = 1.0 is outside -inf .. 0"),
     ({"mass": float("nan")}, "mass = nan"),
-    ({"viscous1": float("inf")}, "viscous1 = inf"),
+    ({"viscous_pos1": float("inf")}, "viscous_pos1 = inf"),
+    ({"static_neg3": 0.5}, "static_neg3 = 0.5 is outside -inf .. 0"),
+    ({"friction_transition_rad_s": 0.0}, "friction_transition_rad_s = 0.0 is outside 0.005 .. 1"),
     ({"motor_gain": "six"}, "motor_gain must be a number"),
 ])
 def test_bad_values_are_one_line_naming_them(values, words):
@@ -113,7 +121,7 @@ def test_apply_plant_sets_friction_gear_masses_and_payload():
     p = PlantParams.defaults().with_values({"friction": 0.5, "motor_gain": 4.0, "mass": 1.5,
                                             "payload_kg": 0.3})
     apply_plant(model, p, loaded=loaded)
-    half = PlantParams.defaults().coulomb_nm()
+    half = PlantParams.defaults().band_half_nm()
     np.testing.assert_allclose(model.dof_frictionloss, [0.5 * half[0], 0.5 * half[1], 0.0])
     np.testing.assert_allclose(model.tendon_frictionloss, [0.5 * half[2]])
     np.testing.assert_allclose(model.actuator_gear[:, 0], 4.0)
@@ -131,18 +139,18 @@ def test_the_generated_model_is_the_default_plant_applied():
     model, reference = load_model(), load_model()
     apply_plant(model, PlantParams.defaults(), loaded=reference)
     for field in ("dof_frictionloss", "dof_damping", "tendon_frictionloss", "tendon_damping", "actuator_gear",
-                  "actuator_biasprm",
+                  "actuator_biasprm", "dof_armature", "tendon_armature",
                   "body_mass", "body_inertia", "body_subtreemass"):
         np.testing.assert_allclose(getattr(model, field), getattr(reference, field), err_msg=field)
 
 
 def test_shipped_friction_holds_the_arm_at_its_resting_pose():
-    """The real arm rests where it is put with zero torque (docs/framework.md section 11): gravity
-    at the resting pose must lie inside every motor's [Cneg, Cpos] band."""
+    """The real arm rests where it is put with zero torque (docs/framework.md section 11): gravity at the resting
+    pose must lie inside every motor's static band [Sneg, Spos]."""
     p = PlantParams.defaults()
     hold = holding_torques_nm(REST_MOTOR_RAD)
     for m in range(3):
-        assert -p.coulomb_neg_nm[m] >= hold[m] and p.coulomb_pos_nm[m] >= -hold[m], m
+        assert -p.static_neg_nm[m] >= hold[m] and p.static_pos_nm[m] >= -hold[m], m
 
 
 def test_holding_torques_are_gravity_in_motor_coordinates():
@@ -190,3 +198,40 @@ def test_a_plant_files_variations_reach_the_run(tmp_path):
     assert 3.0 < counts.std() < 5.5  # the difference of two readings: sqrt(2) x 3 counts
     sag = simulate(LAB_TAU1, "hands_off", duration_s=1.0, log=True, plant=heavy)
     assert sag.log["enc_rad"][-1, 2] - sag.log["enc_rad"][0, 2] > 0.05  # the forearm falls
+
+
+def test_a_plant_file_of_before_reads_as_the_arm_it_described(tmp_path):
+    """Before the course's lines, a plant file had one V_nm_s_per_rad and no static band: both
+    slopes take that value and the band is the Coulomb values (a joint stuck within [Cneg, Cpos],
+    as plain dry friction has it); [rotor] and [friction] transition_rad_s set the rotors and the
+    transition; a key [friction] does not know is one line naming it."""
+    old = tmp_path / "old.toml"
+    old.write_text("[friction.motor2]\nCpos_nm = 1.28\nCneg_nm = -2.14\nV_nm_s_per_rad = 0.24\n"
+                   "[rotor]\nmotor1 = 0.0\nmotor2 = 0.075\nmotor3 = 0.0375\n"
+                   "[friction]\ntransition_rad_s = 0.05\n")
+    p = PlantParams.load(old)
+    assert (p.viscous_pos_nm_s_per_rad[1], p.viscous_neg_nm_s_per_rad[1]) == (0.24, 0.24)
+    assert p.static_band_nm(2) == (-2.14, 1.28)
+    assert p.rotor_inertia_kg_m2 == (0.0, 0.075, 0.0375) and p.friction_transition_rad_s == 0.05
+    assert p.static_pos_nm[0] == PlantParams.defaults().static_pos_nm[0]  # motor 1: not in the file
+    # with no gap between the band and the line nothing changes at the band's edge: the law is the line
+    assert p.friction_nm(2, 1e-6) == pytest.approx(1.28, abs=1e-6)
+    assert p.friction_nm(2, -0.5) == pytest.approx(-2.14 - 0.24 * 0.5)
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[friction]\nwidth = 1\n")
+    with pytest.raises(PlantParamsError, match="unknown key width in \\[friction\\] \\(transition_rad_s"):
+        PlantParams.load(bad)
+
+
+def test_the_law_rises_from_the_band_edge_to_the_line_over_the_transition_speed():
+    """Hand-computed: Spos 1.0, Cpos 1.5, Vpos 0.2, w_t 0.02 rad/s. At w = w_t the gap is
+    1 - 1/e of the way; at 10 w_t all but e^-10 of it; moving negative the other side's numbers."""
+    p = PlantParams.defaults().with_values({
+        "static_pos1": 1.0, "coulomb_pos1": 1.5, "viscous_pos1": 0.2, "static_neg1": -2.0,
+        "coulomb_neg1": -1.8, "viscous_neg1": 0.4, "friction_transition_rad_s": 0.02})
+    assert p.friction_nm(1, 0.02) == pytest.approx(1.0 + 0.5 * (1 - math.exp(-1)) + 0.2 * 0.02)
+    assert p.friction_nm(1, 0.2) == pytest.approx(1.5 + 0.2 * 0.2, abs=0.5 * math.exp(-10) + 1e-12)
+    # stiction on the negative side: sliding friction falls from -2.0 towards the line -1.8 + 0.4 w
+    assert p.friction_nm(1, -0.02) == pytest.approx(-2.0 + 0.2 * (1 - math.exp(-1)) - 0.4 * 0.02)
+    assert p.friction_nm(1, 0.0) == 0.0
+    assert p.with_values({"friction1": 2.0}).friction_nm(1, 0.3) == pytest.approx(2 * p.friction_nm(1, 0.3))

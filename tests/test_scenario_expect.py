@@ -143,13 +143,13 @@ def test_expectations_never_change_the_transcript(cut, tmp_path):
 
 def test_the_error_flag_is_what_lab_gets_at_that_tick(tmp_path):
     path = tmp_path / "envelope.toml"
-    path.write_text('end = 5.0\n'
-                    '[[event]]\nat = 4.741\nkind = "expect"\nerror = 0\n'
-                    '[[event]]\nat = 4.741\nkind = "expect"\nerror = 1\n'
-                    '[[event]]\nat = 4.742\nkind = "expect"\nerror = 1\n')
+    path.write_text('end = 5.2\n'
+                    '[[event]]\nat = 5.058\nkind = "expect"\nerror = 0\n'
+                    '[[event]]\nat = 5.058\nkind = "expect"\nerror = 1\n'
+                    '[[event]]\nat = 5.059\nkind = "expect"\nerror = 1\n')
     run = simulate(OPEN_LOOP, str(path))
-    # the lab prints the flag when it changes: it got error = 1 first at tick 4742
-    assert run.calls[0][0] == 4742 and run.calls[0][1].startswith(b"error 1 at ")
+    # the lab prints the flag when it changes: it got error = 1 first at tick 5059
+    assert run.calls[0][0] == 5059 and run.calls[0][1].startswith(b"error 1 at ")
     assert [e.met for e in run.expectations] == [True, False, True]
     assert run.expectations[1].failures == (
         "expected error = 1 (the arm outside the safety envelope), it was 0",)

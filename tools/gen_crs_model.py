@@ -72,12 +72,13 @@ def keyframes(params: dict) -> list[tuple[str, list[float]]]:
 def arm_xml(params: dict) -> str:
     g = dh_layout()
     unit = params["command"]["newton_metre_per_unit"]
-    waist, upper, fore, rotor = params["waist"], params["upper_arm"], params["forearm"], params["rotor"]
+    waist, upper, fore = params["waist"], params["upper_arm"], params["forearm"]
     payload = params["payload"]
-    # MuJoCo's symmetric dry friction (half the [Cneg, Cpos] band), its constant offset (a bias of
-    # the motor actuators) and viscous friction, computed exactly as a run's plant parameters are
+    # MuJoCo's symmetric dry friction (half the static band [Sneg, Spos]) and its constant offset (a
+    # bias of the motor actuators), computed exactly as a run's plant parameters are; the friction
+    # beyond the band, while a joint slides, is the C board's (csrc/sim/friction.c)
     plant = PlantParams.from_model_tables(params)
-    f1, f2, f3 = zip(plant.coulomb_nm(), plant.viscous_nm_s())
+    f1, f2, f3 = plant.band_half_nm()
     bias = plant.friction_bias_units()
     rng = {j: [math.radians(v) for v in params["range_deg"][j]] for j in ("j1", "j2", "j3")}
     half = g["alpha1"] / 2
@@ -118,14 +119,15 @@ def arm_xml(params: dict) -> str:
     <body name="waist" childclass="crs">
       <inertial pos="{vec(0, 0, waist["com_height"])}" mass="{num(waist["mass"])}"
                 diaginertia="{vec(waist["inertia_xy"], waist["inertia_xy"], waist["inertia_z"])}"/>
-      <joint name="j1" range="{vec(*rng["j1"])}" frictionloss="{num(f1[0])}" damping="{num(f1[1])}"/>
+      <joint name="j1" range="{vec(*rng["j1"])}" frictionloss="{num(f1)}"
+             armature="{num(plant.rotor_inertia_kg_m2[0])}"/>
       <geom class="visual" name="waist_column" type="cylinder" material="crs_body"
             fromto="{vec(0, 0, PEDESTAL_TOP, 0, 0, g["d1"])}" size="{num(COLUMN_RADIUS)}"/>
       <body name="upper_arm" pos="{vec(0, 0, g["d1"])}" quat="{quat1}">
         <inertial pos="{vec(upper["com_from_joint"], 0, 0)}" mass="{num(upper["mass"])}"
                   diaginertia="{vec(upper["inertia_axial"], upper["inertia"], upper["inertia"])}"/>
-        <joint name="j2" range="{vec(*rng["j2"])}" frictionloss="{num(f2[0])}" damping="{num(f2[1])}"
-               armature="{num(rotor["motor2"])}"/>
+        <joint name="j2" range="{vec(*rng["j2"])}" frictionloss="{num(f2)}"
+               armature="{num(plant.rotor_inertia_kg_m2[1])}"/>
         <geom class="visual" name="upper_arm_link" type="capsule" material="crs_body"
               fromto="{vec(0, 0, 0, g["a2"], 0, 0)}" size="{num(UPPER_ARM_RADIUS)}"/>
         <body name="forearm" pos="{vec(g["a2"], 0, 0)}">
@@ -146,8 +148,8 @@ def arm_xml(params: dict) -> str:
 
   <tendon>
     <!-- Length = j2 + j3 = th3M, the forearm's absolute angle: motor 3's own coordinate. -->
-    <fixed name="forearm" class="crs" frictionloss="{num(f3[0])}" damping="{num(f3[1])}"
-           armature="{num(rotor["motor3"])}">
+    <fixed name="forearm" class="crs" frictionloss="{num(f3)}"
+           armature="{num(plant.rotor_inertia_kg_m2[2])}">
       <joint joint="j2" coef="1"/>
       <joint joint="j3" coef="1"/>
     </fixed>
@@ -155,9 +157,10 @@ def arm_xml(params: dict) -> str:
 
   <actuator>
     <!-- ctrl in course command units: the torque the drive delivers (csrc/sim/drive.c); the
-         framework clamps to +-5, so no ctrlrange here. The constant bias is the dry friction's
-         direction asymmetry (params.toml [friction.*]): with MuJoCo's symmetric frictionloss it
-         makes a joint slide against Cpos or Cneg and stick in between. -->
+         framework clamps to +-5, so no ctrlrange here. The constant bias is the static friction
+         band's direction asymmetry (params.toml [friction.*]): with MuJoCo's symmetric frictionloss
+         it makes a joint stick while the other torques lie within [Sneg, Spos]; the friction while
+         it slides is the C board's, added to ctrl (csrc/sim/friction.c). -->
     <general name="motor1" joint="j1" gear="{num(unit)}" ctrllimited="false" gainprm="1" biastype="affine"
              biasprm="{vec(bias[0], 0, 0)}"/>
     <general name="motor2" joint="j2" gear="{num(unit)}" ctrllimited="false" gainprm="1" biastype="affine"

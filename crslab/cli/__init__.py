@@ -29,6 +29,7 @@ COMMANDS = [
     "crslab.cli.doctor_commands",
     "crslab.cli.identify_commands",
     "crslab.cli.new_commands",
+    "crslab.cli.friction_commands",
 ]
 
 
@@ -42,7 +43,7 @@ class CliError(Exception):
 
 GROUPS = {
     "for students": ["sim", "debug", "record", "check", "new", "scenarios", "vars", "plot"],
-    "for TAs and instructors": ["grade", "sweep", "identify"],
+    "for TAs and instructors": ["grade", "sweep", "identify", "friction"],
     "the course's host tools (MATLAB, Simulink, Tera Term)": ["serial", "map"],
     "the kinematics toolbox": ["fk", "ik", "traj", "robots", "workspace", "rot"],
     "this machine and this help": ["doctor", "help"],

@@ -26,16 +26,22 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = sub.add_parser(
         "identify",
-        help="fit the simulated arm's drive and friction to recordings of a real arm",
+        help="fit the simulated arm's drive, friction and inertia to experiments on a real arm",
         description="Calibrate crslab's arm to a real one. Give recordings of the real arm (the "
         "course's Simulink export: a .mat file or CSV of time and Simulink_PlotVar1..4, or crslab's own "
-        "--csv) and the lab file that produced each; crslab runs that lab against its arm, lines the "
-        "run up with each recording (which may start anywhere, on a drifting clock) and fits the "
-        "plant by bounded least squares, then writes a plant file for 'crslab sim --plant FILE'. "
-        "It prints the residual per joint before and after and draws real against simulated.",
+        "--csv) and the lab file that produced each, and friction tables (the course's Lab 3 method: "
+        "'crslab friction' writes one, from crslab or from a real arm's log), each with its uncertainty. "
+        "crslab runs each recording's lab against its arm, lines the run up with the recording (which may "
+        "start anywhere, on a drifting clock), predicts each table from the arm's friction, and fits the "
+        "plant to all of them together by bounded least squares; then writes a plant file for "
+        "'crslab sim --plant FILE'. It prints each experiment's residual before and after, a "
+        "cross-validation (fit on one experiment, predict the others) and draws real against simulated.",
     )
-    p.add_argument("recordings", type=Path, nargs="+", metavar="RECORDING",
-                   help="recordings of the real arm (.mat or .csv)")
+    p.add_argument("recordings", type=Path, nargs="+", metavar="EXPERIMENT",
+                   help="recordings of the real arm (.mat or .csv) and friction tables (.toml)")
+    p.add_argument("--sigma", type=float, action="append", metavar="RAD",
+                   help="a recording's uncertainty: how closely the arm should follow it, per sample, rad "
+                   "(once for all recordings or once per recording; default: {RECORDING_SIGMA_RAD:g})")
     p.add_argument("--lab", type=Path, action="append", metavar="FILE",
                    help="the lab file that produced the recordings: once for all of them, or once per "
                    "recording in order (default: crslab's calibration lab, csrc/labs/lab2_square_pid.c)")
@@ -63,6 +69,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--jobs", type=int, metavar="N", help="runs at once (default: every core)")
     p.add_argument("--max-iterations", type=int, default=30, metavar="N",
                    help="most evaluations of the residual (default: %(default)s)")
+    p.add_argument("--no-cross-validation", action="store_true",
+                   help="with several experiments, skip fitting each alone to predict the others")
     p.add_argument("--no-sandbox", action="store_true",
                    help="compile and run the lab without the sandbox, with your own permissions")
     p.set_defaults(func=run_identify)
@@ -112,13 +120,24 @@ def run_identify(args: argparse.Namespace) -> int:
     """``crslab identify``."""
     from crslab.identify import fit as fitting
     from crslab.identify import report
+    from crslab.identify.cross_validation import cross_validate, cross_validation_lines
+    from crslab.identify.friction_table import FrictionTableError, load_table
     from crslab.identify.recording import PlotVarMap, RecordingError, read_recording
     from crslab.identify.runs import RunFailed, lab_offsets
     from crslab.regress.grade import default_jobs
     from crslab.sim.api import make_config
 
-    n = len(args.recordings)
+    table_paths = [r for r in args.recordings if r.suffix.lower() == ".toml"]
+    recording_paths = [r for r in args.recordings if r.suffix.lower() != ".toml"]
+    n = len(recording_paths)
+    if not n and (args.lab or args.map or args.sigma or args.fit_rest or args.t_from is not None
+                  or args.t_to is not None):
+        raise CliError("--lab, --map, --sigma, --fit-rest, --from and --to are for recordings; only friction "
+                       "tables were given")
     labs = _per_recording(args.lab, n, CALIBRATION_LAB, "--lab")
+    sigmas = _per_recording(args.sigma, n, fitting.RECORDING_SIGMA_RAD, "--sigma")
+    if any(not sigma > 0 for sigma in sigmas):
+        raise CliError("--sigma must be above 0 rad")
     try:
         maps = [PlotVarMap.parse(m) for m in _per_recording(args.map, n, "1,2,3", "--map")]
     except ValueError as exc:
@@ -134,14 +153,17 @@ def run_identify(args: argparse.Namespace) -> int:
         raise CliError("--jobs and --max-iterations must be at least 1")
     try:
         recordings = [read_recording(r, m).window(args.t_from, args.t_to)
-                      for r, m in zip(args.recordings, maps)]
+                      for r, m in zip(recording_paths, maps)]
         fitting.check_recordings(recordings)
-    except (RecordingError, fitting.FitError) as exc:
+        tables = [fitting.TableSource(load_table(t), str(t)) for t in table_paths]
+        if not recordings:
+            fitting.what_tables_tell(fitting.names_to_fit(names, {j for t in tables for j in t.table.rows}))
+    except (RecordingError, fitting.FitError, FrictionTableError) as exc:
         raise CliError(str(exc)) from None
-    sandboxed = sandbox_from_args(args)
+    sandboxed = sandbox_from_args(args) if recordings else True
     sources = []
     configs: dict[Path, object] = {}
-    for rec, lab in zip(recordings, labs):
+    for rec, lab, sigma in zip(recordings, labs, sigmas):
         if lab not in configs:
             try:
                 config = make_config(lab, "hands_off", startup_delay=False, sandbox=sandboxed)
@@ -152,13 +174,15 @@ def run_identify(args: argparse.Namespace) -> int:
                 raise CliError(str(exc), status.exit_status) from None
             configs[lab] = (config, lab_offsets(config))
         config, offsets = configs[lab]  # type: ignore[misc]
-        sources.append(fitting.Source(rec, config, offsets))
-    print(f"crslab identify: fitting {', '.join(names)} to {n} recording{'s' if n > 1 else ''}, "
-          f"{jobs} runs at a time", file=sys.stderr)
+        sources.append(fitting.Source(rec, config, offsets, sigma))
+    what = ", ".join(filter(None, [f"{n} recording{'s' if n != 1 else ''}" if n else "",
+                                   f"{len(tables)} friction table{'s' if len(tables) != 1 else ''}"
+                                   if tables else ""]))
+    print(f"crslab identify: fitting {', '.join(names)} to {what}, {jobs} runs at a time", file=sys.stderr)
     progress = FitProgress()
     try:
         result = fitting.fit(sources, names=names, start=start, fit_rest=args.fit_rest, jobs=jobs,
-                             max_iterations=args.max_iterations, on_progress=progress)
+                             max_iterations=args.max_iterations, on_progress=progress, tables=tables)
     except fitting.FitError as exc:
         raise CliError(str(exc)) from None
     except RunFailed as exc:
@@ -174,11 +198,26 @@ def run_identify(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the plant file ({exc.strerror})") from None
     figure = args.plot if args.plot is not None else args.output.with_suffix(".png")
-    try:
-        report.plot_fit(figure, result, sources)
-    except (OSError, ValueError) as exc:
-        raise CliError(f"{figure}: cannot write the plot ({exc})") from None
+    if sources:
+        try:
+            report.plot_fit(figure, result, sources)
+        except (OSError, ValueError) as exc:
+            raise CliError(f"{figure}: cannot write the plot ({exc})") from None
+    if len(sources) + len(tables) > 1 and not args.no_cross_validation:
+        print("crslab identify: cross-validation: fitting each experiment alone", file=sys.stderr)
+        try:
+            predictions = cross_validate(sources, tables, names=names, start=start, joint=result, jobs=jobs,
+                                         max_iterations=args.max_iterations,
+                                         on_fit=lambda name: print(f"crslab identify: fitting {name} alone",
+                                                                   file=sys.stderr))
+        except RunFailed as exc:
+            raise CliError(f"a run of the lab failed: {exc}", status=3) from None
+        print()
+        for line in cross_validation_lines(predictions):
+            print(line)
     before, after = report.rms_overall(result)
-    print(f"crslab identify: RMS {before:.4f} -> {after:.4f} rad in {result.runs} runs; wrote {args.output} "
-          f"and {figure}; use it with: crslab sim --plant {args.output}", file=sys.stderr)
+    rms = f"RMS {before:.4f} -> {after:.4f} rad in {result.runs} runs; " if sources else ""
+    plot = f" and {figure}" if sources else ""
+    print(f"crslab identify: {rms}wrote {args.output}{plot}; use it with: crslab sim --plant {args.output}",
+          file=sys.stderr)
     return 0

@@ -1,20 +1,35 @@
-"""Fitting the plant to recordings: bounded least squares over named plant values.
+"""Fitting the plant to experiments: bounded least squares over named plant values.
 
-The residual is (simulated - recorded) motor angle at every recorded sample of every recording,
-with the lab's PlotVars simulated by running the very lab that produced the recording. Each
-recording has its own alignment terms (phase and drift, see :mod:`crslab.identify.align`), fitted
-with the plant but bounded to where the lab's own signals allow; optionally its true resting pose
-(``fit_rest``: the lab's offsets are known only to about 0.01 rad, so the fit may move each by up
-to :data:`REST_RANGE_RAD`).
+Two kinds of experiment, each with its uncertainty, fit together:
+
+- a recording of the real arm (:class:`Source`): the residual is (simulated - recorded) motor
+  angle at every recorded sample, with the lab's PlotVars simulated by running the very lab that
+  produced the recording. Each recording has its own alignment terms (phase and drift, see
+  :mod:`crslab.identify.align`), fitted with the plant but bounded to where the lab's own signals
+  allow; optionally its true resting pose (``fit_rest``: the lab's offsets are known only to
+  about 0.01 rad, so the fit may move each by up to :data:`REST_RANGE_RAD`);
+- a friction table (:class:`TableSource`, the course's Lab 3 method's result): the residual is
+  (predicted - tabled) for each of its numbers, the prediction being the lines the method finds on
+  the plant (:func:`crslab.identify.friction_table.predict`).
+
+Each residual is divided by its experiment's uncertainty: a recording's ``sigma_rad`` (how closely
+the model is expected to follow it, per sample) times the square root of its residuals'
+autocorrelation time at the start (:func:`autocorrelation_time`: neighbouring samples of a model
+error are not independent, so a recording counts as its number of independent stretches, not of
+samples), a table's relative uncertainty times each number. So a 12-number table and a
+6000-sample recording weigh what their information is worth.
 
 The plant values are the physical ones of :class:`crslab.plant.plant_params.PlantParams`, each
 with a bound that keeps it physical (:data:`BOUNDS`). Derivatives are forward differences with a
 step per value (a simulated run per value, several at once); the alignment terms' derivatives
 need no run. scipy's ``least_squares`` (trust region reflective) takes it from there.
 
-Uncertainty: the Gauss-Newton covariance ``s^2 (J^T J)^-1`` with ``s^2`` the residual variance,
-inflated by the residuals' integrated autocorrelation time (they are model error, correlated over
-many samples, not independent noise), reported as one standard deviation.
+Uncertainty: the Gauss-Newton covariance ``(J^T J)^-1`` of the weighted residuals, scaled by
+the reduced chi-square (over the effective number of residuals) when the experiments disagree with
+the model by more than their stated uncertainties, reported as one standard deviation.
+
+Static friction that is not fitted keeps its gap to the Coulomb value it goes with (a plant without
+stiction, ``Spos = Cpos``, stays without).
 """
 
 from __future__ import annotations
@@ -22,11 +37,12 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from crslab.identify import align as al
+from crslab.identify.friction_table import KEYS, FrictionTable, predict
 from crslab.identify.recording import Recording
 from crslab.identify.runs import LabRun, Runner
 from crslab.plant.model import holding_torques_nm
@@ -40,7 +56,12 @@ BOUNDS: dict[str, tuple[float, float, float]] = {
     "drive_lag_s": (0.0, 0.05, 0.0005),
     "coulomb_pos": (0.0, 6.0, 0.06),
     "coulomb_neg": (-6.0, 0.0, 0.06),
-    "viscous": (0.0, 6.0, 0.06),
+    "viscous_pos": (0.0, 6.0, 0.06),
+    "viscous_neg": (0.0, 6.0, 0.06),
+    "static_pos": (0.0, 6.0, 0.06),
+    "static_neg": (-6.0, 0.0, 0.06),
+    "friction_transition_rad_s": (0.005, 0.2, 0.002),
+    "rotor_inertia": (0.0, 1.0, 0.005),
     "motor_gain": (1.0, 20.0, 0.06),
     "friction": (0.1, 10.0, 0.02),
     "mass": (0.2, 5.0, 0.02),
@@ -48,10 +69,24 @@ BOUNDS: dict[str, tuple[float, float, float]] = {
 }
 GROUPS: dict[str, tuple[str, ...]] = {
     "drive": tuple(f"{stem}{m}" for stem in ("stall_nm", "backemf") for m in (1, 2, 3)) + ("drive_lag_s",),
-    "friction": tuple(f"{stem}{m}" for stem in ("coulomb_pos", "coulomb_neg", "viscous") for m in (1, 2, 3)),
+    "friction": tuple(f"{stem}{m}" for stem in ("coulomb_pos", "coulomb_neg", "viscous_pos", "viscous_neg")
+                      for m in (1, 2, 3)),
+    "static": tuple(f"{stem}{m}" for stem in ("static_pos", "static_neg") for m in (1, 2, 3)),
+    "inertia": tuple(f"rotor_inertia{m}" for m in (1, 2, 3)),
 }
-"""Names of groups of values (``--fit drive,friction``, the default)."""
-DEFAULT_FIT = ("drive", "friction")
+"""Names of groups of values (``--fit drive,friction,static,inertia``, the default)."""
+DEFAULT_FIT = ("drive", "friction", "static", "inertia")
+RECORDING_SIGMA_RAD = 0.005
+"""How closely the model is expected to follow a recording, per sample (rad): its uncertainty
+when none is given. Model error, not noise: about the repeatable wobble at each step's start that a
+rigid model cannot follow (models/crs_arm/README.md), half issue 23's 0.01 rad target."""
+STATIC_PRIOR_NM = 0.5
+"""A fitted static value is held to its Coulomb value within about this much (N.m, one standard
+deviation) where the experiments say nothing about it: few recordings show a joint breaking free
+in both directions, and a table says nothing of it."""
+TABLE_ONLY = ("coulomb_pos", "coulomb_neg", "viscous_pos", "viscous_neg", "static_pos", "static_neg",
+              "friction_transition_rad_s", "motor_gain", "friction")
+"""What a friction table alone can tell (the friction and the command's torque)."""
 HOLD_MARGIN = 1.02
 """The dry friction a fit may end on must hold the arm at its resting pose with this margin: the
 real arm rests where it is put with zero torque (docs/framework.md section 11), which the recordings
@@ -87,12 +122,60 @@ class Fitted:
 
 @dataclass(frozen=True)
 class Source:
-    """One recording with the prepared lab run that produced it."""
+    """One recording with the prepared lab run that produced it, and its uncertainty."""
 
     recording: Recording
     config: SimConfig
     lab_offsets: tuple[float, float, float]
     """The resting pose the lab's offsets describe (motor angles, rad): the run's default."""
+    sigma_rad: float = RECORDING_SIGMA_RAD
+
+    @property
+    def name(self) -> str:
+        return self.recording.path.name
+
+
+@dataclass(frozen=True)
+class TableSource:
+    """One friction table (its uncertainty is the table's own, relative)."""
+
+    table: FrictionTable
+    path: str
+
+    @property
+    def name(self) -> str:
+        return self.path.rsplit("/", 1)[-1]
+
+    def numbers(self) -> list[tuple[int, str]]:
+        """The (joint, key) of every number, in residual order."""
+        return [(j, k) for j in sorted(self.table.rows) for k in KEYS]
+
+    def predicted(self, plant: PlantParams) -> np.ndarray:
+        """The numbers the course's method would find on ``plant``, in :meth:`numbers` order."""
+        pred = predict(plant, self.table.speeds_rad_s, sorted(self.table.rows))
+        return np.array([pred.value(j, k) for j, k in self.numbers()])
+
+    def tabled(self) -> np.ndarray:
+        return np.array([self.table.value(j, k) for j, k in self.numbers()])
+
+    def sigmas(self) -> np.ndarray:
+        return np.maximum(np.abs(self.tabled()) * self.table.uncertainty, 1e-6)
+
+
+@dataclass(frozen=True)
+class TableResult:
+    """A table's numbers as tabled and as predicted before and after the fit."""
+
+    source: TableSource
+    before: np.ndarray
+    after: np.ndarray
+
+    def gaps(self, after: bool = True) -> np.ndarray:
+        """Predicted / tabled - 1 for each number."""
+        return (self.after if after else self.before) / self.source.tabled() - 1.0
+
+    def rms_gap(self, after: bool = True) -> float:
+        return float(np.sqrt(np.mean(self.gaps(after) ** 2)))
 
 
 @dataclass
@@ -111,6 +194,10 @@ class FitResult:
     rests: list[tuple[float, float, float]]
     runs: int
     message: str
+    tables: list[TableResult] = field(default_factory=list)
+    chi2_reduced: float = float("nan")
+    """The weighted residual's sum of squares over the effective number of residuals less the
+    values fitted: about 1 when the experiments agree with the model as their uncertainties say."""
 
 
 def names_to_fit(spec: Sequence[str], joints: set[int]) -> list[str]:
@@ -139,18 +226,27 @@ def _holding(rest: tuple[float, float, float], plant: PlantParams) -> tuple[floa
 
 
 def _holding_bounds(name: str, low: float, high: float, sources: Sequence[Source],
-                    plant: PlantParams) -> tuple[float, float]:
-    """Tighten a dry-friction bound so the arm rests at every recording's resting pose."""
+                    plant: PlantParams, names: Sequence[str]) -> tuple[float, float]:
+    """Tighten a dry-friction bound so the arm rests at every recording's resting pose: a static
+    value's own, or a Coulomb value's whose static value follows it (not fitted itself)."""
     stem, motor = name.rstrip("0123456789"), name[len(name.rstrip("0123456789")):]
-    if stem not in ("coulomb_pos", "coulomb_neg") or not motor:
+    if not motor:
+        return low, high
+    side = stem.rsplit("_", 1)[-1]
+    gap = 0.0
+    if stem in ("coulomb_pos", "coulomb_neg"):
+        if f"static_{side}{motor}" in names:
+            return low, high
+        gap = plant.value(f"static_{side}{motor}") - plant.value(name)  # the static value stays this far
+    elif stem not in ("static_pos", "static_neg"):
         return low, high
     m = int(motor) - 1
     for src in sources:
         need = _holding(src.lab_offsets, plant)[m] * HOLD_MARGIN
-        if stem == "coulomb_pos" and need < 0:
-            low = max(low, -need)
-        elif stem == "coulomb_neg" and need > 0:
-            high = min(high, -need)
+        if side == "pos" and need < 0:
+            low = max(low, -need - gap)
+        elif side == "neg" and need > 0:
+            high = min(high, -need - gap)
     return low, high
 
 
@@ -171,9 +267,13 @@ class Problem:
     """The residual and its derivatives for one set of sources and fitted names."""
 
     def __init__(self, sources: Sequence[Source], names: Sequence[str], start: PlantParams,
-                 runner: Runner, *, fit_rest: bool = False) -> None:
+                 runner: Runner, *, fit_rest: bool = False, tables: Sequence[TableSource] = ()) -> None:
         self.sources = list(sources)
+        self.tables = list(tables)
         self.names = list(names)
+        # one over each recording's uncertainty; weigh_recordings() adds its autocorrelation
+        self.weights = [1.0 / s.sigma_rad for s in self.sources]
+        self.static_names = [n for n in self.names if n.startswith("static_")]
         self.start = start
         self.runner = runner
         self.fit_rest = fit_rest
@@ -183,7 +283,7 @@ class Problem:
         for n in self.names:
             v = start.value(n)
             low, high, step = _bounds(n, v)
-            low, high = _holding_bounds(n, low, high, sources, start)
+            low, high = _holding_bounds(n, low, high, sources, start, self.names)
             if not low <= v <= high:
                 v = min(max(v, low), high)  # a start that could not hold the arm at rest starts where it can
             lows.append(low)
@@ -200,7 +300,14 @@ class Problem:
 
     def split(self, x: np.ndarray) -> tuple[PlantParams, list[Terms]]:
         """The plant and, per recording, its (phase ms, drift, resting pose) that ``x`` holds."""
-        plant = self.start.with_values(dict(zip(self.names, map(float, x[: self.n_plant]))))
+        values = dict(zip(self.names, map(float, x[: self.n_plant])))
+        for name in list(values):  # a static value not fitted keeps its gap to its Coulomb value
+            stem, motor = name.rstrip("0123456789"), name[len(name.rstrip("0123456789")):]
+            if stem in ("coulomb_pos", "coulomb_neg"):
+                static = f"static_{stem.rsplit('_', 1)[1]}{motor}"
+                if static not in values:
+                    values[static] = self.start.value(static) + values[name] - self.start.value(name)
+        plant = self.start.with_values(values)
         terms = []
         k = self.n_plant
         for src in self.sources:
@@ -249,8 +356,7 @@ class Problem:
     def _runs(self, x: np.ndarray) -> list[np.ndarray]:
         key = np.asarray(x, dtype=float).tobytes()
         if key not in self._cache:
-            plant, terms = self.split(x)
-            self._cache = {key: self.runner.run_all(self._lab_runs(x))}
+            self._cache = {key: self.runner.run_all(self._lab_runs(x)) if self.sources else []}
         return self._cache[key]
 
     def simulated(self, x: np.ndarray, plots: list[np.ndarray] | None = None) -> list[np.ndarray]:
@@ -265,8 +371,34 @@ class Problem:
         return out
 
     def residual(self, x: np.ndarray, plots: list[np.ndarray] | None = None) -> np.ndarray:
-        sims = self.simulated(x, plots)
-        return np.concatenate([(s - src.recording.motor_rad).ravel() for s, src in zip(sims, self.sources)])
+        """Every experiment's residual over its uncertainty: the recordings' samples, then the
+        tables' numbers."""
+        sims = self.simulated(x, plots) if self.sources else []
+        parts = [w * (s - src.recording.motor_rad).ravel()
+                 for s, src, w in zip(sims, self.sources, self.weights)]
+        if self.tables or self.static_names:
+            plant, _ = self.split(x)
+            parts += [(t.predicted(plant) - t.tabled()) / t.sigmas() for t in self.tables]
+            if self.static_names:  # the prior that keeps an unobserved static value at its Coulomb value
+                parts.append(np.array([(plant.value(n) - plant.value(n.replace("static", "coulomb")))
+                                       / STATIC_PRIOR_NM for n in self.static_names]))
+        return np.concatenate(parts) if parts else np.zeros(0)
+
+    def weigh_recordings(self, x: np.ndarray) -> None:
+        """Fix each recording's weight: one over its uncertainty times the square root of its
+        residuals' autocorrelation time at ``x`` (one per joint, their mean)."""
+        sims = self.simulated(x)
+        for i, (s, src) in enumerate(zip(sims, self.sources)):
+            d = s - src.recording.motor_rad
+            tau = float(np.mean([autocorrelation_time(d[:, k]) for k in range(d.shape[1])]))
+            self.weights[i] = 1.0 / (src.sigma_rad * math.sqrt(tau))
+
+    def effective_count(self) -> float:
+        """The number of independent residuals: each recording's samples over its autocorrelation
+        time, and every table number."""
+        n = sum((src.sigma_rad * w) ** 2 * src.recording.motor_rad.size
+                for src, w in zip(self.sources, self.weights))
+        return n + sum(len(t.numbers()) for t in self.tables) + len(self.static_names)
 
     def jacobian(self, x: np.ndarray, columns: Sequence[int] | None = None) -> np.ndarray:
         x = np.asarray(x, dtype=float)
@@ -280,14 +412,14 @@ class Problem:
             h = self.steps[i] if xi[i] + self.steps[i] <= self.highs[i] else -self.steps[i]
             xi[i] += h
             shifted.append((i, xi, h))
-        needs_run = [(i, xi, h) for i, xi, h in shifted if self._needs_run(i)]
+        needs_run = [(i, xi, h) for i, xi, h in shifted if self._needs_run(i) and self.sources]
         batch = [run for _, xi, _ in needs_run for run in self._lab_runs(xi)]
         results = self.runner.run_all(batch) if batch else []
         per = len(self.sources)
         for k, (i, xi, h) in enumerate(needs_run):
             J[:, i] = (self.residual(xi, results[k * per:(k + 1) * per]) - r0) / h
         for i, xi, h in shifted:
-            if not self._needs_run(i):
+            if not self._needs_run(i) or not self.sources:
                 J[:, i] = (self.residual(xi, base_plots) - r0) / h
         return J
 
@@ -302,7 +434,7 @@ class Problem:
         return (i - self.n_plant) % self.per_source() >= 2  # the resting pose changes the run
 
 
-def _rms(sims: list[np.ndarray], sources: Sequence[Source]) -> tuple[list[np.ndarray], list[np.ndarray]]:
+def _rms(sims: Sequence[np.ndarray], sources: Sequence[Source]) -> tuple[list[np.ndarray], list[np.ndarray]]:
     rms, mx = [], []
     for s, src in zip(sims, sources):
         d = s - src.recording.motor_rad
@@ -337,26 +469,32 @@ def autocorrelation_time(residual: np.ndarray) -> float:
     return float(tau)
 
 
-def compare(sources: Sequence[Source], plant: PlantParams | None = None, *, jobs: int = 1) -> FitResult:
-    """``plant`` (default: crslab's arm) against ``sources`` as they stand: each recording placed
-    and aligned (phase and drift fitted), nothing of the plant changed. ``rms_after`` is
-    ``rms_before``."""
-    return fit(sources, names=(), start=plant, jobs=jobs)
+def compare(sources: Sequence[Source], plant: PlantParams | None = None, *, jobs: int = 1,
+            tables: Sequence[TableSource] = ()) -> FitResult:
+    """``plant`` (default: crslab's arm) against ``sources`` and ``tables`` as they stand: each
+    recording placed and aligned (phase and drift fitted), nothing of the plant changed.
+    ``rms_after`` is ``rms_before``."""
+    return fit(sources, names=(), start=plant, jobs=jobs, tables=tables)
 
 
 def fit(sources: Sequence[Source], *, names: Sequence[str] = DEFAULT_FIT, start: PlantParams | None = None,
-        fit_rest: bool = False, jobs: int = 1, max_iterations: int = 30,
+        fit_rest: bool = False, jobs: int = 1, max_iterations: int = 30, tables: Sequence[TableSource] = (),
         on_progress: Callable[[int, int, float | None], None] | None = None) -> FitResult:
     """Fit ``names`` (values or groups) of the plant, starting from ``start`` (default: the
-    defaults), to ``sources``. ``on_progress(runs, estimated_total, rms)`` is called after every
-    simulated run. No names: only the alignment (see :func:`compare`)."""
+    defaults), to the recordings ``sources`` and the friction ``tables`` together.
+    ``on_progress(runs, estimated_total, rms)`` is called after every simulated run. No names:
+    only the alignment (see :func:`compare`)."""
     # imported here, not with the module: every crslab command reads this module's names for its
     # help, and scipy's import would add more than half a second to each
     from scipy.optimize import least_squares
 
     start = PlantParams.defaults() if start is None else start
-    joints = {j for s in sources for j in s.recording.joints}
+    if not sources and not tables:
+        raise FitError("nothing to fit to: give a recording or a friction table")
+    joints = {j for s in sources for j in s.recording.joints} | {j for t in tables for j in t.table.rows}
     fitted_names = names_to_fit(names, joints) if names else []
+    if not sources:
+        fitted_names = what_tables_tell(fitted_names)
     check_recordings([s.recording for s in sources])
     state = {"rms": None}
     per_iteration = (len(fitted_names) + 1) * len(sources)
@@ -367,7 +505,7 @@ def fit(sources: Sequence[Source], *, names: Sequence[str] = DEFAULT_FIT, start:
             on_progress(runner.count, max(total[0], runner.count), state["rms"])
 
     with Runner(jobs, on_run=progressed) as runner:
-        problem = Problem(sources, fitted_names, start, runner, fit_rest=fit_rest)
+        problem = Problem(sources, fitted_names, start, runner, fit_rest=fit_rest, tables=tables)
         problem.place()
         x0 = np.array(problem.x0, dtype=float)
         lows, highs, steps = map(np.array, (problem.lows, problem.highs, problem.steps))
@@ -388,13 +526,19 @@ def fit(sources: Sequence[Source], *, names: Sequence[str] = DEFAULT_FIT, start:
             pre = least_squares(nuisance_fun, x0[cheap], jac=nuisance_jac, bounds=(lows[cheap], highs[cheap]),
                                 x_scale=steps[cheap], max_nfev=20)
             x0[cheap] = pre.x
-        sim_before = problem.simulated(x0)
+        problem.weigh_recordings(x0)
+        sim_before = problem.simulated(x0) if sources else []
         rms_before, _ = _rms(sim_before, sources)
-        state["rms"] = float(np.sqrt(np.mean(np.concatenate([r ** 2 for r in rms_before]))))
+        plant_before, _ = problem.split(x0)
+        if sources:
+            state["rms"] = float(np.sqrt(np.mean(np.concatenate([r ** 2 for r in rms_before]))))
 
         def fun(x: np.ndarray) -> np.ndarray:
             r = problem.residual(x)
-            state["rms"] = float(np.sqrt(np.mean(r * r)))
+            if sources:
+                sims = problem.simulated(x)
+                state["rms"] = float(np.sqrt(np.mean(np.concatenate(
+                    [((s - src.recording.motor_rad) ** 2).ravel() for s, src in zip(sims, sources)]))))
             return r
 
         if fitted_names or fit_rest:
@@ -404,9 +548,10 @@ def fit(sources: Sequence[Source], *, names: Sequence[str] = DEFAULT_FIT, start:
         else:
             x, message = x0, "alignment only"
             jac, residual = problem.jacobian(x), problem.residual(x)
-        sim_after = problem.simulated(x)
+        sim_after = problem.simulated(x) if sources else []
         rms_after, max_after = _rms(sim_after, sources)
-        sigma = _sigmas(jac, residual, sources)
+        chi2 = float(residual @ residual) / max(problem.effective_count() - len(x), 1.0)
+        sigma = _sigmas(jac, chi2)
         plant, terms = problem.split(x)
         runs = runner.count
     values, nuisance_values = [], []
@@ -420,30 +565,31 @@ def fit(sources: Sequence[Source], *, names: Sequence[str] = DEFAULT_FIT, start:
         item = Fitted(label, float(x0[i] if i >= problem.n_plant else problem.x0[i]), float(x[i]),
                       float(sigma[i]), at_bound)
         (values if i < problem.n_plant else nuisance_values).append(item)
+    table_results = [TableResult(t, t.predicted(plant_before), t.predicted(plant)) for t in tables]
     return FitResult(plant=plant, start_plant=start, values=values, nuisance=nuisance_values,
                      alignments=problem.alignments, rms_before=rms_before, rms_after=rms_after,
                      max_after=max_after, sim_before=sim_before, sim_after=sim_after,
-                     rests=[t[2] for t in terms], runs=runs, message=message)
+                     rests=[t[2] for t in terms], runs=runs, message=message, tables=table_results,
+                     chi2_reduced=chi2)
 
 
-def _sigmas(jac: np.ndarray, residual: np.ndarray, sources: Sequence[Source]) -> np.ndarray:
+def _sigmas(jac: np.ndarray, chi2_reduced: float) -> np.ndarray:
     """One standard deviation per fitted value (see the module's docstring)."""
-    n, p = jac.shape
-    dof = max(n - p, 1)
-    s2 = float(residual @ residual) / dof
-    taus = []
-    k = 0
-    for src in sources:
-        m, joints = src.recording.motor_rad.shape
-        block = residual[k:k + m * joints].reshape(m, joints)
-        taus += [autocorrelation_time(block[:, j]) for j in range(joints)]
-        k += m * joints
-    tau = float(np.mean(taus)) if taus else 1.0
+    p = jac.shape[1]
     try:
-        cov = np.linalg.pinv(jac.T @ jac) * s2 * tau
+        cov = np.linalg.pinv(jac.T @ jac) * max(1.0, chi2_reduced)
     except np.linalg.LinAlgError:
         return np.full(p, math.inf)
     return np.sqrt(np.clip(np.diag(cov), 0.0, None))
+
+
+def what_tables_tell(names: Sequence[str]) -> list[str]:
+    """Of ``names``, those friction tables alone can tell (:data:`TABLE_ONLY`). Raises
+    :class:`FitError` when that is none of them."""
+    told = [n for n in names if n.rstrip("0123456789") in TABLE_ONLY]
+    if names and not told:
+        raise FitError("a friction table tells only friction (and the motor gain): nothing else to fit")
+    return told
 
 
 def check_recordings(recordings: Sequence[Recording]) -> None:
@@ -470,5 +616,6 @@ def check_names(names: Sequence[str]) -> None:
         raise FitError(str(exc)) from None
 
 
-__all__ = ["DEFAULT_FIT", "GROUPS", "FitError", "FitResult", "Fitted", "Source", "autocorrelation_time",
+__all__ = ["DEFAULT_FIT", "GROUPS", "FitError", "FitResult", "Fitted", "Source", "TableResult", "TableSource",
+           "autocorrelation_time",
            "check_names", "check_recordings", "compare", "fit", "fitted_plant_values", "names_to_fit"]

@@ -16,12 +16,31 @@ from crslab.output_paths import with_parent
 
 
 def residual_table(result: FitResult, sources: Sequence[Source]) -> list[str]:
-    """One line per recording and joint: RMS of (sim - real) before and after, and the max after."""
-    lines = ["residual (sim - real), rad          RMS before   RMS after   max after"]
+    """One line per recording and joint: RMS of (sim - real) before and after, and the max after;
+    then one line per friction table and joint: its numbers as tabled, as the plant predicted them
+    before and after (the course's method on the plant), and the RMS gap."""
+    lines = []
+    if sources:
+        lines.append("residual (sim - real), rad          RMS before   RMS after   max after")
     for src, before, after, mx in zip(sources, result.rms_before, result.rms_after, result.max_after):
         for k, joint in enumerate(src.recording.joints):
             name = src.recording.path.name[:26]
             lines.append(f"  {name:26s} joint {joint}  {before[k]:10.4f}  {after[k]:10.4f}  {mx[k]:10.4f}")
+    for tr in result.tables:
+        if lines:
+            lines.append("")
+        lines.append(f"friction table {tr.source.name[:40]} (+- {tr.source.table.uncertainty:.0%}): "
+                     f"Vpos Vneg Cpos Cneg, command units")
+        numbers = tr.source.numbers()
+        tabled, before, after = tr.source.tabled(), tr.before, tr.after
+        for joint in sorted({j for j, _ in numbers}):
+            idx = [i for i, (j, _) in enumerate(numbers) if j == joint]
+            lines.append(f"  joint {joint} tabled  " + "".join(f"{tabled[i]:9.4f}" for i in idx))
+            lines.append("          before  " + "".join(f"{before[i]:9.4f}" for i in idx)
+                         + "   gaps " + " ".join(f"{before[i] / tabled[i] - 1:+.1%}" for i in idx))
+            lines.append("          after   " + "".join(f"{after[i]:9.4f}" for i in idx)
+                         + "   gaps " + " ".join(f"{after[i] / tabled[i] - 1:+.1%}" for i in idx))
+        lines.append(f"  RMS gap {tr.rms_gap(False):.1%} before, {tr.rms_gap(True):.1%} after")
     return lines
 
 
@@ -39,10 +58,16 @@ def plant_file_header(result: FitResult, sources: Sequence[Source], names: Seque
     when = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     out = [f"crslab plant parameters, identified by crslab {__version__} on {when}.",
            "Use: crslab sim --plant THIS_FILE (also record, check, grade and the crslab_check fixture).",
-           "", "Recordings (lab that produced each):"]
+           ""]
+    if sources:
+        out.append("Recordings (lab that produced each, uncertainty per sample):")
     for src in sources:
         out.append(f"  {src.recording.path} ({src.config.build.source.name}), "
-                   f"PlotVars of motors 1-3: {src.recording.map}")
+                   f"PlotVars of motors 1-3: {src.recording.map}, +- {src.sigma_rad:g} rad")
+    if result.tables:
+        out.append("Friction tables (relative uncertainty of each number):")
+    for tr in result.tables:
+        out.append(f"  {tr.source.path} (+- {tr.source.table.uncertainty:.0%})")
     out += ["", "Fitted (everything else as the starting plant):"]
     out += textwrap.wrap(", ".join(names), width=96, initial_indent="  ", subsequent_indent="  ") + [""]
     out += values_table(result) + [""] + residual_table(result, sources)
@@ -58,6 +83,8 @@ def plot_fit(path: Path, result: FitResult, sources: Sequence[Source]) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    if not sources:  # tables alone: crslab friction plots those
+        return
     rows = max(len(s.recording.joints) for s in sources)
     fig, axes = plt.subplots(rows, 2 * len(sources), figsize=(12 * len(sources), 2.6 * rows), squeeze=False,
                              sharex="col")
@@ -90,8 +117,8 @@ def plot_fit(path: Path, result: FitResult, sources: Sequence[Source]) -> None:
 
 
 def rms_overall(result: FitResult) -> tuple[float, float]:
-    """Overall RMS before and after, every recording and joint together."""
+    """Overall RMS before and after, every recording and joint together (NaN without recordings)."""
     def overall(parts: Sequence[np.ndarray]) -> float:
-        return float(np.sqrt(np.mean(np.concatenate([p ** 2 for p in parts]))))
+        return float(np.sqrt(np.mean(np.concatenate([p ** 2 for p in parts])))) if parts else float("nan")
 
     return overall(result.rms_before), overall(result.rms_after)

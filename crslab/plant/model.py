@@ -110,7 +110,8 @@ reflected inertia is the joints' armature and keeps its value)."""
 
 
 def apply_plant(model: mujoco.MjModel, plant: PlantParams, loaded: mujoco.MjModel | None = None) -> None:
-    """Give ``model`` the plant's motor gain, friction, link masses and payload, in place (from the
+    """Give ``model`` the plant's motor gain, rotor inertias, friction, link masses and payload, in place
+    (from the
     next step on). ``loaded`` is the model as compiled from the MJCF (default: a fresh
     :func:`load_model`), the reference the mass scale applies to, so applying twice never
     compounds. The drive is the C board's (``crs_drive``, set by the worker).
@@ -123,6 +124,9 @@ def apply_plant(model: mujoco.MjModel, plant: PlantParams, loaded: mujoco.MjMode
     loaded = load_model() if loaded is None else loaded
     model.actuator_gear[:, 0] = plant.motor_gain
     apply_friction(model, plant)
+    rotor = plant.rotor_inertia_kg_m2  # motors 1 and 2 turn j1 and j2; motor 3 the forearm tendon
+    model.dof_armature[:] = (rotor[0], rotor[1], 0.0)
+    model.tendon_armature[0] = rotor[2]
     for name in LINK_BODIES:
         body = model.body(name).id
         _set_body_mass(model, body, plant.mass_scale * float(loaded.body_mass[body]),
@@ -131,16 +135,17 @@ def apply_plant(model: mujoco.MjModel, plant: PlantParams, loaded: mujoco.MjMode
 
 
 def apply_friction(model: mujoco.MjModel, plant: PlantParams) -> None:
-    """Give ``model`` the plant's symmetric dry friction (MuJoCo's ``frictionloss``), its constant
-    offset (the motor actuators' bias, :meth:`PlantParams.friction_bias_nm`) and viscous friction
-    (``damping``), in place. Motors 1 and 2 turn joints j1 and j2; motor 3 turns the forearm tendon
-    (j2 + j3)."""
-    coulomb, viscous = plant.coulomb_nm(), plant.viscous_nm_s()
+    """Give ``model`` the plant's static friction band, in place: MuJoCo's symmetric dry friction
+    (``frictionloss``, half the band's width) and its constant offset (the motor actuators' bias,
+    :meth:`PlantParams.friction_bias_nm`). Motors 1 and 2 turn joints j1 and j2; motor 3 turns the
+    forearm tendon (j2 + j3). The friction beyond the band, while a joint slides, is the C board's
+    (``csrc/sim/friction.c``, set by the worker): the model has no ``damping``."""
+    half = plant.band_half_nm()
     model.actuator_biasprm[:, 0] = plant.friction_bias_units()
-    model.dof_frictionloss[:] = (coulomb[0], coulomb[1], 0.0)
-    model.dof_damping[:] = (viscous[0], viscous[1], 0.0)
-    model.tendon_frictionloss[0] = coulomb[2]
-    model.tendon_damping[0] = viscous[2]
+    model.dof_frictionloss[:] = (half[0], half[1], 0.0)
+    model.tendon_frictionloss[0] = half[2]
+    model.dof_damping[:] = 0.0
+    model.tendon_damping[0] = 0.0
 
 
 def holding_torques_nm(motor_rad: object, plant: PlantParams | None = None) -> np.ndarray:

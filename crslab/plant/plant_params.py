@@ -3,9 +3,9 @@ all set, by name.
 
 The defaults are ``models/crs_arm/params.toml`` (the one home of physics numbers). A plant file
 (``crslab identify`` writes one) is a TOML file with any of the same sections, ``[command]``,
-``[drive]`` and ``[friction.motorN]``, plus ``[variations]``: the scales a sweep varies. Every
-value is also reachable by a flat name (:data:`NAMES`), which is how sweeps and the fit address
-them:
+``[drive]``, ``[rotor]``, ``[friction]`` and ``[friction.motorN]``, plus ``[variations]``: the
+scales a sweep varies. Every value is also reachable by a flat name (:data:`NAMES`), which is how
+sweeps and the fit address them:
 
 >>> p = PlantParams.defaults()
 >>> p.motor_gain
@@ -65,10 +65,22 @@ NAMES: dict[str, Name] = {
     **_per_motor("backemf", "backemf_nm_s_per_rad",
                  "what each rad/s of motor speed takes off the drive's torque, N.m s/rad"),
     "drive_lag_s": Name("drive_lag_s", None, "first-order lag of the delivered torque, s", 0.0, 1.0),
-    **_per_motor("coulomb_pos", "coulomb_pos_nm", "dry friction against positive motion, N.m"),
-    **_per_motor("coulomb_neg", "coulomb_neg_nm", "dry friction against negative motion (a negative "
-                 "number), N.m", -math.inf, 0.0),
-    **_per_motor("viscous", "viscous_nm_s_per_rad", "viscous friction, N.m s/rad"),
+    **_per_motor("coulomb_pos", "coulomb_pos_nm", "sliding friction against positive motion, where its line "
+                 "meets zero speed (Cpos), N.m"),
+    **_per_motor("coulomb_neg", "coulomb_neg_nm", "sliding friction against negative motion, where its line "
+                 "meets zero speed (Cneg, a negative number), N.m", -math.inf, 0.0),
+    **_per_motor("viscous_pos", "viscous_pos_nm_s_per_rad", "slope of the sliding friction moving positive "
+                 "(Vpos), N.m s/rad"),
+    **_per_motor("viscous_neg", "viscous_neg_nm_s_per_rad", "slope of the sliding friction moving negative "
+                 "(Vneg), N.m s/rad"),
+    **_per_motor("static_pos", "static_pos_nm", "static friction: the most torque a stuck joint resists "
+                 "pushed positive (Spos), N.m"),
+    **_per_motor("static_neg", "static_neg_nm", "static friction: the most torque a stuck joint resists "
+                 "pushed negative (Sneg, a negative number), N.m", -math.inf, 0.0),
+    **_per_motor("rotor_inertia", "rotor_inertia_kg_m2", "reflected rotor inertia (the motor, its "
+                 "drive) about the motor angle, added to the links', kg.m^2"),
+    "friction_transition_rad_s": Name("friction_transition_rad_s", None, "motor speed over which sliding "
+                                      "friction goes from the static band to its lines, rad/s", 0.005, 1.0),
     "friction": Name("friction_scale", 0, "scale of every motor's friction (dry and viscous)"),
     **_per_motor("friction", "friction_scale", "scale of all friction (dry and viscous)"),
     "payload_kg": Name("payload_kg", None, "mass clamped at the end effector, kg"),
@@ -88,7 +100,8 @@ class PlantParams:
     model: the motor gain, the drive, friction, and the variations a sweep applies. Per-motor
     values are motors 1, 2, 3, about their motor angles, in N.m: a command unit asks for
     ``motor_gain`` N.m, which the drive delivers within its torque-speed envelope (``stall_nm``,
-    ``backemf_nm_s_per_rad``) after its lag; friction acts on the joints.
+    ``backemf_nm_s_per_rad``) after its lag; friction acts on the motor angles (the rules are
+    :meth:`friction_nm`'s).
     """
 
     motor_gain: float
@@ -97,7 +110,12 @@ class PlantParams:
     drive_lag_s: float
     coulomb_pos_nm: Triple
     coulomb_neg_nm: Triple
-    viscous_nm_s_per_rad: Triple
+    viscous_pos_nm_s_per_rad: Triple
+    viscous_neg_nm_s_per_rad: Triple
+    static_pos_nm: Triple
+    static_neg_nm: Triple
+    friction_transition_rad_s: float
+    rotor_inertia_kg_m2: Triple
     friction_scale: Triple = (1.0, 1.0, 1.0)
     mass_scale: float = 1.0
     payload_kg: float = 0.0
@@ -168,30 +186,76 @@ class PlantParams:
         """Every value by its flat name (``friction`` left out: it is ``friction1..3``)."""
         return {name: self.value(name) for name in NAMES if name != ALL_FRICTION}
 
-    # -- what the model and the C drive are given ---------------------------------------------
-    def coulomb_nm(self) -> tuple[float, ...]:
-        """MuJoCo's symmetric dry friction per motor (N.m): half the width of the band
-        ``[Cneg, Cpos]``, scaled."""
-        return tuple(0.5 * (p - n) * s for p, n, s in self._coulomb_rows())
+    # -- the friction law ----------------------------------------------------------------------
+    def friction_nm(self, motor: int, speed_rad_s: float) -> float:
+        """The friction torque (N.m, against the motion) on ``motor`` (1..3) sliding at
+        ``speed_rad_s`` (motor angle), scaled; at zero speed see :meth:`static_band_nm`.
+
+        Moving positive it rises from the static band's edge ``Spos`` to the course's line
+        ``Cpos + Vpos w`` over ``friction_transition_rad_s``:
+        ``Spos + (Cpos - Spos)(1 - exp(-w / w_t)) + Vpos w``; moving negative likewise with
+        ``Sneg``, ``Cneg`` and ``Vneg`` (negative numbers). This is the rule the board applies
+        (``csrc/sim/friction.c`` for the sliding part, MuJoCo's friction constraint for the band).
+
+        >>> p = PlantParams.defaults().with_values({"coulomb_pos1": 2.0, "viscous_pos1": 1.5,
+        ...     "static_pos1": 1.2, "coulomb_neg1": -1.8, "viscous_neg1": 1.4, "static_neg1": -1.8})
+        >>> round(p.friction_nm(1, 1.0), 6), round(p.friction_nm(1, -1.0), 6)   # the lines, far above w_t
+        (3.5, -3.2)
+        >>> round(p.friction_nm(1, 1e-9), 6)                                    # the static band's edge
+        1.2
+        """
+        m = motor - 1
+        w, scale = float(speed_rad_s), self.friction_scale[m]
+        if w == 0.0:
+            return 0.0
+        if w > 0:
+            static, coulomb = self.static_pos_nm[m], self.coulomb_pos_nm[m]
+            viscous = self.viscous_pos_nm_s_per_rad[m]
+        else:
+            static, coulomb = self.static_neg_nm[m], self.coulomb_neg_nm[m]
+            viscous = self.viscous_neg_nm_s_per_rad[m]
+        rise = -math.expm1(-abs(w) / self.friction_transition_rad_s)
+        return scale * (static + (coulomb - static) * rise + viscous * w)
+
+    def static_band_nm(self, motor: int) -> tuple[float, float]:
+        """``(Sneg, Spos)`` of ``motor`` (1..3), scaled: a stuck joint stays stuck while the other
+        torques on it (N.m, about its motor angle) lie within this band."""
+        m = motor - 1
+        return self.static_neg_nm[m] * self.friction_scale[m], self.static_pos_nm[m] * self.friction_scale[m]
+
+    # -- what the model and the C board are given -----------------------------------------------
+    def band_half_nm(self) -> tuple[float, ...]:
+        """MuJoCo's symmetric dry friction per motor (N.m): half the width of the static band
+        ``[Sneg, Spos]``, scaled."""
+        return tuple(0.5 * (hi - lo) for lo, hi in map(self.static_band_nm, MOTORS))
 
     def friction_bias_nm(self) -> tuple[float, ...]:
-        """The constant torque per motor (N.m) that shifts MuJoCo's symmetric band onto ``[Cneg, Cpos]``:
-        ``-(Cpos + Cneg) / 2``, scaled. With it, the joint sticks while the other torques on it lie
-        within ``[Cneg, Cpos]`` and slides against ``Cpos`` (moving positive) or ``Cneg``. The model
-        carries it as its motor actuators' constant bias."""
-        return tuple(-0.5 * (p + n) * s for p, n, s in self._coulomb_rows())
-
-    def _coulomb_rows(self) -> zip:
-        return zip(self.coulomb_pos_nm, self.coulomb_neg_nm, self.friction_scale)
+        """The constant torque per motor (N.m) that shifts MuJoCo's symmetric band onto ``[Sneg, Spos]``:
+        ``-(Spos + Sneg) / 2``, scaled. With it, a stuck joint stays stuck while the other torques on
+        it lie within ``[Sneg, Spos]``, and meets ``Spos`` (moving positive) or ``Sneg`` as it starts
+        to slide. The model carries it as its motor actuators' constant bias."""
+        return tuple(-0.5 * (hi + lo) for lo, hi in map(self.static_band_nm, MOTORS))
 
     def friction_bias_units(self) -> tuple[float, ...]:
         """:meth:`friction_bias_nm` in actuator force (before the gear of ``motor_gain`` N.m per
         unit): the motor actuators' constant bias that carries it."""
         return tuple(b / self.motor_gain for b in self.friction_bias_nm())
 
-    def viscous_nm_s(self) -> tuple[float, ...]:
-        """Viscous friction per motor, N.m s/rad, scaled."""
-        return tuple(v * s for v, s in zip(self.viscous_nm_s_per_rad, self.friction_scale))
+    def sliding_units(self) -> dict[str, tuple[float, ...]]:
+        """What the C board's sliding friction (``crs_friction`` of ``csrc/sim/sim.h``) is given, in
+        command units (N.m over the motor gain), scaled: how far each line's intercept lies beyond
+        the static band's edge (``Cpos - Spos``, ``Cneg - Sneg``) and the two slopes."""
+        def per_motor(values: Triple) -> tuple[float, ...]:
+            return tuple(v * s / self.motor_gain for v, s in zip(values, self.friction_scale))
+
+        gap_pos = tuple(c - b for c, b in zip(self.coulomb_pos_nm, self.static_pos_nm))
+        gap_neg = tuple(c - b for c, b in zip(self.coulomb_neg_nm, self.static_neg_nm))
+        return {
+            "slide_pos_units": per_motor(gap_pos),
+            "slide_neg_units": per_motor(gap_neg),
+            "viscous_pos_units_s_per_rad": per_motor(self.viscous_pos_nm_s_per_rad),
+            "viscous_neg_units_s_per_rad": per_motor(self.viscous_neg_nm_s_per_rad),
+        }
 
     def to_toml(self, header: str = "") -> str:
         """This arm as a plant file (every value written, so the file does not depend on the
@@ -200,8 +264,8 @@ class PlantParams:
         >>> p = PlantParams.defaults()
         >>> import tempfile, os
         >>> path = os.path.join(tempfile.mkdtemp(), "arm.toml")
-        >>> _ = open(path, "w").write(p.with_values({"viscous2": 0.5}).to_toml("my arm"))
-        >>> PlantParams.load(path).value("viscous2")
+        >>> _ = open(path, "w").write(p.with_values({"viscous_neg2": 0.5}).to_toml("my arm"))
+        >>> PlantParams.load(path).value("viscous_neg2")
         0.5
         """
         def arr(xs: Triple) -> str:
@@ -212,10 +276,12 @@ class PlantParams:
                   "", "[drive]", f"stall_nm = {arr(self.stall_nm)}",
                   f"backemf_nm_s_per_rad = {arr(self.backemf_nm_s_per_rad)}",
                   f"lag_s = {_num(self.drive_lag_s)}"]
+        lines += ["", "[rotor]"] + [f"motor{m} = {_num(self.rotor_inertia_kg_m2[m - 1])}" for m in MOTORS]
+        lines += ["", "[friction]", f"transition_rad_s = {_num(self.friction_transition_rad_s)}"]
         for j in range(3):
-            lines += ["", f"[friction.motor{j + 1}]", f"Cpos_nm = {_num(self.coulomb_pos_nm[j])}",
-                      f"Cneg_nm = {_num(self.coulomb_neg_nm[j])}",
-                      f"V_nm_s_per_rad = {_num(self.viscous_nm_s_per_rad[j])}"]
+            lines += ["", f"[friction.motor{j + 1}]"]
+            lines += [f"{key} = {_num(self.value(name.format(m=j + 1)))}"
+                      for key, name in _TABLE_KEYS["friction.motor"].items() if key != "V_nm_s_per_rad"]
         lines += ["", "[variations]"] + [f"{name} = {_num(self.value(name))}" for name in VARIATIONS]
         return "\n".join(lines).lstrip("\n") + "\n"
 
@@ -226,7 +292,9 @@ VARIATIONS = ("friction1", "friction2", "friction3", "mass", "payload_kg", "enco
 _UNSET = (math.nan,) * 3
 _DEFAULT_FIELDS = dict(motor_gain=math.nan, stall_nm=_UNSET, backemf_nm_s_per_rad=_UNSET,
                        drive_lag_s=math.nan, coulomb_pos_nm=_UNSET, coulomb_neg_nm=_UNSET,
-                       viscous_nm_s_per_rad=_UNSET)
+                       viscous_pos_nm_s_per_rad=_UNSET, viscous_neg_nm_s_per_rad=_UNSET,
+                       static_pos_nm=_UNSET, static_neg_nm=_UNSET, friction_transition_rad_s=math.nan,
+                       rotor_inertia_kg_m2=_UNSET)
 
 
 def _num(x: float) -> str:
@@ -256,8 +324,12 @@ _TABLE_KEYS: dict[str, dict[str, str]] = {
     "command": {"newton_metre_per_unit": "motor_gain"},
     "drive": {"stall_nm": "stall_nm{m}", "backemf_nm_s_per_rad": "backemf{m}",
               "lag_s": "drive_lag_s"},
+    "rotor": {"motor1": "rotor_inertia1", "motor2": "rotor_inertia2", "motor3": "rotor_inertia3"},
+    "friction": {"transition_rad_s": "friction_transition_rad_s"},
     "friction.motor": {"Cpos_nm": "coulomb_pos{m}", "Cneg_nm": "coulomb_neg{m}",
-                       "V_nm_s_per_rad": "viscous{m}"},
+                       "Vpos_nm_s_per_rad": "viscous_pos{m}", "Vneg_nm_s_per_rad": "viscous_neg{m}",
+                       "Spos_nm": "static_pos{m}", "Sneg_nm": "static_neg{m}",
+                       "V_nm_s_per_rad": "viscous_pos{m} viscous_neg{m}"},
     "variations": {name: name for name in VARIATIONS},
 }
 
@@ -273,13 +345,25 @@ def _from_tables(tables: Mapping, where: str, base: PlantParams, whole_model: bo
     for section, body in tables.items():
         if section == "friction" and isinstance(body, Mapping):
             for motor, row in body.items():
-                if motor not in ("motor1", "motor2", "motor3") or not isinstance(row, Mapping):
+                if motor in _TABLE_KEYS["friction"]:
+                    values[_TABLE_KEYS["friction"][motor]] = row
+                    continue
+                if not isinstance(row, Mapping):
+                    raise bad(f"unknown key {motor} in [friction] ({', '.join(_TABLE_KEYS['friction'])}, "
+                              "and the tables [friction.motor1..3])")
+                if motor not in ("motor1", "motor2", "motor3"):
                     raise bad(f"unknown table [friction.{motor}] (motor1, motor2 or motor3)")
                 for key, v in row.items():
                     if key not in _TABLE_KEYS["friction.motor"]:
                         known = ", ".join(_TABLE_KEYS["friction.motor"])
                         raise bad(f"unknown key {key} in [friction.{motor}] ({known})")
-                    values[_TABLE_KEYS["friction.motor"][key].format(m=motor[-1])] = v
+                    for name in _TABLE_KEYS["friction.motor"][key].split():
+                        values[name.format(m=motor[-1])] = v
+                # an older plant file (or one that leaves it out) has no static band: the joint
+                # sticks within [Cneg, Cpos], as plain dry friction does
+                for side in ("pos", "neg"):
+                    if f"C{side}_nm" in row and f"S{side}_nm" not in row:
+                        values[f"static_{side}{motor[-1]}"] = row[f"C{side}_nm"]
             continue
         keys = _TABLE_KEYS.get(section)
         if keys is None:
@@ -305,4 +389,4 @@ def _from_tables(tables: Mapping, where: str, base: PlantParams, whole_model: bo
         raise bad(str(exc)) from None
 
 
-_PLANT_TABLES = ("[command]", "[drive]", "[friction.motor1..3]", "[variations]")
+_PLANT_TABLES = ("[command]", "[drive]", "[rotor]", "[friction]", "[friction.motor1..3]", "[variations]")

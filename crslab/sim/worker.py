@@ -142,6 +142,7 @@ class Worker:
         for j in range(3):
             sim.rest_motor_rad[j] = rest[j]
         self._set_drive(config.plant)
+        self._set_sliding_friction(config.plant)
         for j in range(3):
             sim.faults.noise_counts[j] = config.plant.encoder_noise_counts
         h = sim.hand
@@ -221,10 +222,18 @@ class Worker:
             drive.stall_units[j] = plant.stall_nm[j] / plant.motor_gain
             drive.backemf_units_s_per_rad[j] = plant.backemf_nm_s_per_rad[j] / plant.motor_gain
 
+    def _set_sliding_friction(self, plant: PlantParams) -> None:
+        friction = self.sim.friction
+        friction.transition_rad_s = plant.friction_transition_rad_s
+        for field, values in plant.sliding_units().items():
+            for j in range(3):
+                getattr(friction, field)[j] = values[j]
+
     def set_friction(self, plant: PlantParams) -> None:
         """Run on with ``plant``'s friction."""
         self.plant = plant
         apply_friction(self.model, plant)
+        self._set_sliding_friction(plant)
 
     def _ptr(self, ctype: str, arr: np.ndarray) -> object:
         self._keep.append(arr)

@@ -11,6 +11,7 @@
 #include "firmware_port.h"
 #include "framework.h"
 #include "framework_facts.h"
+#include "friction.h"
 #include "host_ports.h"
 #include "motor_board.h"
 #include "serial_line.h"
@@ -144,6 +145,7 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
         /* motor speeds: motor 3 turns with the forearm's absolute angle, j2 + j3 */
         const double speed[3] = {sim->qvel[0], sim->qvel[1], sim->qvel[1] + sim->qvel[2]};
         crs_drive_step(&sim->drive, drive_follow, sim->applied, speed, sim->faults.dead_motor, sim->ctrl);
+        crs_friction_add(&sim->friction, speed, sim->ctrl);
         crs_hand_step_along(sim, &hand_path);
         for (int j = 0; j < 3; ++j) sim->qfrc_applied[j] = sim->hand.force_nm[j];
         if (sim->log.capacity > 0) log_tick(sim, plots);

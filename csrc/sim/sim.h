@@ -265,6 +265,17 @@ enum {
     CRS_COST_INSTRUCTIONS = 1    /* WebAssembly firmware: instructions executed (wasmtime's fuel) */
 };
 
+/* Friction on each motor angle beyond its static band (csrc/sim/friction.h), set from the plant
+ * parameters before the first tick; the static band itself is MuJoCo's friction constraint. In
+ * command units (N.m over the motor gain); _pos moving positive, _neg moving negative. */
+typedef struct {
+    double slide_pos_units[3];             /* Cpos - Spos: the line's intercept beyond the band's edge */
+    double slide_neg_units[3];             /* Cneg - Sneg (negative when |Cneg| > |Sneg|) */
+    double viscous_pos_units_s_per_rad[3]; /* Vpos: the line's slope */
+    double viscous_neg_units_s_per_rad[3]; /* Vneg */
+    double transition_rad_s;               /* speed over which the band's edge becomes the line */
+} crs_friction;
+
 /* Why crs_sim_run returned. */
 enum {
     CRS_RUN_DONE = 0,        /* reached until_tick */
@@ -293,8 +304,8 @@ typedef struct {
     crs_mj_step_fn mj_step;
     const double *qpos;          /* j1..j3 DH angles, rad */
     const double *qvel;          /* rad/s */
-    double *ctrl;                /* motor1..3 torques the drive delivers, command units (actuator
-                                    gear: N.m/unit) */
+    double *ctrl;                /* motor1..3 torques the drive delivers, with the sliding friction
+                                    on each motor, command units (actuator gear: N.m/unit) */
     double *qfrc_applied;        /* hand forces on j1..j3, N.m */
 
     /* configuration */
@@ -345,6 +356,7 @@ typedef struct {
     crs_hand hand;
     crs_motor_board motor_board;
     crs_drive drive;
+    crs_friction friction;
     crs_log log;
     crs_debug debug;
 

@@ -14,6 +14,7 @@
 #include "coecsl.h"
 #include "crs_arm.h"
 #include "drive.h"
+#include "friction.h"
 #include "framework_facts.h"
 #include "motor_board.h"
 #include "firmware_native.h"
@@ -505,6 +506,69 @@ static void test_drive_between_motor_board_and_ctrl(void)
     free_sim(sim);
 }
 
+/* ---- friction while a joint slides ------------------------------------------------------------ */
+
+static void test_sliding_friction_goes_from_the_band_edge_to_the_line(void)
+{
+    /* motor 1 (units): band edges Spos 0.30, Sneg -0.25; lines Cpos 0.36 + 0.25 w, Cneg -0.30 + 0.24 w;
+     * motor 2 has stiction (Spos 0.5 above Cpos 0.4); motor 3 none: no friction beyond the band */
+    crs_friction f;
+    memset(&f, 0, sizeof f);
+    f.transition_rad_s = 0.02;
+    f.slide_pos_units[0] = 0.36 - 0.30;
+    f.slide_neg_units[0] = -0.30 - -0.25;
+    f.viscous_pos_units_s_per_rad[0] = 0.25;
+    f.viscous_neg_units_s_per_rad[0] = 0.24;
+    f.slide_pos_units[1] = 0.4 - 0.5;
+    double out[3];
+    const double fast[3] = {1.0, 1.0, 1.0};
+    crs_friction_torque(&f, fast, out);
+    /* far above w_t: what the band gives (Spos, MuJoCo's) plus this reaches the line, against the motion */
+    check_close("friction: moving positive, the line's part beyond Spos", out[0],
+                -((0.36 - 0.30) * (1.0 - exp(-50.0)) + 0.25), 1e-12);
+    check_close("friction: Spos + that is the line 0.36 + 0.25 w", 0.30 - out[0], 0.61, 1e-12);
+    check_close("friction: stiction above the line: sliding gives some back", out[1], 0.1 * (1.0 - exp(-50.0)), 1e-12);
+    check_close("friction: no slope, no gap: nothing", out[2], 0.0, 0.0);
+    const double back[3] = {-0.5, 0.0, 0.0};
+    crs_friction_torque(&f, back, out);
+    check_close("friction: moving negative, Cneg - Sneg and Vneg w", out[0],
+                -((-0.30 - -0.25) * (1.0 - exp(-25.0)) + 0.24 * -0.5), 1e-12);
+    check("friction: moving negative it pushes positive", out[0] > 0.0);
+    check_close("friction: at rest nothing beyond the band", out[1], 0.0, 0.0);
+    /* at w = w_t the gap is 1 - 1/e of the way */
+    const double slow[3] = {0.02, -0.02, 0.0};
+    crs_friction_torque(&f, slow, out);
+    check_close("friction: at the transition speed, 63 % of Cpos - Spos", out[0],
+                -(0.06 * (1.0 - exp(-1.0)) + 0.25 * 0.02), 1e-12);
+    check_close("friction: moving negative, motor 2's gap on the positive side does not count", out[1], 0.0,
+                0.0);
+    /* the tick adds it to what the drive delivers */
+    double ctrl_units[3] = {1.0, 1.0, 1.0};
+    crs_friction_add(&f, fast, ctrl_units);
+    check_close("friction: added to ctrl", ctrl_units[0], 1.0 - (0.06 * (1.0 - exp(-50.0)) + 0.25), 1e-12);
+}
+
+static void test_friction_between_drive_and_ctrl(void)
+{
+    crs_sim *sim = new_sim(CRS_GEN_A, 0, NULL);
+    lab_state.mode = LAB_TORQUE;
+    lab_state.torque[0] = 2.0f;
+    lab_state.torque[1] = 0.0f;
+    lab_state.torque[2] = 0.0f;
+    sim->friction.transition_rad_s = 0.02;
+    sim->friction.viscous_pos_units_s_per_rad[0] = 0.25;
+    sim->friction.viscous_neg_units_s_per_rad[2] = 0.2;
+    memset(qvel, 0, sizeof qvel);
+    qvel[0] = 2.0;           /* motor 1 at 2 rad/s */
+    qvel[1] = 0.5;           /* j2 at 0.5, j3 at -1.5: motor 3 (j2 + j3) at -1 rad/s */
+    qvel[2] = -1.5;
+    tick(sim);
+    check_close("friction: the drive's 2 units less Vpos w = 0.5", ctrl[0], 1.5, 1e-6);
+    check_close("friction: motor 3 turns at j2 + j3 and is pushed back by Vneg w", ctrl[2], 0.2, 1e-6);
+    check_close("friction: the command logged is the motor board's, friction apart", sim->applied[0], 2.0, 1e-6);
+    free_sim(sim);
+}
+
 int main(void)
 {
     test_hold_controller_worked_sequence();
@@ -516,6 +580,8 @@ int main(void)
     test_printf_overflow_stops_the_run();
     test_drive_envelope_lag_and_dead_motor();
     test_drive_between_motor_board_and_ctrl();
+    test_sliding_friction_goes_from_the_band_edge_to_the_line();
+    test_friction_between_drive_and_ctrl();
     if (failures) {
         printf("%d failures\n", failures);
         return 1;
