@@ -123,8 +123,9 @@ def test_joints_actuators_and_tendon_are_named_and_ordered_as_documented(model):
 
 
 def test_actuators_give_the_course_torque_relations(model):
-    # docs/framework.md section 10: tau2DH = tau2M + tau3M, tau3DH = tau3M, with 6 N.m per command unit; each motor
-    # also carries the constant torque of its static band's asymmetry, -(Spos + Sneg) / 2 (params.toml)
+    # docs/framework.md section 10: tau2DH = tau2M + tau3M, tau3DH = tau3M, with 6 N.m per command
+    # unit; each motor also carries the constant torque of its static band's asymmetry,
+    # -(Spos + Sneg) / 2 (params.toml)
     rows = [PARAMS["friction"][f"motor{m}"] for m in (1, 2, 3)]
     bias = [-(row["Spos_nm"] + row["Sneg_nm"]) / 2 for row in rows]
     data = fresh(model, REST_MOTOR_RAD)

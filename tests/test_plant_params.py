@@ -145,8 +145,8 @@ def test_the_generated_model_is_the_default_plant_applied():
 
 
 def test_shipped_friction_holds_the_arm_at_its_resting_pose():
-    """The real arm rests where it is put with zero torque (docs/framework.md section 11): gravity at the resting
-    pose must lie inside every motor's static band [Sneg, Spos]."""
+    """The real arm rests where it is put with zero torque (docs/framework.md section 11): gravity
+    at the resting pose must lie inside every motor's static band [Sneg, Spos]."""
     p = PlantParams.defaults()
     hold = holding_torques_nm(REST_MOTOR_RAD)
     for m in range(3):
