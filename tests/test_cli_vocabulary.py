@@ -52,7 +52,7 @@ def subcommands(parser=None, prefix=""):
 
 WRITERS = {"sim": "--transcript", "debug": "--transcript", "record": "--output", "check": "--junit",
            "grade": "--out", "sweep": "--output", "identify": "--output", "traj": "--output",
-           "workspace": "--output", "plot": "--output", "map": "--output", "new": "--output",
+           "workspace": "--output", "plot": "--output", "map": "--output", "new": "--output", "friction": "--output",
            "serial scope": "--rrd"}
 
 
