@@ -25,6 +25,7 @@ COMMANDS = [
     "crslab.cli.serial_commands",
     "crslab.cli.doctor_commands",
     "crslab.cli.identify_commands",
+    "crslab.cli.serve_commands",
 ]
 
 
