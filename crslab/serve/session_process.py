@@ -200,7 +200,7 @@ class Session:
 
         labs = list((self.folder / "lab").iterdir())
         if not labs:
-            self.send(message("checked", ok=False, report="build or run a lab first"))
+            self.send(message("checked", ok=False, report="build or run a lab first"), RUN_ENDED)
             return
         golden_path = self._write("golden", msg["golden"])
         try:
@@ -216,13 +216,13 @@ class Session:
             end_tick = min(end_tick, seconds_to_tick(self.limits.max_run_s))
             result = run_lab(config, end_tick, limits=Limits(memory_mb=self.limits.memory_mb))
         except (GoldenError, LabBuildError, ScenarioError, ValueError, SimError) as exc:
-            self.send(message("checked", ok=False, report=str(exc)))
+            self.send(message("checked", ok=False, report=str(exc)), RUN_ENDED)
             return
         comparison = compare(split_lines(golden.body), split_lines(result.transcript, result.calls))
         report = comparison.report()
         if not result.ok:
             report = f"{result.diagnosis()}\n{report}"
-        self.send(message("checked", ok=comparison.ok and result.ok, report=report))
+        self.send(message("checked", ok=comparison.ok and result.ok, report=report), RUN_ENDED)
 
 
 def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
