@@ -7,7 +7,7 @@
   const V = window.CrsVendor;
   const $ = (id) => document.getElementById(id);
   const state = { ws: null, session: null, running: false, speed: 1, labName: "lab1.c", user: null,
-    playout: [], origin: null, lastTick: 0, shownTick: 0, pendingCr: false, armShapes: null, arm: null,
+    playout: [], notes: [], end: null, origin: null, lastTick: 0, shownTick: 0, pendingCr: false, armShapes: null, arm: null,
     scopes: null, term: null, editor: null, watched: [] };
 
   // -- the editor -------------------------------------------------------------------------------------
@@ -88,7 +88,11 @@
         if (m.watched) setWatched(m.watched.map((w) => w.name));
         break;
       case "started": started(m); break;
-      case "chunk": state.playout.push(m); state.lastTick = m.tick; if (state.speed === null) drain(Infinity); break;
+      case "chunk":
+        state.playout.push(m);
+        state.lastTick = m.tick;
+        if (state.speed === null) drain(Infinity);
+        break;
       case "expectation":
         queueNote(m.tick, `${at(m.tick)}: expect ${m.met ? "met" : "FAILED"}: ${m.lines.join("; ")}`); break;
       case "motor_board":
@@ -104,7 +108,10 @@
       default: break;
     }
   }
-  function queueNote(tick, text) { state.playout.push({ type: "note", tick, text }); }
+  function queueNote(tick, text) {
+    state.notes.push({ tick, text });
+    state.notes.sort((a, b) => a.tick - b.tick);
+  }
 
   // -- a run ----------------------------------------------------------------------------------------
   function runOptions() {
@@ -139,6 +146,8 @@
     $("terminal").textContent = "";
     state.pendingCr = false;
     state.playout = [];
+    state.notes = [];
+    state.end = null;
     state.origin = null;
     state.lastTick = 0;
     state.shownTick = 0;
@@ -153,7 +162,7 @@
     setWatched(m.watched);
   }
   function ended(m) {
-    state.playout.push({ type: "end", tick: m.end_tick || 0, m });
+    state.end = m;
     if (state.speed === null || m.end_tick === undefined) drain(Infinity);
     setRunning(false);
   }
@@ -180,7 +189,7 @@
   function currentTick() {
     if (state.speed === null) return Infinity;
     const now = performance.now();
-    const first = state.playout.find((m) => m.type === "chunk");
+    const first = state.playout[0];
     if (state.origin === null && first) state.origin = now - (first.tick - chunkTicks()) / state.speed;
     if (state.origin === null) return 0;
     return (now - state.origin) * state.speed;
@@ -189,17 +198,17 @@
   function drain(upTo) {
     while (state.playout.length) {
       const m = state.playout[0];
-      if (m.type === "chunk") {
-        playChunk(m, upTo);
-        if (m.serial.length || (m.frames && m.frames.length)) return; // the rest of it is not due yet
-      } else if (m.tick > upTo) {
-        return;
-      } else if (m.type === "note") {
-        note(m.text);
-      } else if (m.type === "end") {
-        showEnd(m.m);
-      }
+      playChunk(m, upTo);
+      if (m.serial.length || (m.frames && m.frames.length)) break; // the rest of it is not due yet
       state.playout.shift();
+    }
+    const reached = state.playout.length ? Math.min(upTo, state.shownTick) : upTo;
+    while (state.notes.length && state.notes[0].tick <= reached) note(state.notes.shift().text);
+    if (state.end && !state.playout.length && (state.end.end_tick === undefined || state.end.end_tick <= upTo)) {
+      while (state.notes.length) note(state.notes.shift().text);
+      const m = state.end;
+      state.end = null;
+      showEnd(m);
     }
   }
   function playChunk(m, upTo) {
@@ -336,7 +345,6 @@
       const v = $("speed").value;
       state.speed = v === "fast" ? null : Number(v);
       state.origin = null;
-      state.playout = state.playout.filter((m) => m.type !== "chunk" || m.serial.length || (m.frames && m.frames.length));
       send({ type: "speed", speed: state.speed });
     };
     $("new-lab").onclick = () => { if (confirm("Replace the editor's lab with the template?")) loadTemplate(); };
