@@ -12,11 +12,15 @@ import subprocess
 import sys
 from pathlib import Path
 
-from crslab.serve.auth import hash_password
 from waiting import LineWatcher, wait_exit
 
-USERS = {"alice": ("alice-password", "student"), "bob": ("bob-password", "student"),
-         "ta": ("ta-password-1", "admin")}
+from crslab.serve.auth import hash_password
+
+USERS = {
+    "alice": ("alice-password", "student"),
+    "bob": ("bob-password", "student"),
+    "ta": ("ta-password-1", "admin"),
+}
 """name: (password, role): the roster the tests' server serves."""
 
 
@@ -33,16 +37,22 @@ class ServeProcess:
     """``crslab serve --port 0 ...`` in a process of its own; :attr:`url` once it listens."""
 
     def __init__(self, folder: Path, *args: str) -> None:
-        self.proc = subprocess.Popen([sys.executable, "-m", "crslab", "serve", "--port", "0", *args],
-                                     stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True,
-                                     cwd=folder, start_new_session=True)
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "crslab", "serve", "--port", "0", *args],
+            stderr=subprocess.PIPE,
+            stdout=subprocess.DEVNULL,
+            text=True,
+            cwd=folder,
+            start_new_session=True,
+        )
         self.stderr = LineWatcher(self.proc.stderr, "crslab serve's stderr")
         line = self.stderr.wait_for(r"http://")[-1]
         self.url = re.search(r"http://\S+", line).group(0)
         self.host = self.url.split("/")[2]
 
-    def request(self, method: str, path: str, body: dict | None = None,
-                cookie: str = "") -> tuple[int, dict[str, str], bytes]:
+    def request(
+        self, method: str, path: str, body: dict | None = None, cookie: str = ""
+    ) -> tuple[int, dict[str, str], bytes]:
         conn = http.client.HTTPConnection(self.host, timeout=60)
         headers = {"Cookie": cookie} if cookie else {}
         data = None
@@ -79,8 +89,9 @@ class Client:
         from websockets.sync.client import connect
 
         headers = {"Cookie": cookie, "Origin": origin if origin is not None else f"http://{server.host}"}
-        self.ws = connect(f"ws://{server.host}/ws", additional_headers=headers, open_timeout=60,
-                          max_size=None).__enter__()
+        self.ws = connect(
+            f"ws://{server.host}/ws", additional_headers=headers, open_timeout=60, max_size=None
+        ).__enter__()
         self.hello = self.next()
         assert self.hello["type"] == "hello", self.hello
 
@@ -105,7 +116,9 @@ class Client:
 
 def serial_of(messages: list[dict]) -> list[tuple[int, bytes]]:
     """The serial bytes the chunks carried, with their ticks."""
-    return [(tick, text.encode("latin-1")) for m in messages if m["type"] == "chunk" for tick, text in m["serial"]]
+    return [
+        (tick, text.encode("latin-1")) for m in messages if m["type"] == "chunk" for tick, text in m["serial"]
+    ]
 
 
 def run_message(lab: Path | str, name: str = "lab.c", **options: object) -> dict:

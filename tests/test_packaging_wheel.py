@@ -94,7 +94,8 @@ def test_the_sdist_and_the_wheel_carry_the_c_sources_and_the_models(installed):
             "crslab/scenarios/tour.toml", "crslab/robots/crs.toml"} <= in_wheel
     assert any(n.startswith("crslab/_core") and n.endswith(".so") for n in in_wheel)
     # crslab serve's page works offline: every script, style and licence is in the wheel
-    assert {"crslab/serve/static/index.html", "crslab/serve/static/app.js", "crslab/serve/static/vendor/crslab-vendor.js",
+    assert {"crslab/serve/static/index.html", "crslab/serve/static/app.js",
+            "crslab/serve/static/vendor/crslab-vendor.js",
             "crslab/serve/static/vendor/xterm.css", "crslab/serve/static/vendor/README.md",
             "crslab/serve/static/vendor/licenses/three-0.187.0.txt", "crslab/serve/templates/gen_a.c",
             "crslab/serve/deploy/nginx.conf"} <= in_wheel
@@ -174,7 +175,8 @@ def test_the_installed_serve_serves_its_page_and_its_vendored_scripts(installed)
     try:
         line = LineWatcher(proc.stderr, "crslab serve's stderr").wait_for(r"http://")[-1]
         host = re.search(r"http://([^/]+)/", line).group(1)
-        for path, local in (("/", "index.html"), ("/static/vendor/crslab-vendor.js", "vendor/crslab-vendor.js")):
+        vendor = "vendor/crslab-vendor.js"
+        for path, local in (("/", "index.html"), (f"/static/{vendor}", vendor)):
             conn = http.client.HTTPConnection(host, timeout=60)
             conn.request("GET", path)
             body = conn.getresponse().read()

@@ -19,8 +19,15 @@ pytestmark = pytest.mark.requires("chromium")
 
 LABS = Path(__file__).parent / "labs"
 OWN_LAB1 = Path(__file__).parent.parent / "csrc" / "labs" / "lab1_kinematics.c"
-CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-                  "--disable-component-update", "--disable-sync", "--no-first-run"]
+CHROMIUM_FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
 WAIT_MS = 120_000
 
 
@@ -80,9 +87,12 @@ def test_the_tour_in_the_page_prints_what_crslab_sim_prints_and_moves_the_arm(al
         assert "crashed" not in page.get_by_test_id("diagnosis").text_content()
     expected = tera_term_view(simulate(OWN_LAB1, "tour").transcript).decode("latin-1")
     expect(page.get_by_test_id("terminal")).to_have_text(expected, use_inner_text=False)
-    dh = [tuple(float(v) for v in re.search(r"DH angles: (\S+) (\S+) (\S+)", s).groups())
-          for s in seen if "DH angles: 0" in s or "DH angles: -" in s and "deg" in s]
-    assert len(set(dh)) >= 10                                    # the arm moved, frame after frame
+    dh = [
+        tuple(float(v) for v in re.search(r"DH angles: (\S+) (\S+) (\S+)", s).groups())
+        for s in seen
+        if "DH angles: 0" in s or "DH angles: -" in s and "deg" in s
+    ]
+    assert len(set(dh)) >= 10  # the arm moved, frame after frame
     # the tour's hand holds the arm at DH (0, -90, 90) deg (motor zero) from 7 s to 9.5 s
     assert any(abs(a) < 0.5 and abs(b + 90) < 0.5 and abs(c - 90) < 0.5 for a, b, c in dh)
 
@@ -115,9 +125,11 @@ def test_a_compile_error_marks_its_line(alice):
     page = alice
     page.get_by_test_id("editor").fill((LABS / "does_not_compile.c").read_text())
     page.get_by_test_id("build").click()
-    expect(page.get_by_test_id("diagnosis")).to_contain_text(re.compile("does not compile: line 9: .Kp_gain. undeclared"))
+    expect(page.get_by_test_id("diagnosis")).to_contain_text(
+        re.compile("does not compile: line 9: .Kp_gain. undeclared")
+    )
     lines = page.locator(".cm-content .cm-line")
-    expect(lines.nth(8).locator(".cm-lintRange-error")).to_have_count(1)    # line 9, and no other
+    expect(lines.nth(8).locator(".cm-lintRange-error")).to_have_count(1)  # line 9, and no other
     expect(page.locator(".cm-content .cm-lintRange-error")).to_have_count(1)
 
 
@@ -137,8 +149,8 @@ def test_two_users_cannot_see_each_others_sessions(browser, server, alice):
 
     bob = open_bench(browser, server, "bob")
     try:
-        assert alice.get_by_test_id("terminal").text_content()          # alice has run labs
-        assert bob.get_by_test_id("terminal").text_content() == ""      # bob sees none of it
+        assert alice.get_by_test_id("terminal").text_content()  # alice has run labs
+        assert bob.get_by_test_id("terminal").text_content() == ""  # bob sees none of it
         expect(bob.locator("#admin-link")).to_be_hidden()
         alice_session = alice.evaluate("fetch('/api/me').then(r => r.status)")
         assert alice_session == 200
@@ -149,7 +161,9 @@ def test_two_users_cannot_see_each_others_sessions(browser, server, alice):
         ids = re.findall(r"<td>([\w-]{8})</td><td>alice</td>", sessions)
         assert ids
         for short in ids:
-            assert bob.evaluate(f"fetch('/api/download/transcript?session={short}').then(r => r.status)") == 404
+            assert (
+                bob.evaluate(f"fetch('/api/download/transcript?session={short}').then(r => r.status)") == 404
+            )
         assert bob.evaluate("fetch('/admin').then(r => r.status)") == 403
     finally:
         bob.context.close()

@@ -16,10 +16,11 @@ request and on the WebSocket, whose ``Origin`` must be the page's own.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import html
 import json
+import pickle
 import secrets
+import struct
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -43,8 +44,10 @@ COOKIE = "crslab_session"
 USER_COOKIE = "crslab_user"
 """The user's name, not secret: a reverse proxy keeps each user on one replica by it."""
 LOCAL_USER = "you"
-CSP = ("default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
-       "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'")
+CSP = (
+    "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
+    "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'"
+)
 
 
 @dataclass
@@ -81,8 +84,14 @@ class CrsServer:
 
     def _logged_in(self, response: Response, request: Request, user: str) -> Response:
         secure = request.url.scheme == "https"
-        response.set_cookie(COOKIE, self.settings.signer.cookie(user), httponly=True, samesite="strict",
-                            secure=secure, max_age=12 * 3600)
+        response.set_cookie(
+            COOKIE,
+            self.settings.signer.cookie(user),
+            httponly=True,
+            samesite="strict",
+            secure=secure,
+            max_age=12 * 3600,
+        )
         response.set_cookie(USER_COOKIE, user, samesite="strict", secure=secure, max_age=12 * 3600)
         return response
 
@@ -93,8 +102,9 @@ class CrsServer:
             user = self._token_user(token)
             if user is not None:
                 return self._logged_in(RedirectResponse("/", status_code=303), request, user)
-        response = FileResponse(STATIC / "index.html", headers={"Content-Security-Policy": CSP,
-                                                                "Cache-Control": "no-store"})
+        response = FileResponse(
+            STATIC / "index.html", headers={"Content-Security-Policy": CSP, "Cache-Control": "no-store"}
+        )
         return response
 
     def _token_user(self, token: str) -> str | None:
@@ -102,19 +112,26 @@ class CrsServer:
         if roster is None:
             ok = secrets.compare_digest(token.encode(), self.settings.local_token.encode())
             return LOCAL_USER if ok else None
-        return next((u.name for u in roster.values() if u.secret.startswith("token:")
-                     and verify_secret(u.secret, token)), None)
+        return next(
+            (
+                u.name
+                for u in roster.values()
+                if u.secret.startswith("token:") and verify_secret(u.secret, token)
+            ),
+            None,
+        )
 
     async def login(self, request: Request) -> Response:
         try:
             body = await request.json()
             name, password = str(body["name"]), str(body["password"])
         except (ValueError, KeyError, TypeError):
-            return JSONResponse({"error": "send {\"name\": ..., \"password\": ...}"}, status_code=400)
+            return JSONResponse({"error": 'send {"name": ..., "password": ...}'}, status_code=400)
         roster = self.settings.roster
         if roster is None:
-            return JSONResponse({"error": "this server has no logins: open the URL crslab serve printed"},
-                                status_code=400)
+            return JSONResponse(
+                {"error": "this server has no logins: open the URL crslab serve printed"}, status_code=400
+            )
         limit = self._logins.setdefault(name, RateLimit(10, 60.0))
         if not limit.allow(time.monotonic()):
             return JSONResponse({"error": "too many attempts; wait a minute"}, status_code=429)
@@ -136,10 +153,18 @@ class CrsServer:
         if user is None:
             return JSONResponse({"user": None, "login": self.settings.roster is not None}, status_code=401)
         limits = self.sessions.limits
-        return JSONResponse({"user": user, "admin": self.is_admin(user), "login": self.settings.roster is not None,
-                             "limits": {"compiles_per_minute": limits.compiles_per_minute,
-                                        "max_run_s": self.sessions.run_limits.max_run_s},
-                             "labs": LABS})
+        return JSONResponse(
+            {
+                "user": user,
+                "admin": self.is_admin(user),
+                "login": self.settings.roster is not None,
+                "limits": {
+                    "compiles_per_minute": limits.compiles_per_minute,
+                    "max_run_s": self.sessions.run_limits.max_run_s,
+                },
+                "labs": LABS,
+            }
+        )
 
     async def template_text(self, request: Request) -> Response:
         if self.user_of(request.cookies) is None:
@@ -156,8 +181,10 @@ class CrsServer:
             from crslab.scenario.load import DEFAULT_SCENARIO, builtin_names, load_scenario
 
             names = [DEFAULT_SCENARIO, *(n for n in builtin_names() if n != DEFAULT_SCENARIO)]
-            self._scenarios = [{"name": s.name, "description": s.description, "end_s": s.end_tick / 1000}
-                               for s in map(load_scenario, names)]
+            self._scenarios = [
+                {"name": s.name, "description": s.description, "end_s": s.end_tick / 1000}
+                for s in map(load_scenario, names)
+            ]
         return JSONResponse(self._scenarios)
 
     async def arm(self, request: Request) -> Response:
@@ -183,12 +210,17 @@ class CrsServer:
             return HTMLResponse("<p>admins only: log in as an admin on the main page</p>", status_code=403)
         rows = [s.describe() for s in self.sessions.by_id.values()]
         keys = ["id", "user", "since", "state", "scenario", "t_s", "runs"]
-        body = "".join("<tr>" + "".join(f"<td>{html.escape(str(r[k]))}</td>" for k in keys) + "</tr>"
-                       for r in rows)
-        page = (f"<!doctype html><meta charset=utf-8><title>crslab serve: sessions</title>"
-                f"<link rel=stylesheet href=/static/app.css><body class=admin><h1>Sessions ({len(rows)} of at most "
-                f"{self.sessions.limits.max_sessions})</h1><table data-testid=sessions><tr>"
-                + "".join(f"<th>{k}</th>" for k in keys) + f"</tr>{body}</table>")
+        body = "".join(
+            "<tr>" + "".join(f"<td>{html.escape(str(r[k]))}</td>" for k in keys) + "</tr>" for r in rows
+        )
+        page = (
+            f"<!doctype html><meta charset=utf-8><title>crslab serve: sessions</title>"
+            "<link rel=stylesheet href=/static/app.css><body class=admin>"
+            f"<h1>Sessions ({len(rows)} of at most "
+            f"{self.sessions.limits.max_sessions})</h1><table data-testid=sessions><tr>"
+            + "".join(f"<th>{k}</th>" for k in keys)
+            + f"</tr>{body}</table>"
+        )
         return HTMLResponse(page, headers={"Content-Security-Policy": CSP, "Cache-Control": "no-store"})
 
     # -- the WebSocket ------------------------------------------------------------------------
@@ -214,44 +246,31 @@ class CrsServer:
             await asyncio.to_thread(self.sessions.close, session)
 
     async def _relay(self, ws: WebSocket, session: PageSession) -> None:
-        loop = asyncio.get_running_loop()
-        incoming: asyncio.Queue[bytes | None] = asyncio.Queue()
-        outgoing: asyncio.Queue[dict] = asyncio.Queue()
-        conn = session.conn
-
-        def readable() -> None:
-            try:
-                while conn.poll(0):
-                    incoming.put_nowait(conn.recv_bytes())
-            except (EOFError, OSError):
-                loop.remove_reader(conn.fileno())
-                incoming.put_nowait(None)
-
-        loop.add_reader(conn.fileno(), readable)
+        """Hand the page's checked messages to the session process and its messages to the page,
+        over the session's pipe as asyncio streams (multiprocessing's framing: a 4-byte big-endian
+        length, then the bytes; the server's messages are pickled dicts, the session's JSON)."""
+        reader, writer = await asyncio.open_connection(sock=session.take_socket())
 
         async def to_page() -> None:
-            while True:
-                data = await incoming.get()
-                if data is None:
-                    if session.running is not None:
-                        await ws.send_text(json.dumps({"type": "ended", "status": "crashed", "exit_status": 3,
-                                                       "message": "crslab's session process ended unexpectedly"}))
-                    await ws.close(code=1011)
-                    return
-                tag, body = data[:1], data[1:]
-                if tag == RUN_ENDED:
-                    session.running = None
-                elif tag == RUN_STARTED:
-                    session.running = "run"
-                await ws.send_text(body.decode())
-
-        async def to_session() -> None:
-            while True:
-                msg = await outgoing.get()
-                await asyncio.to_thread(conn.send, msg)
+            try:
+                while True:
+                    (size,) = struct.unpack("!i", await reader.readexactly(4))
+                    if size == -1:
+                        (size,) = struct.unpack("!Q", await reader.readexactly(8))
+                    data = await reader.readexactly(size)
+                    tag, body = data[:1], data[1:]
+                    if tag == RUN_ENDED:
+                        session.running = None
+                    elif tag == RUN_STARTED:
+                        session.running = "run"
+                    await ws.send_text(body.decode())
+            except (asyncio.IncompleteReadError, ConnectionError):
+                if session.running is not None:
+                    await ws.send_text(json.dumps({"type": "ended", "status": "crashed", "exit_status": 3,
+                                                   "message": "crslab's session process ended unexpectedly"}))
+                await ws.close(code=1011)
 
         pump = asyncio.create_task(to_page())
-        feed = asyncio.create_task(to_session())
         await ws.send_text(json.dumps({"type": "hello", "session": session.id, "user": session.user}))
         try:
             while True:
@@ -270,41 +289,77 @@ class CrsServer:
                 except (ProtocolError, LimitError) as exc:
                     await ws.send_text(json.dumps({"type": "error", "message": str(exc)}))
                     continue
-                outgoing.put_nowait(msg)
-        except WebSocketDisconnect:
+                data = pickle.dumps(msg)
+                writer.write(struct.pack("!i", len(data)) + data)
+                await writer.drain()
+        except (WebSocketDisconnect, ConnectionError):
             return
         finally:
-            with contextlib.suppress(ValueError, OSError):
-                loop.remove_reader(conn.fileno())
             pump.cancel()
-            feed.cancel()
+            writer.close()  # the session process sees the pipe close: it ends its run and itself
 
 
 def arm_shapes() -> dict:
-    """The arm's bodies and their shapes from the MuJoCo model (metres, quaternions ``x y z w``)."""
+    """The arm's bodies as the MuJoCo model has them, for the page to draw and pose: each body's
+    parent, its frame in the parent's (metres; quaternions ``x y z w``), its hinge (axis and anchor
+    in its own frame, and which DH angle turns it) and its shapes in its frame."""
     from crslab.scopes.arm3d import ArmModel
 
-    model = ArmModel()
-    return {"bodies": [{"name": b.name, "moving": b.id > 0, "shapes": [
-        {"name": s.name, "kind": s.kind, "pos": s.pos, "quat": s.quat_xyzw, "size": s.size, "rgba": s.rgba}
-        for s in b.shapes]} for b in model.bodies]}
+    arm = ArmModel()
+    m = arm.model
+    shapes = {b.id: b.shapes for b in arm.bodies}
+    out = []
+    for b in range(m.nbody):
+        q = m.body_quat[b]
+        joint = None
+        if int(m.body_jntnum[b]) == 1:
+            j = int(m.body_jntadr[b])
+            joint = {
+                "axis": m.jnt_axis[j].tolist(),
+                "anchor": m.jnt_pos[j].tolist(),
+                "q": int(m.jnt_qposadr[j]),
+            }
+        out.append(
+            {
+                "name": m.body(b).name or "world",
+                "parent": int(m.body_parentid[b]) if b else None,
+                "pos": m.body_pos[b].tolist(),
+                "quat": [*q[1:].tolist(), float(q[0])],
+                "joint": joint,
+                "moving": b > 0,
+                "shapes": [
+                    {
+                        "name": s.name,
+                        "kind": s.kind,
+                        "pos": s.pos,
+                        "quat": s.quat_xyzw,
+                        "size": s.size,
+                        "rgba": s.rgba,
+                    }
+                    for s in shapes.get(b, [])
+                ],
+            }
+        )
+    return {"bodies": out}
 
 
 def make_app(settings: ServeSettings, sessions: Sessions) -> Starlette:
     """The ASGI application."""
     server = CrsServer(settings, sessions)
-    app = Starlette(routes=[
-        Route("/", server.index),
-        Route("/api/login", server.login, methods=["POST"]),
-        Route("/api/logout", server.logout, methods=["POST"]),
-        Route("/api/me", server.me),
-        Route("/api/template", server.template_text),
-        Route("/api/scenarios", server.scenarios),
-        Route("/api/arm", server.arm),
-        Route("/api/download/{kind}", server.download),
-        Route("/admin", server.admin),
-        WebSocketRoute("/ws", server.websocket),
-        Mount("/static", app=StaticFiles(directory=STATIC), name="static"),
-    ])
+    app = Starlette(
+        routes=[
+            Route("/", server.index),
+            Route("/api/login", server.login, methods=["POST"]),
+            Route("/api/logout", server.logout, methods=["POST"]),
+            Route("/api/me", server.me),
+            Route("/api/template", server.template_text),
+            Route("/api/scenarios", server.scenarios),
+            Route("/api/arm", server.arm),
+            Route("/api/download/{kind}", server.download),
+            Route("/admin", server.admin),
+            WebSocketRoute("/ws", server.websocket),
+            Mount("/static", app=StaticFiles(directory=STATIC), name="static"),
+        ]
+    )
     app.state.server = server
     return app

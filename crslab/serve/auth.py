@@ -75,7 +75,7 @@ def verify_secret(secret: str, given: str) -> bool:
     (True, False)
     """
     if secret.startswith("token:"):
-        return hmac.compare_digest(secret[len("token:"):].encode(), given.encode())
+        return hmac.compare_digest(secret[len("token:") :].encode(), given.encode())
     try:
         kind, iterations, salt, digest = secret.split("$")
         if kind != "pbkdf2_sha256":
@@ -101,10 +101,16 @@ def load_roster(path: Path) -> dict[str, User]:
         role = (row.get("role") or "student").strip() or "student"
         if not name or not secret:
             raise RosterError(f"{path}: line {n}: a user needs a name and a secret")
-        if not (secret.startswith("token:") and len(secret) > len("token:") + 7
-                or secret.startswith("pbkdf2_sha256$") and secret.count("$") == 3):
-            raise RosterError(f"{path}: line {n}: {name}'s secret must be a password hash (crslab serve "
-                              "--hash-password) or token:TOKEN (at least 8 characters)")
+        if not (
+            secret.startswith("token:")
+            and len(secret) > len("token:") + 7
+            or secret.startswith("pbkdf2_sha256$")
+            and secret.count("$") == 3
+        ):
+            raise RosterError(
+                f"{path}: line {n}: {name}'s secret must be a password hash (crslab serve "
+                "--hash-password) or token:TOKEN (at least 8 characters)"
+            )
         if role not in ROLES:
             raise RosterError(f"{path}: line {n}: role must be {' or '.join(ROLES)}, got {role!r}")
         if name in users:
@@ -177,5 +183,7 @@ def load_secret(path: Path | None) -> bytes:
     except OSError as exc:
         raise RosterError(f"{path}: cannot read the secret ({exc.strerror})") from None
     if len(key) < 32:
-        raise RosterError(f"{path}: the secret must be at least 32 bytes (e.g. openssl rand -hex 32 > {path})")
+        raise RosterError(
+            f"{path}: the secret must be at least 32 bytes (e.g. openssl rand -hex 32 > {path})"
+        )
     return key

@@ -30,10 +30,10 @@ happens.
 Traceback (most recent call last):
 ...
 crslab.serve.protocol.ProtocolError: speed: must be a number > 0 (x real time) or null (as fast as possible)
->>> parse_message('{"type": "launch"}')
+>>> parse_message('{"type": "launch"}')  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-crslab.serve.protocol.ProtocolError: unknown message type 'launch' (build, run, stop, speed, vars, hand, release, check)
+crslab.serve.protocol.ProtocolError: unknown message type 'launch' (build, run, stop, speed, vars, ...)
 """
 
 from __future__ import annotations
@@ -57,8 +57,9 @@ class ProtocolError(ValueError):
     """A message the server refuses; its text is the one-line ``error`` sent back."""
 
 
-def _number(msg: dict, key: str, *, low: float | None = None, high: float | None = None,
-            positive: bool = False) -> float:
+def _number(
+    msg: dict, key: str, *, low: float | None = None, high: float | None = None, positive: bool = False
+) -> float:
     value = msg.get(key)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
         raise ProtocolError(f"{key}: must be a number")
@@ -70,9 +71,14 @@ def _number(msg: dict, key: str, *, low: float | None = None, high: float | None
 
 
 def _vector(value: object, key: str) -> list[float]:
-    if (not isinstance(value, list) or len(value) != 3
-            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-                       and abs(v) < 10.0 for v in value)):
+    if (
+        not isinstance(value, list)
+        or len(value) != 3
+        or not all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and abs(v) < 10.0
+            for v in value
+        )
+    ):
         raise ProtocolError(f"{key}: must be three numbers (m, within 10 m)")
     return [float(v) for v in value]
 
@@ -85,10 +91,10 @@ def file_field(value: object, key: str, suffixes: tuple[str, ...]) -> dict:
     >>> file_field({"name": "../etc/passwd.c", "text": ""}, "lab", (".c",))
     Traceback (most recent call last):
     ...
-    crslab.serve.protocol.ProtocolError: lab: '../etc/passwd.c' is not a plain file name (letters, digits, _ . - and spaces)
+    crslab.serve.protocol.ProtocolError: lab: '../etc/passwd.c' is not a plain file name (letters, ...)
     """
     if not isinstance(value, dict) or set(value) != {"name", "text"}:
-        raise ProtocolError(f"{key}: must be {{\"name\": ..., \"text\": ...}}")
+        raise ProtocolError(f'{key}: must be {{"name": ..., "text": ...}}')
     name, text = value["name"], value["text"]
     if not isinstance(name, str) or not _FILE_NAME.match(name) or name in (".", ".."):
         raise ProtocolError(f"{key}: {name!r} is not a plain file name (letters, digits, _ . - and spaces)")
@@ -105,8 +111,12 @@ def _speed(msg: dict) -> float | None:
     value = msg.get("speed")
     if value is None:
         return None
-    if (isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value)
-            or not 0 < value <= MAX_SPEED):
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, float))
+        or not math.isfinite(value)
+        or not 0 < value <= MAX_SPEED
+    ):
         raise ProtocolError("speed: must be a number > 0 (x real time) or null (as fast as possible)")
     return float(value)
 
@@ -132,9 +142,17 @@ def _run(msg: dict) -> dict:
     out["speed"] = _speed(msg)
     offsets = msg.get("offsets")
     if offsets is not None:
-        if (not isinstance(offsets, list) or len(offsets) != 2
-                or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
-                           and abs(v) <= 2 * math.pi for v in offsets)):
+        if (
+            not isinstance(offsets, list)
+            or len(offsets) != 2
+            or not all(
+                isinstance(v, (int, float))
+                and not isinstance(v, bool)
+                and math.isfinite(v)
+                and abs(v) <= 2 * math.pi
+                for v in offsets
+            )
+        ):
             raise ProtocolError("offsets: must be two motor angles [O2, O3] in rad (within 2 pi)")
         offsets = [float(v) for v in offsets]
     out["offsets"] = offsets
@@ -144,8 +162,11 @@ def _run(msg: dict) -> dict:
     out["no_startup_delay"] = delay
     out["duration"] = None if msg.get("duration") is None else _number(msg, "duration", positive=True)
     record = msg.get("record", {})
-    if not isinstance(record, dict) or set(record) - {"csv", "rrd"} or \
-            not all(isinstance(v, bool) for v in record.values()):
+    if (
+        not isinstance(record, dict)
+        or set(record) - {"csv", "rrd"}
+        or not all(isinstance(v, bool) for v in record.values())
+    ):
         raise ProtocolError('record: must be {"csv": true|false, "rrd": true|false}')
     out["record"] = {"csv": record.get("csv", False), "rrd": record.get("rrd", False)}
     return out
@@ -202,8 +223,12 @@ def parse_message(text: str | bytes) -> dict:
         _only(msg, {"body", "anchor", "target"})
         if msg.get("body") not in BODIES:
             raise ProtocolError(f"hand: body must be one of {', '.join(BODIES)}")
-        return {"type": "hand", "body": msg["body"], "anchor": _vector(msg.get("anchor"), "anchor"),
-                "target": _vector(msg.get("target"), "target")}
+        return {
+            "type": "hand",
+            "body": msg["body"],
+            "anchor": _vector(msg.get("anchor"), "anchor"),
+            "target": _vector(msg.get("target"), "target"),
+        }
     _only(msg, {"golden"})  # check
     return {"type": "check", "golden": file_field(msg.get("golden"), "golden", (".txt", ".golden"))}
 
@@ -211,20 +236,29 @@ def parse_message(text: str | bytes) -> dict:
 def compile_diagnostics(text: str, file_name: str) -> list[dict]:
     """The compiler's messages about ``file_name`` as editor markers: line, column, severity, text.
 
-    >>> compile_diagnostics("/tmp/x/lab.c: In function 'lab':\\n"
+    >>> marks = compile_diagnostics("/tmp/x/lab.c: In function 'lab':\\n"
     ...     "/tmp/x/lab.c:12:5: error: 'tau' undeclared (first use in this function)\\n"
     ...     "/tmp/x/lab.c:20:1: warning: unused variable 'k' [-Wunused-variable]\\n"
     ...     "/usr/include/math.h:3:1: note: elsewhere\\n", "lab.c")
-    [{'line': 12, 'column': 5, 'severity': 'error', 'message': "'tau' undeclared (first use in this function)"}, \
-{'line': 20, 'column': 1, 'severity': 'warning', 'message': "unused variable 'k' [-Wunused-variable]"}]
+    >>> [(m["line"], m["column"], m["severity"]) for m in marks]
+    [(12, 5, 'error'), (20, 1, 'warning')]
+    >>> marks[0]["message"]
+    "'tau' undeclared (first use in this function)"
     """
-    pattern = re.compile(r"^(?:.*/)?" + re.escape(file_name)
-                         + r":(\d+):(?:(\d+):)?\s*(fatal error|error|warning):\s*(.*)$")
+    pattern = re.compile(
+        r"^(?:.*/)?" + re.escape(file_name) + r":(\d+):(?:(\d+):)?\s*(fatal error|error|warning):\s*(.*)$"
+    )
     out = []
     for line in text.splitlines():
         m = pattern.match(line)
         if m:
             severity = "error" if "error" in m.group(3) else "warning"
-            out.append({"line": int(m.group(1)), "column": int(m.group(2) or 1), "severity": severity,
-                        "message": m.group(4).strip()})
+            out.append(
+                {
+                    "line": int(m.group(1)),
+                    "column": int(m.group(2) or 1),
+                    "severity": severity,
+                    "message": m.group(4).strip(),
+                }
+            )
     return out

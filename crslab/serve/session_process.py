@@ -95,18 +95,37 @@ class Session:
         try:
             build = build_lab(path, sandboxed=self.limits.sandboxed)
         except LabBuildError as exc:
-            self.send(message("built", ok=False, message=str(exc), forbidden=isinstance(exc, LabForbidden),
-                              diagnostics=compile_diagnostics(exc.diagnostics, path.name),
-                              compiler_output=exc.diagnostics[-20_000:]))
+            self.send(
+                message(
+                    "built",
+                    ok=False,
+                    message=str(exc),
+                    forbidden=isinstance(exc, LabForbidden),
+                    diagnostics=compile_diagnostics(exc.diagnostics, path.name),
+                    compiler_output=exc.diagnostics[-20_000:],
+                )
+            )
             return None
         watched = [{"name": v.name, "ctype": v.ctype, "length": v.length} for v in build.watched]
-        self.send(message("built", ok=True, message=f"{path.name} compiled", diagnostics=[], watched=watched,
-                          generation="A" if build.generation == 1 else "B"))
+        self.send(
+            message(
+                "built",
+                ok=True,
+                message=f"{path.name} compiled",
+                diagnostics=[],
+                watched=watched,
+                generation="A" if build.generation == 1 else "B",
+            )
+        )
         return path
 
     def _ended(self, status: RunStatus, message_text: str, **fields: object) -> None:
-        self.send(message("ended", status=status.value, exit_status=status.exit_status, message=message_text,
-                          **fields), RUN_ENDED)
+        self.send(
+            message(
+                "ended", status=status.value, exit_status=status.exit_status, message=message_text, **fields
+            ),
+            RUN_ENDED,
+        )
 
     # -- a run ------------------------------------------------------------------------------
     def run(self, msg: dict) -> None:
@@ -118,15 +137,26 @@ class Session:
             self._ended(RunStatus.BUILD_ERROR, f"{msg['lab']['name']} does not compile: see the marked lines")
             return
         scenario = msg["scenario"]
-        scenario_arg = scenario["name"] if "name" in scenario else str(self._write("scenario", scenario["file"]))
+        scenario_arg = (
+            scenario["name"] if "name" in scenario else str(self._write("scenario", scenario["file"]))
+        )
         rest = (DEFAULT_REST_MOTOR_RAD[0], *msg["offsets"]) if msg["offsets"] else None
         record = msg["record"]
         try:
-            config = make_config(path, scenario_arg, startup_delay=not msg["no_startup_delay"],
-                                 rest_motor_rad=rest, log=True, sandbox=self.limits.sandboxed)
+            config = make_config(
+                path,
+                scenario_arg,
+                startup_delay=not msg["no_startup_delay"],
+                rest_motor_rad=rest,
+                log=True,
+                sandbox=self.limits.sandboxed,
+            )
         except (LabBuildError, ScenarioError, PlantParamsError, ValueError) as exc:
-            self._ended(RunStatus.BUILD_ERROR if isinstance(exc, LabBuildError) else RunStatus.CRASHED,
-                        str(exc).splitlines()[0] if str(exc) else type(exc).__name__, bad_input=True)
+            self._ended(
+                RunStatus.BUILD_ERROR if isinstance(exc, LabBuildError) else RunStatus.CRASHED,
+                str(exc).splitlines()[0] if str(exc) else type(exc).__name__,
+                bad_input=True,
+            )
             return
         end_tick = seconds_to_tick(msg["duration"]) if msg["duration"] else config.scenario.end_tick
         notes = []
@@ -140,8 +170,11 @@ class Session:
         out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
         console = VarConsole(config.build.watched)
         control = PageControl(self.conn, self.send, stream, console, msg["speed"], self._busy)
-        limits = Limits(memory_mb=self.limits.memory_mb, cpu_s=self.limits.cpu_s,
-                        output_bytes=int(self.limits.output_mb * 1e6))
+        limits = Limits(
+            memory_mb=self.limits.memory_mb,
+            cpu_s=self.limits.cpu_s,
+            output_bytes=int(self.limits.output_mb * 1e6),
+        )
         result: RunResult | None = None
         try:
             with Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits) as sim:
@@ -150,14 +183,32 @@ class Session:
                     return
                 self._add_recorders(out, record, config)
                 events = [{"tick": e.tick, "text": e.describe()} for e in config.scenario.events]
-                self.send(message("started", end_tick=end_tick, scenario=config.scenario.name,
-                                  speed=msg["speed"], events=events, notes=notes,
-                                  watched=[v.name for v in config.build.watched]), RUN_STARTED)
-                result = sim.run(end_tick, out, speed=None, controls=[control],
-                                 on_motor_board=lambda tick, joint, off: self.send(message(
-                                     "motor_board", tick=tick, joint=joint, off=off)),
-                                 on_expectation=lambda outcome: self.send(message(
-                                     "expectation", tick=outcome.tick, met=outcome.met, lines=outcome.lines())))
+                control.start()
+                self.send(
+                    message(
+                        "started",
+                        end_tick=end_tick,
+                        scenario=config.scenario.name,
+                        speed=msg["speed"],
+                        events=events,
+                        notes=notes,
+                        due_monotonic=control.origin,
+                        watched=[v.name for v in config.build.watched],
+                    ),
+                    RUN_STARTED,
+                )
+                result = sim.run(
+                    end_tick,
+                    out,
+                    speed=None,
+                    controls=[control],
+                    on_motor_board=lambda tick, joint, off: self.send(
+                        message("motor_board", tick=tick, joint=joint, off=off)
+                    ),
+                    on_expectation=lambda outcome: self.send(
+                        message("expectation", tick=outcome.tick, met=outcome.met, lines=outcome.lines())
+                    ),
+                )
         except SimError as exc:
             result = RunResult(exc.status, 0, str(exc))
         finally:
@@ -169,8 +220,14 @@ class Session:
             result = dataclasses.replace(result, message=f"stopped at t = {result.end_tick / 1000:.3f} s")
         failed = [line for e in result.failed_expectations for line in e.lines()]
         downloads = [kind for kind, name in DOWNLOADS.items() if (out_dir / name).exists()]
-        self._ended(result.status, result.message, end_tick=result.end_tick, failed_expectations=failed,
-                    notes=notes, downloads=downloads)
+        self._ended(
+            result.status,
+            result.message,
+            end_tick=result.end_tick,
+            failed_expectations=failed,
+            notes=notes,
+            downloads=downloads,
+        )
 
     def _add_recorders(self, out: FanOut, record: dict, config: object) -> None:
         """``--csv`` and ``--rrd``'s sinks (threads: started after the worker was forked)."""
@@ -183,8 +240,12 @@ class Session:
         if record.get("rrd"):
             from crslab.sinks.rerun_scopes import RerunSink
 
-            sink = RerunSink(rrd_path=self.folder / "out" / DOWNLOADS["rrd"], spawn=False,
-                             name=config.build.source.name, on_status=lambda line: None)  # type: ignore[attr-defined]
+            sink = RerunSink(
+                rrd_path=self.folder / "out" / DOWNLOADS["rrd"],
+                spawn=False,
+                name=config.build.source.name,
+                on_status=lambda line: None,
+            )  # type: ignore[attr-defined]
             sink.prepare()
             out.add(ThreadedSink(sink))
 
@@ -207,11 +268,18 @@ class Session:
             golden = read_golden(golden_path)
             run = recorded_run(golden, [self.folder / "scenario"])
             if run.plant is not None:
-                raise GoldenError(f"{golden_path.name} was recorded with plant file {run.plant}, which the "
-                                  "page cannot send; check it with crslab check")
-            config = make_config(labs[0], run.scenario, startup_delay=run.startup_delay is not False,
-                                 rest_motor_rad=run.rest_motor_rad, motor_board=run.motor_board,
-                                 sandbox=self.limits.sandboxed)
+                raise GoldenError(
+                    f"{golden_path.name} was recorded with plant file {run.plant}, which the "
+                    "page cannot send; check it with crslab check"
+                )
+            config = make_config(
+                labs[0],
+                run.scenario,
+                startup_delay=run.startup_delay is not False,
+                rest_motor_rad=run.rest_motor_rad,
+                motor_board=run.motor_board,
+                sandbox=self.limits.sandboxed,
+            )
             end_tick = seconds_to_tick(run.duration_s) if run.duration_s else config.scenario.end_tick
             end_tick = min(end_tick, seconds_to_tick(self.limits.max_run_s))
             result = run_lab(config, end_tick, limits=Limits(memory_mb=self.limits.memory_mb))
@@ -236,8 +304,6 @@ def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
                 msg = conn.recv()
             except (EOFError, OSError):
                 break
-            if msg is None:
-                break
             kind = msg["type"]
             try:
                 if kind == "build":
@@ -249,7 +315,9 @@ def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
                 elif kind in ("stop", "speed", "hand", "release"):
                     pass  # nothing runs: nothing to stop, pace or push
                 elif kind == "vars":
-                    session.send(message("vars", ok=False, cmd=msg["cmd"], reply="no run is going on: Run first"))
+                    session.send(
+                        message("vars", ok=False, cmd=msg["cmd"], reply="no run is going on: Run first")
+                    )
             except Stopped:  # a stop that arrived between two chunks of nothing
                 pass
             except (BrokenPipeError, EOFError):

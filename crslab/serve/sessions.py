@@ -10,8 +10,10 @@ on: one run at a time, compiles per minute, and the number of sessions at once.
 from __future__ import annotations
 
 import multiprocessing as mp
+import os
 import secrets
 import shutil
+import socket
 import tempfile
 import time
 from dataclasses import dataclass, field
@@ -21,8 +23,14 @@ from pathlib import Path
 from crslab.serve.auth import RateLimit
 from crslab.serve.session_process import SessionLimits, serve_session
 
-PRELOAD = ["crslab.serve.session_process", "crslab.sim.worker", "crslab.sandbox.run_sandbox",
-           "crslab.executors.warmup", "crslab.scopes.arm3d", "crslab.regress.runner"]
+PRELOAD = [
+    "crslab.serve.session_process",
+    "crslab.sim.worker",
+    "crslab.sandbox.run_sandbox",
+    "crslab.executors.warmup",
+    "crslab.scopes.arm3d",
+    "crslab.regress.runner",
+]
 """What the fork server imports once (MuJoCo, numpy, the board's cffi, the compiler's identity),
 so that a session process starts in milliseconds."""
 
@@ -66,11 +74,23 @@ class PageSession:
     runs: int = 0
     tick: int = 0
 
+    def take_socket(self) -> socket.socket:
+        """The server's end of the pipe as a socket (for asyncio), no longer as a Connection."""
+        sock = socket.socket(fileno=os.dup(self.conn.fileno()))
+        self.conn.close()
+        return sock
+
     def describe(self) -> dict:
         """A row of the admin page."""
-        return {"id": self.id[:8], "user": self.user, "since": time.strftime("%H:%M:%S", time.localtime(
-            self.started_wall)), "state": self.running or "idle", "scenario": self.scenario,
-            "t_s": round(self.tick / 1000.0, 1), "runs": self.runs}
+        return {
+            "id": self.id[:8],
+            "user": self.user,
+            "since": time.strftime("%H:%M:%S", time.localtime(self.started_wall)),
+            "state": self.running or "idle",
+            "scenario": self.scenario,
+            "t_s": round(self.tick / 1000.0, 1),
+            "runs": self.runs,
+        }
 
 
 class Sessions:
@@ -86,13 +106,18 @@ class Sessions:
     def start(self, user: str) -> PageSession:
         """A new session process for ``user`` (blocking: call it from a thread)."""
         if len(self.by_id) >= self.limits.max_sessions:
-            raise LimitError(f"this server is full ({self.limits.max_sessions} sessions at once); try again later")
+            raise LimitError(
+                f"this server is full ({self.limits.max_sessions} sessions at once); try again later"
+            )
         if self._ctx is None:
             self._ctx = session_context()
         folder = Path(tempfile.mkdtemp(prefix="crslab-serve-"))
         parent, child = self._ctx.Pipe(duplex=True)
-        proc = self._ctx.Process(target=serve_session, args=(child, str(folder), self.run_limits),
-                                 name=f"crslab serve session of {user}")  # not daemonic: it forks the lab's worker
+        proc = self._ctx.Process(
+            target=serve_session,
+            args=(child, str(folder), self.run_limits),
+            name=f"crslab serve session of {user}",
+        )  # not daemonic: it forks the lab's worker
         proc.start()
         child.close()
         session = PageSession(secrets.token_urlsafe(18), user, proc, parent, folder)
@@ -102,15 +127,11 @@ class Sessions:
     def close(self, session: PageSession) -> None:
         """End a session: its process (and so its run) and its folder (blocking)."""
         self.by_id.pop(session.id, None)
-        try:
-            session.conn.send(None)
-        except OSError:
-            pass
+        session.conn.close()  # (already closed when the relay took it): the session sees its pipe close
         session.process.join(3.0)
         if session.process.is_alive():
             session.process.kill()
             session.process.join()
-        session.conn.close()
         shutil.rmtree(session.folder, ignore_errors=True)
 
     def admit(self, session: PageSession, msg: dict, now: float) -> None:
@@ -126,8 +147,9 @@ class Sessions:
                 raise LimitError(f"{kind}: you have a run going on in another page; one run at a time")
         limit = self._compiles.setdefault(session.user, RateLimit(self.limits.compiles_per_minute, 60.0))
         if not limit.allow(now):
-            raise LimitError(f"{kind}: at most {self.limits.compiles_per_minute} compiles a minute; "
-                             "wait a little")
+            raise LimitError(
+                f"{kind}: at most {self.limits.compiles_per_minute} compiles a minute; wait a little"
+            )
         if kind in ("run", "check"):
             session.running = kind
             session.runs += 1

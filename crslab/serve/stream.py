@@ -3,7 +3,8 @@
 :class:`BrowserStream` is a :class:`~crslab.sinks.sink.Sink`: after every chunk of ticks it sends
 one ``chunk`` message holding the serial bytes with the tick each left the board (what Tera Term
 shows, at the time the board sends it), the arm's pose at 60 Hz of simulated time (DH and motor
-angles, the safety flag, whether the motor board cut the outputs, each link's world pose), and
+angles, the safety flag, whether the motor board cut the outputs: the page poses its model of the
+arm from the DH angles), and
 the scope rows of every tick (``Simulink_PlotVar1..4``, motor angles, commanded and applied
 torques: :data:`SCOPE_SIGNALS`), packed as little-endian float32.
 
@@ -28,21 +29,38 @@ from multiprocessing.connection import Connection
 
 import numpy as np
 
-from crslab.live.console import CommandError, VarConsole, check_range, format_value
 from crslab.live.console import Command as VarCommand
+from crslab.live.console import CommandError, VarConsole, check_range, format_value
 from crslab.sim.running import RunningLab
 from crslab.sinks.sink import Sink
 
 FRAME_HZ = 60
 """Poses of the arm per simulated second sent to the page (the 3D view)."""
-REALTIME_CHUNK_TICKS = 20
-"""Ticks per chunk at real time (x speed): a page's command acts within this many ms, as
-``crslab sim``'s do."""
+IDLE_CHUNK_TICKS = 100
+"""Ticks per chunk at real time (x speed) while the page only watches: each chunk reaches the page
+up to this much ahead of its ticks, and the page shows each tick at its time. Every chunk costs
+the server a fixed share of a core (docs/serve.md, Capacity), so watching uses long chunks..."""
+INTERACTIVE_CHUNK_TICKS = 20
+"""... and acting short ones, as ``crslab sim``'s: while the hand holds the arm, and for
+:data:`INTERACTIVE_HOLD_TICKS` after any command, a command acts within 20 ms of simulated time."""
+INTERACTIVE_HOLD_TICKS = 2000
 FAST_CHUNK_TICKS = 1000
 """Ticks per chunk as fast as possible: the page sees progress, and Stop acts, every 1000 ticks."""
-SCOPE_SIGNALS = ("Simulink_PlotVar1", "Simulink_PlotVar2", "Simulink_PlotVar3", "Simulink_PlotVar4",
-                 "theta1motor", "theta2motor", "theta3motor", "tau1", "tau2", "tau3",
-                 "tau1_applied", "tau2_applied", "tau3_applied")
+SCOPE_SIGNALS = (
+    "Simulink_PlotVar1",
+    "Simulink_PlotVar2",
+    "Simulink_PlotVar3",
+    "Simulink_PlotVar4",
+    "theta1motor",
+    "theta2motor",
+    "theta3motor",
+    "tau1",
+    "tau2",
+    "tau3",
+    "tau1_applied",
+    "tau2_applied",
+    "tau3_applied",
+)
 """The scope columns of a chunk, in order (float32 each, one row per tick)."""
 HAND_STIFFNESS_N_M = 400.0
 """The hand's spring from the grabbed point to the mouse (N/m)."""
@@ -103,9 +121,10 @@ class BrowserStream(Sink):
         self.arm = arm
         self.serial: list[tuple[int, str]] = []
         self.blocks: list[dict[str, np.ndarray]] = []
-        self.last_pose: tuple[np.ndarray, np.ndarray] | None = None
-        """The latest frame's body positions and quaternions (for the hand)."""
+        self.last_qpos: np.ndarray | None = None
+        """The arm's latest DH angles (for the hand)."""
         self.last_tick = 0
+        self.first_tick = 0
 
     def on_serial(self, tick: int, data: bytes) -> None:
         self.serial.append((tick, data.decode("latin-1")))
@@ -122,24 +141,22 @@ class BrowserStream(Sink):
             fields.update(self._frames(log))
             fields["scope"] = self._scope(log)
             self.last_tick = int(log["tick"][-1, 0]) + 1
-        fields["tick"] = self.last_tick
+        fields["first"], fields["tick"] = self.first_tick, self.last_tick
+        fields["sent"] = round(time.monotonic(), 4)  # the machine's monotonic clock: where lag arises
+        self.first_tick = self.last_tick
         self.send(message("chunk", **fields))
         self.serial, self.blocks = [], []
 
     def _frames(self, log: dict[str, np.ndarray]) -> dict[str, object]:
         ticks = log["tick"][:, 0]
-        keep = np.isin(ticks, frame_ticks(ticks))
-        keep[-1] = True  # the chunk's last pose too: the hand and a stopped run see the latest
-        rows = np.flatnonzero(keep)
-        pos, quat = self.arm.poses(log["qpos_dh_rad"][rows])
-        self.last_pose = (pos[-1], quat[-1])
-        frames = []
-        for i, r in enumerate(rows):
-            frames.append([int(ticks[r]), *np.round(log["qpos_dh_rad"][r], 5).tolist(),
-                           *np.round(log["enc_rad"][r], 5).tolist(), int(log["safety"][r, 0]),
-                           int(log["motor_board_off"][r, 0]),
-                           *np.round(np.concatenate([pos[i], quat[i]], axis=1).reshape(-1), 5).tolist()])
-        return {"frames": frames}
+        keep = (ticks * FRAME_HZ) // 1000 != ((ticks - 1) * FRAME_HZ) // 1000  # frame_ticks, as a mask
+        keep[-1] = True  # the chunk's last pose too: a stopped run shows the latest
+        self.last_qpos = log["qpos_dh_rad"][-1].copy()
+        frames = np.concatenate(
+            [np.round(log["qpos_dh_rad"][keep], 5), np.round(log["enc_rad"][keep], 5)], axis=1
+        )
+        flags = np.concatenate([ticks[keep, None], log["safety"][keep], log["motor_board_off"][keep]], axis=1)
+        return {"frames": [[f[0], *a, f[1], f[2]] for f, a in zip(flags.tolist(), frames.tolist())]}
 
     @staticmethod
     def _scope(log: dict[str, np.ndarray]) -> dict[str, object]:
@@ -155,8 +172,15 @@ class Stopped(KeyboardInterrupt):
 class PageControl:
     """Paces the run and carries out the page's commands between chunks of ticks."""
 
-    def __init__(self, conn: Connection, send: Send, stream: BrowserStream, console: VarConsole,
-                 speed: float | None, on_other: Callable[[dict], None]) -> None:
+    def __init__(
+        self,
+        conn: Connection,
+        send: Send,
+        stream: BrowserStream,
+        console: VarConsole,
+        speed: float | None,
+        on_other: Callable[[dict], None],
+    ) -> None:
         self.conn = conn
         self.send = send
         self.stream = stream
@@ -167,20 +191,36 @@ class PageControl:
         self._pushing = False
         self._anchor_prev: np.ndarray | None = None
         self._pace: tuple[float, int] | None = None  # (wall, tick) pacing counts from
+        self._tick = 0
+        self._acted_until = -1
+
+    def start(self) -> None:
+        """The run starts now: tick 0 is due now (pacing counts from here)."""
+        self._pace = (time.monotonic(), 0)
+
+    @property
+    def origin(self) -> float:
+        """When tick 0 was due (``time.monotonic()``, the machine's monotonic clock)."""
+        return self._pace[0] if self._pace is not None else 0.0
 
     def chunk_ticks(self, speed: float | None) -> int:
-        """Chunks of 20 ms x speed (the run itself is asked to go as fast as possible)."""
+        """Chunks of 100 ms x speed, 20 ms x speed while the page acts (the run itself is asked to
+        go as fast as possible: this control paces it)."""
         if self.speed is None:
             return FAST_CHUNK_TICKS
-        return max(1, min(FAST_CHUNK_TICKS, round(REALTIME_CHUNK_TICKS * self.speed)))
+        acting = self.hand is not None or self._tick < self._acted_until
+        ticks = INTERACTIVE_CHUNK_TICKS if acting else IDLE_CHUNK_TICKS
+        return max(1, min(FAST_CHUNK_TICKS, round(ticks * self.speed)))
 
     def serve(self, lab: RunningLab) -> None:
         """Carry out what the page sent, push the arm, then wait until the wall clock reaches
         ``lab.tick`` (at the current speed), still carrying out commands while waiting."""
         if self._pace is None:
             self._pace = (time.monotonic(), lab.tick)
+        self._tick = lab.tick
         while True:
-            while self.conn.poll(0):
+            while self.conn.poll(0):  # (the pipe closing, when the page went away, ends the session)
+                self._acted_until = lab.tick + INTERACTIVE_HOLD_TICKS
                 self._command(lab, self.conn.recv())
             self._push(lab)
             if self.speed is None:
@@ -223,13 +263,14 @@ class PageControl:
 
     def _push(self, lab: RunningLab) -> None:
         arm = self.stream.arm
-        if self.hand is None or self.stream.last_pose is None:
+        if self.hand is None or self.stream.last_qpos is None:
             if self._pushing:
                 lab.push(np.zeros((arm.nbody, 6)))
                 self._pushing = False
             self._anchor_prev = None
             return
-        pos, quat = self.stream.last_pose
+        positions, quats = arm.poses(self.stream.last_qpos[None, :])  # only while a hand holds the arm
+        pos, quat = positions[0], quats[0]
         i = arm.names.index(self.hand["body"])
         anchor = pos[i] + _rotate_xyzw(quat[i], self.hand["anchor"])
         com = pos[i] + _rotate_xyzw(quat[i], arm.com_local[i])
@@ -238,7 +279,9 @@ class PageControl:
         if self._anchor_prev is not None:
             velocity = (anchor - self._anchor_prev) / dt
         self._anchor_prev = anchor
-        force = HAND_STIFFNESS_N_M * (np.asarray(self.hand["target"]) - anchor) - HAND_DAMPING_N_S_M * velocity
+        force = (
+            HAND_STIFFNESS_N_M * (np.asarray(self.hand["target"]) - anchor) - HAND_DAMPING_N_S_M * velocity
+        )
         size = float(np.linalg.norm(force))
         if size > HAND_MAX_N:
             force *= HAND_MAX_N / size

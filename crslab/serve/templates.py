@@ -5,8 +5,8 @@ The files (``templates/gen_a.c``, ``templates/gen_b.c``) are written the way the
 through ``printing()``, watched variables for the MATLAB tools, the four ``Simulink_PlotVar``.
 
 >>> name, text = template("lab2", "B")
->>> name, text.splitlines()[0]
-('lab2.c', '/* Lab 2: PD and PID control, feedforward, trajectories: a starting point written the way a Gen B ...')
+>>> name, text.splitlines()[0][:60]
+('lab2.c', '/* Lab 2: PD and PID control, feedforward, trajectories: a s')
 """
 
 from __future__ import annotations

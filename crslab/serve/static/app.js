@@ -190,11 +190,10 @@
     if (state.speed === null) return Infinity;
     const now = performance.now();
     const first = state.playout[0];
-    if (state.origin === null && first) state.origin = now - (first.tick - chunkTicks()) / state.speed;
+    if (state.origin === null && first) state.origin = now - first.first / state.speed;
     if (state.origin === null) return 0;
     return (now - state.origin) * state.speed;
   }
-  const chunkTicks = () => Math.max(1, Math.round(20 * (state.speed || 50)));
   function drain(upTo) {
     while (state.playout.length) {
       const m = state.playout[0];

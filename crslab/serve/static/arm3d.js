@@ -1,5 +1,5 @@
-// crslab serve: the arm in 3D (three.js), built from the MuJoCo model's shapes (/api/arm), posed from the
-// frames the server streams (60 per simulated second), coloured by the safety envelope and the motor board.
+// crslab serve: the arm in 3D (three.js), built from the MuJoCo model's body tree and shapes (/api/arm), posed
+// by its DH angles from the frames the server streams (60 per simulated second), coloured by the safety envelope and the motor board.
 // Dragging a link is the hand: the grabbed point and where the mouse holds it go to the server, which pulls
 // the link there; letting go releases the arm.
 "use strict";
@@ -25,23 +25,37 @@ window.CrsArm = (function () {
     const grid = new T.GridHelper(1.2, 12, 0xb0b8c0, 0xd5dbe0);
     grid.rotation.x = Math.PI / 2;
     this.scene.add(grid);
-    this.bodies = [];
+    // the body tree: each body a group in its parent's, turned by its hinge; shapes hang in its frame
+    this.joints = [];
     this.pickable = [];
     this.materials = [];
-    for (const body of shapes.bodies) {
-      const group = new T.Group();
-      group.userData.name = body.name;
+    const frames = [];
+    shapes.bodies.forEach((body, i) => {
+      const fixed = new T.Group();
+      fixed.position.set(...body.pos);
+      fixed.quaternion.set(...body.quat);
+      let frame = fixed;
+      if (body.joint) {
+        const hinge = new T.Group();
+        hinge.position.set(...body.joint.anchor);
+        fixed.add(hinge);
+        frame = new T.Group();
+        frame.position.set(-body.joint.anchor[0], -body.joint.anchor[1], -body.joint.anchor[2]);
+        hinge.add(frame);
+        this.joints.push({ hinge, axis: new T.Vector3(...body.joint.axis), q: body.joint.q });
+      }
+      frame.userData.body = body.name;
       for (const s of body.shapes) {
         const mesh = new T.Mesh(this.geometry(s), this.material(s.rgba));
         mesh.position.set(...s.pos);
         mesh.quaternion.set(...s.quat);
         mesh.userData.body = body.name;
-        group.add(mesh);
+        frame.add(mesh);
         if (body.moving) this.pickable.push(mesh);
       }
-      this.scene.add(group);
-      if (body.moving) this.bodies.push(group);
-    }
+      (i === 0 ? this.scene : frames[body.parent]).add(i === 0 ? frame : fixed);
+      frames.push(frame);
+    });
     this.raycaster = new T.Raycaster();
     this.drag = null;
     this.resize();
@@ -77,13 +91,9 @@ window.CrsArm = (function () {
     this.dirty = true;
   };
 
-  // One frame: [tick, 3 DH angles, 3 motor angles, safety, motor board off, then x y z qx qy qz qw per link].
+  // One frame: [tick, 3 DH angles (rad), 3 motor angles, safety flag, motor board off].
   ArmView.prototype.pose = function (frame) {
-    for (let b = 0; b < this.bodies.length; b++) {
-      const o = 9 + 7 * b;
-      this.bodies[b].position.set(frame[o], frame[o + 1], frame[o + 2]);
-      this.bodies[b].quaternion.set(frame[o + 3], frame[o + 4], frame[o + 5], frame[o + 6]);
-    }
+    for (const j of this.joints) j.hinge.quaternion.setFromAxisAngle(j.axis, frame[1 + j.q]);
     const tint = frame[8] ? [0.55, 0.55, 0.55] : frame[7] ? [1.0, 0.35, 0.3] : null;
     for (const m of this.materials) {
       m.color.copy(m.userData.base);
@@ -116,6 +126,7 @@ window.CrsArm = (function () {
       const hit = this.ray(e).intersectObjects(this.pickable, false)[0];
       if (hit) {
         const group = hit.object.parent;
+        group.updateWorldMatrix(true, false);
         const normal = new this.T.Vector3();
         this.camera.getWorldDirection(normal);
         this.drag = { body: hit.object.userData.body, anchor: group.worldToLocal(hit.point.clone()),
