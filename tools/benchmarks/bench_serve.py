@@ -26,7 +26,6 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass
 from pathlib import Path
 
 LAB = (Path(__file__).resolve().parents[2] / "crslab" / "serve" / "templates" / "gen_a.c").read_text()
@@ -177,19 +176,21 @@ async def one_session(
                 return
 
 
-@dataclass
 class Trial:
-    """One load: each session's lags, split at the moment the last session had started."""
+    """One load: each session's lags, split at the moment the last session had started (a plain
+    class: tools/bench.py loads this file without registering it as a module)."""
 
-    steady: list[list[float]]
-    """Per session, the lags (s) of the chunks that arrived once every session was running."""
-    ramp: list[float]
-    """The lags of the chunks that arrived while sessions were still starting."""
-    cores: dict[str, float]
-    """CPU (cores) by role over the steady part's first 10 s."""
-    sent: list[float]
-    """The steady part's lags at the moment the session process sent each chunk (sorted): the
-    rest of a lag is the relay (server, WebSocket, this generator)."""
+    def __init__(self, steady: list[list[float]], ramp: list[float], cores: dict[str, float],
+                 sent: list[float]) -> None:
+        self.steady = steady
+        """Per session, the lags (s) of the chunks that arrived once every session was running."""
+        self.ramp = ramp
+        """The lags of the chunks that arrived while sessions were still starting."""
+        self.cores = cores
+        """CPU (cores) by role over the steady part's first 10 s."""
+        self.sent = sent
+        """The steady part's lags at the moment the session process sent each chunk (sorted): the
+        rest of a lag is the relay (server, WebSocket, this generator)."""
 
     def worst_p99(self) -> float:
         return max(statistics.quantiles(s, n=100)[98] for s in self.steady)
