@@ -6,6 +6,8 @@ does with the same lab and scenario."""
 from __future__ import annotations
 
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -85,7 +87,11 @@ def test_the_tour_in_the_page_prints_what_crslab_sim_prints_and_moves_the_arm(al
     while "run finished" not in (page.get_by_test_id("diagnosis").text_content() or ""):
         seen.add(page.get_by_test_id("joint-angles").text_content())
         assert "crashed" not in page.get_by_test_id("diagnosis").text_content()
-    expected = tera_term_view(simulate(OWN_LAB1, "tour").transcript).decode("latin-1")
+    # what crslab sim shows on its stdout (Tera Term's view) for the same lab and scenario
+    sim = subprocess.run([sys.executable, "-m", "crslab", "sim", "--lab", str(OWN_LAB1), "--scenario", "tour",
+                          "--fast", "--quiet", "--no-stdin"], capture_output=True, check=True)
+    expected = sim.stdout.decode("latin-1")
+    assert expected == tera_term_view(simulate(OWN_LAB1, "tour").transcript).decode("latin-1")
     expect(page.get_by_test_id("terminal")).to_have_text(expected, use_inner_text=False)
     dh = [
         tuple(float(v) for v in re.search(r"DH angles: (\S+) (\S+) (\S+)", s).groups())

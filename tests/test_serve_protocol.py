@@ -198,6 +198,64 @@ def test_a_websocket_needs_a_login_and_the_pages_own_origin(server):
             Client(server, cookie, origin=origin)
 
 
+def test_an_uploaded_scenario_runs_and_a_failed_expectation_is_named(alice):
+    scenario = (
+        'name = "still"\ndescription = "the arm left alone"\nend = 6.0\n\n'
+        '[[event]]\nat = 5.0\nkind = "expect"\nmotor_deg = [0, 90, 0]\nmessage = "not at DH zero"\n'
+    )
+    alice.send(run_message(LAB_A, scenario={"file": {"name": "still.toml", "text": scenario}}))
+    got = alice.until("ended")
+    started, ended = got[1], got[-1]
+    assert started["scenario"] == "still" and started["events"][0]["tick"] == 5000
+    judged = [m for m in got if m["type"] == "expectation"]
+    assert [m["met"] for m in judged] == [False]
+    assert ended["status"] == "unmet" and ended["message"] == "1 of 1 expectations of scenario still failed"
+    assert "not at DH zero" in ended["failed_expectations"][0]
+
+
+def test_a_malformed_scenario_file_is_one_line_and_nothing_runs(alice):
+    alice.send(run_message(LAB_A, scenario={"file": {"name": "bad.toml", "text": "end = \"soon\"\n"}}))
+    got = alice.until("ended")
+    assert [m["type"] for m in got] == ["built", "ended"]
+    assert got[-1]["bad_input"] and "bad.toml" in got[-1]["message"] and "\n" not in got[-1]["message"]
+
+
+def test_the_csv_and_the_rrd_of_a_run_can_be_downloaded(server, alice):
+    from crslab.scopes.signals import csv_header
+
+    alice.send(run_message(LAB_A, duration=1.0, record={"csv": True, "rrd": True}))
+    ended = alice.until("ended")[-1]
+    assert ended["status"] == "ok" and ended["downloads"] == ["transcript", "csv", "rrd"]
+    cookie = server.login("alice")
+    session = alice.hello["session"]
+    status, _, body = server.request("GET", f"/api/download/csv?session={session}", cookie=cookie)
+    rows = body.decode().splitlines()
+    assert status == 200 and rows[0] == ",".join(csv_header()) and len(rows) == 1 + 1000
+    assert rows[1].startswith("0,0,") and rows[-1].startswith("999,0.999,")
+    status, _, body = server.request("GET", f"/api/download/rrd?session={session}", cookie=cookie)
+    assert status == 200 and body[:4] == b"RRF2"  # a rerun recording
+
+
+def test_limits_compiles_per_minute_and_run_length(tmp_path):
+    folder = tmp_path
+    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "2",
+                       "--max-run-s", "1.5")
+    try:
+        client = Client(srv, srv.login("bob"))
+        client.send(run_message(LAB_A))  # the tour is 25 s: cut at 1.5 s
+        got = client.until("ended")
+        assert got[1]["end_tick"] == 1500 and got[-1]["end_tick"] == 1500
+        assert got[1]["notes"] == ["this server runs a lab for at most 1.5 s of simulated time"]
+        client.send({"type": "build", "lab": {"name": "lab.c", "text": LAB_A}})
+        client.until("built")
+        client.send({"type": "build", "lab": {"name": "lab.c", "text": LAB_A}})
+        refused = client.next()
+        assert refused == {"type": "error", "message": "build: at most 2 compiles a minute; wait a little"}
+        client.close()
+    finally:
+        srv.stop()
+
+
 def test_a_login_needs_the_right_password(server):
     status, cookies, body = server.request(
         "POST", "/api/login", {"name": "alice", "password": "bob-password"}
