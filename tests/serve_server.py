@@ -102,13 +102,14 @@ class Client:
         return json.loads(self.ws.recv(timeout=timeout_s))
 
     def until(self, kind: str) -> list[dict]:
-        """Every message up to and including the first of type ``kind``."""
+        """Every message up to and including the first of type ``kind`` (an ``error`` first fails)."""
         got = []
         while True:
             msg = self.next()
             got.append(msg)
             if msg["type"] == kind:
                 return got
+            assert msg["type"] != "error", f"waiting for {kind}, the server refused: {msg['message']}"
 
     def close(self) -> None:
         self.ws.close()

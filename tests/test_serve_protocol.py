@@ -23,7 +23,7 @@ LAB_A = template("lab1", "A")[1]
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
     folder = tmp_path_factory.mktemp("serve")
-    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "40")
+    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000")
     yield srv
     srv.stop()
 
@@ -234,6 +234,9 @@ def test_the_csv_and_the_rrd_of_a_run_can_be_downloaded(server, alice):
     assert rows[1].startswith("0,0,") and rows[-1].startswith("999,0.999,")
     status, _, body = server.request("GET", f"/api/download/rrd?session={session}", cookie=cookie)
     assert status == 200 and body[:4] == b"RRF2"  # a rerun recording
+    # the session forks the next run's worker safely: rerun's and pyarrow's threads live elsewhere
+    alice.send(run_message(LAB_A, duration=1.0))
+    assert alice.until("ended")[-1]["status"] == "ok"
 
 
 def test_limits_compiles_per_minute_and_run_length(tmp_path):

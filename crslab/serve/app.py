@@ -209,7 +209,7 @@ class CrsServer:
         if user is None or not self.is_admin(user):
             return HTMLResponse("<p>admins only: log in as an admin on the main page</p>", status_code=403)
         rows = [s.describe() for s in self.sessions.by_id.values()]
-        keys = ["id", "user", "since", "state", "scenario", "t_s", "runs"]
+        keys = ["id", "user", "since", "state", "scenario", "runs"]
         body = "".join(
             "<tr>" + "".join(f"<td>{html.escape(str(r[k]))}</td>" for k in keys) + "</tr>" for r in rows
         )

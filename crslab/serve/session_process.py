@@ -11,8 +11,9 @@ Every run is ``crslab sim``'s: the same :func:`crslab.sim.api.make_config` (the 
 compile sandbox, the scenario loaded and checked against it), the same
 :class:`~crslab.sim.session.Simulation` and worker in the run sandbox, its transcript written by
 the same :class:`~crslab.sinks.transcript_file.TranscriptSink`, the CSV and the rerun recording
-by the same sinks as ``--csv`` and ``--rrd``. Only the pacing is the page's
-(:class:`~crslab.serve.stream.PageControl`), so the bytes are the same at any speed.
+by the same sinks as ``--csv`` and ``--rrd`` (in a recorder process, :mod:`crslab.serve.recorder`:
+this process stays single-threaded, so it may fork the next run's worker safely). Only the pacing
+is the page's (:class:`~crslab.serve.stream.PageControl`), so the bytes are the same at any speed.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from crslab.plant.plant_params import PlantParamsError
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
 from crslab.serve.protocol import compile_diagnostics
+from crslab.serve.recorder import RecorderSink
 from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
 from crslab.sim.session import DEFAULT_DEADLINE_S, Limits, SimError, Simulation
@@ -44,6 +46,8 @@ RUN_STARTED = b"R"
 """For the page; the server notes that a run is going on."""
 RUN_ENDED = b"E"
 """For the page; the server notes that the run is over."""
+BAD_INPUT = "bad-input"
+"""An ``ended`` status beside the run statuses: the scenario (or another input) could not be used."""
 DOWNLOADS = {"transcript": "transcript.txt", "csv": "run.csv", "rrd": "run.rrd"}
 """The files of the last run a page may download, by kind."""
 
@@ -152,11 +156,10 @@ class Session:
                 sandbox=self.limits.sandboxed,
             )
         except (LabBuildError, ScenarioError, PlantParamsError, ValueError) as exc:
-            self._ended(
-                RunStatus.BUILD_ERROR if isinstance(exc, LabBuildError) else RunStatus.CRASHED,
-                str(exc).splitlines()[0] if str(exc) else type(exc).__name__,
-                bad_input=True,
-            )
+            # what crslab sim turns into one line and exit status 2 (bad input): nothing ran
+            line = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            ended = message("ended", status=BAD_INPUT, exit_status=2, bad_input=True, message=line)
+            self.send(ended, RUN_ENDED)
             return
         end_tick = seconds_to_tick(msg["duration"]) if msg["duration"] else config.scenario.end_tick
         notes = []
@@ -175,13 +178,15 @@ class Session:
             cpu_s=self.limits.cpu_s,
             output_bytes=int(self.limits.output_mb * 1e6),
         )
+        if record["csv"] or record["rrd"]:  # forked now, while this process runs no other thread
+            out.add(RecorderSink(out_dir / DOWNLOADS["csv"] if record["csv"] else None,
+                                 out_dir / DOWNLOADS["rrd"] if record["rrd"] else None, path.name))
         result: RunResult | None = None
         try:
             with Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits) as sim:
                 if not sim.defines_lab:
                     self._ended(RunStatus.NO_LAB, f"{path.name} defines no lab() function")
                     return
-                self._add_recorders(out, record, config)
                 events = [{"tick": e.tick, "text": e.describe()} for e in config.scenario.events]
                 control.start()
                 self.send(
@@ -228,26 +233,6 @@ class Session:
             notes=notes,
             downloads=downloads,
         )
-
-    def _add_recorders(self, out: FanOut, record: dict, config: object) -> None:
-        """``--csv`` and ``--rrd``'s sinks (threads: started after the worker was forked)."""
-        from crslab.sinks.threaded import ThreadedSink
-
-        if record.get("csv"):
-            from crslab.sinks.csv_file import CsvSink
-
-            out.add(ThreadedSink(CsvSink(self.folder / "out" / DOWNLOADS["csv"])))
-        if record.get("rrd"):
-            from crslab.sinks.rerun_scopes import RerunSink
-
-            sink = RerunSink(
-                rrd_path=self.folder / "out" / DOWNLOADS["rrd"],
-                spawn=False,
-                name=config.build.source.name,
-                on_status=lambda line: None,
-            )  # type: ignore[attr-defined]
-            sink.prepare()
-            out.add(ThreadedSink(sink))
 
     def _busy(self, msg: dict) -> None:
         self.send(message("error", message=f"{msg.get('type')}: a run is going on; stop it first"))

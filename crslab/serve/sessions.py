@@ -72,7 +72,6 @@ class PageSession:
     """What runs now (``run`` or ``check``), None when idle."""
     scenario: str = ""
     runs: int = 0
-    tick: int = 0
 
     def take_socket(self) -> socket.socket:
         """The server's end of the pipe as a socket (for asyncio), no longer as a Connection."""
@@ -88,7 +87,6 @@ class PageSession:
             "since": time.strftime("%H:%M:%S", time.localtime(self.started_wall)),
             "state": self.running or "idle",
             "scenario": self.scenario,
-            "t_s": round(self.tick / 1000.0, 1),
             "runs": self.runs,
         }
 
@@ -153,7 +151,6 @@ class Sessions:
         if kind in ("run", "check"):
             session.running = kind
             session.runs += 1
-            session.tick = 0
             if kind == "run":
                 scenario = msg["scenario"]
                 session.scenario = scenario.get("name") or scenario["file"]["name"]
