@@ -30,7 +30,7 @@ from multiprocessing.connection import Connection
 import numpy as np
 
 from crslab.live.console import Command as VarCommand
-from crslab.live.console import CommandError, VarConsole, check_range, format_value
+from crslab.live.console import CommandError, VarConsole, format_value
 from crslab.sim.running import RunningLab
 from crslab.sinks.sink import Sink
 
@@ -291,5 +291,3 @@ class PageControl:
         lab.push(forces)
         self._pushing = True
 
-
-__all__ = ["ArmPoses", "BrowserStream", "PageControl", "Stopped", "check_range", "message"]
