@@ -33,6 +33,8 @@ LADDER = (50, 100, 125, 150)
 """Session counts tried, in order, until one fails."""
 TARGET_LAG_S = 0.050
 START_GAP_S = 0.05
+SETTLE_S = 5.0
+"""After the last session started, the time given to catch up with the clock before lags count."""
 NICE: list[str] = []
 CHUNK = re.compile(r'^\{"type": "chunk", .*"first": (\d+), "tick": \d+, "sent": ([\d.]+)\}$', re.DOTALL)
 CHROMIUM = "/usr/bin/chromium"
@@ -204,7 +206,7 @@ async def load(server: Server, n: int) -> Trial:
     done: list[int] = []
     root = server.proc.pid
     tasks = [asyncio.create_task(one_session(server, i * START_GAP_S, lags[i], done, i)) for i in range(n)]
-    await asyncio.sleep(n * START_GAP_S + 2.0)  # every session has started and built its worker
+    await asyncio.sleep(n * START_GAP_S + SETTLE_S)  # every session started and caught up with the clock
     steady_from = time.monotonic()
     cpu0, own0 = cpu_by_role(root), time.process_time()
     await asyncio.sleep(10.0)
