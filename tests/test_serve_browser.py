@@ -125,6 +125,38 @@ def test_writing_a_watched_variable_changes_what_the_lab_prints_and_stop_stops(a
     page.get_by_test_id("no-startup-delay").uncheck()
 
 
+def test_dragging_a_link_moves_the_arm(alice):
+    from playwright.sync_api import expect
+
+    page = alice
+    page.get_by_test_id("editor").fill(template("lab1", "A")[1])
+    page.get_by_test_id("scenario").select_option("hands_off")  # nothing else moves the arm
+    page.get_by_test_id("speed").select_option("1")
+    page.get_by_test_id("run").click()
+    expect(page.get_by_test_id("joint-angles")).to_contain_text("deg")
+    angles = page.get_by_test_id("joint-angles")
+
+    def dh() -> list[float]:
+        return [float(v) for v in re.search(r"DH angles: (\S+) (\S+) (\S+)", angles.text_content()).groups()]
+
+    rest = dh()
+    view = page.get_by_test_id("arm").bounding_box()
+    x, y = view["x"] + view["width"] / 2 + 40, view["y"] + view["height"] / 2 - 40  # on the forearm at rest
+    page.mouse.move(x, y)
+    page.mouse.down()
+    for k in range(1, 31):  # pull it up and out
+        page.mouse.move(x + 3 * k, y - 4 * k)
+    for _ in range(20_000):  # the hand's spring pulls the forearm after the mouse, chunk by chunk
+        if abs(dh()[1] - rest[1]) > 5.0:
+            break
+        page.mouse.move(x + 90, y - 120)
+    else:
+        pytest.fail(f"the arm did not follow the mouse: DH angles {dh()} (at rest {rest})")
+    page.mouse.up()
+    page.get_by_test_id("stop").click()
+    expect(page.get_by_test_id("diagnosis")).to_contain_text("interrupted: stopped at t = ")
+
+
 def test_a_compile_error_marks_its_line(alice):
     from playwright.sync_api import expect
 

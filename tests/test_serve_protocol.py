@@ -269,7 +269,7 @@ def test_a_login_needs_the_right_password(server):
 
 def test_the_hand_pulls_the_forearm_toward_the_mouse(alice):
     """With the arm left alone (hands_off), holding the forearm's tip 15 cm higher raises it: the
-    motor angle of joint 3 falls (the forearm turns up), and letting go stops the pull."""
+    motor angle of joint 3 falls (the forearm turns up)."""
     alice.send(run_message(LAB_A, scenario={"name": "hands_off"}, speed=4.0, duration=8.0))
     got = alice.until("chunk")
     start = got[-1]["frames"][-1]
