@@ -371,3 +371,38 @@ def test_hash_password_makes_a_roster_hash():
 
 
 assert set(USERS) == {"alice", "bob", "ta"}
+
+
+def test_letting_go_takes_the_hands_force_away_once():
+    """The page's control between two chunks: a hand pushes the grabbed link toward the mouse (a
+    force on that body only, toward the target), a release pushes zero once, then nothing."""
+    from multiprocessing import Pipe
+
+    from crslab.live.console import VarConsole
+    from crslab.serve.stream import ArmPoses, BrowserStream, PageControl
+
+    class Lab:
+        tick = 100
+        pushes: list = []
+
+        def push(self, forces):
+            self.pushes.append(np.array(forces))
+
+    ours, page = Pipe()
+    arm = ArmPoses()
+    stream = BrowserStream(lambda data: None, arm)
+    stream.last_qpos = np.array([0.0, -np.pi / 2, np.pi / 2])  # motor zero: the forearm level
+    control = PageControl(ours, lambda data: None, stream, VarConsole(()), None, lambda msg: None)
+    lab = Lab()
+    # the forearm's tip is at x y z = 10 0 20 in (0.254 0 0.508 m); the mouse holds it 0.2 m higher
+    page.send({"type": "hand", "body": "forearm", "anchor": [0.254, 0.0, 0.0], "target": [0.254, 0.0, 0.708]})
+    control.serve(lab)
+    forearm = arm.body_ids[arm.names.index("forearm")]
+    pushed = lab.pushes[-1]
+    # the spring: 400 N/m x 0.2 m straight up (the first push: no velocity yet to damp)
+    assert np.allclose(pushed[forearm, :3], [0.0, 0.0, 80.0], atol=1e-6)
+    assert np.all(np.delete(pushed, forearm, axis=0) == 0)
+    page.send({"type": "release"})
+    control.serve(lab)
+    control.serve(lab)
+    assert len(lab.pushes) == 2 and np.all(lab.pushes[-1] == 0)
