@@ -52,6 +52,22 @@ def test_a_run_streams_the_bytes_crslab_sim_prints_at_their_ticks(server, alice,
     assert status == 200 and body == expected.transcript
 
 
+def test_the_run_options_are_crslab_sims(alice, tmp_path):
+    """Offsets (the arm's resting motor angles) and no startup delay: the same bytes as
+    ``crslab sim --offsets -0.40 0.26 --no-startup-delay``."""
+    lab = tmp_path / "lab.c"
+    lab.write_text(LAB_A)
+    alice.send(run_message(lab, duration=2.0, offsets=[-0.40, 0.26], no_startup_delay=True))
+    got = alice.until("ended")
+    options = ["--duration", "2", "--offsets", "-0.40", "0.26", "--no-startup-delay", "--fast", "--quiet"]
+    sim = subprocess.run([sys.executable, "-m", "crslab", "sim", "--lab", str(lab), *options, "--no-stdin",
+                          "--transcript", str(tmp_path / "t.txt")], capture_output=True, check=True)
+    assert sim.returncode == 0
+    text = b"".join(data for _, data in serial_of(got))
+    assert text == (tmp_path / "t.txt").read_bytes() and text.startswith(b"0.00 ")  # printed from tick 0
+    assert serial_of(got)[0][0] == 0
+
+
 def test_a_chunk_carries_the_arm_at_60_hz_and_every_tick_of_the_scopes(alice):
     alice.send(run_message(LAB_A, duration=2.0, scenario={"name": "hands_off"}))
     got = alice.until("ended")
