@@ -157,6 +157,25 @@ def test_dragging_a_link_moves_the_arm(alice):
     expect(page.get_by_test_id("diagnosis")).to_contain_text("interrupted: stopped at t = ")
 
 
+def test_check_against_a_golden_file_from_the_page(alice, tmp_path):
+    from playwright.sync_api import expect
+
+    lab = tmp_path / "lab1.c"
+    lab.write_text(template("lab1", "B")[1])
+    golden = tmp_path / "lab1_golden.txt"
+    subprocess.run([sys.executable, "-m", "crslab", "record", "--lab", str(lab), "--duration", "5", "-o",
+                    str(golden)], check=True, capture_output=True)
+    page = alice
+    page.get_by_test_id("editor").fill(lab.read_text())
+    page.get_by_test_id("golden-file").set_input_files(str(golden))
+    expect(page.get_by_test_id("check-report")).to_have_text(re.compile(r"^match: 2 lines"))
+    expect(page.get_by_test_id("diagnosis")).to_have_text("check: the run matches the golden file")
+    # the editor's lab is what is checked: one that prints its angles in rad does not match
+    page.get_by_test_id("editor").fill(lab.read_text().replace("* 180 / PI", ""))
+    page.get_by_test_id("golden-file").set_input_files(str(golden))
+    expect(page.get_by_test_id("check-report")).to_have_text(re.compile(r"^mismatch: 2 of 2 lines differ"))
+
+
 def test_a_compile_error_marks_its_line(alice):
     from playwright.sync_api import expect
 

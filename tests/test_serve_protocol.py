@@ -319,12 +319,14 @@ def test_check_compares_with_a_golden_file(alice, tmp_path):
     alice.send({"type": "build", "lab": {"name": "lab1.c", "text": LAB_A}})
     alice.until("built")
     alice.send(
-        {"type": "check", "golden": {"name": "golden.txt", "text": golden.read_bytes().decode("latin-1")}}
+        {"type": "check", "lab": {"name": "lab1.c", "text": LAB_A},
+         "golden": {"name": "golden.txt", "text": golden.read_bytes().decode("latin-1")}}
     )
     checked = alice.until("checked")[-1]
     assert checked["ok"] and checked["report"].startswith("match: 4 lines")
     changed = golden.read_bytes().decode("latin-1").replace("-21.19", "-21.50", 1)
-    alice.send({"type": "check", "golden": {"name": "golden.txt", "text": changed}})
+    alice.send({"type": "check", "lab": {"name": "lab1.c", "text": LAB_A},
+                "golden": {"name": "golden.txt", "text": changed}})
     checked = alice.until("checked")[-1]
     assert not checked["ok"] and "mismatch: 1 of 4 lines differ" in checked["report"]
     alice.send(run_message(LAB_A, duration=1.0))  # the check is over: the next run may start

@@ -15,8 +15,8 @@ Every message is one JSON object with a ``type``. The browser sends:
 ``hand``       ``body`` (a link), ``anchor`` (the grabbed point in the link's frame, m), ``target``
                (where the mouse holds it, world frame, m): pull the link there, as a hand does
 ``release``    let go of the arm
-``check``      ``golden`` (``{"name", "text"}``): run the editor's lab as ``crslab check`` does and
-               compare (the answer is ``checked``)
+``check``      ``lab``, ``golden`` (``{"name", "text"}``): run the lab as ``crslab check`` does and
+               compare with the golden file (the answer is ``checked``)
 =============  =====================================================================================
 
 The server answers with ``hello``, ``built``, ``started``, ``chunk``, ``event``, ``ended``,
@@ -229,8 +229,9 @@ def parse_message(text: str | bytes) -> dict:
             "anchor": _vector(msg.get("anchor"), "anchor"),
             "target": _vector(msg.get("target"), "target"),
         }
-    _only(msg, {"golden"})  # check
-    return {"type": "check", "golden": file_field(msg.get("golden"), "golden", (".txt", ".golden"))}
+    _only(msg, {"lab", "golden"})  # check
+    return {"type": "check", "lab": file_field(msg.get("lab"), "lab", (".c", ".cpp")),
+            "golden": file_field(msg.get("golden"), "golden", (".txt", ".golden"))}
 
 
 def compile_diagnostics(text: str, file_name: str) -> list[dict]:

@@ -239,15 +239,12 @@ class Session:
 
     # -- check against a golden file --------------------------------------------------------
     def check(self, msg: dict) -> None:
-        """Run the last built lab as ``crslab check`` does and send ``checked``."""
+        """Run the page's lab as ``crslab check`` does and send ``checked``."""
         from crslab.regress.compare import compare
         from crslab.regress.runner import run_lab
         from crslab.regress.transcript import GoldenError, read_golden, recorded_run, split_lines
 
-        labs = list((self.folder / "lab").iterdir())
-        if not labs:
-            self.send(message("checked", ok=False, report="build or run a lab first"), RUN_ENDED)
-            return
+        lab = self._write("lab", msg["lab"])
         golden_path = self._write("golden", msg["golden"])
         try:
             golden = read_golden(golden_path)
@@ -258,7 +255,7 @@ class Session:
                     "page cannot send; check it with crslab check"
                 )
             config = make_config(
-                labs[0],
+                lab,
                 run.scenario,
                 startup_delay=run.startup_delay is not False,
                 rest_motor_rad=run.rest_motor_rad,

@@ -367,7 +367,7 @@
       $("golden-file").value = "";
       if (!f) return;
       $("check-report").textContent = `checking ${state.labName} against ${f.name}…`;
-      send({ type: "check", golden: f });
+      send({ type: "check", lab: { name: state.labName, text: labText() }, golden: f });
     };
     $("var-list").onclick = () => send({ type: "vars", cmd: "list" });
     $("var-get").onclick = () => { const t = varTarget(); if (t) send({ type: "vars", cmd: "get", ...t }); };
