@@ -40,6 +40,12 @@ def test_the_sdist_and_the_wheel_carry_the_c_sources_and_the_models(installed):
             "crslab/_data/models/crs_arm/scene.xml", "crslab/_data/models/crs_arm/params.toml",
             "crslab/scenarios/tour.toml", "crslab/robots/crs.toml"} <= in_wheel
     assert any(n.startswith("crslab/_core") and n.endswith(".so") for n in in_wheel)
+    # crslab serve's page works offline: every script, style and licence is in the wheel
+    assert {"crslab/serve/static/index.html", "crslab/serve/static/app.js",
+            "crslab/serve/static/vendor/crslab-vendor.js",
+            "crslab/serve/static/vendor/xterm.css", "crslab/serve/static/vendor/README.md",
+            "crslab/serve/static/vendor/licenses/three-0.187.0.txt", "crslab/serve/templates/gen_a.c",
+            "crslab/serve/deploy/nginx.conf"} <= in_wheel
     assert not any("/tests/" in n or n.endswith("cffi_build.py") for n in in_wheel)
 
 
@@ -148,3 +154,25 @@ def test_doctor(installed):
     r = installed.crslab("doctor")
     assert r.returncode == 0, r.stdout + r.stderr
     assert "ok       lab build: lab1_kinematics.c compiles and links against the board" in r.stdout
+
+
+def test_the_installed_serve_serves_its_page_and_its_vendored_scripts(installed):
+    import http.client
+    import re
+
+    from waiting import LineWatcher, wait_exit
+
+    proc = subprocess.Popen([installed.venv / "bin" / "crslab", "serve", "--port", "0"], cwd=installed.work,
+                            env=installed.env, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
+    try:
+        line = LineWatcher(proc.stderr, "crslab serve's stderr").wait_for(r"http://")[-1]
+        host = re.search(r"http://([^/]+)/", line).group(1)
+        vendor = "vendor/crslab-vendor.js"
+        for path, local in (("/", "index.html"), (f"/static/{vendor}", vendor)):
+            conn = http.client.HTTPConnection(host, timeout=60)
+            conn.request("GET", path)
+            body = conn.getresponse().read()
+            assert body == (ROOT / "crslab" / "serve" / "static" / local).read_bytes(), path
+    finally:
+        proc.terminate()
+        wait_exit(proc, "SIGTERM")

@@ -30,6 +30,7 @@ COMMANDS = [
     "crslab.cli.identify_commands",
     "crslab.cli.new_commands",
     "crslab.cli.friction_commands",
+    "crslab.cli.serve_commands",
 ]
 
 
@@ -43,7 +44,7 @@ class CliError(Exception):
 
 GROUPS = {
     "for students": ["sim", "debug", "record", "check", "new", "scenarios", "vars", "plot"],
-    "for TAs and instructors": ["grade", "sweep", "identify", "friction"],
+    "for TAs and instructors": ["grade", "sweep", "serve", "identify", "friction"],
     "the course's host tools (MATLAB, Simulink, Tera Term)": ["serial", "map"],
     "the kinematics toolbox": ["fk", "ik", "traj", "robots", "workspace", "rot"],
     "this machine and this help": ["doctor", "help"],

@@ -1,0 +1,365 @@
+"""The web application of ``crslab serve`` (Starlette, served by uvicorn).
+
+Routes: ``/`` the page (``static/index.html``), ``/static/...`` its scripts, styles and vendored
+libraries, ``/api/login`` and ``/api/logout``, ``/api/me``, ``/api/template`` (the course's
+template for a lab and a generation), ``/api/scenarios``, ``/api/arm`` (the arm's shapes from the
+MuJoCo model, for the 3D view), ``/api/download/{kind}`` (the last run's transcript, CSV or
+``.rrd``), ``/admin`` (sessions, for admins) and ``/ws``, one WebSocket per page session
+(:mod:`crslab.serve.protocol`).
+
+Who is who: without a roster the server serves one user on this machine, who proves it by the
+token in the URL ``crslab serve`` printed (the page then keeps a cookie); with a roster, a login.
+Either way a signed cookie (:class:`crslab.serve.auth.CookieSigner`) names the user on every
+request and on the WebSocket, whose ``Origin`` must be the page's own.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import html
+import json
+import pickle
+import secrets
+import struct
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from urllib.parse import urlparse
+
+from starlette.applications import Starlette
+from starlette.requests import Request
+from starlette.responses import FileResponse, HTMLResponse, JSONResponse, RedirectResponse, Response
+from starlette.routing import Mount, Route, WebSocketRoute
+from starlette.staticfiles import StaticFiles
+from starlette.websockets import WebSocket, WebSocketDisconnect
+
+from crslab.serve.auth import CookieSigner, RateLimit, User, verify_secret
+from crslab.serve.protocol import ProtocolError, parse_message
+from crslab.serve.session_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
+from crslab.serve.sessions import LimitError, PageSession, Sessions
+from crslab.serve.templates import LABS, template
+
+STATIC = Path(__file__).parent / "static"
+COOKIE = "crslab_session"
+USER_COOKIE = "crslab_user"
+"""The user's name, not secret: a reverse proxy keeps each user on one replica by it."""
+LOCAL_USER = "you"
+CSP = (
+    "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
+    "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'"
+)
+
+
+@dataclass
+class ServeSettings:
+    """How the server admits users: a roster (None: one local user with ``local_token``)."""
+
+    roster: dict[str, User] | None
+    signer: CookieSigner
+    local_token: str = ""
+
+
+class CrsServer:
+    """The server's state and its request handlers."""
+
+    def __init__(self, settings: ServeSettings, sessions: Sessions) -> None:
+        self.settings = settings
+        self.sessions = sessions
+        self._logins: dict[str, RateLimit] = {}
+        self._scenarios: list[dict] | None = None
+        self._arm: dict | None = None
+
+    # -- who is asking ------------------------------------------------------------------------
+    def user_of(self, cookies: dict[str, str]) -> str | None:
+        name = self.settings.signer.user(cookies.get(COOKIE))
+        if name is None:
+            return None
+        if self.settings.roster is None:
+            return name if name == LOCAL_USER else None
+        return name if name in self.settings.roster else None
+
+    def is_admin(self, user: str) -> bool:
+        roster = self.settings.roster
+        return roster is None or (user in roster and roster[user].admin)
+
+    def _logged_in(self, response: Response, request: Request, user: str) -> Response:
+        secure = request.url.scheme == "https"
+        response.set_cookie(
+            COOKIE,
+            self.settings.signer.cookie(user),
+            httponly=True,
+            samesite="strict",
+            secure=secure,
+            max_age=12 * 3600,
+        )
+        response.set_cookie(USER_COOKIE, user, samesite="strict", secure=secure, max_age=12 * 3600)
+        return response
+
+    # -- pages ------------------------------------------------------------------------------
+    async def index(self, request: Request) -> Response:
+        token = request.query_params.get("token")
+        if token is not None:  # the URL crslab serve printed, or a roster user's token link
+            user = self._token_user(token)
+            if user is not None:
+                return self._logged_in(RedirectResponse("/", status_code=303), request, user)
+        response = FileResponse(
+            STATIC / "index.html", headers={"Content-Security-Policy": CSP, "Cache-Control": "no-store"}
+        )
+        return response
+
+    def _token_user(self, token: str) -> str | None:
+        roster = self.settings.roster
+        if roster is None:
+            ok = secrets.compare_digest(token.encode(), self.settings.local_token.encode())
+            return LOCAL_USER if ok else None
+        return next(
+            (
+                u.name
+                for u in roster.values()
+                if u.secret.startswith("token:") and verify_secret(u.secret, token)
+            ),
+            None,
+        )
+
+    async def login(self, request: Request) -> Response:
+        try:
+            body = await request.json()
+            name, password = str(body["name"]), str(body["password"])
+        except (ValueError, KeyError, TypeError):
+            return JSONResponse({"error": 'send {"name": ..., "password": ...}'}, status_code=400)
+        roster = self.settings.roster
+        if roster is None:
+            return JSONResponse(
+                {"error": "this server has no logins: open the URL crslab serve printed"}, status_code=400
+            )
+        limit = self._logins.setdefault(name, RateLimit(10, 60.0))
+        if not limit.allow(time.monotonic()):
+            return JSONResponse({"error": "too many attempts; wait a minute"}, status_code=429)
+        user = roster.get(name)
+        # the hash is checked even for an unknown name, so the time taken does not tell names apart
+        secret = user.secret if user is not None else "pbkdf2_sha256$600000$00$00"
+        if not verify_secret(secret, password) or user is None:
+            return JSONResponse({"error": "wrong name or password"}, status_code=401)
+        return self._logged_in(JSONResponse({"user": name}), request, name)
+
+    async def logout(self, request: Request) -> Response:
+        response = JSONResponse({"user": None})
+        response.delete_cookie(COOKIE)
+        response.delete_cookie(USER_COOKIE)
+        return response
+
+    async def me(self, request: Request) -> Response:
+        user = self.user_of(request.cookies)
+        if user is None:
+            return JSONResponse({"user": None, "login": self.settings.roster is not None}, status_code=401)
+        limits = self.sessions.limits
+        return JSONResponse(
+            {
+                "user": user,
+                "admin": self.is_admin(user),
+                "login": self.settings.roster is not None,
+                "limits": {
+                    "compiles_per_minute": limits.compiles_per_minute,
+                    "max_run_s": self.sessions.run_limits.max_run_s,
+                },
+                "labs": LABS,
+            }
+        )
+
+    async def template_text(self, request: Request) -> Response:
+        if self.user_of(request.cookies) is None:
+            return JSONResponse({"error": "log in first"}, status_code=401)
+        lab, gen = request.query_params.get("lab", "lab1"), request.query_params.get("gen", "A")
+        try:
+            name, text = template(lab, gen)
+        except KeyError as exc:
+            return JSONResponse({"error": str(exc.args[0])}, status_code=404)
+        return JSONResponse({"name": name, "text": text})
+
+    async def scenarios(self, request: Request) -> Response:
+        if self._scenarios is None:
+            from crslab.scenario.load import DEFAULT_SCENARIO, builtin_names, load_scenario
+
+            names = [DEFAULT_SCENARIO, *(n for n in builtin_names() if n != DEFAULT_SCENARIO)]
+            self._scenarios = [
+                {"name": s.name, "description": s.description, "end_s": s.end_tick / 1000}
+                for s in map(load_scenario, names)
+            ]
+        return JSONResponse(self._scenarios)
+
+    async def arm(self, request: Request) -> Response:
+        if self._arm is None:
+            self._arm = await asyncio.to_thread(arm_shapes)
+        return JSONResponse(self._arm, headers={"Cache-Control": "max-age=3600"})
+
+    async def download(self, request: Request) -> Response:
+        user = self.user_of(request.cookies)
+        kind = request.path_params["kind"]
+        if user is None:
+            return JSONResponse({"error": "log in first"}, status_code=401)
+        if kind not in DOWNLOADS:
+            return JSONResponse({"error": f"no download {kind!r}"}, status_code=404)
+        path = self.sessions.download(request.query_params.get("session", ""), user, DOWNLOADS[kind])
+        if path is None:
+            return JSONResponse({"error": f"no {kind} of your last run here"}, status_code=404)
+        return FileResponse(path, filename=DOWNLOADS[kind], media_type="application/octet-stream")
+
+    async def admin(self, request: Request) -> Response:
+        user = self.user_of(request.cookies)
+        if user is None or not self.is_admin(user):
+            return HTMLResponse("<p>admins only: log in as an admin on the main page</p>", status_code=403)
+        rows = [s.describe() for s in self.sessions.by_id.values()]
+        keys = ["id", "user", "since", "state", "scenario", "runs"]
+        body = "".join(
+            "<tr>" + "".join(f"<td>{html.escape(str(r[k]))}</td>" for k in keys) + "</tr>" for r in rows
+        )
+        page = (
+            f"<!doctype html><meta charset=utf-8><title>crslab serve: sessions</title>"
+            "<link rel=stylesheet href=/static/app.css><body class=admin>"
+            f"<h1>Sessions ({len(rows)} of at most "
+            f"{self.sessions.limits.max_sessions})</h1><table data-testid=sessions><tr>"
+            + "".join(f"<th>{k}</th>" for k in keys)
+            + f"</tr>{body}</table>"
+        )
+        return HTMLResponse(page, headers={"Content-Security-Policy": CSP, "Cache-Control": "no-store"})
+
+    # -- the WebSocket ------------------------------------------------------------------------
+    async def websocket(self, ws: WebSocket) -> None:
+        user = self.user_of(ws.cookies)
+        origin = ws.headers.get("origin")
+        if origin is not None and urlparse(origin).netloc != ws.headers.get("host"):
+            await ws.close(code=4403, reason="cross-site WebSocket refused")
+            return
+        if user is None:
+            await ws.close(code=4401, reason="log in first")
+            return
+        await ws.accept()
+        try:
+            session = await asyncio.to_thread(self.sessions.start, user)
+        except LimitError as exc:
+            await ws.send_text(json.dumps({"type": "error", "message": str(exc)}))
+            await ws.close(code=4429)
+            return
+        try:
+            await self._relay(ws, session)
+        finally:
+            await asyncio.to_thread(self.sessions.close, session)
+
+    async def _relay(self, ws: WebSocket, session: PageSession) -> None:
+        """Hand the page's checked messages to the session process and its messages to the page,
+        over the session's pipe as asyncio streams (multiprocessing's framing: a 4-byte big-endian
+        length, then the bytes; the server's messages are pickled dicts, the session's JSON)."""
+        reader, writer = await asyncio.open_connection(sock=session.take_socket())
+
+        async def to_page() -> None:
+            try:
+                while True:
+                    (size,) = struct.unpack("!i", await reader.readexactly(4))
+                    if size == -1:
+                        (size,) = struct.unpack("!Q", await reader.readexactly(8))
+                    data = await reader.readexactly(size)
+                    tag, body = data[:1], data[1:]
+                    if tag == RUN_ENDED:
+                        session.running = None
+                    elif tag == RUN_STARTED:
+                        session.running = "run"
+                    await ws.send_text(body.decode())
+            except (asyncio.IncompleteReadError, ConnectionError):
+                if session.running is not None:
+                    await ws.send_text(json.dumps({"type": "ended", "status": "crashed", "exit_status": 3,
+                                                   "message": "crslab's session process ended unexpectedly"}))
+                await ws.close(code=1011)
+
+        pump = asyncio.create_task(to_page())
+        await ws.send_text(json.dumps({"type": "hello", "session": session.id, "user": session.user}))
+        try:
+            while True:
+                receive = asyncio.create_task(ws.receive())
+                done, _ = await asyncio.wait({receive, pump}, return_when=asyncio.FIRST_COMPLETED)
+                if pump in done:
+                    receive.cancel()
+                    return
+                frame = receive.result()
+                if frame["type"] == "websocket.disconnect":
+                    return
+                text = frame.get("text") if frame.get("text") is not None else frame.get("bytes")
+                try:
+                    msg = parse_message(text or "")
+                    self.sessions.admit(session, msg, time.monotonic())
+                except (ProtocolError, LimitError) as exc:
+                    await ws.send_text(json.dumps({"type": "error", "message": str(exc)}))
+                    continue
+                data = pickle.dumps(msg)
+                writer.write(struct.pack("!i", len(data)) + data)
+                await writer.drain()
+        except (WebSocketDisconnect, ConnectionError):
+            return
+        finally:
+            pump.cancel()
+            writer.close()  # the session process sees the pipe close: it ends its run and itself
+
+
+def arm_shapes() -> dict:
+    """The arm's bodies as the MuJoCo model has them, for the page to draw and pose: each body's
+    parent, its frame in the parent's (metres; quaternions ``x y z w``), its hinge (axis and anchor
+    in its own frame, and which DH angle turns it) and its shapes in its frame."""
+    from crslab.scopes.arm3d import ArmModel
+
+    arm = ArmModel()
+    m = arm.model
+    shapes = {b.id: b.shapes for b in arm.bodies}
+    out = []
+    for b in range(m.nbody):
+        q = m.body_quat[b]
+        joint = None
+        if int(m.body_jntnum[b]) == 1:
+            j = int(m.body_jntadr[b])
+            joint = {
+                "axis": m.jnt_axis[j].tolist(),
+                "anchor": m.jnt_pos[j].tolist(),
+                "q": int(m.jnt_qposadr[j]),
+            }
+        out.append(
+            {
+                "name": m.body(b).name or "world",
+                "parent": int(m.body_parentid[b]) if b else None,
+                "pos": m.body_pos[b].tolist(),
+                "quat": [*q[1:].tolist(), float(q[0])],
+                "joint": joint,
+                "moving": b > 0,
+                "shapes": [
+                    {
+                        "name": s.name,
+                        "kind": s.kind,
+                        "pos": s.pos,
+                        "quat": s.quat_xyzw,
+                        "size": s.size,
+                        "rgba": s.rgba,
+                    }
+                    for s in shapes.get(b, [])
+                ],
+            }
+        )
+    return {"bodies": out}
+
+
+def make_app(settings: ServeSettings, sessions: Sessions) -> Starlette:
+    """The ASGI application."""
+    server = CrsServer(settings, sessions)
+    app = Starlette(
+        routes=[
+            Route("/", server.index),
+            Route("/api/login", server.login, methods=["POST"]),
+            Route("/api/logout", server.logout, methods=["POST"]),
+            Route("/api/me", server.me),
+            Route("/api/template", server.template_text),
+            Route("/api/scenarios", server.scenarios),
+            Route("/api/arm", server.arm),
+            Route("/api/download/{kind}", server.download),
+            Route("/admin", server.admin),
+            WebSocketRoute("/ws", server.websocket),
+            Mount("/static", app=StaticFiles(directory=STATIC), name="static"),
+        ]
+    )
+    app.state.server = server
+    return app

@@ -1,0 +1,189 @@
+"""Who may use a ``crslab serve``: the roster, passwords, login cookies and per-user limits.
+
+A roster is a CSV file with a header and one row per user::
+
+    name,secret,role
+    alice,pbkdf2_sha256$600000$3b1f...$9a0c...,student
+    bob,token:Zq3...,student
+    ta,pbkdf2_sha256$600000$...,admin
+
+``secret`` is a password hash made by ``crslab serve --hash-password`` (PBKDF2-HMAC-SHA256, the
+standard library's; the roster never holds a password) or ``token:`` and a random token (the
+user types it as the password, or opens ``/?token=...``). ``role`` is ``student`` (default) or
+``admin`` (may see the admin page).
+
+A login gives a cookie signed with the server's secret (HMAC-SHA256): any replica that shares the
+secret (``--secret-file``) accepts it, so a reverse proxy need not send a login back to the
+replica that made it.
+
+>>> h = hash_password("correct horse", salt=b"0123456789abcdef", iterations=1000)
+>>> verify_secret(h, "correct horse"), verify_secret(h, "wrong")
+(True, False)
+>>> signer = CookieSigner(b"k" * 32)
+>>> signer.user(signer.cookie("alice", now=100.0), now=200.0)
+'alice'
+>>> signer.user(signer.cookie("alice", now=100.0)[:-1] + "0", now=200.0) is None
+True
+"""
+
+from __future__ import annotations
+
+import base64
+import csv
+import hashlib
+import hmac
+import secrets
+import time
+from collections import deque
+from dataclasses import dataclass
+from pathlib import Path
+
+PBKDF2_ITERATIONS = 600_000
+"""OWASP's figure for PBKDF2-HMAC-SHA256 (2023)."""
+COOKIE_LIFETIME_S = 12 * 3600.0
+ROLES = ("student", "admin")
+
+
+class RosterError(ValueError):
+    """A roster file that cannot be used: one line naming the file, the row and the problem."""
+
+
+@dataclass(frozen=True)
+class User:
+    """One roster row."""
+
+    name: str
+    secret: str
+    role: str = "student"
+
+    @property
+    def admin(self) -> bool:
+        return self.role == "admin"
+
+
+def hash_password(password: str, *, salt: bytes | None = None, iterations: int = PBKDF2_ITERATIONS) -> str:
+    """``pbkdf2_sha256$ITERATIONS$SALT$HASH`` (hex) for a roster."""
+    salt = salt if salt is not None else secrets.token_bytes(16)
+    digest = hashlib.pbkdf2_hmac("sha256", password.encode(), salt, iterations)
+    return f"pbkdf2_sha256${iterations}${salt.hex()}${digest.hex()}"
+
+
+def verify_secret(secret: str, given: str) -> bool:
+    """Whether ``given`` (a password or a token) matches a roster secret (constant time).
+
+    >>> verify_secret("token:abc", "abc"), verify_secret("token:abc", "abd")
+    (True, False)
+    """
+    if secret.startswith("token:"):
+        return hmac.compare_digest(secret[len("token:") :].encode(), given.encode())
+    try:
+        kind, iterations, salt, digest = secret.split("$")
+        if kind != "pbkdf2_sha256":
+            return False
+        got = hashlib.pbkdf2_hmac("sha256", given.encode(), bytes.fromhex(salt), int(iterations))
+    except ValueError:
+        return False
+    return hmac.compare_digest(got.hex(), digest)
+
+
+def load_roster(path: Path) -> dict[str, User]:
+    """The users of a roster file, by name; :class:`RosterError` for a bad file."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise RosterError(f"{path}: cannot read the roster ({exc.strerror})") from None
+    rows = csv.DictReader(text.splitlines())
+    if rows.fieldnames is None or not {"name", "secret"} <= set(rows.fieldnames):
+        raise RosterError(f"{path}: the first line must name the columns: name,secret[,role]")
+    users: dict[str, User] = {}
+    for n, row in enumerate(rows, start=2):
+        name, secret = (row.get("name") or "").strip(), (row.get("secret") or "").strip()
+        role = (row.get("role") or "student").strip() or "student"
+        if not name or not secret:
+            raise RosterError(f"{path}: line {n}: a user needs a name and a secret")
+        if not (
+            secret.startswith("token:")
+            and len(secret) > len("token:") + 7
+            or secret.startswith("pbkdf2_sha256$")
+            and secret.count("$") == 3
+        ):
+            raise RosterError(
+                f"{path}: line {n}: {name}'s secret must be a password hash (crslab serve "
+                "--hash-password) or token:TOKEN (at least 8 characters)"
+            )
+        if role not in ROLES:
+            raise RosterError(f"{path}: line {n}: role must be {' or '.join(ROLES)}, got {role!r}")
+        if name in users:
+            raise RosterError(f"{path}: line {n}: {name} is listed twice")
+        users[name] = User(name, secret, role)
+    if not users:
+        raise RosterError(f"{path}: the roster lists no user")
+    return users
+
+
+class CookieSigner:
+    """Login cookies: ``name|expiry|HMAC``, signed with the server's secret key."""
+
+    def __init__(self, key: bytes) -> None:
+        self.key = key
+
+    def _mac(self, body: str) -> str:
+        return base64.urlsafe_b64encode(hmac.new(self.key, body.encode(), hashlib.sha256).digest()).decode()
+
+    def cookie(self, name: str, *, now: float | None = None) -> str:
+        """A cookie value for ``name`` valid for :data:`COOKIE_LIFETIME_S`."""
+        expiry = int((now if now is not None else time.time()) + COOKIE_LIFETIME_S)
+        body = f"{base64.urlsafe_b64encode(name.encode()).decode()}|{expiry}"
+        return f"{body}|{self._mac(body)}"
+
+    def user(self, cookie: str | None, *, now: float | None = None) -> str | None:
+        """The user a cookie names, if it is genuine and not expired."""
+        if not cookie or cookie.count("|") != 2:
+            return None
+        name_b64, expiry, mac = cookie.split("|")
+        if not hmac.compare_digest(self._mac(f"{name_b64}|{expiry}"), mac):
+            return None
+        try:
+            if int(expiry) < (now if now is not None else time.time()):
+                return None
+            return base64.urlsafe_b64decode(name_b64.encode()).decode()
+        except ValueError:
+            return None
+
+
+class RateLimit:
+    """At most ``count`` events per ``period_s`` (sliding window), e.g. compiles per minute.
+
+    >>> r = RateLimit(2, 60.0)
+    >>> r.allow(0.0), r.allow(1.0), r.allow(2.0), r.allow(61.0)
+    (True, True, False, True)
+    """
+
+    def __init__(self, count: int, period_s: float) -> None:
+        self.count = count
+        self.period_s = period_s
+        self.times: deque[float] = deque()
+
+    def allow(self, now: float) -> bool:
+        """Count one event at ``now`` if the limit allows it."""
+        while self.times and self.times[0] <= now - self.period_s:
+            self.times.popleft()
+        if len(self.times) >= self.count:
+            return False
+        self.times.append(now)
+        return True
+
+
+def load_secret(path: Path | None) -> bytes:
+    """The cookie key: the file's content (shared by replicas), else a fresh random key."""
+    if path is None:
+        return secrets.token_bytes(32)
+    try:
+        key = path.read_bytes().strip()
+    except OSError as exc:
+        raise RosterError(f"{path}: cannot read the secret ({exc.strerror})") from None
+    if len(key) < 32:
+        raise RosterError(
+            f"{path}: the secret must be at least 32 bytes (e.g. openssl rand -hex 32 > {path})"
+        )
+    return key

@@ -1,0 +1,136 @@
+// crslab serve: the scopes. Four panels (Simulink_PlotVar1..4, motor angles, commanded torques, applied
+// torques), a rolling window of simulated time, pause (the window stops following the run) and zoom (the
+// wheel widens or narrows the window; with the run paused, shift + wheel moves it in time).
+"use strict";
+
+window.CrsScopes = (function () {
+  const COLUMNS = 13; // the order of crslab/serve/stream.py's SCOPE_SIGNALS
+  const PANELS = [
+    { title: "Simulink_PlotVar1..4", unit: "lab units", cols: [0, 1, 2, 3],
+      names: ["PlotVar1", "PlotVar2", "PlotVar3", "PlotVar4"] },
+    { title: "motor angles", unit: "rad", cols: [4, 5, 6], names: ["theta1motor", "theta2motor", "theta3motor"] },
+    { title: "torques commanded by lab()", unit: "command units", cols: [7, 8, 9], names: ["tau1", "tau2", "tau3"] },
+    { title: "torques applied", unit: "command units", cols: [10, 11, 12],
+      names: ["tau1 applied", "tau2 applied", "tau3 applied"] },
+  ];
+  const COLORS = ["#0b63b6", "#d0531f", "#1e7a34", "#7b3fa0"];
+  const MAX_ROWS = 120000; // two minutes of simulated time at 1 kHz
+
+  function Scopes(host) {
+    this.host = host;
+    this.canvases = PANELS.map((p) => {
+      const c = document.createElement("canvas");
+      c.setAttribute("aria-label", `${p.title} (${p.unit})`);
+      host.appendChild(c);
+      return c;
+    });
+    this.clear();
+    this.windowS = 5;
+    this.paused = false;
+    this.endTick = 0;
+    this.dirty = true;
+    this.canvases.forEach((c) => c.addEventListener("wheel", (e) => this.wheel(e), { passive: false }));
+  }
+
+  Scopes.prototype.clear = function () {
+    this.data = new Float32Array(MAX_ROWS * COLUMNS);
+    this.tick0 = 0; // tick of row 0
+    this.rows = 0;
+    this.endTick = 0;
+    this.dirty = true;
+  };
+
+  // One chunk's rows (consecutive ticks from tick0), from the server's base64 float32 block.
+  Scopes.prototype.add = function (scope) {
+    const bytes = Uint8Array.from(atob(scope.data), (c) => c.charCodeAt(0));
+    const rows = new Float32Array(bytes.buffer);
+    const n = scope.rows;
+    if (this.rows === 0) this.tick0 = scope.tick0;
+    if (this.rows + n > MAX_ROWS) { // drop the oldest half
+      const keep = Math.floor(MAX_ROWS / 2);
+      this.data.copyWithin(0, (this.rows - keep) * COLUMNS, this.rows * COLUMNS);
+      this.tick0 += this.rows - keep;
+      this.rows = keep;
+    }
+    this.data.set(rows.subarray(0, n * COLUMNS), this.rows * COLUMNS);
+    this.rows += n;
+    this.dirty = true;
+  };
+
+  // Follow the run up to `tick` (the playout's current tick).
+  Scopes.prototype.follow = function (tick) {
+    if (!this.paused && tick !== this.endTick) { this.endTick = tick; this.dirty = true; }
+  };
+
+  Scopes.prototype.wheel = function (e) {
+    e.preventDefault();
+    if (e.shiftKey && this.paused) {
+      this.endTick += Math.sign(e.deltaY) * this.windowS * 100;
+    } else {
+      this.windowS = Math.min(120, Math.max(0.05, this.windowS * (e.deltaY > 0 ? 1.25 : 0.8)));
+    }
+    this.dirty = true;
+  };
+
+  Scopes.prototype.draw = function () {
+    if (!this.dirty) return;
+    this.dirty = false;
+    const span = Math.round(this.windowS * 1000);
+    const end = this.endTick;
+    const start = end - span;
+    PANELS.forEach((panel, k) => this.drawPanel(this.canvases[k], panel, start, end));
+  };
+
+  Scopes.prototype.drawPanel = function (canvas, panel, start, end) {
+    const w = canvas.clientWidth, h = canvas.clientHeight;
+    if (canvas.width !== w) canvas.width = w;
+    if (canvas.height !== h) canvas.height = h;
+    const g = canvas.getContext("2d");
+    g.clearRect(0, 0, w, h);
+    const first = Math.max(0, start - this.tick0), last = Math.min(this.rows, end - this.tick0);
+    let lo = Infinity, hi = -Infinity;
+    for (let r = first; r < last; r++) {
+      for (const c of panel.cols) {
+        const v = this.data[r * COLUMNS + c];
+        if (v < lo) lo = v;
+        if (v > hi) hi = v;
+      }
+    }
+    if (!(hi >= lo)) { lo = -1; hi = 1; }
+    if (hi - lo < 1e-6) { lo -= 0.5; hi += 0.5; }
+    const pad = (hi - lo) * 0.08;
+    lo -= pad; hi += pad;
+    const left = 52;
+    const x = (tick) => left + ((tick - start) / (end - start)) * (w - left - 4);
+    const y = (v) => h - 14 - ((v - lo) / (hi - lo)) * (h - 20);
+    g.font = "11px system-ui, sans-serif";
+    g.fillStyle = "#5b6670";
+    g.fillText(`${panel.title} (${panel.unit})`, left, 11);
+    g.fillText(hi.toPrecision(3), 2, 14);
+    g.fillText(lo.toPrecision(3), 2, h - 16);
+    g.fillText(`${(start / 1000).toFixed(2)} s`, left, h - 2);
+    g.fillText(`${(end / 1000).toFixed(2)} s`, w - 60, h - 2);
+    const step = Math.max(1, Math.floor((last - first) / (w - left))); // at most a few points per pixel
+    panel.cols.forEach((c, i) => {
+      g.strokeStyle = COLORS[i];
+      g.beginPath();
+      for (let r = first; r < last; r += step) {
+        // min and max of each pixel column, so a spike narrower than a pixel still shows
+        let mn = Infinity, mx = -Infinity;
+        for (let q = r; q < Math.min(last, r + step); q++) {
+          const v = this.data[q * COLUMNS + c];
+          if (v < mn) mn = v;
+          if (v > mx) mx = v;
+        }
+        const px = x(this.tick0 + r);
+        if (r === first) g.moveTo(px, y(mn)); else g.lineTo(px, y(mn));
+        if (mx !== mn) g.lineTo(px, y(mx));
+      }
+      g.stroke();
+      g.fillStyle = COLORS[i];
+      g.fillText(panel.names[i], w - 90, 24 + 12 * i);
+    });
+  };
+
+  return { Scopes, PANELS };
+})();

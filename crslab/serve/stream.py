@@ -1,0 +1,293 @@
+"""What one run sends to the page, and what the page does to the run: a sink and a live control.
+
+:class:`BrowserStream` is a :class:`~crslab.sinks.sink.Sink`: after every chunk of ticks it sends
+one ``chunk`` message holding the serial bytes with the tick each left the board (what Tera Term
+shows, at the time the board sends it), the arm's pose at 60 Hz of simulated time (DH and motor
+angles, the safety flag, whether the motor board cut the outputs: the page poses its model of the
+arm from the DH angles), and
+the scope rows of every tick (``Simulink_PlotVar1..4``, motor angles, commanded and applied
+torques: :data:`SCOPE_SIGNALS`), packed as little-endian float32.
+
+:class:`PageControl` is a :class:`~crslab.sim.running.PacedControl`: the server paces the run
+(the worker runs a chunk, then the control waits until the wall clock reaches the chunk's end),
+and while it waits it carries out what the page sent: stop, a new speed, the watched variables
+(read and written between two ticks, as ``crslab sim``'s typed commands are), and the hand (a
+spring from the grabbed point of a link to the mouse, passed to the worker as a force on that
+link, as MuJoCo's viewer passes its mouse; let go and the force is gone).
+
+>>> frame_ticks(np.arange(0, 40))
+[0, 17, 34]
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import time
+from collections.abc import Callable
+from multiprocessing.connection import Connection
+
+import numpy as np
+
+from crslab.live.console import Command as VarCommand
+from crslab.live.console import CommandError, VarConsole, format_value
+from crslab.sim.running import RunningLab
+from crslab.sinks.sink import Sink
+
+FRAME_HZ = 60
+"""Poses of the arm per simulated second sent to the page (the 3D view)."""
+IDLE_CHUNK_TICKS = 100
+"""Ticks per chunk at real time (x speed) while the page only watches: each chunk reaches the page
+up to this much ahead of its ticks, and the page shows each tick at its time. Every chunk costs
+the server a fixed share of a core (docs/serve.md, Capacity), so watching uses long chunks..."""
+INTERACTIVE_CHUNK_TICKS = 20
+"""... and acting short ones, as ``crslab sim``'s: while the hand holds the arm, and for
+:data:`INTERACTIVE_HOLD_TICKS` after any command, a command acts within 20 ms of simulated time."""
+INTERACTIVE_HOLD_TICKS = 2000
+FAST_CHUNK_TICKS = 1000
+"""Ticks per chunk as fast as possible: the page sees progress, and Stop acts, every 1000 ticks."""
+SCOPE_SIGNALS = (
+    "Simulink_PlotVar1",
+    "Simulink_PlotVar2",
+    "Simulink_PlotVar3",
+    "Simulink_PlotVar4",
+    "theta1motor",
+    "theta2motor",
+    "theta3motor",
+    "tau1",
+    "tau2",
+    "tau3",
+    "tau1_applied",
+    "tau2_applied",
+    "tau3_applied",
+)
+"""The scope columns of a chunk, in order (float32 each, one row per tick)."""
+HAND_STIFFNESS_N_M = 400.0
+"""The hand's spring from the grabbed point to the mouse (N/m)."""
+HAND_DAMPING_N_S_M = 40.0
+HAND_MAX_N = 300.0
+"""The most the hand pulls with: enough to beat the hold controller (5 units on each motor) and
+gravity, as the scenario's hand (120 N.m at each joint) does."""
+
+Send = Callable[[bytes], None]
+
+
+def frame_ticks(ticks: np.ndarray) -> list[int]:
+    """The ticks among ``ticks`` that start a new 1/60 s frame of simulated time."""
+    t = np.asarray(ticks, dtype=np.int64).reshape(-1)
+    starts = (t * FRAME_HZ) // 1000 != ((t - 1) * FRAME_HZ) // 1000
+    return t[starts].tolist()
+
+
+def message(kind: str, **fields: object) -> bytes:
+    """One message for the page, as JSON bytes.
+
+    >>> message("event", tick=5000, text="hand to rest")
+    b'{"type": "event", "tick": 5000, "text": "hand to rest"}'
+    """
+    return json.dumps({"type": kind, **fields}).encode()
+
+
+class ArmPoses:
+    """The arm's bodies' world poses from DH angles (the MuJoCo model's kinematics), and where a
+    point fixed on a link is."""
+
+    def __init__(self) -> None:
+        from crslab.scopes.arm3d import ArmModel
+
+        self.model = ArmModel()
+        self.names = [b.name for b in self.model.moving]
+        self.com_local = np.array([self.model.model.body_ipos[b.id] for b in self.model.moving])
+        self.body_ids = [b.id for b in self.model.moving]
+        self.nbody = int(self.model.model.nbody)
+
+    def poses(self, qpos_dh_rad: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``(n, bodies, 3)`` positions (m) and ``(n, bodies, 4)`` quaternions ``x y z w``."""
+        return self.model.poses(qpos_dh_rad)
+
+
+def _rotate_xyzw(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    from crslab.scopes.arm3d import quat_rotate
+
+    wxyz = np.concatenate([q[..., 3:], q[..., :3]], axis=-1).reshape(1, 4)
+    return quat_rotate(wxyz, np.asarray(v, dtype=float).reshape(1, 3))[0]
+
+
+class BrowserStream(Sink):
+    """Sends each chunk of a run to the page through ``send`` (one message per chunk)."""
+
+    def __init__(self, send: Send, arm: ArmPoses) -> None:
+        self.send = send
+        self.arm = arm
+        self.serial: list[tuple[int, str]] = []
+        self.blocks: list[dict[str, np.ndarray]] = []
+        self.last_qpos: np.ndarray | None = None
+        """The arm's latest DH angles (for the hand)."""
+        self.last_tick = 0
+        self.first_tick = 0
+
+    def on_serial(self, tick: int, data: bytes) -> None:
+        self.serial.append((tick, data.decode("latin-1")))
+
+    def on_log(self, columns: dict[str, np.ndarray]) -> None:
+        self.blocks.append(columns)
+
+    def flush(self) -> None:
+        if not self.blocks and not self.serial:
+            return
+        fields: dict[str, object] = {"serial": self.serial}
+        if self.blocks:
+            log = {k: np.concatenate([b[k] for b in self.blocks]) for k in self.blocks[0]}
+            fields.update(self._frames(log))
+            fields["scope"] = self._scope(log)
+            self.last_tick = int(log["tick"][-1, 0]) + 1
+        fields["first"], fields["tick"] = self.first_tick, self.last_tick
+        fields["sent"] = round(time.monotonic(), 4)  # the machine's monotonic clock: where lag arises
+        self.first_tick = self.last_tick
+        self.send(message("chunk", **fields))
+        self.serial, self.blocks = [], []
+
+    def _frames(self, log: dict[str, np.ndarray]) -> dict[str, object]:
+        ticks = log["tick"][:, 0]
+        keep = (ticks * FRAME_HZ) // 1000 != ((ticks - 1) * FRAME_HZ) // 1000  # frame_ticks, as a mask
+        keep[-1] = True  # the chunk's last pose too: a stopped run shows the latest
+        self.last_qpos = log["qpos_dh_rad"][-1].copy()
+        frames = np.concatenate(
+            [np.round(log["qpos_dh_rad"][keep], 5), np.round(log["enc_rad"][keep], 5)], axis=1
+        )
+        flags = np.concatenate([ticks[keep, None], log["safety"][keep], log["motor_board_off"][keep]], axis=1)
+        return {"frames": [[f[0], *a, f[1], f[2]] for f, a in zip(flags.tolist(), frames.tolist())]}
+
+    @staticmethod
+    def _scope(log: dict[str, np.ndarray]) -> dict[str, object]:
+        rows = np.concatenate([log["plot"], log["enc_rad"], log["tau_lab"], log["tau_applied"]], axis=1)
+        data = rows.astype("<f4").tobytes()
+        return {"tick0": int(log["tick"][0, 0]), "rows": len(rows), "data": base64.b64encode(data).decode()}
+
+
+class Stopped(KeyboardInterrupt):
+    """The page asked the run to stop (ends ``Simulation.run`` as its Ctrl-C does)."""
+
+
+class PageControl:
+    """Paces the run and carries out the page's commands between chunks of ticks."""
+
+    def __init__(
+        self,
+        conn: Connection,
+        send: Send,
+        stream: BrowserStream,
+        console: VarConsole,
+        speed: float | None,
+        on_other: Callable[[dict], None],
+    ) -> None:
+        self.conn = conn
+        self.send = send
+        self.stream = stream
+        self.console = console
+        self.speed = speed
+        self.on_other = on_other
+        self.hand: dict | None = None
+        self._pushing = False
+        self._anchor_prev: np.ndarray | None = None
+        self._pace: tuple[float, int] | None = None  # (wall, tick) pacing counts from
+        self._tick = 0
+        self._acted_until = -1
+
+    def start(self) -> None:
+        """The run starts now: tick 0 is due now (pacing counts from here)."""
+        self._pace = (time.monotonic(), 0)
+
+    @property
+    def origin(self) -> float:
+        """When tick 0 was due (``time.monotonic()``, the machine's monotonic clock)."""
+        return self._pace[0] if self._pace is not None else 0.0
+
+    def chunk_ticks(self, speed: float | None) -> int:
+        """Chunks of 100 ms x speed, 20 ms x speed while the page acts (the run itself is asked to
+        go as fast as possible: this control paces it)."""
+        if self.speed is None:
+            return FAST_CHUNK_TICKS
+        acting = self.hand is not None or self._tick < self._acted_until
+        ticks = INTERACTIVE_CHUNK_TICKS if acting else IDLE_CHUNK_TICKS
+        return max(1, min(FAST_CHUNK_TICKS, round(ticks * self.speed)))
+
+    def serve(self, lab: RunningLab) -> None:
+        """Carry out what the page sent, push the arm, then wait until the wall clock reaches
+        ``lab.tick`` (at the current speed), still carrying out commands while waiting."""
+        if self._pace is None:
+            self._pace = (time.monotonic(), lab.tick)
+        self._tick = lab.tick
+        while True:
+            while self.conn.poll(0):  # (the pipe closing, when the page went away, ends the session)
+                self._acted_until = lab.tick + INTERACTIVE_HOLD_TICKS
+                self._command(lab, self.conn.recv())
+            self._push(lab)
+            if self.speed is None:
+                return
+            wall, tick = self._pace
+            wait = wall + (lab.tick - tick) / 1000.0 / self.speed - time.monotonic()
+            if wait <= 0 or not self.conn.poll(wait):
+                return
+
+    def _command(self, lab: RunningLab, msg: dict) -> None:
+        kind = msg.get("type")
+        if kind == "stop":
+            raise Stopped
+        if kind == "speed":
+            self.speed = msg["speed"]
+            self._pace = (time.monotonic(), lab.tick)
+        elif kind == "vars":
+            self.send(message("vars", **self.vars(lab, msg)))
+        elif kind == "hand":
+            self.hand = msg
+        elif kind == "release":
+            self.hand = None
+        else:
+            self.on_other(msg)
+
+    def vars(self, lab: RunningLab, msg: dict) -> dict:
+        """A ``vars`` command's answer: ``ok``, the reply line, and for list/get the values."""
+        cmd = VarCommand(msg["cmd"], msg.get("name"), msg.get("index"), msg.get("value"))
+        try:
+            reply = self.console.execute(lab, cmd)
+        except CommandError as exc:
+            return {"ok": False, "reply": str(exc), "cmd": cmd.verb}
+        values = {}
+        for var in self.console.watched.values():
+            if var.length is None and (cmd.verb == "list" or var.name == cmd.name):
+                value = lab.get(var.name)
+                assert not isinstance(value, list)
+                values[var.name] = format_value(var, value)
+        return {"ok": True, "reply": reply, "cmd": cmd.verb, "values": values}
+
+    def _push(self, lab: RunningLab) -> None:
+        arm = self.stream.arm
+        if self.hand is None or self.stream.last_qpos is None:
+            if self._pushing:
+                lab.push(np.zeros((arm.nbody, 6)))
+                self._pushing = False
+            self._anchor_prev = None
+            return
+        positions, quats = arm.poses(self.stream.last_qpos[None, :])  # only while a hand holds the arm
+        pos, quat = positions[0], quats[0]
+        i = arm.names.index(self.hand["body"])
+        anchor = pos[i] + _rotate_xyzw(quat[i], self.hand["anchor"])
+        com = pos[i] + _rotate_xyzw(quat[i], arm.com_local[i])
+        velocity = np.zeros(3)
+        dt = self.chunk_ticks(self.speed) / 1000.0
+        if self._anchor_prev is not None:
+            velocity = (anchor - self._anchor_prev) / dt
+        self._anchor_prev = anchor
+        force = (
+            HAND_STIFFNESS_N_M * (np.asarray(self.hand["target"]) - anchor) - HAND_DAMPING_N_S_M * velocity
+        )
+        size = float(np.linalg.norm(force))
+        if size > HAND_MAX_N:
+            force *= HAND_MAX_N / size
+        forces = np.zeros((arm.nbody, 6))
+        forces[arm.body_ids[i], :3] = force
+        forces[arm.body_ids[i], 3:] = np.cross(anchor - com, force)
+        lab.push(forces)
+        self._pushing = True
+
