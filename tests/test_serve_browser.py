@@ -13,9 +13,10 @@ from pathlib import Path
 import pytest
 from serve_server import USERS, ServeProcess, write_roster
 
-from crslab.serve.templates import template
+from crslab.regress.transcript import read_golden
 from crslab.sim.api import simulate
 from crslab.sinks.stdout import tera_term_view
+from crslab.starters import starter_text
 
 pytestmark = pytest.mark.requires("chromium")
 
@@ -107,18 +108,18 @@ def test_writing_a_watched_variable_changes_what_the_lab_prints_and_stop_stops(a
     from playwright.sync_api import expect
 
     page = alice
-    page.get_by_test_id("editor").fill(template("lab1", "A")[1])
+    page.get_by_test_id("editor").fill(starter_text("lab1", "A"))
     page.get_by_test_id("speed").select_option("1")
     page.locator("details.options summary").click()
     page.get_by_test_id("no-startup-delay").check()
     page.get_by_test_id("run").click()
     expect(page.get_by_test_id("terminal")).to_contain_text("0.00 ")
-    assert "Hello" not in page.get_by_test_id("terminal").text_content()
+    assert "I love robotics" not in page.get_by_test_id("terminal").text_content()
     page.get_by_test_id("var-name").fill("whattoprint")
     page.get_by_test_id("var-value").fill("1")
     page.get_by_test_id("var-set").click()
     expect(page.get_by_test_id("var-reply")).to_contain_text("whattoprint = 1   (from t = ")
-    expect(page.get_by_test_id("terminal")).to_contain_text("Hello from lab() at count ")
+    expect(page.get_by_test_id("terminal")).to_contain_text("I love robotics")
     page.get_by_test_id("stop").click()
     expect(page.get_by_test_id("diagnosis")).to_contain_text("interrupted: stopped at t = ")
     expect(page.get_by_test_id("run")).to_be_enabled()
@@ -129,7 +130,7 @@ def test_dragging_a_link_moves_the_arm(alice):
     from playwright.sync_api import expect
 
     page = alice
-    page.get_by_test_id("editor").fill(template("lab1", "A")[1])
+    page.get_by_test_id("editor").fill(starter_text("lab1", "A"))
     page.get_by_test_id("scenario").select_option("hands_off")  # nothing else moves the arm
     page.get_by_test_id("speed").select_option("1")
     page.get_by_test_id("run").click()
@@ -161,19 +162,21 @@ def test_check_against_a_golden_file_from_the_page(alice, tmp_path):
     from playwright.sync_api import expect
 
     lab = tmp_path / "lab1.c"
-    lab.write_text(template("lab1", "B")[1])
+    lab.write_text(starter_text("lab1", "B"))
     golden = tmp_path / "lab1_golden.txt"
     subprocess.run([sys.executable, "-m", "crslab", "record", "--lab", str(lab), "--duration", "5", "-o",
                     str(golden)], check=True, capture_output=True)
+    printed = read_golden(golden).body.count(b"\n")  # 6: the angles, the position, the IK angles, twice
     page = alice
     page.get_by_test_id("editor").fill(lab.read_text())
     page.get_by_test_id("golden-file").set_input_files(str(golden))
-    expect(page.get_by_test_id("check-report")).to_have_text(re.compile(r"^match: 2 lines"))
+    expect(page.get_by_test_id("check-report")).to_have_text(re.compile(rf"^match: {printed} lines"))
     expect(page.get_by_test_id("diagnosis")).to_have_text("check: the run matches the golden file")
-    # the editor's lab is what is checked: one that prints its angles in rad does not match
+    # the editor's lab is what is checked: one that prints its angles in rad does not match (the
+    # two lines of motor angles; the others print zeros in either unit)
     page.get_by_test_id("editor").fill(lab.read_text().replace("* 180 / PI", ""))
     page.get_by_test_id("golden-file").set_input_files(str(golden))
-    expect(page.get_by_test_id("check-report")).to_have_text(re.compile(r"^mismatch: 2 of 2 lines differ"))
+    expect(page.get_by_test_id("check-report")).to_have_text(re.compile(rf"^mismatch: 2 of {printed} lines differ"))
 
 
 def test_a_compile_error_marks_its_line(alice):
@@ -183,7 +186,7 @@ def test_a_compile_error_marks_its_line(alice):
     page.get_by_test_id("editor").fill((LABS / "does_not_compile.c").read_text())
     page.get_by_test_id("build").click()
     expect(page.get_by_test_id("diagnosis")).to_contain_text(
-        re.compile("does not compile: line 9: .Kp_gain. undeclared")
+        re.compile("does not compile: line 9: use of undeclared identifier .Kp_gain.")
     )
     lines = page.locator(".cm-content .cm-line")
     expect(lines.nth(8).locator(".cm-lintRange-error")).to_have_count(1)  # line 9, and no other

@@ -13,11 +13,12 @@ import numpy as np
 import pytest
 from serve_server import USERS, Client, ServeProcess, run_message, serial_of, write_roster
 
-from crslab.serve.templates import template
+from crslab.regress.transcript import read_golden
 from crslab.sim.api import simulate
+from crslab.starters import starter_text
 
 LABS = Path(__file__).parent / "labs"
-LAB_A = template("lab1", "A")[1]
+LAB_A = starter_text("lab1", "A")
 
 
 @pytest.fixture(scope="module")
@@ -102,13 +103,13 @@ def test_writing_a_watched_variable_changes_what_the_lab_prints(alice):
             replies.append(m)
     assert replies[0]["ok"] and replies[0]["reply"].startswith("whattoprint = 1   (from t = ")
     assert replies[1]["values"] == {"whattoprint": "1"}
-    while b"Hello" not in b"".join(data for _, data in serial_of(got)):
+    while b"I love robotics" not in b"".join(data for _, data in serial_of(got)):
         got.append(alice.next())
     alice.send({"type": "stop"})
     got += alice.until("ended")
     text = b"".join(data for _, data in serial_of(first + got))
     assert text.startswith(b"0.00 ")  # the angles before the write
-    assert b"Hello from lab() at count " in text  # the greeting after it
+    assert b"I love robotics\n\r" in text  # the greeting after it
     assert got[-1]["status"] == "interrupted" and got[-1]["message"].startswith("stopped at t = ")
 
 
@@ -323,12 +324,13 @@ def test_check_compares_with_a_golden_file(alice, tmp_path):
          "golden": {"name": "golden.txt", "text": golden.read_bytes().decode("latin-1")}}
     )
     checked = alice.until("checked")[-1]
-    assert checked["ok"] and checked["report"].startswith("match: 4 lines")
+    printed = read_golden(golden).body.count(b"\n")  # 12: three lines every 0.5 s from t = 4.5 s
+    assert checked["ok"] and checked["report"].startswith(f"match: {printed} lines")
     changed = golden.read_bytes().decode("latin-1").replace("-21.19", "-21.50", 1)
     alice.send({"type": "check", "lab": {"name": "lab1.c", "text": LAB_A},
                 "golden": {"name": "golden.txt", "text": changed}})
     checked = alice.until("checked")[-1]
-    assert not checked["ok"] and "mismatch: 1 of 4 lines differ" in checked["report"]
+    assert not checked["ok"] and f"mismatch: 1 of {printed} lines differ" in checked["report"]
     alice.send(run_message(LAB_A, duration=1.0))  # the check is over: the next run may start
     assert alice.until("ended")[-1]["status"] == "ok"
 

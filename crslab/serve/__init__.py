@@ -3,7 +3,7 @@
 ``app`` (the Starlette application and its routes), ``auth`` (roster, passwords, cookies,
 limits), ``protocol`` (the WebSocket messages, checked), ``sessions`` (one process per page
 session, the per-user limits), ``session_process`` (what runs in it: builds, runs, checks),
-``stream`` (a run's sink and live control for the page), ``templates`` (the course's lab
-templates), ``static/`` (the page and its vendored libraries), ``deploy/`` (a reverse proxy's
-configuration).
+``stream`` (a run's sink and live control for the page), ``static/`` (the page and its
+vendored libraries), ``deploy/`` (a reverse proxy's configuration). The lab templates the page
+starts from are ``crslab new``'s (:mod:`crslab.starters`).
 """

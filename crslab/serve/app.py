@@ -1,8 +1,8 @@
 """The web application of ``crslab serve`` (Starlette, served by uvicorn).
 
 Routes: ``/`` the page (``static/index.html``), ``/static/...`` its scripts, styles and vendored
-libraries, ``/api/login`` and ``/api/logout``, ``/api/me``, ``/api/template`` (the course's
-template for a lab and a generation), ``/api/scenarios``, ``/api/arm`` (the arm's shapes from the
+libraries, ``/api/login`` and ``/api/logout``, ``/api/me``, ``/api/template`` (``crslab new``'s
+starting file for a lab and a generation), ``/api/scenarios``, ``/api/arm`` (the arm's shapes from the
 MuJoCo model, for the 3D view), ``/api/download/{kind}`` (the last run's transcript, CSV or
 ``.rrd``), ``/admin`` (sessions, for admins) and ``/ws``, one WebSocket per page session
 (:mod:`crslab.serve.protocol`).
@@ -37,7 +37,7 @@ from crslab.serve.auth import CookieSigner, RateLimit, User, verify_secret
 from crslab.serve.protocol import ProtocolError, parse_message
 from crslab.serve.session_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
 from crslab.serve.sessions import LimitError, PageSession, Sessions
-from crslab.serve.templates import LABS, template
+from crslab.starters import LABS, starter_text
 
 STATIC = Path(__file__).parent / "static"
 COOKIE = "crslab_session"
@@ -171,10 +171,10 @@ class CrsServer:
             return JSONResponse({"error": "log in first"}, status_code=401)
         lab, gen = request.query_params.get("lab", "lab1"), request.query_params.get("gen", "A")
         try:
-            name, text = template(lab, gen)
-        except KeyError as exc:
-            return JSONResponse({"error": str(exc.args[0])}, status_code=404)
-        return JSONResponse({"name": name, "text": text})
+            text = starter_text(lab, gen)
+        except ValueError as exc:
+            return JSONResponse({"error": str(exc)}, status_code=404)
+        return JSONResponse({"name": f"{lab}.c", "text": text})
 
     async def scenarios(self, request: Request) -> Response:
         if self._scenarios is None:
