@@ -176,7 +176,8 @@ def test_check_against_a_golden_file_from_the_page(alice, tmp_path):
     # two lines of motor angles; the others print zeros in either unit)
     page.get_by_test_id("editor").fill(lab.read_text().replace("* 180 / PI", ""))
     page.get_by_test_id("golden-file").set_input_files(str(golden))
-    expect(page.get_by_test_id("check-report")).to_have_text(re.compile(rf"^mismatch: 2 of {printed} lines differ"))
+    expect(page.get_by_test_id("check-report")).to_have_text(
+        re.compile(rf"^mismatch: 2 of {printed} lines differ"))
 
 
 def test_a_compile_error_marks_its_line(alice):
