@@ -31,6 +31,7 @@ from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START, GEN_A, GEN_B, p
 from crslab.lab import firmware, zig
 from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
+from crslab.lab.includes import special_include
 from crslab.lab.lab_file import lab_file_problem
 from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, find_watched
@@ -306,6 +307,9 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     except OSError as exc:
         raise LabBuildError(f"{src}: cannot be read ({exc.strerror})") from None
     text = text_bytes.decode("utf-8", "replace")
+    special = special_include(src)
+    if special is not None:
+        raise LabBuildError(f"{src.name} does not compile: {special}")
     generation = detect_generation(text)
     variables = find_variables(text)
     check_board_memory(variables, generation, src)

@@ -1,0 +1,88 @@
+"""What a lab file includes from its own folder, checked before a compiler opens it.
+
+A FIFO (or a socket, or a device node) in the lab's folder named by an ``#include`` would make
+the compiler wait or read forever: the compile sandbox lets the compiler read the lab's folder,
+and opening a FIFO blocks until somebody writes to it. So every ``#include "..."`` and
+``#include <...>`` that names something inside the lab's folder is looked at first, in the lab
+file and, recursively, in the files it includes from there; one that is not a regular file stops
+the build with its line. Names outside the folder are left to the compiler and its sandbox (which
+refuses them without saying what they are), and an include whose name a macro builds still meets
+the compiler's time limit (:mod:`crslab.lab.compile_process`).
+
+>>> import tempfile
+>>> folder = Path(tempfile.mkdtemp())
+>>> os.mkfifo(folder / "gains.h")
+>>> _ = (folder / "lab.c").write_text('#include "math.h"\\n#include "gains.h"\\n')
+>>> special_include(folder / "lab.c")
+'lab.c:2 includes gains.h, which is a FIFO, not a file'
+>>> _ = (folder / "lab.c").write_text('#include "math.h"\\n')
+>>> special_include(folder / "lab.c") is None
+True
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import stat
+from pathlib import Path
+
+INCLUDE = re.compile(rb'^[ \t]*#[ \t]*include[ \t]*(?:"([^"\n]+)"|<([^>\n]+)>)', re.MULTILINE)
+MAX_FILES = 200
+"""How many files of the lab's folder are followed (a lab includes a few headers at most)."""
+MAX_BYTES = 4 * 1024 * 1024
+"""How much of each is read."""
+
+_KINDS = ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"), (stat.S_ISCHR, "a character device"),
+          (stat.S_ISBLK, "a block device"))
+
+
+def _kind(mode: int) -> str | None:
+    """What a file that is neither a regular file nor a folder is, else None."""
+    return next((name for test, name in _KINDS if test(mode)), None)
+
+
+def _inside(path: Path, folder: Path) -> bool:
+    return path == folder or folder in path.parents
+
+
+def special_include(lab: Path) -> str | None:
+    """The first ``#include`` reachable from ``lab`` that names something in the lab's folder
+    that is not a regular file: ``"FILE:LINE includes NAME, which is a FIFO, not a file"``; None
+    when there is none."""
+    start = lab.resolve()
+    folder = start.parent
+    seen: set[Path] = set()
+    todo = [start]
+    while todo and len(seen) < MAX_FILES:
+        current = todo.pop()
+        if current in seen:
+            continue
+        seen.add(current)
+        try:
+            with open(current, "rb") as f:
+                text = f.read(MAX_BYTES)
+        except OSError:
+            continue
+        for m in INCLUDE.finditer(text):
+            name = (m.group(1) or m.group(2)).decode("utf-8", "replace")
+            for base in dict.fromkeys((current.parent, folder)):
+                candidate = Path(os.path.normpath(base / name))
+                if not _inside(candidate, folder):
+                    continue
+                try:
+                    resolved = candidate.resolve()
+                    mode = os.stat(resolved).st_mode if _inside(resolved, folder) else None
+                except (OSError, RuntimeError):
+                    continue
+                if mode is None:
+                    continue
+                kind = _kind(mode)
+                if kind is not None:
+                    line = text.count(b"\n", 0, m.start()) + 1
+                    where = current.relative_to(folder) if _inside(current, folder) else current.name
+                    return f"{where}:{line} includes {name}, which is {kind}, not a file"
+                if stat.S_ISREG(mode):
+                    todo.append(resolved)
+                    break
+    return None

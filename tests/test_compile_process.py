@@ -1,0 +1,103 @@
+"""The compiler is contained, whatever the lab file makes it do: a FIFO or a device named by an
+``#include`` is refused before the compiler opens it, a compiler out of time is killed with every
+process it started, its address space is bounded, and an image over 8 MB never reaches the build
+cache. Both boards: the WebAssembly build (zig) and the native one (the host's compiler)."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from crslab.lab.compile_process import IMAGE_CAP_BYTES, run_compile
+from crslab.lab.includes import special_include
+
+LAB_BODY = ("void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2,\n"
+            "         float *tau3, int error)\n{\n    *tau1 = 0; *tau2 = 0; *tau3 = 0;\n}\n")
+BOARDS = [pytest.param([], id="wasm"), pytest.param(["--native"], id="native")]
+
+
+def sim(lab: Path, *extra: str, cache: Path | None = None) -> subprocess.CompletedProcess:
+    """``crslab sim`` on ``lab``; ``cache``: a build cache of its own (zig's C library stays in the
+    user's, which a fresh cache would build again)."""
+    env = {**os.environ, "CRSLAB_CACHE_DIR": str(cache)} if cache is not None else None
+    return subprocess.run([sys.executable, "-m", "crslab", "sim", "--lab", str(lab), "--fast", "--quiet",
+                           "--duration", "0.01", "--no-c28x-check", *extra], capture_output=True, text=True,
+                          env=env, timeout=300)
+
+
+@pytest.mark.parametrize("board", BOARDS)
+def test_an_include_of_a_fifo_in_the_labs_folder_does_not_compile_at_once(tmp_path, board):
+    """Opening a FIFO blocks until someone writes to it: without the check the compiler would
+    wait until its time limit (60 s)."""
+    os.mkfifo(tmp_path / "gains.h")
+    lab = tmp_path / "fifo_lab.c"
+    lab.write_text('#include "math.h"\n#include "gains.h"\n' + LAB_BODY)
+    r = sim(lab, *board)
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip().splitlines()[-1] == ("crslab sim: fifo_lab.c does not compile: fifo_lab.c:2 "
+                                                 "includes gains.h, which is a FIFO, not a file")
+
+
+def test_a_fifo_is_found_through_the_headers_the_lab_includes(tmp_path):
+    (tmp_path / "sub").mkdir()
+    os.mkfifo(tmp_path / "sub" / "table.h")
+    (tmp_path / "sub" / "gains.h").write_text('/* gains */\n\n#include "table.h"\n')
+    (tmp_path / "lab.c").write_text('#include <math.h>\n#include "sub/gains.h"\n')
+    assert special_include(tmp_path / "lab.c") == ("sub/gains.h:3 includes table.h, which is a FIFO, "
+                                                   "not a file")
+    # a header that includes itself is read once; a name outside the folder is the sandbox's
+    (tmp_path / "sub" / "gains.h").write_text('#include "gains.h"\n#include "/dev/urandom"\n')
+    assert special_include(tmp_path / "lab.c") is None
+
+
+def test_a_compiler_out_of_time_is_killed_with_every_process_it_started(tmp_path):
+    """A compiler driver's children (cc1, as) are in its process group: all of it is killed."""
+    pid_file = tmp_path / "grandchild.pid"
+    script = f"sleep 600 & echo $! > {pid_file}; wait"
+    r = run_compile(["sh", "-c", script], env={"PATH": os.environ["PATH"]}, timeout_s=2.0)
+    assert r.timed_out and r.returncode < 0
+    grandchild = int(pid_file.read_text())
+    try:
+        state = Path(f"/proc/{grandchild}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except FileNotFoundError:
+        state = "gone"
+    assert state in ("gone", "Z"), f"the compiler's child {grandchild} outlived it ({state})"
+
+
+def test_a_compilers_address_space_is_bounded(tmp_path):
+    grab = "x = bytearray(2 * 1024 ** 3); print('got it')"
+    r = run_compile([sys.executable, "-c", grab], env={}, memory_bytes=1024 ** 3)
+    assert r.returncode != 0 and "MemoryError" in r.stderr and not r.timed_out
+    r = run_compile([sys.executable, "-c", grab.replace("2 *", "0 *")], env={}, memory_bytes=1024 ** 3)
+    assert r.returncode == 0
+
+
+def test_an_image_over_8_mb_is_refused_and_not_kept(tmp_path):
+    """``.fill`` puts 9 MB of bytes into the shared object (the source's globals, which the board's
+    memory check reads, are small)."""
+    lab = tmp_path / "fill_lab.c"
+    lab.write_text('__asm__(".section .rodata.big,\\"a\\"\\n.fill 9000000,1,0x41\\n.text\\n");\n' + LAB_BODY)
+    cache = tmp_path / "cache"
+    r = sim(lab, "--native", cache=cache)
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip().splitlines()[-1] == (
+        "crslab sim: fill_lab.c does not compile: its image is 9 MB, more than the 8 MB crslab builds "
+        "(the F28335 has 512 KB of flash)")
+    sizes = [p.stat().st_size for p in cache.rglob("*") if p.is_file()]
+    assert sizes and max(sizes) < IMAGE_CAP_BYTES
+
+
+def test_a_firmware_whose_data_outgrows_the_boards_memory_does_not_link(tmp_path):
+    """The same 9 MB as WebAssembly data: the firmware's memory is at most 1 MiB, so the linker
+    refuses it and the image is never written."""
+    lab = tmp_path / "fill_lab.c"
+    lab.write_text('__asm__(".section .rodata.big,\\"\\",@\\n.globl big\\nbig:\\n.fill 9000000,1,0x41\\n'
+                   '.size big, 9000000\\n");\nextern const char big[];\n'
+                   + LAB_BODY.replace("*tau1 = 0;", "*tau1 = big[(int)theta1motor];"))
+    r = sim(lab)
+    assert r.returncode == 2, r.stderr
+    assert r.stderr.strip().splitlines()[-1] == (
+        "crslab sim: fill_lab.c does not fit the board: it needs 8,896 KB of memory, crslab's board gives "
+        "a lab 1,024 KB (stack, data and heap)")
