@@ -23,6 +23,14 @@ if os.environ.get("CI"):
 
 REQUIRE_ALL_ENV = "CRSLAB_REQUIRE_ALL"
 
+# zig's C library for wasm32 takes about 20 s of CPU to build: tests that give crslab a build cache
+# of their own (CRSLAB_CACHE_DIR) share the user's zig cache instead of building it again each
+# (tests/test_zig_first_use.py builds one afresh on purpose)
+if "ZIG_GLOBAL_CACHE_DIR" not in os.environ:
+    from crslab.lab.zig import zig_cache
+
+    os.environ["ZIG_GLOBAL_CACHE_DIR"] = str(zig_cache())
+
 
 def missing_program(*names: str) -> str | None:
     """The first of ``names`` not on PATH, else None."""

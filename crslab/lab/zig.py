@@ -62,15 +62,27 @@ def zig_version() -> str:
     return version("ziglang")
 
 
+ZIG_CACHE_ENV = "ZIG_GLOBAL_CACHE_DIR"
+"""zig's own setting for its global cache; crslab uses it when it is set."""
+
+
 def zig_cache() -> Path:
-    """zig's global cache (the C libraries it builds once per target)."""
-    return cache_dir() / "zig"
+    """zig's global cache (the C libraries it builds once per target): ``$ZIG_GLOBAL_CACHE_DIR``
+    when set, else ``zig/`` in crslab's build cache.
+
+    >>> import os, tempfile
+    >>> os.environ[ZIG_CACHE_ENV] = tempfile.mkdtemp()
+    >>> zig_cache() == Path(os.environ.pop(ZIG_CACHE_ENV))
+    True
+    """
+    own = os.environ.get(ZIG_CACHE_ENV)
+    return Path(own) if own else cache_dir() / "zig"
 
 
 def zig_environment(local_cache: Path | None = None) -> dict[str, str]:
     """The environment zig runs in: its global cache in crslab's, and the build's own local cache."""
     env = dict(os.environ)
-    env["ZIG_GLOBAL_CACHE_DIR"] = str(zig_cache())
+    env[ZIG_CACHE_ENV] = str(zig_cache())
     if local_cache is not None:
         env["ZIG_LOCAL_CACHE_DIR"] = str(local_cache)
     return env
