@@ -47,7 +47,7 @@ def test_the_sdist_and_the_wheel_carry_the_c_sources_and_the_models(installed):
     assert {"crslab/serve/static/index.html", "crslab/serve/static/app.js",
             "crslab/serve/static/vendor/crslab-vendor.js",
             "crslab/serve/static/vendor/xterm.css", "crslab/serve/static/vendor/README.md",
-            "crslab/serve/static/vendor/licenses/three-0.187.0.txt", "crslab/serve/templates/gen_a.c",
+            "crslab/serve/static/vendor/licenses/three-0.187.0.txt", "crslab/starters/lab1.c.tmpl",
             "crslab/serve/deploy/nginx.conf"} <= in_wheel
     assert not any("/tests/" in n or n.endswith("cffi_build.py") for n in in_wheel)
 
