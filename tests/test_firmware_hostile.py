@@ -147,6 +147,19 @@ def test_sim_names_and_classes_each_lab(place, lab):
     place.assert_untouched(r.stdout, r.stderr, data)
 
 
+def test_a_lab_deep_in_folders_is_still_named_at_its_line(place, tmp_path):
+    """The C library's frames sit above the lab's in wasmtime's backtrace, each with its path: a
+    lab in a deep folder (and crslab in one) still gets its line."""
+    deep = tmp_path.joinpath(*(["a-folder-with-a-long-name-" + "x" * 40] * 12))
+    deep.mkdir(parents=True)
+    shutil.copy(place.labs / "constructor_write.c", deep / "constructor_write.c")
+    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--quiet", "--lab",
+                        str(deep / "constructor_write.c"), "--duration", "0.1"],
+                       capture_output=True, timeout=180, cwd=place.cwd, env=place.env)
+    assert r.returncode == 3, r.stderr.decode()[-1500:]
+    assert f"for writing at constructor_write.c:35 {BEFORE_FIRST_TICK}" in r.stderr.decode()
+
+
 def test_grade_passes_only_what_matches_and_every_report_is_safe(place, tmp_path):
     subs = tmp_path / "class"
     subs.mkdir()

@@ -248,7 +248,7 @@ enum {
     CRS_FW_TRAP_LOAD = 12,        /* the firmware could not be loaded */
     CRS_FW_TRAP_NULL = 13         /* a NULL pointer dereferenced (a check compiled into the lab) */
 };
-enum { CRS_FW_TRAP_TEXT = 1024 };
+enum { CRS_FW_TRAP_TEXT = 16384 }; /* room for the C library's frames above the lab's (long paths) */
 typedef struct {
     int32_t kind;                /* CRS_FW_TRAP_* */
     int32_t phase;               /* CRS_PHASE_* it happened in */
