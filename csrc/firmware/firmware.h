@@ -14,8 +14,6 @@
 
 #include <stdint.h>
 
-#include "generations.h"
-
 #if defined(__wasm__)
 #define CRS_FW_EXPORT(name) __attribute__((export_name(#name), visibility("default")))
 #define CRS_FW_IMPORT(name) __attribute__((import_module("board"), import_name(#name)))
@@ -62,8 +60,9 @@ void crs_fw_printing(void) CRS_FW_EXPORT(crs_fw_printing);
 
 /* ---- inside the firmware ------------------------------------------------------------------ */
 
-/* The row of the generation the firmware was started for; NULL before crs_fw_start. */
-const crs_generation *crs_fw_generation(void);
+/* The formatter (CRS_FORMATTER_*) of the generation the firmware was started for; 0 before
+ * crs_fw_start. */
+int32_t crs_fw_formatter(void);
 
 /* ---- imports: what the firmware asks of the board ----------------------------------------- */
 

@@ -18,8 +18,7 @@ int serial_printf(struct crs_serial_port *port, char *fmt, ...)
     /* Gen A formats into a buffer on the stack; Gen B's is static, and so is this one (as large as
      * any generation's, so the board sees every character of a line that fits the lab's) */
     static char line[CRS_PRINTF_BUFFER_MAX];
-    const crs_generation *gen = crs_fw_generation();
-    const crs_format_fn format = gen != NULL ? crs_format_of(gen->formatter) : NULL;
+    const crs_format_fn format = crs_format_of(crs_fw_formatter());
     if (format == NULL) return 0; /* before the firmware is started (a constructor): nothing is sent */
     va_list ap;
     va_start(ap, fmt);

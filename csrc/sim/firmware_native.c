@@ -29,6 +29,7 @@ int crs_fw_native_attach(crs_sim *sim)
     const crs_fw_table *t = crs_fw_start(sim->generation);
     if (t == NULL) { /* the firmware is linked with the same generations.c: never */
         sim->trap.kind = CRS_FW_TRAP_LOAD;
+        sim->trap.phase = CRS_PHASE_LOADING;
         snprintf(sim->trap.text, sizeof sim->trap.text, "the firmware cannot run framework generation %d",
                  (int)sim->generation);
         return CRS_RUN_TRAPPED;
