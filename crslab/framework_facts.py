@@ -1,23 +1,15 @@
 """The course framework's numbers for Python, read through cffi from the one header that holds
 them (``csrc/sim/framework_facts.h``, compiled into ``crslab._core``): the emulated board is
-built from the same header, so no number of the framework is written twice.
+built from the same header, so no number of the framework is written twice. What differs between
+the framework's generations is in their rows (:mod:`crslab.generations`).
 
->>> STARTUP_TICKS, CLAMP_UNITS, HOLD_REANCHOR_RAD
-(4100, 5.0, 0.15)
->>> printf_buffer_chars(GEN_B), tx_ring_chars(GEN_A), SERIAL_CHARS_PER_MS
-(136, 2048, 11.52)
->>> default_motor_board(GEN_A), default_motor_board(GEN_B)
-('none', 'piccolo')
+>>> STARTUP_TICKS, CLAMP_UNITS, HOLD_REANCHOR_RAD, SERIAL_CHARS_PER_MS
+(4100, 5.0, 0.15, 11.52)
 """
 
 from __future__ import annotations
 
 from crslab._core import lib
-
-GEN_A: int = lib.CRS_GEN_A
-"""Gen A, "CRSRobot" (DSP/BIOS): SWI_post(&SWI_printf), the course's small printf."""
-GEN_B: int = lib.CRS_GEN_B
-"""Gen B, "me446 starter" (C2000Ware): UARTprint, TI's rounding vsprintf."""
 
 STARTUP_TICKS: int = lib.CRS_STARTUP_TICKS
 """The first lab() call is at 4.1 s (the brake releases at 4.0 s)."""
@@ -51,32 +43,6 @@ SCI_TX_SHIFT_CHARS: int = lib.CRS_SCI_TX_SHIFT
 LEDS_AT_START: int = lib.CRS_LEDS_AT_START
 """Bit 0: GPIO34, bit 1: GPIO60; both start high."""
 
-_PRINTF_BUFFER = {GEN_A: lib.CRS_GEN_A_PRINTF_BUFFER, GEN_B: lib.CRS_GEN_B_PRINTF_BUFFER}
-_TX_RING = {GEN_A: lib.CRS_GEN_A_TX_RING, GEN_B: lib.CRS_GEN_B_TX_RING}
-
-
-def printf_buffer_chars(generation: int) -> int:
-    """Characters the generation's serial_printf buffer holds, the terminating NUL included: a
-    line of this many characters or more overflows it."""
-    return _PRINTF_BUFFER[generation]
-
-
-def tx_ring_chars(generation: int) -> int:
-    """Characters the generation's transmit ring holds (the SCI's FIFO and shift register come on
-    top)."""
-    return _TX_RING[generation]
-
-
-def default_motor_board(generation: int) -> str:
-    """The motor board of the hardware each generation ran on: Gen B's Piccolo board; Gen A's older
-    board is not documented, so none (commands pass through)."""
-    return "piccolo" if generation == GEN_B else "none"
-
-
-SCIB_TX_RING = {GEN_A: lib.CRS_GEN_A_SCIB_TX_RING, GEN_B: lib.CRS_GEN_B_SCIB_TX_RING}
-"""SerialB's (Simulink's) transmit ring per generation, chars."""
-SCIC_TX_RING = {GEN_A: lib.CRS_GEN_A_SCIC_TX_RING, GEN_B: lib.CRS_GEN_B_SCIC_TX_RING}
-"""SerialC's (MATLAB's) transmit ring per generation, chars."""
 MATLAB_START: int = lib.CRS_MATLAB_START
 """'*': every MATLAB message and reply starts with it."""
 SIMULINK_INPUTS: int = lib.CRS_SIMULINK_INPUTS
@@ -98,11 +64,3 @@ LAB_BUDGET_INSTRUCTIONS: int = lib.CRS_LAB_BUDGET_INSTRUCTIONS
 """What one lab() call may cost by default, in WebAssembly instructions (half of a tick's cycles)."""
 CPU_CYCLES_PER_TICK: int = lib.CRS_CPU_CYCLES_PER_TICK
 """The F28335's cycles in one 1 ms tick (150 MHz)."""
-
-SECTION_ORIGINS = {
-    GEN_A: {".ebss": lib.CRS_GEN_A_EBSS_ORIGIN, ".my_arrs": lib.CRS_GEN_A_MY_ARRS_ORIGIN,
-            ".my_vars": lib.CRS_GEN_A_MY_VARS_ORIGIN},
-    GEN_B: {".ebss": lib.CRS_GEN_B_EBSS_ORIGIN, ".my_vars": lib.CRS_GEN_B_MY_VARS_ORIGIN,
-            ".my_arrs": lib.CRS_GEN_B_MY_ARRS_ORIGIN},
-}
-"""Where the linker puts each data section of a lab, per generation (16-bit-word addresses on page 1)."""

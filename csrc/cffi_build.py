@@ -6,8 +6,9 @@ and every prototype is written once, in its header. Every ``*.c`` file under ``c
 compiled in, and so is the board (``csrc/sim``) with the WebAssembly firmware's port
 (``firmware_wasm.c``; the native port is linked with a lab instead, crslab/lab/build.py): the
 worker runs a lab's WebAssembly firmware on this board. The course framework's numbers
-(``csrc/sim/framework_facts.h``, declarations only) come along so that Python reads them from the
-same header the emulated board is built with.
+(``csrc/sim/framework_facts.h``, declarations only) and its generations' rows (``generations.h``,
+the rows in ``generations.c``) come along so that Python reads them from the same C the emulated
+board is built with.
 """
 
 from __future__ import annotations
@@ -24,7 +25,7 @@ KIN = HERE / "kin"
 SIM = HERE / "sim"
 # vector_math.h is internal (attributes, no API); every other header is the Python-visible API.
 HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [
-    SIM / "framework_facts.h", SIM / "sim.h", SIM / "firmware_wasm.h"]
+    SIM / "framework_facts.h", SIM / "generations.h", SIM / "sim.h", SIM / "firmware_wasm.h"]
 NATIVE_ONLY = {"firmware_native.c", "debug.c"}
 """Board sources linked only with a native lab (crslab/lab/build.py), never into the core: the
 native port and what a debugger reads (a second ``crs_tick`` here would be the one gdb finds)."""

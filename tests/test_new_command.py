@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from crslab.lab.build import detect_generation
+from crslab.generations import detect
 from crslab.sim.api import simulate
 from crslab.starters import LABS, starter_text
 
@@ -45,7 +45,7 @@ def runs(tmp_path_factory):
 @pytest.mark.parametrize("gen", list(GEN))
 def test_each_starter_is_of_its_generation_and_runs_to_the_end(runs, lab, gen):
     text, run = runs[lab, gen]
-    assert detect_generation(text) == GEN[gen]
+    assert detect(text).id == GEN[gen]
     assert ("SWI_post(&SWI_printf);" in text) == (gen == "A") and ("UARTprint = 1;" in text) == (gen == "B")
     assert run.status == "ok" and run.end_tick == 7600, run.message
     assert run.stats["lab_calls"] == 3500 and run.stats.get("motor_board_cutouts", 0) == 0

@@ -13,7 +13,7 @@ import pytest
 
 from crslab import crs
 from crslab.cli import main
-from crslab.framework_facts import GEN_A, printf_buffer_chars, tx_ring_chars
+from crslab.generations import GEN_A
 from crslab.regress.transcript import read_golden, write_golden
 from crslab.sim.api import simulate
 
@@ -196,7 +196,7 @@ def long_line_lab(tmp_path, chars):
 
 
 def test_gen_a_prints_a_line_at_its_2048_byte_limit_and_stops_beyond_it(tmp_path):
-    assert printf_buffer_chars(GEN_A) == tx_ring_chars(GEN_A) == 2048
+    assert GEN_A.printf_buffer_chars == GEN_A.tx_ring_chars == 2048
     at_limit = simulate(long_line_lab(tmp_path, 2047), "hands_off", duration_s=0.25, startup_delay=False)
     dump = bytes(ord("a") + i % 26 for i in range(2045))
     assert at_limit.status == "ok" and at_limit.stats["tx_dropped"] == 0  # the ring holds all of it too

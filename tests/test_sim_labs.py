@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from crslab.framework_facts import GEN_A, GEN_B
+from crslab.generations import GEN_A, GEN_B
 from crslab.lab.build import build_lab
 from crslab.sim.api import simulate
 

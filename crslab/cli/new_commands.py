@@ -7,14 +7,16 @@ import sys
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.generations import GENERATIONS, NEWEST, named
 from crslab.output_paths import with_parent
-from crslab.starters import GENERATIONS, LABS, starter_text
+from crslab.starters import LABS, starter_text
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``new`` subcommand."""
+    names = [g.name for g in GENERATIONS]
     p = sub.add_parser(
-        "new", help="write a starting lab file (lab1..lab4, Gen A or B) to begin a lab from",
+        "new", help=f"write a starting lab file (lab1..lab4, Gen {' or '.join(names)}) to begin a lab from",
         description="Write a starting file for one of the course's labs, with the structure of the "
         "course's template (the encoder offsets, mycount, watched variables, printing from printing(), "
         "the Simulink PlotVars, the generation's includes), ready for 'crslab sim --lab FILE'. "
@@ -23,9 +25,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("file", type=Path, metavar="FILE", nargs="?",
                    help="the file to write (default: LAB.c, e.g. lab1.c); an existing file is kept")
     p.add_argument("-o", "--output", type=Path, metavar="FILE", help="the file to write (instead of FILE)")
-    p.add_argument("--gen", choices=list(GENERATIONS), default="B",
-                   help="framework generation: A, the 'CRSRobot' DSP/BIOS framework (SWI_post), or B, "
-                   "the 'me446 starter' C2000Ware framework (UARTprint) (default: %(default)s)")
+    p.add_argument("--gen", choices=names, default=NEWEST.name,
+                   help="framework generation: "
+                   + "; ".join(f"{g.name}, {g.title} (printing with {g.print_call})" for g in GENERATIONS)
+                   + " (default: %(default)s, the newest)")
     p.add_argument("--force", action="store_true", help="overwrite FILE if it exists")
     p.intermixed = True  # crslab new lab1 --gen A lab1.c
     p.set_defaults(func=run_new)
@@ -46,6 +49,6 @@ def run_new(args: argparse.Namespace) -> int:
         with_parent(path).write_text(starter_text(args.lab, args.gen))
     except OSError as exc:
         raise CliError(f"{path}: cannot write it ({exc.strerror})") from None
-    print(f"crslab new: {path}: {LABS[args.lab]} for {GENERATIONS[args.gen]}; run it with "
+    print(f"crslab new: {path}: {LABS[args.lab]} for {named(args.gen).title}; run it with "
           f"'crslab sim --lab {path}'", file=sys.stderr)
     return 0

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.framework_facts import SIMULINK_INPUTS, SIMULINK_PERIOD_MS
+from crslab.generations import GENERATIONS
 from crslab.host_tools.c28x_memory import MemoryLayout, text_memory
 from crslab.host_tools.client import MATLAB_TIMEOUT_S, LinkError, SerialLink, read_floats, write_float
 from crslab.host_tools.linker_map import MapError, read_map_file, write_map
@@ -41,8 +42,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         description="Write the linker map the course's MATLAB scripts parse to find a variable's address: "
         "the section allocation map (.ebss, .my_vars, .my_arrs with their origin and length) and the "
         "global symbols with their 16-bit-word addresses on the simulated F28335, as 'crslab sim' "
-        "lays them out. Put it where the scripts look (Gen A: ../CRSRobotProject/Debug/, Gen B: "
-        "../CPU_FLASH/).",
+        "lays them out. Put it where the scripts look ("
+        + ", ".join(f"Gen {g.name}: {g.map_folder}" for g in GENERATIONS) + ").",
     )
     p.add_argument("--lab", type=Path, metavar="FILE", help="the lab file (default: crslab's Lab 1)")
     p.add_argument("-o", "--output", type=Path, metavar="FILE.map",

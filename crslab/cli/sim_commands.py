@@ -22,8 +22,8 @@ from crslab.framework_facts import (
     MOTOR_BOARDS,
     SCI_TX_FIFO_CHARS,
     SERIAL_CHARS_PER_MS,
-    tx_ring_chars,
 )
+from crslab.generations import Generation
 from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.lab.c28x_check import C28xCheck, first_run_check, remember
 from crslab.lab.print_trigger import missing_printing_notice
@@ -298,7 +298,7 @@ def near_budget_warning(lab_name: str, info: dict) -> str | None:
             f"{info['lab_cost_unit']}, close to the budget of {_count(info['budget'])}")
 
 
-def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: int) -> None:
+def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: Generation) -> None:
     """On stderr after a run (``crslab sim`` and ``crslab debug``): its :func:`notices` and its
     failed scenario expectations, one line each."""
     for line in notices(lab_name, result.stats, generation, result.lab_file):
@@ -308,7 +308,7 @@ def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: i
             print(f"{prefix}expectation failed: {for_terminal(line)}", file=sys.stderr)
 
 
-def notices(lab_name: str, stats: dict, generation: int, source: Path | None = None) -> list[str]:
+def notices(lab_name: str, stats: dict, generation: Generation, source: Path | None = None) -> list[str]:
     """One-line warnings about the run (printed on stderr); ``source``, the lab file, names the
     function a lab that triggers printing without a ``printing()`` probably meant."""
     out = []
@@ -338,7 +338,7 @@ def notices(lab_name: str, stats: dict, generation: int, source: Path | None = N
         t = stats["tx_first_drop_tick"]
         out.append(f"warning: {lab_name} printed faster than the serial line sends "
                    f"({SERIAL_CHARS_PER_MS:g} characters per ms): {stats['tx_dropped']} characters did not "
-                   f"fit the board's {tx_ring_chars(generation)}-byte transmit ring (and "
+                   f"fit the board's {generation.tx_ring_chars}-byte transmit ring (and "
                    f"{SCI_TX_FIFO_CHARS}-byte FIFO) and were dropped, as on the real board; the first at "
                    f"tick {t} (t = {t / 1000:.3f} s)")
     return out

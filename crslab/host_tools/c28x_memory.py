@@ -3,18 +3,19 @@
 The C28x addresses 16-bit words: a ``char`` and an ``int`` take one word, a ``long``, a ``float``
 (and a ``double``, 32 bits under the course's COFF ABI) and a pointer two, a ``long long`` and a
 ``long double`` four; anything of two words or more starts at an even address. The linker puts
-each section of the lab's object file at the section's origin on page 1 (``framework_facts``'s
-``SECTION_ORIGINS``: ``.my_arrs`` and ``.my_vars`` for the ``#pragma DATA_SECTION`` variables,
+each section of the lab's object file at the section's origin on page 1 (the generation's
+``section_origins``: ``.my_arrs`` and ``.my_vars`` for the ``#pragma DATA_SECTION`` variables,
 ``.ebss`` for every other global, ``.econst`` for ``const`` ones right after it), the variables in
 the order the file defines them, then the framework's own variables of that section (Simulink's
-``SIMU_Var1..7_fromSIMU_16bit`` in ``.ebss``; Gen A's ``matlabLock`` in ``.my_vars``). A section
+``SIMU_Var1..7_fromSIMU_16bit`` in ``.ebss``; ``matlabLock`` in ``.my_vars`` where MATLAB reads set
+it, Gen A's), in the generation's own object file (``framework_object``). A section
 that grows past the next one's origin pushes it up; a section of another name goes after the last.
 The same file always gets the same addresses (:func:`layout` depends on its text alone).
 
 The board's MATLAB code reads and writes these words (csrc/sim/c28x_memory.c); the map
 (:mod:`crslab.host_tools.linker_map`) lists them for the course's scripts.
 
->>> from crslab.framework_facts import GEN_A
+>>> from crslab.generations import GEN_A
 >>> from crslab.lab.variables import find_variables
 >>> src = '''#pragma DATA_SECTION(whattoprint, ".my_vars")
 ... float whattoprint = 0;
@@ -35,8 +36,9 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from crslab.framework_facts import GEN_A, GEN_B, SECTION_ORIGINS, SIMULINK_INPUTS
-from crslab.lab.variables import FRAMEWORK_TYPES, LabVariable
+from crslab.framework_facts import SIMULINK_INPUTS
+from crslab.generations import Generation, detect
+from crslab.lab.variables import FRAMEWORK_TYPES, LabVariable, find_variables
 
 if TYPE_CHECKING:
     from crslab.lab.build import LabBuild
@@ -54,8 +56,6 @@ _C28X = {  # C type -> (words per element, kind)
 KINDS = ("signed", "unsigned", "float", "bool", "opaque")
 """How a variable's words are made from its value (csrc/sim/sim.h: ``CRS_MEM_*``, same order)."""
 
-FRAMEWORK_OBJECT = {GEN_A: "user_CRSRobot.obj", GEN_B: "F28335Serial.obj"}
-"""The framework's object file holding its serial variables, per generation (named in the map)."""
 SIMULINK_INPUT_NAMES = tuple(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, SIMULINK_INPUTS + 1))
 """The framework's globals that hold what Simulink sent (int: one word each)."""
 
@@ -126,11 +126,11 @@ class MemoryLayout:
         return [v for v in self.variables if v.is_global]
 
 
-def _framework_variables(generation: int, defined: set[str]) -> list[LabVariable]:
+def _framework_variables(generation: Generation, defined: set[str]) -> list[LabVariable]:
     """The framework's own variables a lab sees in the map (those the lab does not define)."""
     out = [LabVariable(name, "int", (), False, False, False, None, None, 0)
            for name in SIMULINK_INPUT_NAMES if name not in defined]
-    if generation == GEN_A and "matlabLock" not in defined:
+    if generation.matlab_lock and "matlabLock" not in defined:
         out.append(LabVariable("matlabLock", "float", (), False, False, False, ".my_vars", None, 0))
     return out
 
@@ -143,12 +143,12 @@ def _even(address: int) -> int:
     return address + (address & 1)
 
 
-def layout(variables: Iterable[LabVariable], generation: int, lab_name: str) -> MemoryLayout:
+def layout(variables: Iterable[LabVariable], generation: Generation, lab_name: str) -> MemoryLayout:
     """Lay out the globals of the lab ``lab_name`` (its file's stem) for ``generation``."""
     lab_vars = list(variables)
     objects = [(f"{lab_name}.obj", lab_vars),  # the lab's object first, as on the link line
-               (FRAMEWORK_OBJECT[generation], _framework_variables(generation, {v.name for v in lab_vars}))]
-    origins = dict(SECTION_ORIGINS[generation])
+               (generation.framework_object, _framework_variables(generation, {v.name for v in lab_vars}))]
+    origins = dict(generation.section_origins)
     order = sorted(origins, key=origins.__getitem__)
     order.insert(order.index(".ebss") + 1, ".econst")
     for _, vs in objects:
@@ -183,7 +183,7 @@ def layout(variables: Iterable[LabVariable], generation: int, lab_name: str) -> 
 def overlapping(layout_: MemoryLayout) -> list[tuple[str, str]]:
     """Pairs of variables whose words overlap (none, for any layout :func:`layout` makes).
 
-    >>> from crslab.framework_facts import GEN_B
+    >>> from crslab.generations import GEN_B
     >>> overlapping(layout([], GEN_B, "x"))
     []
     """
@@ -202,7 +202,4 @@ def lab_memory(build: LabBuild) -> MemoryLayout:
 
 def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
     """The same layout from a lab file's text alone (no build: the layout depends on nothing else)."""
-    from crslab.lab.build import detect_generation
-    from crslab.lab.variables import find_variables
-
-    return layout(find_variables(source_text), detect_generation(source_text), lab_name)
+    return layout(find_variables(source_text), detect(source_text), lab_name)

@@ -9,7 +9,7 @@ name with the COFF ABI's leading underscore; those inside either section are the
 scripts can read and write. :func:`write_map` writes those parts as the TI linker does (section
 allocation map, both global symbol tables), for every section of the lab's data.
 
->>> from crslab.framework_facts import GEN_B
+>>> from crslab.generations import GEN_B
 >>> from crslab.host_tools.c28x_memory import layout
 >>> from crslab.lab.variables import find_variables
 >>> mem = layout(find_variables('#pragma DATA_SECTION(Kp1, ".my_vars")\\nfloat Kp1 = 12.5;'), GEN_B, "pd")

@@ -20,14 +20,14 @@ from __future__ import annotations
 
 import hashlib
 import os
-import re
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from crslab import os_support, resources
 from crslab.cache import CacheError, cache_dir
-from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START, GEN_A, GEN_B, printf_buffer_chars
+from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START
+from crslab.generations import Generation, detect
 from crslab.lab import firmware, zig
 from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
@@ -65,8 +65,6 @@ DEBUG_LAB_FLAGS = ["-O0", "-g", "-fno-omit-frame-pointer"]
 DEBUG_BOARD_FLAGS = ["-g"]
 LINK_LIBS = os_support.MATH_LIBS
 
-_INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]', re.MULTILINE)
-
 
 @dataclass(frozen=True)
 class LabBuild:
@@ -75,7 +73,8 @@ class LabBuild:
     source: Path
     image: Path
     """The firmware: ``lab.wasm`` (WebAssembly), or ``lab.so`` (native: the lab linked with the board)."""
-    generation: int
+    generation: Generation
+    """The framework generation the file was written for (its row; :func:`crslab.generations.detect`)."""
     sanitized: bool
     digest: str
     native: bool = False
@@ -103,7 +102,7 @@ class LabBuild:
     def printf_buffer_chars(self) -> int:
         """Characters the real board's serial_printf buffer holds for this framework generation
         (a line of this many or more overflows it)."""
-        return printf_buffer_chars(self.generation)
+        return self.generation.printf_buffer_chars
 
     @property
     def shared_object(self) -> Path:
@@ -111,18 +110,6 @@ class LabBuild:
         if not self.native:
             raise ValueError(f"{self.source.name} was built as WebAssembly, not as a shared object")
         return self.image
-
-
-def detect_generation(source_text: str) -> int:
-    """Which framework the file was written for, from its includes.
-
-    >>> detect_generation('#include "F28335Serial.h"')
-    2
-    >>> detect_generation('#include <coecsl.h>')
-    1
-    """
-    includes = set(_INCLUDE.findall(source_text))
-    return GEN_B if "F28335Serial.h" in includes and "coecsl.h" not in includes else GEN_A
 
 
 def content_digest(parts: list[bytes]) -> str:
@@ -150,7 +137,7 @@ def _cache() -> Path:
         raise LabBuildError(str(exc)) from None
 
 
-def check_board_memory(variables: list[LabVariable], generation: int, source: Path) -> None:
+def check_board_memory(variables: list[LabVariable], generation: Generation, source: Path) -> None:
     """Refuse a lab whose globals, laid out as the TI linker would (16-bit words, the framework's
     sections), run past the F28335's data memory (``DATA_RAM_START`` to ``DATA_RAM_END``): the
     real board's link fails the same way."""
@@ -310,7 +297,7 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     special = special_include(src)
     if special is not None:
         raise LabBuildError(f"{src.name} does not compile: {special}")
-    generation = detect_generation(text)
+    generation = detect(text)
     variables = find_variables(text)
     check_board_memory(variables, generation, src)
     debug = debug or break_when is not None

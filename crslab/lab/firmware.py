@@ -63,9 +63,10 @@ board (address 0 is RAM; the division's result is undefined); a native build sto
 FIRMWARE_FLAGS = [*COMPILE_FLAGS, "-Wall", "-Wextra", "-Werror"]
 LINK_FLAGS = ["-mexec-model=reactor", f"-Wl,-z,stack-size={STACK_BYTES}", f"-Wl,--max-memory={MEMORY_BYTES}"]
 """zig's linker puts the stack first (tests/test_wasm_firmware.py checks it), then the data, then the heap."""
-FIRMWARE_SOURCES = sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c"))
+FIRMWARE_SOURCES = sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c")) + [SIM / "generations.c"]
+"""The stand-ins, the kinematics and the generations' rows (the board compiles the same rows)."""
 FIRMWARE_HEADERS = (sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h"))
-                    + [SIM / "sim.h", SIM / "framework_facts.h"])
+                    + [SIM / "sim.h", SIM / "framework_facts.h", SIM / "generations.h"])
 
 FRAMEWORK_VARIABLES = ("matlabLock", *(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, 8)))
 """The framework's globals in the firmware that the board's memory map holds (firmware.c)."""

@@ -1,16 +1,17 @@
 """A lab that asks for printing but defines no ``printing()``: on the board (and in crslab) the
 framework then prints nothing, silently. Typically a typo (``printng``, ``Printing``). crslab
 knows both halves without reading the lab's mind: the board counts the ticks whose ``lab()``
-triggered printing (``print_triggers``: ``SWI_post(&SWI_printf)`` in Gen A, ``UARTprint = 1`` in
-Gen B) and whether the lab defines ``printing`` (``CRS_LAB_HAS_PRINTING``); the lab's text gives
-the function it probably meant.
+triggered printing (``print_triggers``: the generation's ``print_call``, ``SWI_post(&SWI_printf)``
+in Gen A, ``UARTprint = 1`` in Gen B) and whether the lab defines ``printing``
+(``CRS_LAB_HAS_PRINTING``); the lab's text gives the function it probably meant.
 
+>>> from crslab.generations import GEN_A
 >>> text = "void printng(void) { }\\nvoid lab(void) { SWI_post(&SWI_printf); }"
->>> print(missing_printing_notice("lab1.c", text, has_printing=False, triggers=40, generation=1))
+>>> print(missing_printing_notice("lab1.c", text, has_printing=False, triggers=40, generation=GEN_A))
 ... # doctest: +NORMALIZE_WHITESPACE
 warning: lab1.c triggered printing 40 times (SWI_post(&SWI_printf)) but defines no printing(),
 so nothing was printed, as on the board; did you mean printng() to be printing()?
->>> missing_printing_notice("lab1.c", text, has_printing=True, triggers=40, generation=1) is None
+>>> missing_printing_notice("lab1.c", text, has_printing=True, triggers=40, generation=GEN_A) is None
 True
 """
 
@@ -19,7 +20,7 @@ from __future__ import annotations
 import difflib
 import re
 
-from crslab.framework_facts import GEN_B
+from crslab.generations import Generation
 
 _FUNCTION = re.compile(r"^[ \t]*(?:static\s+)?(?:void|int)\s+(\w+)\s*\(\s*(?:void)?\s*\)\s*\{", re.MULTILINE)
 
@@ -34,11 +35,11 @@ def defined_functions(text: str) -> list[str]:
 
 
 def missing_printing_notice(lab_name: str, text: str, *, has_printing: bool, triggers: int,
-                            generation: int) -> str | None:
+                            generation: Generation) -> str | None:
     """The warning for a lab that triggered printing ``triggers`` times without a ``printing()``."""
     if has_printing or triggers <= 0:
         return None
-    how = "UARTprint = 1" if generation == GEN_B else "SWI_post(&SWI_printf)"
+    how = generation.print_call
     names = [n for n in defined_functions(text) if n not in ("lab", "main")]
     near = difflib.get_close_matches("printing", names, n=1, cutoff=0.6) or [
         n for n in names if n.lower() == "printing"]

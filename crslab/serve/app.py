@@ -37,6 +37,7 @@ from crslab.serve.auth import CookieSigner, RateLimit, User, verify_secret
 from crslab.serve.protocol import ProtocolError, parse_message
 from crslab.serve.session_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
 from crslab.serve.sessions import LimitError, PageSession, Sessions
+from crslab.generations import GENERATIONS
 from crslab.starters import LABS, starter_text
 
 STATIC = Path(__file__).parent / "static"
@@ -163,6 +164,7 @@ class CrsServer:
                     "max_run_s": self.sessions.run_limits.max_run_s,
                 },
                 "labs": LABS,
+                "generations": {g.name: g.title.removeprefix("the ") for g in GENERATIONS},
             }
         )
 

@@ -118,7 +118,7 @@ class Session:
                 message=f"{path.name} compiled",
                 diagnostics=[],
                 watched=watched,
-                generation="A" if build.generation == 1 else "B",
+                generation=build.generation.name,
             )
         )
         return path

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from crslab.framework_facts import LAB_BUDGET_INSTRUCTIONS, STARTUP_TICKS, default_motor_board
+from crslab.framework_facts import LAB_BUDGET_INSTRUCTIONS, STARTUP_TICKS
 from crslab.lab.build import LabBuild
 from crslab.plant.params import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
@@ -48,4 +48,4 @@ class SimConfig:
     @property
     def motor_board_model(self) -> str:
         """The motor board this run uses: the one asked for, else the generation's default."""
-        return self.motor_board or default_motor_board(self.build.generation)
+        return self.motor_board or self.build.generation.default_motor_board

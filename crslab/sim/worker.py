@@ -163,7 +163,7 @@ class Worker:
     def _new_sim(self, config: SimConfig, block: object) -> object:
         sim = self.ffi.new("crs_sim *")
         self.lib.crs_sim_init(sim)
-        sim.generation = config.build.generation
+        sim.generation = config.build.generation.id
         sim.shared = block
         return sim
 
@@ -185,7 +185,8 @@ class Worker:
         block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
         self.lib = lib
         sim = self._new_sim(config, block)
-        lib.crs_fw_native_attach(sim)
+        if lib.crs_fw_native_attach(sim) != 0:
+            raise FirmwareStopped(trap_info(self.ffi, sim))
         return lib, sim
 
     def _load_wasm(self, config: SimConfig, block: object) -> object:

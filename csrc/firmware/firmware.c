@@ -9,6 +9,7 @@
 #include "DSP2833x_Device.h"
 #include "coecsl.h"
 #include "framework_facts.h"
+#include "generations.h"
 #include "sim.h"
 
 /* ---- the lab file's symbols (weak: a lab may lack some) ----------------------------------- */
@@ -51,10 +52,14 @@ _Static_assert(sizeof(crs_fw_table) == 18 * 4, "crs_fw_table is 18 words in WebA
 #endif
 
 static float tau[3];          /* the lab's torque variables: they persist between calls */
-static int32_t generation;    /* CRS_GEN_* */
+/* What the lab's generation's row says the firmware does, copied when it starts (0 before). Plain
+ * numbers, read through a switch: a lab that scribbles over them stops printing, and never sends
+ * the firmware through a wild pointer. */
+static int32_t print_trigger; /* CRS_PRINT_* */
+static int32_t formatter;     /* CRS_FORMATTER_* */
 static crs_fw_table table;
 
-int32_t crs_fw_generation(void) { return generation; }
+int32_t crs_fw_formatter(void) { return formatter; }
 
 void SWI_post(SWI_Handle swi) { swi->posted = 1; }
 
@@ -68,7 +73,10 @@ static uintptr_t address(const volatile void *p) { return (uintptr_t)p; }
 
 const crs_fw_table *crs_fw_start(int32_t gen)
 {
-    generation = gen;
+    const crs_generation *row = crs_generation_of(gen);
+    if (crs_generation_problem(row) != NULL) return NULL;
+    print_trigger = row->print_trigger;
+    formatter = row->formatter;
     /* the control card's LEDs start high: GPIO34 is bit 2 of the GPB registers, GPIO60 bit 28 */
     const uint32_t leds = CRS_LEDS_AT_START;
     GpioDataRegs.GPBDAT.all = ((leds & 1u) << 2) | (((leds >> 1) & 1u) << 28);
@@ -106,18 +114,22 @@ int32_t crs_fw_lab(float theta1motor, float theta2motor, float theta3motor, int3
     lab(theta1motor, theta2motor, theta3motor, &tau[0], &tau[1], &tau[2], (int)error);
     /* after lab() returns: Gen A's SWI runs printing() once however often it was posted; Gen B's
      * idle loop sees UARTprint at 1, clears it and calls printing() */
-    if (generation == CRS_GEN_B) {
+    switch (print_trigger) {
+    case CRS_PRINT_SWI_POST:
+        if (SWI_printf.posted) {
+            SWI_printf.posted = 0;
+            return 1;
+        }
+        return 0;
+    case CRS_PRINT_UARTPRINT:
         if (&UARTprint != NULL && UARTprint == 1) {
             UARTprint = 0;
             return 1;
         }
         return 0;
+    default: /* not started, or the lab wrote over print_trigger */
+        return 0;
     }
-    if (SWI_printf.posted) {
-        SWI_printf.posted = 0;
-        return 1;
-    }
-    return 0;
 }
 
 void crs_fw_printing(void)

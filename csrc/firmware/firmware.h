@@ -45,16 +45,24 @@ typedef struct {
 
 /* ---- exports: what the board calls ------------------------------------------------------- */
 
-/* Once, before the first tick: the framework generation (CRS_GEN_*) decides how serial_printf
- * formats and what asks for printing(); returns the table above. */
+/* Once, before the first tick: the framework generation (a row's id, csrc/sim/generations.c)
+ * decides how serial_printf formats and what asks for printing(); returns the table above, or NULL
+ * when no row has that id or its row cannot run (crs_generation_problem). */
 const crs_fw_table *crs_fw_start(int32_t generation) CRS_FW_EXPORT(crs_fw_start);
 /* One lab() call with the encoder angles (rad) and the safety flag; the torques land in the
- * table's tau. Returns 1 when the lab asked for printing() (Gen A: SWI_post(&SWI_printf), Gen B:
- * UARTprint set to 1; the request is cleared), else 0. */
+ * table's tau. Returns 1 when the lab asked for printing() as its generation does (its row's
+ * print trigger, CRS_PRINT_*: SWI_post(&SWI_printf), or UARTprint set to 1; the request is
+ * cleared), else 0. */
 int32_t crs_fw_lab(float theta1motor, float theta2motor, float theta3motor, int32_t error)
     CRS_FW_EXPORT(crs_fw_lab);
 /* printing(), once. */
 void crs_fw_printing(void) CRS_FW_EXPORT(crs_fw_printing);
+
+/* ---- inside the firmware ------------------------------------------------------------------ */
+
+/* The formatter (CRS_FORMATTER_*) of the generation the firmware was started for; 0 before
+ * crs_fw_start. */
+int32_t crs_fw_formatter(void);
 
 /* ---- imports: what the firmware asks of the board ----------------------------------------- */
 

@@ -1,4 +1,4 @@
-/* The two generations' serial_printf formatters (see serial_format.h for the rules). */
+/* The two serial_printf formatters of the framework's generations (see serial_format.h for the rules). */
 #include "serial_format.h"
 
 #include <math.h>
@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "framework_facts.h"
+#include "generations.h"
 
 enum { MAX_FIELD = 4096 }; /* widths and precisions beyond this are clamped (never on a board) */
 
@@ -33,7 +34,7 @@ static size_t finish(text_out *t)
     return t->n;
 }
 
-/* ---- Gen A: the course's small printf ------------------------------------------------------ */
+/* ---- CRS_FORMATTER_SMALL (Gen A): the course's small printf ------------------------------- */
 
 /* The C28x's float-to-long conversion saturates; NaN gives 0 (no undefined behaviour here). */
 static int32_t f32_to_i32_saturating(float x)
@@ -60,10 +61,10 @@ static int unsigned_digits(uint32_t value, unsigned base, char digits[40])
 
 typedef struct {
     int left, plus, zero, width, precision, is_long; /* precision -1: not given */
-} gen_a_spec;
+} small_spec;
 
 /* One field: the sign (0 for none) and the body, padded to the width. */
-static void put_field(text_out *t, const gen_a_spec *s, char sign, const char *body, int body_len,
+static void put_field(text_out *t, const small_spec *s, char sign, const char *body, int body_len,
                       int numeric)
 {
     const int len = body_len + (sign ? 1 : 0);
@@ -84,7 +85,7 @@ static void put_field(text_out *t, const gen_a_spec *s, char sign, const char *b
 }
 
 /* %f: the integer part, then each decimal by the float digit loop (truncating). */
-static void put_gen_a_float(text_out *t, const gen_a_spec *s, float v)
+static void put_small_float(text_out *t, const small_spec *s, float v)
 {
     char body[MAX_FIELD + 48];
     char sign = s->plus ? '+' : 0;
@@ -94,7 +95,7 @@ static void put_gen_a_float(text_out *t, const gen_a_spec *s, float v)
     }
     float whole = floorf(v);
     int n = unsigned_digits((uint32_t)f32_to_i32_saturating(whole), 10, body);
-    const int precision = s->precision < 0 ? CRS_GEN_A_DEFAULT_PRECISION : s->precision;
+    const int precision = s->precision < 0 ? CRS_SMALL_PRINTF_PRECISION : s->precision;
     if (precision > 0) body[n++] = '.';
     for (int i = 0; i < precision; ++i) {
         v -= whole;
@@ -105,7 +106,7 @@ static void put_gen_a_float(text_out *t, const gen_a_spec *s, float v)
     put_field(t, s, sign, body, n, 1);
 }
 
-size_t crs_format_gen_a(char *out, size_t cap, const char *fmt, va_list ap)
+size_t crs_format_small(char *out, size_t cap, const char *fmt, va_list ap)
 {
     text_out t = {out, cap, 0};
     for (const char *p = fmt; *p; ++p) {
@@ -113,7 +114,7 @@ size_t crs_format_gen_a(char *out, size_t cap, const char *fmt, va_list ap)
             put(&t, *p);
             continue;
         }
-        gen_a_spec s = {0, 0, 0, 0, -1, 0};
+        small_spec s = {0, 0, 0, 0, -1, 0};
         for (++p;; ++p) {
             if (*p == '-') {
                 s.left = 1;
@@ -171,7 +172,7 @@ size_t crs_format_gen_a(char *out, size_t cap, const char *fmt, va_list ap)
             break;
         }
         case 'f':
-            put_gen_a_float(&t, &s, (float)va_arg(ap, double));
+            put_small_float(&t, &s, (float)va_arg(ap, double));
             break;
         default: /* '%%', and any conversion the small printf does not know: the character itself */
             put(&t, *p);
@@ -181,7 +182,7 @@ size_t crs_format_gen_a(char *out, size_t cap, const char *fmt, va_list ap)
     return finish(&t);
 }
 
-/* ---- Gen B: TI's rounding vsprintf, with the C28x's argument sizes -------------------------- */
+/* ---- CRS_FORMATTER_TI (Gen B): TI's rounding vsprintf, with the C28x's argument sizes ------ */
 
 /* Append one conversion, formatted by the host's snprintf, to t. */
 static void put_host(text_out *t, const char *spec, ...)
@@ -194,7 +195,7 @@ static void put_host(text_out *t, const char *spec, ...)
     if (k > 0) t->n += (size_t)k;
 }
 
-size_t crs_format_gen_b(char *out, size_t cap, const char *fmt, va_list ap)
+size_t crs_format_ti(char *out, size_t cap, const char *fmt, va_list ap)
 {
     text_out t = {out, cap, 0};
     for (const char *p = fmt; *p; ++p) {
@@ -317,4 +318,16 @@ size_t crs_format_gen_b(char *out, size_t cap, const char *fmt, va_list ap)
         }
     }
     return finish(&t);
+}
+
+crs_format_fn crs_format_of(int32_t formatter)
+{
+    switch (formatter) {
+    case CRS_FORMATTER_SMALL:
+        return crs_format_small;
+    case CRS_FORMATTER_TI:
+        return crs_format_ti;
+    default:
+        return NULL;
+    }
 }

@@ -5,11 +5,12 @@
 #include "board.h"
 
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 #include <time.h>
 
 #include "firmware_port.h"
-#include "framework_facts.h"
+#include "generations.h"
 #include "serial_line.h"
 
 int64_t crs_now_ns(void)
@@ -19,11 +20,35 @@ int64_t crs_now_ns(void)
     return (int64_t)ts.tv_sec * 1000000000LL + ts.tv_nsec;
 }
 
+int crs_board_check_generation(crs_sim *sim)
+{
+    const crs_generation *gen = crs_generation_of(sim->generation);
+    const char *problem = crs_generation_problem(gen);
+    if (problem == NULL) return 0;
+    crs_fw_trap *t = &sim->trap;
+    t->kind = CRS_FW_TRAP_LOAD;
+    t->phase = CRS_PHASE_LOADING;
+    t->tick = sim->tick;
+    if (gen != NULL) {
+        snprintf(t->text, sizeof t->text, "framework generation %s cannot run: %s", gen->name, problem);
+        return CRS_RUN_TRAPPED;
+    }
+    int n = snprintf(t->text, sizeof t->text, "the board knows no framework generation %d (it knows",
+                     (int)sim->generation);
+    for (int32_t i = 0; i < crs_generation_count() && n > 0 && (size_t)n < sizeof t->text; ++i) {
+        const crs_generation *g = crs_generation_at(i);
+        n += snprintf(t->text + n, sizeof t->text - (size_t)n, "%s %s (%d)", i == 0 ? "" : ",", g->name,
+                      (int)g->id);
+    }
+    if (n > 0 && (size_t)n < sizeof t->text) snprintf(t->text + n, sizeof t->text - (size_t)n, ")");
+    return CRS_RUN_TRAPPED;
+}
+
 int32_t crs_board_serial_out(crs_sim *sim, const char *chars, uint32_t available, uint32_t formatted)
 {
     if (sim == NULL || sim->shared == NULL || sim->overflow_tick >= 0) return 0;
-    const int gen_b = sim->generation == CRS_GEN_B;
-    const uint32_t buffer = gen_b ? CRS_GEN_B_PRINTF_BUFFER : CRS_GEN_A_PRINTF_BUFFER;
+    const crs_generation *gen = crs_generation_of(sim->generation); /* checked when loaded */
+    const uint32_t buffer = (uint32_t)gen->printf_buffer_chars;
     crs_shared *sh = sim->shared;
     if (formatted >= buffer) {
         /* the characters and the terminating NUL overrun the board's buffer: memory is corrupt */
@@ -33,7 +58,7 @@ int32_t crs_board_serial_out(crs_sim *sim, const char *chars, uint32_t available
         return 0;
     }
     const uint32_t n = formatted <= available ? formatted : available;
-    const uint32_t ring = gen_b ? CRS_GEN_B_TX_RING : CRS_GEN_A_TX_RING;
+    const uint32_t ring = (uint32_t)gen->tx_ring_chars;
     const uint32_t taken = crs_line_queue(&sh->line, ring, sim->tick, chars, n);
     if (taken > 0 && sh->print_count < CRS_PRINT_CAPACITY) {
         /* a print mark: this call's tick and how many of its characters are on the line */

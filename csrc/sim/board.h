@@ -10,6 +10,10 @@
 /* Apply the GPIO SET/CLEAR/TOGGLE writes of this tick to the firmware's registers; returns the
  * LED bits (bit 0 GPIO34, bit 1 GPIO60). */
 uint32_t crs_board_update_gpio(crs_sim *sim);
+/* Before a firmware is loaded: 0 when sim->generation is a row of generations.c that can run;
+ * else CRS_RUN_TRAPPED, with sim->trap (CRS_FW_TRAP_LOAD) saying which generation and why. The
+ * board reads the row of sim->generation only after this said 0. */
+int crs_board_check_generation(crs_sim *sim);
 /* CLOCK_MONOTONIC in ns. */
 int64_t crs_now_ns(void);
 

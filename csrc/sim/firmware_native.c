@@ -8,6 +8,8 @@
 #include "firmware_native.h"
 
 #include <stddef.h>
+#include <stdio.h>
+#include <string.h>
 #include <time.h>
 
 #include "board.h"
@@ -19,10 +21,19 @@ static crs_sim *board_sim; /* the one board of this process: serial_printf's way
 
 static void *at(uintptr_t address) { return (void *)address; }
 
-void crs_fw_native_attach(crs_sim *sim)
+int crs_fw_native_attach(crs_sim *sim)
 {
     board_sim = sim;
+    memset(&sim->trap, 0, sizeof sim->trap);
+    if (crs_board_check_generation(sim) != 0) return CRS_RUN_TRAPPED;
     const crs_fw_table *t = crs_fw_start(sim->generation);
+    if (t == NULL) { /* the firmware is linked with the same generations.c: never */
+        sim->trap.kind = CRS_FW_TRAP_LOAD;
+        sim->trap.phase = CRS_PHASE_LOADING;
+        snprintf(sim->trap.text, sizeof sim->trap.text, "the firmware cannot run framework generation %d",
+                 (int)sim->generation);
+        return CRS_RUN_TRAPPED;
+    }
     crs_fw_view *v = &sim->fw;
     v->tau = at(t->tau);
     v->offset_enc2 = at(t->offset_enc2);
@@ -33,6 +44,7 @@ void crs_fw_native_attach(crs_sim *sim)
     v->matlab_lock = at(t->matlab_lock);
     v->symbols = t->symbols;
     sim->cost_unit = CRS_COST_NS;
+    return 0;
 }
 
 static void count_cost(crs_sim *sim, int64_t cost)

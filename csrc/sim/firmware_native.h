@@ -6,7 +6,9 @@
 #include "sim.h"
 
 /* Start the firmware linked with this board for sim->generation and point sim->fw at its
- * variables; the board of this process is `sim` from now on (serial_printf reaches it). */
-void crs_fw_native_attach(crs_sim *sim);
+ * variables; the board of this process is `sim` from now on (serial_printf reaches it). Returns 0;
+ * else CRS_RUN_TRAPPED with sim->trap (CRS_FW_TRAP_LOAD) saying why: no row of generations.c has
+ * that id, or its row cannot run. */
+int crs_fw_native_attach(crs_sim *sim);
 
 #endif

@@ -665,6 +665,7 @@ int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
 {
     char error[256];
     memset(&sim->trap, 0, sizeof sim->trap);
+    if (crs_board_check_generation(sim) != 0) return CRS_RUN_TRAPPED;
     if (crs_wasmtime_api_load(&api, o->libwasmtime, error, sizeof error) != 0) {
         load_failed(sim, error, NULL, 0);
         return CRS_RUN_TRAPPED;
@@ -751,6 +752,12 @@ int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
     if (call(w, &start, a, 1, CRS_PHASE_LOADING) != 0) return CRS_RUN_TRAPPED;
     int64_t cost = 0;
     take_fuel(w, &cost); /* the constructors' cost is not lab()'s */
+    if (a[0].i32 == 0) {
+        snprintf(error, sizeof error, "the firmware cannot run framework generation %d (its generations.c "
+                 "is not the board's)", (int)sim->generation);
+        load_failed(sim, error, NULL, 0);
+        return CRS_RUN_TRAPPED;
+    }
     if (read_table(w, (uint32_t)a[0].i32) != 0) {
         load_failed(sim, "the firmware's table of the framework's variables is not in its memory", NULL, 0);
         return CRS_RUN_TRAPPED;

@@ -8,12 +8,6 @@
 #ifndef CRSLAB_FRAMEWORK_FACTS_H
 #define CRSLAB_FRAMEWORK_FACTS_H
 
-/* The two framework generations; a lab's includes say which it was written for. */
-enum {
-    CRS_GEN_A = 1, /* "CRSRobot", DSP/BIOS (to spring 2022): SWI_post(&SWI_printf), small printf */
-    CRS_GEN_B = 2  /* "me446 starter", C2000Ware (fall 2022 on): UARTprint, TI's vsprintf */
-};
-
 /* The 1 ms tick. */
 enum {
     CRS_STARTUP_TICKS = 4100,            /* first lab() call at 4.1 s; before it nothing reaches
@@ -56,12 +50,9 @@ enum {
 /* Serial port SCI-A (serial_printf to Tera Term): a format buffer, a transmit ring that the TX
  * interrupt moves into the SCI's hardware FIFO, and its shift register, sent at the baud rate.
  * A serial_printf that formats as many characters as its buffer holds, or more, overflows it
- * (the terminating NUL has no room); characters that do not fit the ring are dropped. */
+ * (the terminating NUL has no room); characters that do not fit the ring are dropped. The buffer's
+ * and the ring's sizes are the generation's (generations.c). */
 enum {
-    CRS_GEN_A_PRINTF_BUFFER = 2048, /* chars, on the stack */
-    CRS_GEN_A_TX_RING = 2048,       /* chars */
-    CRS_GEN_B_PRINTF_BUFFER = 136,  /* chars, static */
-    CRS_GEN_B_TX_RING = 136,        /* chars */
     CRS_SCI_TX_FIFO = 16,           /* chars in the SCI's hardware FIFO */
     CRS_SCI_TX_SHIFT = 1,           /* the char being sent, in the shift register */
     CRS_SERIAL_BAUD = 115200,       /* bits/s */
@@ -70,12 +61,9 @@ enum {
 
 /* The host ports (docs/framework.md section 8; the bytes in docs/host-tools.md): SCI-B carries the
  * Simulink link, SCI-C the MATLAB variable protocol, both at CRS_SERIAL_BAUD through a transmit
- * ring of their own in front of the SCI's FIFO and shift register; the host always talks first. */
+ * ring of their own (its size the generation's: generations.c) in front of the SCI's FIFO and
+ * shift register; the host always talks first. */
 enum {
-    CRS_GEN_A_SCIB_TX_RING = 2048,   /* chars (Gen A: one BUF_SIZE for every port) */
-    CRS_GEN_A_SCIC_TX_RING = 2048,
-    CRS_GEN_B_SCIB_TX_RING = 136,    /* chars (BUF_SIZESCIB) */
-    CRS_GEN_B_SCIC_TX_RING = 2000,   /* chars (BUF_SIZESCIC) */
     CRS_MATLAB_START = 0x2A,         /* '*': a MATLAB message starts; its next byte counts it all */
     CRS_MATLAB_MESSAGE_CHARS = 101,  /* UARTMessageArray: the payload a message can hold */
     CRS_MATLAB_ECHO_ADDRESSES = 10,  /* Main_address (MAX_VAR_NUM): addresses a '0' echo keeps */
@@ -85,21 +73,6 @@ enum {
     CRS_SIMULINK_PLOTS = 4,          /* int32 values per reply: Simulink_PlotVar1..4 */
     CRS_SIMULINK_SCALE = 10000,      /* each PlotVar is sent as int32(10000 * value) */
     CRS_SIMULINK_PERIOD_MS = 5       /* the course's model sends a packet every 5 ms */
-};
-
-/* Where the linker puts the lab's variables in the C28x's data memory (page 1), in 16-bit
- * words. Gen A: as in the 2019 CRSRobot build's map (.my_arrs at 0xc4c0, .my_vars at 0xc816).
- * Gen B's command files give both sections page-1 RAM in L1..L7 but no Gen B map survives, so
- * crslab puts them at the start of L5 and L6; .ebss (every other global) at the start of L1 for
- * both, also crslab's choice. A section that grows past the next one's origin pushes it up.
- * The course's scripts find every address in the map, so none of these is hard-coded there. */
-enum {
-    CRS_GEN_A_EBSS_ORIGIN = 0x9000,
-    CRS_GEN_A_MY_ARRS_ORIGIN = 0xC4C0,
-    CRS_GEN_A_MY_VARS_ORIGIN = 0xC816,
-    CRS_GEN_B_EBSS_ORIGIN = 0x9000,
-    CRS_GEN_B_MY_VARS_ORIGIN = 0xD000,
-    CRS_GEN_B_MY_ARRS_ORIGIN = 0xE000
 };
 
 /* The F28335's data memory the course's linker command files give a lab's globals: the SARAM
@@ -113,8 +86,8 @@ enum { CRS_DATA_RAM_START = 0x9000, CRS_DATA_RAM_END = 0x10000 };
  * docs/sandbox.md for what that comparison is worth). */
 enum { CRS_LAB_BUDGET_INSTRUCTIONS = 75000, CRS_CPU_CYCLES_PER_TICK = 150000 };
 
-/* Gen A's small printf: precision of a bare %f. */
-enum { CRS_GEN_A_DEFAULT_PRECISION = 5 };
+/* The course's small printf (CRS_FORMATTER_SMALL, generations.h): precision of a bare %f. */
+enum { CRS_SMALL_PRINTF_PRECISION = 5 };
 
 /* The control card's LEDs at power-up: GPIO34 and GPIO60 start high (bits of the board's LED
  * word: bit 0 GPIO34, bit 1 GPIO60). */

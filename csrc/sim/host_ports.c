@@ -3,16 +3,14 @@
 
 #include <string.h>
 
-#include "framework_facts.h"
+#include "generations.h"
 #include "serial_line.h"
 
 /* The transmit ring of a host port in this generation. */
 static uint32_t tx_ring(const crs_sim *sim, int port)
 {
-    if (sim->generation == CRS_GEN_B) {
-        return port == CRS_HOST_PORT_B ? CRS_GEN_B_SCIB_TX_RING : CRS_GEN_B_SCIC_TX_RING;
-    }
-    return port == CRS_HOST_PORT_B ? CRS_GEN_A_SCIB_TX_RING : CRS_GEN_A_SCIC_TX_RING;
+    const crs_generation *gen = crs_generation_of(sim->generation); /* checked when loaded */
+    return (uint32_t)(port == CRS_HOST_PORT_B ? gen->scib_tx_ring_chars : gen->scic_tx_ring_chars);
 }
 
 void crs_host_reply(crs_sim *sim, int port, int64_t now, const char *data, uint32_t n)

@@ -8,16 +8,19 @@
  * endian, low 22 bits used; values IEEE single):
  *   '2' read N floats from addr, addr + 2, ...: reply '*', (3 + N) & 0xFF, '3', N values little endian
  *   '3' write k (address, value) pairs, value little endian: no reply
- *   '1' (Gen A) the same with the value big endian
- *   '0' (Gen A) echo: each address's 32 bits are sampled as its last byte arrives; reply '*',
- *       (3 + 8m) & 0xFF, '0', then each address and value, both big endian
- * Gen B parses and samples '0' too but answers neither '0' nor '1'. An unknown command is ignored.
- * Every Gen A read also sets the framework's matlabLock (a float in .my_vars) to 1. */
+ *   '1' (CRS_MATLAB_BIG_ENDIAN_WRITE: Gen A) the same with the value big endian
+ *   '0' (CRS_MATLAB_ECHO: Gen A) echo: each address's 32 bits are sampled as its last byte arrives;
+ *       reply '*', (3 + 8m) & 0xFF, '0', then each address and value, both big endian
+ * A generation without them (Gen B) parses and samples '0' too but answers neither '0' nor '1'.
+ * An unknown command is ignored. With CRS_MATLAB_LOCK (Gen A) every read also sets the
+ * framework's matlabLock (a float in .my_vars) to 1. Which bits a generation has is its row's
+ * `matlab` (generations.c). */
 #include <stddef.h>
 #include <stdint.h>
 
 #include "c28x_memory.h"
 #include "framework_facts.h"
+#include "generations.h"
 #include "host_ports.h"
 #include "serial_line.h"
 
@@ -45,12 +48,12 @@ static void put_big_endian32(char *out, uint32_t v)
  * board sends the header, then each float, into the transmit ring, which keeps what fits (the
  * line drains far slower than the board queues, so once a float does not fit whole, nothing after
  * it does). */
-static void read_floats(crs_sim *sim, int64_t now, const uint8_t *m)
+static void read_floats(crs_sim *sim, int64_t now, const uint8_t *m, int32_t matlab)
 {
     const uint32_t address = big_endian32(m + 1) & ADDRESS_MASK;
     const uint32_t floats = (uint32_t)m[5] << 8 | m[6];
-    /* Gen A's framework variable in .my_vars (csrc/firmware/firmware.c) */
-    if (sim->generation == CRS_GEN_A && sim->fw.matlab_lock != NULL) *sim->fw.matlab_lock = 1.0f;
+    /* the framework variable in .my_vars (csrc/firmware/firmware.c) */
+    if ((matlab & CRS_MATLAB_LOCK) && sim->fw.matlab_lock != NULL) *sim->fw.matlab_lock = 1.0f;
     crs_host_port *hp = &sim->shared->host_ports[CRS_HOST_PORT_C];
     const char header[3] = {(char)CRS_MATLAB_START, (char)((3 + floats) & 0xFF), '3'};
     crs_host_reply(sim, CRS_HOST_PORT_C, now, header, sizeof header);
@@ -98,20 +101,20 @@ static void echo(crs_sim *sim, int64_t now)
 static void dispatch(crs_sim *sim, int64_t now)
 {
     const crs_matlab_rx *rx = &sim->matlab;
-    const int gen_a = sim->generation == CRS_GEN_A;
+    const int32_t matlab = crs_generation_of(sim->generation)->matlab; /* checked when loaded */
     const uint8_t *m = rx->message; /* a 2-byte message finds the last one's payload still here */
     switch (m[0]) {
     case '2':
-        read_floats(sim, now, m);
+        read_floats(sim, now, m, matlab);
         break;
     case '3':
         write_values(sim, m, rx->length + 1, 0);
         break;
     case '1':
-        if (gen_a) write_values(sim, m, rx->length + 1, 1);
+        if (matlab & CRS_MATLAB_BIG_ENDIAN_WRITE) write_values(sim, m, rx->length + 1, 1);
         break;
     case '0':
-        if (gen_a) echo(sim, now);
+        if (matlab & CRS_MATLAB_ECHO) echo(sim, now);
         break;
     default: /* no such command: no reply */
         break;

@@ -19,7 +19,6 @@
 void crs_sim_init(crs_sim *sim)
 {
     memset(sim, 0, sizeof *sim);
-    sim->generation = CRS_GEN_A;
     sim->startup_ticks = CRS_STARTUP_TICKS;
     sim->budget = INT64_MAX;
     sim->time_lab = 1;

@@ -309,7 +309,7 @@ typedef struct {
     double *qfrc_applied;        /* hand forces on j1..j3, N.m */
 
     /* configuration */
-    int32_t generation;          /* CRS_GEN_A or CRS_GEN_B (framework_facts.h) */
+    int32_t generation;          /* the id of a row of generations.c (0 until set: no row) */
     int32_t strict_nan;          /* 1: a NaN/Inf torque stops the run */
     int64_t startup_ticks;       /* lab() first runs at this tick (CRS_STARTUP_TICKS, or 0) */
     double rest_motor_rad[3];    /* true resting pose the encoders were zeroed at */
@@ -366,8 +366,9 @@ typedef struct {
     crs_simulink_rx simulink;
 } crs_sim;
 
-/* Zero everything and set the defaults (Gen A, startup gate at CRS_STARTUP_TICKS, no motor board,
- * ...); the firmware's port then sets the view, the cost unit and the budget. */
+/* Zero everything and set the defaults (startup gate at CRS_STARTUP_TICKS, no motor board, ...;
+ * no generation: the caller sets sim->generation); the firmware's port then sets the view, the
+ * cost unit and the budget. */
 void crs_sim_init(crs_sim *sim);
 /* Run ticks until sim->tick == until_tick or an early stop (CRS_RUN_*). */
 int crs_sim_run(crs_sim *sim, int64_t until_tick);

@@ -14,8 +14,10 @@
 #include "coecsl.h"
 #include "crs_arm.h"
 #include "drive.h"
+#include "firmware.h"
 #include "friction.h"
 #include "framework_facts.h"
+#include "generations.h"
 #include "motor_board.h"
 #include "firmware_native.h"
 #include "sim.h"
@@ -140,7 +142,10 @@ static crs_sim *new_sim(int generation, int64_t startup_ticks, void (*script)(in
     crs_sim_init(sim);
     sim->shared = calloc(1, sizeof(crs_shared));
     sim->generation = generation;
-    crs_fw_native_attach(sim); /* the test lab above is this board's firmware */
+    if (crs_fw_native_attach(sim) != 0) { /* the test lab above is this board's firmware */
+        printf("FAIL crs_fw_native_attach for generation %d: %s\n", generation, sim->trap.text);
+        ++failures;
+    }
     sim->startup_ticks = startup_ticks;
     sim->time_lab = 0;
     memcpy(sim->rest_motor_rad, REST_MOTOR_RAD, sizeof REST_MOTOR_RAD);
@@ -293,22 +298,59 @@ static void test_startup_gate_and_clamp(void)
 
 static void test_print_triggers(void)
 {
-    for (int generation = CRS_GEN_A; generation <= CRS_GEN_B; ++generation) {
-        crs_sim *sim = new_sim(generation, 10, NULL);
+    for (int32_t row = 0; row < crs_generation_count(); ++row) {
+        const crs_generation *gen = crs_generation_at(row);
+        crs_sim *sim = new_sim(gen->id, 10, NULL);
         lab_state.mode = LAB_PRINT_TRIGGERS;
         crs_sim_run(sim, 200);
         crs_shared *sh = sim->shared;
         const char *want = "L0 P0\n\rL2 P1\n\r"; /* printing() once per tick that asked, after lab() */
         char what[80];
-        snprintf(what, sizeof what, "gen %c: printing() runs once, after lab(), when asked",
-                 generation == CRS_GEN_A ? 'A' : 'B');
+        snprintf(what, sizeof what, "gen %s: printing() runs once, after lab(), when asked", gen->name);
         check(what, sh->serial_len == strlen(want) && memcmp(sh->serial, want, strlen(want)) == 0);
         check("printing() ran twice", sim->printing_runs == 2);
-        if (generation == CRS_GEN_B) check("UARTprint is cleared", UARTprint == 0);
+        if (gen->print_trigger == CRS_PRINT_UARTPRINT) check("UARTprint is cleared", UARTprint == 0);
         /* each print's bytes leave at 11.52 per ms from the tick it was made in */
         check("the first bytes leave in the tick of the first call", sh->mark_count >= 2 && sh->mark_tick[0] == 10);
         free_sim(sim);
     }
+}
+
+/* ---- the generations' table -------------------------------------------------------------- */
+
+static void test_generation_rows_and_an_unknown_generation(void)
+{
+    check("two generations", crs_generation_count() == 2 && crs_generation_at(2) == NULL && crs_generation_at(-1) == NULL);
+    const crs_generation *a = crs_generation_of(CRS_GEN_A), *b = crs_generation_of(CRS_GEN_B);
+    check("Gen A's row", a != NULL && strcmp(a->name, "A") == 0 && a->printf_buffer_chars == 2048
+                             && a->formatter == CRS_FORMATTER_SMALL && a->print_trigger == CRS_PRINT_SWI_POST
+                             && a->matlab == (CRS_MATLAB_BIG_ENDIAN_WRITE | CRS_MATLAB_ECHO | CRS_MATLAB_LOCK));
+    check("Gen B's row", b != NULL && strcmp(b->include, "F28335Serial.h") == 0 && b->printf_buffer_chars == 136
+                             && b->tx_ring_chars == 136 && b->scic_tx_ring_chars == 2000 && b->matlab == 0
+                             && b->motor_board == CRS_MOTOR_BOARD_PICCOLO);
+    check("every row can run", crs_generation_problem(a) == NULL && crs_generation_problem(b) == NULL);
+    crs_generation bad = *b;
+    bad.formatter = 3;
+    check("a row with no such formatter cannot", crs_generation_problem(&bad) != NULL);
+    bad = *b;
+    bad.printf_buffer_chars = CRS_PRINTF_BUFFER_MAX + 1;
+    check("nor one whose buffer the firmware cannot hold", crs_generation_problem(&bad) != NULL);
+    bad = *b;
+    bad.tx_ring_chars = CRS_LINE_QUEUE_CAPACITY;
+    check("nor one whose ring the line cannot hold", crs_generation_problem(&bad) != NULL);
+
+    check("no generation 0 or 3", crs_generation_of(0) == NULL && crs_generation_of(3) == NULL);
+    check("the firmware refuses generation 3", crs_fw_start(3) == NULL);
+    crs_sim *sim = calloc(1, sizeof *sim);
+    crs_sim_init(sim);
+    sim->shared = calloc(1, sizeof(crs_shared));
+    check("a board is of no generation until told", sim->generation == 0);
+    sim->generation = 3;
+    const int code = crs_fw_native_attach(sim);
+    check("the board refuses to load a firmware for generation 3, and says which it knows",
+          code == CRS_RUN_TRAPPED && sim->trap.kind == CRS_FW_TRAP_LOAD
+              && strcmp(sim->trap.text, "the board knows no framework generation 3 (it knows A (1), B (2))") == 0);
+    free_sim(sim);
 }
 
 /* ---- the motor board -------------------------------------------------------------------- */
@@ -574,6 +616,7 @@ int main(void)
     test_hold_controller_worked_sequence();
     test_startup_gate_and_clamp();
     test_print_triggers();
+    test_generation_rows_and_an_unknown_generation();
     test_motor_board_cuts_out_after_500_ms_over_4_units();
     test_motor_board_timeout_and_counts();
     test_serial_ring_drops();

@@ -18,6 +18,7 @@
 #include "coecsl.h"
 #include "crs_arm.h"
 #include "framework_facts.h"
+#include "generations.h"
 #include "host_ports.h"
 
 /* the framework's own globals, in its stand-ins (csrc/firmware/firmware.c) */
@@ -111,7 +112,10 @@ static crs_sim *new_sim(int generation)
     crs_sim_init(sim);
     sim->shared = calloc(1, sizeof(crs_shared));
     sim->generation = generation;
-    crs_fw_native_attach(sim); /* the test lab above is this board's firmware */
+    if (crs_fw_native_attach(sim) != 0) { /* the test lab above is this board's firmware */
+        printf("FAIL crs_fw_native_attach for generation %d: %s\n", generation, sim->trap.text);
+        ++failures;
+    }
     sim->startup_ticks = 0;
     sim->time_lab = 0;
     const double rest[3] = {0.0, -0.42, 0.24};

@@ -20,7 +20,7 @@ static void check_format(int gen_b, const char *want, const char *fmt, ...)
     char out[512];
     va_list ap;
     va_start(ap, fmt);
-    const size_t n = gen_b ? crs_format_gen_b(out, sizeof out, fmt, ap) : crs_format_gen_a(out, sizeof out, fmt, ap);
+    const size_t n = gen_b ? crs_format_ti(out, sizeof out, fmt, ap) : crs_format_small(out, sizeof out, fmt, ap);
     va_end(ap);
     if (strcmp(out, want) != 0 || n != strlen(want)) {
         printf("FAIL gen %c \"%s\": got \"%s\" (%zu chars), want \"%s\"\n", gen_b ? 'B' : 'A', fmt, out, n,
@@ -112,7 +112,7 @@ static size_t format_into(int gen_b, char *out, size_t cap, const char *fmt, ...
 {
     va_list ap;
     va_start(ap, fmt);
-    const size_t n = gen_b ? crs_format_gen_b(out, cap, fmt, ap) : crs_format_gen_a(out, cap, fmt, ap);
+    const size_t n = gen_b ? crs_format_ti(out, cap, fmt, ap) : crs_format_small(out, cap, fmt, ap);
     va_end(ap);
     return n;
 }

@@ -308,6 +308,9 @@
     for (const [key, title] of Object.entries(me.labs)) {
       $("lab-choice").appendChild(Object.assign(document.createElement("option"), { value: key, textContent: title }));
     }
+    for (const [name, title] of Object.entries(me.generations)) {
+      $("gen-choice").appendChild(Object.assign(document.createElement("option"), { value: name, textContent: title }));
+    }
     const [scenarios, shapes] = await Promise.all([fetch("/api/scenarios").then((r) => r.json()),
       fetch("/api/arm").then((r) => r.json())]);
     for (const s of scenarios) {
