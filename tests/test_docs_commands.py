@@ -38,7 +38,8 @@ def test_first_lab_s_blocks_are_the_ones_this_test_runs():
 
 def test_first_lab_install_block_installed_the_wheel_and_doctor_passed(installed_wheel):
     assert (installed_wheel.work / installed_wheel.wheel.name).exists()
-    assert "ok       lab build: lab1_kinematics.c compiles to a WebAssembly firmware" in installed_wheel.install_output
+    doctor = installed_wheel.install_output
+    assert "ok       lab build: lab1_kinematics.c compiles to a WebAssembly firmware" in doctor
 
 
 def test_first_lab_first_run_prints_what_the_doc_shows(installed_wheel):

@@ -33,11 +33,11 @@ from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
+from crslab.generations import GENERATIONS
 from crslab.serve.auth import CookieSigner, RateLimit, User, verify_secret
 from crslab.serve.protocol import ProtocolError, parse_message
 from crslab.serve.session_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
 from crslab.serve.sessions import LimitError, PageSession, Sessions
-from crslab.generations import GENERATIONS
 from crslab.starters import LABS, starter_text
 
 STATIC = Path(__file__).parent / "static"
