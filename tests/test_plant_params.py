@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from crslab.plant.model import apply_plant, holding_torques_nm, load_model, motor_to_qpos
-from crslab.plant.params import PARAMS, REST_MOTOR_RAD
+from crslab.plant.model_files import PARAMS, REST_MOTOR_RAD
 from crslab.plant.plant_params import NAMES, PlantParams, PlantParamsError
 from crslab.sim.api import make_config, simulate
 

@@ -50,7 +50,7 @@ sys.path.insert(0, sys.argv[1])
 import mujoco
 from crslab import resources
 from crslab.lab.build import build_lab
-from crslab.plant.params import SCENE_XML
+from crslab.plant.model_files import SCENE_XML
 assert resources.__file__.startswith(sys.argv[1]), resources.__file__
 b = build_lab()
 m = mujoco.MjModel.from_xml_path(str(SCENE_XML))

@@ -11,7 +11,7 @@ import pytest
 
 from crslab import crs
 from crslab.lab.build import build_lab
-from crslab.plant.params import COURSE_END_MASS_KG
+from crslab.plant.model_files import COURSE_END_MASS_KG
 from crslab.scenario import events as ev
 from crslab.scenario.events import EVENT_KINDS
 from crslab.scenario.load import (

@@ -29,7 +29,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-from crslab.plant.params import PARAMS
+from crslab.plant.model_files import PARAMS
 
 Triple = tuple[float, float, float]
 MOTORS = (1, 2, 3)

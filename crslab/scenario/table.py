@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab import crs
-from crslab.plant.params import COURSE_END_MASS_KG
+from crslab.plant.model_files import COURSE_END_MASS_KG
 from crslab.scenario.event import seconds_to_tick
 
 _HEADER = re.compile(r"^\s*\[")
