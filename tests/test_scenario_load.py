@@ -12,8 +12,8 @@ import pytest
 from crslab import crs
 from crslab.lab.build import build_lab
 from crslab.plant.model_files import COURSE_END_MASS_KG
-from crslab.scenario import events as ev
-from crslab.scenario.events import EVENT_KINDS
+from crslab.scenario import kinds as ev
+from crslab.scenario.kinds import EVENT_KINDS
 from crslab.scenario.load import (
     BUILTIN_DIR,
     ScenarioError,
@@ -239,7 +239,7 @@ def test_builtin_files_load_by_path_too():
 
 def test_scenarios_are_data_that_never_import_the_simulator():
     code = ("import sys\nfrom crslab.scenario.load import load_scenario\n"
-            "import crslab.scenario.events\ns = load_scenario('tour')\n"
+            "import crslab.scenario.kinds\ns = load_scenario('tour')\n"
             "print(sorted(m for m in sys.modules if m.startswith(('crslab.sim', 'mujoco'))))")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr

@@ -94,6 +94,6 @@ class Event:
 
 def event_kinds() -> dict[str, type[Event]]:
     """Every kind a scenario file may name, and the class that parses it, in definition order."""
-    import crslab.scenario.events  # noqa: F401 - defines (and so registers) every kind
+    import crslab.scenario.kinds  # noqa: F401 - defines (and so registers) every kind
 
     return dict(_KINDS)

@@ -107,7 +107,7 @@ from pathlib import Path
 from crslab import resources
 from crslab.lab.build import LabBuild
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
-from crslab.scenario.events import Expect, SetVariable, parse_event, parse_plant
+from crslab.scenario.kinds import Expect, SetVariable, parse_event, parse_plant
 from crslab.scenario.table import ScenarioError, TableReader
 
 BUILTIN_DIR = resources.path("scenarios")

@@ -4,7 +4,7 @@ An event at tick k is applied before tick k runs, so tick k's encoder reading an
 already see it. Faults act in the C framework (``crs_faults`` and ``estop_latched`` of
 csrc/sim/sim.h); plant changes edit the MuJoCo model in place; writes go to the lab's globals.
 An expectation (``expect``) changes nothing: it notes what the worker sees, for the crslab
-process to judge. Each event class of :mod:`crslab.scenario.events` has its effect here, found
+process to judge. Each event class of :mod:`crslab.scenario.kinds` has its effect here, found
 from its class (:func:`effect_of` registers one).
 """
 
@@ -15,7 +15,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, TypeVar
 
 from crslab.plant.model import set_end_mass
-from crslab.scenario.events import (
+from crslab.scenario.kinds import (
     DeadMotor,
     EncoderGlitch,
     EncoderNoise,

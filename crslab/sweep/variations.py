@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 from crslab.lab.watched import WatchedVar
 from crslab.scenario.event import Event, rng_state
-from crslab.scenario.events import EncoderNoise, EndMass, SetVariable
+from crslab.scenario.kinds import EncoderNoise, EndMass, SetVariable
 from crslab.scenario.load import _integer_range
 from crslab.sim.config import SimConfig
 

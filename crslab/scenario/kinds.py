@@ -1,4 +1,4 @@
-"""Every kind of scenario event, and turning a file's ``[[event]]`` and ``[plant]`` tables into
+"""Every kind of scenario event (the registry), and turning a file's ``[[event]]`` and ``[plant]`` tables into
 events. A new kind is one :class:`crslab.scenario.event.Event` subclass in the ``*_events.py``
 module of its group (a new module joins :data:`GROUPS`); its effect on the running arm goes in
 :mod:`crslab.sim.event_effects`.
