@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from crslab.host_tools.bridge import SerialBridge
-from crslab.host_tools.c28x_memory import lab_memory
 from crslab.host_tools.protocols import read_request, write_request
+from crslab.lab.c28x_memory import lab_memory
+from crslab.live.bridge import SerialBridge
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
 from crslab.sinks.memory import MemorySink

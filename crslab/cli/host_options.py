@@ -17,10 +17,10 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.framework_facts import SERIAL_BAUD
-from crslab.host_tools.bridge import SerialBridge
-from crslab.host_tools.c28x_memory import lab_memory
 from crslab.host_tools.linker_map import write_map
 from crslab.host_tools.ports import HostPort, PortError, PtyPort, TcpPort
+from crslab.lab.c28x_memory import lab_memory
+from crslab.live.bridge import SerialBridge
 from crslab.output_paths import folder, with_parent
 from crslab.sim.config import SimConfig
 from crslab.sim.running import LiveControl

@@ -9,10 +9,10 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.framework_facts import SIMULINK_INPUTS, SIMULINK_PERIOD_MS
-from crslab.host_tools.c28x_memory import MemoryLayout, text_memory
 from crslab.host_tools.client import MATLAB_TIMEOUT_S, LinkError, SerialLink, read_floats, write_float
 from crslab.host_tools.linker_map import MapError, read_map_file, write_map
 from crslab.host_tools.protocols import ADDRESS_MASK, MAX_FLOATS
+from crslab.lab.c28x_memory import MemoryLayout, text_memory
 from crslab.output_paths import with_parent
 
 

@@ -86,7 +86,7 @@ class LabBuild:
     break_when: str | None = None
     """The ``--break-when`` condition compiled in with the lab (``crs_debug_condition``), if any."""
     variables: tuple[LabVariable, ...] = field(default=())
-    """Every global the file defines (laid out in C28x memory by crslab.host_tools.c28x_memory)."""
+    """Every global the file defines (laid out in C28x memory by crslab.lab.c28x_memory)."""
     renamed: tuple[str, ...] = field(default=())
     """Globals of the lab compiled under another name in its WebAssembly image, because the C
     library defines theirs (:func:`crslab.lab.firmware.clashing_symbols`)."""
@@ -153,7 +153,7 @@ def check_board_memory(variables: list[LabVariable], generation: int, source: Pa
     """Refuse a lab whose globals, laid out as the TI linker would (16-bit words, the framework's
     sections), run past the F28335's data memory (``DATA_RAM_START`` to ``DATA_RAM_END``): the
     real board's link fails the same way."""
-    from crslab.host_tools.c28x_memory import layout
+    from crslab.lab.c28x_memory import layout
 
     placed = layout(variables, generation, source.stem).variables
     end = max((v.address + v.words for v in placed), default=DATA_RAM_START)

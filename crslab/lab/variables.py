@@ -1,7 +1,7 @@
 """Every global variable a lab file defines: name, type, array dimensions, section, qualifiers.
 
 The TI linker gives each of them an address in the C28x's data memory, which the course's map
-lists and its MATLAB scripts read and write (:mod:`crslab.host_tools.c28x_memory` lays them out).
+lists and its MATLAB scripts read and write (:mod:`crslab.lab.c28x_memory` lays them out).
 A lab file is read as text, not compiled: comments, strings and preprocessor lines are set aside
 (integer ``#define`` values are kept for array sizes, ``#pragma DATA_SECTION`` for sections), then
 every declaration at file scope is split into its declarators.

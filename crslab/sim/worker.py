@@ -39,7 +39,7 @@ from cffi import FFI
 
 from crslab import crs, os_support
 from crslab.framework_facts import CPU_CYCLES_PER_TICK, MOTOR_BOARDS
-from crslab.host_tools.c28x_memory import lab_memory
+from crslab.lab.c28x_memory import lab_memory
 from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
 from crslab.plant.model import apply_friction, apply_plant, load_model, motor_to_qpos
 from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers

@@ -13,10 +13,10 @@ import subprocess
 import sys
 import time
 
-from crslab.host_tools.bridge import SerialBridge
-from crslab.host_tools.c28x_memory import lab_memory
 from crslab.host_tools.ports import PtyPort
 from crslab.host_tools.protocols import read_request, simulink_packet
+from crslab.lab.c28x_memory import lab_memory
+from crslab.live.bridge import SerialBridge
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
 from crslab.sinks.sink import Sink
