@@ -11,12 +11,13 @@ runs nothing:
   also taken between packages (``crslab.sim`` depends on ``crslab.regress`` when one of its
   modules imports one of the other's), and a cycle there is listed too.
 - **C** (``csrc/``, but the lab files in ``csrc/labs`` and the test programs in ``csrc/tests``,
-  which nothing includes or calls): a file and the header of the same name in the same folder
-  are one unit (``csrc/sim/host_ports``). A unit depends on each unit whose header it includes
-  (``#include "x.h"``) and each unit that defines a function, not ``static``, that it calls or
-  names (a function pointer).
+  which nothing includes or calls): a file depends on each header it includes (``#include
+  "x.h"``) and on each file that defines a function, not ``static``, that it calls or names (a
+  function pointer). A header that only declares depends on nothing but its own includes, so
+  ``a.c`` calling ``b.c`` while ``b.c`` includes ``a.h`` for a type is no cycle; ``b.c`` calling
+  back into ``a.c`` is.
 
-Each cycle is printed with its shortest loop and every dependency inside it, with the file and
+Each cycle is printed with its shortest loop, then every dependency inside it with the file and
 line that makes it: the places to cut. Exit status 0 with ``no import cycles``, else 1.
 
     .venv/bin/python tools/import_cycles.py                # crslab/ and csrc/
@@ -120,14 +121,14 @@ def package_edges(edges: Iterable[Edge]) -> list[Edge]:
     for e in edges:
         a, b = package_of(e.source), package_of(e.target)
         if a != b and PACKAGE not in (a, b):
-            out.append(Edge(a, b, e.where, f"{e.source} imports {e.target}"))
+            out.append(Edge(a, b, e.where, e.why))
     return out
 
 
 # -- C ------------------------------------------------------------------------------------------
 
 _COMMENT_OR_LITERAL = re.compile(r'//[^\n]*|/\*.*?\*/|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\\n])*\'', re.DOTALL)
-_INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"([^"]+)"', re.MULTILINE)
+_INCLUDE = re.compile(r'^[ \t]*#[ \t]*include[ \t]*"', re.MULTILINE)
 _DIRECTIVE = re.compile(r"^[ \t]*#(?:[^\n]*\\\n)*[^\n]*", re.MULTILINE)
 _IDENT = re.compile(r"\b[A-Za-z_]\w*\b")
 _DEFINITION = re.compile(r"\b([A-Za-z_]\w*)\s*\(([^()]|\([^()]*\))*\)\s*$")
@@ -141,31 +142,32 @@ def _blank(match: re.Match[str]) -> str:
     return keep + re.sub(r"[^\n]", " ", text[len(keep):])
 
 
-def c_units(root: Path) -> dict[Path, str]:
-    """Every C file under ``csrc/`` (but its leaves) and its unit: the path without its suffix."""
+def c_files(root: Path) -> dict[Path, str]:
+    """Every C file under ``csrc/`` (but its leaves), and its name in the report."""
     base = root / C_ROOT
     out = {}
     for path in sorted([*base.rglob("*.c"), *base.rglob("*.h")]):
         rel = path.relative_to(root)
         if rel.parts[1] in C_LEAVES:
             continue
-        out[path] = str(rel.with_suffix(""))
+        out[path] = str(rel)
     return out
 
 
 @dataclass
 class _CFile:
     path: Path
-    unit: str
-    code: str  # comments and literals blanked, directives kept
+    name: str
     includes: list[tuple[str, int]]  # (the included name, line)
     defines: dict[str, bool]  # function name -> static
     uses: list[tuple[str, int]]  # (an identifier inside a function body, line)
 
 
-def _read_c(path: Path, unit: str) -> _CFile:
-    text = _COMMENT_OR_LITERAL.sub(_blank, path.read_text(errors="replace"))
-    includes = [(m.group(1), text.count("\n", 0, m.start()) + 1) for m in _INCLUDE.finditer(text)]
+def _read_c(path: Path, name: str) -> _CFile:
+    raw = path.read_text(errors="replace")
+    text = _COMMENT_OR_LITERAL.sub(_blank, raw)  # as long as raw: an offset in one is one in the other
+    includes = [(raw[m.end():raw.index('"', m.end())], text.count("\n", 0, m.start()) + 1)
+                for m in _INCLUDE.finditer(text)]
     code = _DIRECTIVE.sub(lambda m: re.sub(r"[^\n]", " ", m.group(0)), text)
     defines: dict[str, bool] = {}
     uses: list[tuple[str, int]] = []
@@ -190,38 +192,38 @@ def _read_c(path: Path, unit: str) -> _CFile:
                 body_from, start = -1, i + 1
         elif ch == ";" and depth == 0:
             start = i + 1
-    return _CFile(path, unit, code, includes, defines, uses)
+    return _CFile(path, name, includes, defines, uses)
 
 
 def c_edges(root: Path) -> list[Edge]:
-    """Every include of another unit's header and every use of another unit's function."""
-    files = [_read_c(path, unit) for path, unit in c_units(root).items()]
+    """Every include of another file and every use of a function another file defines."""
+    files = [_read_c(path, name) for path, name in c_files(root).items()]
     by_name: dict[str, list[Path]] = {}
     for f in files:
         by_name.setdefault(f.path.name, []).append(f.path)
-    unit_of = {f.path: f.unit for f in files}
+    name_of = {f.path: f.name for f in files}
     definers: dict[str, set[str]] = {}
     for f in files:
         for name, static in f.defines.items():
             if not static:
-                definers.setdefault(name, set()).add(f.unit)
+                definers.setdefault(name, set()).add(f.name)
     edges = []
     for f in files:
         for name, line in f.includes:
             near = f.path.parent / name
-            target = unit_of.get(near.resolve()) or unit_of.get(near)
+            target = name_of.get(near.resolve()) or name_of.get(near)
             if target is None and len(by_name.get(Path(name).name, [])) == 1:
-                target = unit_of[by_name[Path(name).name][0]]
-            if target is not None and target != f.unit:
-                edges.append(Edge(f.unit, target, f"{f.path.relative_to(root)}:{line}", f"includes {name}"))
+                target = name_of[by_name[Path(name).name][0]]
+            if target is not None and target != f.name:
+                edges.append(Edge(f.name, target, f"{f.path.relative_to(root)}:{line}", f"includes {name}"))
         seen = set()
         for name, line in f.uses:
             if name in f.defines:
-                continue  # its own (a static of the same name shadows another unit's)
+                continue  # its own (a static of the same name shadows another file's)
             for target in sorted(definers.get(name, ())):
-                if target != f.unit and (name, target) not in seen:
+                if target != f.name and (name, target) not in seen:
                     seen.add((name, target))
-                    edges.append(Edge(f.unit, target, f"{f.path.relative_to(root)}:{line}",
+                    edges.append(Edge(f.name, target, f"{f.path.relative_to(root)}:{line}",
                                       f"uses {name}() of {target}"))
     return edges
 
@@ -311,8 +313,7 @@ def report(title: str, edges: list[Edge]) -> list[str]:
         lines.append(f"{title} cycle: {' -> '.join(shortest_loop(group, edges))}")
         inside = sorted({(e.source, e.target, e.where, e.why) for e in edges
                          if e.source in members and e.target in members})
-        lines.extend(f"    {where}: {source} {why}" if not why.startswith(source) else f"    {where}: {why}"
-                     for source, _target, where, why in inside)
+        lines.extend(f"    {where}: {why}" for _source, _target, where, why in inside)
     return lines
 
 
