@@ -47,8 +47,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def watched_rows(lab: Path | None, every: bool = False) -> list[dict]:
     """The watched variables of ``lab`` (default: crslab's Lab 1) as rows for the listing, with
     their C28x addresses (``every``: all its globals)."""
-    from crslab.lab.build import DEFAULT_LAB
-    from crslab.lab.c28x_memory import text_memory
+    from crslab.lab.build import DEFAULT_LAB, text_memory
     from crslab.lab.lab_file import lab_file_problem
     from crslab.lab.variables import find_variables
 

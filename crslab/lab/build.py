@@ -29,6 +29,7 @@ from crslab import os_support, resources
 from crslab.cache import CacheError, cache_dir
 from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START, GEN_A, GEN_B, printf_buffer_chars
 from crslab.lab import firmware, zig
+from crslab.lab.c28x_memory import MemoryLayout, layout
 from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.lab_file import lab_file_problem
@@ -105,6 +106,11 @@ class LabBuild:
         return printf_buffer_chars(self.generation)
 
     @property
+    def memory(self) -> MemoryLayout:
+        """The lab's globals in the F28335's data memory, laid out as the TI linker would."""
+        return layout(self.variables, self.generation, self.source.stem)
+
+    @property
     def shared_object(self) -> Path:
         """The native build's shared object (the board and the lab)."""
         if not self.native:
@@ -122,6 +128,12 @@ def detect_generation(source_text: str) -> int:
     """
     includes = set(_INCLUDE.findall(source_text))
     return GEN_B if "F28335Serial.h" in includes and "coecsl.h" not in includes else GEN_A
+
+
+def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
+    """:attr:`LabBuild.memory` from a lab file's text alone: the layout depends on nothing else, so
+    ``crslab map`` and ``crslab vars`` need no build."""
+    return layout(find_variables(source_text), detect_generation(source_text), lab_name)
 
 
 def content_digest(parts: list[bytes]) -> str:
@@ -153,8 +165,6 @@ def check_board_memory(variables: list[LabVariable], generation: int, source: Pa
     """Refuse a lab whose globals, laid out as the TI linker would (16-bit words, the framework's
     sections), run past the F28335's data memory (``DATA_RAM_START`` to ``DATA_RAM_END``): the
     real board's link fails the same way."""
-    from crslab.lab.c28x_memory import layout
-
     placed = layout(variables, generation, source.stem).variables
     end = max((v.address + v.words for v in placed), default=DATA_RAM_START)
     if end > DATA_RAM_END:

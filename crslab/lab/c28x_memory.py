@@ -33,13 +33,9 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from crslab.framework_facts import GEN_A, GEN_B, SECTION_ORIGINS, SIMULINK_INPUTS
 from crslab.lab.variables import FRAMEWORK_TYPES, LabVariable
-
-if TYPE_CHECKING:
-    from crslab.lab.build import LabBuild
 
 PAGE = 1
 """Data memory is page 1 of the C28x's map."""
@@ -193,16 +189,3 @@ def overlapping(layout_: MemoryLayout) -> list[tuple[str, str]]:
         if a.address + a.words > b.address:
             out.append((a.name, b.name))
     return out
-
-
-def lab_memory(build: LabBuild) -> MemoryLayout:
-    """The layout of a built lab's globals (its generation's sections)."""
-    return layout(build.variables, build.generation, build.source.stem)
-
-
-def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
-    """The same layout from a lab file's text alone (no build: the layout depends on nothing else)."""
-    from crslab.lab.build import detect_generation
-    from crslab.lab.variables import find_variables
-
-    return layout(find_variables(source_text), detect_generation(source_text), lab_name)

@@ -39,7 +39,6 @@ from cffi import FFI
 
 from crslab import crs, os_support
 from crslab.framework_facts import CPU_CYCLES_PER_TICK, MOTOR_BOARDS
-from crslab.lab.c28x_memory import lab_memory
 from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
 from crslab.plant.model import apply_friction, apply_plant, load_model, motor_to_qpos
 from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
@@ -124,7 +123,7 @@ class Worker:
             self.firmware = WasmMemory(ffi, lib, sim, config.build)
         self.sim = sim
         # the lab's globals as the board's MATLAB code sees them (C28x addresses)
-        self._keep += fill_memory_table(sim, ffi, self.firmware, lab_memory(config.build))
+        self._keep += fill_memory_table(sim, ffi, self.firmware, config.build.memory)
         sim.mj_model = ffi.cast("void *", self.model._address)
         sim.mj_data = ffi.cast("void *", self.data._address)
         sim.mj_step = ffi.cast("crs_mj_step_fn", mj_step)
