@@ -171,17 +171,19 @@ class Worker:
         """The native firmware's shared object, loaded (in the run sandbox when asked) and
         attached to a new board; returns (library, sim)."""
         tracer = debug.tracer_pid if debug is not None else None
+        constants = board_constants()  # read from sim.h before the sandbox closes every file
         if config.sandboxed:
             from crslab.sandbox.run_sandbox import enter_run_sandbox
 
             self.sandbox = enter_run_sandbox(block, config.build.image, keep_fds,
+                                             trap_library=config.build.trap_library,
                                              sanitizer=config.build.sanitized, tracer_pid=tracer)
         elif tracer is not None:
             os_support.allow_tracer(tracer)
-        block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
+        block.phase = constants.CRS_PHASE_LOADING  # type: ignore[attr-defined]
         with self.sandbox.loading() if self.sandbox is not None else contextlib.nullcontext():
             lib = self.ffi.dlopen(str(config.build.image))
-        block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
+        block.phase = constants.CRS_PHASE_IDLE  # type: ignore[attr-defined]
         self.lib = lib
         sim = self._new_sim(config, block)
         lib.crs_fw_native_attach(sim)
