@@ -203,7 +203,7 @@ def _display() -> Check:
 
 
 def _rerun() -> Check:
-    from crslab.sinks.rerun_scopes import viewer_executable
+    from crslab.scopes.rerun_stream import viewer_executable
 
     try:
         version = metadata.version("rerun-sdk")
