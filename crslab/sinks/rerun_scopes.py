@@ -45,10 +45,10 @@ from crslab.scopes.signals import (
     SIMULINK,
     TORQUE,
     Group,
-    SerialLines,
     signal_values,
     simulink_samples,
 )
+from crslab.serial_lines import SerialLines
 from crslab.sinks.sink import Sink
 
 TIMELINE = "sim_time"
