@@ -22,7 +22,7 @@ from cffi import FFI
 
 from crslab import crs, framework_facts, resources
 from crslab.cheaders import cdef_from_header
-from crslab.scenario.kinds import WristEstop
+from crslab.scenario.fault_events import WristEstop
 from crslab.scenario.load import load_scenario
 from crslab.sim.api import make_config
 from crslab.sim.inprocess import InProcessRun

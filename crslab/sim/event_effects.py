@@ -4,7 +4,7 @@ An event at tick k is applied before tick k runs, so tick k's encoder reading an
 already see it. Faults act in the C framework (``crs_faults`` and ``estop_latched`` of
 csrc/sim/sim.h); plant changes edit the MuJoCo model in place; writes go to the lab's globals.
 An expectation (``expect``) changes nothing: it notes what the worker sees, for the crslab
-process to judge. Each event class of :mod:`crslab.scenario.kinds` has its effect here, found
+process to judge. Each event class of :data:`crslab.scenario.kinds.EVENT_CLASSES` has its effect here, found
 from its class (:func:`effect_of` registers one).
 """
 
@@ -15,21 +15,12 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Protocol, TypeVar
 
 from crslab.plant.model import set_end_mass
-from crslab.scenario.kinds import (
-    DeadMotor,
-    EncoderGlitch,
-    EncoderNoise,
-    EndMass,
-    Event,
-    Expect,
-    FrictionScale,
-    HandMove,
-    HandRelease,
-    SetVariable,
-    SimulinkInput,
-    StuckEncoder,
-    WristEstop,
-)
+from crslab.scenario.event import Event
+from crslab.scenario.expect_events import Expect
+from crslab.scenario.fault_events import EncoderGlitch, EncoderNoise, JointFault, WristEstop
+from crslab.scenario.hand_events import HandMove, HandRelease
+from crslab.scenario.lab_events import SetVariable, SimulinkInput
+from crslab.scenario.plant_events import EndMass, FrictionScale
 
 if TYPE_CHECKING:
     import mujoco
@@ -151,16 +142,11 @@ def _encoder_glitch(worker: EffectTarget, e: EncoderGlitch) -> None:
         faults.glitch_counts[j] += int(e.counts[j])
 
 
-@effect_of(StuckEncoder)
-def _stuck_encoder(worker: EffectTarget, e: StuckEncoder) -> None:
+@effect_of(JointFault)
+def _joint_fault(worker: EffectTarget, e: JointFault) -> None:
+    flags = getattr(worker.sim.faults, e.fault)  # the crs_faults field named as the fault
     for j in e.joints:
-        worker.sim.faults.stuck_encoder[j - 1] = int(e.stuck)
-
-
-@effect_of(DeadMotor)
-def _dead_motor(worker: EffectTarget, e: DeadMotor) -> None:
-    for j in e.joints:
-        worker.sim.faults.dead_motor[j - 1] = int(e.dead)
+        flags[j - 1] = int(e.on)
 
 
 @effect_of(WristEstop)

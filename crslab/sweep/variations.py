@@ -37,8 +37,10 @@ from dataclasses import dataclass
 
 from crslab.lab.watched import WatchedVar
 from crslab.scenario.event import Event, rng_state
-from crslab.scenario.kinds import EncoderNoise, EndMass, SetVariable
+from crslab.scenario.fault_events import EncoderNoise
+from crslab.scenario.lab_events import SetVariable
 from crslab.scenario.load import _integer_range
+from crslab.scenario.plant_events import EndMass
 from crslab.sim.config import SimConfig
 
 PLANT_NAMES: dict[str, str] = {
