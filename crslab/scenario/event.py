@@ -32,6 +32,16 @@ def seconds_to_tick(seconds: float) -> int:
     return int(round(seconds * 1000.0))
 
 
+def until_tick(r: TableReader, at: int) -> int | None:
+    """The tick of the table's ``until`` (seconds; None without one), which must be after ``at``."""
+    if "until" not in r.table:
+        return None
+    until = seconds_to_tick(r.number("until", minimum=0.0))
+    if until <= at:
+        raise r.fail("until", "must be later than at")
+    return until
+
+
 def rng_state(seed: int, ordinal: int) -> int:
     """A non-zero 64-bit generator state for the ``ordinal``-th random fault of a scenario
     seeded with ``seed`` (splitmix64 of both).
