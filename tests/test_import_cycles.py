@@ -23,6 +23,12 @@ def tree(root: Path, files: dict[str, str]) -> Path:
     return root
 
 
+def test_crslab_and_csrc_have_no_import_cycles():
+    r = run(ROOT)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert r.stdout == "no import cycles\n"
+
+
 def test_a_deferred_or_type_only_import_still_closes_a_module_cycle(tmp_path):
     tree(tmp_path, {
         "crslab/__init__.py": "",

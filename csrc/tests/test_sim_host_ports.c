@@ -19,6 +19,7 @@
 #include "crs_arm.h"
 #include "framework_facts.h"
 #include "host_ports.h"
+#include "simulink_link.h"
 
 /* the framework's own globals, in its stand-ins (csrc/firmware/firmware.c) */
 extern int SIMU_Var1_fromSIMU_16bit, SIMU_Var7_fromSIMU_16bit;
