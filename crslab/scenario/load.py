@@ -17,6 +17,7 @@ from pathlib import Path
 
 from crslab import resources
 from crslab.lab.build import LabBuild
+from crslab.lab.watched import WatchedError, watched_var
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
 from crslab.scenario.expect_events import Expect
 from crslab.scenario.kinds import parse_event
@@ -145,8 +146,7 @@ def load_scenario(name_or_path: str | None = None) -> Scenario:
 def check_lab(scenario: Scenario, build: LabBuild) -> None:
     """Check that every variable the scenario writes (``set``) or expects (``expect``) is one the
     lab watches (``#pragma DATA_SECTION``), with an index exactly when it is an array, and that
-    every value written fits; raises :class:`ScenarioError`."""
-    watched = {v.name: v for v in build.watched}
+    every value written fits; raises :class:`ScenarioError` naming the file, the line and the key."""
     lab = build.source.name
     for e in scenario.events:
         if isinstance(e, SetVariable):
@@ -155,40 +155,13 @@ def check_lab(scenario: Scenario, build: LabBuild) -> None:
             name, index, line = e.variable.name, e.variable.index, e.variable.line or e.line
         else:
             continue
-        where = f"{scenario.source}:{line}" if line else scenario.source
-        var = watched.get(name)
-        if var is None:
-            known = ", ".join(watched) or "none"
-            raise ScenarioError(f"{where}: var: {name} is not a watched (#pragma DATA_SECTION) variable "
-                                f"of {lab} (watched: {known})")
-        if var.length is None and index is not None:
-            raise ScenarioError(f"{where}: index: {name} is not an array in {lab}")
-        if var.length is not None and (index is None or index >= var.length):
-            raise ScenarioError(f"{where}: index: {name} has {var.length} elements in {lab}: "
-                                f"give an index 0..{var.length - 1}")
-        if isinstance(e, SetVariable) and var.is_integer:
-            low, high = _integer_range(var.cdecl)
-            if not low <= round(e.value) <= high:
-                raise ScenarioError(f"{where}: value: {e.value:g} does not fit {e.name}, "
-                                    f"{var.ctype} in {lab} ({low} to {high})")
-
-
-def _integer_range(cdecl: str) -> tuple[int, int]:
-    """The host range of the integer type in a watched variable's declaration.
-
-    >>> _integer_range("extern uint16_t mode;"), _integer_range("extern int count[4];")
-    ((0, 65535), (-2147483648, 2147483647))
-    """
-    from cffi import FFI
-
-    ctype = cdecl.removeprefix("extern ").rsplit(" ", 1)[0]
-    if ctype == "_Bool":
-        return 0, 1
-    ffi = FFI()
-    bits = 8 * ffi.sizeof(ctype)
-    if int(ffi.cast(ctype, -1)) < 0:
-        return -(1 << (bits - 1)), (1 << (bits - 1)) - 1
-    return 0, (1 << bits) - 1
+        try:
+            var = watched_var(build.watched, name, index, lab)
+            if isinstance(e, SetVariable):
+                var.check_value(e.value, lab)
+        except WatchedError as exc:
+            where = f"{scenario.source}:{line}" if line else scenario.source
+            raise ScenarioError(f"{where}: {exc.key}: {exc}") from None
 
 
 def describe_builtins() -> list[tuple[str, str]]:
