@@ -73,10 +73,6 @@ def default_motor_board(generation: int) -> str:
     return "piccolo" if generation == GEN_B else "none"
 
 
-SCIB_TX_RING = {GEN_A: lib.CRS_GEN_A_SCIB_TX_RING, GEN_B: lib.CRS_GEN_B_SCIB_TX_RING}
-"""SerialB's (Simulink's) transmit ring per generation, chars."""
-SCIC_TX_RING = {GEN_A: lib.CRS_GEN_A_SCIC_TX_RING, GEN_B: lib.CRS_GEN_B_SCIC_TX_RING}
-"""SerialC's (MATLAB's) transmit ring per generation, chars."""
 MATLAB_START: int = lib.CRS_MATLAB_START
 """'*': every MATLAB message and reply starts with it."""
 SIMULINK_INPUTS: int = lib.CRS_SIMULINK_INPUTS
