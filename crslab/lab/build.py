@@ -32,7 +32,7 @@ from crslab.lab import firmware, zig
 from crslab.lab.c28x_memory import MemoryLayout, layout
 from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
-from crslab.lab.lab_file import lab_file_problem
+from crslab.lab.lab_file import read_lab_file
 from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, find_watched
 from crslab.sandbox.compile_sandbox import compiler_sandbox
@@ -328,13 +328,7 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     compiler was refused a file the lab names.
     """
     src = Path(source) if source is not None else DEFAULT_LAB
-    problem = lab_file_problem(src)
-    if problem:
-        raise LabBuildError(problem)
-    try:
-        text_bytes = src.read_bytes()
-    except OSError as exc:
-        raise LabBuildError(f"{src}: cannot be read ({exc.strerror})") from None
+    text_bytes = read_lab_file(src)
     text = text_bytes.decode("utf-8", "replace")
     generation = detect_generation(text)
     variables = find_variables(text)
