@@ -35,19 +35,6 @@ void crs_fw_native_attach(crs_sim *sim)
     sim->cost_unit = CRS_COST_NS;
 }
 
-static void count_cost(crs_sim *sim, int64_t cost)
-{
-    sim->lab_cost_total += cost;
-    if (cost > sim->lab_cost_max) {
-        sim->lab_cost_max = cost;
-        sim->lab_max_tick = sim->tick;
-    }
-    if (cost > sim->budget) {
-        if (sim->over_budget < 8) sim->first_over_tick[sim->over_budget] = sim->tick;
-        sim->over_budget++;
-    }
-}
-
 int crs_fw_call_lab(crs_sim *sim, int32_t *print)
 {
     crs_shared *sh = sim->shared;
@@ -65,7 +52,7 @@ int crs_fw_call_lab(crs_sim *sim, int32_t *print)
     sh->phase_start_ns = start_ns;
     sh->phase = CRS_PHASE_LAB;
     *print = crs_fw_lab(th1, th2, th3, sim->safety_flag);
-    count_cost(sim, crs_now_ns() - start_ns);
+    crs_board_lab_cost(sim, crs_now_ns() - start_ns);
     if (sim->debug.trap_fp) crs_debug_fp_traps(0);
     return 0;
 }
