@@ -18,6 +18,7 @@ array([[ 0.15,  0.29,  0.57],
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -72,6 +73,20 @@ def _positive(values: object, count: int, name: str) -> np.ndarray:
     return arr
 
 
+def _solve(batch: Callable[..., None], params: np.ndarray, src: np.ndarray, lower: object, upper: object,
+           slots: tuple[str, ...]) -> Solutions:
+    """Every target row of ``src`` (``(..., 3)``) through one of the C core's closed-form batch
+    solvers (``params``, the limits, the targets in; each slot's joint angles, status and the
+    singular flag out)."""
+    lo, hi, _keep = _limits(lower, upper)
+    lead = src.shape[:-1]
+    q = np.empty(lead + (len(slots), 3))
+    status = np.empty(lead + (len(slots),), dtype=np.int32)
+    singular = np.empty(lead, dtype=np.int32)
+    batch(dptr(params), lo, hi, dptr(src), dptr(q), iptr(status), iptr(singular), src.size // 3)
+    return Solutions(q, status, singular, slots)
+
+
 def rrr_ik(dims: object, xyz: object, lower: object = None, upper: object = None) -> Solutions:
     """All four IK solutions of the spatial RRR arm for targets ``xyz`` ``(..., 3)``.
 
@@ -87,14 +102,7 @@ def rrr_ik(dims: object, xyz: object, lower: object = None, upper: object = None
     d = _positive(dims, 4, "dims (d1, a1, a2, a3)")
     if not (d[2] > 0 and d[3] > 0):
         raise ValueError("rrr_ik needs a2 > 0 and a3 > 0")
-    src = as_rows(xyz, 3, "xyz")
-    lo, hi, _keep = _limits(lower, upper)
-    lead = src.shape[:-1]
-    q = np.empty(lead + (4, 3))
-    status = np.empty(lead + (4,), dtype=np.int32)
-    singular = np.empty(lead, dtype=np.int32)
-    lib.rrr_ik_batch(dptr(d), lo, hi, dptr(src), dptr(q), iptr(status), iptr(singular), src.size // 3)
-    return Solutions(q, status, singular, RRR_SLOTS)
+    return _solve(lib.rrr_ik_batch, d, as_rows(xyz, 3, "xyz"), lower, upper, RRR_SLOTS)
 
 
 def planar3r_ik(links: object, target: object, lower: object = None, upper: object = None) -> Solutions:
@@ -112,11 +120,4 @@ def planar3r_ik(links: object, target: object, lower: object = None, upper: obje
     a = _positive(links, 3, "links (a1, a2, a3)")
     if not (a[0] > 0 and a[1] > 0):
         raise ValueError("planar3r_ik needs a1 > 0 and a2 > 0")
-    src = as_rows(target, 3, "target")
-    lo, hi, _keep = _limits(lower, upper)
-    lead = src.shape[:-1]
-    q = np.empty(lead + (2, 3))
-    status = np.empty(lead + (2,), dtype=np.int32)
-    singular = np.empty(lead, dtype=np.int32)
-    lib.planar3r_ik_batch(dptr(a), lo, hi, dptr(src), dptr(q), iptr(status), iptr(singular), src.size // 3)
-    return Solutions(q, status, singular, PLANAR3R_SLOTS)
+    return _solve(lib.planar3r_ik_batch, a, as_rows(target, 3, "target"), lower, upper, PLANAR3R_SLOTS)

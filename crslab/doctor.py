@@ -126,8 +126,8 @@ def _mujoco() -> Check:
         import numpy as np
 
         from crslab.plant.model import load_model, motor_to_qpos
+        from crslab.plant.model_files import REST_MOTOR_RAD
         from crslab.plant.mujoco_c import mj_step_address
-        from crslab.plant.params import REST_MOTOR_RAD
 
         model = load_model()
         data = mujoco.MjData(model)
@@ -203,7 +203,7 @@ def _display() -> Check:
 
 
 def _rerun() -> Check:
-    from crslab.sinks.rerun_scopes import viewer_executable
+    from crslab.scopes.rerun_stream import viewer_executable
 
     try:
         version = metadata.version("rerun-sdk")

@@ -18,7 +18,7 @@ from crslab.plant.model import (
     qpos_to_motor,
     set_end_mass,
 )
-from crslab.plant.params import PARAMS
+from crslab.plant.model_files import PARAMS
 
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.81

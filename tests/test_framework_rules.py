@@ -22,7 +22,7 @@ from cffi import FFI
 
 from crslab import crs, framework_facts, resources
 from crslab.cheaders import cdef_from_header
-from crslab.scenario.events import WristEstop
+from crslab.scenario.fault_events import WristEstop
 from crslab.scenario.load import load_scenario
 from crslab.sim.api import make_config
 from crslab.sim.inprocess import InProcessRun
@@ -47,11 +47,6 @@ MB_COUNTS_PER_UNIT, MB_REJECT_COUNTS, MB_LIMIT_COUNTS = 300, 1500, 1200
 MB_OVER_LIMIT_MS, MB_TIMEOUT_MS = 500, 100
 
 BOARD_FUNCTIONS = """
-void crs_hold_update(crs_hold *h, const double enc_rad[3]);
-void crs_hold_follow(crs_hold *h, const double enc_rad[3]);
-void crs_hold_reanchor(crs_hold *h, const double enc_rad[3]);
-void crs_hand_step(crs_sim *sim);
-void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3]);
 void crs_motor_board_init(crs_motor_board *mb, int32_t model);
 int crs_motor_board_step(crs_motor_board *mb, int64_t tick, const double *command_units);
 extern long rule_calls;
@@ -72,8 +67,8 @@ class Board:
         self.worker = self.run.worker
         self.sim = self.worker.sim
         self.ffi = FFI()
-        for header in ("sim.h", "debug.h"):
-            self.ffi.cdef(cdef_from_header(resources.path("csrc", "sim", header).read_text()))
+        for header in ("sim/sim.h", "sim/debug.h", "kin/traj_profiles.h", "sim/framework.h"):
+            self.ffi.cdef(cdef_from_header(resources.path("csrc", *header.split("/")).read_text()))
         self.ffi.cdef(BOARD_FUNCTIONS + LAB_VARIABLES[lab])
         # the library the worker loaded (found among those loaded, not opened again)
         self.lib = self.ffi.dlopen(str(self.worker.config.build.shared_object))
@@ -395,9 +390,12 @@ def test_the_hand_moves_along_a_minimum_jerk_path_for_the_scenarios_duration(boa
         h.target_dh_rad[j] = target[j]
     h.max_nm = 1e9
 
+    path = board.ffi.new("crs_hand_path *")
+    board.lib.crs_hand_plan(board.ffi.addressof(sim, "hand"), path)  # as the tick loop does per chunk
+
     def force(tick: int, kp: float, kd: float) -> np.ndarray:
         sim.tick, h.kp_nm_per_rad, h.kd_nm_s_per_rad = tick, kp, kd
-        board.lib.crs_hand_step(sim)
+        board.lib.crs_hand_step_along(sim, path)
         return np.array(list(h.force_nm))
 
     # with the arm at 0, a force of kp * error is the path itself: L (10 s^3 - 15 s^4 + 6 s^5)

@@ -11,7 +11,7 @@ import pytest
 
 from crslab.identify.friction_lab import run_friction_lab
 from crslab.plant.model import holding_torques_nm
-from crslab.plant.params import REST_MOTOR_RAD
+from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation

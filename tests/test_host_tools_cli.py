@@ -13,8 +13,8 @@ from pathlib import Path
 import serial
 from waiting import GUARD_S, LineWatcher, join, wait_exit
 
-from crslab.host_tools.c28x_memory import text_memory
 from crslab.host_tools.protocols import plot_values, read_request, simulink_packet
+from crslab.lab.build import text_memory
 
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT_LAB = ROOT / "csrc" / "labs" / "lab1_kinematics.c"

@@ -13,8 +13,9 @@ import pytest
 
 from crslab.cli import main
 from crslab.generations import GEN_B
-from crslab.host_tools.c28x_memory import layout, overlapping, text_memory
 from crslab.host_tools.linker_map import MapError, read_map, write_map
+from crslab.lab.build import text_memory
+from crslab.lab.c28x_memory import layout, overlapping
 from crslab.lab.variables import find_variables
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -10,9 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from crslab.host_tools.bridge import SerialBridge
-from crslab.host_tools.c28x_memory import lab_memory
 from crslab.host_tools.protocols import read_request, write_request
+from crslab.live.bridge import SerialBridge
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
 from crslab.sinks.memory import MemorySink
@@ -39,7 +38,7 @@ def ask(sim, request: bytes, ticks: int = 10) -> bytes:
 
 
 def test_gen_a_answers_the_worked_vectors_and_writes_reach_the_next_print(gen_a_config):
-    mem = lab_memory(gen_a_config.build)
+    mem = gen_a_config.build.memory
     out = MemorySink()
     with Simulation(gen_a_config) as sim:
         sim.run(100, out)
@@ -72,7 +71,7 @@ def test_gen_a_answers_the_worked_vectors_and_writes_reach_the_next_print(gen_a_
 
 
 def test_gen_b_reads_run_into_the_next_variables_and_its_ring_cuts_long_replies(gen_b_config):
-    mem = lab_memory(gen_b_config.build)
+    mem = gen_b_config.build.memory
     with Simulation(gen_b_config) as sim:
         sim.run(50)
         # four floats from whattoprint on: whattoprint, Kp1, samples (2: the request arrives during
@@ -119,7 +118,7 @@ def test_a_host_never_reaches_past_the_object_the_compiler_laid_out():
     """The text says ``samples`` holds 400 floats, the compiler made 4: the host tools go by what
     was compiled, so the array reads as zeros and a write far past its end changes nothing."""
     config = make_config(LABS / "host_size_mismatch.c", "hands_off", startup_delay=False)
-    mem = lab_memory(config.build)
+    mem = config.build.memory
     samples, guard = mem.find("samples"), mem.find("guard")
     assert samples.count == 400  # the text's reading
     with Simulation(config) as sim:

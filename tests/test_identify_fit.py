@@ -11,7 +11,7 @@ import pytest
 from crslab.identify import fit as fitting
 from crslab.identify.recording import read_recording
 from crslab.identify.runs import lab_offsets
-from crslab.plant.params import PARAMS
+from crslab.plant.model_files import PARAMS
 from crslab.plant.plant_params import PlantParams
 from crslab.resources import path as resource_path
 from crslab.sim.api import make_config, simulate

@@ -12,7 +12,7 @@ from crslab.identify import metrics
 from crslab.identify.fit import Source, compare
 from crslab.identify.recording import read_recording
 from crslab.identify.runs import lab_offsets
-from crslab.plant.params import PARAMS
+from crslab.plant.model_files import PARAMS
 from crslab.resources import path as resource_path
 from crslab.sim.api import make_config, simulate
 

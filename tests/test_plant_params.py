@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from crslab.plant.model import apply_plant, holding_torques_nm, load_model, motor_to_qpos
-from crslab.plant.params import PARAMS, REST_MOTOR_RAD
+from crslab.plant.model_files import PARAMS, REST_MOTOR_RAD
 from crslab.plant.plant_params import NAMES, PlantParams, PlantParamsError
 from crslab.sim.api import make_config, simulate
 
@@ -102,7 +102,7 @@ def test_a_plant_file_round_trips_and_overrides_only_what_it_says(tmp_path):
     ("[friction.motor4]\nCpos_nm = 1\n", "unknown table [friction.motor4]"),
     ("[friction.motor1]\nCpos = 1\n", "unknown key Cpos in [friction.motor1]"),
     ("[variations]\nfriction1 = -2\n", "friction1 = -2 is outside"),
-    ("drive = ", "not a TOML file"),
+    ("drive = ", "not valid TOML"),
 ])
 def test_bad_plant_files_are_one_line_naming_the_file(tmp_path, text, words):
     path = tmp_path / "bad.toml"

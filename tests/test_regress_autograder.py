@@ -129,7 +129,7 @@ def test_the_schemas_catch_what_the_platforms_reject():
 def tests_file(tmp_path_factory):
     folder = tmp_path_factory.mktemp("autograder")
     (folder / "short_tour.toml").write_text(
-        (Path(__file__).resolve().parents[1] / "crslab" / "scenarios" / "tour.toml").read_text()
+        (Path(__file__).resolve().parents[1] / "crslab" / "scenario" / "builtin" / "tour.toml").read_text()
     )
     path = folder / "tests.toml"
     path.write_text(

@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[1]
 def test_the_editable_install_uses_the_checkouts_own_folders():
     assert resources.path("csrc") == ROOT / "csrc"
     assert resources.path("models", "crs_arm", "scene.xml") == ROOT / "models" / "crs_arm" / "scene.xml"
-    assert resources.path("scenarios") == ROOT / "crslab" / "scenarios"
+    assert resources.path("scenarios") == ROOT / "crslab" / "scenario" / "builtin"
     # every place that compiles or loads goes through it
     assert build.SIM == ROOT / "csrc" / "sim" and build.DEFAULT_LAB.is_file()
     with pytest.raises(ValueError, match="no runtime folder named 'tests'"):
@@ -50,7 +50,7 @@ sys.path.insert(0, sys.argv[1])
 import mujoco
 from crslab import resources
 from crslab.lab.build import build_lab
-from crslab.plant.params import SCENE_XML
+from crslab.plant.model_files import SCENE_XML
 assert resources.__file__.startswith(sys.argv[1]), resources.__file__
 b = build_lab()
 m = mujoco.MjModel.from_xml_path(str(SCENE_XML))

@@ -100,7 +100,7 @@ def test_the_worker_must_be_one_thread_to_enter_the_sandbox():
         from crslab.sandbox.run_sandbox import SandboxError, enter_run_sandbox
         threading.Thread(target=threading.Event().wait, daemon=True).start()  # a second thread
         try:
-            enter_run_sandbox(None, "/nonexistent.so")
+            enter_run_sandbox(None, "/nonexistent.so", trap_library=None)
         except SandboxError as exc:
             print(exc)
         """)

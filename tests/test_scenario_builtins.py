@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from crslab.plant.model import holding_torques_nm
-from crslab.plant.params import COURSE_END_MASS_KG
+from crslab.plant.model_files import COURSE_END_MASS_KG
 from crslab.plant.plant_params import PlantParams
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import simulate

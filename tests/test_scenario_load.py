@@ -1,7 +1,9 @@
 """Scenario files: every event kind parses to its dataclass; every mistake is one error naming
 the file, the line and the key; the built-ins and the documented examples all load."""
 
+import importlib
 import math
+import pkgutil
 import re
 import subprocess
 import sys
@@ -9,11 +11,14 @@ from pathlib import Path
 
 import pytest
 
-from crslab import crs
+from crslab import crs, scenario
 from crslab.lab.build import build_lab
-from crslab.plant.params import COURSE_END_MASS_KG
-from crslab.scenario import events as ev
-from crslab.scenario.events import EVENT_KINDS
+from crslab.plant.model_files import COURSE_END_MASS_KG
+from crslab.scenario.event import Event
+from crslab.scenario.fault_events import EncoderGlitch, JointFault, WristEstop
+from crslab.scenario.hand_events import HandMove, HandRelease
+from crslab.scenario.kinds import EVENT_CLASSES, EVENT_KINDS, kinds_of
+from crslab.scenario.lab_events import SetVariable
 from crslab.scenario.load import (
     BUILTIN_DIR,
     ScenarioError,
@@ -23,6 +28,7 @@ from crslab.scenario.load import (
     load_scenario,
     parse_scenario,
 )
+from crslab.scenario.plant_events import EndMass, FrictionScale
 
 ROOT = Path(__file__).resolve().parents[1]
 LABS = ROOT / "tests" / "labs"
@@ -43,9 +49,7 @@ def one_event(body, end=30.0, seed=None):
 
 
 def test_every_kind_parses_to_its_dataclass():
-    text = (ROOT / "crslab" / "scenario" / "load.py").read_text()
-    example = text.split("::\n\n", 1)[1].split('\n\nEvery error', 1)[0]
-    s = parse("\n".join(line[4:] for line in example.splitlines()), "example.toml")
+    s = load_scenario(str(ROOT / "tests" / "data" / "every_event_kind.toml"))
     kinds = {e.kind for e in s.events}
     # glitches expand into glitch events; the rest keep their own kind
     assert kinds == set(EVENT_KINDS) - {"glitches"}
@@ -57,19 +61,19 @@ def test_every_kind_parses_to_its_dataclass():
 
 def test_hand_targets_and_hold():
     (move,) = one_event('at = 5\nkind = "hand"\nmotor_deg = [0, 90, 0]\nduration = 2\n')
-    assert move == ev.HandMove(tick=5000, target_dh_rad=(0.0, 0.0, 0.0), duration_ticks=2000)
+    assert move == HandMove(tick=5000, target_dh_rad=(0.0, 0.0, 0.0), duration_ticks=2000)
     (move,) = one_event('at = 5\nkind = "hand"\ndh_deg = [10, -20, 30]\n')
     assert move.duration_ticks == 1000
     assert move.target_dh_rad == pytest.approx(tuple(math.radians(v) for v in (10, -20, 30)))
     (move,) = one_event('at = 5\nkind = "hand"\nxyz_in = [12, 3, 15]\n')
     assert crs.fk(crs.dh_to_motor(move.target_dh_rad)) == pytest.approx([12, 3, 15])
     move, release = one_event('at = 5\nkind = "hand"\npose = "rest"\nduration = 1.5\nhold = 2\n')
-    assert move.target_dh_rad is None and release == ev.HandRelease(tick=8500)
+    assert move.target_dh_rad is None and release == HandRelease(tick=8500)
 
 
 def test_writes_and_simulink_inputs():
     (s,) = one_event('at = 6\nkind = "set"\nvar = "theta1array"\nindex = 3\nvalue = 0.25\n')
-    assert s == ev.SetVariable(tick=6000, name="theta1array", value=0.25, index=3)
+    assert s == SetVariable(tick=6000, name="theta1array", value=0.25, index=3)
     (u,) = one_event('at = 6\nkind = "simulink"\nvalues = [100, -20, 5]\n')
     assert u.values == ((1, 100), (2, -20), (3, 5))
     (u,) = one_event('at = 6\nkind = "simulink"\ninput = 7\nvalue = -32768\n')
@@ -79,22 +83,23 @@ def test_writes_and_simulink_inputs():
 def test_plant_changes():
     s = parse('end = 9\n[plant]\nrest_motor_deg = [0, -24, 13]\nend_mass_kg = "course"\nfriction_scale = 0.5')
     assert s.rest_motor_rad == pytest.approx((0.0, math.radians(-24), math.radians(13)))
-    assert s.events == (ev.EndMass(tick=0, kg=COURSE_END_MASS_KG), ev.FrictionScale(tick=0, scale=0.5))
+    assert s.events == (EndMass(tick=0, kg=COURSE_END_MASS_KG), FrictionScale(tick=0, scale=0.5))
     (m,) = one_event('at = 10\nkind = "end_mass"\nkg = 0.5\n')
-    assert m == ev.EndMass(tick=10000, kg=0.5)
+    assert m == EndMass(tick=10000, kg=0.5)
 
 
 def test_faults_with_joints_lists_and_until():
     on, off = one_event('at = 7\nkind = "noise"\ncounts = 40\njoints = [2, 3]\nuntil = 9\n')
     assert on.counts == (0.0, 40.0, 40.0) and off.counts == (0.0, 0.0, 0.0) and off.tick == 9000
     (g,) = one_event('at = 7.5\nkind = "glitch"\ncounts = [1, -2, 3]\n')
-    assert g == ev.EncoderGlitch(tick=7500, counts=(1, -2, 3))
+    assert g == EncoderGlitch(tick=7500, counts=(1, -2, 3))
     stuck, free = one_event('at = 11\nkind = "stuck_encoder"\njoint = 1\nuntil = 12\n')
-    assert (stuck.joints, stuck.stuck, free.stuck, free.tick) == ((1,), True, False, 12000)
+    assert stuck == JointFault(tick=11000, fault="stuck_encoder", joints=(1,))
+    assert free == JointFault(tick=12000, fault="stuck_encoder", joints=(1,), on=False)
     (dead,) = one_event('at = 13\nkind = "dead_motor"\n')
-    assert dead.joints == (1, 2, 3) and dead.dead
+    assert dead == JointFault(tick=13000, fault="dead_motor", joints=(1, 2, 3))
     (stop,) = one_event('at = 15\nkind = "estop"\nwrist_rad = 0.05\n')
-    assert stop == ev.WristEstop(tick=15000, wrist_rad=0.05)
+    assert stop == WristEstop(tick=15000, wrist_rad=0.05)
 
 
 def test_random_glitches_follow_the_seed():
@@ -239,7 +244,7 @@ def test_builtin_files_load_by_path_too():
 
 def test_scenarios_are_data_that_never_import_the_simulator():
     code = ("import sys\nfrom crslab.scenario.load import load_scenario\n"
-            "import crslab.scenario.events\ns = load_scenario('tour')\n"
+            "import crslab.scenario.kinds\ns = load_scenario('tour')\n"
             "print(sorted(m for m in sys.modules if m.startswith(('crslab.sim', 'mujoco'))))")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
@@ -248,7 +253,26 @@ def test_scenarios_are_data_that_never_import_the_simulator():
 
 def test_each_kind_is_one_class_that_parses_and_describes_itself():
     for kind, cls in EVENT_KINDS.items():
-        assert kind in (cls.kind, *cls.also_parses)
+        assert kind in cls.kinds
         assert "parse" in cls.__dict__ and "describe" in cls.__dict__, cls.__name__
-    with pytest.raises(TypeError, match="'glitch' is defined by EncoderGlitch already"):
-        type("AnotherGlitch", (ev.Event,), {"kind": "glitch"})
+    another = type("AnotherGlitch", (Event,), {"kinds": ("glitch",)})
+    with pytest.raises(TypeError, match="'glitch' is parsed by EncoderGlitch and AnotherGlitch"):
+        kinds_of([*EVENT_CLASSES, another])
+
+
+def test_every_event_class_of_the_scenario_package_is_registered_once():
+    modules = [m.name for m in pkgutil.iter_modules(scenario.__path__) if m.name.endswith("_events")]
+    for name in modules:
+        importlib.import_module(f"crslab.scenario.{name}")
+    defined, todo = set(), [Event]
+    while todo:
+        for sub in todo.pop().__subclasses__():
+            todo.append(sub)
+            if sub.__module__.startswith("crslab.scenario."):
+                defined.add(sub)
+    assert len(modules) == 5 and defined == set(EVENT_CLASSES)
+    assert len(EVENT_CLASSES) == len(set(EVENT_CLASSES))
+    # one class parses both joint faults; each event carries its own kind
+    dead = one_event('at = 1\nkind = "dead_motor"\njoint = 2\nuntil = 2\n')
+    assert [(e.kind, e.on, e.describe()) for e in dead] == [("dead_motor", True, "dead_motor joints 2 dead"),
+                                                            ("dead_motor", False, "dead_motor joints 2 back")]

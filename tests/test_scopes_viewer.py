@@ -31,7 +31,7 @@ def test_without_a_display_viewer_and_rerun_say_so_in_one_line_and_the_run_goes_
 DRAG = """
 import mujoco, numpy as np
 from crslab import crs
-from crslab.sinks.viewer import MujocoViewer
+from crslab.live.viewer import MujocoViewer
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
 from crslab.sinks.sink import FanOut, Sink

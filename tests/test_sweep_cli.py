@@ -46,13 +46,13 @@ def rows_of(path):
         ),
         (
             ["--vary", "var:Kq=0:1"],
-            "--vary var:Kq: Kq is not a watched (#pragma DATA_SECTION) variable of sweep_pd.c; "
-            "valid: friction",
+            "--vary var:Kq: Kq is not a watched (#pragma DATA_SECTION) variable of sweep_pd.c "
+            "(watched: Kp2, Kd2, target2, tau1_open, steps, gains)",
         ),
         (["--vary", "friction=1"], "--vary friction=1: expected NAME=LO:HI (e.g. friction=0.5:1.5)"),
         (
             ["--vary", "var:steps=0:1e10"],
-            "--vary var:steps=0:1e+10: steps is int in sweep_pd.c (-2147483648 to 2147483647)",
+            "--vary var:steps: 1e+10 does not fit steps, int in sweep_pd.c (-2147483648 to 2147483647)",
         ),
     ],
 )

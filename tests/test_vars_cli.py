@@ -85,11 +85,12 @@ def test_console_reads_and_writes_a_running_lab_between_ticks():
     assert replies[1:6] == ["gain = 4   (from t = 0.150 s on)", "mode = 8   (from t = 0.150 s on)",
                             "limits[2] = 30   (t = 0.150 s)", "limits[0] = -5   (from t = 0.150 s on)",
                             "limits = [-5 20 30]   (t = 0.150 s)"]
-    assert replies[6] == "vars: mode is a int: 1e+12 is outside -2147483648..2147483647"
-    assert replies[7] == "vars: flags is a Uint16: -1 is outside 0..65535"
-    assert replies[8] == "vars: gain is a float, not an array"
-    assert replies[9] == "vars: call_log has 8 elements: index 0..7"
-    assert replies[10] == "vars: call_log has 8 elements: set call_log[i] VALUE"
+    # the same words as a scenario file's or a sweep's mistakes (crslab.lab.watched)
+    assert replies[6] == "vars: 1e+12 does not fit mode, int in watched_types.c (-2147483648 to 2147483647)"
+    assert replies[7] == "vars: -1 does not fit flags, Uint16 in watched_types.c (0 to 65535)"
+    assert replies[8] == "vars: gain is not an array in watched_types.c"
+    assert replies[9] == "vars: call_log has 8 elements in watched_types.c: give an index 0..7"
+    assert replies[10] == "vars: call_log has 8 elements in watched_types.c: give an index 0..7"
     assert replies[11].startswith("vars: gain  float  = 4\nvars: mode  int  = 8")  # current values
     # the lab prints `gain mode` every 100 calls: the writes show from the first print after them
     assert out.calls == [(0, b"2.50 3\n\r"), (100, b"2.50 3\n\r"), (200, b"4.00 8\n\r")]
@@ -125,3 +126,17 @@ def test_set_whattoprint_typed_during_a_run_changes_the_next_print_and_get_reads
     before = len(range(4100, tick, 500))  # prints (three lines each) before the write
     assert all(re.fullmatch(r"-?\d+\.\d\d -?\d+\.\d\d -?\d+\.\d\d", x) for x in lines[:3 * before]), lines
     assert lines[3 * before:] and set(lines[3 * before:]) == {"I love robotics"}
+
+
+def test_the_worker_refuses_a_value_the_firmwares_type_cannot_hold_in_the_same_words():
+    # a long is 32 bits in the firmware (as on the C28x), whatever the host's long is
+    config = make_config(TYPES_LAB, "hands_off", startup_delay=False)
+    with Simulation(config) as sim:
+        sim.run(1, MemorySink())
+        with pytest.raises(KeyError, match=r"^'3e\+09 does not fit limits, long in watched_types.c "
+                                           r"\(-2147483648 to 2147483647\)'$"):
+            sim.set("limits", 3e9, index=0)
+        with pytest.raises(KeyError, match="limits has 3 elements in watched_types.c: give an index 0..2"):
+            sim.set("limits", 1)
+        sim.set("limits", 2147483647, index=0)
+        assert sim.get("limits") == [2147483647.0, 20.0, 30.0]

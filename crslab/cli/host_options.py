@@ -17,10 +17,9 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.framework_facts import SERIAL_BAUD
-from crslab.host_tools.bridge import SerialBridge
-from crslab.host_tools.c28x_memory import lab_memory
 from crslab.host_tools.linker_map import write_map
 from crslab.host_tools.ports import HostPort, PortError, PtyPort, TcpPort
+from crslab.live.bridge import SerialBridge
 from crslab.output_paths import folder, with_parent
 from crslab.sim.config import SimConfig
 from crslab.sim.running import LiveControl
@@ -88,7 +87,7 @@ class HostRun:
         """Write the map to ``--map`` and into ``--serial-dir`` (before the first tick)."""
         a = self.args
         build = self.config.build
-        text = write_map(lab_memory(build), build.source.name)
+        text = write_map(build.memory, build.source.name)
         targets = [a.map] if a.map is not None else []
         if a.serial_dir is not None:
             folder(a.serial_dir)

@@ -168,7 +168,7 @@ class LiveRun:
             out.add(ThreadedSink(rerun_sink))
         if a.viewer:
             from crslab import crs
-            from crslab.sinks.viewer import MujocoViewer
+            from crslab.live.viewer import MujocoViewer
 
             viewer = MujocoViewer(crs.motor_to_dh(self.config.rest_motor_rad), on_status=self.status)
             if viewer.start():

@@ -47,20 +47,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 def watched_rows(lab: Path | None, every: bool = False) -> list[dict]:
     """The watched variables of ``lab`` (default: crslab's Lab 1) as rows for the listing, with
     their C28x addresses (``every``: all its globals)."""
-    from crslab.host_tools.c28x_memory import text_memory
-    from crslab.lab.build import DEFAULT_LAB
-    from crslab.lab.lab_file import lab_file_problem
+    from crslab.cli.serial_commands import lab_layout
     from crslab.lab.variables import find_variables
 
-    path = lab if lab is not None else DEFAULT_LAB
-    problem = lab_file_problem(path)
-    if problem:
-        raise CliError(problem)
-    try:
-        text = path.read_bytes().decode("utf-8", "replace")
-    except OSError as exc:
-        raise CliError(f"{path}: cannot be read ({exc.strerror})") from None
-    mem = text_memory(text, path.stem)
+    _, text, mem = lab_layout(lab)
     rows = []
     for v in find_variables(text):
         if not every and (v.section is None or v.pointer or v.const):

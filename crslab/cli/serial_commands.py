@@ -10,28 +10,26 @@ from pathlib import Path
 from crslab.cli import CliError
 from crslab.framework_facts import SIMULINK_INPUTS, SIMULINK_PERIOD_MS
 from crslab.generations import GENERATIONS
-from crslab.host_tools.c28x_memory import MemoryLayout, text_memory
 from crslab.host_tools.client import MATLAB_TIMEOUT_S, LinkError, SerialLink, read_floats, write_float
 from crslab.host_tools.linker_map import MapError, read_map_file, write_map
 from crslab.host_tools.protocols import ADDRESS_MASK, MAX_FLOATS
+from crslab.lab.build import text_memory
+from crslab.lab.c28x_memory import MemoryLayout
 from crslab.output_paths import with_parent
 
 
-def lab_layout(lab: Path | None) -> tuple[Path, MemoryLayout]:
-    """The lab file (default: crslab's Lab 1) and its variables' layout, read from its text (no
-    build needed: the layout depends on the text alone)."""
-    from crslab.lab.build import DEFAULT_LAB
-    from crslab.lab.lab_file import lab_file_problem
+def lab_layout(lab: Path | None) -> tuple[Path, str, MemoryLayout]:
+    """The lab file (default: crslab's Lab 1), its text and its variables' layout, read from its
+    text (no build needed: the layout depends on the text alone)."""
+    from crslab.lab.build import DEFAULT_LAB, LabBuildError
+    from crslab.lab.lab_file import read_lab_file
 
     path = lab if lab is not None else DEFAULT_LAB
-    problem = lab_file_problem(path)
-    if problem:
-        raise CliError(problem)
     try:
-        text = path.read_bytes().decode("utf-8", "replace")
-    except OSError as exc:
-        raise CliError(f"{path}: cannot be read ({exc.strerror})") from None
-    return path, text_memory(text, path.stem)
+        text = read_lab_file(path).decode("utf-8", "replace")
+    except LabBuildError as exc:
+        raise CliError(str(exc)) from None
+    return path, text, text_memory(text, path.stem)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -158,7 +156,7 @@ def _address(args: argparse.Namespace) -> int:
             raise CliError(f"{name} is beyond the C28x's 22-bit data addresses")
         return address
     if args.lab is not None:
-        path, mem = lab_layout(args.lab)
+        path, _, mem = lab_layout(args.lab)
         found = mem.find(name)
         if found is None:
             raise CliError(f"{path.name} defines no variable {name} crslab can lay out")
@@ -186,7 +184,7 @@ def _address(args: argparse.Namespace) -> int:
 
 def run_map(args: argparse.Namespace) -> int:
     """``crslab map``."""
-    path, mem = lab_layout(args.lab)
+    path, _, mem = lab_layout(args.lab)
     text = write_map(mem, path.name)
     if args.output is None:
         sys.stdout.write(text.replace("\r\n", "\n"))

@@ -10,7 +10,7 @@ scripts can read and write. :func:`write_map` writes those parts as the TI linke
 allocation map, both global symbol tables), for every section of the lab's data.
 
 >>> from crslab.generations import GEN_B
->>> from crslab.host_tools.c28x_memory import layout
+>>> from crslab.lab.c28x_memory import layout
 >>> from crslab.lab.variables import find_variables
 >>> mem = layout(find_variables('#pragma DATA_SECTION(Kp1, ".my_vars")\\nfloat Kp1 = 12.5;'), GEN_B, "pd")
 >>> text = write_map(mem, "pd.c")
@@ -27,7 +27,7 @@ import re
 from pathlib import Path
 
 from crslab import __version__
-from crslab.host_tools.c28x_memory import PAGE, MemoryLayout
+from crslab.lab.c28x_memory import PAGE, MemoryLayout
 
 SYMBOL_TABLE = "GLOBAL SYMBOLS: SORTED BY Symbol Address"
 """The heading the course's parser looks for before the symbol table it reads."""

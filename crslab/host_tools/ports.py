@@ -1,7 +1,7 @@
 """The serial ports a host program opens to talk to the simulated board: a pseudo-terminal
 (what a COM port is to MATLAB, Tera Term or Octave) or a TCP listener on localhost (for a MATLAB
 on Windows reaching crslab under WSL). Both live in the crslab process, never in the sandboxed
-worker; the bridge (:mod:`crslab.host_tools.bridge`) carries their bytes to and from the board
+worker; the bridge (:mod:`crslab.live.bridge`) carries their bytes to and from the board
 between chunks of ticks.
 
 Like a real serial line, a port delivers only while someone is attached: bytes sent while no

@@ -12,6 +12,7 @@ from collections.abc import Callable, Sequence
 from crslab.framework_facts import SIMULINK_PERIOD_MS
 from crslab.host_tools.client import SerialLink
 from crslab.host_tools.protocols import SIMULINK_REPLY_BYTES, plot_values, simulink_packet
+from crslab.scopes.rerun_stream import SIMULINK_ENTITY, SIMULINK_NAMES, open_recording
 
 Sample = Callable[[float, tuple[float, ...]], None]
 """``(host time in s since the first packet, (PlotVar1..4))``."""
@@ -45,33 +46,16 @@ class RerunScope:
     """PlotVar1..4 to the rerun viewer (``spawn``) and/or an ``.rrd`` file, on a ``host_time``
     timeline (the same entity as ``crslab sim --rerun``'s Simulink scope)."""
 
-    ENTITY = "/scopes/simulink"
+    ENTITY = SIMULINK_ENTITY
 
     def __init__(self, name: str, spawn: bool, rrd_path: str | None,
                  on_status: Callable[[str], None]) -> None:
         import rerun as rr
 
-        from crslab.scopes.display import missing_display
-        from crslab.sinks.rerun_scopes import viewer_executable
-
         self.rr = rr
-        self.rec = rr.RecordingStream("crslab", send_properties=False)
-        sinks: list[object] = []
-        if spawn:
-            why = missing_display()
-            if why:
-                on_status(f"{why}; no rerun viewer" + ("" if rrd_path else " (--rrd FILE saves a recording)"))
-            else:
-                rr.spawn(connect=False, executable_path=viewer_executable(), recording=self.rec)
-                sinks.append(rr.GrpcSink())
-        if rrd_path is not None:
-            sinks.append(rr.FileSink(rrd_path))
-        self.active = bool(sinks)
+        self.rec, self.active = open_recording(rr, name, spawn=spawn, rrd_path=rrd_path, on_status=on_status)
         if self.active:
-            self.rec.set_sinks(*sinks)
-            self.rec.send_recording_name(name)
-            self.rec.log(self.ENTITY, rr.SeriesLines(names=[f"Simulink_PlotVar{k}" for k in range(1, 5)]),
-                         static=True)
+            self.rec.log(self.ENTITY, rr.SeriesLines(names=SIMULINK_NAMES), static=True)
 
     def __call__(self, t_s: float, values: tuple[float, ...]) -> None:
         if self.active:

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab.plant.plant_params import PlantParams
+from crslab.toml_file import read_toml
 
 KEYS = ("Vpos", "Vneg", "Cpos", "Cneg")
 """The four numbers of a joint's row, in the course's order."""
@@ -207,15 +207,7 @@ def predict(plant: PlantParams, speeds_rad_s: Sequence[float] = LAB_SPEEDS_RAD_S
 def load_table(path: str | Path) -> FrictionTable:
     """Read a table file. Raises :class:`FrictionTableError` (one line, naming the file)."""
     path = Path(path)
-    try:
-        with path.open("rb") as f:
-            data = tomllib.load(f)
-    except FileNotFoundError:
-        raise FrictionTableError(f"{path}: no such friction table") from None
-    except OSError as exc:
-        raise FrictionTableError(f"{path}: cannot be read ({exc.strerror})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise FrictionTableError(f"{path}: not a TOML file ({exc})") from None
+    data = read_toml(path, "friction table", FrictionTableError)
 
     def bad(what: str) -> FrictionTableError:
         return FrictionTableError(f"{path}: {what}")

@@ -29,10 +29,11 @@ from crslab.cache import CacheError, cache_dir
 from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START
 from crslab.generations import Generation, detect
 from crslab.lab import firmware, zig
+from crslab.lab.c28x_memory import MemoryLayout, layout
 from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.includes import special_include
-from crslab.lab.lab_file import lab_file_problem
+from crslab.lab.lab_file import read_lab_file
 from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, find_watched
 from crslab.sandbox.compile_sandbox import compiler_sandbox
@@ -64,6 +65,9 @@ SANITIZE_FLAGS = ["-fsanitize=address,undefined", "-fno-sanitize=bounds,object-s
 DEBUG_LAB_FLAGS = ["-O0", "-g", "-fno-omit-frame-pointer"]
 DEBUG_BOARD_FLAGS = ["-g"]
 LINK_LIBS = os_support.MATH_LIBS
+TRAP_SOURCE = CSRC / "sandbox" / "trap.c"
+TRAP_HEADERS = [CSRC / "sandbox" / "trap.h", *sorted(SIM.glob("*.h"))]
+TRAP_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-shared"]
 
 
 @dataclass(frozen=True)
@@ -86,13 +90,16 @@ class LabBuild:
     break_when: str | None = None
     """The ``--break-when`` condition compiled in with the lab (``crs_debug_condition``), if any."""
     variables: tuple[LabVariable, ...] = field(default=())
-    """Every global the file defines (laid out in C28x memory by crslab.host_tools.c28x_memory)."""
+    """Every global the file defines (laid out in C28x memory by crslab.lab.c28x_memory)."""
     renamed: tuple[str, ...] = field(default=())
     """Globals of the lab compiled under another name in its WebAssembly image, because the C
     library defines theirs (:func:`crslab.lab.firmware.clashing_symbols`)."""
     sized: tuple[str, ...] = field(default=())
     """The lab's globals in its WebAssembly image's size table, in the table's order
     (:func:`crslab.lab.firmware.unit_text`)."""
+    trap_library: Path | None = None
+    """Native builds: the run sandbox's SIGSYS handler (:func:`trap_library`), built here so that no
+    worker ever compiles."""
 
     def image_name(self, name: str) -> str:
         """What the lab's global ``name`` is called in its image."""
@@ -105,11 +112,22 @@ class LabBuild:
         return self.generation.printf_buffer_chars
 
     @property
+    def memory(self) -> MemoryLayout:
+        """The lab's globals in the F28335's data memory, laid out as the TI linker would."""
+        return layout(self.variables, self.generation, self.source.stem)
+
+    @property
     def shared_object(self) -> Path:
         """The native build's shared object (the board and the lab)."""
         if not self.native:
             raise ValueError(f"{self.source.name} was built as WebAssembly, not as a shared object")
         return self.image
+
+
+def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
+    """:attr:`LabBuild.memory` from a lab file's text alone: the layout depends on nothing else, so
+    ``crslab map`` and ``crslab vars`` need no build."""
+    return layout(find_variables(source_text), detect(source_text), lab_name)
 
 
 def content_digest(parts: list[bytes]) -> str:
@@ -141,8 +159,6 @@ def check_board_memory(variables: list[LabVariable], generation: Generation, sou
     """Refuse a lab whose globals, laid out as the TI linker would (16-bit words, the framework's
     sections), run past the F28335's data memory (``DATA_RAM_START`` to ``DATA_RAM_END``): the
     real board's link fails the same way."""
-    from crslab.host_tools.c28x_memory import layout
-
     placed = layout(variables, generation, source.stem).variables
     end = max((v.address + v.words for v in placed), default=DATA_RAM_START)
     if end > DATA_RAM_END:
@@ -154,23 +170,41 @@ def check_board_memory(variables: list[LabVariable], generation: Generation, sou
                             f"{biggest.words * 2 / 1024:,.1f} KB)")
 
 
+def _compiled(out: Path, argv: list[str], what: str) -> Path:
+    """``out``, compiled by ``argv`` (without its ``-o``) unless it is there already: through a
+    temporary name, so a build cut short or run beside another never leaves half a file."""
+    if not out.exists():
+        out.parent.mkdir(parents=True, exist_ok=True)
+        tmp = out.with_suffix(f".{os.getpid()}.tmp")
+        run_compiler([*argv, "-o", str(tmp)], what)
+        tmp.replace(out)
+    return out
+
+
+def _own_c_dir(cache: Path, name: str, cc: Compiler, flags: list[str], inputs: list[Path]) -> Path:
+    """The cache folder of one build of crslab's own C: named by the compiler's identity, the flags
+    and the content of every input."""
+    digest = content_digest([cc.identity.encode(), " ".join(flags).encode()]
+                            + [p.read_bytes() for p in inputs])
+    return cache / f"{name}-{digest}"
+
+
 def _board_objects(cc: Compiler, sanitize: bool, cache: Path, debug: bool = False) -> list[Path]:
     """The native board, framework stand-ins and kinematics objects, built once per content,
     flags and compiler."""
     flags = BOARD_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_BOARD_FLAGS if debug else [])
-    digest = content_digest([cc.identity.encode(), " ".join(flags).encode()]
-                            + [p.read_bytes() for p in BOARD_SOURCES + BOARD_HEADERS])
-    out_dir = cache / f"board-{digest}"
-    objects = [out_dir / f"{p.parent.name}_{p.stem}.o" for p in BOARD_SOURCES]
-    if all(o.exists() for o in objects):
-        return objects
-    out_dir.mkdir(parents=True, exist_ok=True)
-    for src, obj in zip(BOARD_SOURCES, objects):
-        tmp = obj.with_suffix(f".{os.getpid()}.tmp")
-        run_compiler([*cc.argv, *flags, *INCLUDES, "-c", str(src), "-o", str(tmp)],
-                     f"crslab's board source {src.name}")
-        tmp.replace(obj)
-    return objects
+    out_dir = _own_c_dir(cache, "board", cc, flags, BOARD_SOURCES + BOARD_HEADERS)
+    return [_compiled(out_dir / f"{src.parent.name}_{src.stem}.o",
+                      [*cc.argv, *flags, *INCLUDES, "-c", str(src)], f"crslab's board source {src.name}")
+            for src in BOARD_SOURCES]
+
+
+def trap_library(cc: Compiler, cache: Path) -> Path:
+    """The run sandbox's SIGSYS handler (``csrc/sandbox/trap.c``, :mod:`crslab.sandbox.trap` loads
+    it), built once per content and compiler, like the board."""
+    out_dir = _own_c_dir(cache, "sandbox", cc, TRAP_FLAGS, [TRAP_SOURCE, *TRAP_HEADERS])
+    return _compiled(out_dir / "trap.so", [*cc.argv, *TRAP_FLAGS, "-I", str(SIM), str(TRAP_SOURCE)],
+                     "crslab's sandbox trap")
 
 
 def break_when_source(lab: Path, condition: str) -> str:
@@ -264,10 +298,6 @@ def _build_native(src: Path, text_bytes: bytes, flags: list[str], unit: str | No
                 raise
             check_image(tmp_so, src.name)
             tmp_so.replace(so)
-    if sandboxed:  # the worker's SIGSYS trap, built here so that no worker ever compiles
-        from crslab.sandbox.trap import helper_library
-
-        helper_library()
     return so, digest, cc
 
 
@@ -286,13 +316,7 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     compiler was refused a file the lab names.
     """
     src = Path(source) if source is not None else DEFAULT_LAB
-    problem = lab_file_problem(src)
-    if problem:
-        raise LabBuildError(problem)
-    try:
-        text_bytes = src.read_bytes()
-    except OSError as exc:
-        raise LabBuildError(f"{src}: cannot be read ({exc.strerror})") from None
+    text_bytes = read_lab_file(src)
     text = text_bytes.decode("utf-8", "replace")
     special = special_include(src)
     if special is not None:
@@ -306,14 +330,17 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     cc: Compiler | None = None
     renamed: tuple[str, ...] = ()
     sized: tuple[str, ...] = ()
+    trap: Path | None = None
     if native:
         flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_LAB_FLAGS if debug else [])
         unit = break_when_source(src, break_when) if break_when is not None else None
         image, digest, cc = _build_native(src, text_bytes, flags, unit, break_when, sanitize, debug, cache,
                                           sandboxed)
+        trap = trap_library(cc, cache)
     else:
         wasm, digest = _build_wasm(src, text, variables, cache, sandboxed)
         image, renamed, sized = wasm.path, wasm.renamed, wasm.sized
     return LabBuild(source=src, image=image, generation=generation, sanitized=sanitize, digest=digest,
                     native=native, watched=tuple(find_watched(text)), compiler=cc, debug=debug,
-                    break_when=break_when, variables=tuple(variables), renamed=renamed, sized=sized)
+                    break_when=break_when, variables=tuple(variables), renamed=renamed, sized=sized,
+                    trap_library=trap)

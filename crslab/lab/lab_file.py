@@ -1,6 +1,7 @@
 """What is wrong with a path given as a lab file, in one line, before anything reads it: a path
 that does not exist, a folder (``--lab .``), or a header (``--lab lab.h``: the lab is the ``.c``
-file that includes it). Every command that takes a lab file asks :func:`lab_file_problem`.
+file that includes it). Every command that takes a lab file asks :func:`lab_file_problem`, or reads it with
+:func:`read_lab_file`.
 
 >>> import tempfile
 >>> folder = Path(tempfile.mkdtemp())
@@ -21,6 +22,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from crslab.lab.compile_process import LabBuildError
+
 LAB_SUFFIXES = (".c", ".cpp")
 HEADER_SUFFIXES = (".h", ".hpp", ".hh")
 
@@ -38,3 +41,15 @@ def lab_file_problem(path: Path) -> str | None:
     if not path.is_file():
         return f"{path}: is not a regular file, so not a lab file"
     return None
+
+
+def read_lab_file(path: Path) -> bytes:
+    """The bytes of the lab file ``path``; one that cannot be a lab file (:func:`lab_file_problem`)
+    or cannot be read is a :class:`LabBuildError` naming it."""
+    problem = lab_file_problem(path)
+    if problem:
+        raise LabBuildError(problem)
+    try:
+        return path.read_bytes()
+    except OSError as exc:
+        raise LabBuildError(f"{path}: cannot be read ({exc.strerror})") from None

@@ -17,8 +17,8 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
-from crslab.lab.build import LabBuild, LabBuildError, build_lab
-from crslab.lab.lab_file import lab_file_problem
+from crslab.lab.build import LabBuild, build_lab
+from crslab.lab.lab_file import read_lab_file
 
 
 @dataclass(frozen=True)
@@ -31,13 +31,7 @@ class LabSource:
     @classmethod
     def read(cls, path: Path) -> LabSource:
         """The lab file at ``path``; a missing or unreadable one is a :class:`LabBuildError`."""
-        problem = lab_file_problem(path)
-        if problem:
-            raise LabBuildError(problem)
-        try:
-            return cls(path.name, path.read_bytes())
-        except OSError as exc:
-            raise LabBuildError(f"{path}: cannot be read ({exc.strerror})") from None
+        return cls(path.name, read_lab_file(path))
 
     @contextmanager
     def private_build(self, *, native: bool = False, sanitize: bool = False,

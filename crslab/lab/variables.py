@@ -1,7 +1,7 @@
 """Every global variable a lab file defines: name, type, array dimensions, section, qualifiers.
 
 The TI linker gives each of them an address in the C28x's data memory, which the course's map
-lists and its MATLAB scripts read and write (:mod:`crslab.host_tools.c28x_memory` lays them out).
+lists and its MATLAB scripts read and write (:mod:`crslab.lab.c28x_memory` lays them out).
 A lab file is read as text, not compiled: comments, strings and preprocessor lines are set aside
 (integer ``#define`` values are kept for array sizes, ``#pragma DATA_SECTION`` for sections), then
 every declaration at file scope is split into its declarators.
@@ -61,6 +61,31 @@ HOST_TYPES = {
     "String": "char *", "Ptr": "void *", "bool": "_Bool",
 }
 """The host C type each framework type name is compiled as (for cffi declarations)."""
+
+WASM32_TYPES = {
+    "char": "int8_t", "signed char": "int8_t", "unsigned char": "uint8_t", "short": "int16_t",
+    "unsigned short": "uint16_t", "int": "int32_t", "unsigned int": "uint32_t", "long": "int32_t",
+    "unsigned long": "uint32_t", "long long": "int64_t", "unsigned long long": "uint64_t",
+    "float": "float", "double": "double", "_Bool": "uint8_t", "bool": "uint8_t",
+    "int8_t": "int8_t", "uint8_t": "uint8_t", "int16_t": "int16_t", "uint16_t": "uint16_t",
+    "int32_t": "int32_t", "uint32_t": "uint32_t", "int64_t": "int64_t", "uint64_t": "uint64_t",
+}
+"""A C type (qualifiers dropped) to the fixed-width type wasm32 gives it; ``long double`` (128-bit
+in wasm32) and pointers have none crslab reads."""
+
+
+def wasm_element_type(ctype: str, pointer: bool = False) -> str | None:
+    """The cffi type of one element of a variable of ``ctype`` in a WebAssembly firmware.
+
+    >>> wasm_element_type("long"), wasm_element_type("Uint16"), wasm_element_type("double")
+    ('int32_t', 'uint16_t', 'double')
+    >>> wasm_element_type("long double") is None
+    True
+    """
+    if pointer:
+        return None
+    host = HOST_TYPES.get(ctype, ctype)
+    return WASM32_TYPES.get(host)
 
 
 @dataclass(frozen=True)

@@ -1,2 +1,4 @@
-"""Live variables: read and write a running lab's watched variables from typed commands. (The
-serial pseudo-terminal and MuJoCo's viewer are sinks: :mod:`crslab.sinks`.)"""
+"""Windows into a running lab, served between chunks of ticks (each a ``LiveControl`` of
+:mod:`crslab.sim.running`): typed commands on its watched variables (``console``), MuJoCo's viewer
+whose mouse pushes the arm (``viewer``, also a sink), and the bridge that carries the host ports'
+bytes to and from the board (``bridge``)."""

@@ -33,18 +33,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TextIO
 
-from crslab.lab.watched import WatchedVar
+from crslab.lab.watched import WatchedError, WatchedVar, watched_var
 from crslab.sim.running import RunningLab
 
 HELP = "commands: list, get NAME, get NAME[i], set NAME VALUE, set NAME[i] VALUE, help"
 _TARGET = re.compile(r"^([A-Za-z_]\w*)(?:\[\s*(\d+)\s*\])?$")
-
-# host integer ranges of the watched types (the lab is compiled for the host, not the C28x)
-_INT_BITS = {"char": (8, True), "short": (16, True), "Int16": (16, True), "int16": (16, True),
-             "unsigned short": (16, False), "Uint16": (16, False), "Bool": (16, False),
-             "int": (32, True), "Int32": (32, True), "int32": (32, True), "unsigned int": (32, False),
-             "Uint32": (32, False), "long": (64, True), "unsigned long": (64, False), "bool": (1, False)}
-
 
 class CommandError(Exception):
     """A command that cannot be carried out; its message is the one-line reply."""
@@ -113,16 +106,6 @@ def describe(var: WatchedVar) -> str:
     return f"{var.name}  {var.ctype}{dims}{init}"
 
 
-def check_range(var: WatchedVar, value: float) -> None:
-    """Refuse a value the variable's integer type cannot hold."""
-    if not var.is_integer:
-        return
-    bits, signed = _INT_BITS.get(var.ctype, (32, True))
-    lo, hi = (-(2 ** (bits - 1)), 2 ** (bits - 1) - 1) if signed else (0, 2**bits - 1)
-    if not lo <= round(value) <= hi:
-        raise CommandError(f"{var.name} is a {var.ctype}: {value:g} is outside {lo}..{hi}")
-
-
 class VarConsole:
     """Typed commands on ``stream`` (a reader thread queues them); :meth:`serve` runs them on a sim.
 
@@ -183,15 +166,14 @@ class VarConsole:
             if not self.watched:
                 return "vars: this lab has no watched (#pragma DATA_SECTION) variables"
             return "\n".join(f"vars: {self._now(lab, v)}" for v in self.watched.values())
-        var = self.watched.get(cmd.name or "")
-        if var is None:
-            known = ", ".join(self.watched) or "none"
-            raise CommandError(f"{cmd.name} is not a watched (#pragma DATA_SECTION) variable "
-                               f"(watched: {known})")
-        if cmd.index is not None and var.length is None:
-            raise CommandError(f"{var.name} is a {var.ctype}, not an array")
-        if cmd.index is not None and not 0 <= cmd.index < var.length:
-            raise CommandError(f"{var.name} has {var.length} elements: index 0..{var.length - 1}")
+        lab_name = lab.config.build.source.name
+        try:
+            var = watched_var(self.watched.values(), cmd.name or "", cmd.index, lab_name,
+                              whole=cmd.verb == "get")
+            if cmd.value is not None:
+                var.check_value(cmd.value, lab_name)
+        except WatchedError as exc:
+            raise CommandError(str(exc)) from None
         target = var.name if cmd.index is None else f"{var.name}[{cmd.index}]"
         if cmd.verb == "get":
             value = lab.get(var.name)
@@ -200,11 +182,8 @@ class VarConsole:
                     return f"{target} = {format_value(var, value[cmd.index])}   ({at})"
                 return f"{target} = [{' '.join(format_value(var, v) for v in value)}]   ({at})"
             return f"{target} = {format_value(var, value)}   ({at})"
-        if var.length is not None and cmd.index is None:
-            raise CommandError(f"{var.name} has {var.length} elements: set {var.name}[i] VALUE")
         new = cmd.value
         assert new is not None  # parse_command gives every set a value
-        check_range(var, new)
         try:
             lab.set(var.name, new, index=cmd.index)
         except KeyError as exc:

@@ -22,7 +22,7 @@ import mujoco
 import numpy as np
 
 from crslab import crs
-from crslab.plant.params import (  # noqa: F401 - re-exported: the model's facts live in params
+from crslab.plant.model_files import (  # noqa: F401 - re-exported
     ARM_XML,
     COURSE_END_MASS_KG,
     MODEL_DIR,

@@ -24,12 +24,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
-from crslab.plant.params import PARAMS
+from crslab.plant.model_files import PARAMS
+from crslab.toml_file import read_toml
 
 Triple = tuple[float, float, float]
 MOTORS = (1, 2, 3)
@@ -141,15 +141,7 @@ class PlantParams:
         """A plant file's values over ``base`` (default: :meth:`defaults`). Raises
         :class:`PlantParamsError` naming the file for anything unreadable or unknown."""
         path = Path(path)
-        try:
-            with path.open("rb") as f:
-                tables = tomllib.load(f)
-        except FileNotFoundError:
-            raise PlantParamsError(f"{path}: no such plant file") from None
-        except OSError as exc:
-            raise PlantParamsError(f"{path}: cannot be read ({exc.strerror})") from None
-        except tomllib.TOMLDecodeError as exc:
-            raise PlantParamsError(f"{path}: not a TOML file ({exc})") from None
+        tables = read_toml(path, "plant file", PlantParamsError)
         return _from_tables(tables, str(path), base or cls.defaults())
 
     def value(self, name: str) -> float:

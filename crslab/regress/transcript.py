@@ -27,12 +27,13 @@ scenario file's.
 
 from __future__ import annotations
 
+import bisect
 import hashlib
-import re
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from crslab import serial_lines
 from crslab.framework_facts import MOTOR_BOARDS
 from crslab.output_paths import with_parent
 
@@ -40,7 +41,6 @@ MAGIC = b"# crslab transcript"
 DEFAULT_PLANT = "default"
 """A golden header's ``plant`` for crslab's own arm."""
 HEADER_END = b"# ----\n"
-_LINE_END = re.compile(rb"\n\r|\r\n|\n|\r")
 
 
 class GoldenError(ValueError):
@@ -85,9 +85,8 @@ def sha256_of(data: bytes) -> str:
 
 
 def split_lines(data: bytes, calls: Sequence[tuple[int, bytes]] | None = None) -> list[Line]:
-    r"""The lines of a transcript. Line ends are ``\n\r`` (the course's), ``\r\n``, ``\n`` or a lone
-    ``\r``; text after the last line end is a line too. With ``calls`` (the (tick, bytes) of each
-    serial_printf call, whose bytes make up ``data``) every line gets its tick.
+    r"""The lines of a transcript (:mod:`crslab.serial_lines`' rule). With ``calls`` (the (tick,
+    bytes) of each serial_printf call, whose bytes make up ``data``) every line gets its tick.
 
     >>> [(l.number, l.text, l.tick) for l in split_lines(b"a 1\n\rb", [(4100, b"a 1\n\r"), (4600, b"b")])]
     [(1, 'a 1', 4100), (2, 'b', 4600)]
@@ -101,26 +100,10 @@ def split_lines(data: bytes, calls: Sequence[tuple[int, bytes]] | None = None) -
             ticks.append(tick)
             offset += len(chunk)
 
-    def tick_at(pos: int) -> int | None:
-        if not starts:
-            return None
-        lo, hi = 0, len(starts) - 1
-        while lo < hi:  # last call starting at or before pos
-            mid = (lo + hi + 1) // 2
-            if starts[mid] <= pos:
-                lo = mid
-            else:
-                hi = mid - 1
-        return ticks[lo]
+    def tick_at(pos: int) -> int | None:  # of the last call starting at or before pos
+        return ticks[max(bisect.bisect_right(starts, pos) - 1, 0)] if starts else None
 
-    out = []
-    pos = 0
-    for m in _LINE_END.finditer(data):
-        out.append(Line(len(out) + 1, data[pos:m.start()].decode("latin-1"), tick_at(pos)))
-        pos = m.end()
-    if pos < len(data):
-        out.append(Line(len(out) + 1, data[pos:].decode("latin-1"), tick_at(pos)))
-    return out
+    return [Line(i + 1, text, tick_at(offset)) for i, (offset, text) in enumerate(serial_lines.split(data))]
 
 
 @dataclass(frozen=True)

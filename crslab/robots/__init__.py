@@ -17,7 +17,6 @@ from __future__ import annotations
 import ast
 import math
 import operator
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -37,6 +36,7 @@ from crslab.closed_ik import (
     rrr_ik,
 )
 from crslab.rotation import euler_zyx_to_matrix
+from crslab.toml_file import read_toml
 
 HERE = resources.path("robots")
 LENGTH_UNITS = ("m", "cm", "mm", "in", "units")
@@ -140,12 +140,7 @@ def robot_path(name_or_path: str | Path) -> Path:
 def load(name_or_path: str | Path, parameters: Mapping[str, float] | None = None) -> Robot:
     """Read a robot by built-in name or file path; ``parameters`` override the file's defaults."""
     path = robot_path(name_or_path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise RobotFileError(f"{path}: no such robot file") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise RobotFileError(f"{path}: not valid TOML: {exc}") from None
+    data = read_toml(path, "robot file", RobotFileError)
     return _Reader(path, data).robot(parameters or {})
 
 

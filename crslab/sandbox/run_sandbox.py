@@ -133,11 +133,13 @@ class RunSandbox:
 
 
 def enter_run_sandbox(shared: object, shared_object: Path, keep_fds: Iterable[int] = (), *,
-                      sanitizer: bool = False, tracer_pid: int | None = None) -> RunSandbox:
+                      trap_library: Path | None, sanitizer: bool = False,
+                      tracer_pid: int | None = None) -> RunSandbox:
     """Close this worker process around the lab it is about to load (see the module's text).
 
     ``shared`` is the ``crs_shared *`` block the trap records refusals in; ``keep_fds`` the
-    descriptors the worker still needs (the pipe to the crslab process, a sanitizer's report).
+    descriptors the worker still needs (the pipe to the crslab process, a sanitizer's report);
+    ``trap_library`` the SIGSYS handler built with the lab (``LabBuild.trap_library``).
     """
     threads = len(os.listdir("/proc/self/task"))
     if threads != 1:
@@ -157,9 +159,11 @@ def enter_run_sandbox(shared: object, shared_object: Path, keep_fds: Iterable[in
         except OSError as exc:
             raise SandboxError(0, f"{shared_object.name} needs {lib}, which cannot be loaded: "
                                f"{exc}") from None
+    if trap_library is None:
+        raise SandboxError(0, f"{shared_object.name} was built without the sandbox's trap")
     lab_fd = os.open(shared_object, os.O_RDONLY | os.O_CLOEXEC)
     try:
-        trap = Trap()
+        trap = Trap(trap_library)
         trap.arm(shared, str(shared_object), lab_fd, path_argument_table(trap.table_size),
                  report_fd=2 if sanitizer else -1)
         if tracer_pid is not None:

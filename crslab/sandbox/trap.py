@@ -1,8 +1,8 @@
-"""The SIGSYS handler of a sandboxed worker (csrc/sandbox/trap.c), built once per content like
-the board's objects, and the calls that arm it.
+"""The SIGSYS handler of a sandboxed worker (csrc/sandbox/trap.c), and the calls that arm it.
 
 A signal handler that must run at the very instruction a refused system call was made cannot be
-Python (Python runs its handlers later, between bytecodes), hence this small C library, loaded
+Python (Python runs its handlers later, between bytecodes), hence this small C library, built
+with a native lab (:func:`crslab.lab.build.trap_library`, ``LabBuild.trap_library``) and loaded
 by the worker before the sandbox closes.
 """
 
@@ -14,42 +14,17 @@ from pathlib import Path
 
 from cffi import FFI
 
-from crslab.cache import CacheError, cache_dir
+from crslab import resources
 from crslab.cheaders import cdef_from_header
-from crslab.lab.build import CSRC, SIM, LabBuildError, compiler, content_digest, run_compiler
-from crslab.sim.board_ffi import board_ffi
-
-TRAP_DIR = CSRC / "sandbox"
-TRAP_SOURCE = TRAP_DIR / "trap.c"
-TRAP_HEADER = TRAP_DIR / "trap.h"
-TRAP_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-shared"]
-
-
-def helper_library() -> Path:
-    """The built trap library (compiled on first use, then cached by content and compiler)."""
-    cc = compiler()
-    sources = [TRAP_SOURCE, TRAP_HEADER, SIM / "sim.h"]
-    digest = content_digest([cc.identity.encode(), " ".join(TRAP_FLAGS).encode()]
-                            + [p.read_bytes() for p in sources])
-    try:
-        out = cache_dir() / f"sandbox-{digest}" / "trap.so"
-    except CacheError as exc:
-        raise LabBuildError(str(exc)) from None
-    if not out.exists():
-        out.parent.mkdir(parents=True, exist_ok=True)
-        tmp = out.with_suffix(f".{os.getpid()}.tmp")
-        run_compiler([*cc.argv, *TRAP_FLAGS, "-I", str(SIM), str(TRAP_SOURCE), "-o", str(tmp)],
-                     "crslab's sandbox trap")
-        tmp.replace(out)
-    return out
 
 
 @cache
 def trap_ffi() -> FFI:
-    """The declarations of trap.h, on top of the shared block's (sim.h)."""
+    """The declarations of trap.h; the shared block (``crs_shared``, sim.h) it writes refusals into
+    is opaque here: the handler is C, and Python only hands it the block's address."""
     ffi = FFI()
-    ffi.include(board_ffi())
-    ffi.cdef(cdef_from_header(TRAP_HEADER.read_text()))
+    ffi.cdef("typedef struct crs_shared crs_shared;")
+    ffi.cdef(cdef_from_header(resources.path("csrc", "sandbox", "trap.h").read_text()))
     return ffi
 
 
@@ -57,13 +32,9 @@ class Trap:
     """The handler, loaded into this process: :meth:`arm` it before the seccomp filter is
     loaded, and turn :meth:`loading` on around the lab's ``dlopen``."""
 
-    def __init__(self) -> None:
-        try:
-            path = helper_library()
-        except LabBuildError as exc:
-            raise OSError(f"the sandbox's trap could not be built: {exc}") from None
+    def __init__(self, library: Path) -> None:
         self.ffi = trap_ffi()
-        self.lib = self.ffi.dlopen(str(path))
+        self.lib = self.ffi.dlopen(str(library))
         self._keep: list[object] = []
 
     def arm(self, shared: object, lab_path: str, lab_fd: int, path_argument: bytes,
@@ -75,7 +46,8 @@ class Trap:
         self.ffi.memmove(table, path_argument, len(path_argument))
         path = self.ffi.new("char[]", lab_path.encode())
         self._keep += [table, path]
-        rc = self.lib.crs_trap_arm(self.ffi.cast("crs_shared *", shared), path, lab_fd, table, report_fd)
+        block = self.ffi.cast("crs_shared *", self.ffi.cast("uintptr_t", shared))
+        rc = self.lib.crs_trap_arm(block, path, lab_fd, table, report_fd)
         if rc != 0:
             raise OSError(-rc, f"the sandbox's SIGSYS handler could not be installed: {os.strerror(-rc)}")
 

@@ -32,6 +32,16 @@ def seconds_to_tick(seconds: float) -> int:
     return int(round(seconds * 1000.0))
 
 
+def until_tick(r: TableReader, at: int) -> int | None:
+    """The tick of the table's ``until`` (seconds; None without one), which must be after ``at``."""
+    if "until" not in r.table:
+        return None
+    until = seconds_to_tick(r.number("until", minimum=0.0))
+    if until <= at:
+        raise r.fail("until", "must be later than at")
+    return until
+
+
 def rng_state(seed: int, ordinal: int) -> int:
     """A non-zero 64-bit generator state for the ``ordinal``-th random fault of a scenario
     seeded with ``seed`` (splitmix64 of both).
@@ -59,28 +69,21 @@ class RandomFaults:
         return rng_state(self.seed, self.count - 1)
 
 
-_KINDS: dict[str, type[Event]] = {}
-
-
 @dataclass(frozen=True)
 class Event:
-    """One thing that happens at ``tick``. Subclasses name their ``kind`` and implement
-    :meth:`parse` and :meth:`describe`; defining one registers its kind."""
+    """One thing that happens at ``tick``. A subclass names the ``kinds`` of ``[[event]]`` table it
+    reads and implements :meth:`parse` and :meth:`describe`; its row in
+    :data:`crslab.scenario.kinds.EVENT_CLASSES` makes scenario files see it."""
 
     tick: int
     line: int = field(default=0, compare=False, kw_only=True)
-    kind: ClassVar[str] = ""
-    """The event's name in scenario files."""
-    also_parses: ClassVar[tuple[str, ...]] = ()
-    """Further kinds in scenario files that :meth:`parse` turns into events of this class."""
+    kinds: ClassVar[tuple[str, ...]] = ()
+    """The ``kind`` names of the scenario-file tables :meth:`parse` reads; the first is the event's."""
 
-    def __init_subclass__(cls, **kwargs: object) -> None:
-        super().__init_subclass__(**kwargs)
-        for name in (cls.kind, *cls.__dict__.get("also_parses", ())):
-            known = _KINDS.get(name)
-            if known is not None and known.__qualname__ != cls.__qualname__:
-                raise TypeError(f"scenario event kind {name!r} is defined by {known.__qualname__} already")
-            _KINDS[name] = cls
+    @property
+    def kind(self) -> str:
+        """The event's name in scenario files."""
+        return self.kinds[0]
 
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
@@ -90,10 +93,3 @@ class Event:
     def describe(self) -> str:
         """What the event does, in a few words (``crslab scenarios FILE`` prints these)."""
         raise NotImplementedError
-
-
-def event_kinds() -> dict[str, type[Event]]:
-    """Every kind a scenario file may name, and the class that parses it, in definition order."""
-    import crslab.scenario.events  # noqa: F401 - defines (and so registers) every kind
-
-    return dict(_KINDS)

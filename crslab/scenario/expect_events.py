@@ -256,7 +256,7 @@ class Expect(Event):
     conditions: tuple[Condition, ...]
     message: str = ""
     note_for: int | None = None
-    kind = "expect"
+    kinds = ("expect",)
 
     @property
     def variable(self) -> Variable | None:

@@ -1,5 +1,5 @@
 """Faults of the encoders, the amplifiers and the wrist e-stop: ``noise``, ``glitch`` (and random
-``glitches``), ``stuck_encoder``, ``dead_motor``, ``estop``. They act in the C framework
+``glitches``), ``stuck_encoder`` and ``dead_motor`` (one class), ``estop``. They act in the C framework
 (``crs_faults`` and ``estop_latched`` of csrc/sim/sim.h)."""
 
 from __future__ import annotations
@@ -10,8 +10,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from crslab.framework_facts import WRIST_ESTOP_RAD
-from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
-from crslab.scenario.table import TableReader, joint_numbers, per_joint, until_tick
+from crslab.scenario.event import Event, RandomFaults, seconds_to_tick, until_tick
+from crslab.scenario.table import TableReader, joint_numbers, per_joint
 
 MAX_GLITCHES = 100_000
 """Most glitches one ``glitches`` event may draw."""
@@ -34,7 +34,7 @@ class EncoderNoise(Event):
     counts: tuple[float, float, float]
     rng_state: int
     joints: tuple[int, ...] = (1, 2, 3)
-    kind = "noise"
+    kinds = ("noise",)
 
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
@@ -61,8 +61,7 @@ class EncoderGlitch(Event):
     ``glitches`` table draws many, at random times, from the scenario's seed."""
 
     counts: tuple[int, int, int]
-    kind = "glitch"
-    also_parses = ("glitches",)
+    kinds = ("glitch", "glitches")
 
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
@@ -105,46 +104,41 @@ class EncoderGlitch(Event):
         return "glitch " + " ".join(str(c) for c in self.counts) + " counts"
 
 
-@dataclass(frozen=True)
-class StuckEncoder(Event):
-    """The encoders of ``joints`` freeze at their last reading (``stuck`` False frees them)."""
+JOINT_FAULTS = {"stuck_encoder": ("stuck", "freed"), "dead_motor": ("dead", "back")}
+"""The faults of one joint's hardware, each named as its ``crs_faults`` field (csrc/sim/sim.h) and
+its scenario kind, with the words for on and off: an encoder that freezes at its last reading, an
+amplifier that outputs nothing."""
 
+
+@dataclass(frozen=True)
+class JointFault(Event):
+    """``fault`` (one of :data:`JOINT_FAULTS`) on ``joints`` from now on (``on`` False ends it).
+
+    >>> JointFault(tick=0, fault="dead_motor", joints=(2, 3), on=False).describe()
+    'dead_motor joints 2, 3 back'
+    """
+
+    fault: str
     joints: tuple[int, ...]
-    stuck: bool = True
-    kind = "stuck_encoder"
+    on: bool = True
+    kinds = tuple(JOINT_FAULTS)
+
+    @property
+    def kind(self) -> str:
+        return self.fault
 
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "joint", "joints", "until"})
-        joints, until = joint_numbers(r), until_tick(r, at)
-        out: list[Event] = [cls(tick=at, joints=joints, line=line)]
+        fault, joints, until = str(r.table["kind"]), joint_numbers(r), until_tick(r, at)
+        out: list[Event] = [cls(tick=at, fault=fault, joints=joints, line=line)]
         if until is not None:
-            out.append(cls(tick=until, joints=joints, stuck=False, line=line))
+            out.append(cls(tick=until, fault=fault, joints=joints, on=False, line=line))
         return out
 
     def describe(self) -> str:
-        return f"stuck_encoder joints {_joints(self.joints)} {'stuck' if self.stuck else 'freed'}"
-
-
-@dataclass(frozen=True)
-class DeadMotor(Event):
-    """The amplifiers of ``joints`` output nothing (``dead`` False brings them back)."""
-
-    joints: tuple[int, ...]
-    dead: bool = True
-    kind = "dead_motor"
-
-    @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
-        r.check_keys({"at", "kind", "joint", "joints", "until"})
-        joints, until = joint_numbers(r), until_tick(r, at)
-        out: list[Event] = [cls(tick=at, joints=joints, line=line)]
-        if until is not None:
-            out.append(cls(tick=until, joints=joints, dead=False, line=line))
-        return out
-
-    def describe(self) -> str:
-        return f"dead_motor joints {_joints(self.joints)} {'dead' if self.dead else 'back'}"
+        on, off = JOINT_FAULTS[self.fault]
+        return f"{self.fault} joints {_joints(self.joints)} {on if self.on else off}"
 
 
 @dataclass(frozen=True)
@@ -157,7 +151,7 @@ class WristEstop(Event):
     """
 
     wrist_rad: float
-    kind = "estop"
+    kinds = ("estop",)
 
     @property
     def latches(self) -> bool:

@@ -27,7 +27,7 @@ class HandMove(Event):
 
     target_dh_rad: tuple[float, float, float] | None
     duration_ticks: int
-    kind = "hand"
+    kinds = ("hand",)
 
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
@@ -58,7 +58,7 @@ def _degrees(angles_rad: object) -> str:
 class HandRelease(Event):
     """The hand lets go of the arm."""
 
-    kind = "release"
+    kinds = ("release",)
 
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:

@@ -26,7 +26,7 @@ class SetVariable(Event):
     name: str
     value: float
     index: int | None = None
-    kind = "set"
+    kinds = ("set",)
 
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
@@ -50,7 +50,7 @@ class SimulinkInput(Event):
     (declared ``extern`` in the lab file); inputs not named keep their value."""
 
     values: tuple[tuple[int, int], ...]
-    kind = "simulink"
+    kinds = ("simulink",)
 
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:

@@ -1,98 +1,9 @@
 """Read a scenario from TOML (a built-in name or a file) into a :class:`Scenario`.
 
-The format, with every event kind (docs/scenarios.md explains each one further)::
-
-    name = "example"
-    description = "one line shown by `crslab scenarios`"
-    end = 20.0                      # simulated seconds; the run ends here
-    seed = 7                        # seeds the random faults (noise, glitches); default 1
-
-    [plant]                         # the arm as it is at power-up (all keys optional)
-    rest_motor_rad = [0, -0.40, 0.26]   # true resting pose the encoders are zeroed in (or rest_motor_deg)
-    end_mass_kg = "course"          # the course's added end mass (1.54 kg), or a number of kg
-    friction_scale = 1.0            # times the identified friction
-
-    [[event]]
-    at = 5.0                        # simulated seconds
-    kind = "hand"                   # move the arm by hand, then hold it there
-    motor_deg = [0, 0, 0]           # or dh_deg, xyz_in (elbow-up IK), or pose = "rest"
-    duration = 2.0                  # seconds to get there (default 1)
-    hold = 2.0                      # optional: let go this long after arriving
-
-    [[event]]
-    at = 9.0
-    kind = "release"                # let go
-
-    [[event]]
-    at = 6.0
-    kind = "set"                    # write a watched (#pragma DATA_SECTION) variable
-    var = "whattoprint"
-    value = 1
-    # index = 3                     # an element of a watched array
-
-    [[event]]
-    at = 6.0
-    kind = "simulink"               # Simulink sends int16 values down
-    values = [100, -20]             # inputs 1, 2, ... (or input = 3, value = 5)
-
-    [[event]]
-    at = 10.0
-    kind = "end_mass"               # the payload changes
-    kg = "course"                   # or a number; 0 removes it
-
-    [[event]]
-    at = 10.0
-    kind = "friction"
-    scale = 0.5
-
-    [[event]]
-    at = 7.0
-    kind = "noise"                  # encoder noise, standard deviation in counts
-    counts = 40                     # or one value per joint: [40, 0, 10]
-    joints = [2, 3]                 # optional (joint = 2 for one); default all three
-    until = 9.0                     # optional: the fault clears then
-
-    [[event]]
-    at = 7.5
-    kind = "glitch"                 # one tick where the encoders jump
-    joint = 2
-    counts = 5000
-
-    [[event]]
-    at = 8.0
-    kind = "glitches"               # random glitches (seeded)
-    until = 12.0
-    rate_hz = 2.0                   # on average per second
-    counts = 3000                   # size; the sign and the joint (of joints) are random
-
-    [[event]]
-    at = 11.0
-    kind = "stuck_encoder"          # the reading freezes
-    joint = 1
-    until = 12.0                    # optional
-
-    [[event]]
-    at = 13.0
-    kind = "dead_motor"             # the amplifier outputs nothing
-    joint = 3
-    until = 14.0                    # optional
-
-    [[event]]
-    at = 15.0
-    kind = "estop"                  # the wrist is turned: past 0.11 rad the outputs latch to zero
-    wrist_rad = 0.2                 # optional, default 0.2
-
-    [[event]]
-    at = 6.0
-    kind = "expect"                 # what must be true now (before this tick runs); one or more of:
-    motor_board_off = true          # the motor board has cut every output (or false)
-    motor_board_cutouts = 1         # cut-outs started so far
-    error = 0                       # the safety flag lab() gets at this tick
-    motor_deg = [0, 90, 0]          # the arm's motor angles (or motor_rad, dh_deg; one number with joint)
-    tol_deg = 1.0                   # how close (or tol_rad); default 1 deg
-    # moved_deg = 2, since = 5.0    # the motor angles (of joint/joints) rose at least 2 deg since 5 s
-    # var = "Kp1", value = 2.5      # a watched variable's value (index for an array, tol)
-    message = "shown when it fails"
+The format is docs/scenarios.md's: top-level ``name``, ``description``, ``end`` (simulated
+seconds) and ``seed``, an optional ``[plant]`` table
+(:func:`crslab.scenario.plant_events.parse_plant`) and ``[[event]]`` tables, each of a kind
+:data:`crslab.scenario.kinds.EVENT_KINDS` knows.
 
 Every error names the file, the line and the key, and nothing runs.
 """
@@ -106,8 +17,12 @@ from pathlib import Path
 
 from crslab import resources
 from crslab.lab.build import LabBuild
+from crslab.lab.watched import WatchedError, watched_var
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
-from crslab.scenario.events import Expect, SetVariable, parse_event, parse_plant
+from crslab.scenario.expect_events import Expect
+from crslab.scenario.kinds import parse_event
+from crslab.scenario.lab_events import SetVariable
+from crslab.scenario.plant_events import parse_plant
 from crslab.scenario.table import ScenarioError, TableReader
 
 BUILTIN_DIR = resources.path("scenarios")
@@ -231,8 +146,7 @@ def load_scenario(name_or_path: str | None = None) -> Scenario:
 def check_lab(scenario: Scenario, build: LabBuild) -> None:
     """Check that every variable the scenario writes (``set``) or expects (``expect``) is one the
     lab watches (``#pragma DATA_SECTION``), with an index exactly when it is an array, and that
-    every value written fits; raises :class:`ScenarioError`."""
-    watched = {v.name: v for v in build.watched}
+    every value written fits; raises :class:`ScenarioError` naming the file, the line and the key."""
     lab = build.source.name
     for e in scenario.events:
         if isinstance(e, SetVariable):
@@ -241,40 +155,13 @@ def check_lab(scenario: Scenario, build: LabBuild) -> None:
             name, index, line = e.variable.name, e.variable.index, e.variable.line or e.line
         else:
             continue
-        where = f"{scenario.source}:{line}" if line else scenario.source
-        var = watched.get(name)
-        if var is None:
-            known = ", ".join(watched) or "none"
-            raise ScenarioError(f"{where}: var: {name} is not a watched (#pragma DATA_SECTION) variable "
-                                f"of {lab} (watched: {known})")
-        if var.length is None and index is not None:
-            raise ScenarioError(f"{where}: index: {name} is not an array in {lab}")
-        if var.length is not None and (index is None or index >= var.length):
-            raise ScenarioError(f"{where}: index: {name} has {var.length} elements in {lab}: "
-                                f"give an index 0..{var.length - 1}")
-        if isinstance(e, SetVariable) and var.is_integer:
-            low, high = _integer_range(var.cdecl)
-            if not low <= round(e.value) <= high:
-                raise ScenarioError(f"{where}: value: {e.value:g} does not fit {e.name}, "
-                                    f"{var.ctype} in {lab} ({low} to {high})")
-
-
-def _integer_range(cdecl: str) -> tuple[int, int]:
-    """The host range of the integer type in a watched variable's declaration.
-
-    >>> _integer_range("extern uint16_t mode;"), _integer_range("extern int count[4];")
-    ((0, 65535), (-2147483648, 2147483647))
-    """
-    from cffi import FFI
-
-    ctype = cdecl.removeprefix("extern ").rsplit(" ", 1)[0]
-    if ctype == "_Bool":
-        return 0, 1
-    ffi = FFI()
-    bits = 8 * ffi.sizeof(ctype)
-    if int(ffi.cast(ctype, -1)) < 0:
-        return -(1 << (bits - 1)), (1 << (bits - 1)) - 1
-    return 0, (1 << bits) - 1
+        try:
+            var = watched_var(build.watched, name, index, lab)
+            if isinstance(e, SetVariable):
+                var.check_value(e.value, lab)
+        except WatchedError as exc:
+            where = f"{scenario.source}:{line}" if line else scenario.source
+            raise ScenarioError(f"{where}: {exc.key}: {exc}") from None
 
 
 def describe_builtins() -> list[tuple[str, str]]:

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from crslab.scenario.event import Event, RandomFaults
 from crslab.scenario.table import TableReader, end_mass_kg
 
@@ -18,7 +20,7 @@ class EndMass(Event):
     """
 
     kg: float
-    kind = "end_mass"
+    kinds = ("end_mass",)
 
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
@@ -37,7 +39,7 @@ class FrictionScale(Event):
     (crslab's identified values, or the ``--plant`` file's): absolute, not cumulative."""
 
     scale: float
-    kind = "friction"
+    kinds = ("friction",)
 
     @classmethod
     def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
@@ -46,3 +48,26 @@ class FrictionScale(Event):
 
     def describe(self) -> str:
         return f"friction x{self.scale:g}"
+
+
+def parse_plant(r: TableReader) -> tuple[tuple[float, float, float] | None, list[Event]]:
+    """The ``[plant]`` table: the arm's true resting pose (rad), and its payload and friction from
+    tick 0."""
+    r.check_keys({"rest_motor_rad", "rest_motor_deg", "end_mass_kg", "friction_scale"})
+    rest = None
+    if "rest_motor_rad" in r.table and "rest_motor_deg" in r.table:
+        raise r.fail("rest_motor_deg", "give rest_motor_rad or rest_motor_deg, not both")
+    for key in ("rest_motor_rad", "rest_motor_deg"):
+        if key in r.table:
+            v = r.triple(key)
+            v = np.radians(v) if key.endswith("deg") else v
+            if np.any(np.abs(v) > np.pi):
+                raise r.fail(key, "each angle must be within +-180 deg")
+            rest = (float(v[0]), float(v[1]), float(v[2]))
+    events: list[Event] = []
+    if "end_mass_kg" in r.table:
+        events.append(EndMass(tick=0, kg=end_mass_kg(r, "end_mass_kg"), line=r.line_of("end_mass_kg") or 0))
+    if "friction_scale" in r.table:
+        events.append(FrictionScale(tick=0, scale=r.number("friction_scale", minimum=0.0),
+                                    line=r.line_of("friction_scale") or 0))
+    return rest, events

@@ -9,8 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab import crs
-from crslab.plant.params import COURSE_END_MASS_KG
-from crslab.scenario.event import seconds_to_tick
+from crslab.plant.model_files import COURSE_END_MASS_KG
 
 _HEADER = re.compile(r"^\s*\[")
 
@@ -146,15 +145,6 @@ def per_joint(r: TableReader, key: str, *, whole: bool, minimum: float | None = 
     if minimum is not None and any(v < minimum for v in values):
         raise r.fail(key, f"must be at least {minimum:g}, got {value!r}")
     return tuple(values)
-
-
-def until_tick(r: TableReader, at: int) -> int | None:
-    if "until" not in r.table:
-        return None
-    until = seconds_to_tick(r.number("until", minimum=0.0))
-    if until <= at:
-        raise r.fail("until", "must be later than at")
-    return until
 
 
 def end_mass_kg(r: TableReader, key: str) -> float:

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from crslab.framework_facts import LAB_BUDGET_INSTRUCTIONS, MOTOR_BOARDS, STARTUP_TICKS
 from crslab.lab.build import build_lab
-from crslab.plant.params import REST_MOTOR_RAD
+from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
 from crslab.sandbox import resolve as resolve_sandbox
 from crslab.scenario.event import seconds_to_tick

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 from crslab.framework_facts import LAB_BUDGET_INSTRUCTIONS, STARTUP_TICKS
 from crslab.lab.build import LabBuild
-from crslab.plant.params import REST_MOTOR_RAD
+from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
 from crslab.scenario.load import Scenario
 

@@ -11,10 +11,6 @@ and the emulated C28x memory the course's MATLAB tools read and write (``crs_sim
 
 Everything read is data the firmware wrote; nothing here trusts it beyond its bounds.
 
->>> wasm_element_type("long"), wasm_element_type("Uint16"), wasm_element_type("double")
-('int32_t', 'uint16_t', 'double')
->>> wasm_element_type("long double") is None
-True
 """
 
 from __future__ import annotations
@@ -25,31 +21,11 @@ from typing import TYPE_CHECKING, Protocol
 from cffi import FFI
 
 from crslab.lab.firmware import FRAMEWORK_VARIABLES, SIZES_SYMBOL
-from crslab.lab.variables import HOST_TYPES
+from crslab.lab.variables import HOST_TYPES, wasm_element_type
 from crslab.os_support import loaded_symbol_size
 
 if TYPE_CHECKING:
     from crslab.lab.build import LabBuild
-
-_WASM32 = {
-    "char": "int8_t", "signed char": "int8_t", "unsigned char": "uint8_t", "short": "int16_t",
-    "unsigned short": "uint16_t", "int": "int32_t", "unsigned int": "uint32_t", "long": "int32_t",
-    "unsigned long": "uint32_t", "long long": "int64_t", "unsigned long long": "uint64_t",
-    "float": "float", "double": "double", "_Bool": "uint8_t", "bool": "uint8_t",
-    "int8_t": "int8_t", "uint8_t": "uint8_t", "int16_t": "int16_t", "uint16_t": "uint16_t",
-    "int32_t": "int32_t", "uint32_t": "uint32_t", "int64_t": "int64_t", "uint64_t": "uint64_t",
-}
-"""A C type (qualifiers dropped) to the fixed-width type wasm32 gives it; ``long double`` (128-bit
-in wasm32) and pointers have none crslab reads."""
-
-
-def wasm_element_type(ctype: str, pointer: bool = False) -> str | None:
-    """The cffi type of one element of a variable of ``ctype`` in a WebAssembly firmware."""
-    if pointer:
-        return None
-    host = HOST_TYPES.get(ctype, ctype)
-    return _WASM32.get(host)
-
 
 def native_element_type(ctype: str, pointer: bool = False) -> str | None:
     """The cffi type of one element of a variable of ``ctype`` in a native firmware."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from cffi import FFI
 
-from crslab.host_tools.c28x_memory import KINDS, MemoryLayout
+from crslab.lab.c28x_memory import KINDS, MemoryLayout
 from crslab.sim.board_ffi import board_constants
 from crslab.sim.firmware_memory import FirmwareMemory
 

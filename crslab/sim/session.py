@@ -29,13 +29,13 @@ from pathlib import Path
 import numpy as np
 
 from crslab import os_support
-from crslab.host_tools.board_ports import PortExchange, exchange, port_index
 from crslab.scenario.expect_events import ExpectOutcome, Judge, Observation
 from crslab.sim import termination
 from crslab.sim.board_ffi import board_constants, board_ffi, shared_size
 from crslab.sim.config import SimConfig
 from crslab.sim.debug_setup import DebugSetup
 from crslab.sim.firmware_trap import diagnose
+from crslab.sim.host_ports import PortExchange, exchange, port_index
 from crslab.sim.running import LiveControl, PacedControl, RunDebugger
 from crslab.sim.sanitizer import asan_runtime, summarize_sanitizer_report
 from crslab.sim.status import RunResult, RunStatus

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from crslab import serial_lines
 from crslab.scenario.expect_events import ExpectOutcome
 
 
@@ -164,20 +165,9 @@ class RunResult:
         return b"".join(d for _, d in self.calls)
 
     def lines(self) -> list[str]:
-        r"""The printed lines as text, without their line ends.
+        r"""The printed lines as text, without their line ends (:mod:`crslab.serial_lines`' rule).
 
         >>> RunResult(RunStatus.OK, calls=[(0, b"a 1\n\r"), (5, b"b")]).lines()
         ['a 1', 'b']
         """
-        text = self.transcript.decode("latin-1").replace("\n\r", "\n").replace("\r\n", "\n")
-        return text.split("\n")[:-1] if text.endswith("\n") else text.split("\n")
-
-    def timed_lines(self) -> list[tuple[int, str]]:
-        r"""The printed lines, each with the tick of the serial_printf that printed its first byte.
-
-        >>> RunResult(RunStatus.OK, calls=[(4100, b"a 1\n\rb"), (4600, b"c\n\r")]).timed_lines()
-        [(4100, 'a 1'), (4100, 'bc')]
-        """
-        from crslab.regress.transcript import split_lines
-
-        return [(line.tick or 0, line.text) for line in split_lines(self.transcript, self.calls)]
+        return [text for _, text in serial_lines.split(self.transcript)]

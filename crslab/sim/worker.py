@@ -39,8 +39,8 @@ from cffi import FFI
 
 from crslab import crs, os_support
 from crslab.framework_facts import CPU_CYCLES_PER_TICK, MOTOR_BOARDS
-from crslab.host_tools.c28x_memory import lab_memory
 from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
+from crslab.lab.watched import WatchedError, WatchedVar, watched_var
 from crslab.plant.model import apply_friction, apply_plant, load_model, motor_to_qpos
 from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
 from crslab.plant.plant_params import PlantParams
@@ -124,7 +124,7 @@ class Worker:
             self.firmware = WasmMemory(ffi, lib, sim, config.build)
         self.sim = sim
         # the lab's globals as the board's MATLAB code sees them (C28x addresses)
-        self._keep += fill_memory_table(sim, ffi, self.firmware, lab_memory(config.build))
+        self._keep += fill_memory_table(sim, ffi, self.firmware, config.build.memory)
         sim.mj_model = ffi.cast("void *", self.model._address)
         sim.mj_data = ffi.cast("void *", self.data._address)
         sim.mj_step = ffi.cast("crs_mj_step_fn", mj_step)
@@ -172,17 +172,19 @@ class Worker:
         """The native firmware's shared object, loaded (in the run sandbox when asked) and
         attached to a new board; returns (library, sim)."""
         tracer = debug.tracer_pid if debug is not None else None
+        constants = board_constants()  # read from sim.h before the sandbox closes every file
         if config.sandboxed:
             from crslab.sandbox.run_sandbox import enter_run_sandbox
 
             self.sandbox = enter_run_sandbox(block, config.build.image, keep_fds,
+                                             trap_library=config.build.trap_library,
                                              sanitizer=config.build.sanitized, tracer_pid=tracer)
         elif tracer is not None:
             os_support.allow_tracer(tracer)
-        block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
+        block.phase = constants.CRS_PHASE_LOADING  # type: ignore[attr-defined]
         with self.sandbox.loading() if self.sandbox is not None else contextlib.nullcontext():
             lib = self.ffi.dlopen(str(config.build.image))
-        block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
+        block.phase = constants.CRS_PHASE_IDLE  # type: ignore[attr-defined]
         self.lib = lib
         sim = self._new_sim(config, block)
         if lib.crs_fw_native_attach(sim) != 0:
@@ -241,12 +243,13 @@ class Worker:
         return self.ffi.cast(ctype, arr.ctypes.data)
 
     # -- watched variables -------------------------------------------------------------------
-    def _var(self, name: str) -> tuple[object, int]:
-        """A watched variable's first element (a cffi pointer) and its element count."""
-        if name not in self.watched:
-            known = ", ".join(self.watched) or "none"
-            raise KeyError(f"{name} is not a watched (#pragma DATA_SECTION) variable (watched: {known})")
-        var = self.watched[name]
+    def _var(self, name: str, index: int | None, *, whole: bool) -> tuple[WatchedVar, object]:
+        """A watched variable, checked with ``index`` (:func:`crslab.lab.watched.watched_var`), and
+        its first element (a cffi pointer)."""
+        try:
+            var = watched_var(self.watched.values(), name, index, self.config.build.source.name, whole=whole)
+        except WatchedError as exc:
+            raise KeyError(str(exc)) from None
         element = self.firmware.element_type(var.ctype)
         count = var.length if var.length is not None else 1
         address = None
@@ -254,28 +257,23 @@ class Worker:
             address = self.firmware.address(name, count * self.firmware.ffi.sizeof(element))
         if address is None:
             raise KeyError(f"{name} cannot be reached in the lab's firmware")
-        return self.firmware.ffi.cast(f"{element} *", address), count
+        return var, self.firmware.ffi.cast(f"{element} *", address)
 
     def get_var(self, name: str) -> float | list[float]:
         """Current value of a watched variable (a list for arrays)."""
-        pointer, count = self._var(name)
-        if self.watched[name].length is not None:
-            return [float(pointer[i]) for i in range(count)]  # type: ignore[index]
+        var, pointer = self._var(name, None, whole=True)
+        if var.length is not None:
+            return [float(pointer[i]) for i in range(var.length)]  # type: ignore[index]
         return float(pointer[0])  # type: ignore[index]
 
     def set_var(self, name: str, index: int | None, value: float) -> None:
         """Write a watched variable (or one element of a watched array) between ticks."""
-        pointer, count = self._var(name)
-        var = self.watched[name]
-        v = int(round(value)) if var.is_integer else float(value)
-        if var.length is None:
-            if index is not None:
-                raise KeyError(f"{name} is not an array")
-            pointer[0] = v  # type: ignore[index]
-            return
-        if index is None or not 0 <= index < count:
-            raise KeyError(f"{name} has {count} elements: give an index 0..{count - 1}")
-        pointer[index] = v  # type: ignore[index]
+        var, pointer = self._var(name, index, whole=False)
+        try:
+            var.check_value(value, self.config.build.source.name)
+        except WatchedError as exc:
+            raise KeyError(str(exc)) from None
+        pointer[index or 0] = int(round(value)) if var.is_integer else float(value)  # type: ignore[index]
 
     def observe(self, var: tuple[str, int | None] | None) -> None:
         """Note what an expectation sees now, before this tick runs: the motor board and the

@@ -36,7 +36,8 @@ from pathlib import Path
 
 import numpy as np
 
-from crslab.scopes.arm3d import quat_rotate
+from crslab.scopes.arm3d import SHAPE_KINDS, quat_rotate
+from crslab.scopes.rerun_stream import SIMULINK_ENTITY, SIMULINK_NAMES, open_recording
 from crslab.scopes.signals import (
     DIGITAL,
     MOTOR,
@@ -44,10 +45,10 @@ from crslab.scopes.signals import (
     SIMULINK,
     TORQUE,
     Group,
-    SerialLines,
     signal_values,
     simulink_samples,
 )
+from crslab.serial_lines import SerialLines
 from crslab.sinks.sink import Sink
 
 TIMELINE = "sim_time"
@@ -60,20 +61,12 @@ SCALAR_ENTITIES = {  # entity: (log column, series names)
     "/scopes/torque/lab": ("tau_lab", ["tau1", "tau2", "tau3"]),
     "/scopes/torque/applied": ("tau_applied", ["tau1 applied", "tau2 applied", "tau3 applied"]),
 }
-SIMULINK_ENTITY = "/scopes/simulink"
 DIGITAL_ENTITY = "/scopes/digital"
 DIGITAL_SIGNALS = [s for s in SIGNALS if s.group == DIGITAL]
 """The safety flag and the LED pin levels, as scopes.signals reads them from the log."""
 DIGITAL_NAMES = [s.name for s in DIGITAL_SIGNALS]
 SERIAL_ENTITY = "/serial"
 ARM_ENTITY = "/arm"
-
-
-def viewer_executable() -> str | None:
-    """The rerun viewer installed with rerun-sdk beside this Python (a venv's bin/), if there is one;
-    None lets rerun search the PATH."""
-    here = Path(sys.executable).parent / "rerun"
-    return str(here) if here.is_file() else None
 
 
 def _time_column(ticks: np.ndarray) -> object:
@@ -189,29 +182,10 @@ class RerunSink(Sink):
             raise loaded
         import rerun as rr
 
-        from crslab.scopes.display import missing_display
-
-        rec = rr.RecordingStream("crslab", send_properties=False)
-        sinks: list[object] = []
-        if self.spawn:
-            why = missing_display()
-            if why:
-                self.on_status(f"--rerun: {why}; running without the rerun viewer"
-                               + ("" if self.rrd_path else " (--rrd FILE saves a recording to open later)"))
-            else:
-                try:
-                    rr.spawn(connect=False, executable_path=viewer_executable(), recording=rec)
-                    sinks.append(rr.GrpcSink())
-                except Exception as exc:  # noqa: BLE001 - any failure to start it is one line
-                    why = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-                    self.on_status(f"--rerun: the rerun viewer did not start ({why}); running without it")
-        if self.rrd_path is not None:
-            sinks.append(rr.FileSink(str(self.rrd_path)))
-        self.rec = rec
-        if not sinks:
+        self.rec, active = open_recording(rr, self.name, spawn=self.spawn, rrd_path=self.rrd_path,
+                                          on_status=self.on_status, prefix="--rerun: ", blueprint=blueprint())
+        if not active:
             return
-        rec.set_sinks(*sinks, default_blueprint=blueprint())
-        rec.send_recording_name(self.name)
         self.arm = loaded
         self._log_static(rr)
 
@@ -219,12 +193,11 @@ class RerunSink(Sink):
         rec = self.rec
         for entity, (_, names) in SCALAR_ENTITIES.items():
             rec.log(entity, rr.SeriesLines(names=names), static=True)
-        rec.log(SIMULINK_ENTITY, rr.SeriesLines(names=[f"Simulink_PlotVar{k}" for k in range(1, 5)]),
-                static=True)
+        rec.log(SIMULINK_ENTITY, rr.SeriesLines(names=SIMULINK_NAMES), static=True)
         rec.log(DIGITAL_ENTITY, rr.SeriesLines(names=DIGITAL_NAMES), static=True)
         rec.log(ARM_ENTITY, rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
         for body in self.arm.bodies:
-            for kind in ("capsule", "cylinder", "sphere", "box"):
+            for kind in SHAPE_KINDS:
                 shapes = [s for s in body.shapes if s.kind == kind]
                 if shapes:
                     rec.log(f"{ARM_ENTITY}/{body.name}/shapes/{kind}", _shapes(rr, kind, shapes), static=True)

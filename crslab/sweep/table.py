@@ -57,11 +57,6 @@ class Journal:
         self._writer.writerow([cell(row[c]) for c in self.columns])
         self._file.flush()
 
-    def discard(self) -> None:
-        """Close and remove it (the final table has every row)."""
-        self._file.close()
-        self.path.unlink(missing_ok=True)
-
     def close(self) -> None:
         self._file.close()
 

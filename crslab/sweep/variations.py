@@ -35,10 +35,11 @@ import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from crslab.lab.watched import WatchedVar
+from crslab.lab.watched import WatchedError, WatchedVar, watched_var
 from crslab.scenario.event import Event, rng_state
-from crslab.scenario.events import EncoderNoise, EndMass, SetVariable
-from crslab.scenario.load import _integer_range
+from crslab.scenario.fault_events import EncoderNoise
+from crslab.scenario.lab_events import SetVariable
+from crslab.scenario.plant_events import EndMass
 from crslab.sim.config import SimConfig
 
 PLANT_NAMES: dict[str, str] = {
@@ -128,7 +129,6 @@ def check(varies: Sequence[Vary], watched: Sequence[WatchedVar], lab_name: str) 
     """Check every name against what may vary (the lab's watched variables for ``var:``) and
     every range against what the quantity may take; returns them with integer variables marked.
     Raises :class:`VaryError` (one line listing the valid names for an unknown one)."""
-    by_name = {v.name: v for v in watched}
     out, seen = [], set()
     for v in varies:
         if v.name in seen:
@@ -144,20 +144,12 @@ def check(varies: Sequence[Vary], watched: Sequence[WatchedVar], lab_name: str) 
             out.append(v)
             continue
         name, index = v.target
-        var = by_name.get(name)
-        if var is None:
-            raise VaryError(f"--vary {v.name}: {name} is not a watched (#pragma DATA_SECTION) variable of "
-                            f"{lab_name}; valid: {valid_names(watched)}")
-        if var.length is None and index is not None:
-            raise VaryError(f"--vary {v.name}: {name} is not an array in {lab_name}")
-        if var.length is not None and (index is None or index >= var.length):
-            raise VaryError(f"--vary {v.name}: {name} has {var.length} elements in {lab_name}: give "
-                            f"var:{name}[i] with i in 0..{var.length - 1}")
-        if var.is_integer:
-            low, high = _integer_range(var.cdecl)
-            if round(v.low) < low or round(v.high) > high:
-                raise VaryError(f"--vary {v.name}={v.low:g}:{v.high:g}: {name} is {var.ctype} in {lab_name} "
-                                f"({low} to {high})")
+        try:
+            var = watched_var(watched, name, index, lab_name)
+            var.check_value(v.low, lab_name)
+            var.check_value(v.high, lab_name)
+        except WatchedError as exc:
+            raise VaryError(f"--vary {v.name}: {exc}") from None
         out.append(dataclasses.replace(v, integer=var.is_integer))
     return out
 

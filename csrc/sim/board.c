@@ -44,6 +44,20 @@ int crs_board_check_generation(crs_sim *sim)
     return CRS_RUN_TRAPPED;
 }
 
+void crs_board_lab_cost(crs_sim *sim, int64_t cost)
+{
+    sim->lab_cost_total += cost;
+    if (cost > sim->lab_cost_max) {
+        sim->lab_cost_max = cost;
+        sim->lab_max_tick = sim->tick;
+    }
+    if (cost > sim->budget) {
+        const int64_t kept = (int64_t)(sizeof sim->first_over_tick / sizeof sim->first_over_tick[0]);
+        if (sim->over_budget < kept) sim->first_over_tick[sim->over_budget] = sim->tick;
+        sim->over_budget++;
+    }
+}
+
 int32_t crs_board_serial_out(crs_sim *sim, const char *chars, uint32_t available, uint32_t formatted)
 {
     if (sim == NULL || sim->shared == NULL || sim->overflow_tick >= 0) return 0;

@@ -1,7 +1,7 @@
 /* The native firmware's port (firmware_port.h): the firmware (csrc/firmware) linked into the same
  * shared object as the board. crslab debug (gdb), --sanitize (ASan and UBSan) and --native run it.
- * lab() is called directly and its cost is the worker thread's CPU time (host load that takes the
- * CPU away from the worker does not count); the crslab process watches the worker from outside,
+ * lab() is called directly and its cost is the time it took on the monotonic clock; the crslab
+ * process watches the worker from outside,
  * and the run sandbox (crslab/sandbox) keeps the process from reaching anything. */
 #define _POSIX_C_SOURCE 199309L
 
@@ -47,19 +47,6 @@ int crs_fw_native_attach(crs_sim *sim)
     return 0;
 }
 
-static void count_cost(crs_sim *sim, int64_t cost)
-{
-    sim->lab_cost_total += cost;
-    if (cost > sim->lab_cost_max) {
-        sim->lab_cost_max = cost;
-        sim->lab_max_tick = sim->tick;
-    }
-    if (cost > sim->budget) {
-        if (sim->over_budget < 8) sim->first_over_tick[sim->over_budget] = sim->tick;
-        sim->over_budget++;
-    }
-}
-
 int crs_fw_call_lab(crs_sim *sim, int32_t *print)
 {
     crs_shared *sh = sim->shared;
@@ -77,7 +64,7 @@ int crs_fw_call_lab(crs_sim *sim, int32_t *print)
     sh->phase_start_ns = start_ns;
     sh->phase = CRS_PHASE_LAB;
     *print = crs_fw_lab(th1, th2, th3, sim->safety_flag);
-    count_cost(sim, crs_now_ns() - start_ns);
+    crs_board_lab_cost(sim, crs_now_ns() - start_ns);
     if (sim->debug.trap_fp) crs_debug_fp_traps(0);
     return 0;
 }

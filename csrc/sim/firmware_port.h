@@ -30,4 +30,8 @@ int crs_fw_tick_begins(crs_sim *sim);
  * format buffer is noted (sim->overflow_tick) instead and nothing is queued. */
 int32_t crs_board_serial_out(crs_sim *sim, const char *chars, uint32_t available, uint32_t formatted);
 
+/* Count what one lab() call cost (in sim->cost_unit) into the run's totals, its maximum and the
+ * calls over sim->budget (the first few ticks of which are kept). */
+void crs_board_lab_cost(crs_sim *sim, int64_t cost);
+
 #endif

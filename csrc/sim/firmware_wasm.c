@@ -584,15 +584,7 @@ int crs_fw_call_lab(crs_sim *sim, int32_t *print)
     const int code = call(w, &w->lab, a, 4, CRS_PHASE_LAB);
     int64_t cost = 0;
     take_fuel(w, &cost);
-    sim->lab_cost_total += cost;
-    if (cost > sim->lab_cost_max) {
-        sim->lab_cost_max = cost;
-        sim->lab_max_tick = sim->tick;
-    }
-    if (cost > sim->budget) {
-        if (sim->over_budget < 8) sim->first_over_tick[sim->over_budget] = sim->tick;
-        sim->over_budget++;
-    }
+    crs_board_lab_cost(sim, cost);
     if (code) return code;
     *print = a[0].i32 != 0;
     return 0;

@@ -110,13 +110,6 @@ void crs_hand_plan(const crs_hand *h, crs_hand_path *path)
     }
 }
 
-void crs_hand_step(crs_sim *sim)
-{
-    crs_hand_path path;
-    crs_hand_plan(&sim->hand, &path);
-    crs_hand_step_along(sim, &path);
-}
-
 void crs_hand_step_along(crs_sim *sim, const crs_hand_path *hand_path)
 {
     crs_hand *h = &sim->hand;

@@ -25,7 +25,5 @@ typedef struct {
 void crs_hand_plan(const crs_hand *h, crs_hand_path *path);
 /* Pull the arm with the hand along `path` (crs_hand_plan of sim->hand): writes sim->hand.force_nm. */
 void crs_hand_step_along(crs_sim *sim, const crs_hand_path *path);
-/* The same for one tick, planning the path first (what the tick loop does once per chunk). */
-void crs_hand_step(crs_sim *sim);
 
 #endif

@@ -23,18 +23,4 @@ void crs_host_ports_tick(crs_sim *sim, int64_t tick);
 /* 1 when a port's out[] is more than half full (the reader should take it). */
 int crs_host_ports_full(const crs_shared *sh);
 
-/* One byte arriving on SerialC / SerialB (the receive interrupts), its last bit at line time
- * `now` (csrc/sim/serial_line.h). */
-void crs_matlab_receive(crs_sim *sim, int64_t now, uint8_t byte);
-void crs_simulink_receive(crs_sim *sim, int64_t now, uint8_t byte);
-
-/* Queue a reply on host port `port` (CRS_HOST_PORT_*) at line time `now`; what its transmit ring
- * cannot take is dropped and counted. */
-void crs_host_reply(crs_sim *sim, int port, int64_t now, const char *data, uint32_t n);
-
-/* What a Simulink_PlotVar is sent as: the C long of 10000 * value, multiplied in single precision
- * and truncated toward zero. Beyond the long's range C leaves it undefined: saturated here, as the
- * C28x FPU's conversion does; a NaN is sent as 0 (crslab's choice). */
-int32_t crs_simulink_scaled(float value);
-
 #endif

@@ -21,7 +21,8 @@
 #include "c28x_memory.h"
 #include "framework_facts.h"
 #include "generations.h"
-#include "host_ports.h"
+#include "host_reply.h"
+#include "matlab_link.h"
 #include "serial_line.h"
 
 enum { ADDRESS_MASK = 0x3FFFFF, MAX_PAIRS = (CRS_MATLAB_MESSAGE_CHARS - 1) / 8 };

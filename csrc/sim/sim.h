@@ -111,7 +111,7 @@ typedef struct {
     double force_nm[3];          /* last applied generalized force on j1..j3, N.m */
 } crs_hand;
 
-/* Per-tick signals for scopes (rerun, CSV): filled when log_capacity > 0. */
+/* Per-tick signals for scopes (rerun, CSV): filled when capacity > 0 (rows the arrays hold). */
 typedef struct {
     int64_t capacity, count;     /* rows */
     int64_t *tick;

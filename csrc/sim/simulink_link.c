@@ -13,7 +13,8 @@
 #include <stdint.h>
 
 #include "framework_facts.h"
-#include "host_ports.h"
+#include "host_reply.h"
+#include "simulink_link.h"
 
 _Static_assert((int)CRS_SIMULINK_BUFFER >= 2 * (int)CRS_SIMULINK_INPUTS, "the receiver keeps a packet's data");
 

@@ -20,6 +20,7 @@
 #include "framework_facts.h"
 #include "generations.h"
 #include "host_ports.h"
+#include "simulink_link.h"
 
 /* the framework's own globals, in its stand-ins (csrc/firmware/firmware.c) */
 extern int SIMU_Var1_fromSIMU_16bit, SIMU_Var7_fromSIMU_16bit;

@@ -46,7 +46,7 @@ from crslab.identify.friction_table import fit_lines, load_table, predict, relat
 from crslab.identify.recording import read_recording
 from crslab.identify.runs import lab_offsets
 from crslab.plant.model import holding_torques_nm
-from crslab.plant.params import COURSE_END_MASS_KG, PARAMS
+from crslab.plant.model_files import COURSE_END_MASS_KG, PARAMS
 from crslab.plant.plant_params import PlantParams
 from crslab.resources import path as resource_path
 from crslab.sim.api import make_config, simulate

@@ -13,10 +13,9 @@ import subprocess
 import sys
 import time
 
-from crslab.host_tools.bridge import SerialBridge
-from crslab.host_tools.c28x_memory import lab_memory
 from crslab.host_tools.ports import PtyPort
 from crslab.host_tools.protocols import read_request, simulink_packet
+from crslab.live.bridge import SerialBridge
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
 from crslab.sinks.sink import Sink
@@ -94,7 +93,7 @@ def fast_rate(config, bridge: bool) -> float:
 def run() -> list[str]:
     config = make_config("tests/labs/host_tools_gen_b.c" if os.path.exists("tests/labs/host_tools_gen_b.c")
                          else None, "hands_off", startup_delay=False)
-    address = lab_memory(config.build).find("whattoprint").address
+    address = config.build.memory.find("whattoprint").address
     latencies, cpu_share = host_run(config, "SerialC", "matlab", read_request(address, 1), READS)
     latencies.sort()
     steps, _ = host_run(config, "SerialB", "simulink", simulink_packet([0] * 7), PACKETS)

@@ -59,7 +59,8 @@ def load_s(config) -> float:
         if config.sandboxed:
             from crslab.sandbox.run_sandbox import enter_run_sandbox
 
-            box = enter_run_sandbox(block, config.build.shared_object, [write])
+            box = enter_run_sandbox(block, config.build.shared_object, [write],
+                                    trap_library=config.build.trap_library)
             with box.loading():
                 ffi.dlopen(str(config.build.shared_object))
         else:

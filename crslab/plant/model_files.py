@@ -1,5 +1,6 @@
-"""The CRS arm model's files and physical parameters (``models/crs_arm/params.toml``), without
-importing MuJoCo: the crslab process reads these; only the worker loads the model.
+"""The CRS arm model's files (``models/crs_arm``) and the numbers of its ``params.toml``, without
+importing MuJoCo: the crslab process reads these; only the worker loads the model (the values a
+run uses, a plant file's or a sweep's included, are :mod:`crslab.plant.plant_params`').
 
 >>> REST_MOTOR_RAD
 (0.0, -0.42, 0.24)

@@ -34,14 +34,10 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from crslab.framework_facts import SIMULINK_INPUTS
-from crslab.generations import Generation, detect
-from crslab.lab.variables import FRAMEWORK_TYPES, LabVariable, find_variables
-
-if TYPE_CHECKING:
-    from crslab.lab.build import LabBuild
+from crslab.generations import Generation
+from crslab.lab.variables import FRAMEWORK_TYPES, LabVariable
 
 PAGE = 1
 """Data memory is page 1 of the C28x's map."""
@@ -193,13 +189,3 @@ def overlapping(layout_: MemoryLayout) -> list[tuple[str, str]]:
         if a.address + a.words > b.address:
             out.append((a.name, b.name))
     return out
-
-
-def lab_memory(build: LabBuild) -> MemoryLayout:
-    """The layout of a built lab's globals (its generation's sections)."""
-    return layout(build.variables, build.generation, build.source.stem)
-
-
-def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
-    """The same layout from a lab file's text alone (no build: the layout depends on nothing else)."""
-    return layout(find_variables(source_text), detect(source_text), lab_name)

@@ -17,8 +17,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
-from crslab.host_tools.board_ports import HOST_PORTS
 from crslab.host_tools.ports import HostPort
+from crslab.sim.host_ports import HOST_PORTS
 from crslab.sim.running import RunningLab
 
 HOST_CHUNK_MS = 1
