@@ -11,7 +11,6 @@ parse. See docs/host-tools.md.
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -54,11 +53,11 @@ def host_tools_asked(args: argparse.Namespace) -> bool:
 class HostRun:
     """The host ports and map one ``crslab sim`` run asked for."""
 
-    def __init__(self, args: argparse.Namespace, config: SimConfig,
-                 status: Callable[[str], None] | None = None) -> None:
+    def __init__(self, args: argparse.Namespace, config: SimConfig, status: Callable[[str], None]) -> None:
         self.args = args
         self.config = config
-        self.status = status or (lambda line: print(f"crslab sim: {line}", file=sys.stderr, flush=True))
+        self.status = status
+        """Says one line on stderr (with the command's prefix)."""
         self.controls: list[LiveControl] = []
         self.serial_a: PortSink | None = None
         """SerialA on ``DIR/SerialA`` (``--pty-wait`` waits for a terminal there)."""
