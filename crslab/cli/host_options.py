@@ -15,6 +15,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.cli.live_options import OptionRun
 from crslab.framework_facts import SERIAL_BAUD
 from crslab.host_tools.bridge import SerialBridge
 from crslab.host_tools.c28x_memory import lab_memory
@@ -22,7 +23,6 @@ from crslab.host_tools.linker_map import write_map
 from crslab.host_tools.ports import HostPort, PortError, PtyPort, TcpPort
 from crslab.output_paths import folder, with_parent
 from crslab.sim.config import SimConfig
-from crslab.sim.running import LiveControl
 from crslab.sinks.serial_pty import PortSink
 from crslab.sinks.sink import FanOut
 
@@ -50,15 +50,11 @@ def host_tools_asked(args: argparse.Namespace) -> bool:
     return bool(args.serial_dir or args.serial_tcp is not None)
 
 
-class HostRun:
-    """The host ports and map one ``crslab sim`` run asked for."""
+class HostRun(OptionRun):
+    """The host ports and map one ``crslab sim`` run asked for; its control is the bridge."""
 
     def __init__(self, args: argparse.Namespace, config: SimConfig, status: Callable[[str], None]) -> None:
-        self.args = args
-        self.config = config
-        self.status = status
-        """Says one line on stderr (with the command's prefix)."""
-        self.controls: list[LiveControl] = []
+        super().__init__(args, config, status)
         self.serial_a: PortSink | None = None
         """SerialA on ``DIR/SerialA`` (``--pty-wait`` waits for a terminal there)."""
         self._map_in_dir: Path | None = None

@@ -75,16 +75,24 @@ def stdin_commands_possible() -> bool:
     return True
 
 
-class LiveRun:
-    """The live windows one ``crslab sim`` run asked for."""
+class OptionRun:
+    """What one run's options ask for beyond its sinks (:class:`LiveRun`,
+    :class:`crslab.cli.host_options.HostRun`): ``status`` says one line on stderr (with the
+    command's prefix); :attr:`controls` are served between chunks of ticks once started."""
 
     def __init__(self, args: argparse.Namespace, config: SimConfig, status: Callable[[str], None]) -> None:
         self.args = args
         self.config = config
         self.status = status
-        """Says one line on stderr (with the command's prefix)."""
         self.controls: list[LiveControl] = []
-        """The typed commands and the viewer, once started: served between chunks of ticks."""
+
+
+class LiveRun(OptionRun):
+    """The live windows one ``crslab sim`` or ``crslab debug`` run asked for; its controls are the
+    typed commands and the viewer."""
+
+    def __init__(self, args: argparse.Namespace, config: SimConfig, status: Callable[[str], None]) -> None:
+        super().__init__(args, config, status)
         if args.rrd is not None:
             writable(args.rrd, "the rerun recording")
         if args.pty_link is not None:
