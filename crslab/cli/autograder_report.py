@@ -11,7 +11,7 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.cli.executor_options import executor_from_args
-from crslab.cli.sim_commands import config_from_args, limits_from_args
+from crslab.cli.run_options import config_from_args, limits_from_args
 from crslab.regress import autograder as ag
 from crslab.regress import grade as g
 from crslab.scenario.event import seconds_to_tick

@@ -4,34 +4,22 @@ IDE through gdbserver) at a tick, a time or a condition, with simulated time fro
 from __future__ import annotations
 
 import argparse
-import json
-import sys
 import textwrap
-import time
 from pathlib import Path
 
 from crslab.cli import CliError
-from crslab.cli.live_options import LiveRun, add_live_options, live_needs_log
-from crslab.cli.sim_commands import (
-    add_run_options,
-    config_from_args,
-    limits_from_args,
-    motor_board_line,
-    positive,
-    print_run_notes,
-    summary,
-)
-from crslab.cli.sim_narration import WIDTH, Narrator, pace_text, seconds
+from crslab.cli.introduction import WIDTH, pace_text
+from crslab.cli.lab_run import LabRun, end_tick_of, scope_rows_asked
+from crslab.cli.live_options import add_live_options
+from crslab.cli.run_options import add_run_options, config_from_args, positive
+from crslab.cli.sink_options import add_sink_options
 from crslab.debug.local_port import PortError
 from crslab.debug.programs import DebuggerMissing, debugger_for
 from crslab.debug.session import DebugPlan, DebugSession
 from crslab.debug.tracer import TracerError
 from crslab.scenario.event import seconds_to_tick
-from crslab.sim.session import SimError, Simulation
 from crslab.sim.status import RunStatus
-from crslab.sinks.sink import FanOut, SinkError
-from crslab.sinks.stdout import StdoutSink
-from crslab.sinks.transcript_file import TranscriptSink
+from crslab.sinks.narration import seconds
 
 PREFIX = "crslab debug: "
 
@@ -90,10 +78,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     pace.add_argument("--fast", action="store_true",
                       help="run as fast as the machine can once running (the default; as 'crslab sim "
                       "--fast')")
-    p.add_argument("-o", "--transcript", type=Path, metavar="FILE", help="save the exact bytes printed")
     p.add_argument("--json", action="store_true", help="print the end-of-run summary as JSON on stderr")
     p.add_argument("--quiet", action="store_true",
                    help="no introduction and no scenario events on stderr (gdb's output stays)")
+    add_sink_options(p)
     add_live_options(p)
     p.set_defaults(func=run_debug)
 
@@ -172,63 +160,28 @@ def run_debug(args: argparse.Namespace) -> int:
         program = debugger_for(console=args.gdbserver is None)
     except DebuggerMissing as exc:
         raise CliError(str(exc)) from None
-    config = config_from_args(args, log=live_needs_log(args), debug=True, break_when=args.break_when)
-    end_tick = seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
+    config = config_from_args(args, log=scope_rows_asked(args), debug=True, break_when=args.break_when)
     first_lab_tick = config.startup_ticks
-    plan = plan_from_args(args, first_lab_tick, end_tick)
-    live = LiveRun(args, config, status=lambda line: print(f"{PREFIX}{line}", file=sys.stderr, flush=True))
-    stdout = StdoutSink()
-    narrator = Narrator(config.scenario.events, stdout, quiet=args.quiet, prefix=PREFIX)
-    out = FanOut([narrator, stdout])
-    if args.transcript:
-        try:
-            out.add(TranscriptSink(args.transcript))
-        except OSError as exc:
-            raise CliError(f"{args.transcript}: cannot write the transcript ({exc.strerror})") from None
-    lab_name = config.build.source.name
+    plan = plan_from_args(args, first_lab_tick, end_tick_of(args, config))
+    run = LabRun(args, config, "debug")
+
+    def intro(end_tick: int) -> str:
+        return introduction(plan, lab=config.build.source, scenario_name=config.scenario.name,
+                            end_tick=end_tick, first_lab_tick=first_lab_tick, speed=args.speed)
 
     def say(line: str) -> None:
-        stdout.flush()
-        print(f"{PREFIX}{line}", file=sys.stderr, flush=True)
+        run.stdout.flush()
+        run.say(line)
 
-    def on_motor_board(tick: int, joint: int, off: bool) -> None:
-        say(motor_board_line(tick, joint, off))
-
-    start = time.monotonic()
     try:
-        with DebugSession(plan, first_lab_tick, say, program) as session, \
-                Simulation(config, deadline_s=args.deadline, limits=limits_from_args(args),
-                           debug=session.setup) as sim:
-            if not sim.defines_lab:
-                raise CliError(f"{lab_name} defines no lab() function", status=RunStatus.NO_LAB.exit_status)
-            live.start(out)
-            narrator.say(introduction(plan, lab=config.build.source, scenario_name=config.scenario.name,
-                                      end_tick=end_tick, first_lab_tick=first_lab_tick, speed=args.speed))
-            narrator.reached(0)
-            session.start(sim)
-            result = sim.run(end_tick, out, speed=args.speed, controls=[narrator, session, *live.controls],
-                             on_motor_board=on_motor_board, on_expectation=narrator.judged, debugger=session)
+        with DebugSession(plan, first_lab_tick, say, program) as session:
+            result = run.run(intro, speed=args.speed, controls=[session], debug=session.setup,
+                             debugger=session, ready=session.start)
             unreached = session.unreached() if result.status is RunStatus.OK else None
     except PortError as exc:
         raise CliError(f"--gdbserver {args.gdbserver}: {exc}") from None
     except TracerError as exc:
         raise CliError(str(exc)) from None
-    except SimError as exc:
-        raise CliError(str(exc), status=exc.status.exit_status) from None
-    finally:
-        try:
-            out.close()
-        except SinkError as exc:
-            raise CliError(str(exc)) from None
-    wall = time.monotonic() - start
     if unreached:
-        print(f"{PREFIX}{unreached}", file=sys.stderr)
-    print_run_notes(PREFIX, lab_name, result, config.build.generation)
-    info = summary(result, wall, args.budget)
-    if args.json:
-        print(json.dumps(info), file=sys.stderr)
-    else:  # lab() timings mean nothing once a debugger has held it
-        print(f"{PREFIX}{info['simulated_s']:.3f} s simulated in {wall:.2f} s", file=sys.stderr)
-    if result.message:
-        print(f"{PREFIX}{result.message}", file=sys.stderr)
-    return result.exit_status
+        run.say(unreached)
+    return run.report(result, lab_cost=False)

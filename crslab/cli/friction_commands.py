@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from crslab.cli import CliError
-from crslab.cli.sim_commands import sandbox_from_args
+from crslab.cli.run_options import sandbox_from_args
 from crslab.resources import path as resource_path
 
 COURSE_TABLE = resource_path("models", "crs_arm", "recordings", "lab3_friction_table_course.toml")

@@ -11,18 +11,17 @@ parse. See docs/host-tools.md.
 from __future__ import annotations
 
 import argparse
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.cli.live_options import OptionRun
 from crslab.framework_facts import SERIAL_BAUD
 from crslab.host_tools.linker_map import write_map
 from crslab.host_tools.ports import HostPort, PortError, PtyPort, TcpPort
 from crslab.live.bridge import SerialBridge
 from crslab.output_paths import folder, with_parent
 from crslab.sim.config import SimConfig
-from crslab.sim.running import LiveControl
 from crslab.sinks.serial_pty import PortSink
 from crslab.sinks.sink import FanOut
 
@@ -50,15 +49,11 @@ def host_tools_asked(args: argparse.Namespace) -> bool:
     return bool(args.serial_dir or args.serial_tcp is not None)
 
 
-class HostRun:
-    """The host ports and map one ``crslab sim`` run asked for."""
+class HostRun(OptionRun):
+    """The host ports and map one ``crslab sim`` run asked for; its control is the bridge."""
 
-    def __init__(self, args: argparse.Namespace, config: SimConfig,
-                 status: Callable[[str], None] | None = None) -> None:
-        self.args = args
-        self.config = config
-        self.status = status or (lambda line: print(f"crslab sim: {line}", file=sys.stderr, flush=True))
-        self.controls: list[LiveControl] = []
+    def __init__(self, args: argparse.Namespace, config: SimConfig, status: Callable[[str], None]) -> None:
+        super().__init__(args, config, status)
         self.serial_a: PortSink | None = None
         """SerialA on ``DIR/SerialA`` (``--pty-wait`` waits for a terminal there)."""
         self._map_in_dir: Path | None = None

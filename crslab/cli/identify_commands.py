@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import TextIO
 
 from crslab.cli import CliError
-from crslab.cli.sim_commands import sandbox_from_args
+from crslab.cli.run_options import sandbox_from_args
 from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.output_paths import with_parent
 from crslab.plant.plant_params import PlantParams, PlantParamsError

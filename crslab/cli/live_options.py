@@ -1,9 +1,9 @@
-"""The options of ``crslab sim`` that open windows into the running lab.
+"""The options of ``crslab sim`` and ``crslab debug`` that open windows into the running lab.
 
-``--rerun`` / ``--rrd FILE`` (rerun scopes and 3D), ``--csv FILE`` (the same signals as a table),
-``--pty`` / ``--pty-link PATH`` / ``--pty-wait`` (the serial line on a pseudo-terminal),
-``--viewer`` (MuJoCo's viewer), and the live-variable commands read from standard input while the
-run goes on.
+``--rerun`` / ``--rrd FILE`` (rerun scopes and 3D), ``--pty`` / ``--pty-link PATH`` /
+``--pty-wait`` (the serial line on a pseudo-terminal), ``--viewer`` (MuJoCo's viewer), and the
+live-variable commands read from standard input while the run goes on. The file outputs
+(``--transcript``, ``--csv``) are :mod:`crslab.cli.sink_options`'.
 
 :class:`LiveRun` checks the options before the worker starts (bad paths are one-line errors)
 and opens ``--rrd``'s recording in the writer process the command forked at its start (see
@@ -22,6 +22,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from crslab.cli import CliError
+from crslab.cli.sink_options import writable
 from crslab.framework_facts import SERIAL_BAUD
 from crslab.live.console import VarConsole
 from crslab.output_paths import with_parent
@@ -41,8 +42,6 @@ def add_live_options(p: argparse.ArgumentParser) -> None:
                    "safety flag, LEDs, serial lines and the arm in 3D")
     g.add_argument("--rrd", type=Path, metavar="FILE",
                    help="save the same rerun recording to FILE (headless)")
-    g.add_argument("--csv", type=Path, metavar="FILE",
-                   help="write the scope signals, one row per tick, to FILE (see 'crslab plot')")
     g.add_argument("--pty", action="store_true",
                    help="also send the serial output to a pseudo-terminal (its path is printed on stderr) "
                    "for miniterm, picocom or screen; bytes sent while no terminal is attached are dropped")
@@ -58,19 +57,8 @@ def add_live_options(p: argparse.ArgumentParser) -> None:
 
 
 def live_needs_log(args: argparse.Namespace) -> bool:
-    """Whether the options ask for the run's scope signals (rerun, CSV, the viewer's pose)."""
-    return bool(args.rerun or args.rrd or args.csv or args.viewer)
-
-
-def _writable(path: Path, what: str) -> None:
-    """Fail early, in one line, when ``path`` cannot be written."""
-    if path.is_dir():
-        raise CliError(f"{path}: is a directory; give a file name for {what}")
-    try:
-        with open(with_parent(path), "ab"):
-            pass
-    except OSError as exc:
-        raise CliError(f"{path}: cannot write {what} ({exc.strerror})") from None
+    """Whether the options ask for the run's scope signals (rerun, the viewer's pose)."""
+    return bool(args.rerun or args.rrd or args.viewer)
 
 
 def stdin_commands_possible() -> bool:
@@ -87,19 +75,26 @@ def stdin_commands_possible() -> bool:
     return True
 
 
-class LiveRun:
-    """The live windows one ``crslab sim`` run asked for."""
+class OptionRun:
+    """What one run's options ask for beyond its sinks (:class:`LiveRun`,
+    :class:`crslab.cli.host_options.HostRun`): ``status`` says one line on stderr (with the
+    command's prefix); :attr:`controls` are served between chunks of ticks once started."""
 
-    def __init__(self, args: argparse.Namespace, config: SimConfig,
-                 status: Callable[[str], None] | None = None) -> None:
+    def __init__(self, args: argparse.Namespace, config: SimConfig, status: Callable[[str], None]) -> None:
         self.args = args
         self.config = config
-        self.status = status or (lambda line: print(f"crslab sim: {line}", file=sys.stderr, flush=True))
+        self.status = status
         self.controls: list[LiveControl] = []
-        """The typed commands and the viewer, once started: served between chunks of ticks."""
-        for path, what in ((args.rrd, "the rerun recording"), (args.csv, "the CSV")):
-            if path is not None:
-                _writable(path, what)
+
+
+class LiveRun(OptionRun):
+    """The live windows one ``crslab sim`` or ``crslab debug`` run asked for; its controls are the
+    typed commands and the viewer."""
+
+    def __init__(self, args: argparse.Namespace, config: SimConfig, status: Callable[[str], None]) -> None:
+        super().__init__(args, config, status)
+        if args.rrd is not None:
+            writable(args.rrd, "the rerun recording")
         if args.pty_link is not None:
             link = args.pty_link
             if link.exists() and not link.is_symlink():
@@ -122,16 +117,11 @@ class LiveRun:
 
     def worker_started(self) -> None:
         """The worker was forked: start what is slow to start (rerun's import, not needed when the
-        ``--rrd`` writer process does it; pyarrow's for ``--csv``) so that it overlaps the
-        worker's start-up."""
+        ``--rrd`` writer process does it) so that it overlaps the worker's start-up."""
         if self._spawn_viewer() or (self.args.rrd and self._rrd_writer is None):
             from crslab.sinks.rerun_scopes import preload
 
             preload()
-        if self.args.csv:
-            from crslab.sinks import csv_file
-
-            csv_file.preload()
 
     def start(self, out: FanOut) -> None:
         """Open everything (after the worker was forked): the sinks join ``out``, which closes them."""
@@ -148,10 +138,6 @@ class LiveRun:
             self.status(f"serial port on {pty.path}{where}: attach a terminal, "
                         f"e.g. python -m serial.tools.miniterm {pty.link or pty.path} {SERIAL_BAUD}")
             out.add(pty)
-        if a.csv:
-            from crslab.sinks.csv_file import CsvSink
-
-            out.add(ThreadedSink(CsvSink(a.csv)))
         spawn = a.rerun
         if spawn and missing_display():
             self.status(f"--rerun: {missing_display()}; running without the rerun viewer"

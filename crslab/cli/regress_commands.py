@@ -16,14 +16,8 @@ from pathlib import Path
 from crslab.cli import CliError
 from crslab.cli.autograder_report import add_report_options, run_report
 from crslab.cli.executor_options import add_executor_options, executor_from_args
-from crslab.cli.sim_commands import (
-    DEFAULT_REST_MOTOR_RAD,
-    add_c28x_option,
-    add_run_options,
-    config_from_args,
-    limits_from_args,
-    notices,
-)
+from crslab.cli.run_options import add_c28x_option, add_run_options, config_from_args, limits_from_args
+from crslab.cli.run_report import notices
 from crslab.executors.job import Executor
 from crslab.lab.c28x_check import C28xReport, check_lab
 from crslab.output_paths import folder as made_folder
@@ -39,6 +33,7 @@ from crslab.regress.transcript import (
     write_golden,
 )
 from crslab.scenario.event import seconds_to_tick
+from crslab.sim.api import DEFAULT_REST_MOTOR_RAD
 from crslab.sim.config import SimConfig
 from crslab.sim.session import SimError
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus

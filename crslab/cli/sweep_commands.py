@@ -13,16 +13,12 @@ from pathlib import Path
 from crslab.cli import CliError, did_you_mean
 from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.regress_commands import add_tolerance_options
-from crslab.cli.sim_commands import (
-    DEFAULT_REST_MOTOR_RAD,
-    add_run_options,
-    config_from_args,
-    limits_from_args,
-)
+from crslab.cli.run_options import add_run_options, config_from_args, limits_from_args
 from crslab.lab.build import DEFAULT_LAB, LabBuildError
 from crslab.lab.source import LabSource
 from crslab.output_paths import with_parent
 from crslab.scenario.event import seconds_to_tick
+from crslab.sim.api import DEFAULT_REST_MOTOR_RAD
 from crslab.sim.status import ExitStatus
 from crslab.sweep import sampling, variations
 from crslab.sweep import table as tbl

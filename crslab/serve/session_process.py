@@ -207,12 +207,6 @@ class Session:
                     out,
                     speed=None,
                     controls=[control],
-                    on_motor_board=lambda tick, joint, off: self.send(
-                        message("motor_board", tick=tick, joint=joint, off=off)
-                    ),
-                    on_expectation=lambda outcome: self.send(
-                        message("expectation", tick=outcome.tick, met=outcome.met, lines=outcome.lines())
-                    ),
                 )
         except SimError as exc:
             result = RunResult(exc.status, 0, str(exc))

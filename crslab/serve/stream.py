@@ -31,6 +31,7 @@ import numpy as np
 
 from crslab.live.console import Command as VarCommand
 from crslab.live.console import CommandError, VarConsole, format_value
+from crslab.scenario.expect_events import ExpectOutcome
 from crslab.sim.running import RunningLab
 from crslab.sinks.sink import Sink
 
@@ -125,6 +126,12 @@ class BrowserStream(Sink):
         """The arm's latest DH angles (for the hand)."""
         self.last_tick = 0
         self.first_tick = 0
+
+    def on_motor_board(self, tick: int, joint: int, off: bool) -> None:
+        self.send(message("motor_board", tick=tick, joint=joint, off=off))
+
+    def on_expectation(self, outcome: ExpectOutcome) -> None:
+        self.send(message("expectation", tick=outcome.tick, met=outcome.met, lines=outcome.lines()))
 
     def on_serial(self, tick: int, data: bytes) -> None:
         self.serial.append((tick, data.decode("latin-1")))

@@ -5,13 +5,12 @@ here takes the calling process down; `crslab sim` never uses this."""
 from __future__ import annotations
 
 import dataclasses
-import mmap
 import shutil
 import tempfile
 from pathlib import Path
 
-from crslab.sim.board_ffi import board_ffi, shared_size
 from crslab.sim.config import SimConfig
+from crslab.sim.shared_block import SharedBlock
 
 
 class InProcessRun:
@@ -30,33 +29,24 @@ class InProcessRun:
             config = dataclasses.replace(config, build=dataclasses.replace(config.build, image=private))
         # never sandboxed: the sandbox would close this very process
         config = dataclasses.replace(config, sandboxed=False)
-        self._shared = mmap.mmap(-1, shared_size())
-        self.worker = Worker(config, self._shared)
+        self.block = SharedBlock.new()
+        self.worker = Worker(config, self.block.memory)
         self.worker.sim.time_lab = 0
-        ffi = board_ffi()
-        self._ffi = ffi
-        self._sh = ffi.cast("crs_shared *", ffi.from_buffer(self._shared))
 
     def close(self) -> None:
-        """Free the firmware."""
+        """Free the firmware and the shared block."""
         self.worker.close()
+        self.block.close()
 
     def run(self, end_tick: int, chunk_ticks: int = 20_000) -> bytes:
         """Run to ``end_tick`` in chunks as ``crslab sim --fast`` does; returns the serial bytes
         (what is still on the serial line at the end included, as a run hands it on)."""
         out = bytearray()
-        sh, worker = self._sh, self.worker
+        worker = self.worker
         while worker.sim.tick < end_tick:
             worker.run(min(end_tick, worker.sim.tick + chunk_ticks))
-            out += self._ffi.buffer(sh.serial, sh.serial_len)
-            sh.serial_len = 0
-            sh.mark_count = 0
-            sh.print_count = 0
-        line, size = sh.line, self._ffi.sizeof(sh.line.queue)
-        queue = bytes(self._ffi.buffer(line.queue, size))
-        out += (queue[line.first:] + queue[:line.first])[:line.len]
-        line.len = 0
-        return bytes(out)
+            self.block.drain(lambda tick, chars: None, lambda tick, data: out.extend(data))
+        return bytes(out + self.block.take_line())
 
 
 def run_in_process(config: SimConfig, end_tick: int) -> bytes:

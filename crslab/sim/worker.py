@@ -1,21 +1,10 @@
 """The worker process: owns the MuJoCo plant, the board and the lab's firmware, and runs ticks on
 request.
 
-Messages from the crslab process (tuples): ``("run", until_tick)``, ``("get", name)``,
-``("set", name, index, value)``, ``("push", body_forces)``, ``("break",)`` (a debugged run:
-call ``crs_debug_break``, where the debugger stops and arms its breakpoint on ``lab()``),
-``("stop",)``. Replies:
-``("ready", symbols)`` first (or ``("failed", message)`` when the sandbox cannot be entered, or
-``("trapped", trap)`` when the firmware could not be loaded or stopped in a constructor: see
-:func:`trap_info`), then ``("ran", code, tick, stats, log)`` where ``log`` is None or a dict of
-numpy columns, ``stats["trap"]`` how the firmware stopped when ``code`` is ``CRS_RUN_TRAPPED``,
-``stats["motor_board_events"]`` lists the motor board's cut-outs starting or ending since the last
-reply as ``(tick, joint, off)`` (joint 1..3, or 0 for a missing command; off 1 starts, 0 ends)
-and ``stats["observations"]`` what each expectation reached since the last reply saw (dicts, see
-:meth:`Worker.observe`);
-``("value", v)`` or ``("error", message)``. Serial bytes never travel through the pipe: the
-board writes them into the shared block, where the crslab process reads them even if this
-process dies.
+It answers the crslab process's requests (:mod:`crslab.sim.protocol`: run to a tick, get or set
+a watched variable, push the arm, break into the debugger, stop) until ``Stop`` or the pipe
+closes; :func:`serve` is its whole loop. Serial bytes never travel through the pipe: the board
+writes them into the shared block, where the crslab process reads them even if this process dies.
 
 The lab's firmware is a WebAssembly module by default: the board (crslab._core) runs it in a
 store of its own, and it can reach nothing of this process (csrc/sim/firmware_wasm.c). A native
@@ -23,7 +12,7 @@ firmware (crslab debug, --sanitize, --native) is a shared object holding the boa
 ``SimConfig.sandboxed`` the worker builds the plant, then closes itself in the run sandbox
 (crslab/sandbox/run_sandbox.py), then loads it: from the lab's first constructor on, it may
 compute and print, and nothing else. Everything a native worker sends is read by the crslab
-process as untrusted (crslab/sim/worker_reply.py).
+process as untrusted (crslab/sim/protocol.py).
 """
 
 from __future__ import annotations
@@ -44,6 +33,8 @@ from crslab.lab.watched import WatchedError, WatchedVar, watched_var
 from crslab.plant.model import apply_friction, apply_plant, load_model, motor_to_qpos
 from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
 from crslab.plant.plant_params import PlantParams
+from crslab.scenario.expect_events import Observation
+from crslab.sim import protocol
 from crslab.sim.board_ffi import board_constants, native_board_ffi
 from crslab.sim.config import SimConfig
 from crslab.sim.debug_setup import DebugSetup
@@ -151,8 +142,8 @@ class Worker:
         sim.debug.break_when = int(config.build.break_when is not None)
         sim.debug.trap_fp = int(debug is not None and debug.trap_fp)
         self.events = list(config.scenario.events)
-        self.motor_board_events: list[tuple[int, int, int]] = []
-        self.observations: list[dict] = []
+        self.motor_board_events: list[protocol.MotorBoardEvent] = []
+        self.observations: list[Observation] = []
         self.log_blocks: list[dict[str, np.ndarray]] = []
         if config.log_signals:
             self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in _LOG_COLUMNS.items()}
@@ -285,13 +276,13 @@ class Worker:
         if var is not None:
             got = self.get_var(var[0])
             value = float(got[var[1]] if isinstance(got, list) and var[1] is not None else got)
-        self.observations.append({
-            "tick": int(sim.tick), "motor_board": self.config.motor_board_model,
-            "motor_board_off": int(sim.motor_board.off), "motor_board_cutouts": int(sim.motor_board.cutouts),
-            "error": int(sim.safety_flag), "motor_rad": [float(v) for v in motor], "var": value,
-        })
+        self.observations.append(Observation(
+            tick=int(sim.tick), motor_board=self.config.motor_board_model,
+            motor_board_off=bool(sim.motor_board.off), motor_board_cutouts=int(sim.motor_board.cutouts),
+            error=int(sim.safety_flag), motor_rad=(float(motor[0]), float(motor[1]), float(motor[2])),
+            var=value))
 
-    def take_observations(self) -> list[dict]:
+    def take_observations(self) -> list[Observation]:
         """What the expectations saw since the last call."""
         taken, self.observations = self.observations, []
         return taken
@@ -328,8 +319,9 @@ class Worker:
 
     def _drain_motor_board_events(self) -> None:
         mb = self.sim.motor_board
-        self.motor_board_events.extend((int(mb.event_tick[i]), int(mb.event_joint[i]), int(mb.event_off[i]))
-                                       for i in range(int(mb.event_count)))
+        self.motor_board_events.extend(
+            protocol.MotorBoardEvent(int(mb.event_tick[i]), int(mb.event_joint[i]), bool(mb.event_off[i]))
+            for i in range(int(mb.event_count)))
         mb.event_count = 0
 
     def debug_break(self) -> None:
@@ -348,8 +340,8 @@ class Worker:
         out["motor_board_cutouts"] = int(s.motor_board.cutouts)
         return out
 
-    def take_motor_board_events(self) -> list[tuple[int, int, int]]:
-        """The motor board's cut-outs starting or ending since the last call: (tick, joint, off)."""
+    def take_motor_board_events(self) -> list[protocol.MotorBoardEvent]:
+        """The motor board's cut-outs starting or ending since the last call."""
         self._drain_motor_board_events()
         events, self.motor_board_events = self.motor_board_events, []
         return events
@@ -366,52 +358,54 @@ class Worker:
 
 
 def serve(conn: Connection, config: SimConfig, shared_fd: int, debug: DebugSetup | None = None) -> None:
-    """Worker entry point: answer ``run`` requests until ``stop`` or the pipe closes."""
+    """Worker entry point: answer requests until ``Stop`` or the pipe closes."""
     from crslab.sandbox.run_sandbox import SandboxError
 
     shared = mmap.mmap(shared_fd, 0)
     os.close(shared_fd)
+
+    def send(reply: protocol.Message) -> None:
+        conn.send(reply.wire())
+
     try:
         worker = Worker(config, shared, keep_fds=[conn.fileno()], debug=debug)
     except SandboxError as exc:
-        conn.send(("failed", str(exc)))
+        send(protocol.Failed(str(exc)))
         return
     except FirmwareStopped as exc:
-        conn.send(("trapped", exc.trap))
+        send(protocol.Trapped(exc.trap))
         return
-    conn.send(("ready", int(worker.sim.fw.symbols)))
+    send(protocol.Ready(int(worker.sim.fw.symbols)))
     while True:
         try:
-            msg = conn.recv()
+            request = protocol.read_request(conn.recv())
         except EOFError:
             return
-        if msg[0] == "run":
-            code = worker.run(int(msg[1]))
-            stats = worker.stats()
-            if code == worker.lib.CRS_RUN_TRAPPED:
-                stats["trap"] = trap_info(worker.ffi, worker.sim)
-            stats["motor_board_events"] = worker.take_motor_board_events()
-            stats["observations"] = worker.take_observations()
-            conn.send(("ran", code, int(worker.sim.tick), stats, worker.take_log()))
-        elif msg[0] == "get":
-            try:
-                conn.send(("value", worker.get_var(msg[1])))
-            except KeyError as exc:
-                conn.send(("error", str(exc.args[0])))
-        elif msg[0] == "set":
-            try:
-                worker.set_var(msg[1], msg[2], msg[3])
-                conn.send(("value", None))
-            except (KeyError, OverflowError) as exc:
-                conn.send(("error", str(exc.args[0])))
-        elif msg[0] == "push":
-            push = worker.data.xfrc_applied  # MuJoCo's viewer: the mouse's force on each body
-            push[:] = np.asarray(msg[1], dtype=float).reshape(push.shape)
-            conn.send(("value", None))
-        elif msg[0] == "break":
-            worker.debug_break()
-            conn.send(("value", None))
-        elif msg[0] == "stop":
-            conn.send(("stopped", worker.stats(), worker.take_log()))
-            worker.close()
-            return
+        match request:
+            case protocol.Run(until_tick):
+                code = worker.run(until_tick)
+                trap = trap_info(worker.ffi, worker.sim) if code == worker.lib.CRS_RUN_TRAPPED else None
+                send(protocol.Ran(code, int(worker.sim.tick), worker.stats(), worker.take_log(),
+                         tuple(worker.take_motor_board_events()), tuple(worker.take_observations()), trap))
+            case protocol.Get(name):
+                try:
+                    send(protocol.Value(worker.get_var(name)))
+                except KeyError as exc:
+                    send(protocol.Error(str(exc.args[0])))
+            case protocol.Set(name, index, value):
+                try:
+                    worker.set_var(name, index, value)
+                    send(protocol.Value(None))
+                except (KeyError, OverflowError) as exc:
+                    send(protocol.Error(str(exc.args[0])))
+            case protocol.Push(body_forces):
+                push = worker.data.xfrc_applied  # MuJoCo's viewer: the mouse's force on each body
+                push[:] = np.asarray(body_forces, dtype=float).reshape(push.shape)
+                send(protocol.Value(None))
+            case protocol.Break():
+                worker.debug_break()
+                send(protocol.Value(None))
+            case protocol.Stop():
+                send(protocol.Stopped(worker.stats(), worker.take_log()))
+                worker.close()
+                return

@@ -39,7 +39,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import BinaryIO
 
-from crslab.sinks.sink import Sink, SinkError
+from crslab.sinks.sink import Sink, SinkError, forwarding
 
 INBOX_CHUNKS = 16
 """Chunks of ticks the writer holds unpickled before the crslab process waits for it (bounded memory)."""
@@ -182,6 +182,7 @@ def _serve(down_fd: int, up_fd: int, parent: int) -> None:
 
 
 # -- the crslab process's side ------------------------------------------------------------------
+@forwarding
 class WriterSink(Sink):
     """A :class:`~crslab.sinks.rerun_scopes.RerunSink` writing ``rrd_path`` in ``writer``: each
     chunk's calls go down in one message after its :meth:`flush`."""
@@ -205,14 +206,9 @@ class WriterSink(Sink):
         except OSError:  # the writer is gone: said once, at close
             self._broken = True
 
-    def on_serial(self, tick: int, data: bytes) -> None:
-        self._calls.append(("on_serial", (tick, data)))
-
-    def on_print(self, tick: int, chars: int) -> None:
-        self._calls.append(("on_print", (tick, chars)))
-
-    def on_log(self, columns: dict) -> None:
-        self._calls.append(("on_log", (columns,)))
+    def forward(self, name: str, args: tuple) -> None:
+        """Keep the call ``name`` for the chunk's message."""
+        self._calls.append((name, args))
 
     def flush(self) -> None:
         self._calls.append(("flush", ()))

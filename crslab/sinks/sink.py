@@ -1,13 +1,20 @@
 """The one interface every output of a run has, and the fan-out that feeds many at once.
 
-A run hands its sink, after every chunk of ticks: the print marks, each ``serial_printf``'s tick
-and how many of its bytes fit the transmit ring (:meth:`Sink.on_print`; they leave in the order
+Everything a run reports reaches its sink, after every chunk of ticks and in this order: the
+motor board's cut-outs (:meth:`Sink.on_motor_board`) and the scenario's expectations judged
+(:meth:`Sink.on_expectation`) in the chunk; the print marks, each ``serial_printf``'s tick and
+how many of its bytes fit the transmit ring (:meth:`Sink.on_print`; they leave in the order
 printed, so a sink cuts the bytes it gets into calls by these counts); the bytes that left the
 board, with the tick during whose millisecond they left (:meth:`Sink.on_serial`: the serial line
-sends 11.52 characters per ms); then the chunk's scope rows when the run logs them
-(:meth:`Sink.on_log`), then :meth:`Sink.flush`. :meth:`Sink.close` comes once at the end, also
-after a crash or Ctrl-C. A sink never feeds back into the run, so what the lab prints is the same
-whichever sinks watch it.
+sends 11.52 characters per ms); the chunk's scope rows when the run logs them
+(:meth:`Sink.on_log`); then :meth:`Sink.flush` and :meth:`Sink.on_reached` with the tick the run
+reached. :meth:`Sink.on_behind` says once that the machine cannot keep the pace asked for.
+:meth:`Sink.close` comes once at the end, also after a crash or Ctrl-C. A sink never feeds back
+into the run, so what the lab prints is the same whichever sinks watch it.
+
+A new output of a run is one :class:`Sink` subclass that overrides what it takes; a sink that
+wraps others (:class:`FanOut`, :class:`crslab.sinks.threaded.ThreadedSink`) is
+:func:`forwarding`: every call of :data:`CALLS` goes to its ``forward``.
 
 >>> from crslab.sinks.memory import MemorySink
 >>> a, b = MemorySink(), MemorySink()
@@ -19,11 +26,17 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING, TypeVar
 
 if TYPE_CHECKING:  # not imported at run time: the --rrd writer is forked before numpy is loaded
     import numpy as np
+
+    from crslab.scenario.expect_events import ExpectOutcome
+
+CALLS = ("on_motor_board", "on_expectation", "on_print", "on_serial", "on_log", "flush", "on_reached",
+         "on_behind")
+"""Every call a run makes on its sink but :meth:`Sink.close`, in the order of a chunk."""
 
 
 class Sink:
@@ -39,8 +52,23 @@ class Sink:
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         """Scope rows (one per tick, see :mod:`crslab.scopes.signals`) since the last call."""
 
+    def on_motor_board(self, tick: int, joint: int, off: bool) -> None:
+        """The motor board cut every output at ``tick`` (``off``; ``joint`` 1..3 was commanded
+        over the limit, 0: no command came) or brought them back (``off`` False)."""
+
+    def on_expectation(self, outcome: ExpectOutcome) -> None:
+        """The next of the scenario's expectations was judged (met or failed), before the bytes
+        of the chunk it was in."""
+
     def flush(self) -> None:
         """Make what arrived visible (terminal, disk); called after every chunk of ticks."""
+
+    def on_reached(self, tick: int) -> None:
+        """The run reached ``tick``: every event before it was applied and everything before it
+        handed on; called after :meth:`flush`."""
+
+    def on_behind(self, rate: float) -> None:
+        """The machine keeps up only ``rate`` x real time, less than asked; called once."""
 
     def close(self) -> None:
         """Finish and release; called once, also after a crash."""
@@ -50,6 +78,28 @@ class SinkError(Exception):
     """Sinks that could not finish writing (a full disk, a removed folder): one line naming each."""
 
 
+S = TypeVar("S", bound=type[Sink])
+
+
+def forwarding(cls: S) -> S:
+    """Class decorator: each call of :data:`CALLS` the class does not define itself goes to its
+    ``forward(name, args)``."""
+
+    def forwarder(name: str) -> Callable[..., None]:
+        def call(self: Sink, *args: object) -> None:
+            self.forward(name, args)  # type: ignore[attr-defined]
+
+        call.__name__ = name
+        call.__doc__ = getattr(Sink, name).__doc__
+        return call
+
+    for name in CALLS:
+        if name not in cls.__dict__:
+            setattr(cls, name, forwarder(name))
+    return cls
+
+
+@forwarding
 class FanOut(Sink):
     """Hands every call on to each of ``sinks``, in order."""
 
@@ -61,21 +111,10 @@ class FanOut(Sink):
         self.sinks.append(sink)
         return sink
 
-    def on_serial(self, tick: int, data: bytes) -> None:
+    def forward(self, name: str, args: tuple) -> None:
+        """Call ``name`` on every sink."""
         for s in self.sinks:
-            s.on_serial(tick, data)
-
-    def on_print(self, tick: int, chars: int) -> None:
-        for s in self.sinks:
-            s.on_print(tick, chars)
-
-    def on_log(self, columns: dict[str, np.ndarray]) -> None:
-        for s in self.sinks:
-            s.on_log(columns)
-
-    def flush(self) -> None:
-        for s in self.sinks:
-            s.flush()
+            getattr(s, name)(*args)
 
     def close(self) -> None:
         """Close every sink, even when one fails; then raise :class:`SinkError` naming the files

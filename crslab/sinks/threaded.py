@@ -18,13 +18,12 @@ from __future__ import annotations
 import queue
 import threading
 
-import numpy as np
-
-from crslab.sinks.sink import Sink
+from crslab.sinks.sink import Sink, forwarding
 
 _STOP = object()
 
 
+@forwarding
 class ThreadedSink(Sink):
     """Hand every call to ``inner`` from a background thread (started on the first call)."""
 
@@ -53,18 +52,9 @@ class ThreadedSink(Sink):
             self._thread.start()
         self._queue.put((method, args))
 
-    def on_serial(self, tick: int, data: bytes) -> None:
-        self._put(self.inner.on_serial, tick, data)
-
-    def on_print(self, tick: int, chars: int) -> None:
-        self._put(self.inner.on_print, tick, chars)
-
-    def on_log(self, columns: dict[str, np.ndarray]) -> None:
-        self._put(self.inner.on_log, columns)
-
-    def flush(self) -> None:
-        """Queue a flush after what was handed over (the simulation does not wait for it)."""
-        self._put(self.inner.flush)
+    def forward(self, name: str, args: tuple) -> None:
+        """Queue the call ``name`` for the thread (a flush too: the simulation does not wait for it)."""
+        self._put(getattr(self.inner, name), *args)
 
     def close(self) -> None:
         """Wait for the queued work, close the wrapped sink, and raise what went wrong in the thread."""

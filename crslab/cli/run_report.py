@@ -1,0 +1,173 @@
+"""What ``crslab sim`` and ``crslab debug`` say on stderr once a run has ended (``record`` and
+``check`` say its notices too): the summary line (or ``--json``), lab()'s cost against its
+budget, and one line per thing the user should know (a NaN torque, a transmit ring that
+overflowed, printf that went nowhere, a failed expectation).
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from crslab.framework_facts import CPU_CYCLES_PER_TICK, SCI_TX_FIFO_CHARS, SERIAL_CHARS_PER_MS
+from crslab.generations import Generation
+from crslab.lab.print_trigger import missing_printing_notice
+from crslab.scenario.expect_events import summary_text
+from crslab.sim.board_ffi import board_constants
+from crslab.sim.status import RunResult
+from crslab.untrusted_text import for_terminal
+
+NEAR_BUDGET = 0.8  # warn when a lab() call took this share of the budget
+
+
+def lab_cost(stats: dict, budget: int) -> dict:
+    """lab()'s cost per call, in the firmware's unit: WebAssembly instructions, or (native) the
+    microseconds it took, with the budget in the same unit (``budget`` is in instructions, one per cycle
+    of the 150 MHz F28335)."""
+    calls = stats.get("lab_calls", 0)
+    instructions = stats.get("cost_unit", board_constants().CRS_COST_INSTRUCTIONS) == \
+        board_constants().CRS_COST_INSTRUCTIONS
+    scale = 1.0 if instructions else 1e-3  # ns to us
+    return {
+        "lab_cost_unit": "instructions" if instructions else "us",
+        "lab_cost_mean": round(stats.get("lab_cost_total", 0) * scale / calls, 1) if calls else 0.0,
+        "lab_cost_max": round(stats.get("lab_cost_max", 0) * scale, 1),
+        "lab_max_tick": stats.get("lab_max_tick", 0),
+        "budget": budget if instructions else round(budget * 1000 / CPU_CYCLES_PER_TICK, 1),
+        "over_budget": stats.get("over_budget", 0),
+        "over_budget_ticks": stats.get("first_over_tick", []),
+    }
+
+
+def summary(result: RunResult, wall_s: float, budget: int) -> dict:
+    """The end-of-run numbers: time, lab()'s cost, NaN and long-line notices."""
+    st = result.stats
+    return {
+        "status": result.status,
+        "message": result.message,
+        "simulated_s": result.end_tick / 1000.0,
+        "wall_s": round(wall_s, 3),
+        "lab_calls": st.get("lab_calls", 0),
+        **lab_cost(st, budget),
+        "nan_first_tick": st.get("nan_first_tick", -1),
+        "nan_first_tau": st.get("nan_first_joint", 0),
+        "nan_count": st.get("nan_count", 0),
+        "serial_dropped": st.get("serial_dropped", 0),
+        "tx_ring_dropped": st.get("tx_dropped", 0),
+        "tx_ring_first_drop_tick": st.get("tx_first_drop_tick", -1),
+        "console_bytes": st.get("console_bytes", 0),
+        "motor_board": st.get("motor_board", ""),
+        "motor_board_cutouts": st.get("motor_board_cutouts", 0),
+        "expectations_met": sum(e.met for e in result.expectations),
+        "expectations_failed": len(result.failed_expectations),
+        "expectations_not_reached": sum(not e.reached for e in result.expectations),
+        "expectations": [e.as_dict() for e in result.expectations],
+    }
+
+
+def _count(value: float) -> str:
+    return f"{value:,.0f}" if value >= 100 else f"{value:.1f}"
+
+
+def summary_line(info: dict) -> str:
+    """The end-of-run summary in one line.
+
+    >>> summary_line({"simulated_s": 25.0, "wall_s": 0.5, "lab_calls": 10, "lab_cost_mean": 1234.0,
+    ...               "lab_cost_unit": "instructions", "lab_cost_max": 5678.0, "lab_max_tick": 4100,
+    ...               "over_budget": 2, "over_budget_ticks": [5000, 6000], "budget": 75000,
+    ...               "motor_board": "piccolo", "motor_board_cutouts": 1})
+    '25.000 s simulated in 0.50 s; lab() x10: mean 1,234 instructions, max 5,678 (tick 4100); 2 over ...'
+    >>> summary_line({"simulated_s": 1.0, "wall_s": 0.1, "lab_calls": 0, "motor_board": "piccolo",
+    ...               "motor_board_cutouts": 2, "expectations_met": 1, "expectations_failed": 1,
+    ...               "expectations_not_reached": 0, "expectations": [{}, {}]})
+    '1.000 s simulated in 0.10 s; motor board: 2 cut-outs; expectations: 1 met, 1 failed'
+
+    """
+    line = f"{info['simulated_s']:.3f} s simulated in {info['wall_s']:.2f} s"
+    if info["lab_calls"]:
+        unit = info["lab_cost_unit"]
+        line += (f"; lab() x{info['lab_calls']}: mean {_count(info['lab_cost_mean'])} {unit}, "
+                 f"max {_count(info['lab_cost_max'])} (tick {info['lab_max_tick']}); "
+                 f"{info['over_budget']} over the budget of {_count(info['budget'])}")
+        if info["over_budget"]:
+            line += f" (ticks {', '.join(map(str, info['over_budget_ticks']))})"
+    if info.get("motor_board", "none") != "none":
+        n = info.get("motor_board_cutouts", 0)
+        line += f"; motor board: {n} cut-out{'' if n == 1 else 's'}"
+    if info.get("expectations"):
+        line += "; " + summary_text(info["expectations_met"], info["expectations_failed"],
+                                    info["expectations_not_reached"])
+    return line
+
+
+def lost_serial_notice(lab_name: str, stats: dict) -> str | None:
+    """The warning for bytes that left the board but never reached the transcript, if any were lost.
+
+    >>> lost_serial_notice("lab.c", {"serial_dropped": 925696}).split("; ")[1]
+    'the 925696 bytes after that are missing from the transcript'
+    """
+    dropped = stats.get("serial_dropped", 0)
+    if not dropped:
+        return None
+    c = board_constants()
+    return (f"warning: {lab_name}'s serial line carried more within one chunk of ticks than crslab keeps "
+            f"({c.CRS_SERIAL_CAPACITY} bytes or {c.CRS_MARK_CAPACITY} ticks); "
+            f"the {dropped} bytes after that are missing from the transcript")
+
+
+def near_budget_warning(lab_name: str, info: dict) -> str | None:
+    """A warning when no lab() call went over the budget but the slowest came close."""
+    if info.get("over_budget", 0) or not info.get("lab_calls"):
+        return None
+    if info["lab_cost_max"] <= NEAR_BUDGET * info["budget"]:
+        return None
+    return (f"warning: {lab_name}'s slowest lab() call cost {_count(info['lab_cost_max'])} "
+            f"{info['lab_cost_unit']}, close to the budget of {_count(info['budget'])}")
+
+
+def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: Generation) -> None:
+    """On stderr after a run (``crslab sim`` and ``crslab debug``): its :func:`notices` and its
+    failed scenario expectations, one line each."""
+    for line in notices(lab_name, result.stats, generation, result.lab_file):
+        print(f"{prefix}{for_terminal(line)}", file=sys.stderr)
+    for expectation in result.failed_expectations:
+        for line in expectation.lines():
+            print(f"{prefix}expectation failed: {for_terminal(line)}", file=sys.stderr)
+
+
+def notices(lab_name: str, stats: dict, generation: Generation, source: Path | None = None) -> list[str]:
+    """One-line warnings about the run (printed on stderr); ``source``, the lab file, names the
+    function a lab that triggers printing without a ``printing()`` probably meant."""
+    out = []
+    if source is not None and "lab_symbols" in stats:
+        try:
+            text = source.read_bytes().decode("utf-8", "replace")
+        except OSError:
+            text = ""
+        missing = missing_printing_notice(
+            lab_name, text, has_printing=bool(stats["lab_symbols"] & board_constants().CRS_LAB_HAS_PRINTING),
+            triggers=int(stats.get("print_triggers", 0)), generation=generation)
+        if missing:
+            out.append(missing)
+    lost = lost_serial_notice(lab_name, stats)
+    if lost:
+        out.append(lost)
+    if stats.get("console_bytes", 0) > 0:
+        out.append(f"note: {lab_name} wrote {stats['console_bytes']} bytes with printf, puts or the like: "
+                   "on the board they go to Code Composer Studio's console, not to Tera Term, and crslab "
+                   "does not show them (serial_printf(&SerialA, ...) prints to Tera Term)")
+    if stats.get("nan_first_tick", -1) >= 0:
+        t = stats["nan_first_tick"]
+        out.append(f"warning: {lab_name} returned a NaN or Inf in tau{stats['nan_first_joint']} at tick {t} "
+                   f"(t = {t / 1000:.3f} s); no torque was applied on that joint for that tick "
+                   f"({stats['nan_count']} such torques in all)")
+    if stats.get("tx_dropped", 0) > 0:
+        t = stats["tx_first_drop_tick"]
+        out.append(f"warning: {lab_name} printed faster than the serial line sends "
+                   f"({SERIAL_CHARS_PER_MS:g} characters per ms): {stats['tx_dropped']} characters did not "
+                   f"fit the board's {generation.tx_ring_chars}-byte transmit ring (and "
+                   f"{SCI_TX_FIFO_CHARS}-byte FIFO) and were dropped, as on the real board; the first at "
+                   f"tick {t} (t = {t / 1000:.3f} s)")
+    return out
+
+

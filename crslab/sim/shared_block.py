@@ -1,0 +1,116 @@
+"""The memory the board and the crslab process share (``crs_shared``, csrc/sim/sim.h), and its one
+reader: what the board printed (the print marks, the bytes that left it with their ticks, what is
+still on the serial line when a run ends), where the worker is (tick and phase), what the sandbox
+refused, and the host ports.
+
+The board writes the block inside a chunk of ticks; the reader takes what it holds between chunks,
+when the worker is idle, and also after the worker died (the block outlives it). It is the lab's to
+scribble on (a native lab shares the worker's process): every length and offset read is clamped to
+the block, so nothing but the block is ever read.
+
+>>> block = SharedBlock.new()
+>>> block.drain(lambda tick, chars: None, lambda tick, data: None), block.take_line()
+(0, b'')
+>>> block.close()
+"""
+
+from __future__ import annotations
+
+import mmap
+import os
+from collections.abc import Callable
+from typing import Any
+
+from crslab import os_support
+from crslab.sim.board_ffi import board_ffi, shared_size
+from crslab.sim.host_ports import PortExchange, exchange, port_index
+
+TakePrint = Callable[[int, int], None]
+"""``(tick, chars)``: a serial_printf during ``tick`` put ``chars`` bytes on the line."""
+TakeSerial = Callable[[int, bytes], None]
+"""``(tick, data)``: bytes that left the board during ``tick``'s millisecond."""
+
+
+class SharedBlock:
+    """One ``crs_shared`` in memory with no name in any file system (a memfd): it goes when every
+    process that maps it does, however they end (killed by a grader's time limit included).
+    :attr:`fd` is what a worker maps; :attr:`memory` the mapping itself."""
+
+    def __init__(self, fd: int) -> None:
+        self.fd = fd
+        self.memory = mmap.mmap(fd, 0)
+        self.ffi = board_ffi()
+        self.view = self.ffi.cast("crs_shared *", self.ffi.from_buffer(self.memory))
+
+    @classmethod
+    def new(cls) -> SharedBlock:
+        """A fresh block, zeroed."""
+        return cls(os_support.anonymous_shared_file("crslab-shared", shared_size()))
+
+    def close(self) -> None:
+        """Close the descriptor (the mapping goes with the last reference to it)."""
+        if self.fd >= 0:
+            os.close(self.fd)
+            self.fd = -1
+
+    # -- where the worker is -------------------------------------------------------------------
+    @property
+    def tick(self) -> int:
+        """The tick being run, or the next to run when the worker is idle."""
+        return int(self.view.tick)
+
+    @property
+    def phase(self) -> int:
+        """Where the worker is (``CRS_PHASE_*``)."""
+        return int(self.view.phase)
+
+    @property
+    def phase_start_ns(self) -> int:
+        """``CLOCK_MONOTONIC`` when that phase began (ns)."""
+        return int(self.view.phase_start_ns)
+
+    @property
+    def refusal(self) -> Any:
+        """What the sandbox refused (``crs_refusal``; ``refused`` is 0 when nothing was)."""
+        return self.view.refusal
+
+    # -- what the board printed ----------------------------------------------------------------
+    def drain(self, on_print: TakePrint, on_serial: TakeSerial) -> int:
+        """Hand the print marks since the last drain to ``on_print`` and the bytes that left the
+        board to ``on_serial``, one call per tick that sent any; returns how many bytes could not
+        be kept since then (more in one chunk than the block holds: ``CRS_SERIAL_CAPACITY`` bytes,
+        ``CRS_MARK_CAPACITY`` ticks)."""
+        sh = self.view
+        for i in range(min(int(sh.print_count), len(sh.print_tick))):
+            on_print(int(sh.print_tick[i]), int(sh.print_chars[i]))
+        sh.print_count = 0
+        dropped = max(0, int(sh.serial_dropped))
+        sh.serial_dropped = 0
+        n_bytes = min(int(sh.serial_len), len(sh.serial))
+        n_marks = min(int(sh.mark_count), len(sh.mark_offset))
+        if n_bytes:
+            raw = bytes(self.ffi.buffer(sh.serial, n_bytes))
+            offsets = [min(int(sh.mark_offset[i]), n_bytes) for i in range(n_marks)] + [n_bytes]
+            for i in range(n_marks):
+                on_serial(int(sh.mark_tick[i]), raw[offsets[i]:max(offsets[i], offsets[i + 1])])
+        sh.serial_len = 0
+        sh.mark_count = 0
+        return dropped
+
+    def take_line(self) -> bytes:
+        """What is still on the board's serial line (queued, not yet sent), taken off it: read
+        once a run has ended, so nothing the lab printed is lost."""
+        line = self.view.line
+        size = self.ffi.sizeof(line.queue)
+        n, first = min(int(line.len), size), int(line.first) % size
+        line.len = 0
+        if not n:
+            return b""
+        queue = bytes(self.ffi.buffer(line.queue, size))
+        return (queue[first:] + queue[:first])[:n]
+
+    # -- the host ports ------------------------------------------------------------------------
+    def exchange(self, port: str, incoming: bytes) -> PortExchange:
+        """What left the board on host port ``port`` (``SerialB``, ``SerialC``) since the last
+        call; ``incoming`` goes to its receiver from the next tick on (as much as its inbox takes)."""
+        return exchange(self.ffi, self.view.host_ports[port_index(port)], incoming)

@@ -1,0 +1,306 @@
+"""The worker as a process seen from the crslab process: started (forked, or spawned with the
+sanitizer runtime for ``--sanitize``), asked through the pipe (:mod:`crslab.sim.protocol`),
+watched while it works, and stopped so that it leaves no process behind.
+
+While a request is out, :meth:`WorkerProcess.reply` watches what the worker cannot hide: that it
+is alive (else :func:`crslab.sim.diagnosis.died` says why), how long the lab's current call has
+run by the phase it wrote into the shared block (a WebAssembly firmware is interrupted at its
+deadline and the worker answers; a native worker is killed), its CPU time by the kernel's count
+(a native lab could hide that it is stuck in ``lab()``), the resident memory of a sanitized lab,
+and what a native lab wrote to its standard streams (counted toward the output limit, never
+shown).
+"""
+
+from __future__ import annotations
+
+import faulthandler
+import multiprocessing as mp
+import os
+import resource
+import signal
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from multiprocessing.connection import Connection, wait
+from multiprocessing.reduction import DupFd
+from pathlib import Path
+from typing import Any
+
+from crslab import os_support
+from crslab.sim import diagnosis
+from crslab.sim.board_ffi import board_constants
+from crslab.sim.config import SimConfig
+from crslab.sim.debug_setup import DebugSetup
+from crslab.sim.diagnosis import Ending, WorkerDeath
+from crslab.sim.protocol import Message, Stop, Stopped, read_reply
+from crslab.sim.sanitizer import asan_runtime
+from crslab.sim.shared_block import SharedBlock
+from crslab.sim.status import RunStatus
+from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL
+from crslab.sim.worker_reply import UnreadableReply, receive
+
+CPU_S_PER_TICK = 1e-3
+"""The CPU time a chunk may use per tick before the worker counts as hung whatever it reports
+(a native lab could hide that it is stuck in lab()): a millisecond, a slow lab's whole tick."""
+INTERRUPT_GRACE_S = 2.0
+"""How long a WebAssembly worker has to answer once its firmware's call was interrupted."""
+READY_TIMEOUT_S = 60.0
+SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
+ABORT_ON_ERROR = ":abort_on_error=1"
+POLL_S = 0.05
+CPU_EVERY_POLLS = 20
+
+
+@dataclass(frozen=True)
+class Limits:
+    """What one run may use: worker memory and CPU time (None: no limit), printed bytes."""
+
+    memory_mb: int | None = None
+    cpu_s: float | None = None
+    output_bytes: int = 16 * 1024 * 1024
+
+
+NO_LIMITS = Limits()
+
+
+def _child(conn: Connection, config: SimConfig, shared: DupFd, limits: Limits = NO_LIMITS,
+           debug: DebugSetup | None = None, console: DupFd | None = None) -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
+    if config.build.native:  # a crash is diagnosed by the crslab process, not dumped here (a WebAssembly
+        faulthandler.disable()  # firmware's faults are wasmtime's: its handlers stay as they are)
+    os_support.die_with_parent()  # whatever kills the crslab process
+    if debug is not None:  # Ctrl-C on the terminal is the debugger's: it interrupts the lab itself
+        os.setpgid(0, 0)
+    if console is not None:  # a native lab's printf: counted by the crslab process, never shown
+        fd = console.detach()
+        os.dup2(fd, 1)
+        os.dup2(fd, 2)
+        os.close(fd)
+    report = os.environ.pop(SANITIZER_REPORT_ENV, None)
+    if report:  # the sanitizers write to stderr: keep it for the crslab process to read
+        fd = os.open(report, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+        os.dup2(fd, 2)
+        os.close(fd)
+    if limits.memory_mb is not None:
+        os_support.limit_memory(limits.memory_mb * 1024 * 1024)
+    if limits.cpu_s is not None:
+        cpu = int(limits.cpu_s) + 1
+        resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
+    from crslab.sim.worker import serve
+
+    serve(conn, config, shared.detach(), debug)
+    os._exit(0)
+
+
+class WorkerProcess:
+    """The worker of one run, started at once on ``block`` (see the module's text)."""
+
+    def __init__(self, config: SimConfig, block: SharedBlock, limits: Limits = NO_LIMITS,
+                 debug: DebugSetup | None = None) -> None:
+        self.config = config
+        self.block = block
+        self.limits = limits
+        self.debug = debug
+        self.lab_name = config.build.source.name
+        self.sanitizer_dir: str | None = None
+        self._rss_limit_mb: int | None = None
+        sys.stdout.flush()
+        sys.stderr.flush()
+        if config.build.sanitized:
+            # the sanitizer runtime must be loaded first: a fresh interpreter with it preloaded
+            ctx = mp.get_context("spawn")
+            self.sanitizer_dir = tempfile.mkdtemp(prefix="crslab-sanitize-")
+            env = {
+                os_support.PRELOAD_ENV: asan_runtime(config.build.compiler),
+                # under a debugger a finding ends in abort(), where the debugger stops
+                "ASAN_OPTIONS": "detect_leaks=0:halt_on_error=1" + (ABORT_ON_ERROR if debug else ""),
+                "UBSAN_OPTIONS": "halt_on_error=1:print_stacktrace=1" + (ABORT_ON_ERROR if debug else ""),
+                SANITIZER_REPORT_ENV: os.path.join(self.sanitizer_dir, "report.txt"),
+            }
+            # one thread, as the sandbox needs: no BLAS thread pool in the fresh interpreter
+            env.update({k: "1" for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")})
+            # ASan reserves terabytes of address space: its memory is watched instead (resident)
+            self._rss_limit_mb = limits.memory_mb
+            limits = Limits(None, limits.cpu_s, limits.output_bytes)
+        else:
+            ctx = mp.get_context(os_support.WORKER_START_METHOD)
+            env = {}
+        # a native lab may write to its standard streams (printf, a flood, fake progress lines): a pipe
+        # the crslab process drains, counts toward the output limit and never shows (a debugged one
+        # keeps the terminal); a WebAssembly firmware has no descriptor at all (the board counts)
+        self._console = -1
+        self.console_bytes = 0
+        console = None
+        if config.build.native and debug is None:
+            self._console, console_w = os.pipe()
+            os.set_blocking(self._console, False)
+            console = DupFd(console_w)
+        saved = {k: os.environ.get(k) for k in env}
+        os.environ.update(env)
+        try:
+            self._conn, child_conn = ctx.Pipe()
+            args = (child_conn, config, DupFd(block.fd), limits, debug, console)
+            self.process = ctx.Process(target=_child, args=args, daemon=True)
+            self.process.start()
+        finally:
+            if console is not None:
+                os.close(console_w)
+            for k, v in saved.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
+        child_conn.close()
+
+    @property
+    def pid(self) -> int:
+        """The worker's process id."""
+        pid = self.process.pid
+        assert pid is not None
+        return pid
+
+    # -- asking --------------------------------------------------------------------------------
+    def send(self, request: Message) -> None:
+        """Send ``request`` (a :data:`crslab.sim.protocol.Request`)."""
+        self._conn.send(request.wire())
+
+    def reply(self, *due: type[Message], deadline_s: float | None, timeout_s: float | None = None,
+              during_setup: bool = False, ticks: int | None = None) -> Any:
+        """The worker's next reply, checked to be one of ``due``, or how the run ended meanwhile
+        (an :class:`~crslab.sim.diagnosis.Ending`): the worker died (``during_setup``: before it
+        was ready), a lab() or printing() call ran past ``deadline_s``, the worker used more CPU
+        time than a chunk of ``ticks`` may (:data:`CPU_S_PER_TICK` each, and a deadline's worth
+        more), stopped answering within ``timeout_s``, or sent what is not a reply."""
+        cpu_allowance_s = None
+        if ticks is not None and deadline_s is not None:
+            cpu_allowance_s = ticks * CPU_S_PER_TICK + deadline_s
+        try:
+            raw = self._watch(deadline_s, timeout_s, during_setup, cpu_allowance_s)
+            return raw if isinstance(raw, Ending) else read_reply(raw, *due)
+        except UnreadableReply as exc:
+            return self.tampered(str(exc))
+
+    def _watch(self, deadline_s: float | None, timeout_s: float | None, during_setup: bool,
+               cpu_allowance_s: float | None) -> object:
+        c = board_constants()
+        start = time.monotonic()
+        cpu0 = self._cpu_s() if cpu_allowance_s is not None else None
+        interrupted_at: float | None = None
+        polls = 0
+        while True:
+            try:
+                ready = wait([self._conn, *([self._console] if self._console >= 0 else [])], POLL_S)
+                if self._console in ready and self._drain_console():
+                    self.kill()
+                    return diagnosis.output_limit(self.lab_name, self.block.tick, self.limits.output_bytes)
+                if self._conn in ready and self._conn.poll(0):
+                    return receive(self._conn)
+            except (EOFError, ConnectionResetError):
+                pass
+            if not self.process.is_alive():
+                self.process.join(1.0)
+                death = self._death()
+                return diagnosis.not_loaded(death) if during_setup else diagnosis.died(death)
+            phase = self.block.phase
+            if deadline_s is not None and phase in (c.CRS_PHASE_LAB, c.CRS_PHASE_PRINTING):
+                busy_s = (time.monotonic_ns() - self.block.phase_start_ns) / 1e9
+                if busy_s > deadline_s:
+                    if not self.config.build.native and interrupted_at is None:
+                        # the firmware's call traps at its next loop or call; the worker answers
+                        os.kill(self.pid, INTERRUPT_SIGNAL)
+                        interrupted_at = time.monotonic()
+                    elif interrupted_at is None or time.monotonic() - interrupted_at > INTERRUPT_GRACE_S:
+                        return self._hung(phase, deadline_s)
+            if self._rss_limit_mb is not None and self._rss_mb() > self._rss_limit_mb:
+                tick, phase = self.block.tick, self.block.phase
+                self.kill()
+                return diagnosis.over_memory(self.lab_name, tick, phase, self.limits.memory_mb)
+            polls += 1
+            if cpu0 is not None and polls % CPU_EVERY_POLLS == 0:
+                cpu = self._cpu_s()
+                if cpu is not None and cpu - cpu0 > cpu_allowance_s:  # type: ignore[operator]
+                    return self._hung(c.CRS_PHASE_LAB, deadline_s)
+            if timeout_s is not None and time.monotonic() - start > timeout_s:
+                self.process.kill()
+                return Ending(RunStatus.CRASHED, self.block.tick,
+                              f"{self.lab_name}: the worker stopped answering")
+
+    def _death(self) -> WorkerDeath:
+        return WorkerDeath(self.lab_name, self.process.exitcode, self.block, self.limits.memory_mb,
+                           self.limits.cpu_s, debugged=self.debug is not None,
+                           trap_fp=self.debug is not None and self.debug.trap_fp,
+                           sanitizer_report=diagnosis.sanitizer_finding(self.sanitizer_dir, self.lab_name))
+
+    def _hung(self, phase: int, deadline_s: float | None) -> Ending:
+        """The worker is killed: its lab() or printing() did not return."""
+        tick = self.block.tick
+        self.kill()
+        return diagnosis.hung(self.lab_name, diagnosis.phase_function(phase), tick, deadline_s)
+
+    def tampered(self, what: str) -> Ending:
+        """The worker is killed: the lab wrote into the pipe to crslab."""
+        self.kill()
+        return diagnosis.tampered(self.lab_name, what, self.block.tick)
+
+    def _cpu_s(self) -> float | None:
+        """The worker's CPU time so far (the kernel's count, which nothing in the worker can
+        change), or None when it cannot be read."""
+        try:
+            fields = Path(f"/proc/{self.pid}/stat").read_text().rsplit(")", 1)[1].split()
+            return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+        except (OSError, IndexError, ValueError):
+            return None
+
+    def _rss_mb(self) -> float:
+        """The worker's resident memory (the kernel's count), MB; 0 when it cannot be read."""
+        try:
+            pages = int(Path(f"/proc/{self.pid}/statm").read_text().split()[1])
+        except (OSError, IndexError, ValueError):
+            return 0.0
+        return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+    def _drain_console(self) -> bool:
+        """Read (and drop) what a native lab wrote to its standard streams; True once it is more
+        than the output limit."""
+        while True:
+            try:
+                data = os.read(self._console, 1 << 20)
+            except BlockingIOError:
+                break
+            if not data:
+                break
+            self.console_bytes += len(data)
+        return self.console_bytes > self.limits.output_bytes
+
+    # -- ending --------------------------------------------------------------------------------
+    def kill(self) -> None:
+        """End the worker now, and reap it."""
+        self.process.kill()
+        self.process.join()
+
+    def close(self, on_stopped: Callable[[Stopped], None] | None = None) -> None:
+        """Stop the worker (its last counters to ``on_stopped``; it leaves no process behind) and
+        remove the sanitizer's folder."""
+        if self.process.is_alive():
+            try:
+                self.send(Stop())
+                if self._conn.poll(2.0):
+                    stopped = read_reply(receive(self._conn), Stopped)
+                    if on_stopped is not None:
+                        on_stopped(stopped)
+            except (OSError, EOFError, BrokenPipeError, UnreadableReply):
+                pass
+            self.process.join(2.0)
+            if self.process.is_alive():
+                self.process.kill()
+        self.process.join()
+        self._conn.close()
+        if self._console >= 0:
+            os.close(self._console)
+            self._console = -1
+        if self.sanitizer_dir:
+            for p in Path(self.sanitizer_dir).glob("*"):
+                p.unlink()
+            os.rmdir(self.sanitizer_dir)
