@@ -9,24 +9,9 @@
 #include "dh.h"
 #include "rotation.h"
 
-static int failures = 0;
+#include "checks.h"
+
 static const double PI = 3.14159265358979323846;
-
-static void check_close(const char *what, double got, double want, double tol)
-{
-    if (!(fabs(got - want) <= tol)) {
-        printf("FAIL %s: got %.12g want %.12g\n", what, got, want);
-        ++failures;
-    }
-}
-
-static void check_true(const char *what, int ok)
-{
-    if (!ok) {
-        printf("FAIL %s\n", what);
-        ++failures;
-    }
-}
 
 /* Seed 002's Panda: standard DH, 8 rows (the first fixed), and its joint-centre offsets. */
 static const double PANDA_A[8] = {0, 0, 0, 0.0825, 0.0825, 0, 0.088, 0};
@@ -60,7 +45,7 @@ static void test_panda_seed_002(void)
                                      0.2075, 0, 0.7315, 0.4665, 0.015, 0.7315, 0.5545, 0, 0.6805,
                                      0.5545, 0, 0.5215};
     double pose[16], centres[24];
-    check_true("panda table is valid", chain_check(&c) == CHAIN_OK && chain_joint_count(&c) == 7);
+    check("panda table is valid", chain_check(&c) == CHAIN_OK && chain_joint_count(&c) == 7);
     chain_fk_batch(&c, q, pose, 1);
     for (int i = 0; i < 16; ++i) check_close("panda seed pose", pose[i], want_pose[i], 1e-12);
     chain_points_batch(&c, q, PANDA_CENTRE, centres, 1);
@@ -127,23 +112,23 @@ static void test_rotations(void)
     const double zyx[3] = {0.4, -1.2, 2.5};
     double r[9], back[3], r2[9], axis[3], angle;
     rot_euler_zyx_to_matrix(zyx, r);
-    check_true("euler matrix is a rotation", rot_check(r, ROT_CHECK_TOL, NULL) == ROT_OK);
-    check_true("regular case", rot_matrix_to_euler_zyx(r, back) == 0);
+    check("euler matrix is a rotation", rot_check(r, ROT_CHECK_TOL, NULL) == ROT_OK);
+    check("regular case", rot_matrix_to_euler_zyx(r, back) == 0);
     for (int i = 0; i < 3; ++i) check_close("euler round trip", back[i], zyx[i], 1e-12);
     const double lock[3] = {0.7, PI / 2, 0.2};
     rot_euler_zyx_to_matrix(lock, r);
-    check_true("gimbal lock flagged", rot_matrix_to_euler_zyx(r, back) == 1);
+    check("gimbal lock flagged", rot_matrix_to_euler_zyx(r, back) == 1);
     check_close("gimbal lock alpha", back[0], 0.0, 0.0);
     rot_euler_zyx_to_matrix(back, r2);
     for (int i = 0; i < 9; ++i) check_close("gimbal lock matrix", r2[i], r[i], 1e-12);
     const double n[3] = {1, 2, -2};
-    check_true("axis-angle", rot_axis_angle_to_matrix(n, PI - 1e-9, r) == ROT_OK);
+    check("axis-angle", rot_axis_angle_to_matrix(n, PI - 1e-9, r) == ROT_OK);
     rot_matrix_to_axis_angle(r, axis, &angle);
     check_close("near pi angle", angle, PI - 1e-9, 1e-9);
     check_close("near pi axis", fabs(axis[0] * n[0] + axis[1] * n[1] + axis[2] * n[2]) / 3.0, 1.0, 1e-9);
     const double reflect[9] = {1, 0, 0, 0, 1, 0, 0, 0, -1}, zero[3] = {0, 0, 0};
-    check_true("reflection refused", rot_check(reflect, ROT_CHECK_TOL, NULL) == ROT_REFLECTION);
-    check_true("zero axis refused", rot_axis_angle_to_matrix(zero, 1.0, r) == ROT_ZERO_AXIS);
+    check("reflection refused", rot_check(reflect, ROT_CHECK_TOL, NULL) == ROT_REFLECTION);
+    check("zero axis refused", rot_axis_angle_to_matrix(zero, 1.0, r) == ROT_ZERO_AXIS);
 }
 
 static void test_closed_forms(void)
@@ -155,7 +140,7 @@ static void test_closed_forms(void)
                          5 * sin(q_true[1]) + 5 * sin(q_true[1] + q_true[2])};
     double q[12];
     int status[4], found = 0;
-    check_true("rrr regular", rrr_ik(dims, lo, hi, p, q, status) == IK_SINGULAR_NONE);
+    check("rrr regular", rrr_ik(dims, lo, hi, p, q, status) == IK_SINGULAR_NONE);
     for (int s = 0; s < 4; ++s) {
         if (status[s] != IK_SLOT_OK) continue;
         const double r = 10 + 5 * cos(q[3 * s + 1]) + 5 * cos(q[3 * s + 1] + q[3 * s + 2]);
@@ -164,17 +149,17 @@ static void test_closed_forms(void)
         found |= fabs(q[3 * s] - q_true[0]) < 1e-9 && fabs(q[3 * s + 1] - q_true[1]) < 1e-9
                  && fabs(q[3 * s + 2] - q_true[2]) < 1e-9;
     }
-    check_true("rrr finds the source configuration", found);
+    check("rrr finds the source configuration", found);
     const double links[3] = {1, 1, 0.5}, target[3] = {1, 1.5, PI / 2};
     double qp[6];
     int sp[2];
     planar3r_ik(links, NULL, NULL, target, qp, sp);
-    check_true("planar both elbows", sp[0] == IK_SLOT_OK && sp[1] == IK_SLOT_OK);
+    check("planar both elbows", sp[0] == IK_SLOT_OK && sp[1] == IK_SLOT_OK);
     check_close("planar elbow q2", qp[1], PI / 2, 1e-12);
     const double far[3] = {0, 0, 40};
     rrr_ik(dims, lo, hi, far, q, status);
     for (int s = 0; s < 4; ++s) {
-        check_true("rrr far is unreachable", status[s] == IK_SLOT_UNREACHABLE && !isnan(q[3 * s + 1]));
+        check("rrr far is unreachable", status[s] == IK_SLOT_UNREACHABLE && !isnan(q[3 * s + 1]));
     }
 }
 
@@ -195,11 +180,11 @@ static void test_numerical_ik(void)
                    8);
     for (int n = 0; n < 8; ++n) {
         double pose[16];
-        check_true("numerical ik success", success[n] == 1 && residual[n] <= 1e-9);
+        check("numerical ik success", success[n] == 1 && residual[n] <= 1e-9);
         chain_fk_batch(&c, q + 7 * n, pose, 1);
         for (int i = 0; i < 16; ++i) check_close("fk(ik(T)) = T", pose[i], targets[16 * n + i], 1e-8);
         for (int j = 0; j < 7; ++j) {
-            check_true("within limits", q[7 * n + j] >= PANDA_LOWER[j] && q[7 * n + j] <= PANDA_UPPER[j]);
+            check("within limits", q[7 * n + j] >= PANDA_LOWER[j] && q[7 * n + j] <= PANDA_UPPER[j]);
         }
     }
 }
@@ -212,10 +197,10 @@ static void test_bad_tables(void)
     const dh_chain typed = {1, CHAIN_STANDARD, one, one, one, one, bad_type, NULL, NULL};
     const dh_chain nan_row = {1, CHAIN_MODIFIED, nan_value, one, one, one, PANDA_TYPE + 1, NULL, NULL};
     const dh_chain missing = {1, CHAIN_STANDARD, NULL, one, one, one, PANDA_TYPE, NULL, NULL};
-    check_true("no rows", chain_check(&empty) == CHAIN_BAD_ROW_COUNT);
-    check_true("bad joint type", chain_check(&typed) == CHAIN_BAD_JOINT_TYPE);
-    check_true("NaN entry", chain_check(&nan_row) == CHAIN_NOT_FINITE);
-    check_true("missing column", chain_check(&missing) == CHAIN_NULL_TABLE);
+    check("no rows", chain_check(&empty) == CHAIN_BAD_ROW_COUNT);
+    check("bad joint type", chain_check(&typed) == CHAIN_BAD_JOINT_TYPE);
+    check("NaN entry", chain_check(&nan_row) == CHAIN_NOT_FINITE);
+    check("missing column", chain_check(&missing) == CHAIN_NULL_TABLE);
 }
 
 int main(void)
@@ -227,10 +212,5 @@ int main(void)
     test_closed_forms();
     test_numerical_ik();
     test_bad_tables();
-    if (failures) {
-        printf("%d failures\n", failures);
-        return 1;
-    }
-    printf("test_chain: all passed\n");
-    return 0;
+    return checks_report();
 }

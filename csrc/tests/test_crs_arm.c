@@ -5,15 +5,7 @@
 
 #include "crs_arm.h"
 
-static int failures = 0;
-
-static void check_close(const char *what, double got, double want, double tol)
-{
-    if (!(fabs(got - want) <= tol)) {
-        printf("FAIL %s: got %.12g want %.12g\n", what, got, want);
-        ++failures;
-    }
-}
+#include "checks.h"
 
 static const double DEG = 3.14159265358979323846 / 180.0;
 
@@ -142,10 +134,5 @@ int main(void)
     test_ik_round_trip();
     test_unreachable_is_defined();
     test_batch_and_jacobian();
-    if (failures) {
-        printf("%d failures\n", failures);
-        return 1;
-    }
-    printf("test_crs_arm: all passed\n");
-    return 0;
+    return checks_report();
 }

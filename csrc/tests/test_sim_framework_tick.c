@@ -22,23 +22,8 @@
 #include "firmware_native.h"
 #include "sim.h"
 
-static int failures = 0;
-
-static void check(const char *what, int ok)
-{
-    if (!ok) {
-        printf("FAIL %s\n", what);
-        ++failures;
-    }
-}
-
-static void check_close(const char *what, double got, double want, double tol)
-{
-    if (!(fabs(got - want) <= tol)) {
-        printf("FAIL %s: got %.9g want %.9g\n", what, got, want);
-        ++failures;
-    }
-}
+#include "checks.h"
+#include "test_board.h"
 
 static const double PI_D = 3.14159265358979323846;
 static const double RAD_PER_COUNT = 3.14159265358979323846 / 144000.0;
@@ -134,42 +119,20 @@ static void stub_step(const void *model, void *data)
     crs_motor_to_dh(plant_motor, qpos);
 }
 
-static const double REST_MOTOR_RAD[3] = {0.0, -0.42, 0.24};
-
 static crs_sim *new_sim(int generation, int64_t startup_ticks, void (*script)(int64_t, double *))
 {
-    crs_sim *sim = calloc(1, sizeof *sim);
-    crs_sim_init(sim);
-    sim->shared = calloc(1, sizeof(crs_shared));
-    sim->generation = generation;
-    if (crs_fw_native_attach(sim) != 0) { /* the test lab above is this board's firmware */
-        printf("FAIL crs_fw_native_attach for generation %d: %s\n", generation, sim->trap.text);
-        ++failures;
-    }
-    sim->startup_ticks = startup_ticks;
-    sim->time_lab = 0;
-    memcpy(sim->rest_motor_rad, REST_MOTOR_RAD, sizeof REST_MOTOR_RAD);
+    const test_plant plant = {qpos, qvel, ctrl, qfrc, stub_step};
+    crs_sim *sim = test_board(generation, startup_ticks, &plant);
     plant_script = script;
     plant_steps = 0;
-    memcpy(plant_motor, REST_MOTOR_RAD, sizeof plant_motor);
+    memcpy(plant_motor, TEST_REST_MOTOR_RAD, sizeof plant_motor);
     if (script != NULL) script(0, plant_motor);
     crs_motor_to_dh(plant_motor, qpos);
-    sim->qpos = qpos;
-    sim->qvel = qvel;
-    sim->ctrl = ctrl;
-    sim->qfrc_applied = qfrc;
-    sim->mj_step = stub_step;
     memset(&lab_state, 0, sizeof lab_state);
     UARTprint = 0;
     printing_calls = 0;
     the_sim = sim;
     return sim;
-}
-
-static void free_sim(crs_sim *sim)
-{
-    free(sim->shared);
-    free(sim);
 }
 
 /* Run exactly one tick. */
@@ -192,8 +155,8 @@ static void ramp_script(int64_t k, double motor[3])
 {
     const int64_t n = k >= RAMP_START ? k - RAMP_START + 1 : 0;
     motor[0] = (double)(n * STEP1_COUNTS) * RAD_PER_COUNT;
-    motor[1] = REST_MOTOR_RAD[1] + (double)(n * STEP2_COUNTS) * RAD_PER_COUNT;
-    motor[2] = REST_MOTOR_RAD[2];
+    motor[1] = TEST_REST_MOTOR_RAD[1] + (double)(n * STEP2_COUNTS) * RAD_PER_COUNT;
+    motor[2] = TEST_REST_MOTOR_RAD[2];
 }
 
 static void test_hold_controller_worked_sequence(void)
@@ -267,7 +230,7 @@ static void test_hold_controller_worked_sequence(void)
     check("re-anchored to the arm", sim->hold.ref_rad[0] == (float)sim->enc_rad[0]);
     tick(sim);
     check_close("outside, k = 299: re-anchored", sim->applied[0], -25 * step1 - r1, 2e-3);
-    free_sim(sim);
+    test_board_free(sim);
 }
 
 /* ---- startup gate, clamp, NaN ------------------------------------------------------------ */
@@ -291,7 +254,7 @@ static void test_startup_gate_and_clamp(void)
     tick(sim);
     check("a NaN torque applies nothing and is counted",
           sim->applied[2] == 0.0 && sim->nan_count == 1 && sim->nan_first_tick == 4101 && sim->nan_first_joint == 3);
-    free_sim(sim);
+    test_board_free(sim);
 }
 
 /* ---- print triggers ---------------------------------------------------------------------- */
@@ -312,7 +275,7 @@ static void test_print_triggers(void)
         if (gen->print_trigger == CRS_PRINT_UARTPRINT) check("UARTprint is cleared", UARTprint == 0);
         /* each print's bytes leave at 11.52 per ms from the tick it was made in */
         check("the first bytes leave in the tick of the first call", sh->mark_count >= 2 && sh->mark_tick[0] == 10);
-        free_sim(sim);
+        test_board_free(sim);
     }
 }
 
@@ -350,7 +313,7 @@ static void test_generation_rows_and_an_unknown_generation(void)
     check("the board refuses to load a firmware for generation 3, and says which it knows",
           code == CRS_RUN_TRAPPED && sim->trap.kind == CRS_FW_TRAP_LOAD
               && strcmp(sim->trap.text, "the board knows no framework generation 3 (it knows A (1), B (2))") == 0);
-    free_sim(sim);
+    test_board_free(sim);
 }
 
 /* ---- the motor board -------------------------------------------------------------------- */
@@ -378,7 +341,7 @@ static void test_motor_board_cuts_out_after_500_ms_over_4_units(void)
     crs_sim_run(sim, 2201);
     check_close("later commands reach the motors again", sim->applied[0], 1.0, 0.0);
     check("one cut-out in all", sim->motor_board.cutouts == 1);
-    free_sim(sim);
+    test_board_free(sim);
 }
 
 static void test_motor_board_timeout_and_counts(void)
@@ -459,7 +422,7 @@ static void test_serial_ring_drops(void)
     }
     check("bursts 1 and 2 have left by tick 28", last_of_bursts_1_2 == 28);
     check("nothing left on the line", sh->line.len == 0);
-    free_sim(sim);
+    test_board_free(sim);
 }
 
 static void test_printf_overflow_stops_the_run(void)
@@ -483,7 +446,7 @@ static void test_printf_overflow_stops_the_run(void)
         } else {
             check(what, code == CRS_RUN_DONE && sim->overflow_tick < 0);
         }
-        free_sim(sim);
+        test_board_free(sim);
     }
 }
 
@@ -545,7 +508,7 @@ static void test_drive_between_motor_board_and_ctrl(void)
     check_close("drive: -1 unit passes", ctrl[1], -1.0, 1e-6);
     check_close("drive: the command that reached the amplifier is still logged as applied", sim->applied[0], 4.5,
                 1e-6);
-    free_sim(sim);
+    test_board_free(sim);
 }
 
 /* ---- friction while a joint slides ------------------------------------------------------------ */
@@ -608,7 +571,7 @@ static void test_friction_between_drive_and_ctrl(void)
     check_close("friction: the drive's 2 units less Vpos w = 0.5", ctrl[0], 1.5, 1e-6);
     check_close("friction: motor 3 turns at j2 + j3 and is pushed back by Vneg w", ctrl[2], 0.2, 1e-6);
     check_close("friction: the command logged is the motor board's, friction apart", sim->applied[0], 2.0, 1e-6);
-    free_sim(sim);
+    test_board_free(sim);
 }
 
 int main(void)
@@ -625,10 +588,5 @@ int main(void)
     test_drive_between_motor_board_and_ctrl();
     test_sliding_friction_goes_from_the_band_edge_to_the_line();
     test_friction_between_drive_and_ctrl();
-    if (failures) {
-        printf("%d failures\n", failures);
-        return 1;
-    }
-    printf("all passed\n");
-    return 0;
+    return checks_report();
 }

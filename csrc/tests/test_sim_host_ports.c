@@ -28,15 +28,8 @@ extern float matlabLock;
 #include "firmware_native.h"
 #include "sim.h"
 
-static int failures = 0;
-
-static void check(const char *what, int ok)
-{
-    if (!ok) {
-        printf("FAIL %s\n", what);
-        ++failures;
-    }
-}
+#include "checks.h"
+#include "test_board.h"
 
 static void check_bytes(const char *what, const char *got, uint64_t got_n, const unsigned char *want,
                         uint64_t want_n)
@@ -109,24 +102,8 @@ static void stub_step(const void *model, void *data) { (void)model, (void)data; 
 
 static crs_sim *new_sim(int generation)
 {
-    crs_sim *sim = calloc(1, sizeof *sim);
-    crs_sim_init(sim);
-    sim->shared = calloc(1, sizeof(crs_shared));
-    sim->generation = generation;
-    if (crs_fw_native_attach(sim) != 0) { /* the test lab above is this board's firmware */
-        printf("FAIL crs_fw_native_attach for generation %d: %s\n", generation, sim->trap.text);
-        ++failures;
-    }
-    sim->startup_ticks = 0;
-    sim->time_lab = 0;
-    const double rest[3] = {0.0, -0.42, 0.24};
-    memcpy(sim->rest_motor_rad, rest, sizeof rest);
-    crs_motor_to_dh(rest, qpos);
-    sim->qpos = qpos;
-    sim->qvel = qvel;
-    sim->ctrl = ctrl;
-    sim->qfrc_applied = qfrc;
-    sim->mj_step = stub_step;
+    const test_plant plant = {qpos, qvel, ctrl, qfrc, stub_step};
+    crs_sim *sim = test_board(generation, 0, &plant);
     sim->memory.vars = VARS;
     sim->memory.count = sizeof VARS / sizeof VARS[0];
     calls = 0;
@@ -203,8 +180,7 @@ static void test_memory_words_are_the_c28x_representation(void)
     check("one word of a float", whattoprint == 3.0f);
     mode = -2;
     flags = 0xBEEF;
-    free(sim->shared);
-    free(sim);
+    test_board_free(sim);
 }
 
 /* ---- SerialC ------------------------------------------------------------------------------- */
@@ -289,8 +265,7 @@ static void test_gen_a_read_write_and_its_timing(void)
     check("a length byte of 0 wedges the receiver", host_takes(sim, CRS_HOST_PORT_C, got) == 0
           && sim->shared->host_ports[CRS_HOST_PORT_C].wedged == 1
           && sim->shared->host_ports[CRS_HOST_PORT_C].wedged_tick == 110);
-    free(sim->shared);
-    free(sim);
+    test_board_free(sim);
 }
 
 static void test_gen_b_ignores_echo_and_big_endian_writes_and_its_ring_limits_a_read(void)
@@ -323,8 +298,7 @@ static void test_gen_b_ignores_echo_and_big_endian_writes_and_its_ring_limits_a_
     memcpy(&f, got + 3 + 4 * 100, 4);
     check("float 100 runs into whatever follows (nothing: 0)", f == 0.0f);
     check("the dropped bytes are counted", sim->shared->host_ports[CRS_HOST_PORT_C].tx_dropped == 2403 - 2017);
-    free(sim->shared);
-    free(sim);
+    test_board_free(sim);
 }
 
 /* ---- SerialB ------------------------------------------------------------------------------- */
@@ -372,8 +346,7 @@ static void test_simulink_packets_are_answered_at_once_and_reach_the_lab(void)
     check("a packet after a stray byte", SIMU_Var1_fromSIMU_16bit == 1 && host_takes(fresh, CRS_HOST_PORT_B, got) == 16);
     free(fresh->shared);
     free(fresh);
-    free(sim->shared);
-    free(sim);
+    test_board_free(sim);
 }
 
 static void test_simulink_scaling(void)
@@ -393,10 +366,5 @@ int main(void)
     test_gen_b_ignores_echo_and_big_endian_writes_and_its_ring_limits_a_read();
     test_simulink_packets_are_answered_at_once_and_reach_the_lab();
     test_simulink_scaling();
-    if (failures) {
-        printf("%d failures\n", failures);
-        return 1;
-    }
-    printf("all passed\n");
-    return 0;
+    return checks_report();
 }

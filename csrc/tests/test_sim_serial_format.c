@@ -13,7 +13,7 @@
 
 #include "serial_format.h"
 
-static int failures = 0;
+#include "checks.h"
 
 static void check_format(int gen_b, const char *want, const char *fmt, ...)
 {
@@ -136,10 +136,5 @@ int main(void)
     gen_a_text_and_unknown_conversions();
     gen_b_rounds_with_the_boards_argument_sizes();
     output_is_counted_beyond_the_buffer();
-    if (failures) {
-        printf("%d failures\n", failures);
-        return 1;
-    }
-    printf("all passed\n");
-    return 0;
+    return checks_report();
 }

@@ -5,23 +5,7 @@
 
 #include "traj_profiles.h"
 
-static int failures = 0;
-
-static void check_close(const char *what, double got, double want, double tol)
-{
-    if (!(fabs(got - want) <= tol)) {
-        printf("FAIL %s: got %.15g want %.15g\n", what, got, want);
-        ++failures;
-    }
-}
-
-static void check(const char *what, int ok)
-{
-    if (!ok) {
-        printf("FAIL %s\n", what);
-        ++failures;
-    }
-}
+#include "checks.h"
 
 static const traj_kind KINDS[4] = {TRAJ_LI, TRAJ_QUINTIC, TRAJ_CUBIC, TRAJ_TRAPEZOID};
 static const char *const NAMES[4] = {"li", "quintic", "cubic", "trapezoid"};
@@ -238,10 +222,5 @@ int main(void)
     test_min_duration();
     test_synchronized();
     test_path();
-    if (failures) {
-        printf("%d failures\n", failures);
-        return 1;
-    }
-    printf("test_traj_profiles: all passed\n");
-    return 0;
+    return checks_report();
 }

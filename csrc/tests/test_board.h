@@ -1,0 +1,51 @@
+/* A board for the C tests of the framework's tick (test_sim_*.c): the test's own lab as the native
+ * firmware, a stub plant (the test's arrays and step function) and the arm at rest. Include after
+ * checks.h. */
+#ifndef CRSLAB_TESTS_TEST_BOARD_H
+#define CRSLAB_TESTS_TEST_BOARD_H
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "crs_arm.h"
+#include "firmware_native.h"
+#include "sim.h"
+
+static const double TEST_REST_MOTOR_RAD[3] = {0.0, -0.42, 0.24}; /* motor angles 1..3, rad */
+
+typedef struct {
+    double *qpos, *qvel, *ctrl, *qfrc; /* 3 each: DH angles (rad), rad/s, ctrl, N.m */
+    crs_mj_step_fn step;
+} test_plant;
+
+/* A new board of `generation` whose first lab() call is at tick `startup_ticks`; the plant's
+ * angles start at rest. Free it with test_board_free. */
+static inline crs_sim *test_board(int generation, int64_t startup_ticks, const test_plant *plant)
+{
+    crs_sim *sim = calloc(1, sizeof *sim);
+    crs_sim_init(sim);
+    sim->shared = calloc(1, sizeof(crs_shared));
+    sim->generation = generation;
+    if (crs_fw_native_attach(sim) != 0) { /* the test's lab is this board's firmware */
+        printf("FAIL crs_fw_native_attach for generation %d: %s\n", generation, sim->trap.text);
+        ++failures;
+    }
+    sim->startup_ticks = startup_ticks;
+    sim->time_lab = 0;
+    memcpy(sim->rest_motor_rad, TEST_REST_MOTOR_RAD, sizeof TEST_REST_MOTOR_RAD);
+    crs_motor_to_dh(TEST_REST_MOTOR_RAD, plant->qpos);
+    sim->qpos = plant->qpos;
+    sim->qvel = plant->qvel;
+    sim->ctrl = plant->ctrl;
+    sim->qfrc_applied = plant->qfrc;
+    sim->mj_step = plant->step;
+    return sim;
+}
+
+static inline void test_board_free(crs_sim *sim)
+{
+    free(sim->shared);
+    free(sim);
+}
+
+#endif
