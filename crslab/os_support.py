@@ -14,8 +14,11 @@ import ctypes
 import os
 import platform
 import resource
+import shutil
 import signal
 import sys
+import tempfile
+from multiprocessing.context import BaseContext
 from pathlib import Path
 
 SUPPORTED_PLATFORMS = "Linux, and Windows through WSL"
@@ -109,6 +112,34 @@ def limit_memory(size_bytes: int) -> None:
 # Linux: fork, fast, and the worker inherits everything already imported.
 # macOS: fork is unsafe once Apple's frameworks are loaded (the viewer's window); "spawn", slower.
 WORKER_START_METHOD = "fork"
+
+
+# -- Processes started from a clean server -----------------------------------------------------------
+# Linux: multiprocessing's fork server (a clean single-threaded process that imported `preload`
+# once forks each job; the job may then fork a lab's worker safely). Elsewhere: spawn.
+SOCKET_PATH_MAX = 107
+"""The longest path of a Unix socket (sun_path, 108 bytes with its NUL)."""
+
+
+def fork_server(preload: list[str]) -> BaseContext:
+    """The context jobs start from: the fork server, importing ``preload`` once, else spawn.
+
+    multiprocessing puts the fork server's socket in a folder of the temporary folder
+    (``$TMPDIR/pymp-XXXXXXXX/listener-XXXXXXXX``): under a $TMPDIR too long for a socket's path that
+    folder is made in /tmp instead (and removed at exit, as multiprocessing removes its own)."""
+    import multiprocessing as mp
+    from multiprocessing import process, util
+
+    if "forkserver" not in mp.get_all_start_methods():  # pragma: no cover - every Linux has it
+        return mp.get_context("spawn")
+    config = process.current_process()._config  # where multiprocessing.util.get_temp_dir keeps it
+    if not config.get("tempdir") and len(tempfile.gettempdir()) + 32 > SOCKET_PATH_MAX:
+        folder = tempfile.mkdtemp(prefix="pymp-", dir="/tmp")
+        util.Finalize(None, shutil.rmtree, args=(folder, True), exitpriority=-100)
+        config["tempdir"] = folder
+    ctx = mp.get_context("forkserver")
+    ctx.set_forkserver_preload(preload)
+    return ctx
 
 
 # -- The --rrd writer process ------------------------------------------------------------------------

@@ -76,3 +76,12 @@ def installed_wheel(tmp_path_factory: pytest.TempPathFactory):  # noqa: ANN201 -
     from wheel_install import install_wheel
 
     return install_wheel(tmp_path_factory.mktemp("packaging"))
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Under pytest-xdist (``make test`` runs two workers, ``--dist loadgroup``) a module's tests
+    run in one worker, so its module fixtures are made once, and every test of the installed wheel
+    (marked ``packaging``) in one, so the wheel is built and installed once."""
+    for item in items:
+        group = "installed-wheel" if item.get_closest_marker("packaging") else item.nodeid.split("::")[0]
+        item.add_marker(pytest.mark.xdist_group(group))

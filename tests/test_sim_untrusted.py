@@ -6,6 +6,7 @@ The WebAssembly firmware names the lab's line (its trap's backtrace, or the chec
 with); a native one dies by a signal, which names only the function."""
 
 import json
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -21,8 +22,10 @@ BEFORE_FAULT = b"count 1 theta1 0.00\n\rcount 501 theta1 0.00\n\rcount 1001 thet
 
 
 def sim(lab, tmp_path, *extra, timeout=120):
+    """``crslab sim`` on a copy of the faulty lab in ``tmp_path`` (a path no other test runs)."""
     transcript = tmp_path / "transcript.txt"
-    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(FAULTY / lab),
+    shutil.copy(FAULTY / lab, tmp_path / lab)
+    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(tmp_path / lab),
                         "--duration", "8", "--transcript", str(transcript), *extra],
                        capture_output=True, timeout=timeout)
     return r, transcript.read_bytes()
@@ -32,9 +35,9 @@ def last_line(r):
     return r.stderr.decode().strip().splitlines()[-1]
 
 
-def no_process_left(lab):
+def no_process_left(lab: Path) -> bool:
     """No process runs ``lab`` once crslab has exited: it stops and reaps its worker before exiting."""
-    found = subprocess.run(["pgrep", "-f", str(FAULTY / lab)], capture_output=True, text=True)
+    found = subprocess.run(["pgrep", "-f", str(lab)], capture_output=True, text=True)
     return found.stdout.strip() == ""
 
 
@@ -62,7 +65,7 @@ def test_crash_is_one_line_and_keeps_the_transcript(lab, board, diagnosis, tmp_p
     assert transcript == BEFORE_FAULT
     assert r.stdout == BEFORE_FAULT.replace(b"\n\r", b"\n")
     assert b"Traceback" not in r.stderr
-    assert no_process_left(lab)
+    assert no_process_left(tmp_path / lab)
 
 
 @pytest.mark.parametrize("board", ["wasm", "native"])
@@ -75,7 +78,7 @@ def test_hang_is_stopped_and_named(lab, func, tick, board, tmp_path):
     assert last_line(r) == (f"crslab sim: {lab} hung: {func} did not return within 0.5 s "
                             f"at tick {tick} (t = {tick / 1000:.3f} s)")
     assert transcript == BEFORE_FAULT
-    assert no_process_left(lab)
+    assert no_process_left(tmp_path / lab)
 
 
 def test_nan_torque_warns_and_applies_nothing_on_that_joint():
@@ -120,7 +123,7 @@ def test_flood_is_cut_off_with_bounded_output(tmp_path):
     assert "flood.c printed more than 0.02 MB; the run was cut off at tick" in last_line(r)
     assert len(transcript) == 20_000
     assert "characters did not fit the board's 2048-byte transmit ring" in r.stderr.decode()
-    assert no_process_left("flood.c")
+    assert no_process_left(tmp_path / "flood.c")
 
 
 def test_a_burst_far_beyond_the_transmit_ring_loses_what_does_not_fit_as_on_the_board(tmp_path):
@@ -191,7 +194,7 @@ def test_a_native_lab_is_counted_in_cpu_time_and_cpu_limit_stops_the_lab(tmp_pat
     r, _ = sim("slow_lab.c", tmp_path, "--duration", "8", "--cpu-limit", "1", "--native")
     assert r.returncode == 3
     assert "slow_lab.c used up its CPU-time limit (1 s) in lab() at tick" in last_line(r)
-    assert no_process_left("slow_lab.c")
+    assert no_process_left(tmp_path / "slow_lab.c")
 
 
 def test_a_leaking_lab_gets_the_boards_memory_and_no_more(tmp_path):
@@ -207,4 +210,4 @@ def test_memory_limit_stops_a_leaking_native_lab(tmp_path):
     assert r.returncode == 3
     assert last_line(r).startswith("crslab sim: memory_hog.c crashed (SIG")
     assert " in lab() at tick " in last_line(r) and last_line(r).endswith("its memory limit was 600 MB")
-    assert no_process_left("memory_hog.c")
+    assert no_process_left(tmp_path / "memory_hog.c")

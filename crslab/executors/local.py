@@ -44,11 +44,7 @@ def default_workers() -> int:
 def context() -> mp.context.BaseContext:
     """The fork server (each job's process starts from a clean single-threaded server, which may
     then fork the lab's own worker safely), else spawn."""
-    if "forkserver" in mp.get_all_start_methods():
-        ctx = mp.get_context("forkserver")
-        ctx.set_forkserver_preload(PRELOAD)
-        return ctx
-    return mp.get_context("spawn")  # pragma: no cover - every Linux has the fork server
+    return os_support.fork_server(PRELOAD)
 
 
 def _child(conn: Connection, job: Job, scratch: str) -> None:

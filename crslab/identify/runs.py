@@ -9,12 +9,12 @@ the fit compares is the lab's ``Simulink_PlotVar1..4`` at every tick.
 from __future__ import annotations
 
 import dataclasses
-import multiprocessing as mp
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
+from crslab import os_support
 from crslab.plant.plant_params import PlantParams
 from crslab.sim.config import SimConfig
 
@@ -67,11 +67,7 @@ class Runner:
 
     def __enter__(self) -> Runner:
         if self.jobs > 1:
-            if "forkserver" in mp.get_all_start_methods():
-                ctx = mp.get_context("forkserver")
-                ctx.set_forkserver_preload(["crslab.identify.runs", "crslab.sim.session"])
-            else:
-                ctx = mp.get_context("spawn")
+            ctx = os_support.fork_server(["crslab.identify.runs", "crslab.sim.session"])
             self._pool = ProcessPoolExecutor(self.jobs, mp_context=ctx)
         return self
 

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from multiprocessing.connection import Connection
 from pathlib import Path
 
+from crslab import os_support
 from crslab.serve.auth import RateLimit
 from crslab.serve.session_process import SessionLimits, serve_session
 
@@ -37,8 +38,7 @@ so that a session process starts in milliseconds."""
 
 def session_context() -> mp.context.BaseContext:
     """The fork server sessions start from (started now, so the first page does not wait)."""
-    ctx = mp.get_context("forkserver")
-    ctx.set_forkserver_preload(PRELOAD)
+    ctx = os_support.fork_server(PRELOAD)
     from multiprocessing import forkserver
 
     forkserver.ensure_running()

@@ -24,7 +24,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
-from multiprocessing.reduction import DupFd
+from multiprocessing.reduction import DupFd as _spawn_dup
 from pathlib import Path
 from typing import Any
 
@@ -65,8 +65,29 @@ class Limits:
 NO_LIMITS = Limits()
 
 
-def _child(conn: Connection, config: SimConfig, shared: DupFd, limits: Limits = NO_LIMITS,
-           debug: DebugSetup | None = None, console: DupFd | None = None) -> None:
+class WorkerFd:
+    """A descriptor handed to the worker. A forked worker inherits the number itself; for a spawned
+    one (``--sanitize``) it is duplicated into the child while it is spawned, as multiprocessing
+    passes descriptors. Never through multiprocessing's descriptor server, which would start a
+    thread and a socket in the temporary folder (a path too long for a socket in a long $TMPDIR)."""
+
+    def __init__(self, fd: int) -> None:
+        self.fd = fd
+
+    def detach(self) -> int:
+        """The descriptor, now the caller's."""
+        return self.fd
+
+    def __reduce__(self) -> tuple:
+        return _same, (_spawn_dup(self.fd),)  # pickled only while a child is being spawned
+
+
+def _same(dup: Any) -> Any:
+    return dup
+
+
+def _child(conn: Connection, config: SimConfig, shared: WorkerFd, limits: Limits = NO_LIMITS,
+           debug: DebugSetup | None = None, console: WorkerFd | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
     if config.build.native:  # a crash is diagnosed by the crslab process, not dumped here (a WebAssembly
         faulthandler.disable()  # firmware's faults are wasmtime's: its handlers stay as they are)
@@ -136,12 +157,12 @@ class WorkerProcess:
         if config.build.native and debug is None:
             self._console, console_w = os.pipe()
             os.set_blocking(self._console, False)
-            console = DupFd(console_w)
+            console = WorkerFd(console_w)
         saved = {k: os.environ.get(k) for k in env}
         os.environ.update(env)
         try:
             self._conn, child_conn = ctx.Pipe()
-            args = (child_conn, config, DupFd(block.fd), limits, debug, console)
+            args = (child_conn, config, WorkerFd(block.fd), limits, debug, console)
             self.process = ctx.Process(target=_child, args=args, daemon=True)
             self.process.start()
         finally:
