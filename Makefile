@@ -28,7 +28,7 @@ sim: $(STAMP) ## run the simulator on its built-in default lab and scenario
 	$(VENV)/bin/crslab sim
 
 test: $(STAMP) ## run the whole test suite (C core under -Werror, ASan and UBSan included), two at a time
-	$(PY) -m pytest -q -n 2 --dist loadgroup
+	$(PY) -m pytest -q -n 2 --dist loadfile
 
 bench: $(STAMP) ## run the benchmarks and print the ratios the issues ask for
 	$(PY) -m pip install --quiet -e '.[test,bench]'

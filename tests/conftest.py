@@ -11,7 +11,9 @@ under which a missing program fails the test instead, so CI exercises every path
 
 from __future__ import annotations
 
+import fcntl
 import os
+import pickle
 import shutil
 
 import pytest
@@ -72,16 +74,21 @@ def drawn_figures(monkeypatch: pytest.MonkeyPatch) -> list:
 @pytest.fixture(scope="session")
 def installed_wheel(tmp_path_factory: pytest.TempPathFactory):  # noqa: ANN201 - tests/wheel_install.Installed
     """crslab's wheel built from a clean copy of the checkout and installed as docs/first-lab.md
-    says (tests/wheel_install.py): the packaging test and the docs test share it."""
+    says (tests/wheel_install.py): the packaging test and the docs test share it. Under
+    pytest-xdist (``make test``: ``-n 2 --dist loadfile``) the first worker to need it builds it
+    in the run's shared temporary folder and the others wait for it and use it."""
     from wheel_install import install_wheel
 
-    return install_wheel(tmp_path_factory.mktemp("packaging"))
-
-
-def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Under pytest-xdist (``make test`` runs two workers, ``--dist loadgroup``) a module's tests
-    run in one worker, so its module fixtures are made once, and every test of the installed wheel
-    (marked ``packaging``) in one, so the wheel is built and installed once."""
-    for item in items:
-        group = "installed-wheel" if item.get_closest_marker("packaging") else item.nodeid.split("::")[0]
-        item.add_marker(pytest.mark.xdist_group(group))
+    if not os.environ.get("PYTEST_XDIST_WORKER"):
+        return install_wheel(tmp_path_factory.mktemp("packaging"))
+    shared = tmp_path_factory.getbasetemp().parent  # the same for every worker of this run
+    with (shared / "installed-wheel.lock").open("w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        done = shared / "installed-wheel.pickle"
+        if done.exists():
+            return pickle.loads(done.read_bytes())
+        base = shared / "installed-wheel"
+        base.mkdir()
+        installed = install_wheel(base)
+        done.write_bytes(pickle.dumps(installed))
+        return installed
