@@ -28,7 +28,9 @@ import tempfile
 import time
 from pathlib import Path
 
-LAB = (Path(__file__).resolve().parents[2] / "crslab" / "serve" / "templates" / "gen_a.c").read_text()
+from crslab.starters import starter_text
+
+LAB = starter_text("lab1", "A")  # what the page starts from
 LADDER = (50, 100, 125, 150)
 """Session counts tried, in order, until one fails."""
 TARGET_LAG_S = 0.050
