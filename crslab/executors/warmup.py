@@ -1,13 +1,15 @@
 """What the fork server of :mod:`crslab.executors.local` prepares once, by importing this module,
 so that no job process prepares it again: the compiler's identity (``cc --version``, a
-subprocess) and the board's cffi declarations. A missing compiler is left for the job that needs
-it to say."""
+subprocess), the board's cffi declarations and wasmtime's library (each lab worker a job forks
+starts with it loaded). A missing compiler or wasmtime is left for the job that needs it to say."""
 
 from crslab.lab.build import LabBuildError, compiler
 from crslab.sim.board_ffi import board_ffi
+from crslab.sim.wasm_runtime import preload
 
 try:
     compiler()
 except LabBuildError:
     pass
 board_ffi()
+preload()

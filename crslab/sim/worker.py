@@ -41,7 +41,7 @@ from crslab.sim.debug_setup import DebugSetup
 from crslab.sim.event_effects import apply_event
 from crslab.sim.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.sim.memory_table import fill_memory_table
-from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL, wasmtime_library
+from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL, compiled_module_path, wasmtime_library
 
 LOG_ROWS = 2000  # rows per scope-log block
 
@@ -191,11 +191,13 @@ class Worker:
         os.environ["WASMTIME_BACKTRACE_DETAILS"] = "1"
         wasm = config.build.image.read_bytes()
         library = self.ffi.new("char[]", str(wasmtime_library()).encode())
+        kept = compiled_module_path(wasm, MEMORY_BYTES, NATIVE_STACK_BYTES)
+        compiled = self.ffi.new("char[]", str(kept).encode()) if kept is not None else self.ffi.NULL
         image = self.ffi.new("uint8_t[]", wasm)
         options = self.ffi.new("crs_wasm_options *", {
             "libwasmtime": library, "wasm": image, "wasm_len": len(wasm), "memory_bytes": MEMORY_BYTES,
-            "stack_bytes": NATIVE_STACK_BYTES})
-        self._keep += [library, image, options]
+            "stack_bytes": NATIVE_STACK_BYTES, "compiled_path": compiled})
+        self._keep += [library, image, compiled, options]
         block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
         code = self.lib.crs_fw_wasm_load(sim, options)
         if code != 0:

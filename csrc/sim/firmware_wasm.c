@@ -21,6 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "board.h"
 #include "firmware_port.h"
@@ -67,6 +68,8 @@ int crs_wasmtime_api_load(crs_wasmtime_api *out, const char *path, char *error, 
     LOAD_SYMBOL(engine_increment_epoch, wasmtime_engine_increment_epoch);
     LOAD_SYMBOL(module_new, wasmtime_module_new);
     LOAD_SYMBOL(module_delete, wasmtime_module_delete);
+    LOAD_SYMBOL(module_serialize, wasmtime_module_serialize);
+    LOAD_SYMBOL(module_deserialize_file, wasmtime_module_deserialize_file);
     LOAD_SYMBOL(module_imports, wasmtime_module_imports);
     LOAD_SYMBOL(importtype_vec_delete, wasm_importtype_vec_delete);
     LOAD_SYMBOL(importtype_module, wasm_importtype_module);
@@ -653,6 +656,49 @@ static int read_table(crs_wasm *w, uint32_t address)
     return v->tau != NULL && v->gpio != NULL ? 0 : -1;
 }
 
+int crs_fw_wasm_preload(const char *libwasmtime)
+{
+    char error[256];
+    return crs_wasmtime_api_load(&api, libwasmtime, error, sizeof error) == 0 ? 0 : -1;
+}
+
+/* The module as wasmtime compiled it for this engine, from `path` (crslab's build cache, written by
+ * keep_compiled from this firmware's bytes): 1 when loaded; 0 when there is none or wasmtime refuses
+ * it (another wasmtime or another configuration: its header says so), and it is compiled anew. */
+static int load_compiled(crs_wasm *w, const char *path)
+{
+    if (access(path, R_OK) != 0) return 0;
+    wasmtime_error_t *err = api.module_deserialize_file(w->engine, path, &w->module);
+    if (err == NULL) return 1;
+    api.error_delete(err);
+    w->module = NULL;
+    return 0;
+}
+
+/* Keep the compiled module at `path` for the next run of the same firmware (written whole to a
+ * file of its own, then renamed into place: a run reading it never sees half of it). A cache:
+ * when it cannot be written, the next run compiles again. */
+static void keep_compiled(crs_wasm *w, const char *path)
+{
+    wasm_byte_vec_t bytes = {0, NULL};
+    wasmtime_error_t *err = api.module_serialize(w->module, &bytes);
+    if (err != NULL) {
+        api.error_delete(err);
+        return;
+    }
+    char partial[4096];
+    const int n = snprintf(partial, sizeof partial, "%s.%ld.partial", path, (long)getpid());
+    if (n > 0 && (size_t)n < sizeof partial) {
+        FILE *f = fopen(partial, "wb");
+        if (f != NULL) {
+            const int whole = fwrite(bytes.data, 1, bytes.size, f) == bytes.size;
+            if (fclose(f) == 0 && whole && rename(partial, path) == 0) partial[0] = '\0';
+            if (partial[0] != '\0') remove(partial);
+        }
+    }
+    api.byte_vec_delete(&bytes);
+}
+
 int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
 {
     char error[256];
@@ -687,10 +733,14 @@ int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
         load_failed(sim, "wasmtime cannot start", NULL, 0);
         return CRS_RUN_TRAPPED;
     }
-    wasmtime_error_t *err = api.module_new(w->engine, o->wasm, (size_t)o->wasm_len, &w->module);
-    if (err != NULL) {
-        take_error(sim, "not a WebAssembly module wasmtime can run", err);
-        return CRS_RUN_TRAPPED;
+    wasmtime_error_t *err = NULL;
+    if (o->compiled_path == NULL || !load_compiled(w, o->compiled_path)) {
+        err = api.module_new(w->engine, o->wasm, (size_t)o->wasm_len, &w->module);
+        if (err != NULL) {
+            take_error(sim, "not a WebAssembly module wasmtime can run", err);
+            return CRS_RUN_TRAPPED;
+        }
+        if (o->compiled_path != NULL) keep_compiled(w, o->compiled_path);
     }
     w->store = api.store_new(w->engine, w, NULL);
     w->ctx = api.store_context(w->store);

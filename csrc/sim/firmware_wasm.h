@@ -15,6 +15,8 @@ typedef struct {
     uint64_t wasm_len;
     uint64_t memory_bytes;        /* the most memory the firmware may have, bytes */
     uint64_t stack_bytes;         /* the most native stack its calls may use, bytes */
+    const char *compiled_path;    /* where wasmtime's compilation of this module for this board is
+                                     kept between runs (crslab's build cache); NULL: compile anew */
 } crs_wasm_options;
 
 /* Load the firmware for sim->generation, run its constructors (phase CRS_PHASE_LOADING) and point
@@ -22,6 +24,9 @@ typedef struct {
  * (CRS_FW_TRAP_LOAD: the module is not a firmware this board can run, or it asks for more than the
  * board gives; any other kind: a constructor stopped). */
 int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *options);
+/* Load wasmtime's C library (`libwasmtime`, its path) into this process now, so that the processes
+ * it forks later start with it loaded (crslab's fork servers); 0, or -1 when it cannot be loaded. */
+int crs_fw_wasm_preload(const char *libwasmtime);
 /* Free the firmware (sim->firmware is NULL afterwards). */
 void crs_fw_wasm_unload(crs_sim *sim);
 /* The firmware's memory: its first byte, and its size in *size (0 when none is loaded). */
