@@ -37,7 +37,7 @@ from crslab.sinks.sink import Sink
 
 FRAME_HZ = 60
 """Poses of the arm per simulated second sent to the page (the 3D view)."""
-IDLE_CHUNK_TICKS = 100
+IDLE_CHUNK_TICKS = 250
 """Ticks per chunk at real time (x speed) while the page only watches: each chunk reaches the page
 up to this much ahead of its ticks, and the page shows each tick at its time. Every chunk costs
 the server a fixed share of a core (docs/serve.md, Capacity), so watching uses long chunks..."""
@@ -211,7 +211,7 @@ class PageControl:
         return self._pace[0] if self._pace is not None else 0.0
 
     def chunk_ticks(self, speed: float | None) -> int:
-        """Chunks of 100 ms x speed, 20 ms x speed while the page acts (the run itself is asked to
+        """Chunks of 250 ms x speed, 20 ms x speed while the page acts (the run itself is asked to
         go as fast as possible: this control paces it)."""
         if self.speed is None:
             return FAST_CHUNK_TICKS

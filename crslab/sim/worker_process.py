@@ -42,8 +42,9 @@ from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL
 from crslab.sim.worker_reply import UnreadableReply, receive
 
 CPU_S_PER_TICK = 1e-3
-"""The CPU time a chunk may use per tick before the worker counts as hung whatever it reports
-(a native lab could hide that it is stuck in lab()): a millisecond, a slow lab's whole tick."""
+"""The CPU time a chunk may use per tick before a native worker counts as hung whatever it reports
+(a native lab could hide that it is stuck in lab()): a millisecond, a slow lab's whole tick. A
+WebAssembly firmware cannot write the phase the board reports, so its deadline alone holds."""
 INTERRUPT_GRACE_S = 2.0
 """How long a WebAssembly worker has to answer once its firmware's call was interrupted."""
 READY_TIMEOUT_S = 60.0
@@ -193,9 +194,9 @@ class WorkerProcess:
         (an :class:`~crslab.sim.diagnosis.Ending`): the worker died (``during_setup``: before it
         was ready), a lab() or printing() call ran past ``deadline_s``, the worker used more CPU
         time than a chunk of ``ticks`` may (:data:`CPU_S_PER_TICK` each, and a deadline's worth
-        more), stopped answering within ``timeout_s``, or sent what is not a reply."""
+        more; a native lab only), stopped answering within ``timeout_s``, or sent what is not a reply."""
         cpu_allowance_s = None
-        if ticks is not None and deadline_s is not None:
+        if ticks is not None and deadline_s is not None and self.config.build.native:
             cpu_allowance_s = ticks * CPU_S_PER_TICK + deadline_s
         try:
             raw = self._watch(deadline_s, timeout_s, during_setup, cpu_allowance_s)
