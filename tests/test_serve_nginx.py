@@ -37,40 +37,21 @@ def test_nginx_accepts_the_shipped_configuration(tmp_path):
         check=True,
         capture_output=True,
     )
-    r = subprocess.run(
-        [
-            "nginx",
-            "-t",
-            "-p",
-            str(tmp_path),
-            "-c",
-            str(conf),
-            "-g",
-            f"pid {tmp_path}/nginx.pid; error_log {tmp_path}/error.log;",
-        ],
-        capture_output=True,
-        text=True,
-    )
+    r = nginx_test(conf, tmp_path)
     assert r.returncode == 0, r.stderr
     assert "syntax is ok" in r.stderr and "test is successful" in r.stderr
+
+
+def nginx_test(conf: Path, folder: Path) -> subprocess.CompletedProcess:
+    """``nginx -t`` on ``conf``, its pid and error log in ``folder``."""
+    return subprocess.run(["nginx", "-t", "-p", str(folder), "-c", str(conf), "-g",
+                           f"pid {folder}/nginx.pid; error_log {folder}/error.log;"],
+                          capture_output=True, text=True)
 
 
 @pytest.mark.requires("nginx")
 def test_nginx_would_notice_a_broken_configuration(tmp_path):
     conf = tmp_path / "nginx.conf"
     conf.write_text(CONF.read_text().replace("hash $cookie_crslab_user consistent;", "hash;"))
-    r = subprocess.run(
-        [
-            "nginx",
-            "-t",
-            "-p",
-            str(tmp_path),
-            "-c",
-            str(conf),
-            "-g",
-            f"pid {tmp_path}/nginx.pid; error_log {tmp_path}/error.log;",
-        ],
-        capture_output=True,
-        text=True,
-    )
+    r = nginx_test(conf, tmp_path)
     assert r.returncode != 0 and "hash" in r.stderr

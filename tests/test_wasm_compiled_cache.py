@@ -61,3 +61,21 @@ def test_the_kept_file_is_named_by_the_module_and_the_boards_limits(cache):
 
 def test_wasmtime_can_be_loaded_ahead_of_forks():
     assert preload() is True
+
+
+@pytest.mark.parametrize("board", [[], ["--native"]], ids=["wasm", "native"])
+def test_a_lab_cannot_write_the_kept_code_the_board_loads(cache, tmp_path, board):
+    """The board runs what it finds in ``compiled/`` as machine code: a lab that tries to replace
+    it (the write is in lab(), at tick 5123) is stopped, and the file is as the board wrote it."""
+    assert sim(cache).returncode == 0
+    [kept] = (cache / "compiled").glob("*.cwasm")
+    before = kept.read_bytes()
+    hostile = tmp_path / "write_file.c"
+    hostile.write_text((ROOT / "tests" / "labs" / "hostile" / "write_file.c").read_text()
+                       .replace("TARGET_PATH", str(kept)))
+    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--quiet", "--lab", str(hostile),
+                        "--duration", "5.2", *board], capture_output=True, text=True, timeout=300,
+                       env={**os.environ, "CRSLAB_CACHE_DIR": str(cache)})
+    assert r.returncode == 3, r.stderr[-1500:]
+    assert f"was stopped by the sandbox: it tried to open {kept} for writing" in r.stderr
+    assert kept.read_bytes() == before
