@@ -2,7 +2,8 @@
 references from 0, following the arm inside the envelope, re-anchored outside when more than
 0.15 rad away; Kp 15/25 by the 0.1 rad error; Kd 1 on the recursively averaged velocity, with
 joint 2's quirk. Checked tick for tick against a second implementation written here in numpy
-float32."""
+float32 (with the C28x FPU's one difference from IEEE float that the hold meets: a result below
+the smallest normal float is zero)."""
 
 from pathlib import Path
 
@@ -31,6 +32,7 @@ def reference_hold(enc_rad: np.ndarray, outside: np.ndarray, startup: int) -> np
         v = np.array([(raw[0] + old1[0] + old2[0]) / F(3),
                       (raw[1] + old2[1] + old2[1]) / F(3),   # joint 2: the older average twice
                       (raw[2] + old1[2] + old2[2]) / F(3)], F)
+        v[np.abs(v) < np.finfo(F).tiny] = 0  # the F28335's FPU keeps no subnormal: zero
         old2, old1, prev = old1, v, angles
         kp = np.where(np.abs(e) > F(0.1), F(15), F(25))
         out[k] = kp * e - v

@@ -65,11 +65,6 @@ class SharedBlock:
         return int(self.view.phase)
 
     @property
-    def phase_start_ns(self) -> int:
-        """``CLOCK_MONOTONIC`` when that phase began (ns)."""
-        return int(self.view.phase_start_ns)
-
-    @property
     def refusal(self) -> Any:
         """What the sandbox refused (``crs_refusal``; ``refused`` is 0 when nothing was)."""
         return self.view.refusal

@@ -51,6 +51,9 @@ READY_TIMEOUT_S = 60.0
 SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
 ABORT_ON_ERROR = ":abort_on_error=1"
 POLL_S = 0.05
+"""How often the watcher looks at the worker while it waits for a reply: a lab() or printing()
+call is timed from the first look that sees its tick and phase, so a hang is found between its
+deadline and a deadline plus two polls."""
 CPU_EVERY_POLLS = 20
 
 
@@ -210,6 +213,10 @@ class WorkerProcess:
         start = time.monotonic()
         cpu0 = self._cpu_s() if cpu_allowance_s is not None else None
         interrupted_at: float | None = None
+        # when this poll first saw the lab() or printing() call now running: the tick and the
+        # phase, and the wall time (the board keeps no clock of its own for it)
+        call_seen: tuple[int, int] | None = None
+        call_seen_at = start
         polls = 0
         while True:
             try:
@@ -227,8 +234,10 @@ class WorkerProcess:
                 return diagnosis.not_loaded(death) if during_setup else diagnosis.died(death)
             phase = self.block.phase
             if deadline_s is not None and phase in (c.CRS_PHASE_LAB, c.CRS_PHASE_PRINTING):
-                busy_s = (time.monotonic_ns() - self.block.phase_start_ns) / 1e9
-                if busy_s > deadline_s:
+                call = (self.block.tick, phase)
+                if call != call_seen:
+                    call_seen, call_seen_at = call, time.monotonic()
+                if time.monotonic() - call_seen_at > deadline_s:
                     if not self.config.build.native and interrupted_at is None:
                         # the firmware's call traps at its next loop or call; the worker answers
                         os.kill(self.pid, INTERRUPT_SIGNAL)

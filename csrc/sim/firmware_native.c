@@ -61,7 +61,6 @@ int crs_fw_call_lab(crs_sim *sim, int32_t *print)
     /* the monotonic clock (vDSO, no system call): a thread CPU-time clock costs two system
      * calls per tick, a sixth of the worker's time */
     const int64_t start_ns = crs_now_ns();
-    sh->phase_start_ns = start_ns;
     sh->phase = CRS_PHASE_LAB;
     *print = crs_fw_lab(th1, th2, th3, sim->safety_flag);
     crs_board_lab_cost(sim, crs_now_ns() - start_ns);
@@ -74,7 +73,6 @@ int crs_fw_tick_begins(crs_sim *sim) { return crs_debug_tick_begins(sim); }
 int crs_fw_call_printing(crs_sim *sim)
 {
     sim->shared->phase = CRS_PHASE_PRINTING;
-    sim->shared->phase_start_ns = crs_now_ns();
     crs_fw_printing();
     return 0;
 }

@@ -582,7 +582,6 @@ int crs_fw_call_lab(crs_sim *sim, int32_t *print)
     a[2].f32 = (float)sim->enc_rad[2];
     a[3].i32 = sim->safety_flag;
     sim->lab_calls++;
-    sh->phase_start_ns = crs_now_ns();
     sh->phase = CRS_PHASE_LAB;
     const int code = call(w, &w->lab, a, 4, CRS_PHASE_LAB);
     int64_t cost = 0;
@@ -603,7 +602,6 @@ int crs_fw_call_printing(crs_sim *sim)
 {
     crs_wasm *w = sim->firmware;
     wasmtime_val_raw_t a[1];
-    sim->shared->phase_start_ns = crs_now_ns();
     sim->shared->phase = CRS_PHASE_PRINTING;
     const int code = call(w, &w->printing, a, 0, CRS_PHASE_PRINTING);
     int64_t cost = 0;

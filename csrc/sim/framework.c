@@ -2,6 +2,7 @@
  * the hold controller, the scenario's hand. */
 #include "framework.h"
 
+#include <float.h>
 #include <math.h>
 
 #include "crs_arm.h"
@@ -61,6 +62,12 @@ void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3
 
 int crs_outside_envelope(const double enc_rad[3]) { return crs_outside_envelope_motor(enc_rad); }
 
+/* A float as the F28335's FPU keeps it: it has no subnormal numbers (a result below FLT_MIN is
+ * zero, TI's C28x FPU documentation). At rest the hold's velocity average (v1 + v2) / 3 would
+ * otherwise decay into the subnormals and stay at the smallest one for good (it rounds back up),
+ * where an x86 divides some hundred times slower. */
+static float c28x_float(float x) { return fabsf(x) < FLT_MIN ? 0.0f : x; }
+
 void crs_hold_update(crs_hold *h, const double enc_rad[3])
 {
     const float kp_far = (float)CRS_HOLD_KP_FAR, kp_near = (float)CRS_HOLD_KP_NEAR;
@@ -72,8 +79,8 @@ void crs_hold_update(crs_hold *h, const double enc_rad[3])
         float v = (angle - h->prev_enc_rad[j]) / dt;
         /* averaged with the two previous averages; the real board's joint 2 line uses the older
          * one twice */
-        v = j == 1 ? (v + h->vel_old2_rad_s[j] + h->vel_old2_rad_s[j]) / 3.0f
-                   : (v + h->vel_old1_rad_s[j] + h->vel_old2_rad_s[j]) / 3.0f;
+        v = c28x_float(j == 1 ? (v + h->vel_old2_rad_s[j] + h->vel_old2_rad_s[j]) / 3.0f
+                              : (v + h->vel_old1_rad_s[j] + h->vel_old2_rad_s[j]) / 3.0f);
         h->vel_old2_rad_s[j] = h->vel_old1_rad_s[j];
         h->vel_old1_rad_s[j] = v;
         h->prev_enc_rad[j] = angle;

@@ -3,6 +3,9 @@
 
 #include <math.h>
 
+/* speeds over this many transition speeds have the whole sliding friction (see below) */
+static const double RISE_IS_ONE = 40.0;
+
 void crs_friction_torque(const crs_friction *friction, const double motor_rad_s[3], double torque_units[3])
 {
     for (int j = 0; j < 3; ++j) {
@@ -15,9 +18,11 @@ void crs_friction_torque(const crs_friction *friction, const double motor_rad_s[
             slide = friction->slide_neg_units[j];
             viscous = friction->viscous_neg_units_s_per_rad[j];
         }
-        /* the share of the way from the band's edge to the line: 0 at rest, 1 well above w_t */
-        const double rise = friction->transition_rad_s > 0.0 ? -expm1(-fabs(w) / friction->transition_rad_s)
-                                                              : (w != 0.0);
+        /* the share of the way from the band's edge to the line: 0 at rest, 1 well above w_t
+         * (from |w| = 40 w_t on, exp(-40) < 2^-54 rounds 1 - exp(-|w| / w_t) to exactly 1: the
+         * call is saved, not a bit changes) */
+        const double wt = friction->transition_rad_s, speed = fabs(w);
+        const double rise = wt <= 0.0 ? (w != 0.0) : speed >= RISE_IS_ONE * wt ? 1.0 : -expm1(-speed / wt);
         torque_units[j] = -(slide * rise + viscous * w);
     }
 }

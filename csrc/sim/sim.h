@@ -72,7 +72,6 @@ typedef struct {
     int64_t tick;       /* tick being run (or next to run when idle) */
     int32_t phase;      /* CRS_PHASE_*: where the worker is */
     int32_t pad;
-    int64_t phase_start_ns; /* CLOCK_MONOTONIC when that phase began */
     uint64_t serial_len;    /* bytes in serial[] not yet taken by the reader */
     uint64_t serial_dropped; /* bytes lost: more left the board in one chunk than serial[] or the marks hold */
     uint32_t mark_count;    /* entries in mark_tick/mark_offset */

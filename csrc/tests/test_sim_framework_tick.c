@@ -6,6 +6,7 @@
  * controller's u = Kp e - Kd v with its recursive velocity average, the references, the startup
  * gate, the clamp, the one-tick delay of `error`, the print triggers, the motor board, the drive
  * (the amplifier's torque-speed envelope and lag) and the serial line's ring. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +16,7 @@
 #include "crs_arm.h"
 #include "drive.h"
 #include "firmware.h"
+#include "framework.h"
 #include "friction.h"
 #include "framework_facts.h"
 #include "generations.h"
@@ -553,6 +555,64 @@ static void test_sliding_friction_goes_from_the_band_edge_to_the_line(void)
     check_close("friction: added to ctrl", ctrl_units[0], 1.0 - (0.06 * (1.0 - exp(-50.0)) + 0.25), 1e-12);
 }
 
+/* Far above w_t the board skips expm1: the torque must be the formula's to the last bit, on both
+ * sides of the speed where it stops calling it (40 w_t) and far beyond. */
+static void test_sliding_friction_is_the_formula_bit_for_bit(void)
+{
+    crs_friction f;
+    memset(&f, 0, sizeof f);
+    f.transition_rad_s = 0.02;
+    for (int j = 0; j < 3; ++j) {
+        f.slide_pos_units[j] = 0.06 + 0.01 * j;
+        f.slide_neg_units[j] = -0.05 - 0.01 * j;
+        f.viscous_pos_units_s_per_rad[j] = 0.25;
+        f.viscous_neg_units_s_per_rad[j] = 0.24;
+    }
+    int differ = 0;
+    for (int i = -200000; i <= 200000; ++i) {
+        const double w = i * 1e-5 * (1.0 + 1e-9 * i); /* -2 .. 2 rad/s, through 0.8 = 40 w_t */
+        const double speeds[3] = {w, -w, 0.8 + i * 1e-17};
+        double out[3];
+        crs_friction_torque(&f, speeds, out);
+        for (int j = 0; j < 3; ++j) {
+            const double v = speeds[j];
+            const double slide = v > 0.0 ? f.slide_pos_units[j] : v < 0.0 ? f.slide_neg_units[j] : 0.0;
+            const double visc = v > 0.0 ? f.viscous_pos_units_s_per_rad[j]
+                                        : v < 0.0 ? f.viscous_neg_units_s_per_rad[j] : 0.0;
+            const double want = -(slide * -expm1(-fabs(v) / f.transition_rad_s) + visc * v);
+            if (memcmp(&want, &out[j], sizeof want) != 0) ++differ;
+        }
+    }
+    check("friction: 1.2 million speeds, each the formula's torque bit for bit", differ == 0);
+}
+
+/* At rest the hold's velocity average (v1 + v2) / 3 decays; in IEEE floats it would end on the
+ * smallest subnormal for good (it rounds back up). The F28335's FPU has no subnormals: zero. */
+static void test_hold_velocity_at_rest_ends_at_zero(void)
+{
+    crs_hold h;
+    memset(&h, 0, sizeof h);
+    const double still[3] = {0.1, -0.2, 0.3};
+    const double moved[3] = {0.1 + 0.001, -0.2 - 0.002, 0.3 + 0.0005};
+    crs_hold_update(&h, still);
+    crs_hold_update(&h, moved);
+    int ended = -1;
+    for (int k = 0; k < 2000 && ended < 0; ++k) {
+        crs_hold_update(&h, moved);
+        int zero = 1;
+        for (int j = 0; j < 3; ++j) {
+            const float a = h.vel_old1_rad_s[j], b = h.vel_old2_rad_s[j];
+            check("hold: no subnormal velocity", (a == 0.0f || fabsf(a) >= FLT_MIN) && (b == 0.0f || fabsf(b) >= FLT_MIN));
+            zero = zero && a == 0.0f && b == 0.0f;
+        }
+        if (zero) ended = k;
+    }
+    /* the slowest is joint 2's line, which averages the older value twice: v(k) = 2 v(k - 2) / 3,
+     * sqrt(2/3) = 0.816 a tick; from 2/3 rad/s to FLT_MIN (1.18e-38) that is
+     * ln(0.667 / 1.18e-38) / ln(1 / 0.816) = 430 ticks */
+    check("hold: at rest the velocity average reaches exactly zero", ended > 400 && ended < 480);
+}
+
 static void test_friction_between_drive_and_ctrl(void)
 {
     crs_sim *sim = new_sim(CRS_GEN_A, 0, NULL);
@@ -588,5 +648,7 @@ int main(void)
     test_drive_between_motor_board_and_ctrl();
     test_sliding_friction_goes_from_the_band_edge_to_the_line();
     test_friction_between_drive_and_ctrl();
+    test_sliding_friction_is_the_formula_bit_for_bit();
+    test_hold_velocity_at_rest_ends_at_zero();
     return checks_report();
 }
