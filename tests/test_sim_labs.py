@@ -62,3 +62,36 @@ def test_build_is_cached_by_content(tmp_path, monkeypatch):
     assert build_lab(lab).image != first.image
 
 
+
+
+def test_a_lab_given_by_the_same_name_in_two_folders_is_one_build_naming_neither(tmp_path, monkeypatch):
+    """``crslab serve`` builds each page's lab by its name from the session's own folder: the same
+    text is one build (one compile, one wasmtime compilation) whatever the folder, and the module
+    names the lab only as given (``__FILE__``, the debug information a trap's backtrace quotes)."""
+    monkeypatch.setenv("CRSLAB_CACHE_DIR", str(tmp_path / "cache"))
+    text = (LABS / "persistent_tau.c").read_text()
+    images = []
+    for name in ("first-session-folder", "second-session-folder"):
+        folder = tmp_path / name
+        folder.mkdir()
+        (folder / "lab.c").write_text(text)
+        monkeypatch.chdir(folder)
+        images.append(build_lab(Path("lab.c")).image)
+    assert images[0] == images[1]
+    module = images[0].read_bytes()
+    assert b"lab.c" in module  # its debug information names the file ...
+    assert b"session-folder" not in module  # ... by name only, in neither folder
+
+
+def test_a_header_the_lab_includes_from_its_folder_names_the_build_too(tmp_path, monkeypatch):
+    """Editing a header the lab includes from its own folder builds anew: the gain it defines is
+    the one the run uses."""
+    monkeypatch.setenv("CRSLAB_CACHE_DIR", str(tmp_path / "cache"))
+    lab = tmp_path / "lab.c"
+    lab.write_text((LABS / "persistent_tau.c").read_text().replace(
+        "#include", '#include "gains.h"\n#include', 1))
+    (tmp_path / "gains.h").write_text("#define GAIN 1\n")
+    first = build_lab(lab)
+    assert build_lab(lab).image == first.image
+    (tmp_path / "gains.h").write_text("#define GAIN 2\n")
+    assert build_lab(lab).image != first.image

@@ -32,7 +32,7 @@ from crslab.lab import firmware, zig
 from crslab.lab.c28x_memory import MemoryLayout, layout
 from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
-from crslab.lab.includes import special_include
+from crslab.lab.includes import local_includes
 from crslab.lab.lab_file import read_lab_file
 from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, find_watched
@@ -128,6 +128,17 @@ def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
     """:attr:`LabBuild.memory` from a lab file's text alone: the layout depends on nothing else, so
     ``crslab map`` and ``crslab vars`` need no build."""
     return layout(find_variables(source_text), detect(source_text), lab_name)
+
+
+def header_part(lab: Path, header: Path) -> bytes:
+    """What a header the lab includes from its folder adds to the build's name: its path from the
+    lab's folder and its bytes."""
+    try:
+        data = header.read_bytes()
+    except OSError:
+        data = b""
+    name = os.path.relpath(header, lab.resolve().parent).encode()
+    return len(name).to_bytes(8, "little") + name + len(data).to_bytes(8, "little") + data
 
 
 def content_digest(parts: list[bytes]) -> str:
@@ -227,17 +238,20 @@ def break_when_source(lab: Path, condition: str) -> str:
             f"{condition}\n) != 0; }}\n")
 
 
-def _build_wasm(src: Path, text: str, variables: list[LabVariable], cache: Path,
+def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], cache: Path,
                 sandboxed: bool) -> tuple[firmware.WasmImage, str]:
-    """The WebAssembly firmware of ``src`` (cached); returns (image, digest)."""
+    """The WebAssembly firmware of ``src`` (cached, named by ``named_by``: the lab's bytes and its
+    folder's headers it includes); returns (image, digest)."""
     try:
         firmware.prepare_zig()
         objects = firmware.firmware_objects(cache, content_digest)
     except (RuntimeError, zig.ZigMissing, OSError) as exc:
         raise LabBuildError(f"the WebAssembly compiler cannot be used: {exc}") from None
     globals_ = [v.name for v in variables if not v.static]
-    digest = content_digest([text.encode("utf-8", "surrogateescape"), src.suffix.encode(),
-                             str(src).encode(), " ".join(firmware.LAB_FLAGS + firmware.LINK_FLAGS).encode(),
+    # the path as given, not the folder: the module names the lab as given (prefix maps), so a lab
+    # given by the same relative path builds the same module in any folder (crslab serve's sessions)
+    digest = content_digest([named_by, src.suffix.encode(), str(src).encode(),
+                             " ".join(firmware.LAB_FLAGS + firmware.LINK_FLAGS).encode(),
                              objects[0].parent.name.encode(), " ".join(globals_).encode()])
     out_dir = cache / f"wasm-{digest}"
     cached = firmware.WasmImage.load(out_dir)
@@ -257,12 +271,12 @@ def _build_wasm(src: Path, text: str, variables: list[LabVariable], cache: Path,
     return image, digest
 
 
-def _build_native(src: Path, text_bytes: bytes, flags: list[str], unit: str | None, break_when: str | None,
+def _build_native(src: Path, named_by: bytes, flags: list[str], unit: str | None, break_when: str | None,
                   sanitize: bool, debug: bool, cache: Path, sandboxed: bool) -> tuple[Path, str, Compiler]:
     """The native shared object of ``src`` linked with the board (cached); returns (image, digest, cc)."""
     cc = compiler()
     objects = _board_objects(cc, sanitize, cache, debug)
-    digest = content_digest([text_bytes, " ".join(flags).encode(), src.suffix.encode()]
+    digest = content_digest([named_by, " ".join(flags).encode(), src.suffix.encode()]
                             + [o.parent.name.encode() for o in objects[:1]]  # it names the compiler
                             + ([unit.encode()] if unit is not None else [])
                             # a debugger finds the source by the path compiled into the build
@@ -318,9 +332,11 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     src = Path(source) if source is not None else DEFAULT_LAB
     text_bytes = read_lab_file(src)
     text = text_bytes.decode("utf-8", "replace")
-    special = special_include(src)
+    special, headers = local_includes(src)
     if special is not None:
         raise LabBuildError(f"{src.name} does not compile: {special}")
+    # the headers the lab includes from its own folder name the build as much as the lab does
+    named_by = text_bytes + b"".join(header_part(src, h) for h in headers)
     generation = detect(text)
     variables = find_variables(text)
     check_board_memory(variables, generation, src)
@@ -334,11 +350,11 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     if native:
         flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_LAB_FLAGS if debug else [])
         unit = break_when_source(src, break_when) if break_when is not None else None
-        image, digest, cc = _build_native(src, text_bytes, flags, unit, break_when, sanitize, debug, cache,
+        image, digest, cc = _build_native(src, named_by, flags, unit, break_when, sanitize, debug, cache,
                                           sandboxed)
         trap = trap_library(cc, cache)
     else:
-        wasm, digest = _build_wasm(src, text, variables, cache, sandboxed)
+        wasm, digest = _build_wasm(src, named_by, variables, cache, sandboxed)
         image, renamed, sized = wasm.path, wasm.renamed, wasm.sized
     return LabBuild(source=src, image=image, generation=generation, sanitized=sanitize, digest=digest,
                     native=native, watched=tuple(find_watched(text)), compiler=cc, debug=debug,

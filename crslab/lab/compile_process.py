@@ -73,10 +73,11 @@ def _kill_group(pgid: int) -> None:
 def run_compile(argv: Sequence[str], *, env: Mapping[str, str], preexec: Callable[[], None] | None = None,
                 timeout_s: float = COMPILE_TIMEOUT_S, memory_bytes: int = COMPILE_MEMORY_BYTES,
                 cpu_s: int = COMPILE_CPU_S, file_bytes: int = FILE_SIZE_BYTES,
-                pass_fds: Sequence[int] = ()) -> CompileRun:
-    """Run ``argv`` contained (see the module); raises ``OSError`` when it cannot be started."""
+                pass_fds: Sequence[int] = (), cwd: Path | None = None) -> CompileRun:
+    """Run ``argv`` contained (see the module), in folder ``cwd`` (None: this process's); raises
+    ``OSError`` when it cannot be started."""
     proc = subprocess.Popen(list(argv), stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, env=dict(env), start_new_session=True,
+                            stderr=subprocess.PIPE, env=dict(env), start_new_session=True, cwd=cwd,
                             pass_fds=tuple(pass_fds),
                             preexec_fn=_limits(memory_bytes, cpu_s, file_bytes, preexec))
     timed_out = False
@@ -110,9 +111,10 @@ class LabForbidden(LabBuildError):
 
 
 def run_compiler(argv: list[str], what: str, sandbox: CompilerSandbox | None = None, *,
-                 env: dict[str, str] | None = None) -> str:
-    """Run the compiler ``argv`` contained (inside ``sandbox`` when given); returns its messages;
-    a failure is a LabBuildError (a LabForbidden when the sandbox refused a file)."""
+                 env: dict[str, str] | None = None, cwd: Path | None = None) -> str:
+    """Run the compiler ``argv`` contained (inside ``sandbox`` when given; in folder ``cwd``, None:
+    this process's); returns its messages; a failure is a LabBuildError (a LabForbidden when the
+    sandbox refused a file)."""
     rules, preexec, pass_fds = None, None, ()
     environment = dict(env if env is not None else os.environ)
     if sandbox is not None:
@@ -125,7 +127,7 @@ def run_compiler(argv: list[str], what: str, sandbox: CompilerSandbox | None = N
         for key in ("TMPDIR", "TMP", "TEMP"):
             environment[key] = str(sandbox.write)
     try:
-        r = run_compile(argv, env=environment, preexec=preexec, pass_fds=pass_fds)
+        r = run_compile(argv, env=environment, preexec=preexec, pass_fds=pass_fds, cwd=cwd)
     except OSError as exc:
         raise LabBuildError(f"{Path(argv[0]).name} cannot be run ({exc.strerror})") from None
     finally:

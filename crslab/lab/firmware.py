@@ -136,7 +136,7 @@ def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - bu
             part = Path(tmp) / obj.name
             procs.append((subprocess.Popen([*zig.zig_cc(), f"--target={TARGET}", *FIRMWARE_FLAGS, *INCLUDES,
                                             "-c", str(src), "-o", str(part)],
-                                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp,
                                            env=zig.zig_environment(Path(tmp) / "cache")), src, part, obj))
         failed = []
         for proc, src, part, obj in procs:
@@ -184,15 +184,6 @@ def unit_text(lab: Path, sized: list[str]) -> str:
     return "\n".join([*lines, "};", ""])
 
 
-def includable(lab: Path) -> bool:
-    """Whether ``#include "path"`` can name the lab (a quote or a line break in its path cannot be).
-
-    >>> includable(Path("/labs/lab1.c")), includable(Path('/labs/=F("x").c'))
-    (True, False)
-    """
-    return not any(ch in str(lab.absolute()) for ch in '"\n\r')
-
-
 def failed_sizes(diagnostics: str, sized: list[str]) -> list[str]:
     """The names whose line of the size table did not compile (a global the source's reading found
     that the compiler does not see: in a branch of an ``#if``, a macro).
@@ -222,7 +213,24 @@ def visible_files(build_dir: Path, folders: list[Path]) -> Path:
     return path
 
 
-def compile_command(unit: Path, lab: Path, objects: list[Path], out: Path, exported: list[str],
+def prefix_maps(folders: list[Path], given: str) -> list[str]:
+    """clang's flags that name ``folders`` (the lab's, and the build's copy of it) as the lab's
+    folder was given (``given``: empty, or the folder as typed with its slash) in ``__FILE__`` and
+    in the debug information wasmtime's backtraces quote (zig passes the debug map on only through
+    ``-Xclang``; the compilation's own folder is ``.``).
+
+    >>> prefix_maps([Path("/home/s/labs")], "")[:3]
+    ['-fmacro-prefix-map=/home/s/labs/=', '-Xclang', '-fdebug-prefix-map=/home/s/labs=.']
+    """
+    flags = []
+    for folder in dict.fromkeys(folders):
+        # the debug map takes the folder itself (its table of folders names it without a slash)
+        flags += [f"-fmacro-prefix-map={folder}/={given}", "-Xclang",
+                  f"-fdebug-prefix-map={folder}={given.rstrip('/') or '.'}"]
+    return [*flags, "-Xclang", "-fdebug-compilation-dir=."]
+
+
+def compile_command(unit: Path, lab: Path, copy: Path, objects: list[Path], out: Path, exported: list[str],
                     renamed: list[str]) -> list[str]:
     """zig's command that compiles ``unit`` (the lab file ``lab`` and its size table; the lab's
     globals ``renamed`` under :data:`RENAMED_PREFIX`) and links it into ``out``, exporting
@@ -235,7 +243,8 @@ def compile_command(unit: Path, lab: Path, objects: list[Path], out: Path, expor
                zig.zig_dir() / "lib", unit.parent]
     overlay = visible_files(unit.parent, [f.absolute() for f in folders])
     return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,
-            f"-fmacro-prefix-map={lab.absolute().parent}/={given}", "-ivfsoverlay", str(overlay),
+            *prefix_maps([lab.absolute().parent, lab.resolve().parent, copy.parent], given),
+            "-ivfsoverlay", str(overlay),
             "-iquote", str(lab.absolute().parent), *INCLUDES,
             "-x", "c", str(unit), "-x", "none", *map(str, objects), *LINK_FLAGS,
             *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
@@ -275,23 +284,26 @@ def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir:
     renamed: list[str] = []
     unit = build_dir / "firmware.c"
     out = build_dir / "lab.wasm"
-    included = lab
-    if not includable(lab):  # a name an #include cannot spell: a copy under a plain one (same folder's
-        included = build_dir / "submission" / re.sub(r"[^\w.+-]", "_", lab.name)  # files via -iquote)
-        included.parent.mkdir()
-        shutil.copyfile(lab, included)
+    # the unit includes a copy of the lab in the build's folder, under a name an #include can spell
+    # (its own folder's files still come through -iquote): so the module names no folder of the
+    # user's (UBSan's locations keep the path the compiler read), and the same text given by the
+    # same name builds the same module from any folder (crslab serve's sessions share one build)
+    included = build_dir / "submission" / re.sub(r"[^\w.+-]", "_", lab.name)
+    included.parent.mkdir()
+    shutil.copyfile(lab, included)
     for _ in range(MAX_ROUNDS):
         unit.write_text(unit_text(included, sized))
         names = [RENAMED_PREFIX + n if n in renamed else n for n in exported]
         try:
-            run_compiler(compile_command(unit, lab, objects, out, names, renamed), lab.name, sandbox,
-                         env=compile_environment(build_dir))
+            command = compile_command(unit, lab, included, objects, out, names, renamed)
+            # run from the build's folder: the compiler's own folder names no folder of the user's
+            run_compiler(command, lab.name, sandbox, env=compile_environment(build_dir), cwd=build_dir)
             break
         except (LabForbidden, CompilerStopped) as exc:
-            exc.diagnostics = shown_diagnostics(exc.diagnostics, unit, lab)
+            exc.diagnostics = shown_diagnostics(exc.diagnostics, unit, lab, included)
             raise
         except LabBuildError as exc:
-            text = shown_diagnostics(exc.diagnostics, unit, lab)
+            text = shown_diagnostics(exc.diagnostics, unit, lab, included)
             absent = {n.removeprefix(RENAMED_PREFIX) for n in not_exported(text)}
             absent |= set(failed_sizes(text, sized))
             clashes = [n for n in clashing_symbols(text) if n not in renamed]
@@ -307,17 +319,20 @@ def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir:
     return WasmImage(out, tuple(renamed), tuple(sized))
 
 
-def shown_diagnostics(diagnostics: str, unit: Path, lab: Path) -> str:
-    """The compiler's messages as the user should read them: about the lab as they named it, without
-    the line that says the lab was included by crslab's unit.
+def shown_diagnostics(diagnostics: str, unit: Path, lab: Path, copy: Path | None = None) -> str:
+    """The compiler's messages as the user should read them: about the lab as they named it (not
+    the build's ``copy`` of it), without the line that says the lab was included by crslab's unit.
 
-    >>> shown_diagnostics("In file included from /b/firmware.c:1:\\n/abs/x/lab.c:3:1: error: e",
-    ...                   Path("/b/firmware.c"), Path("/abs/x/lab.c"))
-    '/abs/x/lab.c:3:1: error: e'
+    >>> shown_diagnostics("In file included from /b/firmware.c:1:\\n/b/submission/lab.c:3:1: error: e",
+    ...                   Path("/b/firmware.c"), Path("x/lab.c"), Path("/b/submission/lab.c"))
+    'x/lab.c:3:1: error: e'
     """
     lines = [line for line in diagnostics.splitlines(keepends=True)
              if not line.startswith(f"In file included from {unit}:")]
-    return "".join(lines).replace(str(lab.absolute()), str(lab))
+    text = "".join(lines)
+    if copy is not None:
+        text = text.replace(str(copy), str(lab))
+    return text.replace(str(lab.absolute()), str(lab))
 
 
 def link_failure(lab: Path, diagnostics: str) -> LabBuildError:

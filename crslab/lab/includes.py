@@ -50,6 +50,21 @@ def special_include(lab: Path) -> str | None:
     """The first ``#include`` reachable from ``lab`` that names something in the lab's folder
     that is not a regular file: ``"FILE:LINE includes NAME, which is a FIFO, not a file"``; None
     when there is none."""
+    return local_includes(lab)[0]
+
+
+def local_includes(lab: Path) -> tuple[str | None, list[Path]]:
+    """What :func:`special_include` says, and the regular files of the lab's folder that ``lab``
+    includes, directly or through them (resolved; the lab itself not among them): a build is
+    named by their contents too, so an edited header builds anew.
+
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> _ = (folder / "gains.h").write_text("#define KP 10\\n")
+    >>> _ = (folder / "lab.c").write_text('#include <math.h>\\n#include "gains.h"\\n')
+    >>> [p.name for p in local_includes(folder / "lab.c")[1]]
+    ['gains.h']
+    """
     start = lab.resolve()
     folder = start.parent
     seen: set[Path] = set()
@@ -81,8 +96,8 @@ def special_include(lab: Path) -> str | None:
                 if kind is not None:
                     line = text.count(b"\n", 0, m.start()) + 1
                     where = current.relative_to(folder) if _inside(current, folder) else current.name
-                    return f"{where}:{line} includes {name}, which is {kind}, not a file"
+                    return f"{where}:{line} includes {name}, which is {kind}, not a file", []
                 if stat.S_ISREG(mode):
                     todo.append(resolved)
                     break
-    return None
+    return None, sorted(seen - {start})

@@ -128,7 +128,7 @@ def prepare(target: str, flags: list[str], stream: TextIO | None = None) -> None
             src = Path(tmp) / "probe.c"
             src.write_text(PROBE)
             r = subprocess.run([*zig_cc(), f"--target={target}", *flags, str(src), "-o",
-                                str(Path(tmp) / "probe")], capture_output=True, text=True,
+                                str(Path(tmp) / "probe")], capture_output=True, text=True, cwd=tmp,
                                env=zig_environment(Path(tmp) / "cache"), timeout=FIRST_USE_TIMEOUT_S)
     except subprocess.TimeoutExpired:
         raise RuntimeError(f"zig did not finish building its C library for {target} within "
