@@ -199,6 +199,9 @@ def run_serve(args: argparse.Namespace) -> int:
         log_level="warning",
         ws="websockets-sansio",
         ws_max_size=2_000_000,
+        # no per-message deflate: a chunk's scope rows are float32 that deflate shrinks by a quarter
+        # for half a millisecond of the event loop each (docs/serve.md, Capacity)
+        ws_per_message_deflate=False,
         proxy_headers=True,
         forwarded_allow_ips=args.forwarded_allow_ips,
         lifespan="off",
@@ -207,7 +210,7 @@ def run_serve(args: argparse.Namespace) -> int:
     try:
         server.run(sockets=[sock])
     finally:
-        for session in list(sessions.by_id.values()):
+        for session in sessions.all():
             sessions.close(session)
         sock.close()
     print("crslab serve: stopped", file=sys.stderr)

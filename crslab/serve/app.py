@@ -31,7 +31,7 @@ from starlette.requests import Request
 from starlette.responses import FileResponse, HTMLResponse, JSONResponse, RedirectResponse, Response
 from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
-from starlette.websockets import WebSocket, WebSocketDisconnect
+from starlette.websockets import WebSocket, WebSocketDisconnect, WebSocketDisconnected
 
 from crslab.generations import GENERATIONS
 from crslab.serve.auth import CookieSigner, RateLimit, User, verify_secret
@@ -139,7 +139,9 @@ class CrsServer:
         user = roster.get(name)
         # the hash is checked even for an unknown name, so the time taken does not tell names apart
         secret = user.secret if user is not None else "pbkdf2_sha256$600000$00$00"
-        if not verify_secret(secret, password) or user is None:
+        # PBKDF2 takes a core for about half a second: in a thread (hashlib lets go of the GIL), so
+        # the relay of every running session goes on meanwhile
+        if not await asyncio.to_thread(verify_secret, secret, password) or user is None:
             return JSONResponse({"error": "wrong name or password"}, status_code=401)
         return self._logged_in(JSONResponse({"user": name}), request, name)
 
@@ -210,7 +212,7 @@ class CrsServer:
         user = self.user_of(request.cookies)
         if user is None or not self.is_admin(user):
             return HTMLResponse("<p>admins only: log in as an admin on the main page</p>", status_code=403)
-        rows = [s.describe() for s in self.sessions.by_id.values()]
+        rows = [s.describe() for s in self.sessions.all()]
         keys = ["id", "user", "since", "state", "scenario", "runs"]
         body = "".join(
             "<tr>" + "".join(f"<td>{html.escape(str(r[k]))}</td>" for k in keys) + "</tr>" for r in rows
@@ -267,10 +269,14 @@ class CrsServer:
                         session.running = "run"
                     await ws.send_text(body.decode())
             except (asyncio.IncompleteReadError, ConnectionError):
-                if session.running is not None:
-                    await ws.send_text(json.dumps({"type": "ended", "status": "crashed", "exit_status": 3,
-                                                   "message": "crslab's session process ended unexpectedly"}))
-                await ws.close(code=1011)
+                try:
+                    if session.running is not None:
+                        await ws.send_text(json.dumps({
+                            "type": "ended", "status": "crashed", "exit_status": 3,
+                            "message": "crslab's session process ended unexpectedly"}))
+                    await ws.close(code=1011)
+                except (WebSocketDisconnected, WebSocketDisconnect):
+                    pass  # the page had gone first: its going is what ended the session
 
         pump = asyncio.create_task(to_page())
         await ws.send_text(json.dumps({"type": "hello", "session": session.id, "user": session.user}))

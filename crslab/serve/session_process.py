@@ -93,9 +93,17 @@ class Session:
         path.write_text(file["text"], encoding="utf-8")
         return path
 
+    def _write_lab(self, lab: dict) -> Path:
+        """The page's lab written to the session's lab folder; returns its path relative to that
+        folder, the process's working directory (:func:`serve_session`): built from there, the
+        firmware names no session's folder, so every session running the same text shares one
+        build (the compiler's and wasmtime's) instead of compiling it again."""
+        path = self._write("lab", lab)
+        return path.relative_to(Path.cwd()) if path.parent == Path.cwd() else path
+
     def build(self, lab: dict) -> Path | None:
         """Compile the page's lab and send ``built``; its path when it built."""
-        path = self._write("lab", lab)
+        path = self._write_lab(lab)
         try:
             build = build_lab(path, sandboxed=self.limits.sandboxed)
         except LabBuildError as exc:
@@ -172,7 +180,8 @@ class Session:
         out.add(stream)
         out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
         console = VarConsole(config.build.watched)
-        control = PageControl(self.conn, self.send, stream, console, msg["speed"], self._busy)
+        control = PageControl(self.conn, self.send, stream, console, msg["speed"], self._busy,
+                              phase=msg.get("phase", 0.0))
         limits = Limits(
             memory_mb=self.limits.memory_mb,
             cpu_s=self.limits.cpu_s,
@@ -238,7 +247,7 @@ class Session:
         from crslab.regress.runner import run_lab
         from crslab.regress.transcript import GoldenError, read_golden, recorded_run, split_lines
 
-        lab = self._write("lab", msg["lab"])
+        lab = self._write_lab(msg["lab"])
         golden_path = self._write("golden", msg["golden"])
         try:
             golden = read_golden(golden_path)
@@ -274,6 +283,7 @@ def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the server's to handle
     os_support.die_with_parent()
     session = Session(conn, Path(folder), limits)
+    os.chdir(session.folder / "lab")  # the page's lab is built by its name alone (Session._write_lab)
     try:
         while True:
             try:

@@ -15,6 +15,7 @@ import secrets
 import shutil
 import socket
 import tempfile
+import threading
 import time
 from dataclasses import dataclass, field
 from multiprocessing.connection import Connection
@@ -43,6 +44,18 @@ def session_context() -> mp.context.BaseContext:
 
     forkserver.ensure_running()
     return ctx
+
+
+def run_phase(n: int) -> float:
+    """Where in the pacing period the ``n``-th run's chunks end (a fraction of it): the golden
+    ratio's multiples, so however many runs go at once their wake-ups lie evenly over the period
+    (runs started together, or 50 ms apart, would otherwise share a handful of instants and each
+    wait behind the others).
+
+    >>> [round(run_phase(n), 3) for n in range(5)]
+    [0.0, 0.618, 0.236, 0.854, 0.472]
+    """
+    return (n * 0.6180339887498949) % 1.0
 
 
 @dataclass(frozen=True)
@@ -98,17 +111,40 @@ class Sessions:
         self.limits = limits
         self.run_limits = run_limits
         self.by_id: dict[str, PageSession] = {}
+        """Every session by id: changed only under ``_lock`` (sessions start and end in threads
+        while the event loop reads it): read a snapshot, :meth:`all`."""
+        self._lock = threading.Lock()
+        self._starting = 0
+        self._runs = 0
         self._compiles: dict[str, RateLimit] = {}
         self._ctx: mp.context.BaseContext | None = None
 
+    def all(self) -> list[PageSession]:
+        """The sessions now (a copy)."""
+        with self._lock:
+            return list(self.by_id.values())
+
     def start(self, user: str) -> PageSession:
         """A new session process for ``user`` (blocking: call it from a thread)."""
-        if len(self.by_id) >= self.limits.max_sessions:
-            raise LimitError(
-                f"this server is full ({self.limits.max_sessions} sessions at once); try again later"
-            )
-        if self._ctx is None:
-            self._ctx = session_context()
+        with self._lock:
+            if len(self.by_id) + self._starting >= self.limits.max_sessions:
+                raise LimitError(
+                    f"this server is full ({self.limits.max_sessions} sessions at once); try again later"
+                )
+            self._starting += 1  # its place is kept while its process starts
+            if self._ctx is None:
+                self._ctx = session_context()
+        session = None
+        try:
+            session = self._start(user)
+        finally:
+            with self._lock:  # its kept place becomes the session's (or is given back) at once
+                self._starting -= 1
+                if session is not None:
+                    self.by_id[session.id] = session
+        return session
+
+    def _start(self, user: str) -> PageSession:
         folder = Path(tempfile.mkdtemp(prefix="crslab-serve-"))
         parent, child = self._ctx.Pipe(duplex=True)
         proc = self._ctx.Process(
@@ -118,13 +154,12 @@ class Sessions:
         )  # not daemonic: it forks the lab's worker
         proc.start()
         child.close()
-        session = PageSession(secrets.token_urlsafe(18), user, proc, parent, folder)
-        self.by_id[session.id] = session
-        return session
+        return PageSession(secrets.token_urlsafe(18), user, proc, parent, folder)
 
     def close(self, session: PageSession) -> None:
         """End a session: its process (and so its run) and its folder (blocking)."""
-        self.by_id.pop(session.id, None)
+        with self._lock:
+            self.by_id.pop(session.id, None)
         session.conn.close()  # (already closed when the relay took it): the session sees its pipe close
         session.process.join(3.0)
         if session.process.is_alive():
@@ -140,7 +175,7 @@ class Sessions:
         if session.running is not None:
             raise LimitError(f"{kind}: a {session.running} is going on; stop it first")
         if kind in ("run", "check"):
-            other = next((s for s in self.by_id.values() if s.user == session.user and s.running), None)
+            other = next((s for s in self.all() if s.user == session.user and s.running), None)
             if other is not None:
                 raise LimitError(f"{kind}: you have a run going on in another page; one run at a time")
         limit = self._compiles.setdefault(session.user, RateLimit(self.limits.compiles_per_minute, 60.0))
@@ -154,6 +189,8 @@ class Sessions:
             if kind == "run":
                 scenario = msg["scenario"]
                 session.scenario = scenario.get("name") or scenario["file"]["name"]
+                msg["phase"] = run_phase(self._runs)
+                self._runs += 1
 
     def owned(self, session_id: str, user: str) -> PageSession | None:
         """The session ``session_id`` if ``user`` owns it (else None: no one sees another's)."""

@@ -187,8 +187,14 @@ class PageControl:
         console: VarConsole,
         speed: float | None,
         on_other: Callable[[dict], None],
+        phase: float = 0.0,
     ) -> None:
         self.conn = conn
+        self.phase = phase
+        """Where in every 250 ms of the machine's clock this run's watching chunks end (a fraction
+        of the period): the server gives each run its own (:meth:`Sessions.admit
+        <crslab.serve.sessions.Sessions.admit>`), so a class's runs wake one after another, not
+        all at once."""
         self.send = send
         self.stream = stream
         self.console = console
@@ -211,13 +217,19 @@ class PageControl:
         return self._pace[0] if self._pace is not None else 0.0
 
     def chunk_ticks(self, speed: float | None) -> int:
-        """Chunks of 250 ms x speed, 20 ms x speed while the page acts (the run itself is asked to
-        go as fast as possible: this control paces it)."""
+        """Chunks of 250 ms x speed ending at :attr:`phase` of the period, 20 ms x speed while the
+        page acts (the run itself is asked to go as fast as possible: this control paces it)."""
         if self.speed is None:
             return FAST_CHUNK_TICKS
-        acting = self.hand is not None or self._tick < self._acted_until
-        ticks = INTERACTIVE_CHUNK_TICKS if acting else IDLE_CHUNK_TICKS
-        return max(1, min(FAST_CHUNK_TICKS, round(ticks * self.speed)))
+        if self.hand is not None or self._tick < self._acted_until:
+            return max(1, min(FAST_CHUNK_TICKS, round(INTERACTIVE_CHUNK_TICKS * self.speed)))
+        period_s = IDLE_CHUNK_TICKS / 1000.0
+        wall, tick = self._pace if self._pace is not None else (time.monotonic(), self._tick)
+        due_s = wall + (self._tick - tick) / 1000.0 / self.speed  # when this chunk's first tick is due
+        ahead_s = (self.phase * period_s - due_s) % period_s
+        if ahead_s < period_s / 2:  # the first chunk takes 125 to 375 ms to reach the phase, never a sliver
+            ahead_s += period_s
+        return max(1, min(FAST_CHUNK_TICKS, round(ahead_s * 1000.0 * self.speed)))
 
     def serve(self, lab: RunningLab) -> None:
         """Carry out what the page sent, push the arm, then wait until the wall clock reaches

@@ -1,0 +1,118 @@
+"""The server's table of page sessions, changed by threads (a session starts and ends in one, not
+to hold up the event loop) while the event loop reads it: no read sees it half changed, and
+``--max-sessions`` holds however many pages start at once."""
+
+from __future__ import annotations
+
+import threading
+from pathlib import Path
+
+from crslab.serve.session_process import SessionLimits
+from crslab.serve.sessions import LimitError, PageSession, Sessions, UserLimits
+
+
+class _Process:
+    """What a session's process must answer when the session closes."""
+
+    def join(self, timeout: float | None = None) -> None:
+        pass
+
+    def is_alive(self) -> bool:
+        return False
+
+
+class _Conn:
+    def close(self) -> None:
+        pass
+
+
+def test_sessions_starting_and_ending_in_threads_while_the_loop_admits_runs(monkeypatch, tmp_path):
+    sessions = Sessions(UserLimits(compiles_per_minute=10**9, max_sessions=150), SessionLimits())
+    started = threading.Barrier(9)
+
+    def fake_start(user: str) -> PageSession:
+        # a real start forks a process from the fork server: here, only what the table keeps
+        return PageSession(f"{user}-{threading.get_ident()}-{len(sessions.all())}-{id(object())}", user,
+                           _Process(), _Conn(), Path(tmp_path))  # type: ignore[arg-type]
+
+    monkeypatch.setattr(sessions, "_start", fake_start)
+    outcomes: list[str] = []
+
+    def page_opener(k: int) -> None:
+        started.wait()
+        for i in range(40):
+            try:
+                session = sessions.start(f"student{k}")
+                outcomes.append("started")
+                if i % 4 == 3:
+                    sessions.close(session)
+                    outcomes.append("closed")
+            except LimitError:
+                outcomes.append("full")
+
+    threads = [threading.Thread(target=page_opener, args=(k,)) for k in range(8)]
+    for t in threads:
+        t.start()
+    started.wait()
+    errors = []
+    probe = PageSession("probe", "studentX", _Process(), _Conn(), Path(tmp_path))  # type: ignore[arg-type]
+    while any(t.is_alive() for t in threads):
+        try:  # what the event loop does for every page message: reads the whole table
+            sessions.admit(probe, {"type": "run", "scenario": {"name": "tour"}}, 0.0)
+            probe.running = None
+            assert len(sessions.all()) <= 150
+        except RuntimeError as exc:  # "dictionary changed size during iteration"
+            errors.append(exc)
+    for t in threads:
+        t.join()
+    assert errors == []
+    assert outcomes.count("full") > 0  # 320 tries, a quarter closed again: the table filled up
+    open_now = outcomes.count("started") - outcomes.count("closed")
+    assert open_now == len(sessions.all()) <= 150  # every start and close counted, never over
+    while True:  # the places closed last are taken again, up to the limit and not one more
+        try:
+            sessions.start("late")
+        except LimitError:
+            break
+    assert len(sessions.all()) == 150
+
+
+def test_each_run_ends_its_chunks_at_its_own_phase_of_the_clock(monkeypatch):
+    """A watching run's chunks end where the server's phase puts them in every 250 ms of the
+    machine's clock (the first takes 125 to 375 ms to get there, the others 250), so runs started
+    together do not all wake at once; while the page acts, chunks are 20 ms."""
+    from multiprocessing import Pipe
+
+    from crslab.live.console import VarConsole
+    from crslab.serve import stream as stream_module
+    from crslab.serve.stream import IDLE_CHUNK_TICKS, INTERACTIVE_CHUNK_TICKS, PageControl
+
+    clock = [1000.0375]  # the machine's monotonic clock, s
+    monkeypatch.setattr(stream_module.time, "monotonic", lambda: clock[0])
+    ours, _page = Pipe()
+    for phase in (0.0, 0.3, 0.618, 0.99):
+        control = PageControl(ours, lambda data: None, None, VarConsole(()), 1.0, lambda msg: None,  # type: ignore[arg-type]
+                              phase=phase)
+        control.start()  # tick 0 is due at 1000.0375 s
+        first = control.chunk_ticks(None)
+        assert 125 <= first <= 375
+        end_due = 1000.0375 + first / 1000.0
+        # within half a tick of the phase (the chunk is whole ticks)
+        assert abs((end_due - phase * 0.25 + 0.125) % 0.25 - 0.125) <= 0.0005
+        control._tick = first
+        assert control.chunk_ticks(None) == IDLE_CHUNK_TICKS
+        control._acted_until = first + 2000  # the page just wrote a variable
+        assert control.chunk_ticks(None) == INTERACTIVE_CHUNK_TICKS
+
+
+def test_the_phases_of_many_runs_lie_evenly_over_the_period():
+    """The golden ratio's multiples: however many runs go at once, no two wake-ups are much
+    closer, and no gap much wider, than an even spread's (the three-gap theorem: at most three
+    gap sizes, the largest under 2.7 / n)."""
+    from crslab.serve.sessions import run_phase
+
+    for n in (10, 50, 100, 150):
+        phases = sorted(run_phase(k) for k in range(n))
+        gaps = [b - a for a, b in zip(phases, phases[1:])] + [1 - phases[-1] + phases[0]]
+        assert max(gaps) < 2.7 / n and min(gaps) > 0.35 / n
+        assert len({round(g, 9) for g in gaps}) <= 3
