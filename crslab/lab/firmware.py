@@ -184,6 +184,16 @@ def unit_text(lab: Path, sized: list[str]) -> str:
     return "\n".join([*lines, "};", ""])
 
 
+def copy_name(name: str) -> str:
+    """The name of the build's copy of a lab named ``name``: the same, unless an ``#include`` cannot
+    spell it (a quote or a line break), so messages and backtraces name the lab as the user does.
+
+    >>> copy_name("my lab.c"), copy_name('=F("x").c')
+    ('my lab.c', '_F__x__.c')
+    """
+    return re.sub(r"[^\w.+-]", "_", name) if any(ch in name for ch in '"\n\r') else name
+
+
 def failed_sizes(diagnostics: str, sized: list[str]) -> list[str]:
     """The names whose line of the size table did not compile (a global the source's reading found
     that the compiler does not see: in a branch of an ``#if``, a macro).
@@ -288,7 +298,7 @@ def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir:
     # (its own folder's files still come through -iquote): so the module names no folder of the
     # user's (UBSan's locations keep the path the compiler read), and the same text given by the
     # same name builds the same module from any folder (crslab serve's sessions share one build)
-    included = build_dir / "submission" / re.sub(r"[^\w.+-]", "_", lab.name)
+    included = build_dir / "submission" / copy_name(lab.name)
     included.parent.mkdir()
     shutil.copyfile(lab, included)
     for _ in range(MAX_ROUNDS):
