@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from crslab.lab.compile_process import IMAGE_CAP_BYTES, run_compile
-from crslab.lab.includes import special_include
+from crslab.lab.includes import local_includes
 
 LAB_BODY = ("void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2,\n"
             "         float *tau3, int error)\n{\n    *tau1 = 0; *tau2 = 0; *tau3 = 0;\n}\n")
@@ -45,11 +45,11 @@ def test_a_fifo_is_found_through_the_headers_the_lab_includes(tmp_path):
     os.mkfifo(tmp_path / "sub" / "table.h")
     (tmp_path / "sub" / "gains.h").write_text('/* gains */\n\n#include "table.h"\n')
     (tmp_path / "lab.c").write_text('#include <math.h>\n#include "sub/gains.h"\n')
-    assert special_include(tmp_path / "lab.c") == ("sub/gains.h:3 includes table.h, which is a FIFO, "
+    assert local_includes(tmp_path / "lab.c")[0] == ("sub/gains.h:3 includes table.h, which is a FIFO, "
                                                    "not a file")
     # a header that includes itself is read once; a name outside the folder is the sandbox's
     (tmp_path / "sub" / "gains.h").write_text('#include "gains.h"\n#include "/dev/urandom"\n')
-    assert special_include(tmp_path / "lab.c") is None
+    assert local_includes(tmp_path / "lab.c")[0] is None
 
 
 def test_a_compiler_out_of_time_is_killed_with_every_process_it_started(tmp_path):

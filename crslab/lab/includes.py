@@ -13,10 +13,10 @@ the compiler's time limit (:mod:`crslab.lab.compile_process`).
 >>> folder = Path(tempfile.mkdtemp())
 >>> os.mkfifo(folder / "gains.h")
 >>> _ = (folder / "lab.c").write_text('#include "math.h"\\n#include "gains.h"\\n')
->>> special_include(folder / "lab.c")
+>>> local_includes(folder / "lab.c")[0]
 'lab.c:2 includes gains.h, which is a FIFO, not a file'
 >>> _ = (folder / "lab.c").write_text('#include "math.h"\\n')
->>> special_include(folder / "lab.c") is None
+>>> local_includes(folder / "lab.c")[0] is None
 True
 """
 
@@ -46,17 +46,12 @@ def _inside(path: Path, folder: Path) -> bool:
     return path == folder or folder in path.parents
 
 
-def special_include(lab: Path) -> str | None:
-    """The first ``#include`` reachable from ``lab`` that names something in the lab's folder
-    that is not a regular file: ``"FILE:LINE includes NAME, which is a FIFO, not a file"``; None
-    when there is none."""
-    return local_includes(lab)[0]
-
-
 def local_includes(lab: Path) -> tuple[str | None, list[Path]]:
-    """What :func:`special_include` says, and the regular files of the lab's folder that ``lab``
-    includes, directly or through them (resolved; the lab itself not among them): a build is
-    named by their contents too, so an edited header builds anew.
+    """The first ``#include`` reachable from ``lab`` that names something in the lab's folder that
+    is not a regular file (``"FILE:LINE includes NAME, which is a FIFO, not a file"``, else None),
+    and the regular files of the lab's folder that ``lab`` includes, directly or through them
+    (resolved; the lab itself not among them): a build is named by their contents too, so an edited
+    header builds anew.
 
     >>> import tempfile
     >>> folder = Path(tempfile.mkdtemp())
