@@ -19,6 +19,7 @@ user by the content of the lab, of every board source, of the flags and by the c
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import tempfile
 from dataclasses import dataclass, field
@@ -30,8 +31,10 @@ from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START
 from crslab.generations import Generation, detect
 from crslab.lab import firmware, zig
 from crslab.lab.c28x_memory import MemoryLayout, layout
+from crslab.lab.c89_habits import habit_warnings, lab_flags
 from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
+from crslab.lab.entry_points import EntryPointError, entry_calls
 from crslab.lab.includes import local_includes
 from crslab.lab.lab_file import read_lab_file
 from crslab.lab.variables import LabVariable, find_variables
@@ -53,7 +56,8 @@ BOARD_HEADERS = (sorted(SIM.glob("*.h")) + sorted(FIRMWARE.glob("*.h")) + sorted
 
 INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
 ERROR_LIMIT = ["-fmax-errors=50"]
-LAB_FLAGS = ["-std=c11", "-O2", "-fPIC", "-w", "-fno-common"]
+LAB_FLAGS = ["-std=c11", "-O2", "-fPIC", "-fno-common"]
+"""The lab's flags; the C89 habits' (:func:`crslab.lab.c89_habits.lab_flags`) follow them."""
 BOARD_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-fno-math-errno"]
 # ASan finds out-of-bounds reads and writes (and says which); UBSan the rest (overflow,
 # misalignment, bad shifts), so UBSan's own array-bounds and object-size checks are left to ASan.
@@ -100,6 +104,9 @@ class LabBuild:
     trap_library: Path | None = None
     """Native builds: the run sandbox's SIGSYS handler (:func:`trap_library`), built here so that no
     worker ever compiles."""
+    habits: tuple[str, ...] = field(default=())
+    """The C89 habits the lab was built with, one line each saying what the board does
+    (:mod:`crslab.lab.c89_habits`)."""
 
     def image_name(self, name: str) -> str:
         """What the lab's global ``name`` is called in its image."""
@@ -139,6 +146,13 @@ def header_part(lab: Path, header: Path) -> bytes:
         data = b""
     name = os.path.relpath(header, lab.resolve().parent).encode()
     return len(name).to_bytes(8, "little") + name + len(data).to_bytes(8, "little") + data
+
+
+def _header_text(header: Path) -> str:
+    try:
+        return header.read_text(errors="replace")
+    except OSError:
+        return ""
 
 
 def content_digest(parts: list[bytes]) -> str:
@@ -238,7 +252,7 @@ def break_when_source(lab: Path, condition: str) -> str:
             f"{condition}\n) != 0; }}\n")
 
 
-def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], cache: Path,
+def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], calls: str, cache: Path,
                 sandboxed: bool) -> tuple[firmware.WasmImage, str]:
     """The WebAssembly firmware of ``src`` (cached, named by ``named_by``: the lab's bytes and its
     folder's headers it includes); returns (image, digest)."""
@@ -263,7 +277,7 @@ def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], cache:
         sandbox = compiler_sandbox([src], build_dir, [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent],
                                    compiler=(), run_dirs=[zig.zig_dir()],
                                    cache_dirs=[zig.zig_cache()]) if sandboxed else None
-        built = firmware.build_module(src, globals_, objects, build_dir, sandbox)
+        built = firmware.build_module(src, globals_, objects, build_dir, sandbox, calls)
         built.path.replace(out_dir / "lab.wasm")
         built.save(out_dir)
     image = firmware.WasmImage.load(out_dir)
@@ -271,33 +285,65 @@ def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], cache:
     return image, digest
 
 
-def _build_native(src: Path, named_by: bytes, flags: list[str], unit: str | None, break_when: str | None,
-                  sanitize: bool, debug: bool, cache: Path, sandboxed: bool) -> tuple[Path, str, Compiler]:
-    """The native shared object of ``src`` linked with the board (cached); returns (image, digest, cc)."""
+def native_unit(lab: Path, calls: str, condition: str | None = None) -> str:
+    """The translation unit of a native build: the lab file itself (by its absolute path), the
+    ``--break-when`` condition when there is one (:func:`break_when_source`), then ``calls``, the
+    framework's calls of the lab's functions (:mod:`crslab.lab.entry_points`).
+
+    >>> native_unit(Path("/labs/lab1.c"), "")
+    '#include "/labs/lab1.c"\\n'
+    """
+    if condition is not None:
+        return break_when_source(lab, condition) + calls
+    quoted = str(lab.absolute()).replace("\\", "\\\\").replace('"', '\\"')
+    return f'#include "{quoted}"\n{calls}'
+
+
+def _native_prefix_maps(src: Path) -> list[str]:
+    """gcc's and clang's flags naming the lab's folder as it was given in ``__FILE__`` and the debug
+    information (the unit includes the lab by its absolute path)."""
+    given = "" if str(src.parent) == "." else f"{src.parent}/"
+    folder = src.absolute().parent
+    return [f"-fmacro-prefix-map={folder}/={given}",
+            f"-fdebug-prefix-map={folder}={given.rstrip('/') or '.'}"]
+
+
+def _build_native(src: Path, named_by: bytes, flags: list[str], calls: str, break_when: str | None,
+                  sanitize: bool, debug: bool, cache: Path,
+                  sandboxed: bool) -> tuple[Path, str, Compiler, tuple[str, ...]]:
+    """The native shared object of ``src`` linked with the board (cached); returns (image, digest, cc,
+    the C89 habits it was built with)."""
     cc = compiler()
     objects = _board_objects(cc, sanitize, cache, debug)
+    flags = [*flags, *lab_flags(cc.family)]
     digest = content_digest([named_by, " ".join(flags).encode(), src.suffix.encode()]
                             + [o.parent.name.encode() for o in objects[:1]]  # it names the compiler
-                            + ([unit.encode()] if unit is not None else [])
+                            + [calls.encode(), (break_when or "").encode()]
                             # a debugger finds the source by the path compiled into the build
                             + ([str(src.absolute()).encode()] if debug else []))
     out_dir = cache / f"lab-{digest}"
     so = out_dir / "lab.so"
+    habits_file = out_dir / "habits.json"
     if not so.exists():
         out_dir.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
             readable = [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent]
             sandbox = compiler_sandbox([src], Path(tmp), readable, compiler=cc.argv) if sandboxed else None
             obj = Path(tmp) / "lab.o"
-            # compile the user's own path so the compiler's messages name the user's file and line
-            # (absolute for a debugger, which then finds the source from any folder)
-            compiled, what = (src.absolute() if debug else src), src.name
-            if unit is not None:
-                compiled = Path(tmp) / "break_when.c"
-                compiled.write_text(unit)
-                what = f"{src.name} with --break-when {break_when!r}"
-            run_compiler([*cc.argv, *flags, *ERROR_LIMIT, *INCLUDES, "-x", "c", "-c", str(compiled), "-o",
-                          str(obj)], what, sandbox)
+            # the unit includes the lab file itself; messages are turned back to name the user's
+            # file as given (a debugger finds the source by the absolute path compiled in)
+            unit = Path(tmp) / "lab_unit.c"
+            unit.write_text(native_unit(src, calls, break_when))
+            what = src.name if break_when is None else f"{src.name} with --break-when {break_when!r}"
+            maps = [] if debug else _native_prefix_maps(src)
+            try:
+                messages = run_compiler([*cc.argv, *flags, *maps, *ERROR_LIMIT, *INCLUDES, "-x", "c", "-c",
+                                         str(unit), "-o", str(obj)], what, sandbox)
+            except LabBuildError as exc:
+                exc.diagnostics = firmware.shown_diagnostics(exc.diagnostics, unit, src)
+                raise
+            shown = firmware.shown_diagnostics(messages, unit, src)
+            habits_file.write_text(json.dumps(habit_warnings(shown)))
             tmp_so = Path(tmp) / "lab.so"
             link_flags = [*os_support.SHARED_OBJECT_FLAGS, *(cc.sanitizer_link_flags() if sanitize else [])]
             try:
@@ -312,7 +358,11 @@ def _build_native(src: Path, named_by: bytes, flags: list[str], unit: str | None
                 raise
             check_image(tmp_so, src.name)
             tmp_so.replace(so)
-    return so, digest, cc
+    try:
+        habits = tuple(json.loads(habits_file.read_text()))
+    except (OSError, ValueError):
+        habits = ()
+    return so, digest, cc, habits
 
 
 def build_lab(source: Path | None = None, *, native: bool = False, sanitize: bool = False,
@@ -335,6 +385,10 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     special, headers = local_includes(src)
     if special is not None:
         raise LabBuildError(f"{src.name} does not compile: {special}")
+    try:  # how the framework calls lab() and printing(), as the file (and its own headers) define them
+        calls = entry_calls("\n".join([text, *(_header_text(h) for h in headers)]))
+    except EntryPointError as exc:
+        raise LabBuildError(f"{src.name} cannot run on the board: {exc}") from None
     # the headers the lab includes from its own folder name the build as much as the lab does
     named_by = text_bytes + b"".join(header_part(src, h) for h in headers)
     generation = detect(text)
@@ -349,14 +403,15 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     trap: Path | None = None
     if native:
         flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_LAB_FLAGS if debug else [])
-        unit = break_when_source(src, break_when) if break_when is not None else None
-        image, digest, cc = _build_native(src, named_by, flags, unit, break_when, sanitize, debug, cache,
-                                          sandboxed)
+        if break_when is not None and ("\n" in break_when or "\r" in break_when):
+            raise LabBuildError("--break-when: the condition must be one line")
+        image, digest, cc, habits = _build_native(src, named_by, flags, calls, break_when, sanitize, debug,
+                                                  cache, sandboxed)
         trap = trap_library(cc, cache)
     else:
-        wasm, digest = _build_wasm(src, named_by, variables, cache, sandboxed)
-        image, renamed, sized = wasm.path, wasm.renamed, wasm.sized
+        wasm, digest = _build_wasm(src, named_by, variables, calls, cache, sandboxed)
+        image, renamed, sized, habits = wasm.path, wasm.renamed, wasm.sized, wasm.habits
     return LabBuild(source=src, image=image, generation=generation, sanitized=sanitize, digest=digest,
                     native=native, watched=tuple(find_watched(text)), compiler=cc, debug=debug,
                     break_when=break_when, variables=tuple(variables), renamed=renamed, sized=sized,
-                    trap_library=trap)
+                    trap_library=trap, habits=habits)

@@ -30,6 +30,7 @@ from pathlib import Path
 
 from crslab import resources
 from crslab.lab import zig
+from crslab.lab.c89_habits import habit_warnings, lab_flags
 from crslab.lab.compile_process import (
     COMPILE_TIMEOUT_S,
     CompilerStopped,
@@ -56,10 +57,13 @@ SHIM_INCLUDE = resources.path("csrc", "board", "include")
 INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
 COMPILE_FLAGS = ["-std=c11", "-O2", "-mexec-model=reactor", "-fno-common", "-g"]
 LAB_CHECKS = "null,integer-divide-by-zero"
-LAB_FLAGS = [*COMPILE_FLAGS, "-w", f"-fsanitize={LAB_CHECKS}", f"-fno-sanitize-recover={LAB_CHECKS}"]
+LAB_FLAGS = [*COMPILE_FLAGS, *lab_flags("clang"), f"-fsanitize={LAB_CHECKS}",
+             f"-fno-sanitize-recover={LAB_CHECKS}"]
 """The lab's flags: a NULL pointer dereferenced or an integer divided by zero stops the run at its
 line (the handlers are the firmware's, csrc/firmware/firmware.c). On the F28335 neither stops the
-board (address 0 is RAM; the division's result is undefined); a native build stops too."""
+board (address 0 is RAM; the division's result is undefined); a native build stops too. The C89
+habits the board's compiler builds build here too, as warnings (:mod:`crslab.lab.c89_habits`); no
+other warning is shown."""
 FIRMWARE_FLAGS = [*COMPILE_FLAGS, "-Wall", "-Wextra", "-Werror"]
 LINK_FLAGS = ["-mexec-model=reactor", f"-Wl,-z,stack-size={STACK_BYTES}", f"-Wl,--max-memory={MEMORY_BYTES}"]
 """zig's linker puts the stack first (tests/test_wasm_firmware.py checks it), then the data, then the heap."""
@@ -164,10 +168,11 @@ MAX_ROUNDS = 12
 one the C library also defines."""
 
 
-def unit_text(lab: Path, sized: list[str]) -> str:
+def unit_text(lab: Path, sized: list[str], calls: str = "") -> str:
     """The translation unit the firmware is compiled from: the lab file itself, then the size in
     bytes of each of its globals ``sized`` as the compiler laid it out, so the board never reads or
-    writes a variable past its end (the source's reading of a size may be wrong).
+    writes a variable past its end (the source's reading of a size may be wrong), then ``calls``,
+    the framework's calls of the lab's functions (:mod:`crslab.lab.entry_points`).
 
     >>> print(unit_text(Path("/labs/lab1.c"), ["mycount", "theta1array"]))
     #include "/labs/lab1.c"
@@ -181,7 +186,7 @@ def unit_text(lab: Path, sized: list[str]) -> str:
     lines = [f'#include "{lab.absolute()}"', f'#line 1 "{GLOBALS_UNIT}"',
              f"const unsigned int {SIZES_SYMBOL}[] = {{0"]
     lines += [f", sizeof({name})" for name in sized]
-    return "\n".join([*lines, "};", ""])
+    return "\n".join([*lines, "};", ""]) + calls
 
 
 def copy_name(name: str) -> str:
@@ -269,9 +274,12 @@ class WasmImage:
     """The lab's globals compiled under another name (:func:`clashing_symbols`)."""
     sized: tuple[str, ...]
     """The lab's globals in the module's size table, in its order."""
+    habits: tuple[str, ...] = ()
+    """The C89 habits the lab was built with, one line each (:func:`crslab.lab.c89_habits.habit_warnings`)."""
 
     def save(self, folder: Path) -> None:
-        (folder / "names.json").write_text(json.dumps({"renamed": self.renamed, "sized": self.sized}))
+        (folder / "names.json").write_text(json.dumps({"renamed": self.renamed, "sized": self.sized,
+                                                       "habits": self.habits}))
 
     @staticmethod
     def load(folder: Path) -> WasmImage | None:
@@ -281,14 +289,18 @@ class WasmImage:
         except (OSError, ValueError):
             return None
         image = folder / "lab.wasm"
-        return WasmImage(image, tuple(names["renamed"]), tuple(names["sized"])) if image.exists() else None
+        if not image.exists():
+            return None
+        return WasmImage(image, tuple(names["renamed"]), tuple(names["sized"]),
+                         tuple(names.get("habits", ())))
 
 
 def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir: Path,
-                 sandbox: CompilerSandbox | None) -> WasmImage:
+                 sandbox: CompilerSandbox | None, calls: str = "") -> WasmImage:
     """Compile and link ``lab`` into ``build_dir/lab.wasm``, exporting and sizing ``globals_`` (its
-    globals as the source reads them) and the framework's variables. Raises LabBuildError (one line
-    naming the problem) or LabForbidden."""
+    globals as the source reads them) and the framework's variables, with ``calls`` (the framework's
+    calls of its functions, :func:`crslab.lab.entry_points.entry_calls`). Raises LabBuildError (one
+    line naming the problem) or LabForbidden."""
     sized = list(globals_)
     exported = sorted(set(globals_) | set(FRAMEWORK_VARIABLES))
     renamed: list[str] = []
@@ -302,12 +314,13 @@ def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir:
     included.parent.mkdir()
     shutil.copyfile(lab, included)
     for _ in range(MAX_ROUNDS):
-        unit.write_text(unit_text(included, sized))
+        unit.write_text(unit_text(included, sized, calls))
         names = [RENAMED_PREFIX + n if n in renamed else n for n in exported]
         try:
             command = compile_command(unit, lab, included, objects, out, names, renamed)
             # run from the build's folder: the compiler's own folder names no folder of the user's
-            run_compiler(command, lab.name, sandbox, env=compile_environment(build_dir), cwd=build_dir)
+            messages = run_compiler(command, lab.name, sandbox, env=compile_environment(build_dir),
+                                    cwd=build_dir)
             break
         except (LabForbidden, CompilerStopped) as exc:
             exc.diagnostics = shown_diagnostics(exc.diagnostics, unit, lab, included)
@@ -326,7 +339,8 @@ def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir:
     else:
         raise LabBuildError(f"{lab.name} does not link: too many of its names clash with the C library's")
     check_image(out, lab.name)
-    return WasmImage(out, tuple(renamed), tuple(sized))
+    habits = habit_warnings(shown_diagnostics(messages, unit, lab, included))
+    return WasmImage(out, tuple(renamed), tuple(sized), tuple(habits))
 
 
 def shown_diagnostics(diagnostics: str, unit: Path, lab: Path, copy: Path | None = None) -> str:
