@@ -257,7 +257,7 @@ def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], calls:
     """The WebAssembly firmware of ``src`` (cached, named by ``named_by``: the lab's bytes and its
     folder's headers it includes); returns (image, digest)."""
     try:
-        firmware.prepare_zig()
+        libc = firmware.prepare_zig()
         objects = firmware.firmware_objects(cache, content_digest)
     except (RuntimeError, zig.ZigMissing, OSError) as exc:
         raise LabBuildError(f"the WebAssembly compiler cannot be used: {exc}") from None
@@ -274,10 +274,11 @@ def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], calls:
     out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
         build_dir = Path(tmp)
-        sandbox = compiler_sandbox([src], build_dir, [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent],
+        sandbox = compiler_sandbox([src], build_dir, [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent,
+                                                      libc.folder],
                                    compiler=(), run_dirs=[zig.zig_dir()],
                                    cache_dirs=[zig.zig_cache()]) if sandboxed else None
-        built = firmware.build_module(src, globals_, objects, build_dir, sandbox, calls)
+        built = firmware.build_module(src, globals_, objects, build_dir, sandbox, calls, libc)
         built.path.replace(out_dir / "lab.wasm")
         built.save(out_dir)
     image = firmware.WasmImage.load(out_dir)

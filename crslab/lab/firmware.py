@@ -27,6 +27,7 @@ import subprocess
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TextIO
 
 from crslab import resources
 from crslab.lab import zig
@@ -120,9 +121,15 @@ def memory_needed(diagnostics: str) -> int | None:
     return int(m.group(1)) if m else None
 
 
-def prepare_zig() -> None:
-    """zig's C library for wasm32, built once (with progress on stderr): see :func:`zig.prepare`."""
-    zig.prepare(TARGET, LINK_FLAGS)
+def prepare_zig(stream: TextIO | None = None) -> zig.LibC:
+    """zig's C library for wasm32, built once per installation (with progress on ``stream``, default
+    stderr): see :func:`zig.prepare`."""
+    return zig.prepare(TARGET, LINK_FLAGS, stream)
+
+
+def is_zig_prepared() -> bool:
+    """Whether the firmware's C library is built already (a first build then takes seconds)."""
+    return zig.is_prepared(TARGET, LINK_FLAGS)
 
 
 def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - build.content_digest
@@ -246,12 +253,13 @@ def prefix_maps(folders: list[Path], given: str) -> list[str]:
 
 
 def compile_command(unit: Path, lab: Path, copy: Path, objects: list[Path], out: Path, exported: list[str],
-                    renamed: list[str]) -> list[str]:
+                    renamed: list[str], libc: zig.LibC) -> list[str]:
     """zig's command that compiles ``unit`` (the lab file ``lab`` and its size table; the lab's
     globals ``renamed`` under :data:`RENAMED_PREFIX`) and links it into ``out``, exporting
     ``exported`` (as they are named in the image). A lab's ``main()`` is never called (the board
     runs the framework's loop), so it is compiled as an ordinary function: the course's
-    ``void main(void)`` is fine on the C28x. ``__FILE__`` names the lab as it was given."""
+    ``void main(void)`` is fine on the C28x. ``__FILE__`` names the lab as it was given. ``libc`` is
+    zig's C library, built once (:func:`prepare_zig`): linked as objects, so zig never builds it."""
     renames = [f"-D{n}={RENAMED_PREFIX}{n}" for n in renamed]
     given = "" if str(lab.parent) == "." else f"{lab.parent}/"
     folders = [lab.absolute().parent, lab.resolve().parent, SHIM_INCLUDE, FIRMWARE, KIN, SIM,
@@ -260,8 +268,8 @@ def compile_command(unit: Path, lab: Path, copy: Path, objects: list[Path], out:
     return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,
             *prefix_maps([lab.absolute().parent, lab.resolve().parent, copy.parent], given),
             "-ivfsoverlay", str(overlay),
-            "-iquote", str(lab.absolute().parent), *INCLUDES,
-            "-x", "c", str(unit), "-x", "none", *map(str, objects), *LINK_FLAGS,
+            "-iquote", str(lab.absolute().parent), *INCLUDES, *libc.compile_flags(),
+            "-x", "c", str(unit), "-x", "none", *map(str, objects), *map(str, libc.link), *LINK_FLAGS,
             *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
 
 
@@ -296,11 +304,12 @@ class WasmImage:
 
 
 def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir: Path,
-                 sandbox: CompilerSandbox | None, calls: str = "") -> WasmImage:
+                 sandbox: CompilerSandbox | None, calls: str = "", libc: zig.LibC | None = None) -> WasmImage:
     """Compile and link ``lab`` into ``build_dir/lab.wasm``, exporting and sizing ``globals_`` (its
     globals as the source reads them) and the framework's variables, with ``calls`` (the framework's
     calls of its functions, :func:`crslab.lab.entry_points.entry_calls`). Raises LabBuildError (one
     line naming the problem) or LabForbidden."""
+    libc = libc if libc is not None else prepare_zig()
     sized = list(globals_)
     exported = sorted(set(globals_) | set(FRAMEWORK_VARIABLES))
     renamed: list[str] = []
@@ -317,7 +326,7 @@ def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir:
         unit.write_text(unit_text(included, sized, calls))
         names = [RENAMED_PREFIX + n if n in renamed else n for n in exported]
         try:
-            command = compile_command(unit, lab, included, objects, out, names, renamed)
+            command = compile_command(unit, lab, included, objects, out, names, renamed, libc)
             # run from the build's folder: the compiler's own folder names no folder of the user's
             messages = run_compiler(command, lab.name, sandbox, env=compile_environment(build_dir),
                                     cwd=build_dir)

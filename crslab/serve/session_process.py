@@ -27,6 +27,7 @@ from pathlib import Path
 
 from crslab import os_support
 from crslab.lab.build import LabBuildError, LabForbidden, build_lab
+from crslab.lab.firmware import is_zig_prepared, prepare_zig
 from crslab.live.console import VarConsole
 from crslab.plant.plant_params import PlantParamsError
 from crslab.scenario.event import seconds_to_tick
@@ -53,6 +54,29 @@ DOWNLOADS = {"transcript": "transcript.txt", "csv": "run.csv", "rrd": "run.rrd"}
 
 
 @dataclasses.dataclass(frozen=True)
+
+class PageProgress:
+    """A text stream whose every line goes to the page as a ``building`` message (what
+    :func:`crslab.lab.zig.prepare` says while it builds zig's C library), without ``crslab: ``."""
+
+    def __init__(self, send) -> None:  # noqa: ANN001 - the session's send(message)
+        self._send = send
+        self._part = ""
+
+    def write(self, text: str) -> int:
+        self._part += text
+        *lines, self._part = self._part.split("\n")
+        for line in lines:
+            if line.strip():
+                self._send(message("building", message=line.strip().removeprefix("crslab:").strip() + "…"))
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
+
 class SessionLimits:
     """What one run may take: simulated seconds, the worker's memory and CPU time, printed bytes."""
 
@@ -102,9 +126,16 @@ class Session:
         return path.relative_to(Path.cwd()) if path.parent == Path.cwd() else path
 
     def build(self, lab: dict) -> Path | None:
-        """Compile the page's lab and send ``built``; its path when it built."""
+        """Compile the page's lab and send ``built``; its path when it built. Before the
+        installation's first build, zig's C library is built (1 to 2 minutes): its progress goes to
+        the page as ``building`` messages."""
         path = self._write_lab(lab)
         try:
+            try:
+                if not is_zig_prepared():
+                    prepare_zig(PageProgress(self.send))
+            except (RuntimeError, OSError):
+                pass  # build_lab says why, as a LabBuildError
             build = build_lab(path, sandboxed=self.limits.sandboxed)
         except LabBuildError as exc:
             self.send(
