@@ -1,5 +1,5 @@
 """zig's first link for wasm32 builds its C library (1 to 2 minutes of CPU). crslab does it once per
-installation (``make venv``, ``crslab doctor``: ``python -m crslab.lab.zig``), says so on stderr while
+installation (``make venv``, ``crslab doctor``: ``python -m crslab.lab.prepare``), says so on stderr while
 it lasts, and keeps it beside crslab; a first build on a fresh cache (crslab's and zig's) then links
 the kept library and zig builds nothing. This test prepares one afresh in a folder of its own
 (``CRSLAB_ZIG_LIBC_DIR``); the rest of the suite uses the installation's."""
@@ -27,7 +27,7 @@ def sim(env: dict) -> subprocess.CompletedProcess:
 
 
 def test_zig_s_c_library_is_built_once_with_its_progress_and_a_fresh_cache_builds_it_no_more(tmp_path):
-    prepare = subprocess.run([sys.executable, "-m", "crslab.lab.zig"], capture_output=True, text=True,
+    prepare = subprocess.run([sys.executable, "-m", "crslab.lab.prepare"], capture_output=True, text=True,
                              env=env_of(tmp_path, "install"), timeout=900)
     assert prepare.returncode == 0, prepare.stderr
     lines = prepare.stderr.splitlines()

@@ -292,11 +292,3 @@ def _keep(target: str, flags: list[str], includes: list[str], link: list[Path]) 
             return found
     raise RuntimeError(f"zig's C library cannot be kept ({'; '.join(problems)})")
 
-
-if __name__ == "__main__":  # ``python -m crslab.lab.zig``: prepare the firmware's C library (make venv)
-    from crslab.lab.firmware import prepare_zig
-
-    try:
-        prepare_zig()
-    except (RuntimeError, ZigMissing) as exc:
-        raise SystemExit(f"crslab: {exc}") from None
