@@ -28,7 +28,7 @@ def sim(env: dict) -> subprocess.CompletedProcess:
 
 def test_zig_s_c_library_is_built_once_with_its_progress_and_a_fresh_cache_builds_it_no_more(tmp_path):
     prepare = subprocess.run([sys.executable, "-m", "crslab.lab.prepare"], capture_output=True, text=True,
-                             env=env_of(tmp_path, "install"), timeout=900)
+                             env=env_of(tmp_path, "install"), timeout=2000)
     assert prepare.returncode == 0, prepare.stderr
     lines = prepare.stderr.splitlines()
     assert lines[0] == ("crslab: preparing the WebAssembly compiler (zig's C library for wasm32-wasi; once "
