@@ -1,4 +1,4 @@
-"""The memory the board and the crslab process share (``crs_shared``, csrc/sim/sim.h), and its one
+"""The memory the board and the crslab process share (``crs_shared``, csrc/board/sim.h), and its one
 reader: what the board printed (the print marks, the bytes that left it with their ticks, what is
 still on the serial line when a run ends), where the worker is (tick and phase), what the sandbox
 refused, and the host ports.

@@ -7,7 +7,7 @@ closes; :func:`serve` is its whole loop. Serial bytes never travel through the p
 writes them into the shared block, where the crslab process reads them even if this process dies.
 
 The lab's firmware is a WebAssembly module by default: the board (crslab._core) runs it in a
-store of its own, and it can reach nothing of this process (csrc/sim/firmware_wasm.c). A native
+store of its own, and it can reach nothing of this process (csrc/board/firmware_wasm.c). A native
 firmware (crslab debug, --sanitize, --native) is a shared object holding the board too; with
 ``SimConfig.sandboxed`` the worker builds the plant, then closes itself in the run sandbox
 (crslab/sandbox/run_sandbox.py), then loads it: from the lab's first constructor on, it may
