@@ -2,8 +2,9 @@
 -Wall -Wextra -Werror, once plainly and once under AddressSanitizer and UBSan, and run; with gcc,
 and with clang when it is installed (CI installs it). Tests of the emulated board
 (``test_sim_*.c``) also get the native board (every csrc/board/*.c but the WebAssembly port, with
-csrc/plant and csrc/port), the framework's stand-ins (csrc/firmware) and shim headers: they drive the framework's tick alone, with a
-stub plant and a test lab of their own as the board's native firmware.
+csrc/plant and csrc/port), the framework's stand-ins (csrc/firmware) and shim headers: they drive
+the framework's tick alone, with a stub plant and a test lab of their own as the board's native
+firmware.
 
 The core's and the board's sources are compiled once per compiler and mode into two static
 libraries (in parallel, one compiler process per core) and every test links against them."""

@@ -219,7 +219,8 @@ def trap_library(cc: Compiler, cache: Path) -> Path:
     """The run sandbox's SIGSYS handler (``csrc/sandbox/trap.c``, :mod:`crslab.sandbox.trap` loads
     it), built once per content and compiler, like the board."""
     out_dir = _own_c_dir(cache, "sandbox", cc, TRAP_FLAGS, [TRAP_SOURCE, *TRAP_HEADERS])
-    return _compiled(out_dir / "trap.so", [*cc.argv, *TRAP_FLAGS, "-I", str(BOARD), "-I", str(PORT), str(TRAP_SOURCE)],
+    return _compiled(out_dir / "trap.so",
+                     [*cc.argv, *TRAP_FLAGS, "-I", str(BOARD), "-I", str(PORT), str(TRAP_SOURCE)],
                      "crslab's sandbox trap")
 
 
@@ -265,7 +266,8 @@ def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], cache:
     out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
         build_dir = Path(tmp)
-        sandbox = compiler_sandbox([src], build_dir, [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent],
+        sandbox = compiler_sandbox([src], build_dir,
+                                   [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent],
                                    compiler=(), run_dirs=[zig.zig_dir()],
                                    cache_dirs=[zig.zig_cache()]) if sandboxed else None
         built = firmware.build_module(src, globals_, objects, build_dir, sandbox)
