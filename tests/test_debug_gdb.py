@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 from waiting import GUARD_S, LineWatcher, wait_exit
 
-from crslab.sim.config import STARTUP_TICKS
+from crslab.worker.config import STARTUP_TICKS
 
 LABS = Path(__file__).parent / "labs"
 COUNTER = LABS / "debug_counter.c"

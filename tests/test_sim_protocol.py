@@ -1,4 +1,4 @@
-"""The messages between crslab and its worker (crslab/sim/protocol.py): every message travels as
+"""The messages between crslab and its worker (crslab/worker/protocol.py): every message travels as
 plain data and reads back as itself; a reply that is not the one due, or holds a field of the wrong
 kind, is one UnreadableReply naming it (a native lab may write anything into the pipe)."""
 
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from crslab.scenario.expect_events import Observation
-from crslab.sim import protocol
-from crslab.sim.protocol import (
+from crslab.worker import protocol
+from crslab.worker.protocol import (
     Break,
     Error,
     Failed,
@@ -28,7 +28,7 @@ from crslab.sim.protocol import (
     read_reply,
     read_request,
 )
-from crslab.sim.worker_reply import UnreadableReply
+from crslab.worker.worker_reply import UnreadableReply
 
 TRAP = {"kind": 3, "phase": 1, "tick": 5123, "exit_code": 0, "line": 27, "text": "open /x for reading"}
 OBSERVATION = Observation(tick=4200, motor_board="piccolo", motor_board_off=True, motor_board_cutouts=1,

@@ -37,7 +37,7 @@ from crslab.debug.gdb_commands import csrc_dir, gdb_argv, gdbserver_argv, setup_
 from crslab.debug.local_port import LocalPort
 from crslab.debug.programs import debugger_for
 from crslab.debug.tracer import GatedTracer, TracerError
-from crslab.sim.debug_setup import DebugSetup
+from crslab.worker.debug_setup import DebugSetup
 
 if TYPE_CHECKING:
     from crslab.sim.running import RunningLab

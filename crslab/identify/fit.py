@@ -47,7 +47,7 @@ from crslab.identify.recording import Recording
 from crslab.identify.runs import LabRun, Runner
 from crslab.plant.model import holding_torques_nm
 from crslab.plant.plant_params import NAMES, PlantParams, PlantParamsError
-from crslab.sim.config import SimConfig
+from crslab.worker.config import SimConfig
 
 # name stem -> (low, high, finite-difference step): what is physically plausible for the CRS arm
 BOUNDS: dict[str, tuple[float, float, float]] = {

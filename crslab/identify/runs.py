@@ -16,7 +16,7 @@ import numpy as np
 
 from crslab import os_support
 from crslab.plant.plant_params import PlantParams
-from crslab.sim.config import SimConfig
+from crslab.worker.config import SimConfig
 
 
 class RunFailed(RuntimeError):

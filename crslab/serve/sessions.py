@@ -27,7 +27,7 @@ from crslab.serve.session_process import SessionLimits, serve_session
 
 PRELOAD = [
     "crslab.serve.session_process",
-    "crslab.sim.worker",
+    "crslab.worker.worker",
     "crslab.sandbox.run_sandbox",
     "crslab.executors.warmup",
     "crslab.scopes.arm3d",

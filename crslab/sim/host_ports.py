@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from crslab.sim.board_ffi import board_constants
+from crslab.worker.board_ffi import board_constants
 
 HOST_PORTS = ("SerialB", "SerialC")
 """The ports a host program talks to, in the block's order (``CRS_HOST_PORT_B``, ``_C``)."""

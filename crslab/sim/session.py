@@ -4,7 +4,7 @@ hands what the board printed and everything else the run reports to one sink, an
 
 Its parts each have a module: the worker process, started and watched
 (:mod:`crslab.sim.worker_process`); the messages on the pipe, checked once
-(:mod:`crslab.sim.protocol`); the shared block the board prints into
+(:mod:`crslab.worker.protocol`); the shared block the board prints into
 (:mod:`crslab.sim.shared_block`); the words for a run that ended early
 (:mod:`crslab.sim.diagnosis`); the length of chunks and the wall clock (:mod:`crslab.sim.pacing`).
 
@@ -24,10 +24,7 @@ from contextlib import contextmanager
 import numpy as np
 
 from crslab.scenario.expect_events import Judge
-from crslab.sim import diagnosis, protocol, termination
-from crslab.sim.board_ffi import board_constants
-from crslab.sim.config import SimConfig
-from crslab.sim.debug_setup import DebugSetup
+from crslab.sim import diagnosis, termination
 from crslab.sim.diagnosis import Ending
 from crslab.sim.firmware_trap import diagnose
 from crslab.sim.host_ports import PortExchange
@@ -37,6 +34,10 @@ from crslab.sim.shared_block import SharedBlock
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sim.worker_process import NO_LIMITS, READY_TIMEOUT_S, Limits, WorkerProcess
 from crslab.sinks.sink import FanOut, Sink
+from crslab.worker import protocol
+from crslab.worker.board_ffi import board_constants
+from crslab.worker.config import SimConfig
+from crslab.worker.debug_setup import DebugSetup
 
 DEFAULT_DEADLINE_S = 2.0
 

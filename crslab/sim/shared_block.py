@@ -22,8 +22,8 @@ from collections.abc import Callable
 from typing import Any
 
 from crslab import os_support
-from crslab.sim.board_ffi import board_ffi, shared_size
 from crslab.sim.host_ports import PortExchange, exchange, port_index
+from crslab.worker.board_ffi import board_ffi, shared_size
 
 TakePrint = Callable[[int, int], None]
 """``(tick, chars)``: a serial_printf during ``tick`` put ``chars`` bytes on the line."""

@@ -6,7 +6,7 @@
  * (firmware_port.h): a WebAssembly module run by wasmtime (firmware_wasm.c, compiled into
  * crslab._core), or the same firmware linked natively into one shared object with the board
  * (firmware_native.c: crslab debug, --sanitize, --native). Python drives it in chunks of ticks
- * (crslab/sim/worker.py). Everything the tick needs lives in caller-owned structs.
+ * (crslab/worker/worker.py). Everything the tick needs lives in caller-owned structs.
  *
  * Time: tick k happens at t = k ms. It sees the plant state after k physics steps of 1 ms, runs
  * the framework (and lab() once the startup gate is open), then the plant steps to t = k+1 ms.

@@ -12,8 +12,8 @@ from __future__ import annotations
 from cffi import FFI
 
 from crslab.lab.c28x_memory import KINDS, MemoryLayout
-from crslab.sim.board_ffi import board_constants
-from crslab.sim.firmware_memory import FirmwareMemory
+from crslab.worker.board_ffi import board_constants
+from crslab.worker.firmware_memory import FirmwareMemory
 
 
 def fill_memory_table(sim: object, board: FFI, firmware: FirmwareMemory, mem: MemoryLayout) -> list[object]:

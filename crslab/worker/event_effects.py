@@ -27,14 +27,14 @@ if TYPE_CHECKING:
     import numpy as np
 
     from crslab.plant.plant_params import PlantParams
-    from crslab.sim.config import SimConfig
+    from crslab.worker.config import SimConfig
 
 
 class EffectTarget(Protocol):
     """What an effect may act on: the worker's board (``sim``, a ``crs_sim *``), its MuJoCo model
     and data, the run's configuration, and the worker's own ways to write the lab's variables,
     Simulink's inputs and the friction, or to note what an expectation sees
-    (:class:`crslab.sim.worker.Worker` is one)."""
+    (:class:`crslab.worker.worker.Worker` is one)."""
 
     sim: Any
     model: mujoco.MjModel

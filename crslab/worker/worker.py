@@ -1,7 +1,7 @@
 """The worker process: owns the MuJoCo plant, the board and the lab's firmware, and runs ticks on
 request.
 
-It answers the crslab process's requests (:mod:`crslab.sim.protocol`: run to a tick, get or set
+It answers the crslab process's requests (:mod:`crslab.worker.protocol`: run to a tick, get or set
 a watched variable, push the arm, break into the debugger, stop) until ``Stop`` or the pipe
 closes; :func:`serve` is its whole loop. Serial bytes never travel through the pipe: the board
 writes them into the shared block, where the crslab process reads them even if this process dies.
@@ -12,7 +12,7 @@ firmware (crslab debug, --sanitize, --native) is a shared object holding the boa
 ``SimConfig.sandboxed`` the worker builds the plant, then closes itself in the run sandbox
 (crslab/sandbox/run_sandbox.py), then loads it: from the lab's first constructor on, it may
 compute and print, and nothing else. Everything a native worker sends is read by the crslab
-process as untrusted (crslab/sim/protocol.py).
+process as untrusted (crslab/worker/protocol.py).
 """
 
 from __future__ import annotations
@@ -34,14 +34,14 @@ from crslab.plant.model import apply_friction, apply_plant, load_model, motor_to
 from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
 from crslab.plant.plant_params import PlantParams
 from crslab.scenario.expect_events import Observation
-from crslab.sim import protocol
-from crslab.sim.board_ffi import board_constants, native_board_ffi
-from crslab.sim.config import SimConfig
-from crslab.sim.debug_setup import DebugSetup
-from crslab.sim.event_effects import apply_event
-from crslab.sim.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
-from crslab.sim.memory_table import fill_memory_table
-from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL, compiled_module_path, wasmtime_library
+from crslab.worker import protocol
+from crslab.worker.board_ffi import board_constants, native_board_ffi
+from crslab.worker.config import SimConfig
+from crslab.worker.debug_setup import DebugSetup
+from crslab.worker.event_effects import apply_event
+from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
+from crslab.worker.memory_table import fill_memory_table
+from crslab.worker.wasm_runtime import INTERRUPT_SIGNAL, compiled_module_path, wasmtime_library
 
 LOG_ROWS = 2000  # rows per scope-log block
 
