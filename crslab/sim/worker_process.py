@@ -1,5 +1,5 @@
 """The worker as a process seen from the crslab process: started (forked, or spawned with the
-sanitizer runtime for ``--sanitize``), asked through the pipe (:mod:`crslab.worker.protocol`),
+sanitizer runtime for ``--sanitize``), asked through the pipe (:mod:`crslab.worker.worker_messages`),
 watched while it works, and stopped so that it leaves no process behind.
 
 While a request is out, :meth:`WorkerProcess.reply` watches what the worker cannot hide: that it
@@ -37,8 +37,8 @@ from crslab.sim.status import RunStatus
 from crslab.worker.board_ffi import board_constants
 from crslab.worker.config import SimConfig
 from crslab.worker.debug_setup import DebugSetup
-from crslab.worker.protocol import Message, Stop, Stopped, read_reply
 from crslab.worker.wasm_runtime import INTERRUPT_SIGNAL
+from crslab.worker.worker_messages import Message, Stop, Stopped, read_reply
 from crslab.worker.worker_reply import UnreadableReply, receive
 
 CPU_S_PER_TICK = 1e-3
@@ -188,7 +188,7 @@ class WorkerProcess:
 
     # -- asking --------------------------------------------------------------------------------
     def send(self, request: Message) -> None:
-        """Send ``request`` (a :data:`crslab.worker.protocol.Request`)."""
+        """Send ``request`` (a :data:`crslab.worker.worker_messages.Request`)."""
         self._conn.send(request.wire())
 
     def reply(self, *due: type[Message], deadline_s: float | None, timeout_s: float | None = None,
