@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 from waiting import GUARD_S, LineWatcher, wait_exit
 
-from crslab.sim.config import STARTUP_TICKS
+from crslab.worker.config import STARTUP_TICKS
 
 LABS = Path(__file__).parent / "labs"
 COUNTER = LABS / "debug_counter.c"
@@ -250,7 +250,7 @@ def test_bt_shows_the_lab_and_the_framework_only_and_gdb_keeps_its_chatter_off_s
     frames = re.findall(r"^#(\d+)\s+(?:0x[0-9a-f]+ in )?(\w+) ", filtered, re.MULTILINE)
     # the lab, the framework's call of it as the lab defines it (compiled after the lab, in its
     # unit: crslab/lab/entry_points.py), the firmware's entry (csrc/firmware/firmware.c), the
-    # board's port to it (csrc/sim/firmware_native.c) and the framework's tick (csrc/sim/sim.c)
+    # board's port to it (csrc/board/firmware_native.c) and the framework's tick (csrc/board/sim.c)
     assert [name for _, name in frames] == ["lab", "crs_lab_call_lab", "crs_fw_lab", "crs_fw_call_lab",
                                             "lab_tick", "framework_tick", "crs_sim_run"]
     assert frames[-1][0] == "6"
