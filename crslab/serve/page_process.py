@@ -53,8 +53,6 @@ DOWNLOADS = {"transcript": "transcript.txt", "csv": "run.csv", "rrd": "run.rrd"}
 """The files of the last run a page may download, by kind."""
 
 
-@dataclasses.dataclass(frozen=True)
-
 class PageProgress:
     """A text stream whose every line goes to the page as a ``building`` message (what
     :func:`crslab.lab.zig.prepare` says while it builds zig's C library), without ``crslab: ``."""
@@ -77,6 +75,8 @@ class PageProgress:
     def isatty(self) -> bool:
         return False
 
+
+@dataclasses.dataclass(frozen=True)
 class SessionLimits:
     """What one run may take: simulated seconds, the worker's memory and CPU time, printed bytes."""
 
