@@ -45,3 +45,22 @@ def test_zig_s_c_library_is_built_once_with_its_progress_and_a_fresh_cache_build
     assert "WebAssembly compiler" not in first.stderr
     assert not list((tmp_path / "fresh" / "zig").rglob("libc.a"))
     assert not list((tmp_path / "fresh" / "zig").rglob("libcompiler_rt.a"))
+
+
+def test_the_page_shows_each_line_of_the_wait_as_its_status():
+    """crslab serve's first build before zig's C library is kept: what prepare() says on stderr goes
+    to the page line by line as ``building`` messages (app.js shows each as the status)."""
+    import json
+
+    from crslab.serve.page_process import PageProgress
+
+    sent: list[bytes] = []
+    page = PageProgress(sent.append)
+    page.write("crslab: preparing the WebAssembly compiler (zig's C library for wasm32-wasi; once per ")
+    assert sent == []  # a line is sent when it is whole
+    page.write("installation, 1 to 2 minutes)\ncrslab:   still building zig's C library: 10 s\n")
+    assert [json.loads(m) for m in sent] == [
+        {"type": "building", "message": "preparing the WebAssembly compiler (zig's C library for wasm32-wasi; "
+                                        "once per installation, 1 to 2 minutes)…"},
+        {"type": "building", "message": "still building zig's C library: 10 s…"}]
+    assert not page.isatty()
