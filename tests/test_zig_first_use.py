@@ -60,7 +60,7 @@ def test_the_page_shows_each_line_of_the_wait_as_its_status():
     assert sent == []  # a line is sent when it is whole
     page.write("installation, 1 to 2 minutes)\ncrslab:   still building zig's C library: 10 s\n")
     assert [json.loads(m) for m in sent] == [
-        {"type": "building", "message": "preparing the WebAssembly compiler (zig's C library for wasm32-wasi; "
-                                        "once per installation, 1 to 2 minutes)…"},
+        {"type": "building", "message": "preparing the WebAssembly compiler (zig's C library for "
+                                        "wasm32-wasi; once per installation, 1 to 2 minutes)…"},
         {"type": "building", "message": "still building zig's C library: 10 s…"}]
     assert not page.isatty()
