@@ -42,14 +42,15 @@ CSRC = resources.path("csrc")
 SHIM_INCLUDE = CSRC / "board" / "include"
 KIN = CSRC / "kin"
 SIM = CSRC / "sim"
+PLANT = CSRC / "plant"
 FIRMWARE = CSRC / "firmware"
 DEFAULT_LAB = CSRC / "labs" / "lab1_kinematics.c"
 WASM_ONLY = {"firmware_wasm.c"}
 """Board sources of crslab._core alone (the native board is linked with a lab instead)."""
-BOARD_SOURCES = (sorted(p for p in SIM.glob("*.c") if p.name not in WASM_ONLY) + sorted(FIRMWARE.glob("*.c"))
-                 + sorted(KIN.glob("*.c")))
-BOARD_HEADERS = (sorted(SIM.glob("*.h")) + sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h"))
-                 + sorted(SHIM_INCLUDE.glob("*.h")))
+BOARD_SOURCES = (sorted(p for p in SIM.glob("*.c") if p.name not in WASM_ONLY) + sorted(PLANT.glob("*.c"))
+                 + sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c")))
+BOARD_HEADERS = (sorted(SIM.glob("*.h")) + sorted(PLANT.glob("*.h")) + sorted(FIRMWARE.glob("*.h"))
+                 + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h")))
 
 INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
 ERROR_LIMIT = ["-fmax-errors=50"]
@@ -206,7 +207,8 @@ def _board_objects(cc: Compiler, sanitize: bool, cache: Path, debug: bool = Fals
     flags = BOARD_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_BOARD_FLAGS if debug else [])
     out_dir = _own_c_dir(cache, "board", cc, flags, BOARD_SOURCES + BOARD_HEADERS)
     return [_compiled(out_dir / f"{src.parent.name}_{src.stem}.o",
-                      [*cc.argv, *flags, *INCLUDES, "-c", str(src)], f"crslab's board source {src.name}")
+                      [*cc.argv, *flags, *INCLUDES, "-I", str(PLANT), "-c", str(src)],
+                      f"crslab's board source {src.name}")
             for src in BOARD_SOURCES]
 
 

@@ -49,6 +49,7 @@ _LOG_COLUMNS = {  # name: (width, dtype)
     "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
     "tau_applied": (3, np.float64), "plot": (4, np.float64), "safety": (1, np.int32),
     "leds": (1, np.uint32), "motor_board_off": (1, np.int32), "qpos_dh_rad": (3, np.float64),
+    "ee": (3, np.float64), "push_force": (3, np.float64),
 }
 _C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
 
