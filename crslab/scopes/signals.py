@@ -24,11 +24,13 @@ SIMULINK_PERIOD_TICKS = SIMULINK_PERIOD_MS
 
 @dataclass(frozen=True)
 class Group:
-    """One scope panel: a title and the unit its signals share."""
+    """One scope panel: a title and the unit its signals share. A group that is not ``always``
+    drawn is left out of a plot where every value is 0 (a run without a push)."""
 
     key: str
     title: str
     unit: str
+    always: bool = True
 
 
 @dataclass(frozen=True)
@@ -57,7 +59,7 @@ SIMULINK = Group("simulink", "Simulink_PlotVar1..4", "lab units")
 DIGITAL = Group("digital", "safety flag, LEDs, motor board", "0/1")
 POSE = Group("pose", "arm pose (true DH angles)", "rad")
 END_EFFECTOR = Group("ee", "end effector (course FK)", "m")
-PUSH = Group("push", "push at the end effector (world frame)", "N")
+PUSH = Group("push", "push at the end effector (world frame)", "N", always=False)
 GROUPS: tuple[Group, ...] = (MOTOR, TORQUE, SIMULINK, DIGITAL, POSE, END_EFFECTOR, PUSH)
 
 SIGNALS: tuple[Signal, ...] = (
