@@ -42,7 +42,8 @@ def trace(keys, end_s=None, **signals):
     for name in ("egg_force", "scale_g", "egg_broken", "hole_force", "obstacle_force", "groove_side_force",
                  "groove_force", "table_force"):
         f = signals.get(name, 0.0)
-        log[name] = (np.asarray([f(v) for v in t], float) if callable(f) else np.full(len(t), float(f)))[:, None]
+        values = np.asarray([f(v) for v in t], float) if callable(f) else np.full(len(t), float(f))
+        log[name] = values[:, None]
     return log
 
 
@@ -71,7 +72,8 @@ def test_peg_beside_the_hole_has_no_depth_and_a_short_stay_is_not_enough():
     held = 1.3 + 0.7 * 0.005 / 0.065 - 0.06 / 0.065
     assert not card.peg.done and card.peg.held_s == pytest.approx(held, abs=0.002)
     assert card.peg.depth_m == pytest.approx(0.015)
-    assert card.lines()[0] == f"peg       FAIL  15.0 mm deep at most, held {held:.2f} s (needs 10 mm for 0.50 s)"
+    assert card.lines()[0] == (f"peg       FAIL  15.0 mm deep at most, held {held:.2f} s "
+                               "(needs 10 mm for 0.50 s)")
 
 
 # -- the obstacle -------------------------------------------------------------------------------
@@ -155,9 +157,10 @@ def test_egg_held_in_the_band():
 
 
 def test_egg_too_short_too_hard_or_broken():
-    short = score(trace([(0, 0, 0, 0.3), (6, 0, 0, 0.3)], scale_g=lambda t: ramp_hold(t, hold=1.0)), layout()).egg
+    still = [(0, 0, 0, 0.3), (6, 0, 0, 0.3)]
+    short = score(trace(still, scale_g=lambda t: ramp_hold(t, hold=1.0)), layout()).egg
     assert not short.done and short.in_band_s == pytest.approx(1.375, abs=0.002)
-    hard = score(trace([(0, 0, 0, 0.3), (6, 0, 0, 0.3)], scale_g=lambda t: ramp_hold(t, peak=1200.0)), layout()).egg
+    hard = score(trace(still, scale_g=lambda t: ramp_hold(t, peak=1200.0)), layout()).egg
     # in the band only on the ramp, 500..1000 g: 500/1200 s
     assert not hard.done and hard.peak_g == 1200.0 and hard.in_band_s == pytest.approx(500 / 1200, abs=0.002)
     # in the band for 3 s, then crushed at t 5 s: the egg is broken, the task not done
@@ -173,8 +176,9 @@ def test_egg_too_short_too_hard_or_broken():
 def full_run():
     """Every task done: still to 0.5 s, peg 1.5-2.5 s, over the obstacle at 3.25 s, the groove
     5-8 s, the egg pressed 9-12 s."""
-    keys = [(0, 0.1, 0.1, 0.4), (0.5, 0.1, 0.1, 0.4), (1, 0, 0.3, 0.2), (1.5, 0, 0.3, 0.13), (2.5, 0, 0.3, 0.13),
-            (3, 0, 0.3, 0.35), (3.25, 0.2, 0.1, 0.35), (3.5, 0.4, 0.1, 0.35), (4, 0.4, 0.1, 0.25), (5, 0.4, 0.1, GROOVE_Z),
+    keys = [(0, 0.1, 0.1, 0.4), (0.5, 0.1, 0.1, 0.4), (1, 0, 0.3, 0.2), (1.5, 0, 0.3, 0.13),
+            (2.5, 0, 0.3, 0.13), (3, 0, 0.3, 0.35), (3.25, 0.2, 0.1, 0.35), (3.5, 0.4, 0.1, 0.35),
+            (4, 0.4, 0.1, 0.25), (5, 0.4, 0.1, GROOVE_Z),
             (6, 0.4, 0.0, GROOVE_Z), (7, 0.3, 0.0, GROOVE_Z), (8, 0.3, -0.1, GROOVE_Z), (8.5, 0.2, 0.2, 0.32),
             (13, 0.2, 0.2, 0.32)]
     return trace(keys, scale_g=lambda t: 700.0 if 9 <= t < 12 else 0.0)

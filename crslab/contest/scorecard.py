@@ -143,7 +143,8 @@ class Scorecard:
                 "peg": {"done": p.done, "depth_m": r(p.depth_m), "held_s": r(p.held_s, 3)},
                 "obstacle": {"done": o.done, "touched": o.touched, "max_force_n": r(o.max_force_n, 3),
                              "passed_over": o.passed_over},
-                "groove": {"done": g.done, "share": r(g.share, 3), "max_side_force_n": r(g.max_side_force_n, 3),
+                "groove": {"done": g.done, "share": r(g.share, 3),
+                           "max_side_force_n": r(g.max_side_force_n, 3),
                            "left_at": None if g.left_at is None else [r(v) for v in g.left_at]},
                 "egg": {"done": e.done, "peak_g": r(e.peak_g, 1), "in_band_s": r(e.in_band_s, 3),
                         "broken": e.broken},
@@ -178,17 +179,18 @@ class Scorecard:
         else:
             gr = f"{100 * g.share:.0f} % of the path inside (needs {100 * ru.groove_min_share:.0f} %)"
             if g.entered_at_s is not None:
-                gr += ("; left at (" + ", ".join(f"{v:.3f}" for v in g.left_at) + ") m" if g.left_at is not None
-                       else "; did not leave it before the exit")
+                gr += ("; left at (" + ", ".join(f"{v:.3f}" for v in g.left_at) + ") m"
+                       if g.left_at is not None else "; did not leave it before the exit")
             gr += f"; largest side force {g.max_side_force_n:.1f} N"
         out.append(f"groove    {mark(g.done)}  {gr}")
         lo, hi = ru.band_g
-        eg = e.note or (f"peak {e.peak_g:.0f} g, {e.in_band_s:.2f} s in {lo:.0f}-{hi:.0f} g (needs {ru.hold_s:.2f} s); "
+        eg = e.note or (f"peak {e.peak_g:.0f} g, {e.in_band_s:.2f} s in {lo:.0f}-{hi:.0f} g "
+                        f"(needs {ru.hold_s:.2f} s); "
                         + (f"BROKEN{at(e.broken_at_s)}" if e.broken else "not broken"))
         out.append(f"egg       {mark(e.done)}  {eg}")
         if self.time_s is not None:
-            out.append(f"time      {self.time_s:.2f} s from the first motion (t = {self.first_motion_s:.2f} s) "
-                       "to the last task")
+            out.append(f"time      {self.time_s:.2f} s from the first motion "
+                       f"(t = {self.first_motion_s:.2f} s) to the last task")
         else:
             out.append(f"time      none: {self.done} of 4 tasks done")
         return out
@@ -227,7 +229,8 @@ def first_run_reaching(mask: np.ndarray, rows: int) -> int:
 def column(log: Mapping[str, np.ndarray], name: str, width: int = 1) -> np.ndarray:
     """A log column as floats: shape (n,) for width 1, (n, width) else."""
     if name not in log:
-        raise ScorecardError(f"the run's scope log has no {name!r} signal (was it run in a world with contacts?)")
+        raise ScorecardError(f"the run's scope log has no {name!r} signal (was it run in a world with "
+                             "contacts?)")
     a = np.asarray(log[name], dtype=np.float64)
     if width == 1:
         return a.reshape(len(a), -1)[:, 0]
@@ -298,7 +301,8 @@ def _peg(world: Any, rules: Rules, t: np.ndarray, dt: float, tip: np.ndarray) ->
 def _obstacle(world: Any, log: Mapping[str, np.ndarray], t: np.ndarray, tip: np.ndarray) -> Obstacle:
     ob = getattr(world, "obstacle", None)
     if ob is None:
-        return Obstacle(False, False, 0.0, None, False, None, None, note=f"world {world.name!r} has no obstacle")
+        return Obstacle(False, False, 0.0, None, False, None, None,
+                        note=f"world {world.name!r} has no obstacle")
     force = column(log, "obstacle_force")
     touch = force > TOUCH_N
     (x, y, z), (sx, sy, sz) = ob.center_m, ob.size_m
@@ -311,7 +315,8 @@ def _obstacle(world: Any, log: Mapping[str, np.ndarray], t: np.ndarray, tip: np.
                     float(t[k]) if k >= 0 else None)
 
 
-def _groove(world: Any, rules: Rules, log: Mapping[str, np.ndarray], t: np.ndarray, tip: np.ndarray) -> Groove:
+def _groove(world: Any, rules: Rules, log: Mapping[str, np.ndarray], t: np.ndarray,
+            tip: np.ndarray) -> Groove:
     gr = getattr(world, "groove", None)
     if gr is None:
         return Groove(False, 0.0, 0.0, None, None, None, note=f"world {world.name!r} has no groove")

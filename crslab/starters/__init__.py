@@ -24,7 +24,8 @@ from crslab._core import lib
 from crslab.generations import named
 
 LABS = {"lab1": "Lab 1 (kinematics)", "lab2": "Lab 2 (PD control)", "lab3": "Lab 3 (friction compensation)",
-        "lab4": "Lab 4 (task-space control)", "final": "the final project (the contest: peg, obstacle, groove, egg)"}
+        "lab4": "Lab 4 (task-space control)",
+        "final": "the final project (the contest: peg, obstacle, groove, egg)"}
 
 _BY_TRIGGER = {  # print trigger -> what the file declares, how lab() asks to print, its main()
     lib.CRS_PRINT_SWI_POST: ("", "SWI_post(&SWI_printf);   /* printing() runs once, after lab() returns */",
