@@ -21,6 +21,7 @@ COMMANDS = [
     "crslab.cli.debug_commands",
     "crslab.cli.scenario_commands",
     "crslab.cli.regress_commands",
+    "crslab.cli.contest_commands",
     "crslab.cli.sweep_commands",
     "crslab.cli.traj_commands",
     "crslab.cli.toolbox_commands",
@@ -43,7 +44,7 @@ class CliError(Exception):
 
 
 GROUPS = {
-    "for students": ["sim", "debug", "record", "check", "new", "scenarios", "vars", "plot"],
+    "for students": ["sim", "debug", "record", "check", "contest", "new", "scenarios", "vars", "plot"],
     "for TAs and instructors": ["grade", "sweep", "serve", "identify", "friction"],
     "the course's host tools (MATLAB, Simulink, Tera Term)": ["serial", "map"],
     "the kinematics toolbox": ["fk", "ik", "traj", "robots", "workspace", "rot"],
