@@ -78,7 +78,7 @@ class OneLineParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:  # type: ignore[override]
         unknown = [a for a in self._given if a.startswith("--") and a.split("=", 1)[0] not in self._options()]
-        if message.startswith("the following arguments are required") and unknown:
+        if message.startswith(("the following arguments are required", "one of the arguments")) and unknown:
             self.unrecognized(unknown)  # a mistyped option is likely the one that is missing
         self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 

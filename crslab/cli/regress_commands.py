@@ -98,11 +98,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                        "scenario failed), does not compile, crashed, forbidden (the sandbox stopped it) "
                        "or hung. Writes a summary table (stdout and "
                        "summary.txt), grades.csv, "
-                       "junit.xml, and every transcript and report, into --out.")
+                       "junit.xml, and every transcript and report, into --out. With --contest instead of "
+                       "a reference: score each by the final project's contest (docs/contest.md).")
     p.add_argument("submissions", type=Path, metavar="SUBMISSIONS_DIR", help="folder of lab files")
-    p.add_argument("--reference", type=Path, metavar="FILE",
-                   help="the reference lab file (needed unless --contest)")
-    p.add_argument("--contest", action="store_true",
+    against = p.add_mutually_exclusive_group(required=True)
+    against.add_argument("--reference", type=Path, metavar="FILE",
+                         help="the reference lab file (or --contest)")
+    against.add_argument("--contest", action="store_true",
                    help="grade by the final project's scorecard instead of a reference: each submission runs "
                    "in the contest world (--world, default contest) on hands_off for "
                    f"{CONTEST_DURATION_S:g} s unless --duration; grades.csv has a column per task and the "
@@ -234,9 +236,6 @@ def run_grade(args: argparse.Namespace) -> int:
         return run_report(args)
     if args.contest:
         return run_grade_contest(args)
-    if args.reference is None:
-        raise CliError("give the reference lab (--reference FILE), or --contest to grade by the contest's "
-                       "scorecard")
     folder: Path = args.submissions
     if not folder.is_dir():
         raise CliError(f"{folder}: no such folder of submissions")
@@ -345,8 +344,6 @@ def run_grade_contest(args: argparse.Namespace) -> int:
         raise CliError(f"{folder}: no such folder of submissions")
     if args.jobs is not None and args.jobs < 1:
         raise CliError(f"--jobs must be at least 1, got {args.jobs}")
-    if args.reference is not None:
-        raise CliError("--contest grades by the scorecard: give no --reference")
     if getattr(args, "world", None) in (None, "none"):
         args.world = CONTEST_WORLD
     args.scenario = args.scenario or CONTEST_SCENARIO
