@@ -44,7 +44,7 @@ class CliError(Exception):
 
 
 GROUPS = {
-    "for students": ["sim", "debug", "record", "check", "contest", "new", "scenarios", "vars", "plot"],
+    "for students": ["sim", "debug", "record", "check", "new", "contest", "scenarios", "vars", "plot"],
     "for TAs and instructors": ["grade", "sweep", "serve", "identify", "friction"],
     "the course's host tools (MATLAB, Simulink, Tera Term)": ["serial", "map"],
     "the kinematics toolbox": ["fk", "ik", "traj", "robots", "workspace", "rot"],
