@@ -23,13 +23,16 @@ from cffi import FFI
 HERE = Path(__file__).resolve().parent
 KIN = HERE / "kin"
 SIM = HERE / "sim"
+PLANT = HERE / "plant"
 # vector_math.h is internal (attributes, no API); every other header is the Python-visible API.
 HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [
-    SIM / "framework_facts.h", SIM / "generations.h", SIM / "sim.h", SIM / "firmware_wasm.h"]
+    SIM / "framework_facts.h", SIM / "generations.h", PLANT / "world.h", SIM / "sim.h",
+    SIM / "firmware_wasm.h"]
 NATIVE_ONLY = {"firmware_native.c", "debug.c"}
 """Board sources linked only with a native lab (crslab/lab/build.py), never into the core: the
 native port and what a debugger reads (a second ``crs_tick`` here would be the one gdb finds)."""
-SOURCES = sorted(KIN.glob("*.c")) + sorted(p for p in SIM.glob("*.c") if p.name not in NATIVE_ONLY)
+SOURCES = (sorted(KIN.glob("*.c")) + sorted(p for p in SIM.glob("*.c") if p.name not in NATIVE_ONLY)
+           + sorted(PLANT.glob("*.c")))
 C_FLAGS = ["-std=c11", "-O3", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-fno-trapping-math"]
 # glibc's vector math (libmvec) backs the vectorized batch loops on x86-64 Linux.
 LIBRARIES = (["m", "mvec"] if platform.machine() == "x86_64" and sys.platform == "linux" else ["m"]) + ["dl"]
@@ -52,7 +55,7 @@ ffibuilder.set_source(
     "crslab._core",
     "\n".join(f'#include "{h.name}"' for h in HEADERS),
     sources=[str(s.relative_to(HERE.parent)) for s in SOURCES],
-    include_dirs=[str(KIN.relative_to(HERE.parent)), str(SIM.relative_to(HERE.parent))],
+    include_dirs=[str(d.relative_to(HERE.parent)) for d in (KIN, SIM, PLANT)],
     extra_compile_args=C_FLAGS,
     libraries=LIBRARIES,
 )

@@ -21,10 +21,11 @@ ROOT = Path(__file__).resolve().parents[1]
 CSRC = ROOT / "csrc"
 KIN_SOURCES = sorted((CSRC / "kin").glob("*.c"))
 SIM_SOURCES = sorted(p for p in (CSRC / "sim").glob("*.c") if p.name != "firmware_wasm.c") + sorted(
-    (CSRC / "firmware").glob("*.c"))
+    (CSRC / "firmware").glob("*.c")) + sorted((CSRC / "plant").glob("*.c"))
 C_TESTS = sorted((CSRC / "tests").glob("test_*.c"))
 STRICT = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-I", str(CSRC / "kin")]
-SIM_INCLUDES = ["-I", str(CSRC / "sim"), "-I", str(CSRC / "firmware"), "-I", str(CSRC / "board" / "include")]
+SIM_INCLUDES = ["-I", str(CSRC / "sim"), "-I", str(CSRC / "plant"), "-I", str(CSRC / "firmware"), "-I",
+                str(CSRC / "board" / "include")]
 SANITIZE = ["-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer"]
 COMPILERS = ["gcc", pytest.param("clang", marks=pytest.mark.requires("clang"))]
 

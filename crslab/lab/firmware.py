@@ -52,8 +52,9 @@ NATIVE_STACK_BYTES = 512 * 1024
 FIRMWARE = resources.path("csrc", "firmware")
 KIN = resources.path("csrc", "kin")
 SIM = resources.path("csrc", "sim")
+PLANT = resources.path("csrc", "plant")  # world.h, which sim.h includes
 SHIM_INCLUDE = resources.path("csrc", "board", "include")
-INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
+INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM), "-I", str(PLANT)]
 COMPILE_FLAGS = ["-std=c11", "-O2", "-mexec-model=reactor", "-fno-common", "-g"]
 LAB_CHECKS = "null,integer-divide-by-zero"
 LAB_FLAGS = [*COMPILE_FLAGS, "-w", f"-fsanitize={LAB_CHECKS}", f"-fno-sanitize-recover={LAB_CHECKS}"]
@@ -66,7 +67,7 @@ LINK_FLAGS = ["-mexec-model=reactor", f"-Wl,-z,stack-size={STACK_BYTES}", f"-Wl,
 FIRMWARE_SOURCES = sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c")) + [SIM / "generations.c"]
 """The stand-ins, the kinematics and the generations' rows (the board compiles the same rows)."""
 FIRMWARE_HEADERS = (sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h"))
-                    + [SIM / "sim.h", SIM / "framework_facts.h", SIM / "generations.h"])
+                    + [SIM / "sim.h", SIM / "framework_facts.h", SIM / "generations.h", PLANT / "world.h"])
 
 FRAMEWORK_VARIABLES = ("matlabLock", *(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, 8)))
 """The framework's globals in the firmware that the board's memory map holds (firmware.c)."""
@@ -249,7 +250,7 @@ def compile_command(unit: Path, lab: Path, copy: Path, objects: list[Path], out:
     ``void main(void)`` is fine on the C28x. ``__FILE__`` names the lab as it was given."""
     renames = [f"-D{n}={RENAMED_PREFIX}{n}" for n in renamed]
     given = "" if str(lab.parent) == "." else f"{lab.parent}/"
-    folders = [lab.absolute().parent, lab.resolve().parent, SHIM_INCLUDE, FIRMWARE, KIN, SIM,
+    folders = [lab.absolute().parent, lab.resolve().parent, SHIM_INCLUDE, FIRMWARE, KIN, SIM, PLANT,
                zig.zig_dir() / "lib", unit.parent]
     overlay = visible_files(unit.parent, [f.absolute() for f in folders])
     return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,

@@ -23,6 +23,7 @@ from crslab.cheaders import cdef_from_header
 def board_ffi() -> FFI:
     """The FFI holding every declaration of sim.h."""
     ffi = FFI()
+    ffi.cdef(cdef_from_header(resources.path("csrc", "plant", "world.h").read_text()))  # sim.h includes it
     ffi.cdef(cdef_from_header(resources.path("csrc", "sim", "sim.h").read_text()))
     return ffi
 
@@ -32,6 +33,7 @@ def native_board_ffi() -> FFI:
     """sim.h's declarations, the debugger's (debug.h) and the native firmware port's
     (crs_fw_native_attach): a native lab's shared object holds all of them."""
     ffi = FFI()
+    ffi.cdef(cdef_from_header(resources.path("csrc", "plant", "world.h").read_text()))  # sim.h includes it
     for header in ("sim.h", "debug.h", "firmware_native.h"):
         ffi.cdef(cdef_from_header(resources.path("csrc", "sim", header).read_text()))
     return ffi
