@@ -8,6 +8,7 @@ crashes, hangs, ...
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -16,9 +17,11 @@ from crslab.cli import CliError
 from crslab.cli.run_options import add_run_options, config_from_args, limits_from_args
 from crslab.contest.scorecard import Scorecard, ScorecardError, score
 from crslab.scenario.event import seconds_to_tick
+from crslab.sim.config import SimConfig
 from crslab.sim.session import SimError
 from crslab.sim.status import ExitStatus, RunStatus
 from crslab.untrusted_text import for_terminal
+from crslab.world.layout import World, WorldError, load_world
 
 CONTEST_WORLD = "contest"
 CONTEST_SCENARIO = "hands_off"
@@ -61,16 +64,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_contest)
 
 
-def load_contest_world(name: str):  # noqa: ANN201 (the World type lives in crslab.world)
+def load_contest_world(name: str) -> World:
     """The world named or found at ``name``; a bad one is a one-line error."""
-    from crslab.world.layout import WorldError, load_world
-
     try:
         return load_world(name)
     except WorldError as exc:
         raise CliError(str(exc)) from None
     except OSError as exc:
         raise CliError(f"{name}: cannot read the world file ({exc.strerror})") from None
+
+
+def contest_config(args: argparse.Namespace, world: World) -> SimConfig:
+    """The run options' configuration, logging the scope rows, in ``world``."""
+    return dataclasses.replace(config_from_args(args, log=True), world=world)
 
 
 def run_contest(args: argparse.Namespace) -> int:
@@ -80,7 +86,7 @@ def run_contest(args: argparse.Namespace) -> int:
     if not args.lab.is_file():
         raise CliError(f"{args.lab}: no such lab file")
     world = load_contest_world(args.world)
-    config = config_from_args(args, log=True)
+    config = contest_config(args, world)
     end_tick = seconds_to_tick(args.duration or CONTEST_DURATION_S)
     try:
         result = run_lab(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))

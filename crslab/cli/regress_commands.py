@@ -19,6 +19,7 @@ from crslab.cli.contest_commands import (
     CONTEST_DURATION_S,
     CONTEST_SCENARIO,
     CONTEST_WORLD,
+    contest_config,
     load_contest_world,
 )
 from crslab.cli.executor_options import add_executor_options, executor_from_args
@@ -113,6 +114,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     for action in p._actions:  # the reference is the lab here
         if action.dest == "lab":
             action.help = argparse.SUPPRESS
+    if not any(a.dest == "world" for a in p._actions):
+        p.add_argument("--world", metavar="NAME|FILE",
+                       help="with --contest: the world's layout, a built-in name or a file (default: contest)")
     add_tolerance_options(p)
     p.add_argument("-o", "--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
                    help="where the reports go (default: %(default)s)")
@@ -349,7 +353,7 @@ def run_grade_contest(args: argparse.Namespace) -> int:
     args.scenario = args.scenario or CONTEST_SCENARIO
     world = load_contest_world(args.world)
     args.lab = None   # the configuration is built once with crslab's own lab; each submission is rebuilt
-    config = config_from_args(args, log=True)
+    config = contest_config(args, world)
     end_tick = seconds_to_tick(args.duration or CONTEST_DURATION_S)
     subs = g.find_submissions(folder)
     if not subs:
