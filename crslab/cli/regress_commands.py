@@ -116,7 +116,7 @@ def register(sub: argparse._SubParsersAction) -> None:
             action.help = argparse.SUPPRESS
     if not any(a.dest == "world" for a in p._actions):
         p.add_argument("--world", metavar="NAME|FILE",
-                       help="with --contest: the world's layout, a built-in name or a file (default: contest)")
+                       help="with --contest: the world, a built-in name or a layout file (default: contest)")
     add_tolerance_options(p)
     p.add_argument("-o", "--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
                    help="where the reports go (default: %(default)s)")
