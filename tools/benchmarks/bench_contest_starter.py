@@ -1,4 +1,5 @@
-"""Issue 30: what the final project's contest run of crslab's own starter costs, in CPU time.
+"""Issue 30: what the final project's contest run of crslab's own starter costs, in CPU time
+(bench_contest.py times the simulation in the contest world against a bare mj_step loop).
 
 ``crslab new final`` writes the starter into a temporary folder; one ``crslab contest --lab
 final.c --json`` builds it (the build is cached by content, so the runs after it do not build);
