@@ -246,6 +246,7 @@ class Session:
         from crslab.regress.compare import compare
         from crslab.regress.runner import run_lab
         from crslab.regress.transcript import GoldenError, read_golden, recorded_run, split_lines
+        from crslab.world.layout import WORLD_NAMES
 
         lab = self._write_lab(msg["lab"])
         golden_path = self._write("golden", msg["golden"])
@@ -257,6 +258,11 @@ class Session:
                     f"{golden_path.name} was recorded with plant file {run.plant}, which the "
                     "page cannot send; check it with crslab check"
                 )
+            if run.world is not None and run.world not in WORLD_NAMES:
+                raise GoldenError(
+                    f"{golden_path.name} was recorded in world file {run.world}, which the page cannot "
+                    "send; check it with crslab check"
+                )
             config = make_config(
                 lab,
                 run.scenario,
@@ -264,6 +270,7 @@ class Session:
                 rest_motor_rad=run.rest_motor_rad,
                 motor_board=run.motor_board,
                 sandbox=self.limits.sandboxed,
+                world=run.world,
             )
             end_tick = seconds_to_tick(run.duration_s) if run.duration_s else config.scenario.end_tick
             end_tick = min(end_tick, seconds_to_tick(self.limits.max_run_s))

@@ -43,7 +43,7 @@ from crslab.sim.event_effects import apply_event
 from crslab.sim.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.sim.memory_table import fill_memory_table
 from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL, compiled_module_path, wasmtime_library
-from crslab.world.layout import World
+from crslab.world.layout import World, peg_depth_m
 from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
 
 LOG_ROWS = 2000  # rows per scope-log block
@@ -207,13 +207,24 @@ class Worker:
             w.egg_size_m = ffi.cast("double *", self._ptr("double *", model.geom_size)) + 3 * egg
             w.egg_pos_m = ffi.cast("double *", self._ptr("double *", model.geom_pos)) + 3 * egg
 
-    def world_values(self) -> dict[str, float]:
-        """The world's quantities of the last step (empty in a world without fixtures)."""
+    def world_values(self) -> dict[str, float] | None:
+        """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...),
+        and ``peg_depth``: how far the peg's tip is below the hole's top while inside its radius (m,
+        else 0). None in a world without fixtures."""
         w = self.sim.world
         if not w.enabled:
-            return {}
+            return None
+        values = {}
         row = [float(w.row[i]) for i in range(sum(WORLD_COLUMNS.values()))]
-        return split_world_row(row)
+        for name, value in split_world_row(row).items():
+            if len(value) == 3:
+                values.update({f"{name}_{a}": float(v) for a, v in zip("xyz", value)})
+            else:
+                values[name] = float(value[0])
+        values["peg_depth"] = peg_depth_m(self.config.world, (values.get("peg_tip_x", 0.0),
+                                                               values.get("peg_tip_y", 0.0),
+                                                               values.get("peg_tip_z", 0.0)))
+        return values
 
     def _new_sim(self, config: SimConfig, block: object) -> object:
         sim = self.ffi.new("crs_sim *")
@@ -346,7 +357,7 @@ class Worker:
             tick=int(sim.tick), motor_board=self.config.motor_board_model,
             motor_board_off=bool(sim.motor_board.off), motor_board_cutouts=int(sim.motor_board.cutouts),
             error=int(sim.safety_flag), motor_rad=(float(motor[0]), float(motor[1]), float(motor[2])),
-            var=value))
+            var=value, world=self.world_values()))
 
     def take_observations(self) -> list[Observation]:
         """What the expectations saw since the last call."""

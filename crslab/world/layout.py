@@ -529,6 +529,22 @@ def _check_groove(t: _Table, groove: Groove, peg: Peg | None) -> None:
         )
 
 
+def peg_depth_m(world: World, tip_m: Triple) -> float:
+    """How deep the peg's tip (``tip_m``, m) is in the hole: below the hole's top while within its
+    radius of the hole's axis (m); 0 when out, or in a world without a hole.
+
+    >>> w = load_world("contest")
+    >>> round(peg_depth_m(w, (0.034, 0.35, 0.12)), 6), peg_depth_m(w, (0.1, 0.35, 0.12))
+    (0.04, 0.0)
+    """
+    h = world.hole
+    if h is None:
+        return 0.0
+    off = float(np.hypot(tip_m[0] - h.center_xy_m[0], tip_m[1] - h.center_xy_m[1]))
+    depth = h.top_z_m - float(tip_m[2])
+    return depth if depth > 0 and off <= h.diameter_m / 2 else 0.0
+
+
 # -- the fixtures as boxes, the arm as capsules: overlap and reach -------------------------------
 
 
