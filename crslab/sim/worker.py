@@ -87,6 +87,40 @@ def split_world_row(row: object) -> dict:
     return out
 
 
+def attach_world(ffi: FFI, w: object, model: object, data: object, world: World) -> list[object]:
+    """Set the C world ``w`` (a ``crs_world *``; csrc/plant/world.h) for ``world``'s compiled scene
+    ``model`` and its ``data``: the sensors' places in ``data.sensordata``, the egg's breaking force
+    and geom, the groove's corners. Returns what must stay alive as long as ``w`` is used."""
+    if world.is_free_air:
+        return []
+    keep: list[object] = [model, data]
+
+    def ptr(ctype: str, arr: np.ndarray, offset: int = 0) -> object:
+        keep.append(arr)
+        return ffi.cast(ctype, arr.ctypes.data) + offset
+
+    w.enabled = 1  # type: ignore[attr-defined]
+    w.sensordata = ptr("double *", data.sensordata)  # type: ignore[attr-defined]
+    names = [model.sensor(i).name for i in range(model.nsensor)]  # type: ignore[attr-defined]
+    if PEG_TIP_SITE in names:
+        w.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])  # type: ignore[attr-defined]
+    for i, fixture in enumerate(FIXTURE_SENSORS):
+        if f"{fixture}_force" in names:
+            w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")])  # type: ignore[attr-defined]
+    w.gravity_m_s2 = STANDARD_GRAVITY  # type: ignore[attr-defined]
+    if world.groove is not None:
+        for i, (x, y) in enumerate(world.groove.corners_xy_m):
+            w.groove_xy_m[2 * i], w.groove_xy_m[2 * i + 1] = x, y  # type: ignore[attr-defined]
+    if world.egg is not None:
+        w.breaking_force_n = world.egg.breaking_force_n  # type: ignore[attr-defined]
+        egg = model.geom("egg").id  # type: ignore[attr-defined]
+        w.egg_contype = ptr("int32_t *", model.geom_contype, egg)  # type: ignore[attr-defined]
+        w.egg_conaffinity = ptr("int32_t *", model.geom_conaffinity, egg)  # type: ignore[attr-defined]
+        w.egg_size_m = ptr("double *", model.geom_size, 3 * egg)  # type: ignore[attr-defined]
+        w.egg_pos_m = ptr("double *", model.geom_pos, 3 * egg)  # type: ignore[attr-defined]
+    return keep
+
+
 class FirmwareStopped(Exception):
     """The firmware could not be loaded, or stopped in a constructor: ``trap`` says how
     (:func:`trap_info`)."""
@@ -183,29 +217,7 @@ class Worker:
 
     def _set_world(self, world: World) -> None:
         """Point the board's world (csrc/plant/world.h) at the scene's sensors and the egg's geom."""
-        w, model = self.sim.world, self.model
-        if world.is_free_air:
-            return
-        w.enabled = 1
-        w.sensordata = self._ptr("double *", self.data.sensordata)
-        names = [model.sensor(i).name for i in range(model.nsensor)]
-        if PEG_TIP_SITE in names:
-            w.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])
-        for i, fixture in enumerate(FIXTURE_SENSORS):
-            if f"{fixture}_force" in names:
-                w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")])
-        w.gravity_m_s2 = STANDARD_GRAVITY
-        if world.groove is not None:
-            for i, (x, y) in enumerate(world.groove.corners_xy_m):
-                w.groove_xy_m[2 * i], w.groove_xy_m[2 * i + 1] = x, y
-        if world.egg is not None:
-            w.breaking_force_n = world.egg.breaking_force_n
-            egg = model.geom("egg").id
-            ffi = self.ffi
-            w.egg_contype = ffi.cast("int32_t *", self._ptr("int32_t *", model.geom_contype)) + egg
-            w.egg_conaffinity = ffi.cast("int32_t *", self._ptr("int32_t *", model.geom_conaffinity)) + egg
-            w.egg_size_m = ffi.cast("double *", self._ptr("double *", model.geom_size)) + 3 * egg
-            w.egg_pos_m = ffi.cast("double *", self._ptr("double *", model.geom_pos)) + 3 * egg
+        self._keep += attach_world(self.ffi, self.sim.world, self.model, self.data, world)
 
     def world_values(self) -> dict[str, float] | None:
         """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...),
