@@ -50,8 +50,9 @@ def press(m, d, force_n, steps=3000):
     peg, tip = m.body(PEG_BODY).id, m.site(PEG_TIP_SITE).id
     for _ in range(steps):
         d.qfrc_applied[:] = 0.0
-        mujoco.mj_applyFT(m, d, np.asarray(force_n, float), np.zeros(3), d.site_xpos[tip].copy(), peg,
-                          d.qfrc_applied)
+        mujoco.mj_applyFT(
+            m, d, np.asarray(force_n, float), np.zeros(3), d.site_xpos[tip].copy(), peg, d.qfrc_applied
+        )
         mujoco.mj_step(m, d)
     assert np.abs(d.qvel).max() < 1e-6  # at rest
     return [d.contact[i] for i in range(d.ncon)]
@@ -123,8 +124,12 @@ def world_row(m, d, world=CONTEST):
     lib.crs_world_update(w, 0)
     row = list(w.row)
     del keep
-    return {"egg_force": row[lib.CRS_WORLD_ROW_EGG_FORCE], "scale_g": row[lib.CRS_WORLD_ROW_SCALE_G],
-            "egg_broken": row[lib.CRS_WORLD_ROW_EGG_BROKEN], "tip": row[0:3]}
+    return {
+        "egg_force": row[lib.CRS_WORLD_ROW_EGG_FORCE],
+        "scale_g": row[lib.CRS_WORLD_ROW_SCALE_G],
+        "egg_broken": row[lib.CRS_WORLD_ROW_EGG_BROKEN],
+        "tip": row[0:3],
+    }
 
 
 def test_the_scale_reads_the_eggs_force_as_the_motors_torques_give_it_through_the_course_jacobian():
@@ -168,10 +173,11 @@ def test_past_the_breaking_force_the_egg_is_broken_for_the_rest_of_the_run_and_t
     scenario = tmp_path / "crush.toml"
     above, into = (e.top_z_m + 0.02) / crs.M_PER_IN, (e.top_z_m - 0.004) / crs.M_PER_IN
     scenario.write_text(
-        'end = 5.0\n'
+        "end = 5.0\n"
         f'[[event]]\nat = 0.2\nkind = "hand"\nxyz_in = [{x:.5f}, {y:.5f}, {above:.5f}]\nduration = 1.5\n'
         f'[[event]]\nat = 2.0\nkind = "hand"\nxyz_in = [{x:.5f}, {y:.5f}, {into:.5f}]\nduration = 1.5\n'
-        '[[event]]\nat = 4.9\nkind = "expect"\negg_broken = true\nscale_g = [0, 0]\n')
+        '[[event]]\nat = 4.9\nkind = "expect"\negg_broken = true\nscale_g = [0, 0]\n'
+    )
     r = simulate(None, str(scenario), world="contest", log=True)
     assert r.ok, r.diagnosis()
     force, grams, broken = (r.log[k][:, 0] for k in ("egg_force", "scale_g", "egg_broken"))
@@ -181,4 +187,4 @@ def test_past_the_breaking_force_the_egg_is_broken_for_the_rest_of_the_run_and_t
     # the scale shows the downward part of the force: all of it pressed from straight above
     down_n = grams[first - 1] * STANDARD_GRAVITY / 1000
     assert 0.5 * force[first - 1] < down_n <= force[first - 1] * (1 + 1e-12)
-    assert (force[first + 1:] == 0).all() and (grams[first + 1:] == 0).all()  # nothing holds the peg up
+    assert (force[first + 1 :] == 0).all() and (grams[first + 1 :] == 0).all()  # nothing holds the peg up
