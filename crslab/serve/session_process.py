@@ -162,6 +162,7 @@ class Session:
                 rest_motor_rad=rest,
                 log=True,
                 sandbox=self.limits.sandboxed,
+                world=msg["world"],
             )
         except (LabBuildError, ScenarioError, PlantParamsError, ValueError) as exc:
             # what crslab sim turns into one line and exit status 2 (bad input): nothing ran
@@ -176,7 +177,7 @@ class Session:
             notes.append(f"this server runs a lab for at most {self.limits.max_run_s:g} s of simulated time")
         out_dir = self.folder / "out"
         out = FanOut()
-        stream = BrowserStream(self.send, self.arm)
+        stream = BrowserStream(self.send, self.arm, world=not config.world.is_free_air)
         out.add(stream)
         out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
         console = VarConsole(config.build.watched)
@@ -189,7 +190,8 @@ class Session:
         )
         if record["csv"] or record["rrd"]:  # forked now, while this process runs no other thread
             out.add(RecorderSink(out_dir / DOWNLOADS["csv"] if record["csv"] else None,
-                                 out_dir / DOWNLOADS["rrd"] if record["rrd"] else None, path.name))
+                                 out_dir / DOWNLOADS["rrd"] if record["rrd"] else None, path.name,
+                                 config.world))
         result: RunResult | None = None
         try:
             with Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits) as sim:
