@@ -42,7 +42,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 MUTATIONS = ROOT / "tools" / "mutations"
-CORE_INPUTS = ("csrc/kin/", "csrc/sim/", "csrc/cffi_build.py", "crslab/cheaders.py")
+CORE_INPUTS = ("csrc/kin/", "csrc/sim/", "csrc/plant/", "csrc/cffi_build.py", "crslab/cheaders.py")
 """A mutation of one of these changes the compiled C core (``crslab._core``): it is rebuilt."""
 TEST_TIMEOUT_S = 900.0
 """A mutant's tests that run longer than this count as killed (a mutant that hangs the suite

@@ -165,7 +165,8 @@ def run_record(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return result.exit_status
     try:
-        write_golden(args.output, run_header(config, end_tick, args.scenario, args.plant), result.transcript)
+        write_golden(args.output, run_header(config, end_tick, args.scenario, args.plant, args.world),
+                     result.transcript)
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the golden file ({exc.strerror})") from None
     lines = len(split_lines(result.transcript))
@@ -189,13 +190,14 @@ def run_check(args: argparse.Namespace) -> int:
             scenario=args.scenario, duration_s=args.duration,
             rest_motor_rad=(DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None,
             startup_delay=False if args.no_startup_delay else None, motor_board=args.motor_board,
-            plant=str(args.plant) if args.plant else None)
+            plant=str(args.plant) if args.plant else None, world=args.world)
     except GoldenError as exc:
         raise CliError(str(exc)) from None
     args.scenario, args.duration = run.scenario, run.duration_s
     args.no_startup_delay = run.startup_delay is False
     args.motor_board = run.motor_board
     args.plant = Path(run.plant) if run.plant else None
+    args.world = run.world
     config = config_from_args(args, rest_motor_rad=run.rest_motor_rad)
     recorded = header.get("scenario_sha256")
     if chosen is not None and header.get("scenario") not in (None, chosen):

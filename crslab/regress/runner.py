@@ -7,11 +7,12 @@ import dataclasses
 from pathlib import Path
 
 from crslab import __version__
-from crslab.regress.transcript import DEFAULT_PLANT, sha256_of
+from crslab.regress.transcript import DEFAULT_PLANT, DEFAULT_WORLD, sha256_of
 from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, Simulation
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.memory import MemorySink
+from crslab.world.layout import WORLD_NAMES
 
 
 def run_lab(config: SimConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEADLINE_S,
@@ -30,10 +31,11 @@ def run_lab(config: SimConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEA
 
 
 def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None,
-               plant_arg: str | Path | None = None) -> dict[str, str]:
+               plant_arg: str | Path | None = None, world_arg: str | Path | None = None) -> dict[str, str]:
     """The golden-file header fields that say what produced a transcript: crslab's version, the
     lab and scenario (names and content hashes) and the options that change what is printed,
-    the plant file (``plant_arg``, as given; None: crslab's own arm) among them."""
+    the plant file (``plant_arg``, as given; None: crslab's own arm) and the world (``world_arg``, as
+    given: a built-in's name or a file; None: free air) among them."""
     source = Path(config.scenario.source)
     try:
         scenario_hash = sha256_of(source.read_bytes())
@@ -50,7 +52,23 @@ def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None,
         "startup_delay": "yes" if config.startup_ticks else "no",
         "motor_board": config.motor_board_model,
         **plant_fields(plant_arg),
+        **world_fields(world_arg),
     }
+
+
+def world_fields(world_arg: str | Path | None) -> dict[str, str]:
+    """The header's ``world`` (and, for a world file, its ``world_sha256``).
+
+    >>> world_fields(None), world_fields("contest")
+    ({'world': 'none'}, {'world': 'contest'})
+    """
+    if world_arg is None or str(world_arg) in WORLD_NAMES:
+        return {"world": str(world_arg or DEFAULT_WORLD)}
+    try:
+        digest = sha256_of(Path(world_arg).read_bytes())
+    except OSError:
+        digest = "unknown"
+    return {"world": str(world_arg), "world_sha256": digest}
 
 
 def plant_fields(plant_arg: str | Path | None) -> dict[str, str]:

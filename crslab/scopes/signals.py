@@ -111,9 +111,10 @@ C_FLOAT_COLUMNS = frozenset({"enc_rad", "tau_lab", "plot"})
 """Log columns that are C ``float`` variables in the lab (logged widened to double)."""
 
 
-def csv_header() -> list[str]:
-    """The CSV header: ``tick``, ``t [s]``, then every signal with its unit."""
-    return ["tick", "t [s]", *(s.csv_name for s in SIGNALS)]
+def csv_header(signals: tuple[Signal, ...] = SIGNALS) -> list[str]:
+    """The CSV header: ``tick``, ``t [s]``, then every signal with its unit (``signals``: those of a
+    free-air run, or :data:`SIGNALS` + :data:`WORLD_SIGNALS`)."""
+    return ["tick", "t [s]", *(s.csv_name for s in signals)]
 
 
 def signal_values(log: dict[str, np.ndarray], signal: Signal) -> np.ndarray:

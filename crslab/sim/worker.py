@@ -43,7 +43,7 @@ from crslab.sim.event_effects import apply_event
 from crslab.sim.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.sim.memory_table import fill_memory_table
 from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL, compiled_module_path, wasmtime_library
-from crslab.world.layout import World
+from crslab.world.layout import World, peg_depth_m
 from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
 
 LOG_ROWS = 2000  # rows per scope-log block
@@ -85,6 +85,40 @@ def split_world_row(row: object) -> dict:
         out[name] = a[0, i:i + width] if flat else a[:, i:i + width].copy()
         i += width
     return out
+
+
+def attach_world(ffi: FFI, w: object, model: object, data: object, world: World) -> list[object]:
+    """Set the C world ``w`` (a ``crs_world *``; csrc/plant/world.h) for ``world``'s compiled scene
+    ``model`` and its ``data``: the sensors' places in ``data.sensordata``, the egg's breaking force
+    and geom, the groove's corners. Returns what must stay alive as long as ``w`` is used."""
+    if world.is_free_air:
+        return []
+    keep: list[object] = [model, data]
+
+    def ptr(ctype: str, arr: np.ndarray, offset: int = 0) -> object:
+        keep.append(arr)
+        return ffi.cast(ctype, arr.ctypes.data) + offset
+
+    w.enabled = 1  # type: ignore[attr-defined]
+    w.sensordata = ptr("double *", data.sensordata)  # type: ignore[attr-defined]
+    names = [model.sensor(i).name for i in range(model.nsensor)]  # type: ignore[attr-defined]
+    if PEG_TIP_SITE in names:
+        w.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])  # type: ignore[attr-defined]
+    for i, fixture in enumerate(FIXTURE_SENSORS):
+        if f"{fixture}_force" in names:
+            w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")])  # type: ignore[attr-defined]
+    w.gravity_m_s2 = STANDARD_GRAVITY  # type: ignore[attr-defined]
+    if world.groove is not None:
+        for i, (x, y) in enumerate(world.groove.corners_xy_m):
+            w.groove_xy_m[2 * i], w.groove_xy_m[2 * i + 1] = x, y  # type: ignore[attr-defined]
+    if world.egg is not None:
+        w.breaking_force_n = world.egg.breaking_force_n  # type: ignore[attr-defined]
+        egg = model.geom("egg").id  # type: ignore[attr-defined]
+        w.egg_contype = ptr("int32_t *", model.geom_contype, egg)  # type: ignore[attr-defined]
+        w.egg_conaffinity = ptr("int32_t *", model.geom_conaffinity, egg)  # type: ignore[attr-defined]
+        w.egg_size_m = ptr("double *", model.geom_size, 3 * egg)  # type: ignore[attr-defined]
+        w.egg_pos_m = ptr("double *", model.geom_pos, 3 * egg)  # type: ignore[attr-defined]
+    return keep
 
 
 class FirmwareStopped(Exception):
@@ -183,37 +217,26 @@ class Worker:
 
     def _set_world(self, world: World) -> None:
         """Point the board's world (csrc/plant/world.h) at the scene's sensors and the egg's geom."""
-        w, model = self.sim.world, self.model
-        if world.is_free_air:
-            return
-        w.enabled = 1
-        w.sensordata = self._ptr("double *", self.data.sensordata)
-        names = [model.sensor(i).name for i in range(model.nsensor)]
-        if PEG_TIP_SITE in names:
-            w.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])
-        for i, fixture in enumerate(FIXTURE_SENSORS):
-            if f"{fixture}_force" in names:
-                w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")])
-        w.gravity_m_s2 = STANDARD_GRAVITY
-        if world.groove is not None:
-            for i, (x, y) in enumerate(world.groove.corners_xy_m):
-                w.groove_xy_m[2 * i], w.groove_xy_m[2 * i + 1] = x, y
-        if world.egg is not None:
-            w.breaking_force_n = world.egg.breaking_force_n
-            egg = model.geom("egg").id
-            ffi = self.ffi
-            w.egg_contype = ffi.cast("int32_t *", self._ptr("int32_t *", model.geom_contype)) + egg
-            w.egg_conaffinity = ffi.cast("int32_t *", self._ptr("int32_t *", model.geom_conaffinity)) + egg
-            w.egg_size_m = ffi.cast("double *", self._ptr("double *", model.geom_size)) + 3 * egg
-            w.egg_pos_m = ffi.cast("double *", self._ptr("double *", model.geom_pos)) + 3 * egg
+        self._keep += attach_world(self.ffi, self.sim.world, self.model, self.data, world)
 
-    def world_values(self) -> dict[str, float]:
-        """The world's quantities of the last step (empty in a world without fixtures)."""
+    def world_values(self) -> dict[str, float] | None:
+        """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...),
+        and ``peg_depth``: how far the peg's tip is below the hole's top while inside its radius (m,
+        else 0). None in a world without fixtures."""
         w = self.sim.world
         if not w.enabled:
-            return {}
+            return None
+        values = {}
         row = [float(w.row[i]) for i in range(sum(WORLD_COLUMNS.values()))]
-        return split_world_row(row)
+        for name, value in split_world_row(row).items():
+            if len(value) == 3:
+                values.update({f"{name}_{a}": float(v) for a, v in zip("xyz", value)})
+            else:
+                values[name] = float(value[0])
+        values["peg_depth"] = peg_depth_m(self.config.world, (values.get("peg_tip_x", 0.0),
+                                                               values.get("peg_tip_y", 0.0),
+                                                               values.get("peg_tip_z", 0.0)))
+        return values
 
     def _new_sim(self, config: SimConfig, block: object) -> object:
         sim = self.ffi.new("crs_sim *")
@@ -346,7 +369,7 @@ class Worker:
             tick=int(sim.tick), motor_board=self.config.motor_board_model,
             motor_board_off=bool(sim.motor_board.off), motor_board_cutouts=int(sim.motor_board.cutouts),
             error=int(sim.safety_flag), motor_rad=(float(motor[0]), float(motor[1]), float(motor[2])),
-            var=value))
+            var=value, world=self.world_values()))
 
     def take_observations(self) -> list[Observation]:
         """What the expectations saw since the last call."""

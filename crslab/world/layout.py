@@ -52,8 +52,9 @@ class Table:
 
 @dataclass(frozen=True)
 class Peg:
-    """The peg the arm holds: its tip is the course's end-effector point plus ``tip_offset_m``
-    (world frame, at the pose where the peg is vertical); it rises ``length_m`` from the tip."""
+    """The peg the arm holds, always vertical (a wrist keeps it so): its tip is the course's
+    end-effector point plus ``tip_offset_m`` (m, in the world frame at waist angle 0: it turns with
+    the waist); it rises ``length_m`` from the tip."""
 
     diameter_m: float
     length_m: float
@@ -193,6 +194,8 @@ class _Reader:
 
     def line_of(self, table: str | None, key: str | None) -> int | None:
         """1-based line of ``key`` in ``table`` (None: the top level), else of the table's header."""
+        if table is None and key in self.headers:  # a table: its header
+            return self.headers[key] + 1
         start = 0 if table is None else self.headers.get(table)
         if start is None:
             return None
@@ -529,6 +532,22 @@ def _check_groove(t: _Table, groove: Groove, peg: Peg | None) -> None:
         )
 
 
+def peg_depth_m(world: World, tip_m: Triple) -> float:
+    """How deep the peg's tip (``tip_m``, m) is in the hole: below the hole's top while within its
+    radius of the hole's axis (m); 0 when out, or in a world without a hole.
+
+    >>> w = load_world("contest")
+    >>> round(peg_depth_m(w, (0.034, 0.35, 0.12)), 6), peg_depth_m(w, (0.1, 0.35, 0.12))
+    (0.04, 0.0)
+    """
+    h = world.hole
+    if h is None:
+        return 0.0
+    off = float(np.hypot(tip_m[0] - h.center_xy_m[0], tip_m[1] - h.center_xy_m[1]))
+    depth = h.top_z_m - float(tip_m[2])
+    return depth if depth > 0 and off <= h.diameter_m / 2 else 0.0
+
+
 # -- the fixtures as boxes, the arm as capsules: overlap and reach -------------------------------
 
 
@@ -646,14 +665,6 @@ def _segment(a: np.ndarray, b: np.ndarray, n: int = 400) -> np.ndarray:
     return a + np.linspace(0.0, 1.0, n)[:, None] * (b - a)
 
 
-def peg_axis_at(motor_rad: object, reference_motor_rad: object) -> np.ndarray:
-    """The peg's direction (unit, tip to top) at ``motor_rad``: vertical at ``reference_motor_rad``,
-    turning with the forearm (the course's arm has no driven wrist)."""
-    r = crs.fk_pose_dh(crs.motor_to_dh(np.asarray(motor_rad, float)))[:3, :3]
-    r0 = crs.fk_pose_dh(crs.motor_to_dh(np.asarray(reference_motor_rad, float)))[:3, :3]
-    return r @ r0.T @ np.array([0.0, 0.0, 1.0])
-
-
 def reach_points(world: World) -> list[tuple[str, str, np.ndarray]]:
     """The points the peg's tip must reach for each fixture (what, table, xyz m): the hole at its
     top and its bottom, the groove's corners at half its depth, the egg's top, the top of the
@@ -678,21 +689,18 @@ def reach_points(world: World) -> list[tuple[str, str, np.ndarray]]:
     return out
 
 
-def reference_pose_motor_rad(world: World) -> np.ndarray:
-    """The pose (motor angles, rad) where the peg hangs vertical: the peg's tip halfway down the
-    hole, else at the egg's top, else at the groove's entrance; the resting pose without any."""
-    points = {t: p for _, t, p in reach_points(world) if t != "obstacle"}
-    h = world.hole
-    if h is not None:
-        target = np.array([*h.center_xy_m, h.top_z_m - h.depth_m / 2])
-    elif "egg" in points:
-        target = points["egg"]
-    elif "groove" in points:
-        target = points["groove"]
-    else:
-        return np.asarray(REST_MOTOR_RAD, float)
-    offset = np.asarray(world.peg.tip_offset_m if world.peg else (0.0, 0.0, 0.0))
-    return crs.ik((target - offset) / crs.M_PER_IN, elbow="up")
+def peg_tip_m(world: World, motor_rad: object) -> np.ndarray:
+    """Where the peg's tip is (m) at motor angles ``motor_rad``: the course's end-effector point plus
+    the peg's ``tip_offset_m``, which turns with the waist (it is given at waist angle 0).
+
+    >>> peg_tip_m(load_world("contest"), [0.0, 0.0, 0.0]).round(4).tolist()
+    [0.254, 0.0, 0.508]
+    """
+    q = np.asarray(motor_rad, dtype=float)
+    offset = np.asarray(world.peg.tip_offset_m if world.peg is not None else (0.0, 0.0, 0.0))
+    c, s = np.cos(q[0]), np.sin(q[0])
+    turned = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1], offset[2]])
+    return crs.fk(q) * crs.M_PER_IN + turned
 
 
 def check_world(world: World, text: str, rest_motor_rad: Triple = REST_MOTOR_RAD) -> None:
@@ -706,6 +714,30 @@ def check_world(world: World, text: str, rest_motor_rad: Triple = REST_MOTOR_RAD
                 a.lo[k] < b.hi[k] - 1e-9 and b.lo[k] < a.hi[k] - 1e-9 for k in range(3)
             ):
                 raise r.fail(b.table, None, f"{b.what} ({b.where()}) overlaps {a.what} ({a.where()})")
+    rest = np.asarray(rest_motor_rad, float)
+    p = arm_points_m(rest)
+    radii = _arm_link_radii_m()
+    links = [
+        ("pedestal", _segment(p["base"], p["base"] + [0, 0, 0.12]), radii["pedestal"]),
+        ("waist", _segment(p["base"], p["shoulder"]), radii["waist"]),
+        ("upper arm", _segment(p["shoulder"], p["elbow"]), radii["upper arm"]),
+        ("forearm", _segment(p["elbow"], p["ee"]), radii["forearm"]),
+    ]
+    if world.peg is not None:
+        tip = peg_tip_m(world, rest)  # the peg hangs vertical from its tip (crslab/world/scene.py)
+        links.append(("peg", _segment(tip, tip + (0.0, 0.0, world.peg.length_m)), world.peg.diameter_m / 2))
+    for box in boxes:
+        for link, points, radius in links:
+            d = box.distance(points)
+            k = int(np.argmin(d))
+            if d[k] < radius:
+                near = points[k]
+                raise r.fail(
+                    box.table,
+                    None,
+                    f"{box.what} ({box.where()}) overlaps the arm's {link} at its resting "
+                    f"pose (near ({near[0]:.3f}, {near[1]:.3f}, {near[2]:.3f}) m)",
+                )
     for what, table, point in reach_points(world):
         offset = np.asarray(world.peg.tip_offset_m if world.peg else (0.0, 0.0, 0.0))
         q, status = crs.ik_with_status((point - offset) / crs.M_PER_IN, elbow="up")
@@ -722,30 +754,3 @@ def check_world(world: World, text: str, rest_motor_rad: Triple = REST_MOTOR_RAD
                 None,
                 f"{what} at {where} is out of the arm's reach (outside the framework's safety envelope)",
             )
-    if not boxes:
-        return
-    rest = np.asarray(rest_motor_rad, float)
-    p = arm_points_m(rest)
-    radii = _arm_link_radii_m()
-    links = [
-        ("pedestal", _segment(p["base"], p["base"] + [0, 0, 0.12]), radii["pedestal"]),
-        ("waist", _segment(p["base"], p["shoulder"]), radii["waist"]),
-        ("upper arm", _segment(p["shoulder"], p["elbow"]), radii["upper arm"]),
-        ("forearm", _segment(p["elbow"], p["ee"]), radii["forearm"]),
-    ]
-    if world.peg is not None:
-        axis = peg_axis_at(rest, reference_pose_motor_rad(world))
-        tip = p["ee"] + np.asarray(world.peg.tip_offset_m)
-        links.append(("peg", _segment(tip, tip + world.peg.length_m * axis), world.peg.diameter_m / 2))
-    for box in boxes:
-        for link, points, radius in links:
-            d = box.distance(points)
-            k = int(np.argmin(d))
-            if d[k] < radius:
-                near = points[k]
-                raise r.fail(
-                    box.table,
-                    None,
-                    f"{box.what} ({box.where()}) overlaps the arm's {link} at its resting "
-                    f"pose (near ({near[0]:.3f}, {near[1]:.3f}, {near[2]:.3f}) m)",
-                )

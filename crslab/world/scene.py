@@ -465,3 +465,19 @@ def set_arm_pose(model: mujoco.MjModel, data: mujoco.MjData, dh_rad: object) -> 
     data.qpos[:3] = q
     if model.nq > 3:
         data.qpos[model.jnt_qposadr[model.joint(WRIST_JOINT).id]] = -(q[1] + q[2])
+
+
+EGG_FLAT = 0.2
+"""A broken egg keeps this share of its height (csrc/plant/world.c, CRS_EGG_FLAT_PERCENT)."""
+
+
+def flatten_egg(model: mujoco.MjModel) -> None:
+    """Draw the egg broken, as the board does when it breaks (csrc/plant/world.c): flat on the scale,
+    no longer colliding. Doing it twice changes nothing more."""
+    egg = model.geom("egg").id
+    if model.geom_conaffinity[egg] == 0:
+        return
+    bottom = model.geom_pos[egg][2] - model.geom_size[egg][2]
+    model.geom_size[egg][2] *= EGG_FLAT
+    model.geom_pos[egg][2] = bottom + model.geom_size[egg][2]
+    model.geom_contype[egg] = model.geom_conaffinity[egg] = 0
