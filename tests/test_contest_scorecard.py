@@ -110,7 +110,8 @@ def test_groove_followed_corner_to_corner():
             (4, 0.3, -0.1, GROOVE_Z), (5, 0.3, -0.1, 0.25)]
     side = trace(keys, groove_side_force=lambda t: 2.5 if 2.5 <= t < 2.6 else 0.5)
     g = score(side, layout()).groove
-    assert g.done and g.share == pytest.approx(1.0) and g.left_at is None
+    assert g.done and g.share == pytest.approx(1.0) and g.left_at is None and g.reached_exit
+    assert "; in it to the exit;" in score(side, layout()).lines()[2]
     assert g.max_side_force_n == 2.5
     assert g.entered_at_s == pytest.approx(1 - 0.005 / 0.055, abs=0.002)  # z reaches the top 0.20
     assert g.done_at_s == pytest.approx(1 + 0.9 * 3, abs=0.002)  # 90 % of 0.3 m at 0.1 m/s from t 1 s
@@ -126,6 +127,15 @@ def test_groove_left_sideways_halfway_is_named_where():
     assert g.left_at == pytest.approx((0.35, 0.01), abs=0.0001)
     line = score(trace(keys), layout()).lines()[2]
     assert line.startswith("groove    FAIL  50 % of the path inside (needs 90 %); left at (0.350, 0.010) m")
+
+
+def test_groove_stuck_inside_to_the_end_of_the_run_did_not_leave_it():
+    keys = [(0, 0.4, 0.1, 0.25), (1, 0.4, 0.1, GROOVE_Z), (1.5, 0.4, 0.05, GROOVE_Z),
+            (3, 0.4, 0.05, GROOVE_Z)]
+    g = score(trace(keys), layout()).groove
+    assert not g.done and g.left_at is None and not g.reached_exit
+    assert g.share == pytest.approx(0.05 / 0.3, abs=0.001)
+    assert "; still in it when the run ended;" in score(trace(keys), layout()).lines()[2]
 
 
 def test_groove_above_its_top_or_through_its_floor_is_not_inside():

@@ -101,6 +101,7 @@ class Groove:
     entered_at_s: float | None
     done_at_s: float | None
     note: str = ""
+    reached_exit: bool = False   # the stay reached the exit's last half width
 
 
 @dataclass(frozen=True)
@@ -179,8 +180,10 @@ class Scorecard:
         else:
             gr = f"{100 * g.share:.0f} % of the path inside (needs {100 * ru.groove_min_share:.0f} %)"
             if g.entered_at_s is not None:
-                gr += ("; left at (" + ", ".join(f"{v:.3f}" for v in g.left_at) + ") m"
-                       if g.left_at is not None else "; did not leave it before the exit")
+                if g.left_at is not None:
+                    gr += "; left at (" + ", ".join(f"{v:.3f}" for v in g.left_at) + ") m"
+                else:
+                    gr += "; in it to the exit" if g.reached_exit else "; still in it when the run ended"
             gr += f"; largest side force {g.max_side_force_n:.1f} N"
         out.append(f"groove    {mark(g.done)}  {gr}")
         lo, hi = ru.band_g
@@ -340,7 +343,8 @@ def _groove(world: Any, rules: Rules, log: Mapping[str, np.ndarray], t: np.ndarr
     if done:
         need_arc = arc[k0] + rules.groove_min_share * total
         done_at = float(t[k0 + int(np.argmax(stay_arc >= need_arc - 1e-12))])
-    return Groove(done, share, float(side[k0:k1].max()), left_at, float(t[k0]), done_at)
+    return Groove(done, share, float(side[k0:k1].max()), left_at, float(t[k0]), done_at,
+                  reached_exit=bool(reached_end))
 
 
 def _egg(world: Any, rules: Rules, log: Mapping[str, np.ndarray], t: np.ndarray, dt: float) -> Egg:
