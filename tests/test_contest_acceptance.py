@@ -98,7 +98,7 @@ def test_the_starter_completes_all_four_tasks(cards):
     lo, hi = contest.band_g
     assert lo <= tasks["egg"]["peak_g"] <= hi and not tasks["egg"]["broken"]
     assert tasks["egg"]["in_band_s"] >= contest.hold_s
-    assert card["time_s"] is not None and 0 < card["time_s"] < 40
+    assert card["time_s"] is not None and 0 < card["time_s"] < 30
 
 
 GROOVE_GAP = ("not met yet: in the contest world a soft axis across the groove jams (the joints' static "

@@ -26,7 +26,7 @@ from crslab.world.layout import World, WorldError, load_world
 CONTEST_WORLD = "contest"
 CONTEST_SCENARIO = "hands_off"
 """Nobody touches the arm during a contest run."""
-CONTEST_DURATION_S = 40.0
+CONTEST_DURATION_S = 30.0
 """Simulated seconds of a contest run (the 4.1 s start-up included) unless ``--duration``."""
 
 
