@@ -353,9 +353,10 @@ def _world(r: TableReader) -> list[Condition]:
                          f"{', '.join(CONTACT_FIXTURES)})")
         for name, value in table.items():
             if name not in CONTACT_FIXTURES:
-                raise r.fail("contact", f"no fixture {name!r} (fixtures: {', '.join(CONTACT_FIXTURES)})")
+                fixtures = ", ".join(CONTACT_FIXTURES)
+                raise r.fail(f"contact.{name}", f"no fixture {name!r} (fixtures: {fixtures})")
             if not isinstance(value, bool):
-                raise r.fail("contact", f"contact.{name} must be true or false, got {value!r}")
+                raise r.fail(f"contact.{name}", f"must be true or false, got {value!r}")
             out.append(Contact(name, value))
     return out
 
