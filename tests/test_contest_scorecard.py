@@ -230,3 +230,20 @@ def test_a_log_without_the_worlds_signals_is_one_line():
     with pytest.raises(ScorecardError) as err:
         score(log, layout())
     assert "\n" not in str(err.value) and "'scale_g'" in str(err.value)
+
+
+def test_the_contest_world_s_own_layout_and_rules():
+    """The same rules read from crslab/worlds/contest.toml: down the hole's axis to 3 cm below its
+    top, held 1 s; the rules ask 2 cm for 0.5 s (its [contest] table)."""
+    from crslab.world.layout import load_world
+
+    world = load_world("contest")
+    (x, y), top = world.hole.center_xy_m, world.hole.top_z_m
+    log = trace([(0, x, y, top + 0.05), (1, x, y, top - 0.03), (2, x, y, top - 0.03), (3, x, y, top + 0.05)])
+    card = score(log, world)
+    assert card.rules == Rules(band_g=(500.0, 1000.0), hold_s=2.0, peg_min_depth_m=0.02, peg_hold_s=0.5,
+                               groove_min_share=0.9)
+    assert card.peg.done and card.peg.depth_m == pytest.approx(0.03)
+    # at least 2 cm deep from 7/8 of the way down (t = 0.875 s) to 1/8 of the way up (t = 2.125 s)
+    assert card.peg.held_s == pytest.approx(1.25, abs=0.002)
+    assert not card.egg.done and card.egg.note == "" and not card.obstacle.passed_over
