@@ -17,6 +17,7 @@
 #include <stdint.h>
 
 #include "firmware_board.h"
+#include "world.h"
 
 /* Shared-memory block the worker writes and the crslab process reads, even after a crash. */
 enum { CRS_SERIAL_CAPACITY = 4194304, CRS_MARK_CAPACITY = 65536, CRS_PRINT_CAPACITY = 65536 };
@@ -121,6 +122,8 @@ typedef struct {
     uint32_t *leds;              /* bit 0: GPIO34 (control card), bit 1: GPIO60 (e-stop box) */
     int32_t *motor_board_off;    /* 1: the motor board has cut every output */
     double *qpos_dh_rad;         /* 3 per row: the true plant joint angles (DH, rad) */
+    double *world;               /* CRS_WORLD_ROW per row: the world's quantities (world.h); NULL
+                                    in a world without fixtures */
 } crs_log;
 
 /* The framework's hold controller (docs/framework.md section 4), in the DSP's float arithmetic. */
@@ -333,6 +336,7 @@ typedef struct {
     crs_friction friction;
     crs_log log;
     crs_debug debug;
+    crs_world world;             /* what the world's fixtures feel (csrc/plant/world.h) */
 
     /* the host ports: the lab's variables in C28x memory, and the two receivers */
     crs_c28x_memory memory;
