@@ -17,6 +17,7 @@
 #include "motor_board.h"
 #include "push.h"
 #include "serial_line.h"
+#include "world.h"
 
 void crs_sim_init(crs_sim *sim)
 {
@@ -31,6 +32,7 @@ void crs_sim_init(crs_sim *sim)
     sim->faults.rng_state = 0x9E3779B97F4A7C15ULL;
     sim->faults.glitch_tick = -1;
     crs_motor_board_init(&sim->motor_board, CRS_MOTOR_BOARD_NONE);
+    crs_world_init(&sim->world);
     /* an ideal drive (every command delivered at once) until the plant parameters are set */
     for (int j = 0; j < 3; ++j) sim->drive.stall_units[j] = HUGE_VAL;
 }
@@ -160,6 +162,14 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
 
         sh->phase = CRS_PHASE_PHYSICS;
         sim->mj_step(sim->mj_model, sim->mj_data);
+        if (sim->world.enabled) {
+            /* the contact forces of the step just taken, logged with the state it started from */
+            crs_world_update(&sim->world, sim->tick);
+            if (sim->log.capacity > 0 && sim->log.world != NULL) {
+                memcpy(&sim->log.world[CRS_WORLD_ROW * (sim->log.count - 1)], sim->world.row,
+                       sizeof sim->world.row);
+            }
+        }
         sim->tick++;
         sh->phase = CRS_PHASE_IDLE;
         sh->tick = sim->tick;

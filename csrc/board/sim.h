@@ -17,6 +17,7 @@
 #include <stdint.h>
 
 #include "firmware_board.h"
+#include "world.h"
 
 /* Shared-memory block the worker writes and the crslab process reads, even after a crash. */
 enum { CRS_SERIAL_CAPACITY = 4194304, CRS_MARK_CAPACITY = 65536, CRS_PRINT_CAPACITY = 65536 };
@@ -134,6 +135,8 @@ typedef struct {
     double *qpos_dh_rad;         /* 3 per row: the true plant joint angles (DH, rad) */
     double *ee;                  /* 3 per row: the end effector x y z by the course's FK, m */
     double *push_force;          /* 3 per row: the push's force, world frame, N */
+    double *world;               /* CRS_WORLD_ROW per row: the world's quantities (world.h); NULL
+                                    in a world without fixtures */
 } crs_log;
 
 /* The framework's hold controller (docs/framework.md section 4), in the DSP's float arithmetic. */
@@ -347,6 +350,7 @@ typedef struct {
     crs_friction friction;
     crs_log log;
     crs_debug debug;
+    crs_world world;             /* what the world's fixtures feel (csrc/plant/world.h) */
 
     /* the host ports: the lab's variables in C28x memory, and the two receivers */
     crs_c28x_memory memory;
