@@ -11,7 +11,7 @@ import pytest
 from serve_server import Client, ServeProcess, run_message, serial_of, write_roster
 
 from crslab.serve.app import arm_shapes
-from crslab.serve.protocol import ProtocolError, parse_message
+from crslab.serve.page_messages import ProtocolError, parse_message
 from crslab.sim.api import simulate
 from crslab.starters import starter_text
 

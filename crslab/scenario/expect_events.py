@@ -5,7 +5,7 @@ An expectation at tick k looks at the run as it stands when its tick comes, befo
 like every event: the motor board and the safety flag as tick k-1 left them (the flag is the
 ``error`` lab() gets at tick k), the arm's motor angles after k physics steps (what tick k's
 encoders read, for a lab with the right offsets and no encoder fault), a watched variable's
-value. It never changes the run: the worker only reads (``crslab/sim/event_effects.py``) and
+value. It never changes the run: the worker only reads (``crslab/worker/event_effects.py``) and
 sends what it saw as an :class:`Observation`; the crslab process judges it (:class:`Judge`), so
 what counts as met is decided outside the lab's process.
 
@@ -68,7 +68,7 @@ class Observation:
     """The watched variable the expectation names (None when it names none)."""
     world: Mapping[str, float] | None = None
     """The world's quantities of the last step (``egg_force``, ``scale_g``, ``egg_broken``,
-    ``peg_depth``, ``hole_force``...; crslab.sim.worker.WORLD_COLUMNS); None in free air."""
+    ``peg_depth``, ``hole_force``...; crslab.worker.worker.WORLD_COLUMNS); None in free air."""
 
 
 def _joints_text(joints: tuple[int, ...], what: str) -> str:
