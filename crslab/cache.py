@@ -123,8 +123,9 @@ def keyed_digest(data: bytes, cache: Path | None = None) -> str:
 
 
 def seal(path: Path, cache: Path | None = None) -> None:
-    """Record, beside ``path`` (``NAME.seal``), its keyed digest: this user's build wrote it."""
-    digest = keyed_digest(path.read_bytes(), cache)
+    """Record, beside ``path`` (``NAME.seal``), its keyed digest (of its name and its bytes: this
+    user's build wrote it, under this name)."""
+    digest = keyed_digest(path.name.encode() + b"\0" + path.read_bytes(), cache)
     tmp = path.with_name(f"{path.name}{SEAL_SUFFIX}.{os.getpid()}.tmp")
     tmp.write_text(digest)
     tmp.replace(path.with_name(path.name + SEAL_SUFFIX))
@@ -146,4 +147,4 @@ def is_sealed(path: Path, cache: Path | None = None) -> bool:
         data = path.read_bytes()
     except (OSError, UnicodeDecodeError):
         return False
-    return hmac.compare_digest(expected, keyed_digest(data, cache))
+    return hmac.compare_digest(expected, keyed_digest(path.name.encode() + b"\0" + data, cache))

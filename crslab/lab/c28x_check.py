@@ -127,9 +127,12 @@ class C28xCheck:
     """The two compiles of one lab, started at once (they run while the lab runs) and awaited by
     :meth:`report`: each in a private build of its own (a copy of the lab's folder's allowed files,
     the overlay that shows the compiler nothing else: :mod:`crslab.lab.compile_process`), never on
-    the lab's own folder. ``sandboxed`` runs them in the compile sandbox too."""
+    the lab's own folder. ``sandboxed`` runs them in the compile sandbox too; ``text``: the lab's
+    text as the caller read it (None: read here); ``alone``: the lab without its folder's files (a
+    class's submission, as grade builds it)."""
 
-    def __init__(self, lab: Path, *, sandboxed: bool = True) -> None:
+    def __init__(self, lab: Path, *, sandboxed: bool = True, text: bytes | None = None,
+                 alone: bool = False) -> None:
         self.lab = Path(lab).absolute()
         self._builds: list[PrivateBuild] = []
         self._procs: list = []
@@ -138,9 +141,9 @@ class C28xCheck:
             from crslab.lab.zig import zig_cc, zig_dir, zig_environment
 
             argv = zig_cc()
-            text = read_lab_file(self.lab)
+            text = read_lab_file(self.lab) if text is None else text
             for target in (BOARD_TARGET, HOST_TARGET):
-                private = PrivateBuild(self.lab, text)
+                private = PrivateBuild(self.lab, text, alone=alone)
                 self._builds.append(private)
                 work = private.folder
                 for sub in ("cache", "global"):
@@ -194,9 +197,10 @@ class C28xCheck:
         self._builds = []
 
 
-def check_lab(lab: Path, *, sandboxed: bool = True) -> C28xReport:
-    """Run the check on ``lab`` and wait for it."""
-    return C28xCheck(lab, sandboxed=sandboxed).report()
+def check_lab(lab: Path, *, sandboxed: bool = True, text: bytes | None = None,
+              alone: bool = False) -> C28xReport:
+    """Run the check on ``lab`` (see :class:`C28xCheck`) and wait for it."""
+    return C28xCheck(lab, sandboxed=sandboxed, text=text, alone=alone).report()
 
 
 def _key(lab: Path) -> str:

@@ -319,17 +319,18 @@ def run_compile(argv: Sequence[str], *, env: Mapping[str, str], preexec: Callabl
 
 class PrivateBuild:
     """A build's private folder (in ``parent``, else the system's temporary folder): ``source`` holds
-    a copy of the lab's folder's allowed files (:func:`allowed_files`), the lab itself as ``copy``
-    (its ``text``, read once); a :class:`Reaper` removes the folder if crslab dies before
-    :meth:`close` does. Use it as a context manager."""
+    a copy of the lab's folder's allowed files (:func:`allowed_files`; none when ``alone``: a
+    class's submission, whose folder holds the others), the lab itself as ``copy`` (its ``text``,
+    read once); a :class:`Reaper` removes the folder if crslab dies before :meth:`close` does. Use
+    it as a context manager."""
 
-    def __init__(self, lab: Path, text: bytes, parent: Path | None = None) -> None:
+    def __init__(self, lab: Path, text: bytes, parent: Path | None = None, *, alone: bool = False) -> None:
         self.lab = Path(lab)
         self.folder = Path(tempfile.mkdtemp(prefix="crslab-build-", dir=parent))
         self.reaper = Reaper(self.folder)
         self.source = self.folder / SOURCE_FOLDER
         self.source.mkdir()
-        self.files = allowed_files(self.lab.absolute().parent)
+        self.files = [] if alone else allowed_files(self.lab.absolute().parent)
         for name, path, _ in self.files:
             target = self.source / name
             target.parent.mkdir(parents=True, exist_ok=True)
