@@ -220,11 +220,17 @@ _libc = ctypes.CDLL(None, use_errno=True)
 PR_SET_PDEATHSIG = 1
 
 
-def _limits(memory_bytes: int, cpu_s: int, file_bytes: int, parent: int,
+ENDING_SIGNALS = {signal.SIGINT, signal.SIGTERM, signal.SIGHUP}
+"""Held back while a compiler is started and recorded, so that no Ctrl-C or SIGTERM can leave one
+started that nobody kills."""
+
+
+def _limits(memory_bytes: int, cpu_s: int, file_bytes: int, parent: int, mask: set[signal.Signals],
             then: Callable[[], None] | None) -> Callable[[], None]:
     prctl = _libc.prctl
 
     def apply() -> None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
         if os.getppid() != parent:  # crslab died before the line above: end now
             os._exit(1)
@@ -251,19 +257,28 @@ class CompileProcess:
                  memory_bytes: int, cpu_s: int, file_bytes: int, pass_fds: Sequence[int],
                  cwd: Path | None, reaper: Reaper | None) -> None:
         self._own_reaper = reaper is None
-        self.reaper = reaper if reaper is not None else Reaper()
-        try:
-            self.proc = subprocess.Popen(list(argv), stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                         stderr=subprocess.PIPE, env=dict(env), start_new_session=True,
-                                         cwd=cwd, pass_fds=tuple(pass_fds),
-                                         preexec_fn=_limits(memory_bytes, cpu_s, file_bytes, os.getpid(),
-                                                            preexec))
-        except BaseException:
-            if self._own_reaper:
-                self.reaper.done()
-            raise
-        self.reaper.watch(self.proc.pid)
         self._ended = False
+        mask = signal.pthread_sigmask(signal.SIG_BLOCK, ENDING_SIGNALS)
+        try:
+            self.reaper = reaper if reaper is not None else Reaper()
+            try:
+                self.proc = subprocess.Popen(list(argv), stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                             stderr=subprocess.PIPE, env=dict(env), start_new_session=True,
+                                             cwd=cwd, pass_fds=tuple(pass_fds),
+                                             preexec_fn=_limits(memory_bytes, cpu_s, file_bytes, os.getpid(),
+                                                                mask, preexec))
+            except BaseException:
+                if self._own_reaper:
+                    self.reaper.done()
+                raise
+            self.reaper.watch(self.proc.pid)
+        finally:
+            try:
+                signal.pthread_sigmask(signal.SIG_SETMASK, mask)  # a signal held back acts here
+            except BaseException:
+                if hasattr(self, "proc"):
+                    self.kill()
+                raise
 
     def wait(self, timeout_s: float = COMPILE_TIMEOUT_S) -> CompileRun:
         """Wait for it, at most ``timeout_s`` (then it is killed); whatever ends the wait (a
