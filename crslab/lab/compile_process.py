@@ -399,7 +399,8 @@ def visible_files(build_dir: Path, folders: list[Path]) -> Path:
 def dependencies(make_rule: str) -> list[str]:
     """The files a compiler's ``-MD -MF`` output says it read (its prerequisites).
 
-    >>> dependencies("/tmp/x/lab.o: lab.c signs.h \\\\\n  /b/my\\\\ data.bin\n")
+    >>> splice, newline = chr(92) + chr(10), chr(10)  # a backslash ending a line; a line's end
+    >>> dependencies("/tmp/x/lab.o: lab.c signs.h " + splice + "  /b/my" + chr(92) + " data.bin" + newline)
     ['lab.c', 'signs.h', '/b/my data.bin']
     """
     _, _, rest = make_rule.partition(": ")
