@@ -25,10 +25,10 @@ import secrets
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
+from waiting import wait_until
 
 from crslab import cache as cache_module
 from crslab.cli.regress_commands import c28x_reports
@@ -434,15 +434,6 @@ def compilers(marker: str) -> set[tuple[int, int]]:
     return found
 
 
-def wait_for(check, timeout_s: float = 120.0) -> bool:  # noqa: ANN001
-    end = time.monotonic() + timeout_s
-    while time.monotonic() < end:
-        if check():
-            return True
-        time.sleep(0.2)
-    return False
-
-
 def still_running(procs: set[tuple[int, int]]) -> set[tuple[int, int]]:
     alive = set()
     for pid, start in procs:
@@ -467,12 +458,12 @@ def test_no_compiler_outlives_crslab(tmp_path, shared_cache, how, board):
                             stderr=subprocess.PIPE, env={**os.environ, key: value,
                                                          "CRSLAB_CACHE_DIR": str(shared_cache)})
     try:
-        assert wait_for(lambda: compilers(marker)), "the compiler never started"
+        wait_until(lambda: bool(compilers(marker)), "the compiler's start")
         running = compilers(marker)
         proc.send_signal(getattr(signal, how))
         proc.wait(timeout=60)
-        assert wait_for(lambda: not still_running(running), 15), f"{still_running(running)} outlived crslab"
-        assert wait_for(lambda: not marked(marker), 15), f"{marked(marker)} outlived crslab"
+        wait_until(lambda: not still_running(running), "the end of the compilers crslab started", 15)
+        wait_until(lambda: not marked(marker), "the end of every process crslab started", 15)
     finally:
         proc.kill()
         proc.wait()
@@ -500,7 +491,7 @@ def test_grade_timeout_ends_the_compiler_and_leaves_no_text_in_the_cache(tmp_pat
                        env={**os.environ, key: value, "CRSLAB_CACHE_DIR": str(shared_cache),
                             "TMPDIR": str(tmp)})
     assert r.returncode in (1, 2), r.stderr[-2000:]
-    assert wait_for(lambda: not marked(marker), 15), f"{marked(marker)} outlived grade"
+    wait_until(lambda: not marked(marker), "the end of every process grade started", 15)
     for where in (shared_cache, tmp):
         holding = [p for p in where.rglob("*") if p.is_file() and token.encode() in p.read_bytes()]
         assert holding == []
@@ -512,15 +503,15 @@ def test_the_reaper_removes_a_build_whose_crslab_died(tmp_path):
     """The private build's folder (the submission's text) goes with crslab however it ends."""
     lab = tmp_path / "lab.c"
     lab.write_text("int secret_text;\n")
-    code = ("import time\nfrom pathlib import Path\nfrom crslab.lab.compile_process import PrivateBuild\n"
+    code = ("import signal\nfrom pathlib import Path\nfrom crslab.lab.compile_process import PrivateBuild\n"
             f"b = PrivateBuild(Path({str(lab)!r}), b'int secret_text;', parent=Path({str(tmp_path)!r}))\n"
-            "print(b.folder, flush=True)\ntime.sleep(600)\n")
+            "print(b.folder, flush=True)\nsignal.pause()\n")
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
     made = Path(proc.stdout.readline().strip())
     assert (made / "submission" / "lab.c").read_text() == "int secret_text;"
     proc.kill()
     proc.wait()
-    assert wait_for(lambda: not made.exists(), 15)
+    wait_until(lambda: not made.exists(), "the removal of the dead build's folder", 15)
 
 
 def test_a_compile_is_bounded_in_memory():

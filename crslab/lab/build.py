@@ -8,12 +8,14 @@ the lab, the same stand-ins and the whole board into one shared object with the 
 
 Either way the lab is compiled as C11 (never a GNU dialect, so globals named ``gamma``, ``y0`` or
 ``j1`` do not clash with the C library's math declarations), a ``.cpp`` file holding C is compiled
-as C, and the compiler runs contained (:mod:`crslab.lab.compile_process`: limits, its own process
-group) in the compile sandbox (crslab/sandbox/compile_sandbox.py: it reads only the lab's folder,
-crslab's headers and the compiler's own files, and writes only the build folder; reading anything
-else is :class:`LabForbidden`). A lab whose globals do not fit the F28335's data memory, as the TI
-linker would lay them out, does not build either (:func:`check_board_memory`). Builds are cached per
-user by the content of the lab, of every board source, of the flags and by the compiler's identity.
+as C, and the compiler runs contained (:mod:`crslab.lab.compile_process`: a private copy of the
+lab's folder's allowed files, limits, its own process group, a reaper) in the compile sandbox
+(crslab/sandbox/compile_sandbox.py: it reads only that copy, crslab's headers and the compiler's own
+files, and writes only the build folder; a file it may not read is "not there", as a missing one). A
+lab whose globals do not fit the F28335's data memory, as the TI linker would lay them out, does not
+build either (:func:`check_board_memory`). Builds are cached per user (each sealed: a file planted in
+the cache is not loaded), named by the lab's text, by what the compiler read of the lab's folder and
+the names in it, by the flags and by the compiler's identity.
 """
 
 from __future__ import annotations
