@@ -88,10 +88,31 @@ def cache_dir() -> Path:
     return Path(tempfile.mkdtemp(prefix=f"crslab-cache-{os.getuid()}-"))
 
 
+_keys: dict[tuple[Path, int, int], bytes] = {}
+
+
 def _key(cache: Path) -> bytes:
     """This user's sealing secret in ``cache`` (made on first use; one that is not this user's
-    alone is replaced, which unseals everything sealed with it)."""
+    alone is replaced, which unseals everything sealed with it); read once per process while the
+    file stays the same."""
     path = cache / KEY_FILE
+    try:
+        st = os.lstat(path)
+        known = _keys.get((path, st.st_ino, st.st_mtime_ns))
+        if known is not None:
+            return known
+    except FileNotFoundError:
+        pass
+    key = _read_or_make_key(cache, path)
+    try:
+        st = os.lstat(path)
+        _keys[(path, st.st_ino, st.st_mtime_ns)] = key
+    except FileNotFoundError:
+        pass
+    return key
+
+
+def _read_or_make_key(cache: Path, path: Path) -> bytes:
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW)
         with os.fdopen(fd, "rb") as f:
@@ -111,7 +132,7 @@ def _key(cache: Path) -> bytes:
         os.link(tmp, path)  # the first writer's key wins; a second one reads it
     except FileExistsError:
         tmp.unlink()
-        return _key(cache)
+        return _read_or_make_key(cache, path)
     tmp.unlink()
     return key
 
