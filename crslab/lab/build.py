@@ -84,7 +84,8 @@ DEBUG_LAB_FLAGS = ["-O0", "-g", "-fno-omit-frame-pointer"]
 DEBUG_BOARD_FLAGS = ["-g"]
 LINK_LIBS = os_support.MATH_LIBS
 TRAP_SOURCE = CSRC / "sandbox" / "trap.c"
-TRAP_HEADERS = [CSRC / "sandbox" / "trap.h", *sorted(BOARD.glob("*.h")), *sorted(PORT.glob("*.h"))]
+TRAP_HEADERS = [CSRC / "sandbox" / "trap.h", *sorted(BOARD.glob("*.h")), *sorted(PLANT.glob("*.h")),
+                *sorted(PORT.glob("*.h"))]
 TRAP_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-shared"]
 
 
@@ -224,7 +225,8 @@ def trap_library(cc: Compiler, cache: Path) -> Path:
     it), built once per content and compiler, like the board."""
     out_dir = _own_c_dir(cache, "sandbox", cc, TRAP_FLAGS, [TRAP_SOURCE, *TRAP_HEADERS])
     return _compiled(out_dir / "trap.so",
-                     [*cc.argv, *TRAP_FLAGS, "-I", str(BOARD), "-I", str(PORT), str(TRAP_SOURCE)],
+                     [*cc.argv, *TRAP_FLAGS, "-I", str(BOARD), "-I", str(PLANT), "-I", str(PORT),
+                      str(TRAP_SOURCE)],
                      "crslab's sandbox trap")
 
 
