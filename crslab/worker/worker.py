@@ -58,6 +58,7 @@ _LOG_COLUMNS = {  # name: (width, dtype)
     "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
     "tau_applied": (3, np.float64), "plot": (4, np.float64), "safety": (1, np.int32),
     "leds": (1, np.uint32), "motor_board_off": (1, np.int32), "qpos_dh_rad": (3, np.float64),
+    "ee": (3, np.float64), "push_force": (3, np.float64),
 }
 WORLD_COLUMNS = {  # the C log's "world" row (csrc/plant/world.h CRS_WORLD_ROW_*), split by name: width
     "peg_tip": 3, "egg_force": 1, "scale_g": 1, "egg_broken": 1, "hole_force": 1, "obstacle_force": 1,
