@@ -22,7 +22,6 @@ import json
 import os
 import re
 import shutil
-import subprocess
 import sys
 import tempfile
 import threading
@@ -36,6 +35,8 @@ from crslab.cache import cache_dir
 FIRST_USE_TIMEOUT_S = 1800.0
 """How long zig's build of a C library may take (40-150 s measured on 2 cores, 5 to over 10 minutes
 while 8 other jobs share them)."""
+PREPARE_MEMORY_BYTES = 8 * 1024 ** 3
+"""The address space zig may map while it builds its C library (crslab's own sources, in threads)."""
 
 
 class ZigMissing(FileNotFoundError):
@@ -231,14 +232,22 @@ def prepare(target: str, flags: list[str], stream: TextIO | None = None) -> LibC
             work = Path(tmp)
             src = work / "probe.c"
             src.write_text(PROBE)
+            from crslab.lab.compile_process import run_compile
+
             env = zig_environment(work / "cache")
             env[ZIG_CACHE_ENV] = str(work / "global")  # only what is copied out is kept
-            r = subprocess.run([*zig_cc(), f"--target={target}", *flags, "-v", str(src), "-o",
-                                str(work / "probe")], capture_output=True, text=True, cwd=work,
-                               env=env, timeout=FIRST_USE_TIMEOUT_S)
-            if r.returncode != 0:
-                first = next((line for line in r.stderr.splitlines() if "error" in line), "no message")
-                raise RuntimeError(f"zig cannot build its C library for {target}: {first}")
+            # built once (its messages are long), then linked again with -v, from zig's cache, to
+            # read which files it links
+            for verbose in ([], ["-v"]):
+                r = run_compile([*zig_cc(), f"--target={target}", *flags, *verbose, str(src), "-o",
+                                 str(work / "probe")], cwd=work, env=env, timeout_s=FIRST_USE_TIMEOUT_S,
+                                cpu_s=int(FIRST_USE_TIMEOUT_S), memory_bytes=PREPARE_MEMORY_BYTES)
+                if r.timed_out:
+                    raise RuntimeError(f"zig did not finish building its C library for {target} within "
+                                       f"{FIRST_USE_TIMEOUT_S:.0f} s")
+                if r.returncode != 0:
+                    first = next((line for line in r.stderr.splitlines() if "error" in line), "no message")
+                    raise RuntimeError(f"zig cannot build its C library for {target}: {first}")
             includes, link = link_inputs(r.stderr, work)
             lib = (zig_dir() / "lib").resolve()
             inside = [str(Path(i).resolve().relative_to(lib)) for i in includes
@@ -246,9 +255,6 @@ def prepare(target: str, flags: list[str], stream: TextIO | None = None) -> LibC
             if not link or not inside:
                 raise RuntimeError(f"zig's messages named no C library for {target} (zig {zig_version()})")
             libc = _keep(target, flags, inside, link)
-    except subprocess.TimeoutExpired:
-        raise RuntimeError(f"zig did not finish building its C library for {target} within "
-                           f"{FIRST_USE_TIMEOUT_S:.0f} s") from None
     finally:
         done.set()
         clock.join()
