@@ -309,7 +309,8 @@ def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, refe
         board = c28x.get(grade.path, C28xReport()).lines()
         extra = "\n" + "\n".join(board) + "\n" if board else ""
         if grade.grade != GradeClass.PASS:
-            report.write_text(for_text(f"{grade.verdict}\n\n{grade.report}\n{extra}"))
+            more = "" if grade.report.strip() == grade.detail else f"\n{grade.report}\n"  # not said twice
+            report.write_text(for_text(f"{grade.verdict}\n{more}{extra}"))
         elif board:
             report.write_text(for_text(f"{grade.grade}{extra}"))
     g.write_csv(out / "grades.csv", ordered)
