@@ -22,10 +22,11 @@ debug information); the first frame in the lab's own file is the line shown.
 from __future__ import annotations
 
 import re
-from pathlib import PurePath
+from pathlib import Path, PurePath
 
 from crslab.sim.board_ffi import board_constants
 from crslab.sim.status import RunStatus
+from crslab.sim.wasm_lines import line_at
 from crslab.untrusted_text import for_terminal
 
 _AT = re.compile(r"^\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
@@ -57,21 +58,28 @@ def where_in(text: str, lab_name: str) -> str | None:
     return None
 
 
-_FRAME_AT = re.compile(r"^\s*\d+:\s+0x[0-9a-f]+ - (\S+)\n\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
+_FRAME_AT = re.compile(r"^\s*\d+:\s+(0x[0-9a-f]+) - (\S+)\n\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
 
 
-def where_stopped(text: str, lab_name: str) -> str:
+def where_stopped(text: str, lab_name: str, image: Path | None = None) -> str:
     """Where in the lab's own file a firmware that was stopped (an interrupt) was: ``FILE:LINE in
-    FUNCTION()`` of the innermost frame in the lab's file, ``in FUNCTION() (FILE)`` when its
-    line is not known (a loop's jump back has none), else empty.
+    FUNCTION()`` of the innermost frame in the lab's file (a line wasmtime does not give, as for a
+    loop's head, read from the firmware ``image``'s own line table: :mod:`crslab.sim.wasm_lines`),
+    ``in FUNCTION() (FILE)`` when its line is not known, else empty.
 
     >>> where_stopped("    0:   0x561a - wait_ready\\n        at /x/hang.c\\n    1: 0x50b - lab\\n"
     ...               "        at /x/hang.c:30:5\\n", "hang.c")
     'in wait_ready() (hang.c)'
     """
-    for function, path, line in _FRAME_AT.findall(text):
+    for offset, function, path, line in _FRAME_AT.findall(text):
         if PurePath(path).name == lab_name:
             name = for_terminal(function)
+            if not line and image is not None:
+                try:
+                    found = line_at(image.read_bytes(), int(offset, 16), lab_name)
+                except OSError:
+                    found = None
+                line = str(found) if found else ""
             return f"at {lab_name}:{line} in {name}()" if line else f"in {name}() ({lab_name})"
     return ""
 
@@ -86,8 +94,10 @@ def _phase_words(phase: int) -> tuple[str, str]:
     return "lab()", "in lab()"
 
 
-def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[RunStatus, str]:
-    """How the run ends and the one line that says why."""
+def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None,
+             image: Path | None = None) -> tuple[RunStatus, str]:
+    """How the run ends and the one line that says why (``image``: the firmware, whose line table
+    says where a hung call was when wasmtime does not)."""
     c = board_constants()
     kind, phase, tick = int(trap.get("kind", 0)), int(trap.get("phase", 0)), int(trap.get("tick", 0))
     text = str(trap.get("text", ""))
@@ -98,7 +108,7 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[Ru
     place = f"at {line} {where}" if line else where
     if kind == c.CRS_FW_TRAP_INTERRUPT:
         within = f" within {deadline_s:g} s" if deadline_s is not None else ""
-        stopped = where_stopped(text, lab_name)
+        stopped = where_stopped(text, lab_name, image)
         was = f"; it was {stopped}" if stopped and stopped != f"in {func} ({lab_name})" else ""
         return RunStatus.HUNG, f"{lab_name} hung: {func} did not return{within} {at}{was}"
     if kind == c.CRS_FW_TRAP_EXIT:
