@@ -19,7 +19,7 @@ def test_the_native_boards_debug_build_names_no_checkout(tmp_path):
     csrc = str(resources.path("csrc")).encode()
     named = [o.name for o in objects if csrc in o.read_bytes()]
     assert not named, f"{named} name this checkout's {csrc.decode()}"
-    assert any(DEBUG_INFO_CSRC.encode() + b"/sim" in o.read_bytes() for o in objects)
+    assert any(DEBUG_INFO_CSRC.encode() + b"/board" in o.read_bytes() for o in objects)
 
 
 def test_gdb_is_told_where_this_checkouts_c_folder_is():

@@ -7,7 +7,7 @@ from types import SimpleNamespace
 from cffi import FFI
 
 from crslab.lab.firmware import SIZES_SYMBOL
-from crslab.sim.firmware_memory import WasmMemory
+from crslab.worker.firmware_memory import WasmMemory
 
 MEMORY_BYTES = 64
 TABLE_AT, VARIABLE_AT = 8, 48

@@ -452,7 +452,7 @@ def test_a_run_result_carries_its_expectations_through_grading_processes():
 @pytest.mark.parametrize("change", [{"tick": True}, {"error": 1.0}, {"motor_rad": [0.0, 0.0]},
                                     {"motor_rad": ["a", 0.0, 0.0]}, {"var": "1"}, {"motor_board": 3}])
 def test_an_observation_from_the_worker_is_read_as_untrusted_data(change):
-    from crslab.sim.protocol import observation
+    from crslab.worker.worker_messages import observation
 
     raw = {"tick": 5000, "motor_board": "piccolo", "motor_board_off": 1, "motor_board_cutouts": 1, "error": 0,
            "motor_rad": [0.0, 0.1, 0.2], "var": 2.5}

@@ -27,11 +27,11 @@ from crslab.framework_facts import SERIAL_BAUD
 from crslab.live.console import VarConsole
 from crslab.output_paths import with_parent
 from crslab.scopes.display import missing_display
-from crslab.sim.config import SimConfig
 from crslab.sim.running import LiveControl
 from crslab.sinks.rerun_writer import WriterSink, discard_writer, take_writer
 from crslab.sinks.sink import FanOut
 from crslab.sinks.threaded import ThreadedSink
+from crslab.worker.config import SimConfig
 
 
 def add_live_options(p: argparse.ArgumentParser) -> None:

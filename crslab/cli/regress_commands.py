@@ -35,10 +35,10 @@ from crslab.regress.transcript import (
 )
 from crslab.scenario.event import seconds_to_tick
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD
-from crslab.sim.config import SimConfig
 from crslab.sim.session import SimError
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.untrusted_text import for_terminal, for_text
+from crslab.worker.config import SimConfig
 
 if TYPE_CHECKING:
     from crslab.regress.grade import Found

@@ -21,9 +21,9 @@ from typing import Any
 
 from crslab.cli import CliError
 from crslab.output_paths import with_parent
-from crslab.sim.config import SimConfig
 from crslab.sinks.sink import FanOut, Sink
 from crslab.sinks.threaded import ThreadedSink
+from crslab.worker.config import SimConfig
 
 
 @dataclass(frozen=True)

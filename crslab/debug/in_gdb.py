@@ -195,7 +195,7 @@ def _setup() -> None:
     csrc = _setting("crs_csrc")
     if csrc:
         for root in (csrc, "/crslab/csrc"):  # the folder, and its name in the debug information
-            for folder in ("sim", "kin", "board/include"):
+            for folder in ("board", "plant", "port", "kin", "firmware/include"):
                 gdb.execute(f"skip -gfile {root}/{folder}/*", to_string=True)
     armed = gdb.Breakpoint("crs_debug_break", internal=True)
     armed.silent = True

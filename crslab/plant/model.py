@@ -139,7 +139,7 @@ def apply_friction(model: mujoco.MjModel, plant: PlantParams) -> None:
     (``frictionloss``, half the band's width) and its constant offset (the motor actuators' bias,
     :meth:`PlantParams.friction_bias_nm`). Motors 1 and 2 turn joints j1 and j2; motor 3 turns the
     forearm tendon (j2 + j3). The friction beyond the band, while a joint slides, is the C board's
-    (``csrc/sim/friction.c``, set by the worker): the model has no ``damping``."""
+    (``csrc/plant/friction.c``, set by the worker): the model has no ``damping``."""
     half = plant.band_half_nm()
     model.actuator_biasprm[:, 0] = plant.friction_bias_units()
     model.dof_frictionloss[:] = (half[0], half[1], 0.0)

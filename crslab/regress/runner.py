@@ -8,10 +8,10 @@ from pathlib import Path
 
 from crslab import __version__
 from crslab.regress.transcript import DEFAULT_PLANT, sha256_of
-from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, Simulation
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.memory import MemorySink
+from crslab.worker.config import SimConfig
 
 
 def run_lab(config: SimConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEADLINE_S,

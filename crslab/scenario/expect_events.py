@@ -5,7 +5,7 @@ An expectation at tick k looks at the run as it stands when its tick comes, befo
 like every event: the motor board and the safety flag as tick k-1 left them (the flag is the
 ``error`` lab() gets at tick k), the arm's motor angles after k physics steps (what tick k's
 encoders read, for a lab with the right offsets and no encoder fault), a watched variable's
-value. It never changes the run: the worker only reads (``crslab/sim/event_effects.py``) and
+value. It never changes the run: the worker only reads (``crslab/worker/event_effects.py``) and
 sends what it saw as an :class:`Observation`; the crslab process judges it (:class:`Judge`), so
 what counts as met is decided outside the lab's process.
 

@@ -5,7 +5,7 @@ libraries, ``/api/login`` and ``/api/logout``, ``/api/me``, ``/api/template`` (`
 starting file for a lab and a generation), ``/api/scenarios``, ``/api/arm`` (the arm's shapes from the
 MuJoCo model, for the 3D view), ``/api/download/{kind}`` (the last run's transcript, CSV or
 ``.rrd``), ``/admin`` (sessions, for admins) and ``/ws``, one WebSocket per page session
-(:mod:`crslab.serve.protocol`).
+(:mod:`crslab.serve.page_messages`).
 
 Who is who: without a roster the server serves one user on this machine, who proves it by the
 token in the URL ``crslab serve`` printed (the page then keeps a cookie); with a roster, a login.
@@ -35,9 +35,9 @@ from starlette.websockets import WebSocket, WebSocketDisconnect, WebSocketDiscon
 
 from crslab.generations import GENERATIONS, NEWEST
 from crslab.serve.auth import CookieSigner, RateLimit, User, verify_secret
-from crslab.serve.protocol import ProtocolError, parse_message
-from crslab.serve.session_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
-from crslab.serve.sessions import LimitError, PageSession, Sessions
+from crslab.serve.page_messages import ProtocolError, parse_message
+from crslab.serve.page_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
+from crslab.serve.page_sessions import LimitError, PageSession, Sessions
 from crslab.starters import LABS, starter_text
 
 STATIC = Path(__file__).parent / "static"

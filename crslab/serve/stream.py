@@ -194,7 +194,7 @@ class PageControl:
         self.phase = phase
         """Where in every 250 ms of the machine's clock this run's watching chunks end (a fraction
         of the period): the server gives each run its own (:meth:`Sessions.admit
-        <crslab.serve.sessions.Sessions.admit>`), so a class's runs wake one after another, not
+        <crslab.serve.page_sessions.Sessions.admit>`), so a class's runs wake one after another, not
         all at once."""
         self.send = send
         self.stream = stream

@@ -18,11 +18,11 @@ from crslab.plant.plant_params import PlantParams
 from crslab.sandbox import resolve as resolve_sandbox
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import Scenario, check_lab, load_scenario
-from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, Simulation
 from crslab.sim.status import RunResult
 from crslab.sinks.memory import MemorySink
 from crslab.sinks.sink import FanOut, Sink
+from crslab.worker.config import SimConfig
 
 DEFAULT_REST_MOTOR_RAD = REST_MOTOR_RAD
 

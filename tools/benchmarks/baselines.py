@@ -31,8 +31,8 @@ from mujoco import rollout
 
 from crslab.plant.model import SCENE_XML, load_model
 from crslab.plant.mujoco_c import stop_stage_timers
-from crslab.sim.config import SimConfig
 from crslab.sim.inprocess import InProcessRun
+from crslab.worker.config import SimConfig
 
 HARNESS_C = Path(__file__).resolve().parent / "bare_mj_step.c"
 MODEL_XML = SCENE_XML

@@ -1,5 +1,5 @@
 // crslab serve: the page. Logs in, holds the lab in a CodeMirror editor, talks to the server over one
-// WebSocket (crslab/serve/protocol.py), and plays what a run streams at the time the board sent it:
+// WebSocket (crslab/serve/page_messages.py), and plays what a run streams at the time the board sent it:
 // Tera Term (xterm.js), the arm in 3D, the scopes, the watched variables.
 "use strict";
 

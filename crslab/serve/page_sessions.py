@@ -3,7 +3,7 @@
 A session process is started from a fork server that imported crslab once
 (:func:`session_context`), with a pipe to the server and a private folder. The server keeps, per
 session, who owns it, when it started and what it runs (from the tags of the messages it relays,
-:mod:`crslab.serve.session_process`), and enforces the per-user limits before it hands a message
+:mod:`crslab.serve.page_process`), and enforces the per-user limits before it hands a message
 on: one run at a time, compiles per minute, and the number of sessions at once.
 """
 
@@ -23,11 +23,11 @@ from pathlib import Path
 
 from crslab import os_support
 from crslab.serve.auth import RateLimit
-from crslab.serve.session_process import SessionLimits, serve_session
+from crslab.serve.page_process import SessionLimits, serve_session
 
 PRELOAD = [
-    "crslab.serve.session_process",
-    "crslab.sim.worker",
+    "crslab.serve.page_process",
+    "crslab.worker.worker",
     "crslab.sandbox.run_sandbox",
     "crslab.executors.warmup",
     "crslab.scopes.arm3d",

@@ -1,7 +1,7 @@
 /* The board's serial lines (docs/framework.md section 6): bytes queued into a port's transmit ring move
  * into the SCI's hardware FIFO and shift register, and leave one after another at the baud rate.
  * Every port has one (SerialA's carries serial_printf to Tera Term; SerialB's and SerialC's the
- * replies to the host, csrc/sim/host_ports.h), and the host's bytes come in on a line of the same
+ * replies to the host, csrc/board/host_ports.h), and the host's bytes come in on a line of the same
  * kind. Internal to the board; not read by cffi.
  *
  * All of a tick's serial_printf calls happen at the start of its millisecond; the interrupt moves

@@ -1,4 +1,4 @@
-"""The messages between the crslab process and its worker (crslab/sim/worker.py), typed, and the
+"""The messages between the crslab process and its worker (crslab/worker/worker.py), typed, and the
 one place the worker's replies are checked.
 
 The crslab process asks (:data:`Request`): :class:`Run` to a tick, :class:`Get` or :class:`Set`
@@ -11,8 +11,8 @@ Serial bytes never travel here: the board writes them into the shared block
 On the pipe every message is a tuple of plain data, its kind first (:meth:`Message.wire`): the
 crslab process never unpickles a class the worker names. A native lab shares the worker's process
 and may write anything into the pipe, so a reply is unpickled with only plain data and numeric
-arrays allowed (:mod:`crslab.sim.worker_reply`), then :func:`read_reply` checks it is the reply
-due, field by field; anything else is :class:`~crslab.sim.worker_reply.UnreadableReply`.
+arrays allowed (:mod:`crslab.worker.worker_reply`), then :func:`read_reply` checks it is the reply
+due, field by field; anything else is :class:`~crslab.worker.worker_reply.UnreadableReply`.
 
 >>> Run(5000).wire()
 ('run', 5000)
@@ -21,7 +21,7 @@ Value(value=1.5)
 >>> read_reply(("ran", 0, "5000", {}, None, [], [], None), Ran)
 Traceback (most recent call last):
 ...
-crslab.sim.worker_reply.UnreadableReply: its ran reply holds tick = '5000', not a whole number
+crslab.worker.worker_reply.UnreadableReply: its ran reply holds tick = '5000', not a whole number
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from typing import Any, ClassVar, NamedTuple, dataclass_transform
 import numpy as np
 
 from crslab.scenario.expect_events import Observation
-from crslab.sim.worker_reply import UnreadableReply
+from crslab.worker.worker_reply import UnreadableReply
 
 
 @dataclass_transform(frozen_default=True)
@@ -137,7 +137,7 @@ class Failed(Message):
 
 class Trapped(Message):
     """The firmware could not be loaded or stopped in a constructor (``trap``: see
-    :func:`crslab.sim.worker.trap_info`)."""
+    :func:`crslab.worker.worker.trap_info`)."""
 
     trap: dict
 
@@ -235,7 +235,7 @@ def _log(value: Any) -> dict | None:
 
 
 def _trap(value: Any) -> dict:
-    """How the firmware stopped (:func:`crslab.sim.worker.trap_info`'s fields)."""
+    """How the firmware stopped (:func:`crslab.worker.worker.trap_info`'s fields)."""
     if not isinstance(value, dict):
         raise _Bad(f"trap is {type(value).__name__}, not a table")
     for key in ("kind", "phase", "tick", "exit_code", "line"):
@@ -317,14 +317,14 @@ _FIELDS: dict[type[Message], tuple] = {
 
 def read_reply(raw: object, *due: type[Message]) -> Any:
     """The reply ``raw`` (as unpickled) as one of the classes ``due``, every field checked; raises
-    :class:`~crslab.sim.worker_reply.UnreadableReply` for anything else.
+    :class:`~crslab.worker.worker_reply.UnreadableReply` for anything else.
 
     >>> read_reply(("ready", 3), Ready, Failed, Trapped)
     Ready(symbols=3)
     >>> read_reply(("value", 1.5), Ran)
     Traceback (most recent call last):
     ...
-    crslab.sim.worker_reply.UnreadableReply: it sent a value reply where ran was due
+    crslab.worker.worker_reply.UnreadableReply: it sent a value reply where ran was due
     """
     kinds = {c.KIND: c for c in due}
     if not isinstance(raw, tuple) or not raw or not isinstance(raw[0], str):

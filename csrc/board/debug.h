@@ -1,4 +1,4 @@
-/* For debuggers (crslab debug, csrc/sim/debug.c; the native board only): the tick being run,
+/* For debuggers (crslab debug, csrc/board/debug.c; the native board only): the tick being run,
  * which gdb shows; the check at the start of every tick (1: stop for --break-when); the function
  * gdb breaks on when crslab asks for a stop (it then stops at the next lab() call); floating-point
  * traps on (1) or off (0). Read by cffi (ABI mode) with sim.h. */

@@ -13,7 +13,7 @@ array([0, 1, 2])
 >>> decode(pickle.dumps(print))
 Traceback (most recent call last):
 ...
-crslab.sim.worker_reply.UnreadableReply: the worker's reply names builtins.print
+crslab.worker.worker_reply.UnreadableReply: the worker's reply names builtins.print
 """
 
 from __future__ import annotations

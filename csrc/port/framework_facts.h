@@ -2,7 +2,7 @@
  * public source).
  *
  * Everything the real framework, its serial port and the motor board do by number lives here:
- * the emulated board (csrc/sim) uses these values, and Python reads them through cffi
+ * the emulated board (csrc/board) uses these values, and Python reads them through cffi
  * (crslab._core, API mode; crslab/framework_facts.py names them for Python). Plain
  * declarations only: cffi reads this file (crslab/cheaders.py drops the initialisers). */
 #ifndef CRSLAB_FRAMEWORK_FACTS_H

@@ -29,11 +29,11 @@ happens.
 >>> parse_message('{"type": "speed", "speed": 0}')
 Traceback (most recent call last):
 ...
-crslab.serve.protocol.ProtocolError: speed: must be a number > 0 (x real time) or null (as fast as possible)
+crslab.serve.page_messages.ProtocolError: speed: must be a number > 0 (x real time) or null (as fast as ...)
 >>> parse_message('{"type": "launch"}')  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-crslab.serve.protocol.ProtocolError: unknown message type 'launch' (build, run, stop, speed, vars, ...)
+crslab.serve.page_messages.ProtocolError: unknown message type 'launch' (build, run, stop, speed, vars, ...)
 """
 
 from __future__ import annotations
@@ -91,7 +91,7 @@ def file_field(value: object, key: str, suffixes: tuple[str, ...]) -> dict:
     >>> file_field({"name": "../etc/passwd.c", "text": ""}, "lab", (".c",))
     Traceback (most recent call last):
     ...
-    crslab.serve.protocol.ProtocolError: lab: '../etc/passwd.c' is not a plain file name (letters, ...)
+    crslab.serve.page_messages.ProtocolError: lab: '../etc/passwd.c' is not a plain file name (letters, ...)
     """
     if not isinstance(value, dict) or set(value) != {"name", "text"}:
         raise ProtocolError(f'{key}: must be {{"name": ..., "text": ...}}')

@@ -2,15 +2,15 @@
  * docs/framework.md, the section named beside a field, gives its public source).
  *
  * A new generation is a row here (in the order the course used them; the last is what
- * `crslab new` writes by default) plus its headers in csrc/board/include, named as the real ones,
+ * `crslab new` writes by default) plus its headers in csrc/firmware/include, named as the real ones,
  * the one in its `include` among them. A lab file that includes no row's header is taken to be
  * written for the first row. */
 #include "generations.h"
 
 #include <stddef.h>
 
+#include "firmware_board.h"
 #include "framework_facts.h"
-#include "sim.h"
 
 static const crs_generation ROWS[] = {
     {

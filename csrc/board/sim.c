@@ -12,6 +12,7 @@
 #include "framework.h"
 #include "framework_facts.h"
 #include "friction.h"
+#include "hand.h"
 #include "host_ports.h"
 #include "motor_board.h"
 #include "serial_line.h"

@@ -1,6 +1,6 @@
 """The emulated C28x memory's table, filled in the worker once the firmware is loaded: where each
 variable of the lab's layout lives in this process, so the board's MATLAB code reads and writes
-the lab's real globals (``crs_sim.memory``, csrc/sim/c28x_memory.c).
+the lab's real globals (``crs_sim.memory``, csrc/board/c28x_memory.c).
 
 A variable the worker cannot reach (a ``static``, which has no symbol; a pointer, whose value means
 nothing on the C28x; one whose object in the firmware is smaller than the source's parse says, so
@@ -12,8 +12,8 @@ from __future__ import annotations
 from cffi import FFI
 
 from crslab.lab.c28x_memory import KINDS, MemoryLayout
-from crslab.sim.board_ffi import board_constants
-from crslab.sim.firmware_memory import FirmwareMemory
+from crslab.worker.board_ffi import board_constants
+from crslab.worker.firmware_memory import FirmwareMemory
 
 
 def fill_memory_table(sim: object, board: FFI, firmware: FirmwareMemory, mem: MemoryLayout) -> list[object]:

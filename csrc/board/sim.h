@@ -6,7 +6,7 @@
  * (firmware_port.h): a WebAssembly module run by wasmtime (firmware_wasm.c, compiled into
  * crslab._core), or the same firmware linked natively into one shared object with the board
  * (firmware_native.c: crslab debug, --sanitize, --native). Python drives it in chunks of ticks
- * (crslab/sim/worker.py). Everything the tick needs lives in caller-owned structs.
+ * (crslab/worker/worker.py). Everything the tick needs lives in caller-owned structs.
  *
  * Time: tick k happens at t = k ms. It sees the plant state after k physics steps of 1 ms, runs
  * the framework (and lab() once the startup gate is open), then the plant steps to t = k+1 ms.
@@ -16,11 +16,10 @@
 
 #include <stdint.h>
 
+#include "firmware_board.h"
+
 /* Shared-memory block the worker writes and the crslab process reads, even after a crash. */
-enum {
-    CRS_SERIAL_CAPACITY = 4194304, CRS_MARK_CAPACITY = 65536, CRS_PRINT_CAPACITY = 65536,
-    CRS_LINE_QUEUE_CAPACITY = 4096
-};
+enum { CRS_SERIAL_CAPACITY = 4194304, CRS_MARK_CAPACITY = 65536, CRS_PRINT_CAPACITY = 65536 };
 enum { CRS_PHASE_IDLE = 0, CRS_PHASE_LAB = 1, CRS_PHASE_PRINTING = 2, CRS_PHASE_PHYSICS = 3,
        CRS_PHASE_LOADING = 4 /* the firmware is being loaded: its constructors run */ };
 enum { CRS_REFUSAL_TEXT = 256 };
@@ -48,7 +47,7 @@ typedef struct {
     char queue[CRS_LINE_QUEUE_CAPACITY];
 } crs_serial_line;
 
-/* A host port (SerialB: Simulink, SerialC: MATLAB; csrc/sim/host_ports.h) in the shared block.
+/* A host port (SerialB: Simulink, SerialC: MATLAB; csrc/board/host_ports.h) in the shared block.
  * Between chunks the crslab process puts what the host sent in inbox[] and takes out[]; inside a
  * chunk the board moves the inbox onto the receive line (from the next tick to run on, at the
  * baud rate), answers, and sends its replies through the port's transmit ring and line. */
@@ -152,7 +151,7 @@ typedef struct {
     int32_t event_off[CRS_MB_EVENT_CAPACITY];   /* 1: the cut-out starts; 0: it ends */
 } crs_motor_board;
 
-/* The emulated C28x data memory (csrc/sim/c28x_memory.h): the lab's globals at the 16-bit-word
+/* The emulated C28x data memory (csrc/board/c28x_memory.h): the lab's globals at the 16-bit-word
  * addresses the TI linker would give them (crslab/host_tools/c28x_memory.py lays them out), each
  * read and written in its C28x representation. Filled by the worker once the lab is loaded. */
 enum {
@@ -199,7 +198,7 @@ typedef struct {
     uint8_t data[CRS_SIMULINK_BUFFER];
 } crs_simulink_rx;
 
-/* The amplifiers and motors between the motor board and the joints (csrc/sim/drive.h), set from
+/* The amplifiers and motors between the motor board and the joints (csrc/plant/drive.h), set from
  * the plant parameters (crslab/plant/plant_params.py) before the first tick. */
 typedef struct {
     double stall_units[3];             /* torque delivered at standstill, at most, command units */
@@ -223,30 +222,6 @@ typedef struct {
     int32_t pad;
 } crs_fw_view;
 
-/* Which symbols the lab file defines (crs_fw_view.symbols): a bit each. */
-enum {
-    CRS_LAB_HAS_LAB = 1, CRS_LAB_HAS_PRINTING = 2, CRS_LAB_HAS_UARTPRINT = 4,
-    CRS_LAB_HAS_OFFSET2 = 8, CRS_LAB_HAS_OFFSET3 = 16, CRS_LAB_HAS_PLOTVARS = 32
-};
-
-/* How the firmware stopped the run (the WebAssembly board; a native firmware dies by a signal). */
-enum {
-    CRS_FW_TRAP_NONE = 0,
-    CRS_FW_TRAP_MEMORY = 1,       /* a load or store outside the firmware's memory */
-    CRS_FW_TRAP_STACK = 2,        /* the call stack overflowed (runaway recursion) */
-    CRS_FW_TRAP_DIVIDE = 3,       /* an integer division by zero */
-    CRS_FW_TRAP_OVERFLOW = 4,     /* INT_MIN / -1 */
-    CRS_FW_TRAP_CONVERSION = 5,   /* a float too large, or NaN, converted to an integer */
-    CRS_FW_TRAP_UNREACHABLE = 6,  /* abort(), assert(), __builtin_trap(), and the check the lab is
-                                     compiled with that a pointer it dereferences is not NULL */
-    CRS_FW_TRAP_CALL = 7,         /* a call through a bad function pointer */
-    CRS_FW_TRAP_INTERRUPT = 8,    /* stopped at its deadline: lab() or printing() did not return */
-    CRS_FW_TRAP_EXIT = 9,         /* exit(code) */
-    CRS_FW_TRAP_REFUSED = 10,     /* a call the board does not give a firmware (a file, the clock...) */
-    CRS_FW_TRAP_OTHER = 11,       /* anything else wasmtime reports */
-    CRS_FW_TRAP_LOAD = 12,        /* the firmware could not be loaded */
-    CRS_FW_TRAP_NULL = 13         /* a NULL pointer dereferenced (a check compiled into the lab) */
-};
 enum { CRS_FW_TRAP_TEXT = 16384 }; /* room for the C library's frames above the lab's (long paths) */
 typedef struct {
     int32_t kind;                /* CRS_FW_TRAP_* */
@@ -264,7 +239,7 @@ enum {
     CRS_COST_INSTRUCTIONS = 1    /* WebAssembly firmware: instructions executed (wasmtime's fuel) */
 };
 
-/* Friction on each motor angle beyond its static band (csrc/sim/friction.h), set from the plant
+/* Friction on each motor angle beyond its static band (csrc/plant/friction.h), set from the plant
  * parameters before the first tick; the static band itself is MuJoCo's friction constraint. In
  * command units (N.m over the motor gain); _pos moving positive, _neg moving negative. */
 typedef struct {
@@ -287,7 +262,7 @@ enum {
     CRS_RUN_BREAK = 9        /* crslab debug --break-when: its condition holds before this tick */
 };
 
-/* Debugging (crslab debug, csrc/sim/debug.c): all off when zero. */
+/* Debugging (crslab debug, csrc/board/debug.c): all off when zero. */
 typedef struct {
     int32_t break_when;          /* 1: end the run before the first tick whose lab() call begins
                                   * with the lab's crs_debug_condition() true (once) */

@@ -2,7 +2,7 @@
 
 An event at tick k is applied before tick k runs, so tick k's encoder reading and lab() call
 already see it. Faults act in the C framework (``crs_faults`` and ``estop_latched`` of
-csrc/sim/sim.h); plant changes edit the MuJoCo model in place; writes go to the lab's globals.
+csrc/board/sim.h); plant changes edit the MuJoCo model in place; writes go to the lab's globals.
 An expectation (``expect``) changes nothing: it notes what the worker sees, for the crslab
 process to judge. Each event class of :data:`crslab.scenario.kinds.EVENT_CLASSES` has its effect here, found
 from its class (:func:`effect_of` registers one).
@@ -27,14 +27,14 @@ if TYPE_CHECKING:
     import numpy as np
 
     from crslab.plant.plant_params import PlantParams
-    from crslab.sim.config import SimConfig
+    from crslab.worker.config import SimConfig
 
 
 class EffectTarget(Protocol):
     """What an effect may act on: the worker's board (``sim``, a ``crs_sim *``), its MuJoCo model
     and data, the run's configuration, and the worker's own ways to write the lab's variables,
     Simulink's inputs and the friction, or to note what an expectation sees
-    (:class:`crslab.sim.worker.Worker` is one)."""
+    (:class:`crslab.worker.worker.Worker` is one)."""
 
     sim: Any
     model: mujoco.MjModel

@@ -1,4 +1,4 @@
-"""cffi declarations of the emulated board (csrc/sim/sim.h), for the native worker and the reader,
+"""cffi declarations of the emulated board (csrc/board/sim.h), for the native worker and the reader,
 and its constants (phases, run codes, lab-symbol bits, trap kinds), so Python never writes them
 again.
 
@@ -18,12 +18,16 @@ from cffi import FFI
 from crslab import resources
 from crslab.cheaders import cdef_from_header
 
+BOARD_HEADERS = ("port/firmware_board.h", "board/sim.h")
+"""sim.h and the port's header it includes (cffi reads no #include), under csrc/."""
+
 
 @cache
 def board_ffi() -> FFI:
     """The FFI holding every declaration of sim.h."""
     ffi = FFI()
-    ffi.cdef(cdef_from_header(resources.path("csrc", "sim", "sim.h").read_text()))
+    for header in BOARD_HEADERS:
+        ffi.cdef(cdef_from_header(resources.path("csrc", *header.split("/")).read_text()))
     return ffi
 
 
@@ -32,8 +36,8 @@ def native_board_ffi() -> FFI:
     """sim.h's declarations, the debugger's (debug.h) and the native firmware port's
     (crs_fw_native_attach): a native lab's shared object holds all of them."""
     ffi = FFI()
-    for header in ("sim.h", "debug.h", "firmware_native.h"):
-        ffi.cdef(cdef_from_header(resources.path("csrc", "sim", header).read_text()))
+    for header in (*BOARD_HEADERS, "board/debug.h", "board/firmware_native.h"):
+        ffi.cdef(cdef_from_header(resources.path("csrc", *header.split("/")).read_text()))
     return ffi
 
 

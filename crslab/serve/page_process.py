@@ -3,7 +3,7 @@
 The server starts it from a single-threaded fork server with crslab already imported (as
 ``crslab grade`` starts its jobs), so it may fork each run's sandboxed worker safely and run the
 sandboxed compiler; a crash in it touches no other session. It speaks to the server over one
-pipe: the server's checked messages in (:mod:`crslab.serve.protocol`), messages for the page out,
+pipe: the server's checked messages in (:mod:`crslab.serve.page_messages`), messages for the page out,
 each prefixed with one byte saying what the server should note (:data:`FORWARD`,
 :data:`RUN_STARTED`, :data:`RUN_ENDED`).
 
@@ -31,7 +31,7 @@ from crslab.live.console import VarConsole
 from crslab.plant.plant_params import PlantParamsError
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
-from crslab.serve.protocol import compile_diagnostics
+from crslab.serve.page_messages import compile_diagnostics
 from crslab.serve.recorder import RecorderSink
 from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config

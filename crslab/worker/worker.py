@@ -1,18 +1,18 @@
 """The worker process: owns the MuJoCo plant, the board and the lab's firmware, and runs ticks on
 request.
 
-It answers the crslab process's requests (:mod:`crslab.sim.protocol`: run to a tick, get or set
+It answers the crslab process's requests (:mod:`crslab.worker.worker_messages`: run to a tick, get or set
 a watched variable, push the arm, break into the debugger, stop) until ``Stop`` or the pipe
 closes; :func:`serve` is its whole loop. Serial bytes never travel through the pipe: the board
 writes them into the shared block, where the crslab process reads them even if this process dies.
 
 The lab's firmware is a WebAssembly module by default: the board (crslab._core) runs it in a
-store of its own, and it can reach nothing of this process (csrc/sim/firmware_wasm.c). A native
+store of its own, and it can reach nothing of this process (csrc/board/firmware_wasm.c). A native
 firmware (crslab debug, --sanitize, --native) is a shared object holding the board too; with
 ``SimConfig.sandboxed`` the worker builds the plant, then closes itself in the run sandbox
 (crslab/sandbox/run_sandbox.py), then loads it: from the lab's first constructor on, it may
 compute and print, and nothing else. Everything a native worker sends is read by the crslab
-process as untrusted (crslab/sim/protocol.py).
+process as untrusted (crslab/worker/worker_messages.py).
 """
 
 from __future__ import annotations
@@ -34,14 +34,14 @@ from crslab.plant.model import apply_friction, apply_plant, load_model, motor_to
 from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
 from crslab.plant.plant_params import PlantParams
 from crslab.scenario.expect_events import Observation
-from crslab.sim import protocol
-from crslab.sim.board_ffi import board_constants, native_board_ffi
-from crslab.sim.config import SimConfig
-from crslab.sim.debug_setup import DebugSetup
-from crslab.sim.event_effects import apply_event
-from crslab.sim.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
-from crslab.sim.memory_table import fill_memory_table
-from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL, compiled_module_path, wasmtime_library
+from crslab.worker import worker_messages
+from crslab.worker.board_ffi import board_constants, native_board_ffi
+from crslab.worker.config import SimConfig
+from crslab.worker.debug_setup import DebugSetup
+from crslab.worker.event_effects import apply_event
+from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
+from crslab.worker.memory_table import fill_memory_table
+from crslab.worker.wasm_runtime import INTERRUPT_SIGNAL, compiled_module_path, wasmtime_library
 
 LOG_ROWS = 2000  # rows per scope-log block
 
@@ -142,7 +142,7 @@ class Worker:
         sim.debug.break_when = int(config.build.break_when is not None)
         sim.debug.trap_fp = int(debug is not None and debug.trap_fp)
         self.events = list(config.scenario.events)
-        self.motor_board_events: list[protocol.MotorBoardEvent] = []
+        self.motor_board_events: list[worker_messages.MotorBoardEvent] = []
         self.observations: list[Observation] = []
         self.log_blocks: list[dict[str, np.ndarray]] = []
         if config.log_signals:
@@ -322,7 +322,8 @@ class Worker:
     def _drain_motor_board_events(self) -> None:
         mb = self.sim.motor_board
         self.motor_board_events.extend(
-            protocol.MotorBoardEvent(int(mb.event_tick[i]), int(mb.event_joint[i]), bool(mb.event_off[i]))
+            worker_messages.MotorBoardEvent(int(mb.event_tick[i]), int(mb.event_joint[i]),
+                                            bool(mb.event_off[i]))
             for i in range(int(mb.event_count)))
         mb.event_count = 0
 
@@ -342,7 +343,7 @@ class Worker:
         out["motor_board_cutouts"] = int(s.motor_board.cutouts)
         return out
 
-    def take_motor_board_events(self) -> list[protocol.MotorBoardEvent]:
+    def take_motor_board_events(self) -> list[worker_messages.MotorBoardEvent]:
         """The motor board's cut-outs starting or ending since the last call."""
         self._drain_motor_board_events()
         events, self.motor_board_events = self.motor_board_events, []
@@ -366,48 +367,48 @@ def serve(conn: Connection, config: SimConfig, shared_fd: int, debug: DebugSetup
     shared = mmap.mmap(shared_fd, 0)
     os.close(shared_fd)
 
-    def send(reply: protocol.Message) -> None:
+    def send(reply: worker_messages.Message) -> None:
         conn.send(reply.wire())
 
     try:
         worker = Worker(config, shared, keep_fds=[conn.fileno()], debug=debug)
     except SandboxError as exc:
-        send(protocol.Failed(str(exc)))
+        send(worker_messages.Failed(str(exc)))
         return
     except FirmwareStopped as exc:
-        send(protocol.Trapped(exc.trap))
+        send(worker_messages.Trapped(exc.trap))
         return
-    send(protocol.Ready(int(worker.sim.fw.symbols)))
+    send(worker_messages.Ready(int(worker.sim.fw.symbols)))
     while True:
         try:
-            request = protocol.read_request(conn.recv())
+            request = worker_messages.read_request(conn.recv())
         except EOFError:
             return
         match request:
-            case protocol.Run(until_tick):
+            case worker_messages.Run(until_tick):
                 code = worker.run(until_tick)
                 trap = trap_info(worker.ffi, worker.sim) if code == worker.lib.CRS_RUN_TRAPPED else None
-                send(protocol.Ran(code, int(worker.sim.tick), worker.stats(), worker.take_log(),
+                send(worker_messages.Ran(code, int(worker.sim.tick), worker.stats(), worker.take_log(),
                          tuple(worker.take_motor_board_events()), tuple(worker.take_observations()), trap))
-            case protocol.Get(name):
+            case worker_messages.Get(name):
                 try:
-                    send(protocol.Value(worker.get_var(name)))
+                    send(worker_messages.Value(worker.get_var(name)))
                 except KeyError as exc:
-                    send(protocol.Error(str(exc.args[0])))
-            case protocol.Set(name, index, value):
+                    send(worker_messages.Error(str(exc.args[0])))
+            case worker_messages.Set(name, index, value):
                 try:
                     worker.set_var(name, index, value)
-                    send(protocol.Value(None))
+                    send(worker_messages.Value(None))
                 except (KeyError, OverflowError) as exc:
-                    send(protocol.Error(str(exc.args[0])))
-            case protocol.Push(body_forces):
+                    send(worker_messages.Error(str(exc.args[0])))
+            case worker_messages.Push(body_forces):
                 push = worker.data.xfrc_applied  # MuJoCo's viewer: the mouse's force on each body
                 push[:] = np.asarray(body_forces, dtype=float).reshape(push.shape)
-                send(protocol.Value(None))
-            case protocol.Break():
+                send(worker_messages.Value(None))
+            case worker_messages.Break():
                 worker.debug_break()
-                send(protocol.Value(None))
-            case protocol.Stop():
-                send(protocol.Stopped(worker.stats(), worker.take_log()))
+                send(worker_messages.Value(None))
+            case worker_messages.Stop():
+                send(worker_messages.Stopped(worker.stats(), worker.take_log()))
                 worker.close()
                 return

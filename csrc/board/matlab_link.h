@@ -8,7 +8,7 @@
 #include "sim.h"
 
 /* One byte arriving on SerialC (the receive interrupt), its last bit at line time `now`
- * (csrc/sim/serial_line.h). */
+ * (csrc/board/serial_line.h). */
 void crs_matlab_receive(crs_sim *sim, int64_t now, uint8_t byte);
 
 #endif

@@ -1,6 +1,6 @@
 /* crslab host stand-in for buffer.h of the Gen B "me446 starter" framework: the transmit ring
  * types of the three serial ports and their small inline helpers (crslab's own ring; the board's
- * serial line itself is csrc/sim/serial_line.c), and, as on the board, the device header. */
+ * serial line itself is csrc/board/serial_line.c), and, as on the board, the device header. */
 #ifndef CRSLAB_BUFFER_H
 #define CRSLAB_BUFFER_H
 

@@ -1,5 +1,5 @@
 """wasmtime, which runs a lab's WebAssembly firmware inside the worker: where its C library is (the
-PyPI package ``wasmtime`` ships it; crslab._core loads it by path, csrc/sim/wasmtime_api.h), and the
+PyPI package ``wasmtime`` ships it; crslab._core loads it by path, csrc/board/wasmtime_api.h), and the
 signal the crslab process sends the worker to interrupt a firmware call at its deadline, where a
 firmware's compiled code is kept between runs, and loading the library ahead of forks.
 
@@ -19,7 +19,7 @@ from pathlib import Path
 from crslab.cache import CacheError, cache_dir
 
 INTERRUPT_SIGNAL = signal.SIGUSR1
-"""Sent to the worker at a deadline: its handler (csrc/sim/firmware_wasm.c) bumps wasmtime's epoch,
+"""Sent to the worker at a deadline: its handler (csrc/board/firmware_wasm.c) bumps wasmtime's epoch,
 and the firmware's running call traps at its next loop iteration or call."""
 
 
@@ -45,7 +45,7 @@ def wasmtime_library() -> Path:
 def compiled_module_path(wasm: bytes, memory_bytes: int, stack_bytes: int) -> Path | None:
     """Where wasmtime's compilation of the firmware ``wasm`` for a board with this memory and stack
     is kept between runs (``compiled/`` of crslab's build cache; written by the board, see
-    ``keep_compiled`` in csrc/sim/firmware_wasm.c), named by everything it depends on: the module's
+    ``keep_compiled`` in csrc/board/firmware_wasm.c), named by everything it depends on: the module's
     bytes, wasmtime's library and the board's limits. None when the cache cannot be used (each run
     compiles the module then, about 0.06 s)."""
     library = wasmtime_library()

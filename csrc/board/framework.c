@@ -1,5 +1,5 @@
-/* The real framework's 1 ms duties, as docs/framework.md sections 3 and 4 describe them: the encoders,
- * the hold controller, the scenario's hand. */
+/* The real framework's 1 ms duties, as docs/framework.md sections 3 and 4 describe them: the encoders
+ * and the hold controller. */
 #include "framework.h"
 
 #include <float.h>
@@ -7,9 +7,8 @@
 
 #include "crs_arm.h"
 #include "framework_facts.h"
-#include "traj_profiles.h"
+#include "plant_faults.h"
 
-static const double PI = 3.14159265358979323846;
 static const double RAD_PER_COUNT = 2.0 * 3.14159265358979323846 / CRS_ENCODER_COUNTS_PER_REV;
 
 int64_t crs_encoder_counts(double motor_rad, double rest_motor_rad)
@@ -17,41 +16,16 @@ int64_t crs_encoder_counts(double motor_rad, double rest_motor_rad)
     return llround((motor_rad - rest_motor_rad) / RAD_PER_COUNT);
 }
 
-/* xorshift64* and Box-Muller: seeded encoder noise */
-static double uniform01(uint64_t *state)
-{
-    uint64_t x = *state;
-    x ^= x >> 12;
-    x ^= x << 25;
-    x ^= x >> 27;
-    *state = x;
-    return ((x * 2685821657736338717ULL) >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static double gaussian(uint64_t *state)
-{
-    const double u1 = uniform01(state), u2 = uniform01(state);
-    return sqrt(-2.0 * log(u1 > 1e-300 ? u1 : 1e-300)) * cos(2.0 * PI * u2);
-}
-
 void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3])
 {
-    crs_faults *f = &sim->faults;
     const double offset[3] = {
         0.0,
         sim->fw.offset_enc2 != NULL ? (double)*sim->fw.offset_enc2 : 0.0,
         sim->fw.offset_enc3 != NULL ? (double)*sim->fw.offset_enc3 : 0.0,
     };
     for (int j = 0; j < 3; ++j) {
-        int64_t counts = crs_encoder_counts(motor_rad[j], sim->rest_motor_rad[j]);
-        if (f->noise_counts[j] > 0.0) counts += llround(f->noise_counts[j] * gaussian(&f->rng_state));
-        if (sim->tick == f->glitch_tick) counts += f->glitch_counts[j];
-        /* a stuck encoder repeats its last reading, noise and all, whatever the joint does */
-        if (f->stuck_encoder[j]) {
-            counts = f->stuck_counts[j];
-        } else {
-            f->stuck_counts[j] = counts;
-        }
+        const int64_t counts = crs_faulty_encoder_counts(&sim->faults, sim->tick, j,
+                                                         crs_encoder_counts(motor_rad[j], sim->rest_motor_rad[j]));
         /* encoder 2 is mounted reversed: the chip counts down and the framework negates it */
         const int64_t raw = (j == 1) ? -counts : counts;
         const double angle = (double)((j == 1) ? -raw : raw) * RAD_PER_COUNT;
@@ -99,46 +73,5 @@ void crs_hold_reanchor(crs_hold *h, const double enc_rad[3])
     const float reach = (float)CRS_HOLD_REANCHOR_RAD;
     for (int j = 0; j < 3; ++j) {
         if (fabsf(h->ref_rad[j] - (float)enc_rad[j]) > reach) h->ref_rad[j] = (float)enc_rad[j];
-    }
-}
-
-void crs_hand_plan(const crs_hand *h, crs_hand_path *path)
-{
-    /* a minimum-jerk path (the quintic profile) from where the move started to the target */
-    const double duration_s = (double)h->duration_ticks * 1e-3;
-    path->planned = 0;
-    if (h->duration_ticks > 0) {
-        for (int j = 0; j < 3; ++j) {
-            traj_profile move;
-            traj_plan(&move, TRAJ_QUINTIC, h->start_dh_rad[j], h->target_dh_rad[j], duration_s, 0.0, 0.0);
-            path->move[j] = move;
-        }
-        path->planned = 1;
-    }
-}
-
-void crs_hand_step_along(crs_sim *sim, const crs_hand_path *hand_path)
-{
-    crs_hand *h = &sim->hand;
-    if (!h->active) {
-        for (int j = 0; j < 3; ++j) h->force_nm[j] = 0.0;
-        return;
-    }
-    const double t_s = (double)(sim->tick - h->start_tick) * 1e-3;
-    for (int j = 0; j < 3; ++j) {
-        traj_sample path = {h->target_dh_rad[j], 0.0, 0.0, 0.0}; /* no duration: the target at once */
-        if (hand_path->planned) path = traj_eval(&hand_path->move[j], t_s);
-        const double err = path.q_rad - sim->qpos[j];
-        const double derr = path.qd_rad_s - sim->qvel[j];
-        double f = h->kp_nm_per_rad * err + h->ki_nm_per_rad_s * h->integral_rad_s[j]
-                 + h->kd_nm_s_per_rad * derr;
-        if (f > h->max_nm) {
-            f = h->max_nm;
-        } else if (f < -h->max_nm) {
-            f = -h->max_nm;
-        } else {
-            h->integral_rad_s[j] += err * 1e-3; /* integrate only when not saturated */
-        }
-        h->force_nm[j] = f;
     }
 }

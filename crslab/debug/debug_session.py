@@ -4,7 +4,7 @@ Every stop crslab asks for happens between two ticks, before the ``lab()`` call 
 names: the run's chunks end there (a ``--break-tick`` or ``--break-time``, or the first
 ``lab()`` call when no break is given), or the C loop ends its chunk before the first tick
 whose ``lab()`` call begins with the ``--break-when`` condition true (``CRS_RUN_BREAK``,
-csrc/sim/debug.c). The worker is idle there; nothing of the tick has run yet.
+csrc/board/debug.c). The worker is idle there; nothing of the tick has run yet.
 
 - **gdb on the terminal** attaches before the first tick (so ``--debug-on-crash`` catches a
   crash anywhere) and runs with the lab. At the break the worker calls ``crs_debug_break``,
@@ -37,7 +37,7 @@ from crslab.debug.gdb_commands import csrc_dir, gdb_argv, gdbserver_argv, setup_
 from crslab.debug.local_port import LocalPort
 from crslab.debug.programs import debugger_for
 from crslab.debug.tracer import GatedTracer, TracerError
-from crslab.sim.debug_setup import DebugSetup
+from crslab.worker.debug_setup import DebugSetup
 
 if TYPE_CHECKING:
     from crslab.sim.running import RunningLab

@@ -1,7 +1,7 @@
 /* The course framework's generations, one row each (docs/framework.md section 2): everything that
  * differs between them is a field of crs_generation, and the rows are in generations.c.
  *
- * Both sides read the rows: the board (csrc/sim, crslab._core and a native lab's shared object)
+ * Both sides read the rows: the board (csrc/board, crslab._core and a native lab's shared object)
  * and the firmware (csrc/firmware, compiled with the lab: crslab/lab/firmware.py builds
  * generations.c into it too); Python reads them through cffi (crslab/generations.py). A lab's
  * generation is a row's `id` (crs_sim.generation); an id no row has is refused where the firmware
@@ -30,7 +30,7 @@ enum {
 };
 
 /* What the framework's SerialC (MATLAB) code does besides '2' (read) and '3' (write), as bits
- * (csrc/sim/matlab_link.c). */
+ * (csrc/board/matlab_link.c). */
 enum {
     CRS_MATLAB_BIG_ENDIAN_WRITE = 1, /* '1': '3' with the value big endian */
     CRS_MATLAB_ECHO = 2,             /* '0': reply each address and its value */

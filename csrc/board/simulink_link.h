@@ -8,7 +8,7 @@
 #include "sim.h"
 
 /* One byte arriving on SerialB (the receive interrupt), its last bit at line time `now`
- * (csrc/sim/serial_line.h). */
+ * (csrc/board/serial_line.h). */
 void crs_simulink_receive(crs_sim *sim, int64_t now, uint8_t byte);
 
 /* What a Simulink_PlotVar is sent as: the C long of 10000 * value, multiplied in single precision
