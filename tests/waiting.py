@@ -24,6 +24,8 @@ import io
 import re
 import subprocess
 import threading
+import time
+from collections.abc import Callable
 from typing import IO, AnyStr, Generic
 
 GUARD_S = 120.0
@@ -115,3 +117,13 @@ def join(thread: threading.Thread, what: str, timeout_s: float = GUARD_S) -> Non
     thread.join(timeout_s)
     if thread.is_alive():
         raise AssertionError(f"{what} had not finished after {timeout_s:g} s")
+
+
+def wait_until(check: Callable[[], bool], what: str, timeout_s: float = GUARD_S) -> None:
+    """Wait until ``check()`` holds (a state with no event to wait on: a process gone from /proc, a
+    folder removed), looking again every 0.1 s; fail naming ``what`` if it never does."""
+    end = time.monotonic() + timeout_s
+    while not check():
+        if time.monotonic() > end:
+            raise AssertionError(f"{what} did not happen within {timeout_s:.0f} s")
+        time.sleep(0.1)

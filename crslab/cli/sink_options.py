@@ -60,7 +60,7 @@ def _transcript(path: Path, config: SimConfig) -> Sink:
 def _csv(path: Path, config: SimConfig) -> Sink:
     from crslab.sinks.csv_file import CsvSink
 
-    return CsvSink(path)
+    return CsvSink(path, world=not config.world.is_free_air)
 
 
 def _preload_csv() -> None:

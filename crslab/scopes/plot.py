@@ -1,8 +1,9 @@
 """``crslab plot``: draw a ``--csv`` file for a lab report, one panel per signal group.
 
 Columns are recognised by their header cell (``theta1motor [rad]``, see
-:mod:`crslab.scopes.signals`); a panel is drawn for each group that has at least one column,
-titled with the group and its y axis labelled with the unit. Time (s) runs along the bottom.
+:mod:`crslab.scopes.signals`); a panel is drawn for each group that has at least one column
+(a group that is not ``always`` drawn, the push, only when a value is not 0), titled with the
+group and its y axis labelled with the unit. Time (s) runs along the bottom.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab.output_paths import with_parent
-from crslab.scopes.signals import GROUPS, SIGNALS, TORQUE, Signal
+from crslab.scopes.signals import GROUPS, SIGNALS, TORQUE, WORLD_GROUPS, WORLD_SIGNALS, Signal
 
 TIME_COLUMN = "t [s]"
 
@@ -33,7 +34,7 @@ def read_scope_csv(path: Path) -> tuple[np.ndarray, dict[Signal, np.ndarray]]:
     except (pa.ArrowInvalid, OSError, UnicodeDecodeError) as exc:
         raise PlotError(f"{path}: not a CSV file ({str(exc).splitlines()[0]})") from None
     names = table.column_names
-    known = {s.csv_name: s for s in SIGNALS}
+    known = {s.csv_name: s for s in SIGNALS + WORLD_SIGNALS}
     found = {known[n]: n for n in names if n in known}
     if TIME_COLUMN not in names or not found:
         raise PlotError(f"{path}: not a crslab scope CSV (no '{TIME_COLUMN}' column and signal columns; "
@@ -55,7 +56,8 @@ def scope_figure(t: np.ndarray, values: dict[Signal, np.ndarray], title: str) ->
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    groups = [g for g in GROUPS if any(s.group == g for s in values)]
+    groups = [g for g in GROUPS + WORLD_GROUPS
+              if any(s.group == g and (g.always or np.any(v != 0)) for s, v in values.items())]
     fig, axes = plt.subplots(len(groups), 1, sharex=True, squeeze=False,
                              figsize=(10, 2.2 * len(groups) + 0.8), layout="constrained")
     for ax, group in zip(axes[:, 0], groups):

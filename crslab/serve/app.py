@@ -68,7 +68,7 @@ class CrsServer:
         self.sessions = sessions
         self._logins: dict[str, RateLimit] = {}
         self._scenarios: list[dict] | None = None
-        self._arm: dict | None = None
+        self._arm: dict[str, dict] = {}
 
     # -- who is asking ------------------------------------------------------------------------
     def user_of(self, cookies: dict[str, str]) -> str | None:
@@ -194,9 +194,22 @@ class CrsServer:
         return JSONResponse(self._scenarios)
 
     async def arm(self, request: Request) -> Response:
-        if self._arm is None:
-            self._arm = await asyncio.to_thread(arm_shapes)
-        return JSONResponse(self._arm, headers={"Cache-Control": "max-age=3600"})
+        from crslab.world.layout import WORLD_NAMES
+
+        world = request.query_params.get("world", "none")
+        if world not in WORLD_NAMES:
+            return JSONResponse({"error": f"no world {world!r}"}, status_code=404)
+        if world not in self._arm:
+            self._arm[world] = await asyncio.to_thread(arm_shapes, world)
+        return JSONResponse(self._arm[world], headers={"Cache-Control": "max-age=3600"})
+
+    async def worlds(self, request: Request) -> Response:
+        from crslab.world.layout import WORLD_NAMES, load_world
+
+        described = {"none": "free air (no fixtures)",
+                     "contest": "the final project: peg and hole, obstacle, groove, egg on a scale"}
+        return JSONResponse([{"name": n, "description": described.get(n, load_world(n).name)}
+                             for n in WORLD_NAMES])
 
     async def download(self, request: Request) -> Response:
         user = self.user_of(request.cookies)
@@ -309,13 +322,18 @@ class CrsServer:
             writer.close()  # the session process sees the pipe close: it ends its run and itself
 
 
-def arm_shapes() -> dict:
+def arm_shapes(world: str = "none") -> dict:
     """The arm's bodies as the MuJoCo model has them, for the page to draw and pose: each body's
     parent, its frame in the parent's (metres; quaternions ``x y z w``), its hinge (axis and anchor
-    in its own frame, and which DH angle turns it) and its shapes in its frame."""
+    in its own frame, and which DH angle turns it: ``q``; the peg's wrist, held at minus the sum of
+    two, has ``minus_sum``) and its shapes in its frame; in a ``world`` (a built-in's name) its
+    fixtures too, which never move (only the arm's links are ``moving``: a hand may drag them)."""
+    from crslab.plant.model import LINK_BODIES
     from crslab.scopes.arm3d import ArmModel
+    from crslab.world.layout import load_world
+    from crslab.world.scene import WRIST_JOINT
 
-    arm = ArmModel()
+    arm = ArmModel(load_world(world))
     m = arm.model
     shapes = {b.id: b.shapes for b in arm.bodies}
     out = []
@@ -329,6 +347,8 @@ def arm_shapes() -> dict:
                 "anchor": m.jnt_pos[j].tolist(),
                 "q": int(m.jnt_qposadr[j]),
             }
+            if m.joint(j).name == WRIST_JOINT:  # kept vertical: minus the forearm's absolute angle
+                joint.update(q=None, minus_sum=[1, 2])
         out.append(
             {
                 "name": m.body(b).name or "world",
@@ -336,7 +356,7 @@ def arm_shapes() -> dict:
                 "pos": m.body_pos[b].tolist(),
                 "quat": [*q[1:].tolist(), float(q[0])],
                 "joint": joint,
-                "moving": b > 0,
+                "moving": m.body(b).name in LINK_BODIES,
                 "shapes": [
                     {
                         "name": s.name,
@@ -365,6 +385,7 @@ def make_app(settings: ServeSettings, sessions: Sessions) -> Starlette:
             Route("/api/template", server.template_text),
             Route("/api/scenarios", server.scenarios),
             Route("/api/arm", server.arm),
+            Route("/api/worlds", server.worlds),
             Route("/api/download/{kind}", server.download),
             Route("/admin", server.admin),
             WebSocketRoute("/ws", server.websocket),

@@ -7,7 +7,8 @@ Every message is one JSON object with a ``type``. The browser sends:
 ``run``        ``lab``, ``scenario`` (``{"name": "tour"}`` or ``{"file": {"name", "text"}}``),
                ``speed`` (1, 2, 10, ... or null: as fast as possible), ``offsets`` ([O2, O3] rad or
                null), ``no_startup_delay``, ``duration`` (simulated s or null), ``record``
-               (``{"csv": bool, "rrd": bool}``): build, then run, streaming ``chunk`` messages
+               (``{"csv": bool, "rrd": bool}``), ``world`` (a built-in world's name: ``none``, the
+               default, or ``contest``): build, then run, streaming ``chunk`` messages
 ``stop``       end the run now
 ``speed``      ``speed``: change the pace of the running lab
 ``vars``       ``cmd`` (``list``, ``get``, ``set``), ``name``, ``index``, ``value``: the lab's
@@ -42,6 +43,8 @@ import json
 import math
 import re
 from typing import Any
+
+from crslab.world.layout import WORLD_NAMES
 
 MAX_MESSAGE_BYTES = 1_000_000
 """The largest message the page may send (a lab file or a golden file with room to spare)."""
@@ -128,7 +131,7 @@ def _only(msg: dict, allowed: set[str]) -> None:
 
 
 def _run(msg: dict) -> dict:
-    _only(msg, {"lab", "scenario", "speed", "offsets", "no_startup_delay", "duration", "record"})
+    _only(msg, {"lab", "scenario", "speed", "offsets", "no_startup_delay", "duration", "record", "world"})
     out: dict[str, Any] = {"type": "run", "lab": file_field(msg.get("lab"), "lab", (".c", ".cpp"))}
     scenario = msg.get("scenario", {"name": "tour"})
     if not isinstance(scenario, dict) or len(scenario) != 1 or not ({"name", "file"} & set(scenario)):
@@ -169,6 +172,10 @@ def _run(msg: dict) -> dict:
     ):
         raise ProtocolError('record: must be {"csv": true|false, "rrd": true|false}')
     out["record"] = {"csv": record.get("csv", False), "rrd": record.get("rrd", False)}
+    world = msg.get("world", "none")
+    if world not in WORLD_NAMES:
+        raise ProtocolError(f"world: must be one of {', '.join(WORLD_NAMES)}")
+    out["world"] = world
     return out
 
 

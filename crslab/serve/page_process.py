@@ -39,6 +39,7 @@ from crslab.sim.session import DEFAULT_DEADLINE_S, Limits, SimError, Simulation
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
+from crslab.world.layout import World
 
 FORWARD = b"F"
 """The message is for the page only."""
@@ -71,6 +72,7 @@ class Session:
         self.folder = folder
         self.limits = limits
         self._arm: ArmPoses | None = None
+        self._world_arms: dict[str, ArmPoses] = {}
         for sub in ("lab", "scenario", "golden", "out"):
             (folder / sub).mkdir(parents=True, exist_ok=True)
 
@@ -83,6 +85,14 @@ class Session:
         if self._arm is None:
             self._arm = ArmPoses()
         return self._arm
+
+    def arm_in(self, world: World) -> ArmPoses:
+        """The arm's poses in ``world``'s scene (the hand's forces go to that scene's bodies)."""
+        if world.is_free_air:
+            return self.arm
+        if world.name not in self._world_arms:
+            self._world_arms[world.name] = ArmPoses(world)
+        return self._world_arms[world.name]
 
     # -- files the page sent ----------------------------------------------------------------
     def _write(self, sub: str, file: dict) -> Path:
@@ -162,6 +172,7 @@ class Session:
                 rest_motor_rad=rest,
                 log=True,
                 sandbox=self.limits.sandboxed,
+                world=msg["world"],
             )
         except (LabBuildError, ScenarioError, PlantParamsError, ValueError) as exc:
             # what crslab sim turns into one line and exit status 2 (bad input): nothing ran
@@ -176,7 +187,7 @@ class Session:
             notes.append(f"this server runs a lab for at most {self.limits.max_run_s:g} s of simulated time")
         out_dir = self.folder / "out"
         out = FanOut()
-        stream = BrowserStream(self.send, self.arm)
+        stream = BrowserStream(self.send, self.arm_in(config.world), world=not config.world.is_free_air)
         out.add(stream)
         out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
         console = VarConsole(config.build.watched)
@@ -189,7 +200,8 @@ class Session:
         )
         if record["csv"] or record["rrd"]:  # forked now, while this process runs no other thread
             out.add(RecorderSink(out_dir / DOWNLOADS["csv"] if record["csv"] else None,
-                                 out_dir / DOWNLOADS["rrd"] if record["rrd"] else None, path.name))
+                                 out_dir / DOWNLOADS["rrd"] if record["rrd"] else None, path.name,
+                                 config.world))
         result: RunResult | None = None
         try:
             with Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits) as sim:
@@ -246,6 +258,7 @@ class Session:
         from crslab.regress.compare import compare
         from crslab.regress.runner import run_lab
         from crslab.regress.transcript import GoldenError, read_golden, recorded_run, split_lines
+        from crslab.world.layout import WORLD_NAMES
 
         lab = self._write_lab(msg["lab"])
         golden_path = self._write("golden", msg["golden"])
@@ -257,6 +270,11 @@ class Session:
                     f"{golden_path.name} was recorded with plant file {run.plant}, which the "
                     "page cannot send; check it with crslab check"
                 )
+            if run.world is not None and run.world not in WORLD_NAMES:
+                raise GoldenError(
+                    f"{golden_path.name} was recorded in world file {run.world}, which the page cannot "
+                    "send; check it with crslab check"
+                )
             config = make_config(
                 lab,
                 run.scenario,
@@ -264,6 +282,7 @@ class Session:
                 rest_motor_rad=run.rest_motor_rad,
                 motor_board=run.motor_board,
                 sandbox=self.limits.sandboxed,
+                world=run.world,
             )
             end_tick = seconds_to_tick(run.duration_s) if run.duration_s else config.scenario.end_tick
             end_tick = min(end_tick, seconds_to_tick(self.limits.max_run_s))

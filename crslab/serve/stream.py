@@ -93,10 +93,10 @@ class ArmPoses:
     """The arm's bodies' world poses from DH angles (the MuJoCo model's kinematics), and where a
     point fixed on a link is."""
 
-    def __init__(self) -> None:
+    def __init__(self, world: object | None = None) -> None:
         from crslab.scopes.arm3d import ArmModel
 
-        self.model = ArmModel()
+        self.model = ArmModel(world)
         self.names = [b.name for b in self.model.moving]
         self.com_local = np.array([self.model.model.body_ipos[b.id] for b in self.model.moving])
         self.body_ids = [b.id for b in self.model.moving]
@@ -117,9 +117,12 @@ def _rotate_xyzw(q: np.ndarray, v: np.ndarray) -> np.ndarray:
 class BrowserStream(Sink):
     """Sends each chunk of a run to the page through ``send`` (one message per chunk)."""
 
-    def __init__(self, send: Send, arm: ArmPoses) -> None:
+    def __init__(self, send: Send, arm: ArmPoses, *, world: bool = False) -> None:
         self.send = send
         self.arm = arm
+        self.world = world
+        """The run's world has fixtures: each frame also carries the egg's force (N), the scale's
+        grams and whether the egg broke."""
         self.serial: list[tuple[int, str]] = []
         self.blocks: list[dict[str, np.ndarray]] = []
         self.last_qpos: np.ndarray | None = None
@@ -164,6 +167,11 @@ class BrowserStream(Sink):
             [np.round(log["qpos_dh_rad"][keep], 5), np.round(log["enc_rad"][keep], 5)], axis=1
         )
         flags = np.concatenate([ticks[keep, None], log["safety"][keep], log["motor_board_off"][keep]], axis=1)
+        if self.world and "egg_force" in log:
+            world = np.concatenate([np.round(log["egg_force"][keep], 3), np.round(log["scale_g"][keep], 1),
+                                    log["egg_broken"][keep]], axis=1).tolist()
+            return {"frames": [[f[0], *a, f[1], f[2], *w] for f, a, w in zip(flags.tolist(), frames.tolist(),
+                                                                            world)]}
         return {"frames": [[f[0], *a, f[1], f[2]] for f, a in zip(flags.tolist(), frames.tolist())]}
 
     @staticmethod

@@ -18,7 +18,7 @@ from cffi import FFI
 from crslab import resources
 from crslab.cheaders import cdef_from_header
 
-BOARD_HEADERS = ("port/firmware_board.h", "board/sim.h")
+BOARD_HEADERS = ("port/firmware_board.h", "plant/world.h", "board/sim.h")
 """sim.h and the port's header it includes (cffi reads no #include), under csrc/."""
 
 

@@ -9,6 +9,7 @@ from crslab.lab.build import LabBuild
 from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
 from crslab.scenario.load import Scenario
+from crslab.world.layout import FREE_AIR, World
 
 
 @dataclass(frozen=True)
@@ -44,6 +45,8 @@ class SimConfig:
     """``none`` or ``piccolo`` (framework_facts.MOTOR_BOARDS); None: the lab's generation's."""
     plant: PlantParams = field(default_factory=PlantParams.defaults)
     """The simulated arm's motor gain, drive, friction and variations (``--plant FILE``)."""
+    world: World = FREE_AIR
+    """What the arm can touch (``--world NAME|FILE``): free air (``none``) unless a world is given."""
 
     @property
     def motor_board_model(self) -> str:

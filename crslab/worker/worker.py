@@ -18,6 +18,7 @@ process as untrusted (crslab/worker/worker_messages.py).
 from __future__ import annotations
 
 import contextlib
+import copy
 import mmap
 import os
 from collections.abc import Iterable
@@ -30,7 +31,7 @@ from crslab import crs, os_support
 from crslab.framework_facts import CPU_CYCLES_PER_TICK, MOTOR_BOARDS
 from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
 from crslab.lab.watched import WatchedError, WatchedVar, watched_var
-from crslab.plant.model import apply_friction, apply_plant, load_model, motor_to_qpos
+from crslab.plant.model import apply_friction, apply_plant, motor_to_qpos
 from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
 from crslab.plant.plant_params import PlantParams
 from crslab.scenario.expect_events import Observation
@@ -41,7 +42,15 @@ from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
-from crslab.worker.wasm_runtime import INTERRUPT_SIGNAL, compiled_module_path, wasmtime_library
+from crslab.worker.wasm_runtime import (
+    INTERRUPT_SIGNAL,
+    compiled_module_path,
+    seal_compiled,
+    unsealed_compiled_removed,
+    wasmtime_library,
+)
+from crslab.world.layout import World, peg_depth_m
+from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
 
 LOG_ROWS = 2000  # rows per scope-log block
 
@@ -49,7 +58,15 @@ _LOG_COLUMNS = {  # name: (width, dtype)
     "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
     "tau_applied": (3, np.float64), "plot": (4, np.float64), "safety": (1, np.int32),
     "leds": (1, np.uint32), "motor_board_off": (1, np.int32), "qpos_dh_rad": (3, np.float64),
+    "ee": (3, np.float64), "push_force": (3, np.float64),
 }
+WORLD_COLUMNS = {  # the C log's "world" row (csrc/plant/world.h CRS_WORLD_ROW_*), split by name: width
+    "peg_tip": 3, "egg_force": 1, "scale_g": 1, "egg_broken": 1, "hole_force": 1, "obstacle_force": 1,
+    "groove_side_force": 1, "groove_force": 1, "table_force": 1,
+}
+"""The scope log's world columns (docs/worlds.md), in a run whose world has fixtures."""
+STANDARD_GRAVITY = 9.80665
+"""What a scale divides a force by to show grams (m/s^2): scales are calibrated to it."""
 _C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
 
 
@@ -59,6 +76,56 @@ STAT_FIELDS = (
     "leds", "estop_latched", "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars",
     "overflow_phase", "console_bytes",
 )
+
+
+def split_world_row(row: object) -> dict:
+    """The world's row (``CRS_WORLD_ROW`` values, or rows of them) split into named columns.
+
+    >>> split_world_row(np.arange(11.0))["scale_g"], split_world_row(np.zeros((2, 11)))["peg_tip"].shape
+    (array([4.]), (2, 3))
+    """
+    a = np.asarray(row, dtype=float)
+    flat = a.ndim == 1
+    a = a.reshape(-1, sum(WORLD_COLUMNS.values()))
+    out, i = {}, 0
+    for name, width in WORLD_COLUMNS.items():
+        out[name] = a[0, i:i + width] if flat else a[:, i:i + width].copy()
+        i += width
+    return out
+
+
+def attach_world(ffi: FFI, w: object, model: object, data: object, world: World) -> list[object]:
+    """Set the C world ``w`` (a ``crs_world *``; csrc/plant/world.h) for ``world``'s compiled scene
+    ``model`` and its ``data``: the sensors' places in ``data.sensordata``, the egg's breaking force
+    and geom, the groove's corners. Returns what must stay alive as long as ``w`` is used."""
+    if world.is_free_air:
+        return []
+    keep: list[object] = [model, data]
+
+    def ptr(ctype: str, arr: np.ndarray, offset: int = 0) -> object:
+        keep.append(arr)
+        return ffi.cast(ctype, arr.ctypes.data) + offset
+
+    w.enabled = 1  # type: ignore[attr-defined]
+    w.sensordata = ptr("double *", data.sensordata)  # type: ignore[attr-defined]
+    names = [model.sensor(i).name for i in range(model.nsensor)]  # type: ignore[attr-defined]
+    if PEG_TIP_SITE in names:
+        w.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])  # type: ignore[attr-defined]
+    for i, fixture in enumerate(FIXTURE_SENSORS):
+        if f"{fixture}_force" in names:
+            w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")])  # type: ignore[attr-defined]
+    w.gravity_m_s2 = STANDARD_GRAVITY  # type: ignore[attr-defined]
+    if world.groove is not None:
+        for i, (x, y) in enumerate(world.groove.corners_xy_m):
+            w.groove_xy_m[2 * i], w.groove_xy_m[2 * i + 1] = x, y  # type: ignore[attr-defined]
+    if world.egg is not None:
+        w.breaking_force_n = world.egg.breaking_force_n  # type: ignore[attr-defined]
+        egg = model.geom("egg").id  # type: ignore[attr-defined]
+        w.egg_contype = ptr("int32_t *", model.geom_contype, egg)  # type: ignore[attr-defined]
+        w.egg_conaffinity = ptr("int32_t *", model.geom_conaffinity, egg)  # type: ignore[attr-defined]
+        w.egg_size_m = ptr("double *", model.geom_size, 3 * egg)  # type: ignore[attr-defined]
+        w.egg_pos_m = ptr("double *", model.geom_pos, 3 * egg)  # type: ignore[attr-defined]
+    return keep
 
 
 class FirmwareStopped(Exception):
@@ -86,13 +153,13 @@ class Worker:
         import mujoco
 
         self.config = config
-        self.model = load_model()
-        apply_plant(self.model, config.plant, loaded=load_model())
+        self.model = load_scene(config.world)
+        apply_plant(self.model, config.plant, loaded=copy.copy(self.model))
         self.plant = config.plant
         """The plant parameters in force (a scenario's friction scale changes them)."""
         self.data = mujoco.MjData(self.model)
         rest = np.asarray(config.rest_motor_rad, dtype=float)
-        self.data.qpos[:3] = motor_to_qpos(rest)
+        set_arm_pose(self.model, self.data, motor_to_qpos(rest))
         mujoco.mj_forward(self.model, self.data)
         self.rest_dh = crs.motor_to_dh(rest)
         mj_step = mj_step_address()
@@ -141,15 +208,42 @@ class Worker:
         h.kd_nm_s_per_rad, h.max_nm = config.hand.kd, config.hand.max_nm
         sim.debug.break_when = int(config.build.break_when is not None)
         sim.debug.trap_fp = int(debug is not None and debug.trap_fp)
+        self._set_world(config.world)
         self.events = list(config.scenario.events)
         self.motor_board_events: list[worker_messages.MotorBoardEvent] = []
         self.observations: list[Observation] = []
         self.log_blocks: list[dict[str, np.ndarray]] = []
+        self._columns = dict(_LOG_COLUMNS)
+        if sim.world.enabled:
+            self._columns["world"] = (sum(WORLD_COLUMNS.values()), np.float64)
         if config.log_signals:
-            self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in _LOG_COLUMNS.items()}
+            self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in self._columns.items()}
             sim.log.capacity = LOG_ROWS
             for k, arr in self._log_arrays.items():
-                setattr(sim.log, k, self._ptr(_C_TYPE[_LOG_COLUMNS[k][1]], arr))
+                setattr(sim.log, k, self._ptr(_C_TYPE[self._columns[k][1]], arr))
+
+    def _set_world(self, world: World) -> None:
+        """Point the board's world (csrc/plant/world.h) at the scene's sensors and the egg's geom."""
+        self._keep += attach_world(self.ffi, self.sim.world, self.model, self.data, world)
+
+    def world_values(self) -> dict[str, float] | None:
+        """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...),
+        and ``peg_depth``: how far the peg's tip is below the hole's top while inside its radius (m,
+        else 0). None in a world without fixtures."""
+        w = self.sim.world
+        if not w.enabled:
+            return None
+        values = {}
+        row = [float(w.row[i]) for i in range(sum(WORLD_COLUMNS.values()))]
+        for name, value in split_world_row(row).items():
+            if len(value) == 3:
+                values.update({f"{name}_{a}": float(v) for a, v in zip("xyz", value)})
+            else:
+                values[name] = float(value[0])
+        values["peg_depth"] = peg_depth_m(self.config.world, (values.get("peg_tip_x", 0.0),
+                                                               values.get("peg_tip_y", 0.0),
+                                                               values.get("peg_tip_z", 0.0)))
+        return values
 
     def _new_sim(self, config: SimConfig, block: object) -> object:
         sim = self.ffi.new("crs_sim *")
@@ -192,6 +286,8 @@ class Worker:
         wasm = config.build.image.read_bytes()
         library = self.ffi.new("char[]", str(wasmtime_library()).encode())
         kept = compiled_module_path(wasm, MEMORY_BYTES, NATIVE_STACK_BYTES)
+        if kept is not None:
+            unsealed_compiled_removed(kept)
         compiled = self.ffi.new("char[]", str(kept).encode()) if kept is not None else self.ffi.NULL
         image = self.ffi.new("uint8_t[]", wasm)
         options = self.ffi.new("crs_wasm_options *", {
@@ -200,6 +296,8 @@ class Worker:
         self._keep += [library, image, compiled, options]
         block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
         code = self.lib.crs_fw_wasm_load(sim, options)
+        if kept is not None:
+            seal_compiled(kept)
         if code != 0:
             raise FirmwareStopped(trap_info(self.ffi, sim))
         block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
@@ -282,7 +380,7 @@ class Worker:
             tick=int(sim.tick), motor_board=self.config.motor_board_model,
             motor_board_off=bool(sim.motor_board.off), motor_board_cutouts=int(sim.motor_board.cutouts),
             error=int(sim.safety_flag), motor_rad=(float(motor[0]), float(motor[1]), float(motor[2])),
-            var=value))
+            var=value, world=self.world_values()))
 
     def take_observations(self) -> list[Observation]:
         """What the expectations saw since the last call."""
@@ -299,7 +397,10 @@ class Worker:
         log = self.sim.log
         n = int(log.count)
         if n:
-            self.log_blocks.append({k: a[:n].copy() for k, a in self._log_arrays.items()})
+            block = {k: a[:n].copy() for k, a in self._log_arrays.items()}
+            if "world" in block:
+                block.update(split_world_row(block.pop("world")))
+            self.log_blocks.append(block)
             log.count = 0
 
     def run(self, until_tick: int) -> int:
@@ -356,8 +457,11 @@ class Worker:
         self._drain_log()
         blocks, self.log_blocks = self.log_blocks, []
         if not blocks:
-            return {k: np.zeros((0, w), dt) for k, (w, dt) in _LOG_COLUMNS.items()}
-        return {k: np.concatenate([b[k] for b in blocks]) for k in _LOG_COLUMNS}
+            empty = {k: np.zeros((0, w), dt) for k, (w, dt) in self._columns.items()}
+            if "world" in empty:
+                empty.update(split_world_row(empty.pop("world")))
+            return empty
+        return {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}
 
 
 def serve(conn: Connection, config: SimConfig, shared_fd: int, debug: DebugSetup | None = None) -> None:

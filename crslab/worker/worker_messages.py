@@ -275,9 +275,13 @@ def observation(raw: object) -> Observation:
     board = raw["motor_board"]
     if not isinstance(board, str):
         raise TypeError("motor_board is not a name")
+    world = raw.get("world")
+    if world is not None and (not isinstance(world, dict) or not all(
+            isinstance(k, str) and isinstance(v, float) for k, v in world.items())):
+        raise TypeError("world is not named numbers")
     return Observation(tick=whole("tick"), motor_board=board, motor_board_off=bool(whole("motor_board_off")),
                        motor_board_cutouts=whole("motor_board_cutouts"), error=whole("error"),
-                       motor_rad=(angles[0], angles[1], angles[2]), var=var)
+                       motor_rad=(angles[0], angles[1], angles[2]), var=var, world=world)
 
 
 def _event(raw: Any) -> MotorBoardEvent:

@@ -15,7 +15,9 @@
 #include "hand.h"
 #include "host_ports.h"
 #include "motor_board.h"
+#include "push.h"
 #include "serial_line.h"
+#include "world.h"
 
 void crs_sim_init(crs_sim *sim)
 {
@@ -30,6 +32,7 @@ void crs_sim_init(crs_sim *sim)
     sim->faults.rng_state = 0x9E3779B97F4A7C15ULL;
     sim->faults.glitch_tick = -1;
     crs_motor_board_init(&sim->motor_board, CRS_MOTOR_BOARD_NONE);
+    crs_world_init(&sim->world);
     /* an ideal drive (every command delivered at once) until the plant parameters are set */
     for (int j = 0; j < 3; ++j) sim->drive.stall_units[j] = HUGE_VAL;
 }
@@ -120,7 +123,11 @@ static void log_tick(crs_sim *sim, int plots)
         lg->tau_lab[3 * i + j] = sim->tau[j];
         lg->tau_applied[3 * i + j] = sim->applied[j];
         lg->qpos_dh_rad[3 * i + j] = sim->qpos[j];
+        lg->push_force[3 * i + j] = sim->push.now_n[j];
     }
+    double ee_in[3];
+    crs_fk_dh(sim->qpos, ee_in);
+    for (int k = 0; k < 3; ++k) lg->ee[3 * i + k] = CRS_M_PER_IN * ee_in[k];
     for (int k = 0; k < 4; ++k) lg->plot[4 * i + k] = plots ? plot_var(sim->fw.plot[k]) : 0.0;
     lg->safety[i] = sim->safety_flag;
     lg->leds[i] = sim->leds;
@@ -148,12 +155,21 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
         crs_friction_add(&sim->friction, speed, sim->ctrl);
         crs_hand_step_along(sim, &hand_path);
         for (int j = 0; j < 3; ++j) sim->qfrc_applied[j] = sim->hand.force_nm[j];
+        crs_push_apply(&sim->push, sim->tick, sim->qpos, sim->qfrc_applied);
         if (sim->log.capacity > 0) log_tick(sim, plots);
         crs_line_send(sh, sim->tick);
         crs_host_ports_tick(sim, sim->tick); /* after lab(): what the host sent, the replies */
 
         sh->phase = CRS_PHASE_PHYSICS;
         sim->mj_step(sim->mj_model, sim->mj_data);
+        if (sim->world.enabled) {
+            /* the contact forces of the step just taken, logged with the state it started from */
+            crs_world_update(&sim->world, sim->tick);
+            if (sim->log.capacity > 0 && sim->log.world != NULL) {
+                memcpy(&sim->log.world[CRS_WORLD_ROW * (sim->log.count - 1)], sim->world.row,
+                       sizeof sim->world.row);
+            }
+        }
         sim->tick++;
         sh->phase = CRS_PHASE_IDLE;
         sh->tick = sim->tick;
