@@ -68,6 +68,8 @@ def run_report(args: argparse.Namespace) -> int:
         )
         return ExitStatus.MISMATCH
     [submission] = found
+    # the submission folder is the student's: a header beside the lab comes with it
+    folders = {submission: submission.parent} if folder.is_dir() else {}
     executor = executor_from_args(args)
     start = time.monotonic()
     results = []
@@ -93,7 +95,8 @@ def run_report(args: argparse.Namespace) -> int:
                     f"{reference.message or reference.status}"
                 )
             [result] = g.run_many(
-                [submission], config, end_tick, deadline_s=args.deadline, limits=limits, executor=executor
+                [submission], config, end_tick, deadline_s=args.deadline, limits=limits, executor=executor,
+                folders=folders,
             )
             graded = ag.Outcome(
                 test, g.grade_result(result, reference, abs_tol=args.abs_tol, rel_tol=args.rel_tol)

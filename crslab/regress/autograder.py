@@ -71,7 +71,7 @@ class Outcome:
         """What the student reads: the grade, the report (first differing lines or the crash), and
         the last lines the submission printed."""
         g = self.grade
-        parts = [f"{g.grade}: {g.detail}"]
+        parts = [g.verdict]
         report = g.report
         if report and report != g.detail:
             parts.append(report)
@@ -173,7 +173,7 @@ def prairielearn_results(results: Sequence[Outcome], *, note: str = "") -> dict:
                 "description": _describe(r.test),
                 "points": r.points,
                 "max_points": r.test.points,
-                "message": f"{r.grade.grade}: {r.grade.detail}",
+                "message": r.grade.verdict,
                 "output": r.output(),
             }
             for r in results

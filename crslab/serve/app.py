@@ -33,7 +33,7 @@ from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect, WebSocketDisconnected
 
-from crslab.generations import GENERATIONS
+from crslab.generations import GENERATIONS, NEWEST
 from crslab.serve.auth import CookieSigner, RateLimit, User, verify_secret
 from crslab.serve.page_messages import ProtocolError, parse_message
 from crslab.serve.page_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
@@ -167,6 +167,8 @@ class CrsServer:
                 },
                 "labs": LABS,
                 "generations": {g.name: g.title.removeprefix("the ") for g in GENERATIONS},
+                "generation_headers": {g.name: g.include for g in GENERATIONS},
+                "default_generation": NEWEST.name,  # what crslab new writes without --gen
             }
         )
 
