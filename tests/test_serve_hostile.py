@@ -371,12 +371,13 @@ SLOW_LAB = ("#if __INCLUDE_LEVEL__ < 26  /* 2**26 includes: past the compiler's 
 
 
 def _compilers(cache: Path) -> list[int]:
-    """The compiler processes working in the server's cache."""
+    """The compiler processes working on a page's lab (its ``submission`` folder) in the server's
+    cache (not those of crslab's own C, which a fresh cache builds first)."""
     found = []
     for entry in Path("/proc").iterdir():
         try:
             cmdline = (entry / "cmdline").read_bytes() if entry.name.isdigit() else b""
-            if str(cache).encode() in cmdline:
+            if str(cache).encode() in cmdline and b"/submission" in cmdline:
                 found.append(int(entry.name))
         except OSError:
             pass

@@ -124,12 +124,13 @@ def join(thread: threading.Thread, what: str, timeout_s: float = GUARD_S) -> Non
 
 
 def wait_until(ready: Callable[[], T | None], what: str, timeout_s: float = GUARD_S) -> T:
-    """Poll ``ready`` (a look at the system: /proc, a folder) until it gives something other than
-    None or False, and return that; fail, naming ``what`` was awaited, if the guard expires."""
+    """Poll ``ready`` (a look at the system: /proc, a folder) until it gives something true (not
+    None, False, 0 or empty), and return that; fail, naming ``what`` was awaited, if the guard
+    expires."""
     end = time.monotonic() + timeout_s
     while True:
         got = ready()
-        if got is not None and got is not False:
+        if got:
             return got
         if time.monotonic() > end:
             raise AssertionError(f"{what}: not so after {timeout_s:g} s")
