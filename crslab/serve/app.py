@@ -117,7 +117,7 @@ class CrsServer:
             if wait > 0:
                 return _too_many(f"too many wrong tokens or passwords from your address; try again in "
                                  f"{_seconds(wait)}", wait, html_page=True)
-            self._by_address.tried(address, now)
+            self._by_address.tried(address, now)  # a wrong token until it proves right
             user = self._token_user(token)
             if user is not None:
                 self._by_address.forgiven(address, entirely=False)
