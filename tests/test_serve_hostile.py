@@ -205,6 +205,7 @@ def test_one_user_opening_pages_at_once_holds_at_most_the_per_user_cap(monkeypat
                            Path(tmp_path))
 
     monkeypatch.setattr(sessions, "_start", fake_start)
+    sessions._ctx = object()  # type: ignore[assignment]  # no fork server: fake_start forks nothing
     outcomes: list[str] = []
 
     def open_page() -> None:
@@ -214,11 +215,13 @@ def test_one_user_opening_pages_at_once_holds_at_most_the_per_user_cap(monkeypat
         except LimitError as exc:
             outcomes.append(str(exc))
 
-    threads = [threading.Thread(target=open_page) for _ in range(8)]
+    threads = [threading.Thread(target=open_page, daemon=True) for _ in range(8)]
     for t in threads:
         t.start()
-    wait_until(lambda: len(outcomes) >= 6, "six of mallory's eight pages refused while two start", 30.0)
-    release.set()
+    try:
+        wait_until(lambda: len(outcomes) >= 6, "six of mallory's eight pages refused while two start")
+    finally:
+        release.set()
     for t in threads:
         t.join()
     assert outcomes.count("open") == 2
