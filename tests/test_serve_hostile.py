@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import asyncio
 import json
-import os
 import subprocess
 import sys
 import tempfile
@@ -29,6 +28,7 @@ from serve_server import USERS, Client, ServeProcess, run_message, write_roster
 from waiting import wait_gone, wait_until
 
 import crslab
+from crslab.cache import cache_dir
 from crslab.serve.app import ADDRESS_BACKOFF, NAME_BACKOFF, ServeSettings, make_app
 from crslab.serve.auth import Backoff, CookieSigner, load_roster
 from crslab.serve.session_process import SessionLimits
@@ -236,24 +236,10 @@ def test_one_user_opening_pages_at_once_holds_at_most_the_per_user_cap(monkeypat
 
 # -- a real server -------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
-def cache(tmp_path_factory):
-    """The server's own build cache: its compilers are the ones whose command lines name it."""
-    return tmp_path_factory.mktemp("cache")
-
-
-@pytest.fixture(scope="module")
-def server(tmp_path_factory, cache):
+def server(tmp_path_factory):
     folder = tmp_path_factory.mktemp("serve")
-    old = os.environ.get("CRSLAB_CACHE_DIR")
-    os.environ["CRSLAB_CACHE_DIR"] = str(cache)
-    try:
-        srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000",
-                           "--max-sessions", "6")
-    finally:
-        if old is None:
-            os.environ.pop("CRSLAB_CACHE_DIR")
-        else:
-            os.environ["CRSLAB_CACHE_DIR"] = old
+    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000",
+                       "--max-sessions", "6")
     yield srv
     srv.stop()
 
@@ -346,7 +332,7 @@ def _strings(value: object) -> list[str]:
     return []
 
 
-def test_messages_name_the_users_files_never_a_server_path(server, alice, cache):
+def test_messages_name_the_users_files_never_a_server_path(server, alice):
     """Finding 8: a compile error inside a system header and one inside crslab's, a malformed
     uploaded scenario: the page reads the names it gave (and the headers' own names), no folder."""
     got = []
@@ -359,7 +345,7 @@ def test_messages_name_the_users_files_never_a_server_path(server, alice, cache)
     alice.send(run_message(LAB_A, scenario={"file": {"name": "bad.toml", "text": "end = \"soon\"\n"}}))
     got += alice.until("ended")
     texts = [s for m in got for s in _strings(m)]
-    leaks = [(p, t) for t in texts for p in [*SERVER_PATHS, str(cache), "crslab-serve-"] if p in t]
+    leaks = [(p, t) for t in texts for p in [*SERVER_PATHS, str(cache_dir()), "crslab-serve-"] if p in t]
     assert not leaks
     first, second, ended = got[0], [m for m in got if m["type"] == "built"][1], got[-1]
     output = first["compiler_output"]
@@ -373,35 +359,51 @@ SLOW_LAB = ("#if __INCLUDE_LEVEL__ < 26  /* 2**26 includes: past the compiler's 
 """A lab whose compile runs until the compiler's CPU limit: it includes itself twice, 26 deep."""
 
 
-def _compilers(cache: Path) -> list[int]:
-    """The compiler processes working on a page's lab (its ``submission`` folder) in the server's
-    cache (not those of crslab's own C, which a fresh cache builds first)."""
-    found = []
+def _compilers(server: ServeProcess) -> list[int]:
+    """The compiler processes the server started (its descendants) on a page's lab (its build's
+    ``submission`` folder), not those of crslab's own C."""
+    parents = {}
     for entry in Path("/proc").iterdir():
         try:
-            cmdline = (entry / "cmdline").read_bytes() if entry.name.isdigit() else b""
-            if str(cache).encode() in cmdline and b"/submission" in cmdline:
-                found.append(int(entry.name))
+            if entry.name.isdigit():
+                stat = (entry / "stat").read_text()
+                parents[int(entry.name)] = int(stat[stat.rindex(")") + 2 :].split()[1])
         except OSError:
             pass
+
+    def descends(pid: int) -> bool:
+        seen = 0
+        while pid > 1 and seen < 64:
+            pid, seen = parents.get(pid, 0), seen + 1
+            if pid == server.proc.pid:
+                return True
+        return False
+
+    found = []
+    for pid in parents:
+        try:
+            cmdline = Path(f"/proc/{pid}/cmdline").read_bytes()
+        except OSError:
+            continue
+        if b"zig" in cmdline and b"/submission" in cmdline and descends(pid):
+            found.append(pid)
     return found
 
 
-def test_a_users_builds_run_one_at_a_time_and_end_with_the_page(server, cache):
+def test_a_users_builds_run_one_at_a_time_and_end_with_the_page(server):
     """Finding 4 on the server: while one page builds, the user's other page may not start a build;
     when the building page closes, its compiler ends with it (no zig or clang left running)."""
     first = Client(server, server.login("bob"))
     second = Client(server, server.login("bob"))
     try:
         first.send({"type": "build", "lab": {"name": "slow_compile.c", "text": SLOW_LAB}})
-        pids = wait_until(lambda: _compilers(cache), "a compiler working on bob's lab")
+        pids = wait_until(lambda: _compilers(server), "a compiler working on bob's lab")
         second.send({"type": "build", "lab": {"name": "lab1.c", "text": LAB_A}})
         assert second.next() == {"type": "error", "message": "build: you have a build going on in another "
                                  "page; one build, run or check at a time"}
     finally:
         first.close()
     wait_gone(pids, "the page that started the build closed", timeout_s=30.0)
-    assert _compilers(cache) == []
     second.send({"type": "build", "lab": {"name": "lab1.c", "text": LAB_A}})  # the user may build again
     assert second.until("built")[-1]["ok"]
     second.close()
