@@ -84,7 +84,7 @@ def _compiler() -> Check:
 
 def _wasm() -> Check:
     from crslab.lab.zig import ZigMissing, is_prepared, zig_program, zig_version
-    from crslab.sim.wasm_runtime import WasmtimeMissing, wasmtime_library
+    from crslab.worker.wasm_runtime import WasmtimeMissing, wasmtime_library
 
     fix = "pip install --force-reinstall crslab (it brings ziglang and wasmtime)"
     try:
@@ -148,9 +148,9 @@ def _simulation(build: object, sandboxed: bool) -> Check:
     if build is None:
         return Check("simulation", False, "needs the lab build", "see the lab build (above)", skipped=True)
     from crslab.scenario.load import load_scenario
-    from crslab.sim.config import SimConfig
     from crslab.sim.session import SimError, Simulation
     from crslab.sinks.memory import MemorySink
+    from crslab.worker.config import SimConfig
 
     config = SimConfig(build=build, scenario=load_scenario("hands_off"), startup_ticks=0,  # type: ignore[arg-type]
                        sandboxed=sandboxed)

@@ -1,5 +1,5 @@
 """The course framework's numbers for Python, read through cffi from the one header that holds
-them (``csrc/sim/framework_facts.h``, compiled into ``crslab._core``): the emulated board is
+them (``csrc/port/framework_facts.h``, compiled into ``crslab._core``): the emulated board is
 built from the same header, so no number of the framework is written twice. What differs between
 the framework's generations is in their rows (:mod:`crslab.generations`).
 

@@ -1,5 +1,5 @@
 """The course framework's generations, one row each, read through cffi from the table the board
-and the firmware are built with (``csrc/sim/generations.c``; ``generations.h`` says what each
+and the firmware are built with (``csrc/port/generations.c``; ``generations.h`` says what each
 field is): a lab's includes say which row it was written for, and everything that differs between
 generations is a field of its row, never a comparison with one of them.
 
@@ -31,7 +31,7 @@ class UnknownGeneration(ValueError):
 
 @dataclass(frozen=True)
 class Generation:
-    """One row of ``csrc/sim/generations.c`` (the fields of ``crs_generation``, generations.h)."""
+    """One row of ``csrc/port/generations.c`` (the fields of ``crs_generation``, generations.h)."""
 
     id: int
     """What the board's ``crs_sim.generation`` holds."""

@@ -43,7 +43,7 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
                          rel_tol: float | None = None, duration_s: float | None = None,
                          rest_motor_rad: tuple[float, float, float] | None = None,
                          startup_delay: bool | None = None, deadline_s: float | None = None,
-                         plant: str | Path | None = None) -> str:
+                         plant: str | Path | None = None, world: str | Path | None = None) -> str:
     """Run ``lab`` on ``scenario`` and compare with (or, with ``record``, write) ``golden``.
 
     Options left as None are the golden file's when checking (the defaults when recording).
@@ -77,18 +77,20 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
         recorded = recorded_run(gold, [base])
     given = find_scenario(scenario, [base]) if scenario is not None else None
     given_plant = find_scenario(str(plant), [base]) if plant is not None else None
+    given_world = find_scenario(str(world), [base]) if world is not None else None
     options = recorded.overridden(scenario=given, duration_s=duration_s, rest_motor_rad=rest_motor_rad,
-                                  startup_delay=startup_delay, plant=given_plant)
+                                  startup_delay=startup_delay, plant=given_plant, world=given_world)
     config = make_config(lab_path, options.scenario, startup_delay=options.startup_delay is not False,
                          rest_motor_rad=options.rest_motor_rad, motor_board=options.motor_board,
-                         plant=options.plant)
+                         plant=options.plant, world=options.world)
     end_tick = config.scenario.end_tick if options.duration_s is None else seconds_to_tick(options.duration_s)
     result = run_lab(config, end_tick, deadline_s=deadline_s or DEFAULT_DEADLINE_S)
     if not result.ok:  # a crash, a hang, a failed expectation of the scenario: never recorded
         raise CrslabCheckFailed(f"{lab_path.name} on {config.scenario.name}: {result.diagnosis()}")
     if record:
         golden_path.parent.mkdir(parents=True, exist_ok=True)
-        write_golden(golden_path, run_header(config, end_tick, scenario, plant), result.transcript)
+        header = run_header(config, end_tick, scenario, plant, world)
+        write_golden(golden_path, header, result.transcript)
         return f"recorded {golden_path}"
     comparison = compare(split_lines(gold.body), split_lines(result.transcript, result.calls),
                          abs_tol=DEFAULT_ABS_TOL if abs_tol is None else abs_tol,
@@ -104,7 +106,8 @@ def crslab_check(request: pytest.FixtureRequest) -> Callable[..., str]:
     """``crslab_check(lab, scenario=None, golden=..., **options)``: run the lab on the scenario and
     fail the test unless it prints what the golden file holds (see the module's docs). Options:
     ``abs_tol``, ``rel_tol``, ``duration_s``, ``rest_motor_rad``, ``startup_delay``, ``deadline_s``,
-    ``plant`` (a plant file, relative to the test file)."""
+    ``plant`` (a plant file, relative to the test file), ``world`` (a built-in world's name or a world
+    file, relative to the test file)."""
     base = Path(str(request.path)).parent
     record = bool(request.config.getoption("crslab_record", default=False))
 
@@ -113,11 +116,13 @@ def crslab_check(request: pytest.FixtureRequest) -> Callable[..., str]:
         from crslab.plant.plant_params import PlantParamsError
         from crslab.regress.transcript import GoldenError
         from crslab.scenario.load import ScenarioError
+        from crslab.world.layout import WorldError
 
         try:
             return check_against_golden(lab, golden=golden, scenario=scenario, base=base, record=record,
                              **options)  # type: ignore[arg-type]
-        except (CrslabCheckFailed, FileNotFoundError, ScenarioError, GoldenError, PlantParamsError) as exc:
+        except (CrslabCheckFailed, FileNotFoundError, ScenarioError, GoldenError, PlantParamsError,
+                WorldError) as exc:
             failure = str(exc)
         except LabBuildError as exc:  # a bad lab file: the compiler's words, not a traceback
             failure = f"{exc}\n{exc.diagnostics}".rstrip()

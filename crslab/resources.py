@@ -2,15 +2,16 @@
 
 Five folders travel with the package:
 
-- ``csrc``: the C that labs are compiled against (board stand-ins ``board/include``, the
-  emulated board ``sim``, the kinematics core ``kin``) and crslab's own labs (``labs``);
+- ``csrc``: the C that labs are compiled against (the firmware's stand-ins ``firmware`` and their
+  headers ``firmware/include``, the emulated board ``board``, the plant's C ``plant``, what the
+  board and the firmware share ``port``, the kinematics core ``kin``) and crslab's own labs (``labs``);
 - ``models``: the MuJoCo models (``models/crs_arm``);
 - ``scenarios``: the built-in scenarios (``crslab/scenario/builtin``); ``robots``: the course robots' files;
 - ``octave``: the files that let GNU Octave run the course's MATLAB scripts (``crslab/host_tools/octave``).
 
 ``csrc`` and ``models`` live at the top of the repository. The build (``setup.py``) copies them
 into the wheel as ``crslab/_data/csrc`` and ``crslab/_data/models``; an editable install in a
-checkout has no ``_data`` and uses the checkout's own folders, so an edit to ``csrc/sim/board.c``
+checkout has no ``_data`` and uses the checkout's own folders, so an edit to ``csrc/board/board.c``
 counts at the next run. ``scenarios``, ``robots`` and ``octave`` are ordinary package data.
 
 A compiler and MuJoCo need real file-system paths. When the package is a plain folder (any
@@ -20,7 +21,7 @@ that changes with its content. (``importlib.resources.as_file`` would give a cop
 removed when its ``with`` block ends; a compiled lab and the MuJoCo model need theirs for the
 whole run, and again at the next one.)
 
->>> (path("csrc", "sim") / "sim.h").is_file()
+>>> (path("csrc", "board") / "sim.h").is_file()
 True
 >>> sorted(p.name for p in path("models", "crs_arm").glob("*.xml"))
 ['crs_arm.xml', 'scene.xml']

@@ -3,10 +3,11 @@
 The Python-visible declarations are read from the public headers listed in ``HEADERS``
 (crslab/cheaders.py drops preprocessor lines and ``static const`` initialisers), so every fact
 and every prototype is written once, in its header. Every ``*.c`` file under ``csrc/kin`` is
-compiled in, and so is the board (``csrc/sim``) with the WebAssembly firmware's port
-(``firmware_wasm.c``; the native port is linked with a lab instead, crslab/lab/build.py): the
+compiled in, and so are the board (``csrc/board``) with the WebAssembly firmware's port
+(``firmware_wasm.c``; the native port is linked with a lab instead, crslab/lab/build.py), the
+plant's C (``csrc/plant``) and what the board shares with the firmware (``csrc/port``): the
 worker runs a lab's WebAssembly firmware on this board. The course framework's numbers
-(``csrc/sim/framework_facts.h``, declarations only) and its generations' rows (``generations.h``,
+(``csrc/port/framework_facts.h``, declarations only) and its generations' rows (``generations.h``,
 the rows in ``generations.c``) come along so that Python reads them from the same C the emulated
 board is built with.
 """
@@ -22,14 +23,18 @@ from cffi import FFI
 
 HERE = Path(__file__).resolve().parent
 KIN = HERE / "kin"
-SIM = HERE / "sim"
+BOARD = HERE / "board"
+PLANT = HERE / "plant"
+PORT = HERE / "port"
 # vector_math.h is internal (attributes, no API); every other header is the Python-visible API.
 HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [
-    SIM / "framework_facts.h", SIM / "generations.h", SIM / "sim.h", SIM / "firmware_wasm.h"]
+    PORT / "framework_facts.h", PORT / "generations.h", PORT / "firmware_board.h", PLANT / "world.h",
+    BOARD / "sim.h", BOARD / "firmware_wasm.h"]
 NATIVE_ONLY = {"firmware_native.c", "debug.c"}
 """Board sources linked only with a native lab (crslab/lab/build.py), never into the core: the
 native port and what a debugger reads (a second ``crs_tick`` here would be the one gdb finds)."""
-SOURCES = sorted(KIN.glob("*.c")) + sorted(p for p in SIM.glob("*.c") if p.name not in NATIVE_ONLY)
+SOURCES = (sorted(KIN.glob("*.c")) + sorted(p for p in BOARD.glob("*.c") if p.name not in NATIVE_ONLY)
+           + sorted(PLANT.glob("*.c")) + sorted(PORT.glob("*.c")))
 C_FLAGS = ["-std=c11", "-O3", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-fno-trapping-math"]
 # glibc's vector math (libmvec) backs the vectorized batch loops on x86-64 Linux.
 LIBRARIES = (["m", "mvec"] if platform.machine() == "x86_64" and sys.platform == "linux" else ["m"]) + ["dl"]
@@ -52,7 +57,7 @@ ffibuilder.set_source(
     "crslab._core",
     "\n".join(f'#include "{h.name}"' for h in HEADERS),
     sources=[str(s.relative_to(HERE.parent)) for s in SOURCES],
-    include_dirs=[str(KIN.relative_to(HERE.parent)), str(SIM.relative_to(HERE.parent))],
+    include_dirs=[str(d.relative_to(HERE.parent)) for d in (KIN, BOARD, PLANT, PORT)],
     extra_compile_args=C_FLAGS,
     libraries=LIBRARIES,
 )

@@ -1,9 +1,10 @@
 """The C-level tests: each csrc/tests/test_*.c is built against every csrc/kin/*.c with
 -Wall -Wextra -Werror, once plainly and once under AddressSanitizer and UBSan, and run; with gcc,
 and with clang when it is installed (CI installs it). Tests of the emulated board
-(``test_sim_*.c``) also get the native board (every csrc/sim/*.c but the WebAssembly port), the
-framework's stand-ins (csrc/firmware) and shim headers: they drive the framework's tick alone, with a
-stub plant and a test lab of their own as the board's native firmware.
+(``test_sim_*.c``) also get the native board (every csrc/board/*.c but the WebAssembly port, with
+csrc/plant and csrc/port), the framework's stand-ins (csrc/firmware) and shim headers: they drive
+the framework's tick alone, with a stub plant and a test lab of their own as the board's native
+firmware.
 
 The core's and the board's sources are compiled once per compiler and mode into two static
 libraries (in parallel, one compiler process per core) and every test links against them."""
@@ -20,11 +21,13 @@ from crslab.os_support import MATH_LIBS
 ROOT = Path(__file__).resolve().parents[1]
 CSRC = ROOT / "csrc"
 KIN_SOURCES = sorted((CSRC / "kin").glob("*.c"))
-SIM_SOURCES = sorted(p for p in (CSRC / "sim").glob("*.c") if p.name != "firmware_wasm.c") + sorted(
-    (CSRC / "firmware").glob("*.c"))
+SIM_SOURCES = (sorted(p for p in (CSRC / "board").glob("*.c") if p.name != "firmware_wasm.c")
+               + sorted((CSRC / "plant").glob("*.c")) + sorted((CSRC / "port").glob("*.c"))
+               + sorted((CSRC / "firmware").glob("*.c")))
 C_TESTS = sorted((CSRC / "tests").glob("test_*.c"))
 STRICT = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-I", str(CSRC / "kin")]
-SIM_INCLUDES = ["-I", str(CSRC / "sim"), "-I", str(CSRC / "firmware"), "-I", str(CSRC / "board" / "include")]
+SIM_INCLUDES = ["-I", str(CSRC / "board"), "-I", str(CSRC / "plant"), "-I", str(CSRC / "port"), "-I",
+                str(CSRC / "firmware"), "-I", str(CSRC / "firmware" / "include")]
 SANITIZE = ["-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer"]
 COMPILERS = ["gcc", pytest.param("clang", marks=pytest.mark.requires("clang"))]
 

@@ -53,7 +53,7 @@ def subcommands(parser=None, prefix=""):
 WRITERS = {"sim": "--transcript", "debug": "--transcript", "record": "--output", "check": "--junit",
            "grade": "--out", "sweep": "--output", "identify": "--output", "traj": "--output",
            "workspace": "--output", "plot": "--output", "map": "--output", "new": "--output",
-           "friction": "--output", "serial scope": "--rrd"}
+           "friction": "--output", "serial scope": "--rrd", "contest": "--output"}
 
 
 def test_every_command_that_writes_a_file_or_folder_takes_o():

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 from waiting import GUARD_S, LineWatcher, wait_exit
 
-from crslab.sim.config import STARTUP_TICKS
+from crslab.worker.config import STARTUP_TICKS
 
 LABS = Path(__file__).parent / "labs"
 COUNTER = LABS / "debug_counter.c"
@@ -249,7 +249,7 @@ def test_bt_shows_the_lab_and_the_framework_only_and_gdb_keeps_its_chatter_off_s
     filtered, everything = r.stdout.split("--all--\n")
     frames = re.findall(r"^#(\d+)\s+(?:0x[0-9a-f]+ in )?(\w+) ", filtered, re.MULTILINE)
     # the lab, the firmware's entry (csrc/firmware/firmware.c), the board's port to it
-    # (csrc/sim/firmware_native.c) and the framework's tick (csrc/sim/sim.c)
+    # (csrc/board/firmware_native.c) and the framework's tick (csrc/board/sim.c)
     assert [name for _, name in frames] == ["lab", "crs_fw_lab", "crs_fw_call_lab", "lab_tick",
                                             "framework_tick", "crs_sim_run"]
     assert frames[-1][0] == "5"

@@ -1,5 +1,5 @@
 """Every name a lab can use through the real framework's headers is there in crslab's stand-ins
-(csrc/board/include), in both generations: tests/data/framework_names.toml lists them, read from
+(csrc/firmware/include), in both generations: tests/data/framework_names.toml lists them, read from
 the real headers. A translation unit per generation includes what that generation's lab files
 include and uses every name (a macro defined, a type declared, a variable's and a function's
 address taken); it must compile. And a course lab that relies on the real include closure (bool

@@ -67,7 +67,8 @@ class Board:
         self.worker = self.run.worker
         self.sim = self.worker.sim
         self.ffi = FFI()
-        for header in ("sim/sim.h", "sim/debug.h", "kin/traj_profiles.h", "sim/framework.h"):
+        for header in ("port/firmware_board.h", "board/sim.h", "board/debug.h", "kin/traj_profiles.h",
+                       "board/framework.h", "plant/hand.h"):
             self.ffi.cdef(cdef_from_header(resources.path("csrc", *header.split("/")).read_text()))
         self.ffi.cdef(BOARD_FUNCTIONS + LAB_VARIABLES[lab])
         # the library the worker loaded (found among those loaded, not opened again)

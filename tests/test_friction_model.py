@@ -70,7 +70,7 @@ def lab3_points():
 def test_sliding_at_a_steady_speed_takes_the_course_lines(lab3_points):
     """Each pass's mean command is the plant's friction at its speed over the motor gain: the static
     band's edge risen to the line Cpos + Vpos w (Cneg + Vneg w moving negative), computed here by
-    PlantParams.friction_nm in Python, independently of the board's C (csrc/sim/friction.c)."""
+    PlantParams.friction_nm in Python, independently of the board's C (csrc/plant/friction.c)."""
     plant = PlantParams.defaults()
     assert len(lab3_points) == 18
     for p in lab3_points:

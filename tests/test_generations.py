@@ -1,4 +1,4 @@
-"""A framework generation is one row of ``csrc/sim/generations.c``, read by the board, the
+"""A framework generation is one row of ``csrc/port/generations.c``, read by the board, the
 firmware and Python (``crslab.generations``); an id or a name no row has fails loudly on every
 side; and a third generation is one more row and its header: a copy of Gen B with another
 serial_printf buffer, built into a copy of crslab, runs a lab whose lines that buffer decides."""
@@ -143,9 +143,9 @@ def with_gen_c(tmp_path_factory):
     shutil.copytree(ROOT / "crslab", copy / "crslab", ignore=shutil.ignore_patterns("_core*", "__pycache__"))
     shutil.copytree(ROOT / "csrc", copy / "csrc", ignore=shutil.ignore_patterns("*.o", "__pycache__"))
     shutil.copytree(ROOT / "models", copy / "models")
-    table = copy / "csrc" / "sim" / "generations.c"
+    table = copy / "csrc" / "port" / "generations.c"
     table.write_text(add_gen_c_row(table.read_text()))
-    include = copy / "csrc" / "board" / "include"
+    include = copy / "csrc" / "firmware" / "include"
     b_header = (include / "F28335Serial.h").read_text()
     (include / GEN_C_HEADER).write_text(b_header.replace("CRSLAB_F28335SERIAL_H", "CRSLAB_F28335SERIALC_H"))
     # the C core, as setup.py builds it (cffi_build.py names its sources relative to the folder)

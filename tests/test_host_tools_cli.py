@@ -13,7 +13,7 @@ from pathlib import Path
 import serial
 from waiting import GUARD_S, LineWatcher, join, wait_exit
 
-from crslab.host_tools.protocols import plot_values, read_request, simulink_packet
+from crslab.host_tools.serial_protocols import plot_values, read_request, simulink_packet
 from crslab.lab.build import text_memory
 
 ROOT = Path(__file__).resolve().parents[1]

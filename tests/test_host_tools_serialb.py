@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 from waiting import LineWatcher, wait_exit
 
-from crslab.host_tools.protocols import plot_values, simulink_packet
+from crslab.host_tools.serial_protocols import plot_values, simulink_packet
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation
 from crslab.sinks.memory import MemorySink

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from crslab.host_tools.protocols import read_request, write_request
+from crslab.host_tools.serial_protocols import read_request, write_request
 from crslab.live.bridge import SerialBridge
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation

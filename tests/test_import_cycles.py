@@ -72,8 +72,8 @@ def test_packages_that_import_each_other_are_a_cycle_though_no_module_is(tmp_pat
 
 def test_c_files_that_call_or_include_each_other_are_a_cycle(tmp_path):
     tree(tmp_path, {
-        "csrc/sim/ports.h": "void ports_tick(void);\nvoid ports_reply(int n);\n",
-        "csrc/sim/ports.c": """\
+        "csrc/board/ports.h": "void ports_tick(void);\nvoid ports_reply(int n);\n",
+        "csrc/board/ports.c": """\
             #include "ports.h"
             #include "link.h"
             void ports_reply(int n) { (void)n; }
@@ -82,8 +82,8 @@ def test_c_files_that_call_or_include_each_other_are_a_cycle(tmp_path):
                 link_receive(1); /* a call */
             }
             """,
-        "csrc/sim/link.h": "void link_receive(int byte);\n",
-        "csrc/sim/link.c": """\
+        "csrc/board/link.h": "void link_receive(int byte);\n",
+        "csrc/board/link.c": """\
             #include "link.h"
             static void ports_tick(void) {}  /* its own, not ports.c's */
             void link_receive(int byte)
@@ -93,15 +93,15 @@ def test_c_files_that_call_or_include_each_other_are_a_cycle(tmp_path):
                 if (byte) ports_reply(byte);
             }
             """,
-        "csrc/sim/leaf.c": '#include "ports.h"\nvoid leaf(void) { ports_tick(); }\n',
+        "csrc/board/leaf.c": '#include "ports.h"\nvoid leaf(void) { ports_tick(); }\n',
         "csrc/labs/lab.c": '#include "ports.h"\nvoid lab(void) { ports_tick(); }\nvoid ports_tick(void) {}\n',
     })
     r = run(tmp_path)
     assert r.returncode == 1
     assert r.stdout.splitlines() == [
-        "C cycle: csrc/sim/link.c -> csrc/sim/ports.c -> csrc/sim/link.c",
-        "    csrc/sim/link.c:7: uses ports_reply() of csrc/sim/ports.c",
-        "    csrc/sim/ports.c:6: uses link_receive() of csrc/sim/link.c",
+        "C cycle: csrc/board/link.c -> csrc/board/ports.c -> csrc/board/link.c",
+        "    csrc/board/link.c:7: uses ports_reply() of csrc/board/ports.c",
+        "    csrc/board/ports.c:6: uses link_receive() of csrc/board/link.c",
     ]
 
 

@@ -53,7 +53,7 @@ def text_lines(path: Path) -> list[str]:
 
 def test_the_scan_sees_the_projects_files():
     files = {p.relative_to(ROOT).as_posix() for p in scanned_files()}
-    for expected in ("README.md", "docs/framework.md", "csrc/sim/framework_facts.h",
+    for expected in ("README.md", "docs/framework.md", "csrc/port/framework_facts.h",
                      "models/crs_arm/params.toml", "tests/test_no_outside_citations.py"):
         assert expected in files
 

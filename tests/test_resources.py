@@ -23,7 +23,7 @@ def test_the_editable_install_uses_the_checkouts_own_folders():
     assert resources.path("models", "crs_arm", "scene.xml") == ROOT / "models" / "crs_arm" / "scene.xml"
     assert resources.path("scenarios") == ROOT / "crslab" / "scenario" / "builtin"
     # every place that compiles or loads goes through it
-    assert build.SIM == ROOT / "csrc" / "sim" and build.DEFAULT_LAB.is_file()
+    assert build.BOARD == ROOT / "csrc" / "board" and build.DEFAULT_LAB.is_file()
     with pytest.raises(ValueError, match="no runtime folder named 'tests'"):
         resources.folder("tests")
 
@@ -67,7 +67,7 @@ def test_from_a_zip_the_files_are_extracted_into_the_cache_and_a_lab_builds(tmp_
     assert r.returncode == 0, r.stderr
     csrc, built, nq, scene = r.stdout.split()
     assert Path(csrc).parent == cache / "resources" and Path(scene).is_relative_to(cache)
-    assert (Path(csrc) / "sim" / "sim.c").read_bytes() == (ROOT / "csrc" / "sim" / "sim.c").read_bytes()
+    assert (Path(csrc) / "board" / "sim.c").read_bytes() == (ROOT / "csrc" / "board" / "sim.c").read_bytes()
     assert built == "True" and nq == "3"
     # a second run reuses the extraction: still one copy of csrc
     r = subprocess.run([sys.executable, "-c", PROBE, str(archive)], capture_output=True, text=True, env=env,

@@ -355,6 +355,6 @@ def test_seeded_faults_repeat_with_the_same_seed_and_differ_with_another(tmp_pat
 
 def test_every_event_class_has_its_effect_on_the_simulator_side():
     from crslab.scenario.kinds import EVENT_KINDS
-    from crslab.sim.event_effects import EFFECTS
+    from crslab.worker.event_effects import EFFECTS
 
     assert set(EVENT_KINDS.values()) <= set(EFFECTS)

@@ -382,7 +382,12 @@ def test_crslab_scenarios_prints_expectations_in_the_timeline(tmp_path):
     ("error = 2\n", "x.toml:5: error: must be from 0 to 1, got 2"),
     ("motor_board_cutouts = -1\n", "x.toml:5: motor_board_cutouts: must be from 0 to 2147483647, got -1"),
     ('message = "nothing"\n', "x.toml:4: kind: an expectation needs a condition (one or more of: "
-     "motor_board_off, motor_board_cutouts, error, motor_deg, motor_rad, dh_deg, moved_deg, var)"),
+     "motor_board_off, motor_board_cutouts, error, motor_deg, motor_rad, dh_deg, moved_deg, var, egg_force, "
+     "scale_g, peg_depth, egg_broken, contact)"),
+    ("scale_g = 500\n", "x.toml:5: scale_g: must be a range [low, high], got 500"),
+    ("contact.egs = true\n",
+     "x.toml:5: contact.egs: no fixture 'egs' (fixtures: table, hole, obstacle, groove, egg)"),
+    ("egg_broken = 1\n", "x.toml:5: egg_broken: must be true or false, got 1"),
     ("motor_deg = [1, 2]\n", "x.toml:5: motor_deg: must be a list of three numbers, got [1, 2]"),
     ("motor_deg = 5\n", "x.toml:5: motor_deg: must be a list of three numbers, or one number with joint or "
      "joints, got 5"),
@@ -452,7 +457,7 @@ def test_a_run_result_carries_its_expectations_through_grading_processes():
 @pytest.mark.parametrize("change", [{"tick": True}, {"error": 1.0}, {"motor_rad": [0.0, 0.0]},
                                     {"motor_rad": ["a", 0.0, 0.0]}, {"var": "1"}, {"motor_board": 3}])
 def test_an_observation_from_the_worker_is_read_as_untrusted_data(change):
-    from crslab.sim.protocol import observation
+    from crslab.worker.worker_messages import observation
 
     raw = {"tick": 5000, "motor_board": "piccolo", "motor_board_off": 1, "motor_board_cutouts": 1, "error": 0,
            "motor_rad": [0.0, 0.1, 0.2], "var": 2.5}

@@ -31,8 +31,8 @@ import crslab
 from crslab.cache import cache_dir
 from crslab.serve.app import ADDRESS_BACKOFF, NAME_BACKOFF, ServeSettings, make_app
 from crslab.serve.auth import Backoff, CookieSigner, load_roster
-from crslab.serve.session_process import SessionLimits
-from crslab.serve.sessions import LimitError, PageSession, Sessions, UserLimits
+from crslab.serve.page_process import SessionLimits
+from crslab.serve.page_sessions import LimitError, PageSession, Sessions, UserLimits
 from crslab.starters import starter_text
 
 LAB_A = starter_text("lab1", "A")

@@ -7,8 +7,8 @@ from __future__ import annotations
 import threading
 from pathlib import Path
 
-from crslab.serve.session_process import SessionLimits
-from crslab.serve.sessions import LimitError, PageSession, Sessions, UserLimits
+from crslab.serve.page_process import SessionLimits
+from crslab.serve.page_sessions import LimitError, PageSession, Sessions, UserLimits
 
 
 class _Process:
@@ -113,7 +113,7 @@ def test_the_phases_of_many_runs_lie_evenly_over_the_period():
     """The golden ratio's multiples: however many runs go at once, no two wake-ups are much
     closer, and no gap much wider, than an even spread's (the three-gap theorem: at most three
     gap sizes, the largest under 2.7 / n)."""
-    from crslab.serve.sessions import run_phase
+    from crslab.serve.page_sessions import run_phase
 
     for n in (10, 50, 100, 150):
         phases = sorted(run_phase(k) for k in range(n))

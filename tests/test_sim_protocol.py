@@ -1,4 +1,4 @@
-"""The messages between crslab and its worker (crslab/sim/protocol.py): every message travels as
+"""The messages between crslab and its worker (crslab/worker/worker_messages.py): every message travels as
 plain data and reads back as itself; a reply that is not the one due, or holds a field of the wrong
 kind, is one UnreadableReply naming it (a native lab may write anything into the pipe)."""
 
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from crslab.scenario.expect_events import Observation
-from crslab.sim import protocol
-from crslab.sim.protocol import (
+from crslab.worker import worker_messages
+from crslab.worker.worker_messages import (
     Break,
     Error,
     Failed,
@@ -28,7 +28,7 @@ from crslab.sim.protocol import (
     read_reply,
     read_request,
 )
-from crslab.sim.worker_reply import UnreadableReply
+from crslab.worker.worker_reply import UnreadableReply
 
 TRAP = {"kind": 3, "phase": 1, "tick": 5123, "exit_code": 0, "line": 27, "text": "open /x for reading"}
 OBSERVATION = Observation(tick=4200, motor_board="piccolo", motor_board_off=True, motor_board_cutouts=1,
@@ -74,7 +74,7 @@ def test_scope_rows_travel_as_numeric_arrays():
 
 def test_every_reply_has_a_reader_for_each_of_its_fields():
     for cls in (Ready, Failed, Trapped, Ran, Value, Error, Stopped):
-        assert len(protocol._FIELDS[cls]) == len(dataclasses.fields(cls)), cls.KIND
+        assert len(worker_messages._FIELDS[cls]) == len(dataclasses.fields(cls)), cls.KIND
 
 
 @pytest.mark.parametrize(("raw", "due", "words"), [

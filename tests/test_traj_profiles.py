@@ -312,6 +312,6 @@ def test_a_gen_a_lab_file_can_include_the_profiles_header(tmp_path):
     src = tmp_path / "lab_traj.c"
     src.write_text(LAB_USING_PROFILES)
     r = subprocess.run(["gcc", "-std=c11", "-Wall", "-Wextra", "-Werror", "-fsyntax-only",
-                        "-I", str(root / "csrc" / "board" / "include"), "-I", str(root / "csrc" / "kin"),
+                        "-I", str(root / "csrc" / "firmware" / "include"), "-I", str(root / "csrc" / "kin"),
                         str(src)], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr

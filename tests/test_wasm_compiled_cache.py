@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
-from crslab.sim.wasm_runtime import compiled_module_path, preload
+from crslab.worker.wasm_runtime import compiled_module_path, preload
 
 ROOT = Path(__file__).resolve().parents[1]
 LAB = ROOT / "csrc" / "labs" / "lab1_kinematics.c"

@@ -76,7 +76,7 @@ def arm_xml(params: dict) -> str:
     payload = params["payload"]
     # MuJoCo's symmetric dry friction (half the static band [Sneg, Spos]) and its constant offset (a
     # bias of the motor actuators), computed exactly as a run's plant parameters are; the friction
-    # beyond the band, while a joint slides, is the C board's (csrc/sim/friction.c)
+    # beyond the band, while a joint slides, is the C board's (csrc/plant/friction.c)
     plant = PlantParams.from_model_tables(params)
     f1, f2, f3 = plant.band_half_nm()
     bias = plant.friction_bias_units()
@@ -156,11 +156,11 @@ def arm_xml(params: dict) -> str:
   </tendon>
 
   <actuator>
-    <!-- ctrl in course command units: the torque the drive delivers (csrc/sim/drive.c); the
+    <!-- ctrl in course command units: the torque the drive delivers (csrc/plant/drive.c); the
          framework clamps to +-5, so no ctrlrange here. The constant bias is the static friction
          band's direction asymmetry (params.toml [friction.*]): with MuJoCo's symmetric frictionloss
          it makes a joint stick while the other torques lie within [Sneg, Spos]; the friction while
-         it slides is the C board's, added to ctrl (csrc/sim/friction.c). -->
+         it slides is the C board's, added to ctrl (csrc/plant/friction.c). -->
     <general name="motor1" joint="j1" gear="{num(unit)}" ctrllimited="false" gainprm="1" biastype="affine"
              biasprm="{vec(bias[0], 0, 0)}"/>
     <general name="motor2" joint="j2" gear="{num(unit)}" ctrllimited="false" gainprm="1" biastype="affine"

@@ -10,7 +10,7 @@ pass **survived**: a rule no test pins down. One that breaks the build or the te
 instead of failing a test is **broken** (a mutation should be a plausible bug, not a syntax
 error). Exit 0 only when every mutation was killed.
 
-Too slow for CI (minutes); run it before resolving an issue that touches ``csrc/sim``,
+Too slow for CI (minutes); run it before resolving an issue that touches ``csrc/board``,
 ``csrc/board`` or ``crslab/regress``:
 
     make mutants                               # all of them
@@ -21,7 +21,7 @@ A mutation entry::
 
     [[mutation]]
     name = "envelope: th2's upper bound 0.15 rad becomes 0.45"
-    file = "csrc/sim/framework_facts.h"
+    file = "csrc/port/framework_facts.h"
     find = "0.15f"
     replace = "0.45f"
     tests = ["tests/test_sim_framework.py"]
@@ -42,7 +42,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 MUTATIONS = ROOT / "tools" / "mutations"
-CORE_INPUTS = ("csrc/kin/", "csrc/sim/", "csrc/cffi_build.py", "crslab/cheaders.py")
+CORE_INPUTS = ("csrc/kin/", "csrc/board/", "csrc/plant/", "csrc/port/", "csrc/cffi_build.py",
+               "crslab/cheaders.py")
 """A mutation of one of these changes the compiled C core (``crslab._core``): it is rebuilt."""
 TEST_TIMEOUT_S = 900.0
 """A mutant's tests that run longer than this count as killed (a mutant that hangs the suite

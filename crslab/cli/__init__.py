@@ -21,6 +21,7 @@ COMMANDS = [
     "crslab.cli.debug_commands",
     "crslab.cli.scenario_commands",
     "crslab.cli.regress_commands",
+    "crslab.cli.contest_commands",
     "crslab.cli.sweep_commands",
     "crslab.cli.traj_commands",
     "crslab.cli.toolbox_commands",
@@ -43,7 +44,7 @@ class CliError(Exception):
 
 
 GROUPS = {
-    "for students": ["sim", "debug", "record", "check", "new", "scenarios", "vars", "plot"],
+    "for students": ["sim", "debug", "record", "check", "new", "contest", "scenarios", "vars", "plot"],
     "for TAs and instructors": ["grade", "sweep", "serve", "identify", "friction"],
     "the course's host tools (MATLAB, Simulink, Tera Term)": ["serial", "map"],
     "the kinematics toolbox": ["fk", "ik", "traj", "robots", "workspace", "rot"],
@@ -77,7 +78,7 @@ class OneLineParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> None:  # type: ignore[override]
         unknown = [a for a in self._given if a.startswith("--") and a.split("=", 1)[0] not in self._options()]
-        if message.startswith("the following arguments are required") and unknown:
+        if message.startswith(("the following arguments are required", "one of the arguments")) and unknown:
             self.unrecognized(unknown)  # a mistyped option is likely the one that is missing
         self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 

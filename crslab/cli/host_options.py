@@ -21,9 +21,9 @@ from crslab.host_tools.linker_map import write_map
 from crslab.host_tools.ports import HostPort, PortError, PtyPort, TcpPort
 from crslab.live.bridge import SerialBridge
 from crslab.output_paths import folder, with_parent
-from crslab.sim.config import SimConfig
 from crslab.sinks.serial_pty import PortSink
 from crslab.sinks.sink import FanOut
+from crslab.worker.config import SimConfig
 
 PORT_ROLES = {"SerialA": "Tera Term", "SerialB": "Simulink", "SerialC": "MATLAB"}
 """The board's three serial ports and the host program of each."""

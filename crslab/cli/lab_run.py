@@ -22,8 +22,6 @@ from crslab.cli.run_options import limits_from_args
 from crslab.cli.run_report import near_budget_warning, print_run_notes, summary, summary_line
 from crslab.cli.sink_options import check_sinks, open_sinks, preload_sinks, sinks_need_scope_rows
 from crslab.scenario.event import seconds_to_tick
-from crslab.sim.config import SimConfig
-from crslab.sim.debug_setup import DebugSetup
 from crslab.sim.running import LiveControl, RunDebugger
 from crslab.sim.session import SimError, Simulation
 from crslab.sim.status import RunResult, RunStatus
@@ -31,6 +29,8 @@ from crslab.sinks.narration import NarrationSink
 from crslab.sinks.sink import FanOut, Sink, SinkError
 from crslab.sinks.stdout import StdoutSink
 from crslab.untrusted_text import for_terminal
+from crslab.worker.config import SimConfig
+from crslab.worker.debug_setup import DebugSetup
 
 
 def end_tick_of(args: argparse.Namespace, config: SimConfig) -> int:

@@ -27,11 +27,11 @@ from crslab.framework_facts import SERIAL_BAUD
 from crslab.live.console import VarConsole
 from crslab.output_paths import with_parent
 from crslab.scopes.display import missing_display
-from crslab.sim.config import SimConfig
 from crslab.sim.running import LiveControl
 from crslab.sinks.rerun_writer import WriterSink, discard_writer, take_writer
 from crslab.sinks.sink import FanOut
 from crslab.sinks.threaded import ThreadedSink
+from crslab.worker.config import SimConfig
 
 
 def add_live_options(p: argparse.ArgumentParser) -> None:
@@ -110,7 +110,7 @@ class LiveRun(OptionRun):
         discard_writer()  # forked for --rrd but not needed: the viewer keeps rerun in-process
         if writer is not None:
             self._rrd_writer = WriterSink(writer, rrd_path=args.rrd, name=config.build.source.name,
-                                          on_status=self.status)
+                                          on_status=self.status, world=config.world)
 
     def _spawn_viewer(self) -> bool:
         return bool(self.args.rerun) and not missing_display()
@@ -149,14 +149,15 @@ class LiveRun(OptionRun):
             from crslab.sinks.rerun_scopes import RerunSink
 
             rerun_sink = RerunSink(rrd_path=a.rrd, spawn=spawn, name=self.config.build.source.name,
-                                   on_status=self.status)
+                                   on_status=self.status, world=self.config.world)
             rerun_sink.prepare()
             out.add(ThreadedSink(rerun_sink))
         if a.viewer:
             from crslab import crs
             from crslab.live.viewer import MujocoViewer
 
-            viewer = MujocoViewer(crs.motor_to_dh(self.config.rest_motor_rad), on_status=self.status)
+            viewer = MujocoViewer(crs.motor_to_dh(self.config.rest_motor_rad), on_status=self.status,
+                                  world=self.config.world)
             if viewer.start():
                 out.add(viewer)
                 self.controls.append(viewer)

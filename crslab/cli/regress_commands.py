@@ -15,6 +15,13 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.cli.autograder_report import add_report_options, run_report
+from crslab.cli.contest_commands import (
+    CONTEST_DURATION_S,
+    CONTEST_SCENARIO,
+    CONTEST_WORLD,
+    contest_config,
+    load_contest_world,
+)
 from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.run_options import add_c28x_option, add_run_options, config_from_args, limits_from_args
 from crslab.cli.run_report import notices
@@ -34,10 +41,10 @@ from crslab.regress.transcript import (
 )
 from crslab.scenario.event import seconds_to_tick
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD
-from crslab.sim.config import SimConfig
 from crslab.sim.session import SimError
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.untrusted_text import for_terminal, for_text
+from crslab.worker.config import SimConfig
 
 
 def non_negative(text: str) -> float:
@@ -92,13 +99,24 @@ def register(sub: argparse._SubParsersAction) -> None:
                        "scenario failed), does not compile, crashed, forbidden (the sandbox stopped it) "
                        "or hung. Writes a summary table (stdout and "
                        "summary.txt), grades.csv, "
-                       "junit.xml, and every transcript and report, into --out.")
+                       "junit.xml, and every transcript and report, into --out. With --contest instead of "
+                       "a reference: score each by the final project's contest (docs/contest.md).")
     p.add_argument("submissions", type=Path, metavar="SUBMISSIONS_DIR", help="folder of lab files")
-    p.add_argument("--reference", type=Path, required=True, metavar="FILE", help="the reference lab file")
+    against = p.add_mutually_exclusive_group(required=True)
+    against.add_argument("--reference", type=Path, metavar="FILE",
+                         help="the reference lab file (or --contest)")
+    against.add_argument("--contest", action="store_true",
+                   help="grade by the final project's scorecard instead of a reference: each submission runs "
+                   "in the contest world (--world, default contest) on hands_off for "
+                   f"{CONTEST_DURATION_S:g} s unless --duration; grades.csv has a column per task and the "
+                   "time, junit.xml a case per submission and task (docs/contest.md)")
     add_run_options(p)
     for action in p._actions:  # the reference is the lab here
         if action.dest == "lab":
             action.help = argparse.SUPPRESS
+    if not any(a.dest == "world" for a in p._actions):
+        p.add_argument("--world", metavar="NAME|FILE",
+                       help="with --contest: the world, a built-in name or a layout file (default: contest)")
     add_tolerance_options(p)
     p.add_argument("-o", "--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
                    help="where the reports go (default: %(default)s)")
@@ -147,7 +165,8 @@ def run_record(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return result.exit_status
     try:
-        write_golden(args.output, run_header(config, end_tick, args.scenario, args.plant), result.transcript)
+        write_golden(args.output, run_header(config, end_tick, args.scenario, args.plant, args.world),
+                     result.transcript)
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the golden file ({exc.strerror})") from None
     lines = len(split_lines(result.transcript))
@@ -171,13 +190,14 @@ def run_check(args: argparse.Namespace) -> int:
             scenario=args.scenario, duration_s=args.duration,
             rest_motor_rad=(DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None,
             startup_delay=False if args.no_startup_delay else None, motor_board=args.motor_board,
-            plant=str(args.plant) if args.plant else None)
+            plant=str(args.plant) if args.plant else None, world=args.world)
     except GoldenError as exc:
         raise CliError(str(exc)) from None
     args.scenario, args.duration = run.scenario, run.duration_s
     args.no_startup_delay = run.startup_delay is False
     args.motor_board = run.motor_board
     args.plant = Path(run.plant) if run.plant else None
+    args.world = run.world
     config = config_from_args(args, rest_motor_rad=run.rest_motor_rad)
     recorded = header.get("scenario_sha256")
     if chosen is not None and header.get("scenario") not in (None, chosen):
@@ -220,6 +240,8 @@ def run_grade(args: argparse.Namespace) -> int:
 
     if args.report:
         return run_report(args)
+    if args.contest:
+        return run_grade_contest(args)
     folder: Path = args.submissions
     if not folder.is_dir():
         raise CliError(f"{folder}: no such folder of submissions")
@@ -316,3 +338,55 @@ def c28x_reports(subs: list[Path], *, sandboxed: bool, jobs: int) -> dict[Path, 
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
         reports = pool.map(lambda p: check_lab(p, sandboxed=sandboxed), subs)
         return dict(zip(subs, reports))
+
+
+def run_grade_contest(args: argparse.Namespace) -> int:
+    """``crslab grade DIR --contest``: every submission scored by the contest's scorecard."""
+    from crslab.regress import contest_grade as cg
+    from crslab.regress import grade as g
+
+    folder: Path = args.submissions
+    if not folder.is_dir():
+        raise CliError(f"{folder}: no such folder of submissions")
+    if args.jobs is not None and args.jobs < 1:
+        raise CliError(f"--jobs must be at least 1, got {args.jobs}")
+    if getattr(args, "world", None) in (None, "none"):
+        args.world = CONTEST_WORLD
+    args.scenario = args.scenario or CONTEST_SCENARIO
+    world = load_contest_world(args.world)
+    args.lab = None   # the configuration is built once with crslab's own lab; each submission is rebuilt
+    config = contest_config(args, world)
+    end_tick = seconds_to_tick(args.duration or CONTEST_DURATION_S)
+    subs = g.find_submissions(folder)
+    if not subs:
+        raise CliError(f"{folder}: no lab files (.c, .cpp) to grade")
+    try:
+        made_folder(args.out)
+    except OSError as exc:
+        raise CliError(f"{args.out}: cannot write the reports there ({exc.strerror})") from None
+    executor = executor_from_args(args)
+    print(f"crslab grade: {len(subs)} submissions in the {args.world} world on {config.scenario.name} "
+          f"({end_tick / 1000:.3f} s), by the contest's scorecard, {executor.description}", file=sys.stderr)
+    progress = g.Progress(len(subs))
+    grades: dict[Path, cg.ContestGrade] = {}
+
+    def on_done(result: RunResult) -> None:
+        grade = cg.grade_contest(result, world)
+        grades[grade.path] = grade
+        progress.update(grade.path.name, grade.result_word)
+
+    try:
+        g.run_many(subs, config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args),
+                   on_done=on_done, executor=executor)
+    finally:
+        executor.close()
+    ordered = [grades[p] for p in subs]
+    out = args.out
+    cg.write_csv(out / "grades.csv", ordered)
+    cg.write_junit_tasks(out / "junit.xml", ordered, "crslab.contest")
+    with (out / "summary.txt").open("w") as f:
+        cg.summary_table(ordered, f)
+    cg.summary_table(ordered, sys.stdout)
+    print(f"crslab grade: reports in {out}/ (summary.txt, grades.csv, junit.xml)", file=sys.stderr)
+    complete = all(x.card is not None and x.card.done == 4 for x in ordered)
+    return ExitStatus.OK if complete else ExitStatus.MISMATCH

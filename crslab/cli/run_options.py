@@ -22,10 +22,11 @@ from crslab.plant.plant_params import PlantParamsError
 from crslab.sandbox import missing as sandbox_missing
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
-from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, Limits
 from crslab.sim.status import RunStatus
 from crslab.untrusted_text import for_text
+from crslab.worker.config import SimConfig
+from crslab.world.layout import WorldError
 
 
 def positive_int(text: str) -> int:
@@ -68,6 +69,9 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--plant", type=Path, metavar="FILE",
                    help="the arm's plant parameters (drive, friction, variations) from a plant file, as "
                    "'crslab identify' writes for your own arm (default: crslab's arm, fitted to a real one)")
+    p.add_argument("--world", metavar="NAME|FILE",
+                   help="what the arm can touch: a built-in world (none, contest: the final project's "
+                   "peg, hole, obstacle, groove and egg) or a world file (docs/worlds.md); default: none")
     p.add_argument("--deadline", type=positive, default=DEFAULT_DEADLINE_S, metavar="SECONDS",
                    help="wall-clock time one lab() or printing() call may take before it counts as hung "
                    "(default: %(default)s)")
@@ -141,13 +145,13 @@ def config_from_args(args: argparse.Namespace, *, log: bool = False,
                            rest_motor_rad=rest, log=log, strict=args.strict,
                            budget=args.budget, native=args.native, sanitize=args.sanitize, sandbox=sandboxed,
                            motor_board=args.motor_board, debug=debug, break_when=break_when,
-                           plant=getattr(args, "plant", None))
+                           plant=getattr(args, "plant", None), world=getattr(args, "world", None))
     except LabBuildError as exc:
         if exc.diagnostics:  # the compiler's messages quote the lab's own lines
             sys.stderr.write(for_text(exc.diagnostics).rstrip("\n") + "\n")
         status = RunStatus.FORBIDDEN if isinstance(exc, LabForbidden) else RunStatus.BUILD_ERROR
         raise CliError(str(exc), status.exit_status) from None
-    except (ScenarioError, PlantParamsError) as exc:
+    except (ScenarioError, PlantParamsError, WorldError) as exc:
         raise CliError(str(exc)) from None
 
 

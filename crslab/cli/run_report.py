@@ -13,9 +13,9 @@ from crslab.framework_facts import CPU_CYCLES_PER_TICK, SCI_TX_FIFO_CHARS, SERIA
 from crslab.generations import Generation
 from crslab.lab.print_trigger import missing_printing_notice
 from crslab.scenario.expect_events import summary_text
-from crslab.sim.board_ffi import board_constants
 from crslab.sim.status import RunResult
 from crslab.untrusted_text import for_terminal
+from crslab.worker.board_ffi import board_constants
 
 NEAR_BUDGET = 0.8  # warn when a lab() call took this share of the budget
 

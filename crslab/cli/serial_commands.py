@@ -12,7 +12,7 @@ from crslab.framework_facts import SIMULINK_INPUTS, SIMULINK_PERIOD_MS
 from crslab.generations import GENERATIONS
 from crslab.host_tools.client import MATLAB_TIMEOUT_S, LinkError, SerialLink, read_floats, write_float
 from crslab.host_tools.linker_map import MapError, read_map_file, write_map
-from crslab.host_tools.protocols import ADDRESS_MASK, MAX_FLOATS
+from crslab.host_tools.serial_protocols import ADDRESS_MASK, MAX_FLOATS
 from crslab.lab.build import text_memory
 from crslab.lab.c28x_memory import MemoryLayout
 from crslab.output_paths import with_parent

@@ -173,8 +173,8 @@ def run_serve(args: argparse.Namespace) -> int:
     import uvicorn
 
     from crslab.serve.app import ServeSettings, make_app
-    from crslab.serve.session_process import SessionLimits
-    from crslab.serve.sessions import Sessions, UserLimits
+    from crslab.serve.page_process import SessionLimits
+    from crslab.serve.page_sessions import Sessions, UserLimits
 
     sessions = Sessions(
         UserLimits(compiles_per_minute=args.compiles_per_minute, max_sessions=args.max_sessions,
@@ -186,7 +186,7 @@ def run_serve(args: argparse.Namespace) -> int:
     sock = _listen(args.host, args.port)
     host, port = sock.getsockname()[:2]
     shown = f"[{host}]" if ":" in host else host
-    from crslab.serve.sessions import session_context
+    from crslab.serve.page_sessions import session_context
 
     session_context()  # the fork server imports crslab now, before the first page asks for a session
     if roster is None:

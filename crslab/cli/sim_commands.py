@@ -15,8 +15,8 @@ from crslab.cli.sink_options import add_sink_options
 from crslab.cli.tracking_options import TrackingRun, add_tracking_options
 from crslab.lab.c28x_check import C28xCheck, first_run_check, remember
 from crslab.live.console import VarConsole
-from crslab.sim.config import SimConfig
 from crslab.sim.session import Simulation
+from crslab.worker.config import SimConfig
 
 
 def register(sub: argparse._SubParsersAction) -> None:

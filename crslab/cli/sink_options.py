@@ -21,9 +21,9 @@ from typing import Any
 
 from crslab.cli import CliError
 from crslab.output_paths import with_parent
-from crslab.sim.config import SimConfig
 from crslab.sinks.sink import FanOut, Sink
 from crslab.sinks.threaded import ThreadedSink
+from crslab.worker.config import SimConfig
 
 
 @dataclass(frozen=True)
@@ -60,7 +60,7 @@ def _transcript(path: Path, config: SimConfig) -> Sink:
 def _csv(path: Path, config: SimConfig) -> Sink:
     from crslab.sinks.csv_file import CsvSink
 
-    return CsvSink(path)
+    return CsvSink(path, world=not config.world.is_free_air)
 
 
 def _preload_csv() -> None:

@@ -112,12 +112,14 @@ def _golden(args: argparse.Namespace) -> bytes | None:
             rest_motor_rad=(DEFAULT_REST_MOTOR_RAD[0], *args.offsets) if args.offsets else None,
             startup_delay=False if args.no_startup_delay else None,
             motor_board=args.motor_board,
+            world=args.world,
         )
     except GoldenError as exc:
         raise CliError(str(exc)) from None
     args.scenario, args.duration = run.scenario, run.duration_s
     args.no_startup_delay = run.startup_delay is False
     args.motor_board = run.motor_board
+    args.world = run.world
     if run.rest_motor_rad is not None and not args.offsets:
         args.offsets = list(run.rest_motor_rad[1:])
     return golden.body

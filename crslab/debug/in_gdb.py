@@ -194,7 +194,7 @@ def _setup() -> None:
     gdb.execute("handle SIGSYS nostop noprint pass", to_string=True)
     csrc = _setting("crs_csrc")
     if csrc:
-        for folder in ("sim", "kin", "board/include"):
+        for folder in ("board", "plant", "port", "kin", "firmware/include"):
             gdb.execute(f"skip -gfile {csrc}/{folder}/*", to_string=True)
     armed = gdb.Breakpoint("crs_debug_break", internal=True)
     armed.silent = True

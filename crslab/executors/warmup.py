@@ -4,8 +4,8 @@ subprocess), the board's cffi declarations and wasmtime's library (each lab work
 starts with it loaded). A missing compiler or wasmtime is left for the job that needs it to say."""
 
 from crslab.lab.build import LabBuildError, compiler
-from crslab.sim.board_ffi import board_ffi
-from crslab.sim.wasm_runtime import preload
+from crslab.worker.board_ffi import board_ffi
+from crslab.worker.wasm_runtime import preload
 
 try:
     compiler()

@@ -1,7 +1,7 @@
 """crslab's own host program for the board's serial ports, for users without MATLAB or Simulink
 (``crslab serial``): it opens a port as they do (a serial device or pseudo-terminal at 115200
 baud 8N1, or a TCP port of ``crslab sim --serial-tcp``) and speaks the same protocols
-(:mod:`crslab.host_tools.protocols`). It works against the real board's COM port too.
+(:mod:`crslab.host_tools.serial_protocols`). It works against the real board's COM port too.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import tty
 from pathlib import Path
 
 from crslab.framework_facts import SERIAL_BAUD
-from crslab.host_tools.protocols import READ_REPLY, read_request, write_request
+from crslab.host_tools.serial_protocols import READ_REPLY, read_request, write_request
 
 MATLAB_TIMEOUT_S = 10.0
 """How long the course's MATLAB scripts wait for a byte (MATLAB's default serial Timeout)."""

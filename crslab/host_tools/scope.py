@@ -11,7 +11,7 @@ from collections.abc import Callable, Sequence
 
 from crslab.framework_facts import SIMULINK_PERIOD_MS
 from crslab.host_tools.client import SerialLink
-from crslab.host_tools.protocols import SIMULINK_REPLY_BYTES, plot_values, simulink_packet
+from crslab.host_tools.serial_protocols import SIMULINK_REPLY_BYTES, plot_values, simulink_packet
 from crslab.scopes.rerun_stream import SIMULINK_ENTITY, SIMULINK_NAMES, open_recording
 
 Sample = Callable[[float, tuple[float, ...]], None]

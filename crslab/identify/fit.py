@@ -44,10 +44,10 @@ import numpy as np
 from crslab.identify import align as al
 from crslab.identify.friction_table import KEYS, FrictionTable, predict
 from crslab.identify.recording import Recording
-from crslab.identify.runs import LabRun, Runner
+from crslab.identify.runs import IdentifyRun, Runner
 from crslab.plant.model import holding_torques_nm
 from crslab.plant.plant_params import NAMES, PlantParams, PlantParamsError
-from crslab.sim.config import SimConfig
+from crslab.worker.config import SimConfig
 
 # name stem -> (low, high, finite-difference step): what is physically plausible for the CRS arm
 BOUNDS: dict[str, tuple[float, float, float]] = {
@@ -328,7 +328,7 @@ class Problem:
             rec = src.recording
             search = min(rec.duration_s, 10.0) + 1.0
             end = int((WARMUP_S + search + rec.duration_s * (1 + al.MAX_DRIFT)) * 1000) + 20
-            runs.append(LabRun(src.config, self.start, src.lab_offsets, end))
+            runs.append(IdentifyRun(src.config, self.start, src.lab_offsets, end))
         plots = self.runner.run_all(runs)
         for src, plot, run in zip(self.sources, plots, runs):
             rec = src.recording
@@ -423,9 +423,9 @@ class Problem:
                 J[:, i] = (self.residual(xi, base_plots) - r0) / h
         return J
 
-    def _lab_runs(self, x: np.ndarray) -> list[LabRun]:
+    def _lab_runs(self, x: np.ndarray) -> list[IdentifyRun]:
         plant, terms = self.split(x)
-        return [LabRun(src.config, plant, rest, n)
+        return [IdentifyRun(src.config, plant, rest, n)
                 for src, (_, _, rest), n in zip(self.sources, terms, self.lengths)]
 
     def _needs_run(self, i: int) -> bool:

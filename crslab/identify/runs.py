@@ -16,7 +16,7 @@ import numpy as np
 
 from crslab import os_support
 from crslab.plant.plant_params import PlantParams
-from crslab.sim.config import SimConfig
+from crslab.worker.config import SimConfig
 
 
 class RunFailed(RuntimeError):
@@ -24,7 +24,7 @@ class RunFailed(RuntimeError):
 
 
 @dataclasses.dataclass(frozen=True)
-class LabRun:
+class IdentifyRun:
     """What one run needs: the prepared configuration, its plant and resting pose, and its length."""
 
     config: SimConfig
@@ -33,7 +33,7 @@ class LabRun:
     end_tick: int
 
 
-def run_plotvars(run: LabRun) -> np.ndarray:
+def run_plotvars(run: IdentifyRun) -> np.ndarray:
     """The lab's PlotVar1..4 after every tick, shape ``(end_tick, 4)``. Raises :class:`RunFailed`."""
     from crslab.sim.session import SimError, Simulation
     from crslab.sinks.memory import MemorySink
@@ -55,7 +55,7 @@ def run_plotvars(run: LabRun) -> np.ndarray:
 
 
 class Runner:
-    """Runs many :class:`LabRun` s, ``jobs`` at a time (each in a process started from a clean,
+    """Runs many :class:`IdentifyRun` s, ``jobs`` at a time (each in a process started from a clean,
     single-threaded forkserver, which then forks the lab's own worker), counting them for a
     progress display. Use as a context manager."""
 
@@ -75,7 +75,7 @@ class Runner:
         if self._pool is not None:
             self._pool.shutdown(cancel_futures=True)
 
-    def run_all(self, runs: Sequence[LabRun]) -> list[np.ndarray]:
+    def run_all(self, runs: Sequence[IdentifyRun]) -> list[np.ndarray]:
         """The PlotVars of every run, in order. Raises :class:`RunFailed` for the first that failed."""
         if self._pool is None or len(runs) == 1:
             out = []

@@ -2,7 +2,7 @@
 
 By default the lab becomes a WebAssembly module (:mod:`crslab.lab.firmware`): the lab file linked
 with the framework's stand-ins, compiled by zig for wasm32, run by the board in a store of its own
-(csrc/sim/firmware_wasm.c). ``native`` (crslab debug, ``--sanitize``, ``--native``) instead links
+(csrc/board/firmware_wasm.c). ``native`` (crslab debug, ``--sanitize``, ``--native``) instead links
 the lab, the same stand-ins and the whole board into one shared object with the host C compiler
 (``$CC``, else ``cc``, ``gcc`` or ``clang``; :mod:`crslab.lab.compiler`), which the worker loads.
 
@@ -39,19 +39,24 @@ from crslab.lab.watched import WatchedVar, find_watched
 from crslab.sandbox.compile_sandbox import compiler_sandbox
 
 CSRC = resources.path("csrc")
-SHIM_INCLUDE = CSRC / "board" / "include"
+SHIM_INCLUDE = CSRC / "firmware" / "include"
 KIN = CSRC / "kin"
-SIM = CSRC / "sim"
+BOARD = CSRC / "board"
+PLANT = CSRC / "plant"
+PORT = CSRC / "port"
 FIRMWARE = CSRC / "firmware"
 DEFAULT_LAB = CSRC / "labs" / "lab1_kinematics.c"
 WASM_ONLY = {"firmware_wasm.c"}
 """Board sources of crslab._core alone (the native board is linked with a lab instead)."""
-BOARD_SOURCES = (sorted(p for p in SIM.glob("*.c") if p.name not in WASM_ONLY) + sorted(FIRMWARE.glob("*.c"))
-                 + sorted(KIN.glob("*.c")))
-BOARD_HEADERS = (sorted(SIM.glob("*.h")) + sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h"))
-                 + sorted(SHIM_INCLUDE.glob("*.h")))
+BOARD_SOURCES = (sorted(p for p in BOARD.glob("*.c") if p.name not in WASM_ONLY) + sorted(PLANT.glob("*.c"))
+                 + sorted(PORT.glob("*.c")) + sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c")))
+BOARD_HEADERS = (sorted(BOARD.glob("*.h")) + sorted(PLANT.glob("*.h")) + sorted(PORT.glob("*.h"))
+                 + sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h")))
+BOARD_FOLDERS = [BOARD, PLANT, PORT]
+"""The board's, the plant's and the port's C: a native build links them with the firmware."""
 
-INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
+INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN),
+            *(arg for folder in BOARD_FOLDERS for arg in ("-I", str(folder)))]
 ERROR_LIMIT = ["-fmax-errors=50"]
 LAB_FLAGS = ["-std=c11", "-O2", "-fPIC", "-w", "-fno-common"]
 BOARD_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-fno-math-errno"]
@@ -66,7 +71,7 @@ DEBUG_LAB_FLAGS = ["-O0", "-g", "-fno-omit-frame-pointer"]
 DEBUG_BOARD_FLAGS = ["-g"]
 LINK_LIBS = os_support.MATH_LIBS
 TRAP_SOURCE = CSRC / "sandbox" / "trap.c"
-TRAP_HEADERS = [CSRC / "sandbox" / "trap.h", *sorted(SIM.glob("*.h"))]
+TRAP_HEADERS = [CSRC / "sandbox" / "trap.h", *sorted(BOARD.glob("*.h")), *sorted(PORT.glob("*.h"))]
 TRAP_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-shared"]
 
 
@@ -214,7 +219,8 @@ def trap_library(cc: Compiler, cache: Path) -> Path:
     """The run sandbox's SIGSYS handler (``csrc/sandbox/trap.c``, :mod:`crslab.sandbox.trap` loads
     it), built once per content and compiler, like the board."""
     out_dir = _own_c_dir(cache, "sandbox", cc, TRAP_FLAGS, [TRAP_SOURCE, *TRAP_HEADERS])
-    return _compiled(out_dir / "trap.so", [*cc.argv, *TRAP_FLAGS, "-I", str(SIM), str(TRAP_SOURCE)],
+    return _compiled(out_dir / "trap.so",
+                     [*cc.argv, *TRAP_FLAGS, "-I", str(BOARD), "-I", str(PORT), str(TRAP_SOURCE)],
                      "crslab's sandbox trap")
 
 
@@ -260,7 +266,8 @@ def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], cache:
     out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
         build_dir = Path(tmp)
-        sandbox = compiler_sandbox([src], build_dir, [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent],
+        sandbox = compiler_sandbox([src], build_dir,
+                                   [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent],
                                    compiler=(), run_dirs=[zig.zig_dir()],
                                    cache_dirs=[zig.zig_cache()]) if sandboxed else None
         built = firmware.build_module(src, globals_, objects, build_dir, sandbox)
@@ -286,7 +293,7 @@ def _build_native(src: Path, named_by: bytes, flags: list[str], unit: str | None
     if not so.exists():
         out_dir.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
-            readable = [SHIM_INCLUDE, FIRMWARE, KIN, SIM, objects[0].parent]
+            readable = [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent]
             sandbox = compiler_sandbox([src], Path(tmp), readable, compiler=cc.argv) if sandboxed else None
             obj = Path(tmp) / "lab.o"
             # compile the user's own path so the compiler's messages name the user's file and line

@@ -115,7 +115,7 @@ def board_only(board: Sequence[Finding], host: Sequence[Finding]) -> list[Findin
 def include_dirs() -> list[str]:
     """The check's own headers (a math.h: no C library), then those a lab is built with."""
     csrc = resources.path("csrc")
-    return ["-I", str(csrc / "board" / "c28x_check"), "-I", str(csrc / "board" / "include"),
+    return ["-I", str(csrc / "firmware" / "c28x_check"), "-I", str(csrc / "firmware" / "include"),
             "-I", str(csrc / "kin")]
 
 
@@ -201,7 +201,8 @@ def check_lab(lab: Path, *, sandboxed: bool = True) -> C28xReport:
 
 def _key(lab: Path) -> str:
     h = hashlib.sha256(Path(lab).read_bytes())
-    for header in sorted((resources.path("csrc") / "board").rglob("*.h")):
+    for header in [*sorted((resources.path("csrc") / "firmware" / "c28x_check").glob("*.h")),
+                   *sorted((resources.path("csrc") / "firmware" / "include").glob("*.h"))]:
         h.update(header.read_bytes())
     h.update(" ".join([*BOARD_TARGET, *FLAGS]).encode())
     return h.hexdigest()[:20]

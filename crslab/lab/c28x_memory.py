@@ -12,7 +12,7 @@ it, Gen A's), in the generation's own object file (``framework_object``). A sect
 that grows past the next one's origin pushes it up; a section of another name goes after the last.
 The same file always gets the same addresses (:func:`layout` depends on its text alone).
 
-The board's MATLAB code reads and writes these words (csrc/sim/c28x_memory.c); the map
+The board's MATLAB code reads and writes these words (csrc/board/c28x_memory.c); the map
 (:mod:`crslab.host_tools.linker_map`) lists them for the course's scripts.
 
 >>> from crslab.generations import GEN_A
@@ -50,7 +50,7 @@ _C28X = {  # C type -> (words per element, kind)
     "double": (2, "float"), "long double": (4, "float"), "_Bool": (1, "bool"), "bool": (1, "bool"),
 }
 KINDS = ("signed", "unsigned", "float", "bool", "opaque")
-"""How a variable's words are made from its value (csrc/sim/sim.h: ``CRS_MEM_*``, same order)."""
+"""How a variable's words are made from its value (csrc/board/sim.h: ``CRS_MEM_*``, same order)."""
 
 SIMULINK_INPUT_NAMES = tuple(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, SIMULINK_INPUTS + 1))
 """The framework's globals that hold what Simulink sent (int: one word each)."""

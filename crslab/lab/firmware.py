@@ -6,7 +6,7 @@ zig's clang compiles it for wasm32 (:mod:`crslab.lab.zig`), with wasi-libc as it
 the compile sandbox. The module's memory is fixed when it is linked (:data:`MEMORY_BYTES`, the
 call stack first, so that a runaway recursion runs off its bottom and traps), and it imports only
 the board's functions and the WASI calls the C library makes, which the board answers or refuses
-(``csrc/sim/firmware_wasm.c``). Every global variable of the lab file that has a symbol is
+(``csrc/board/firmware_wasm.c``). Every global variable of the lab file that has a symbol is
 exported by name, so the board finds its address (watched variables, the MATLAB tools).
 
 A lab that calls a function nobody defines does not link: the message names the function. One
@@ -51,9 +51,11 @@ NATIVE_STACK_BYTES = 512 * 1024
 
 FIRMWARE = resources.path("csrc", "firmware")
 KIN = resources.path("csrc", "kin")
-SIM = resources.path("csrc", "sim")
-SHIM_INCLUDE = resources.path("csrc", "board", "include")
-INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(SIM)]
+PORT = resources.path("csrc", "port")
+SHIM_INCLUDE = resources.path("csrc", "firmware", "include")
+INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", str(PORT)]
+"""The firmware's include folders: its stand-ins, the kinematics and the port it shares with the
+board (nothing of the board's: tests/test_layout.py)."""
 COMPILE_FLAGS = ["-std=c11", "-O2", "-mexec-model=reactor", "-fno-common", "-g"]
 LAB_CHECKS = "null,integer-divide-by-zero"
 LAB_FLAGS = [*COMPILE_FLAGS, "-w", f"-fsanitize={LAB_CHECKS}", f"-fno-sanitize-recover={LAB_CHECKS}"]
@@ -63,10 +65,10 @@ board (address 0 is RAM; the division's result is undefined); a native build sto
 FIRMWARE_FLAGS = [*COMPILE_FLAGS, "-Wall", "-Wextra", "-Werror"]
 LINK_FLAGS = ["-mexec-model=reactor", f"-Wl,-z,stack-size={STACK_BYTES}", f"-Wl,--max-memory={MEMORY_BYTES}"]
 """zig's linker puts the stack first (tests/test_wasm_firmware.py checks it), then the data, then the heap."""
-FIRMWARE_SOURCES = sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c")) + [SIM / "generations.c"]
+FIRMWARE_SOURCES = sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c")) + sorted(PORT.glob("*.c"))
 """The stand-ins, the kinematics and the generations' rows (the board compiles the same rows)."""
 FIRMWARE_HEADERS = (sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h"))
-                    + [SIM / "sim.h", SIM / "framework_facts.h", SIM / "generations.h"])
+                    + sorted(PORT.glob("*.h")))
 
 FRAMEWORK_VARIABLES = ("matlabLock", *(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, 8)))
 """The framework's globals in the firmware that the board's memory map holds (firmware.c)."""
@@ -249,7 +251,7 @@ def compile_command(unit: Path, lab: Path, copy: Path, objects: list[Path], out:
     ``void main(void)`` is fine on the C28x. ``__FILE__`` names the lab as it was given."""
     renames = [f"-D{n}={RENAMED_PREFIX}{n}" for n in renamed]
     given = "" if str(lab.parent) == "." else f"{lab.parent}/"
-    folders = [lab.absolute().parent, lab.resolve().parent, SHIM_INCLUDE, FIRMWARE, KIN, SIM,
+    folders = [lab.absolute().parent, lab.resolve().parent, SHIM_INCLUDE, FIRMWARE, KIN, PORT,
                zig.zig_dir() / "lib", unit.parent]
     overlay = visible_files(unit.parent, [f.absolute() for f in folders])
     return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,

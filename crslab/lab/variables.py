@@ -40,7 +40,7 @@ _QUALIFIERS = {"static", "volatile", "const", "register", "extern", "typedef", "
                "__restrict", "_Thread_local"}
 
 FRAMEWORK_TYPES = {
-    # the framework's headers (csrc/board/include) and <stdint.h>: name -> the C type it stands for
+    # the framework's headers (csrc/firmware/include) and <stdint.h>: name -> the C type it stands for
     # on the C28x (where char and int are 16 bits, long 32, long double 64)
     "Uint16": "unsigned int", "Uint32": "unsigned long", "Uint64": "unsigned long long",
     "int16": "int", "int32": "long", "int64": "long long", "Int16": "int", "Int32": "long",
@@ -53,7 +53,7 @@ FRAMEWORK_TYPES = {
 """Type names a lab uses without declaring them (from the framework's headers or ``<stdint.h>``)."""
 
 HOST_TYPES = {
-    # how crslab's host build of the same headers declares them (csrc/board/include)
+    # how crslab's host build of the same headers declares them (csrc/firmware/include)
     "Uint16": "uint16_t", "Uint32": "uint32_t", "Uint64": "uint64_t", "int16": "int16_t",
     "int32": "int32_t", "int64": "int64_t", "Int16": "int16_t", "Int32": "int32_t", "Int64": "int64_t",
     "Int8": "int8_t", "Uint8": "uint8_t", "Int": "int", "Uns": "unsigned int", "Char": "char",

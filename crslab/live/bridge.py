@@ -2,7 +2,7 @@
 
 After every chunk of ticks (the worker idle), the bridge hands each port's attached programs what
 left the board during the chunk, and hands the board what they sent: it reaches the board's
-receiver from the next tick to run on, at the baud rate (csrc/sim/host_ports.h). So a host's bytes
+receiver from the next tick to run on, at the baud rate (csrc/board/host_ports.h). So a host's bytes
 reach the board at a tick that depends on when they arrived in wall time, as on the real board;
 everything that does not depend on the host stays deterministic, and a host that only reads
 changes nothing the lab prints.

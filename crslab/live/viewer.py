@@ -18,14 +18,20 @@ import numpy as np
 
 from crslab.sim.running import RunningLab
 from crslab.sinks.sink import Sink
+from crslab.world.layout import FREE_AIR, World
+from crslab.world.scene import flatten_egg, load_scene, set_arm_pose
 
 
 class MujocoViewer(Sink):
     """MuJoCo's passive viewer following a run: a sink (the arm's pose from the scope rows) and a
     live control (the mouse's push, :meth:`serve`); call :meth:`start` once the worker exists."""
 
-    def __init__(self, rest_dh_rad: np.ndarray, on_status: Callable[[str], None] | None = None) -> None:
+    def __init__(self, rest_dh_rad: np.ndarray, on_status: Callable[[str], None] | None = None,
+                 world: World = FREE_AIR) -> None:
         self.on_status = on_status or (lambda line: print(line, file=sys.stderr))
+        self.world = world
+        """What the run's arm can touch: its scene is the one shown (the fixtures with the arm)."""
+        self._egg_broken = False
         self.rest_dh_rad = np.asarray(rest_dh_rad, dtype=float)
         self.handle = None
         self._qpos: np.ndarray | None = None
@@ -45,11 +51,9 @@ class MujocoViewer(Sink):
             import mujoco
             import mujoco.viewer
 
-            from crslab.plant.model import load_model
-
-            self.model = load_model()
+            self.model = load_scene(self.world)
             self.data = mujoco.MjData(self.model)
-            self.data.qpos[:] = self.rest_dh_rad
+            set_arm_pose(self.model, self.data, self.rest_dh_rad)
             self._forward = mujoco.mj_forward
             self.handle = mujoco.viewer.launch_passive(self.model, self.data)
         except Exception as exc:  # noqa: BLE001 - no OpenGL, no mjpython on macOS...: one line
@@ -64,6 +68,8 @@ class MujocoViewer(Sink):
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         if len(columns["qpos_dh_rad"]):
             self._qpos = columns["qpos_dh_rad"][-1]
+        if "egg_broken" in columns and len(columns["egg_broken"]) and columns["egg_broken"][-1, 0] > 0:
+            self._egg_broken = True
 
     def serve(self, lab: RunningLab) -> None:
         """Show the latest pose and pass the mouse's push to the running lab (between chunks)."""
@@ -71,7 +77,9 @@ class MujocoViewer(Sink):
             return
         with self.handle.lock():
             if self._qpos is not None:
-                self.data.qpos[:] = self._qpos
+                set_arm_pose(self.model, self.data, self._qpos)
+            if self._egg_broken:
+                flatten_egg(self.model)
             self._forward(self.model, self.data)
         self.handle.sync()  # draws, and turns a mouse drag into data.xfrc_applied
         push = self.data.xfrc_applied.copy()

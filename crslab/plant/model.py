@@ -125,7 +125,7 @@ def apply_plant(model: mujoco.MjModel, plant: PlantParams, loaded: mujoco.MjMode
     model.actuator_gear[:, 0] = plant.motor_gain
     apply_friction(model, plant)
     rotor = plant.rotor_inertia_kg_m2  # motors 1 and 2 turn j1 and j2; motor 3 the forearm tendon
-    model.dof_armature[:] = (rotor[0], rotor[1], 0.0)
+    model.dof_armature[:3] = (rotor[0], rotor[1], 0.0)  # a world's peg wrist (dof 3) keeps its own
     model.tendon_armature[0] = rotor[2]
     for name in LINK_BODIES:
         body = model.body(name).id
@@ -139,12 +139,12 @@ def apply_friction(model: mujoco.MjModel, plant: PlantParams) -> None:
     (``frictionloss``, half the band's width) and its constant offset (the motor actuators' bias,
     :meth:`PlantParams.friction_bias_nm`). Motors 1 and 2 turn joints j1 and j2; motor 3 turns the
     forearm tendon (j2 + j3). The friction beyond the band, while a joint slides, is the C board's
-    (``csrc/sim/friction.c``, set by the worker): the model has no ``damping``."""
+    (``csrc/plant/friction.c``, set by the worker): the model has no ``damping``."""
     half = plant.band_half_nm()
     model.actuator_biasprm[:, 0] = plant.friction_bias_units()
-    model.dof_frictionloss[:] = (half[0], half[1], 0.0)
+    model.dof_frictionloss[:3] = (half[0], half[1], 0.0)
     model.tendon_frictionloss[0] = half[2]
-    model.dof_damping[:] = 0.0
+    model.dof_damping[:3] = 0.0
     model.tendon_damping[0] = 0.0
 
 

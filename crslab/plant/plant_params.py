@@ -17,7 +17,7 @@ sweeps and the fit address them:
 (1.5, 1.0)
 
 The worker applies them to the MuJoCo model (:func:`crslab.plant.model.apply_plant`) and to the C
-drive (``crs_drive`` of ``csrc/sim/sim.h``) before the first tick.
+drive (``crs_drive`` of ``csrc/board/sim.h``) before the first tick.
 """
 
 from __future__ import annotations
@@ -187,7 +187,7 @@ class PlantParams:
         ``Cpos + Vpos w`` over ``friction_transition_rad_s``:
         ``Spos + (Cpos - Spos)(1 - exp(-w / w_t)) + Vpos w``; moving negative likewise with
         ``Sneg``, ``Cneg`` and ``Vneg`` (negative numbers). This is the rule the board applies
-        (``csrc/sim/friction.c`` for the sliding part, MuJoCo's friction constraint for the band).
+        (``csrc/plant/friction.c`` for the sliding part, MuJoCo's friction constraint for the band).
 
         >>> p = PlantParams.defaults().with_values({"coulomb_pos1": 2.0, "viscous_pos1": 1.5,
         ...     "static_pos1": 1.2, "coulomb_neg1": -1.8, "viscous_neg1": 1.4, "static_neg1": -1.8})
@@ -234,7 +234,7 @@ class PlantParams:
         return tuple(b / self.motor_gain for b in self.friction_bias_nm())
 
     def sliding_units(self) -> dict[str, tuple[float, ...]]:
-        """What the C board's sliding friction (``crs_friction`` of ``csrc/sim/sim.h``) is given, in
+        """What the C board's sliding friction (``crs_friction`` of ``csrc/board/sim.h``) is given, in
         command units (N.m over the motor gain), scaled: how far each line's intercept lies beyond
         the static band's edge (``Cpos - Spos``, ``Cneg - Sneg``) and the two slopes."""
         def per_motor(values: Triple) -> tuple[float, ...]:

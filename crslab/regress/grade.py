@@ -25,10 +25,10 @@ from crslab.executors.local import DEFAULT_TIMEOUT_S
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, Comparison, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.transcript import split_lines
-from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.untrusted_text import for_csv, for_terminal
+from crslab.worker.config import SimConfig
 
 SHOWN_ALWAYS = (GradeClass.PASS, GradeClass.MISMATCH, GradeClass.DOES_NOT_COMPILE, GradeClass.CRASHED,
                 GradeClass.HUNG)

@@ -7,31 +7,35 @@ import dataclasses
 from pathlib import Path
 
 from crslab import __version__
-from crslab.regress.transcript import DEFAULT_PLANT, sha256_of
-from crslab.sim.config import SimConfig
+from crslab.regress.transcript import DEFAULT_PLANT, DEFAULT_WORLD, sha256_of
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, Simulation
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.memory import MemorySink
+from crslab.worker.config import SimConfig
+from crslab.world.layout import WORLD_NAMES
 
 
 def run_lab(config: SimConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEADLINE_S,
             limits: Limits = NO_LIMITS) -> RunResult:
-    """Run ``config`` to ``end_tick`` at full speed, keeping every serial call. Raises ``SimError``
-    when the worker cannot start; a lab without ``lab()`` ends as ``no-lab`` before any tick."""
+    """Run ``config`` to ``end_tick`` at full speed, keeping every serial call (and the scope log
+    when ``config.log_signals``). Raises ``SimError`` when the worker cannot start; a lab without
+    ``lab()`` ends as ``no-lab`` before any tick."""
     memory = MemorySink()
     with Simulation(config, deadline_s=deadline_s, limits=limits) as sim:
         if not sim.defines_lab:
             source = config.build.source
             return RunResult(RunStatus.NO_LAB, 0, f"{source.name} defines no lab() function", lab_file=source)
         result = sim.run(end_tick, memory)
-    return dataclasses.replace(result, calls=memory.calls, sent=memory.sent)
+    return dataclasses.replace(result, calls=memory.calls, sent=memory.sent,
+                               log=memory.log if config.log_signals else None)
 
 
 def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None,
-               plant_arg: str | Path | None = None) -> dict[str, str]:
+               plant_arg: str | Path | None = None, world_arg: str | Path | None = None) -> dict[str, str]:
     """The golden-file header fields that say what produced a transcript: crslab's version, the
     lab and scenario (names and content hashes) and the options that change what is printed,
-    the plant file (``plant_arg``, as given; None: crslab's own arm) among them."""
+    the plant file (``plant_arg``, as given; None: crslab's own arm) and the world (``world_arg``, as
+    given: a built-in's name or a file; None: free air) among them."""
     source = Path(config.scenario.source)
     try:
         scenario_hash = sha256_of(source.read_bytes())
@@ -48,7 +52,23 @@ def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None,
         "startup_delay": "yes" if config.startup_ticks else "no",
         "motor_board": config.motor_board_model,
         **plant_fields(plant_arg),
+        **world_fields(world_arg),
     }
+
+
+def world_fields(world_arg: str | Path | None) -> dict[str, str]:
+    """The header's ``world`` (and, for a world file, its ``world_sha256``).
+
+    >>> world_fields(None), world_fields("contest")
+    ({'world': 'none'}, {'world': 'contest'})
+    """
+    if world_arg is None or str(world_arg) in WORLD_NAMES:
+        return {"world": str(world_arg or DEFAULT_WORLD)}
+    try:
+        digest = sha256_of(Path(world_arg).read_bytes())
+    except OSError:
+        digest = "unknown"
+    return {"world": str(world_arg), "world_sha256": digest}
 
 
 def plant_fields(plant_arg: str | Path | None) -> dict[str, str]:

@@ -14,6 +14,7 @@ A golden file written by ``crslab record``::
     # startup_delay: yes
     # motor_board: none
     # plant: default
+    # world: none
     # ----
     0.00 -24.06 13.75
 
@@ -22,7 +23,8 @@ of it is the transcript. What the header says about the run (scenario, duration,
 startup delay, motor board, plant file) is read by one function, :func:`recorded_run`, for
 ``crslab check`` and the ``crslab_check`` fixture alike. ``plant: default`` (or no ``plant``
 line, as in files older than plant files) is crslab's own arm; a file name is found like a
-scenario file's.
+scenario file's. ``world: none`` (or no ``world`` line, as in files older than worlds) is free air;
+a built-in world's name or a world file (found like a scenario file) is the world it ran in.
 """
 
 from __future__ import annotations
@@ -40,6 +42,8 @@ from crslab.output_paths import with_parent
 MAGIC = b"# crslab transcript"
 DEFAULT_PLANT = "default"
 """A golden header's ``plant`` for crslab's own arm."""
+DEFAULT_WORLD = "none"
+"""A golden header's ``world`` for free air (crslab.world.layout.DEFAULT_WORLD)."""
 HEADER_END = b"# ----\n"
 
 
@@ -117,16 +121,18 @@ class RecordedRun:
     motor_board: str | None = None
     plant: str | None = None
     """A plant file (found like a scenario file); None: crslab's own arm."""
+    world: str | None = None
+    """A built-in world's name or a world file (found like a scenario file); None: free air."""
 
     def overridden(self, *, scenario: str | None = None, duration_s: float | None = None,
                    rest_motor_rad: Sequence[float] | None = None,
                    startup_delay: bool | None = None, motor_board: str | None = None,
-                   plant: str | None = None) -> RecordedRun:
+                   plant: str | None = None, world: str | None = None) -> RecordedRun:
         """The options to run with: each one given (not None) wins over the golden file's.
 
         >>> RecordedRun("tour", 25.0, (0.0, -0.4, 0.2), False, "none").overridden(duration_s=5.0)
         RecordedRun(scenario='tour', duration_s=5.0, rest_motor_rad=(0.0, -0.4, 0.2), startup_delay=False, \
-motor_board='none', plant=None)
+motor_board='none', plant=None, world=None)
         """
         rest = tuple(float(v) for v in rest_motor_rad) if rest_motor_rad is not None else self.rest_motor_rad
         return RecordedRun(scenario if scenario is not None else self.scenario,
@@ -134,7 +140,8 @@ motor_board='none', plant=None)
                            rest,  # type: ignore[arg-type]
                            startup_delay if startup_delay is not None else self.startup_delay,
                            motor_board if motor_board is not None else self.motor_board,
-                           plant if plant is not None else self.plant)
+                           plant if plant is not None else self.plant,
+                           world if world is not None else self.world)
 
 
 def find_scenario(name: str, folders: Sequence[Path]) -> str:
@@ -158,10 +165,10 @@ def recorded_run(golden: Golden, scenario_folders: Sequence[Path] = ()) -> Recor
 
     >>> g = Golden(Path("g.txt"), {"scenario": "tour", "end_s": "6.000",
     ...            "rest_motor_rad": "0.0 -0.35 0.3", "startup_delay": "no", "motor_board": "piccolo",
-    ...            "plant": "default"})
+    ...            "plant": "default", "world": "contest"})
     >>> recorded_run(g)
     RecordedRun(scenario='tour', duration_s=6.0, rest_motor_rad=(0.0, -0.35, 0.3), startup_delay=False, \
-motor_board='piccolo', plant=None)
+motor_board='piccolo', plant=None, world='contest')
     >>> recorded_run(Golden(Path("g.txt"), {"end_s": "soon"}))
     Traceback (most recent call last):
     ...
@@ -201,7 +208,12 @@ motor_board='piccolo', plant=None)
         plant = None
     if plant is not None:
         plant = find_scenario(plant, [*scenario_folders, path.parent])
-    return RecordedRun(scenario, duration, rest, delay, board, plant)  # type: ignore[arg-type]
+    world = h.get("world") or None
+    if world == DEFAULT_WORLD:
+        world = None
+    if world is not None:
+        world = find_scenario(world, [*scenario_folders, path.parent])
+    return RecordedRun(scenario, duration, rest, delay, board, plant, world)  # type: ignore[arg-type]
 
 
 def make_header(fields: dict[str, str]) -> bytes:

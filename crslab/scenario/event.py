@@ -5,7 +5,7 @@ Each kind of event is one subclass of :class:`Event` (``crslab/scenario/*_events
 all there is to know about it on this side: its name in TOML files (``kind``), how a file's
 table becomes events of it (:meth:`Event.parse`) and what it does, in a few words
 (:meth:`Event.describe`). What it does to the running arm is the simulator's business: the
-worker finds the effect of each event class in :mod:`crslab.sim.event_effects`. Scenarios never
+worker finds the effect of each event class in :mod:`crslab.worker.event_effects`. Scenarios never
 import the simulator.
 
 Times in scenario files are simulated seconds; they are converted once, here, to ticks. Joints

@@ -5,7 +5,7 @@ An expectation at tick k looks at the run as it stands when its tick comes, befo
 like every event: the motor board and the safety flag as tick k-1 left them (the flag is the
 ``error`` lab() gets at tick k), the arm's motor angles after k physics steps (what tick k's
 encoders read, for a lab with the right offsets and no encoder fault), a watched variable's
-value. It never changes the run: the worker only reads (``crslab/sim/event_effects.py``) and
+value. It never changes the run: the worker only reads (``crslab/worker/event_effects.py``) and
 sends what it saw as an :class:`Observation`; the crslab process judges it (:class:`Judge`), so
 what counts as met is decided outside the lab's process.
 
@@ -38,7 +38,13 @@ DEFAULT_TOL_DEG = 1.0
 """How close an expected angle must be when the file gives no ``tol_deg`` or ``tol_rad``."""
 _IDENTIFIER = re.compile(r"[A-Za-z_]\w*\Z")
 _ANGLE_KEYS = ("motor_deg", "motor_rad", "dh_deg")
-CONDITION_KEYS = ("motor_board_off", "motor_board_cutouts", "error", *_ANGLE_KEYS, "moved_deg", "var")
+WORLD_RANGES = {"egg_force": ("the egg's force", "N"), "scale_g": ("the scale", "g"),
+                "peg_depth": ("the peg's depth in the hole", "m")}
+"""World quantities an expectation may bound (``egg_force = [low, high]``): what, unit."""
+CONTACT_FIXTURES = ("table", "hole", "obstacle", "groove", "egg")
+"""Fixtures ``contact.NAME = true|false`` may name (touched by the peg, or any arm link for the obstacle)."""
+CONDITION_KEYS = ("motor_board_off", "motor_board_cutouts", "error", *_ANGLE_KEYS, "moved_deg", "var",
+                  *WORLD_RANGES, "egg_broken", "contact")
 """The keys of an ``expect`` table that are conditions (the others qualify them)."""
 
 
@@ -60,6 +66,9 @@ class Observation:
     """The arm's motor angles (rad), as a lab with the right offsets reads them."""
     var: float | None = None
     """The watched variable the expectation names (None when it names none)."""
+    world: Mapping[str, float] | None = None
+    """The world's quantities of the last step (``egg_force``, ``scale_g``, ``egg_broken``,
+    ``peg_depth``, ``hole_force``...; crslab.worker.worker.WORLD_COLUMNS); None in free air."""
 
 
 def _joints_text(joints: tuple[int, ...], what: str) -> str:
@@ -247,6 +256,111 @@ class Variable(Condition):
             f"expected {self.describe()}, it could not be read"
 
 
+def _world_value(seen: Observation, key: str) -> float | None:
+    return None if seen.world is None or key not in seen.world else float(seen.world[key])
+
+
+_NO_WORLD = "this run's world has no fixtures (give --world)"
+
+
+@dataclass(frozen=True)
+class WorldRange(Condition):
+    """A world quantity (``egg_force`` N, ``scale_g`` g, ``peg_depth`` m) lies within ``[low, high]``.
+
+    >>> WorldRange("scale_g", 500.0, 1000.0).describe()
+    'the scale within [500, 1000] g'
+    """
+
+    key: str
+    low: float
+    high: float
+
+    def describe(self) -> str:
+        what, unit = WORLD_RANGES[self.key]
+        return f"{what} within [{self.low:g}, {self.high:g}] {unit}"
+
+    def failure(self, seen: Observation, earlier: Mapping[int, Observation]) -> str | None:
+        got = _world_value(seen, self.key)
+        if got is None:
+            return f"expected {self.describe()}: {_NO_WORLD}"
+        if self.low <= got <= self.high:
+            return None
+        return f"expected {self.describe()}, it was {got:.4g} {WORLD_RANGES[self.key][1]}"
+
+
+@dataclass(frozen=True)
+class EggBroken(Condition):
+    """The egg is broken (``broken``), or whole."""
+
+    broken: bool
+
+    def describe(self) -> str:
+        return "the egg broken" if self.broken else "the egg whole"
+
+    def failure(self, seen: Observation, earlier: Mapping[int, Observation]) -> str | None:
+        got = _world_value(seen, "egg_broken")
+        if got is None:
+            return f"expected {self.describe()}: {_NO_WORLD}"
+        if bool(got) == self.broken:
+            return None
+        return f"expected {self.describe()}, it was {'broken' if got else 'whole'}"
+
+
+@dataclass(frozen=True)
+class Contact(Condition):
+    """The peg (any arm link, for the obstacle) touches ``fixture`` (``touching``), or does not.
+
+    >>> Contact("hole", True).describe()
+    'a contact with the hole block'
+    """
+
+    fixture: str
+    touching: bool
+
+    def describe(self) -> str:
+        names = {"hole": "the hole block", "groove": "the groove plate"}
+        name = names.get(self.fixture, f"the {self.fixture}")
+        return f"{'a' if self.touching else 'no'} contact with {name}"
+
+    def failure(self, seen: Observation, earlier: Mapping[int, Observation]) -> str | None:
+        got = _world_value(seen, f"{self.fixture}_force")
+        if got is None:
+            return f"expected {self.describe()}: {_NO_WORLD}"
+        if (got > 0.0) == self.touching:
+            return None
+        return f"expected {self.describe()}, the force on it was {got:.4g} N"
+
+
+def _world(r: TableReader) -> list[Condition]:
+    """``egg_force``/``scale_g``/``peg_depth`` = [low, high], ``egg_broken``, ``contact.NAME``."""
+    out: list[Condition] = []
+    for key in WORLD_RANGES:
+        if key in r.table:
+            v = r.table[key]
+            numbers = isinstance(v, list) and all(
+                isinstance(x, int | float) and not isinstance(x, bool) for x in v)
+            if not numbers or len(v) != 2 or v[0] > v[1]:
+                raise r.fail(key, f"must be a range [low, high], got {v!r}")
+            out.append(WorldRange(key, float(v[0]), float(v[1])))
+    if "egg_broken" in r.table:
+        if not isinstance(r.table["egg_broken"], bool):
+            raise r.fail("egg_broken", f"must be true or false, got {r.table['egg_broken']!r}")
+        out.append(EggBroken(r.table["egg_broken"]))
+    if "contact" in r.table:
+        table = r.table["contact"]
+        if not isinstance(table, dict) or not table:
+            raise r.fail("contact", "must name a fixture: contact.hole = true (fixtures: "
+                         f"{', '.join(CONTACT_FIXTURES)})")
+        for name, value in table.items():
+            if name not in CONTACT_FIXTURES:
+                fixtures = ", ".join(CONTACT_FIXTURES)
+                raise r.fail(f"contact.{name}", f"no fixture {name!r} (fixtures: {fixtures})")
+            if not isinstance(value, bool):
+                raise r.fail(f"contact.{name}", f"must be true or false, got {value!r}")
+            out.append(Contact(name, value))
+    return out
+
+
 @dataclass(frozen=True)
 class Expect(Event):
     """Check ``conditions`` against the run when its tick comes; ``message`` is the file's own
@@ -280,6 +394,7 @@ class Expect(Event):
         moved, note = _moved(r, at, line)
         conditions.extend(moved)
         conditions.extend(_variable(r))
+        conditions.extend(_world(r))
         if not conditions:
             raise r.fail("kind", "an expectation needs a condition (one or more of: "
                          f"{', '.join(CONDITION_KEYS)})")

@@ -2,7 +2,7 @@
 ``[[event]]`` table into events of the class its ``kind`` names. A new kind is one
 :class:`~crslab.scenario.event.Event` subclass in the ``*_events.py`` module of its group and its
 row in :data:`EVENT_CLASSES`; its effect on the running arm goes in
-:mod:`crslab.sim.event_effects`.
+:mod:`crslab.worker.event_effects`.
 
 >>> list(EVENT_KINDS)[:4]
 ['hand', 'release', 'set', 'simulink']

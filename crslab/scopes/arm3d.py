@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-SHAPE_KINDS = ("capsule", "cylinder", "sphere", "box")
+SHAPE_KINDS = ("capsule", "cylinder", "sphere", "box", "ellipsoid")
 
 
 @dataclass(frozen=True)
@@ -48,15 +48,24 @@ def _wxyz_to_xyzw(q: np.ndarray) -> np.ndarray:
 
 
 class ArmModel:
-    """The CRS arm's MuJoCo model, read for drawing (a private MjData: nothing is simulated)."""
+    """The CRS arm's MuJoCo model, read for drawing (a private MjData: nothing is simulated); with
+    a world (:class:`crslab.world.layout.World`), its scene: the peg and the fixtures too (a
+    fixture is a body that never moves). Geoms drawn invisible (the arm's collision capsules) are
+    left out.
 
-    def __init__(self) -> None:
+    >>> from crslab.world.layout import load_world
+    >>> [b.name for b in ArmModel(load_world("contest")).moving][3:]
+    ['peg', 'table', 'hole', 'obstacle', 'groove', 'egg', 'scale', 'stands']
+    """
+
+    def __init__(self, world: object | None = None) -> None:
         import mujoco
 
-        from crslab.plant.model import load_model
+        from crslab.world.layout import FREE_AIR
+        from crslab.world.scene import load_scene
 
         self._mj = mujoco
-        self.model = model = load_model()
+        self.model = model = load_scene(world or FREE_AIR)  # type: ignore[arg-type]
         self.data = mujoco.MjData(model)
         kinds = {int(getattr(mujoco.mjtGeom, f"mjGEOM_{k.upper()}")): k for k in SHAPE_KINDS}
         self.bodies = [Body(model.body(b).name or "world", b) for b in range(model.nbody)]
@@ -66,6 +75,8 @@ class ArmModel:
                 continue
             mat = int(model.geom_matid[g])
             rgba = model.mat_rgba[mat] if mat >= 0 else model.geom_rgba[g]
+            if rgba[3] == 0:  # drawn invisible: a collision shape
+                continue
             self.bodies[int(model.geom_bodyid[g])].shapes.append(Shape(
                 model.geom(g).name or f"geom{g}", kind, tuple(model.geom_pos[g].tolist()),
                 tuple(_wxyz_to_xyzw(model.geom_quat[g]).tolist()), tuple(model.geom_size[g].tolist()),
@@ -82,7 +93,9 @@ class ArmModel:
         """World poses of the :attr:`moving` bodies for each row of joint angles: ``(n, nb, 3)``,
         ``(n, nb, 4)``. Vectorized over rows for chains of hinge joints (this arm); MuJoCo's
         ``mj_kinematics`` row by row otherwise."""
-        q = np.asarray(qpos_dh_rad, dtype=float).reshape(-1, self.model.nq)
+        q = np.asarray(qpos_dh_rad, dtype=float).reshape(-1, 3)
+        if self.model.nq > 3:  # the peg's wrist, where its equality holds it (crslab.world.scene)
+            q = np.concatenate([q, -(q[:, 1:2] + q[:, 2:3])], axis=1)
         if self._hinge_chain():
             pos, quat = self._poses_vectorized(q)
         else:

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab.output_paths import with_parent
-from crslab.scopes.signals import GROUPS, SIGNALS, TORQUE, Signal
+from crslab.scopes.signals import GROUPS, SIGNALS, TORQUE, WORLD_GROUPS, WORLD_SIGNALS, Signal
 
 TIME_COLUMN = "t [s]"
 
@@ -33,7 +33,7 @@ def read_scope_csv(path: Path) -> tuple[np.ndarray, dict[Signal, np.ndarray]]:
     except (pa.ArrowInvalid, OSError, UnicodeDecodeError) as exc:
         raise PlotError(f"{path}: not a CSV file ({str(exc).splitlines()[0]})") from None
     names = table.column_names
-    known = {s.csv_name: s for s in SIGNALS}
+    known = {s.csv_name: s for s in SIGNALS + WORLD_SIGNALS}
     found = {known[n]: n for n in names if n in known}
     if TIME_COLUMN not in names or not found:
         raise PlotError(f"{path}: not a crslab scope CSV (no '{TIME_COLUMN}' column and signal columns; "
@@ -55,7 +55,7 @@ def scope_figure(t: np.ndarray, values: dict[Signal, np.ndarray], title: str) ->
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    groups = [g for g in GROUPS if any(s.group == g for s in values)]
+    groups = [g for g in GROUPS + WORLD_GROUPS if any(s.group == g for s in values)]
     fig, axes = plt.subplots(len(groups), 1, sharex=True, squeeze=False,
                              figsize=(10, 2.2 * len(groups) + 0.8), layout="constrained")
     for ax, group in zip(axes[:, 0], groups):

@@ -70,13 +70,51 @@ SIGNALS: tuple[Signal, ...] = (
     *(Signal(f"th{j + 1}_dh", "qpos_dh_rad", j, POSE) for j in range(3)),
 )
 """Every signal, in CSV column order (after ``tick`` and ``t [s]``)."""
+
+WORLD = Group("world", "world contacts", "N")
+PEG_TIP = Group("peg_tip", "peg tip", "m")
+SCALE = Group("scale", "the egg's scale", "g")
+EGG = Group("egg", "the egg", "0/1")
+WORLD_GROUPS: tuple[Group, ...] = (WORLD, PEG_TIP, SCALE, EGG)
+WORLD_SIGNALS: tuple[Signal, ...] = (
+    *(Signal(f"peg_tip_{a}", "peg_tip", j, PEG_TIP) for j, a in enumerate("xyz")),
+    Signal("egg_force", "egg_force", 0, WORLD),
+    Signal("scale_g", "scale_g", 0, SCALE),
+    Signal("egg_broken", "egg_broken", 0, EGG),
+    Signal("hole_force", "hole_force", 0, WORLD),
+    Signal("obstacle_force", "obstacle_force", 0, WORLD),
+    Signal("groove_side_force", "groove_side_force", 0, WORLD),
+    Signal("groove_force", "groove_force", 0, WORLD),
+    Signal("table_force", "table_force", 0, WORLD),
+)
+"""What a world with fixtures adds to the scope log (docs/worlds.md): the peg's tip, the force
+the arm presses on each fixture, the scale's grams and whether the egg broke. A free-air run
+(world ``none``) has none of these columns."""
+
+
+def signals_of(log: dict[str, np.ndarray] | None) -> tuple[Signal, ...]:
+    """The signals a scope log holds: :data:`SIGNALS`, and :data:`WORLD_SIGNALS` when it has the
+    world's columns.
+
+    >>> len(signals_of({})), len(signals_of({"egg_force": np.zeros((0, 1))})) - len(SIGNALS)
+    (20, 11)
+    """
+    return SIGNALS + WORLD_SIGNALS if log is not None and "egg_force" in log else SIGNALS
+
+
+def groups_of(log: dict[str, np.ndarray] | None) -> tuple[Group, ...]:
+    """The panels of a scope log's signals (:func:`signals_of`)."""
+    return GROUPS + WORLD_GROUPS if log is not None and "egg_force" in log else GROUPS
+
+
 C_FLOAT_COLUMNS = frozenset({"enc_rad", "tau_lab", "plot"})
 """Log columns that are C ``float`` variables in the lab (logged widened to double)."""
 
 
-def csv_header() -> list[str]:
-    """The CSV header: ``tick``, ``t [s]``, then every signal with its unit."""
-    return ["tick", "t [s]", *(s.csv_name for s in SIGNALS)]
+def csv_header(signals: tuple[Signal, ...] = SIGNALS) -> list[str]:
+    """The CSV header: ``tick``, ``t [s]``, then every signal with its unit (``signals``: those of a
+    free-air run, or :data:`SIGNALS` + :data:`WORLD_SIGNALS`)."""
+    return ["tick", "t [s]", *(s.csv_name for s in signals)]
 
 
 def signal_values(log: dict[str, np.ndarray], signal: Signal) -> np.ndarray:

@@ -5,7 +5,7 @@ libraries, ``/api/login`` and ``/api/logout``, ``/api/me``, ``/api/template`` (`
 starting file for a lab and a generation), ``/api/scenarios``, ``/api/arm`` (the arm's shapes from the
 MuJoCo model, for the 3D view), ``/api/download/{kind}`` (the last run's transcript, CSV or
 ``.rrd``), ``/admin`` (sessions, for admins) and ``/ws``, one WebSocket per page session
-(:mod:`crslab.serve.protocol`).
+(:mod:`crslab.serve.page_messages`).
 
 Who is who: without a roster the server serves one user on this machine, who proves it by the
 token in the URL ``crslab serve`` printed (the page then keeps a cookie); with a roster, a login.
@@ -36,9 +36,9 @@ from starlette.websockets import WebSocket, WebSocketDisconnect, WebSocketDiscon
 
 from crslab.generations import GENERATIONS
 from crslab.serve.auth import Backoff, CookieSigner, User, verify_secret
-from crslab.serve.protocol import ProtocolError, parse_message
-from crslab.serve.session_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
-from crslab.serve.sessions import LimitError, PageSession, Sessions
+from crslab.serve.page_messages import ProtocolError, parse_message
+from crslab.serve.page_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
+from crslab.serve.page_sessions import LimitError, PageSession, Sessions
 from crslab.starters import LABS, starter_text
 
 STATIC = Path(__file__).parent / "static"
@@ -80,7 +80,7 @@ class CrsServer:
         self._by_name = Backoff(**NAME_BACKOFF)
         self._by_address = Backoff(**ADDRESS_BACKOFF)
         self._scenarios: list[dict] | None = None
-        self._arm: dict | None = None
+        self._arm: dict[str, dict] = {}
 
     # -- who is asking ------------------------------------------------------------------------
     def user_of(self, cookies: dict[str, str]) -> str | None:
@@ -220,9 +220,22 @@ class CrsServer:
         return JSONResponse(self._scenarios)
 
     async def arm(self, request: Request) -> Response:
-        if self._arm is None:
-            self._arm = await asyncio.to_thread(arm_shapes)
-        return JSONResponse(self._arm, headers={"Cache-Control": "max-age=3600"})
+        from crslab.world.layout import WORLD_NAMES
+
+        world = request.query_params.get("world", "none")
+        if world not in WORLD_NAMES:
+            return JSONResponse({"error": f"no world {world!r}"}, status_code=404)
+        if world not in self._arm:
+            self._arm[world] = await asyncio.to_thread(arm_shapes, world)
+        return JSONResponse(self._arm[world], headers={"Cache-Control": "max-age=3600"})
+
+    async def worlds(self, request: Request) -> Response:
+        from crslab.world.layout import WORLD_NAMES, load_world
+
+        described = {"none": "free air (no fixtures)",
+                     "contest": "the final project: peg and hole, obstacle, groove, egg on a scale"}
+        return JSONResponse([{"name": n, "description": described.get(n, load_world(n).name)}
+                             for n in WORLD_NAMES])
 
     async def download(self, request: Request) -> Response:
         user = self.user_of(request.cookies)
@@ -353,13 +366,18 @@ def _too_many(text: str, wait_s: float, *, html_page: bool = False) -> Response:
     return JSONResponse({"error": text}, status_code=429, headers=headers)
 
 
-def arm_shapes() -> dict:
+def arm_shapes(world: str = "none") -> dict:
     """The arm's bodies as the MuJoCo model has them, for the page to draw and pose: each body's
     parent, its frame in the parent's (metres; quaternions ``x y z w``), its hinge (axis and anchor
-    in its own frame, and which DH angle turns it) and its shapes in its frame."""
+    in its own frame, and which DH angle turns it: ``q``; the peg's wrist, held at minus the sum of
+    two, has ``minus_sum``) and its shapes in its frame; in a ``world`` (a built-in's name) its
+    fixtures too, which never move (only the arm's links are ``moving``: a hand may drag them)."""
+    from crslab.plant.model import LINK_BODIES
     from crslab.scopes.arm3d import ArmModel
+    from crslab.world.layout import load_world
+    from crslab.world.scene import WRIST_JOINT
 
-    arm = ArmModel()
+    arm = ArmModel(load_world(world))
     m = arm.model
     shapes = {b.id: b.shapes for b in arm.bodies}
     out = []
@@ -373,6 +391,8 @@ def arm_shapes() -> dict:
                 "anchor": m.jnt_pos[j].tolist(),
                 "q": int(m.jnt_qposadr[j]),
             }
+            if m.joint(j).name == WRIST_JOINT:  # kept vertical: minus the forearm's absolute angle
+                joint.update(q=None, minus_sum=[1, 2])
         out.append(
             {
                 "name": m.body(b).name or "world",
@@ -380,7 +400,7 @@ def arm_shapes() -> dict:
                 "pos": m.body_pos[b].tolist(),
                 "quat": [*q[1:].tolist(), float(q[0])],
                 "joint": joint,
-                "moving": b > 0,
+                "moving": m.body(b).name in LINK_BODIES,
                 "shapes": [
                     {
                         "name": s.name,
@@ -410,6 +430,7 @@ def make_app(settings: ServeSettings, sessions: Sessions,
             Route("/api/template", server.template_text),
             Route("/api/scenarios", server.scenarios),
             Route("/api/arm", server.arm),
+            Route("/api/worlds", server.worlds),
             Route("/api/download/{kind}", server.download),
             Route("/admin", server.admin),
             WebSocketRoute("/ws", server.websocket),

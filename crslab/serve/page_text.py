@@ -30,7 +30,7 @@ from collections.abc import Iterable
 from pathlib import Path
 
 SESSION_SUBFOLDERS = ("lab", "scenario", "golden", "out")
-"""The session folder's parts that hold the page's own files (:mod:`crslab.serve.session_process`)."""
+"""The session folder's parts that hold the page's own files (:mod:`crslab.serve.page_process`)."""
 CHUNK = b'{"type": "chunk"'
 """How a chunk's message starts (:func:`crslab.serve.stream.message`): passed untouched."""
 _PATH = re.compile(r"""(?<![\w.~/-])~?/(?:[^\s/'"`()<>,;:\[\]{}]+/)*([^\s/'"`()<>,;:\[\]{}]+)""")

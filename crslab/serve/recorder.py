@@ -25,7 +25,8 @@ from crslab.sinks.sink import FanOut, Sink
 CLOSE_TIMEOUT_S = 120.0
 
 
-def _record(conn: Connection, csv_path: str | None, rrd_path: str | None, name: str) -> None:
+def _record(conn: Connection, csv_path: str | None, rrd_path: str | None, name: str,
+            world: object | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     os_support.die_with_parent()
     sinks = FanOut()
@@ -34,11 +35,12 @@ def _record(conn: Connection, csv_path: str | None, rrd_path: str | None, name: 
         if csv_path is not None:
             from crslab.sinks.csv_file import CsvSink
 
-            sinks.add(CsvSink(Path(csv_path)))
+            sinks.add(CsvSink(Path(csv_path), world=world is not None and not world.is_free_air))  # type: ignore[attr-defined]
         if rrd_path is not None:
             from crslab.sinks.rerun_scopes import RerunSink
 
-            rerun = RerunSink(rrd_path=Path(rrd_path), spawn=False, name=name, on_status=lambda line: None)
+            rerun = RerunSink(rrd_path=Path(rrd_path), spawn=False, name=name, on_status=lambda line: None,
+                              world=world)  # type: ignore[arg-type]
             rerun.prepare()
             sinks.add(rerun)
         while (calls := conn.recv()) is not None:
@@ -60,11 +62,13 @@ def _record(conn: Connection, csv_path: str | None, rrd_path: str | None, name: 
 class RecorderSink(Sink):
     """Feeds a recorder process (forked now): ``csv_path`` and/or ``rrd_path``."""
 
-    def __init__(self, csv_path: Path | None, rrd_path: Path | None, name: str) -> None:
+    def __init__(self, csv_path: Path | None, rrd_path: Path | None, name: str,
+                 world: object | None = None) -> None:
         ctx = mp.get_context("fork")
         self.conn, child = ctx.Pipe()
         self.process = ctx.Process(target=_record, args=(child, None if csv_path is None else str(csv_path),
-                                                          None if rrd_path is None else str(rrd_path), name))
+                                                          None if rrd_path is None else str(rrd_path), name,
+                                                          world))
         self.process.start()
         child.close()
         self.calls: list[tuple[str, tuple]] = []

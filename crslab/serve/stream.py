@@ -117,9 +117,12 @@ def _rotate_xyzw(q: np.ndarray, v: np.ndarray) -> np.ndarray:
 class BrowserStream(Sink):
     """Sends each chunk of a run to the page through ``send`` (one message per chunk)."""
 
-    def __init__(self, send: Send, arm: ArmPoses) -> None:
+    def __init__(self, send: Send, arm: ArmPoses, *, world: bool = False) -> None:
         self.send = send
         self.arm = arm
+        self.world = world
+        """The run's world has fixtures: each frame also carries the egg's force (N), the scale's
+        grams and whether the egg broke."""
         self.serial: list[tuple[int, str]] = []
         self.blocks: list[dict[str, np.ndarray]] = []
         self.last_qpos: np.ndarray | None = None
@@ -163,6 +166,11 @@ class BrowserStream(Sink):
             [np.round(log["qpos_dh_rad"][keep], 5), np.round(log["enc_rad"][keep], 5)], axis=1
         )
         flags = np.concatenate([ticks[keep, None], log["safety"][keep], log["motor_board_off"][keep]], axis=1)
+        if self.world and "egg_force" in log:
+            world = np.concatenate([np.round(log["egg_force"][keep], 3), np.round(log["scale_g"][keep], 1),
+                                    log["egg_broken"][keep]], axis=1).tolist()
+            return {"frames": [[f[0], *a, f[1], f[2], *w] for f, a, w in zip(flags.tolist(), frames.tolist(),
+                                                                            world)]}
         return {"frames": [[f[0], *a, f[1], f[2]] for f, a in zip(flags.tolist(), frames.tolist())]}
 
     @staticmethod
@@ -193,7 +201,7 @@ class PageControl:
         self.phase = phase
         """Where in every 250 ms of the machine's clock this run's watching chunks end (a fraction
         of the period): the server gives each run its own (:meth:`Sessions.admit
-        <crslab.serve.sessions.Sessions.admit>`), so a class's runs wake one after another, not
+        <crslab.serve.page_sessions.Sessions.admit>`), so a class's runs wake one after another, not
         all at once."""
         self.send = send
         self.stream = stream

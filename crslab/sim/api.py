@@ -18,11 +18,12 @@ from crslab.plant.plant_params import PlantParams
 from crslab.sandbox import resolve as resolve_sandbox
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import Scenario, check_lab, load_scenario
-from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, Simulation
 from crslab.sim.status import RunResult
 from crslab.sinks.memory import MemorySink
 from crslab.sinks.sink import FanOut, Sink
+from crslab.worker.config import SimConfig
+from crslab.world.layout import FREE_AIR, World, load_world
 
 DEFAULT_REST_MOTOR_RAD = REST_MOTOR_RAD
 
@@ -43,6 +44,7 @@ def make_config(
     debug: bool = False,
     break_when: str | None = None,
     plant: PlantParams | str | Path | None = None,
+    world: World | str | Path | None = None,
 ) -> SimConfig:
     """Build the lab (cached) and load the scenario into one run's configuration.
 
@@ -54,8 +56,11 @@ def make_config(
     ``piccolo``; None takes the lab's generation's (Gen A: none, Gen B: piccolo). ``debug`` and
     ``break_when`` build the lab for a debugger (:func:`crslab.lab.build.build_lab`). ``plant`` is
     the arm's plant parameters or a plant file (``crslab identify`` writes one); None: crslab's arm.
+    ``world`` is what the arm can touch: a :class:`~crslab.world.layout.World`, a built-in world's
+    name (``none``, ``contest``) or a world file; None: free air (``none``).
     Raises ``ScenarioError`` when the scenario writes a variable the lab does not watch,
-    ``ValueError`` for an unknown motor board, ``PlantParamsError`` for a bad plant file.
+    ``ValueError`` for an unknown motor board, ``PlantParamsError`` for a bad plant file,
+    ``WorldError`` (one line: file, line, key) for a bad world.
     """
     if motor_board is not None and motor_board not in MOTOR_BOARDS:
         raise ValueError(f"no motor board {motor_board!r}; choose one of {', '.join(MOTOR_BOARDS)}")
@@ -65,6 +70,10 @@ def make_config(
         plant = PlantParams.load(plant)
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     rest = tuple(float(v) for v in (rest_motor_rad or sc.rest_motor_rad or DEFAULT_REST_MOTOR_RAD))
+    if world is None:
+        world = FREE_AIR
+    elif not isinstance(world, World):
+        world = load_world(world, rest_motor_rad=rest)  # type: ignore[arg-type]
     sandboxed = resolve_sandbox(sandbox)
     build = build_lab(Path(lab) if lab is not None else None, native=native, sanitize=sanitize,
                       sandboxed=sandboxed, debug=debug, break_when=break_when)
@@ -80,6 +89,7 @@ def make_config(
         sandboxed=sandboxed,
         motor_board=motor_board,
         plant=plant,
+        world=world,
     )
 
 

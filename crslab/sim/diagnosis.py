@@ -17,11 +17,11 @@ import signal
 from pathlib import Path
 from typing import NamedTuple
 
-from crslab.sim.board_ffi import board_constants
 from crslab.sim.sanitizer import summarize_sanitizer_report
 from crslab.sim.shared_block import SharedBlock
 from crslab.sim.status import RunStatus
 from crslab.untrusted_text import for_terminal
+from crslab.worker.board_ffi import board_constants
 
 
 class Ending(NamedTuple):

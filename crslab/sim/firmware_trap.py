@@ -1,5 +1,5 @@
 """One line of diagnosis for a WebAssembly firmware that stopped (``crs_sim.trap``, sent by the
-worker as a dict, see :func:`crslab.sim.worker.trap_info`): what happened, in which function and
+worker as a dict, see :func:`crslab.worker.worker.trap_info`): what happened, in which function and
 line of the lab file, where in the tick, and how the run is classed.
 
 The board is trusted and the worker survives the firmware's trap, so the transcript up to the trap
@@ -22,9 +22,9 @@ from __future__ import annotations
 import re
 from pathlib import PurePath
 
-from crslab.sim.board_ffi import board_constants
 from crslab.sim.status import RunStatus
 from crslab.untrusted_text import for_terminal
+from crslab.worker.board_ffi import board_constants
 
 _AT = re.compile(r"^\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
 _FRAME = re.compile(r"^\s*\d+:\s+0x[0-9a-f]+ - (\S+)", re.MULTILINE)

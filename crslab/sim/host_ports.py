@@ -1,6 +1,6 @@
 """The host ports' side of the shared block, read and written by the crslab process between
 chunks of ticks (the worker is idle then): what left the board on SerialB or SerialC, and what
-the host sent, for the board's receiver from the next tick to run on (csrc/sim/sim.h,
+the host sent, for the board's receiver from the next tick to run on (csrc/board/sim.h,
 ``crs_host_port``). The block is the lab's to scribble on: every length read is clamped to it.
 """
 
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from crslab.sim.board_ffi import board_constants
+from crslab.worker.board_ffi import board_constants
 
 HOST_PORTS = ("SerialB", "SerialC")
 """The ports a host program talks to, in the block's order (``CRS_HOST_PORT_B``, ``_C``)."""

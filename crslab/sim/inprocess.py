@@ -9,15 +9,15 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from crslab.sim.config import SimConfig
 from crslab.sim.shared_block import SharedBlock
+from crslab.worker.config import SimConfig
 
 
 class InProcessRun:
     """The worker's plant, board and lab, set up in this process."""
 
     def __init__(self, config: SimConfig) -> None:
-        from crslab.sim.worker import Worker
+        from crslab.worker.worker import Worker
 
         # a native firmware from a private copy of the lab's shared object: loading the cached one
         # here would leave its globals (counters, arrays) changed for every worker this process

@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING, Protocol, runtime_checkable
 import numpy as np
 
 if TYPE_CHECKING:
-    from crslab.sim.config import SimConfig
     from crslab.sim.host_ports import PortExchange
+    from crslab.worker.config import SimConfig
 
 
 class RunningLab(Protocol):

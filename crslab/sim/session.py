@@ -4,7 +4,7 @@ hands what the board printed and everything else the run reports to one sink, an
 
 Its parts each have a module: the worker process, started and watched
 (:mod:`crslab.sim.worker_process`); the messages on the pipe, checked once
-(:mod:`crslab.sim.protocol`); the shared block the board prints into
+(:mod:`crslab.worker.worker_messages`); the shared block the board prints into
 (:mod:`crslab.sim.shared_block`); the words for a run that ended early
 (:mod:`crslab.sim.diagnosis`); the length of chunks and the wall clock (:mod:`crslab.sim.pacing`).
 
@@ -24,10 +24,7 @@ from contextlib import contextmanager
 import numpy as np
 
 from crslab.scenario.expect_events import Judge
-from crslab.sim import diagnosis, protocol, termination
-from crslab.sim.board_ffi import board_constants
-from crslab.sim.config import SimConfig
-from crslab.sim.debug_setup import DebugSetup
+from crslab.sim import diagnosis, termination
 from crslab.sim.diagnosis import Ending
 from crslab.sim.firmware_trap import diagnose
 from crslab.sim.host_ports import PortExchange
@@ -37,6 +34,10 @@ from crslab.sim.shared_block import SharedBlock
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sim.worker_process import NO_LIMITS, READY_TIMEOUT_S, Limits, WorkerProcess
 from crslab.sinks.sink import FanOut, Sink
+from crslab.worker import worker_messages
+from crslab.worker.board_ffi import board_constants
+from crslab.worker.config import SimConfig
+from crslab.worker.debug_setup import DebugSetup
 
 DEFAULT_DEADLINE_S = 2.0
 
@@ -159,7 +160,7 @@ class Simulation:
         """Bytes that left the board but never reached the sinks: more in one chunk than the shared
         block holds (``CRS_SERIAL_CAPACITY`` bytes, ``CRS_MARK_CAPACITY`` ticks). The serial line's
         11.52 characters per ms keep a chunk far below that. In ``stats`` too."""
-        self.motor_board_events: list[protocol.MotorBoardEvent] = []
+        self.motor_board_events: list[worker_messages.MotorBoardEvent] = []
         """The motor board's cut-outs so far. In ``stats`` too."""
         self.judge = Judge(config.scenario.events, config.scenario.source)
         """The scenario's expectations, judged as the worker's observations arrive."""
@@ -168,11 +169,11 @@ class Simulation:
         self.sanitizer_dir = self.worker.sanitizer_dir
         if on_started is not None:
             on_started()
-        reply = self.worker.reply(protocol.Ready, protocol.Failed, protocol.Trapped, deadline_s=deadline_s,
-                                  timeout_s=READY_TIMEOUT_S, during_setup=True)
-        if isinstance(reply, protocol.Trapped):
+        reply = self.worker.reply(worker_messages.Ready, worker_messages.Failed, worker_messages.Trapped,
+                                  deadline_s=deadline_s, timeout_s=READY_TIMEOUT_S, during_setup=True)
+        if isinstance(reply, worker_messages.Trapped):
             reply = _trapped(reply.trap, self.lab_name, deadline_s, 0)
-        elif isinstance(reply, protocol.Failed):
+        elif isinstance(reply, worker_messages.Failed):
             reply = Ending(RunStatus.CRASHED, 0, f"{self.lab_name}: {reply.message}")
         if isinstance(reply, Ending):
             self.close()
@@ -199,31 +200,31 @@ class Simulation:
     def close(self) -> None:
         """Stop the worker (it leaves no process behind) and free the shared block."""
 
-        def stopped(reply: protocol.Stopped) -> None:
+        def stopped(reply: worker_messages.Stopped) -> None:
             self.stats = reply.stats or self.stats
 
         self.worker.close(on_stopped=stopped)
         self.block.close()
 
     # -- the running lab (crslab.sim.running.RunningLab) ---------------------------------------
-    def _ask(self, request: protocol.Request) -> float | list[float] | None:
+    def _ask(self, request: worker_messages.Request) -> float | list[float] | None:
         self.worker.send(request)
-        reply = self.worker.reply(protocol.Value, protocol.Error, deadline_s=self.deadline_s)
+        reply = self.worker.reply(worker_messages.Value, worker_messages.Error, deadline_s=self.deadline_s)
         if isinstance(reply, Ending):
             raise SimError(reply.message)
-        if isinstance(reply, protocol.Error):
+        if isinstance(reply, worker_messages.Error):
             raise KeyError(reply.message)
         return reply.value
 
     def get(self, name: str) -> float | list[float]:
         """Read a watched variable of the running lab (between ticks)."""
-        value = self._ask(protocol.Get(name))
+        value = self._ask(worker_messages.Get(name))
         assert value is not None
         return value
 
     def set(self, name: str, value: float, index: int | None = None) -> None:
         """Write a watched variable (or one array element) of the running lab, between ticks."""
-        self._ask(protocol.Set(name, index, float(value)))
+        self._ask(worker_messages.Set(name, index, float(value)))
 
     def exchange(self, port: str, incoming: bytes) -> PortExchange:
         """Between chunks: what left the board on host port ``port`` (``SerialB``, ``SerialC``)
@@ -234,12 +235,12 @@ class Simulation:
     def push(self, body_forces: np.ndarray) -> None:
         """Apply a force and torque to each body (MuJoCo ``xfrc_applied``, world frame, N and N.m)
         from the next tick on, until the next push: MuJoCo's viewer passes the mouse's drag."""
-        self._ask(protocol.Push(np.asarray(body_forces, dtype=float).tolist()))
+        self._ask(worker_messages.Push(np.asarray(body_forces, dtype=float).tolist()))
 
     def debug_break(self) -> None:
         """Have the worker call ``crs_debug_break``: the debugger attached to it stops there and
         arms its breakpoint on ``lab()``, so it stops in the next ``lab()`` call (this tick's)."""
-        self._ask(protocol.Break())
+        self._ask(worker_messages.Break())
 
     # -- running -----------------------------------------------------------------------------
     def run(
@@ -290,8 +291,9 @@ class Simulation:
         c = board_constants()
         while self.tick < end_tick:
             target, pause = pacer.next_chunk(self.tick, end_tick, controls)
-            self.worker.send(protocol.Run(target))
-            reply = self.worker.reply(protocol.Ran, deadline_s=self.deadline_s, ticks=target - self.tick)
+            self.worker.send(worker_messages.Run(target))
+            reply = self.worker.reply(worker_messages.Ran, deadline_s=self.deadline_s,
+                                      ticks=target - self.tick)
             if isinstance(reply, Ending):
                 return reply
             self.tick, self.stats = reply.tick, reply.stats

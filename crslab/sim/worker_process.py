@@ -1,5 +1,5 @@
 """The worker as a process seen from the crslab process: started (forked, or spawned with the
-sanitizer runtime for ``--sanitize``), asked through the pipe (:mod:`crslab.sim.protocol`),
+sanitizer runtime for ``--sanitize``), asked through the pipe (:mod:`crslab.worker.worker_messages`),
 watched while it works, and stopped so that it leaves no process behind.
 
 While a request is out, :meth:`WorkerProcess.reply` watches what the worker cannot hide: that it
@@ -30,16 +30,16 @@ from typing import Any
 
 from crslab import os_support
 from crslab.sim import diagnosis
-from crslab.sim.board_ffi import board_constants
-from crslab.sim.config import SimConfig
-from crslab.sim.debug_setup import DebugSetup
 from crslab.sim.diagnosis import Ending, WorkerDeath
-from crslab.sim.protocol import Message, Stop, Stopped, read_reply
 from crslab.sim.sanitizer import asan_runtime
 from crslab.sim.shared_block import SharedBlock
 from crslab.sim.status import RunStatus
-from crslab.sim.wasm_runtime import INTERRUPT_SIGNAL
-from crslab.sim.worker_reply import UnreadableReply, receive
+from crslab.worker.board_ffi import board_constants
+from crslab.worker.config import SimConfig
+from crslab.worker.debug_setup import DebugSetup
+from crslab.worker.wasm_runtime import INTERRUPT_SIGNAL
+from crslab.worker.worker_messages import Message, Stop, Stopped, read_reply
+from crslab.worker.worker_reply import UnreadableReply, receive
 
 CPU_S_PER_TICK = 1e-3
 """The CPU time a chunk may use per tick before a native worker counts as hung whatever it reports
@@ -113,7 +113,7 @@ def _child(conn: Connection, config: SimConfig, shared: WorkerFd, limits: Limits
     if limits.cpu_s is not None:
         cpu = int(limits.cpu_s) + 1
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
-    from crslab.sim.worker import serve
+    from crslab.worker.worker import serve
 
     serve(conn, config, shared.detach(), debug)
     os._exit(0)
@@ -188,7 +188,7 @@ class WorkerProcess:
 
     # -- asking --------------------------------------------------------------------------------
     def send(self, request: Message) -> None:
-        """Send ``request`` (a :data:`crslab.sim.protocol.Request`)."""
+        """Send ``request`` (a :data:`crslab.worker.worker_messages.Request`)."""
         self._conn.send(request.wire())
 
     def reply(self, *due: type[Message], deadline_s: float | None, timeout_s: float | None = None,

@@ -28,7 +28,7 @@ from typing import BinaryIO
 import numpy as np
 
 from crslab.output_paths import with_parent
-from crslab.scopes.signals import SIGNALS, csv_header, signal_values
+from crslab.scopes.signals import SIGNALS, WORLD_SIGNALS, csv_header, signal_values
 from crslab.sinks.sink import Sink
 
 
@@ -45,13 +45,15 @@ def preload() -> None:
 class CsvSink(Sink):
     """Write every scope row to ``target`` (a path or a binary stream), header first."""
 
-    def __init__(self, target: Path | BinaryIO) -> None:
+    def __init__(self, target: Path | BinaryIO, *, world: bool = False) -> None:
+        """``world``: the run's world has fixtures, so its rows carry the world's columns too."""
+        self.signals = SIGNALS + WORLD_SIGNALS if world else SIGNALS
         if isinstance(target, (str, Path)):
             self.file = open(with_parent(target), "wb")  # noqa: SIM115 - closed in close()
             self._own = True
         else:
             self.file, self._own = target, False
-        self.file.write((",".join(csv_header()) + "\n").encode())
+        self.file.write((",".join(csv_header(self.signals)) + "\n").encode())
         self._writer = None
 
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
@@ -62,8 +64,8 @@ class CsvSink(Sink):
         if not len(tick):
             return
         arrays = [pa.array(tick), pa.array(tick / 1000.0)]
-        arrays += [pa.array(signal_values(columns, s)) for s in SIGNALS]
-        table = pa.Table.from_arrays(arrays, names=csv_header())
+        arrays += [pa.array(signal_values(columns, s)) for s in self.signals]
+        table = pa.Table.from_arrays(arrays, names=csv_header(self.signals))
         if self._writer is None:
             options = pacsv.WriteOptions(include_header=False, quoting_style="none")
             self._writer = pacsv.CSVWriter(self.file, table.schema, write_options=options)

@@ -41,15 +41,19 @@ from crslab.scopes.rerun_stream import SIMULINK_ENTITY, SIMULINK_NAMES, open_rec
 from crslab.scopes.signals import (
     DIGITAL,
     MOTOR,
+    SCALE,
     SIGNALS,
     SIMULINK,
     TORQUE,
+    WORLD,
+    WORLD_SIGNALS,
     Group,
     signal_values,
     simulink_samples,
 )
 from crslab.serial_lines import SerialLines
 from crslab.sinks.sink import Sink
+from crslab.world.layout import World
 
 TIMELINE = "sim_time"
 FLUSH_TIMEOUT_S = 10.0
@@ -65,6 +69,11 @@ DIGITAL_ENTITY = "/scopes/digital"
 DIGITAL_SIGNALS = [s for s in SIGNALS if s.group == DIGITAL]
 """The safety flag and the LED pin levels, as scopes.signals reads them from the log."""
 DIGITAL_NAMES = [s.name for s in DIGITAL_SIGNALS]
+WORLD_ENTITY = "/scopes/world"
+WORLD_FORCE_SIGNALS = [s for s in WORLD_SIGNALS if s.group == WORLD]
+"""The forces the arm presses on the world's fixtures (a world with fixtures only)."""
+WORLD_FORCE_NAMES = [s.name for s in WORLD_FORCE_SIGNALS]
+SCALE_ENTITY = "/scopes/scale"
 SERIAL_ENTITY = "/serial"
 ARM_ENTITY = "/arm"
 
@@ -75,8 +84,9 @@ def _time_column(ticks: np.ndarray) -> object:
     return rr.TimeColumn(TIMELINE, duration=np.asarray(ticks, dtype=np.int64).astype("timedelta64[ms]"))
 
 
-def blueprint() -> object:
-    """The layout: 3D view over the serial log on the left, the scopes stacked on the right."""
+def blueprint(world: bool = False) -> object:
+    """The layout: 3D view over the serial log on the left, the scopes stacked on the right (with
+    the world's contact forces and the scale's grams under them in a world with fixtures)."""
     import rerun.blueprint as rrb
 
     def scope(origin: str, group: Group) -> object:
@@ -94,6 +104,7 @@ def blueprint() -> object:
                 scope("/scopes/motor_angle", MOTOR),
                 scope("/scopes/torque", TORQUE),
                 scope(DIGITAL_ENTITY, DIGITAL),
+                *([scope(WORLD_ENTITY, WORLD), scope(SCALE_ENTITY, SCALE)] if world else []),
             ),
             column_shares=[2, 3],
         ),
@@ -102,7 +113,7 @@ def blueprint() -> object:
     )
 
 
-def _load_rerun_and_arm(loaded: list[object]) -> None:
+def _load_rerun_and_arm(loaded: list[object], world: object | None = None) -> None:
     try:
         import numpy.ma  # noqa: F401 - rerun imports it on the first blueprint: a tenth of a second
         import rerun  # noqa: F401 - the slow import, done here
@@ -110,7 +121,7 @@ def _load_rerun_and_arm(loaded: list[object]) -> None:
 
         from crslab.scopes.arm3d import ArmModel
 
-        loaded.append(ArmModel())
+        loaded.append(ArmModel(world))
     except Exception as exc:  # noqa: BLE001 - re-raised where the data arrives
         loaded.append(exc)
 
@@ -142,12 +153,14 @@ class RerunSink(Sink):
     """
 
     def __init__(self, *, rrd_path: Path | None = None, spawn: bool = False, name: str = "crslab",
-                 on_status: Callable[[str], None] | None = None) -> None:
+                 on_status: Callable[[str], None] | None = None, world: World | None = None) -> None:
         if rrd_path is None and not spawn:
             raise ValueError("RerunSink needs an rrd_path, spawn=True or both")
         self.rrd_path = rrd_path
         self.spawn = spawn
         self.name = name
+        self.world = world if world is not None and not world.is_free_air else None
+        """The run's world, drawn with the arm (None: free air)."""
         self.on_status = on_status or (lambda line: print(line, file=sys.stderr))
         self.rec = None
         self.arm = None
@@ -162,10 +175,10 @@ class RerunSink(Sink):
         """Import rerun and read the arm's model in the background (call after the fork), or take
         what :func:`preload` started."""
         if self._loader is None:
-            if _preloads:
+            if _preloads and self.world is None:
                 self._loader, self._loaded = _preloads.pop()
                 return
-            self._loader = threading.Thread(target=_load_rerun_and_arm, args=(self._loaded,),
+            self._loader = threading.Thread(target=_load_rerun_and_arm, args=(self._loaded, self.world),
                                             name="crslab-rerun-import", daemon=True)
             self._loader.start()
 
@@ -183,7 +196,8 @@ class RerunSink(Sink):
         import rerun as rr
 
         self.rec, active = open_recording(rr, self.name, spawn=self.spawn, rrd_path=self.rrd_path,
-                                          on_status=self.on_status, prefix="--rerun: ", blueprint=blueprint())
+                                          on_status=self.on_status, prefix="--rerun: ",
+                                          blueprint=blueprint(self.world is not None))
         if not active:
             return
         self.arm = loaded
@@ -195,6 +209,9 @@ class RerunSink(Sink):
             rec.log(entity, rr.SeriesLines(names=names), static=True)
         rec.log(SIMULINK_ENTITY, rr.SeriesLines(names=SIMULINK_NAMES), static=True)
         rec.log(DIGITAL_ENTITY, rr.SeriesLines(names=DIGITAL_NAMES), static=True)
+        if self.world is not None:
+            rec.log(WORLD_ENTITY, rr.SeriesLines(names=WORLD_FORCE_NAMES), static=True)
+            rec.log(SCALE_ENTITY, rr.SeriesLines(names=["scale_g"]), static=True)
         rec.log(ARM_ENTITY, rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True)
         for body in self.arm.bodies:
             for kind in SHAPE_KINDS:
@@ -235,6 +252,11 @@ class RerunSink(Sink):
             rec.send_columns(entity, indexes=every, columns=rr.Scalars.columns(scalars=columns[key]))
         digital = np.stack([signal_values(columns, s) for s in DIGITAL_SIGNALS], axis=1).astype(np.float64)
         rec.send_columns(DIGITAL_ENTITY, indexes=every, columns=rr.Scalars.columns(scalars=digital))
+        if "egg_force" in columns:
+            forces = np.stack([signal_values(columns, s) for s in WORLD_FORCE_SIGNALS], axis=1)
+            rec.send_columns(WORLD_ENTITY, indexes=every, columns=rr.Scalars.columns(scalars=forces))
+            grams = rr.Scalars.columns(scalars=columns["scale_g"])
+            rec.send_columns(SCALE_ENTITY, indexes=every, columns=grams)
         sim_ticks, sim_values = simulink_samples(tick, columns["plot"])
         if len(sim_ticks):
             rec.send_columns(SIMULINK_ENTITY, indexes=[_time_column(sim_ticks)],
@@ -278,6 +300,9 @@ def _shapes(rr: object, kind: str, shapes: list) -> object:
     if kind == "cylinder":
         return rr.Cylinders3D(lengths=2 * size[:, 1], radii=size[:, 0], centers=pos, quaternions=quat,
                               colors=colors, labels=names, show_labels=False, fill_mode="Solid")
+    if kind == "ellipsoid":
+        return rr.Ellipsoids3D(half_sizes=size, centers=pos, quaternions=quat, colors=colors, labels=names,
+                               show_labels=False, fill_mode="Solid")
     if kind == "sphere":
         return rr.Ellipsoids3D(half_sizes=np.repeat(size[:, :1], 3, axis=1), centers=pos, colors=colors,
                                labels=names, show_labels=False, fill_mode="Solid")

@@ -188,14 +188,14 @@ class WriterSink(Sink):
     chunk's calls go down in one message after its :meth:`flush`."""
 
     def __init__(self, writer: WriterProcess, *, rrd_path: Path, name: str = "crslab",
-                 on_status: Callable[[str], None] | None = None) -> None:
+                 on_status: Callable[[str], None] | None = None, world: object | None = None) -> None:
         self.writer = writer
         self.rrd_path = rrd_path
         self.on_status = on_status or (lambda line: None)
         self._calls: list[tuple[str, tuple]] = []
         self._broken = False
         self._closed = False
-        self._send(("open", {"rrd_path": rrd_path, "name": name}))
+        self._send(("open", {"rrd_path": rrd_path, "name": name, "world": world}))
 
     def _send(self, message: tuple) -> None:
         if self._broken:

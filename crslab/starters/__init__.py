@@ -24,7 +24,8 @@ from crslab._core import lib
 from crslab.generations import named
 
 LABS = {"lab1": "Lab 1 (kinematics)", "lab2": "Lab 2 (PD control)", "lab3": "Lab 3 (friction compensation)",
-        "lab4": "Lab 4 (task-space control)"}
+        "lab4": "Lab 4 (task-space control)",
+        "final": "the final project (the contest: peg, obstacle, groove, egg)"}
 
 _BY_TRIGGER = {  # print trigger -> what the file declares, how lab() asks to print, its main()
     lib.CRS_PRINT_SWI_POST: ("", "SWI_post(&SWI_printf);   /* printing() runs once, after lab() returns */",
@@ -37,7 +38,7 @@ _BY_TRIGGER = {  # print trigger -> what the file declares, how lab() asks to pr
 
 
 def starter_text(lab: str, generation: str) -> str:
-    """The starting file of ``lab`` (``lab1`` .. ``lab4``) for the generation named ``generation``
+    """The starting file of ``lab`` (``lab1`` .. ``lab4``, ``final``) for the generation named ``generation``
     (``A``, ``B``: :class:`crslab.generations.UnknownGeneration` for another)."""
     if lab not in LABS:
         raise ValueError(f"no such lab {lab!r}: one of {', '.join(LABS)}")

@@ -13,13 +13,13 @@ from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.lab.source import LabSource
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.transcript import split_lines
-from crslab.sim.config import SimConfig
 from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, SimError, Simulation
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.memory import MemorySink
 from crslab.sweep import variations
 from crslab.sweep.metrics import METRIC_NAMES, run_metrics
 from crslab.sweep.variations import Vary
+from crslab.worker.config import SimConfig
 
 Row = dict[str, object]
 """One table row: column name to value (int, float, bool or str)."""

@@ -40,7 +40,7 @@ from crslab.scenario.event import Event, rng_state
 from crslab.scenario.fault_events import EncoderNoise
 from crslab.scenario.lab_events import SetVariable
 from crslab.scenario.plant_events import EndMass
-from crslab.sim.config import SimConfig
+from crslab.worker.config import SimConfig
 
 PLANT_NAMES: dict[str, str] = {
     "friction": "friction of every motor, times the identified",

@@ -1,6 +1,6 @@
 /* The framework's stand-ins that a lab file links against, and the firmware's entry points
  * (firmware.h): what the course framework does around lab() on the real board, inside the firmware.
- * The board (csrc/sim) does the rest: encoders, safety envelope, hold controller, clamp, motor
+ * The board (csrc/board) does the rest: encoders, safety envelope, hold controller, clamp, motor
  * board, serial line, timer. */
 #include "firmware.h"
 
@@ -8,9 +8,9 @@
 
 #include "DSP2833x_Device.h"
 #include "coecsl.h"
+#include "firmware_board.h"
 #include "framework_facts.h"
 #include "generations.h"
-#include "sim.h"
 
 /* ---- the lab file's symbols (weak: a lab may lack some) ----------------------------------- */
 extern void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2,
@@ -32,7 +32,7 @@ volatile unsigned int IFR, IER; /* named by labs (IER |= M_INT1); nothing reads 
 /* What Simulink sends down to the board: seven int16 values, which the course framework keeps in
  * these globals (the names of its Gen B serial code). A lab reads them by declaring
  * `extern int SIMU_Var1_fromSIMU_16bit;`; the board writes them when a Simulink packet arrives
- * (csrc/sim/simulink_link.c) and a scenario between ticks. On the DSP `int` is 16 bits, so the
+ * (csrc/board/simulink_link.c) and a scenario between ticks. On the DSP `int` is 16 bits, so the
  * values stay in int16 range. Weak, so a lab file that defines one of these names keeps its own. */
 __attribute__((weak)) int SIMU_Var1_fromSIMU_16bit = 0;
 __attribute__((weak)) int SIMU_Var2_fromSIMU_16bit = 0;
@@ -42,12 +42,12 @@ __attribute__((weak)) int SIMU_Var5_fromSIMU_16bit = 0;
 __attribute__((weak)) int SIMU_Var6_fromSIMU_16bit = 0;
 __attribute__((weak)) int SIMU_Var7_fromSIMU_16bit = 0;
 
-/* Gen A's framework variable in .my_vars, set to 1.0 by every MATLAB read (csrc/sim/matlab_link.c)
+/* Gen A's framework variable in .my_vars, set to 1.0 by every MATLAB read (csrc/board/matlab_link.c)
  * and used by nothing else. Weak: a lab that defines the name keeps its own. */
 __attribute__((weak)) float matlabLock = 0.0f;
 
 #if defined(__wasm32__)
-/* the board reads the table as 32-bit words (csrc/sim/firmware_wasm.c) */
+/* the board reads the table as 32-bit words (csrc/board/firmware_wasm.c) */
 _Static_assert(sizeof(crs_fw_table) == 18 * 4, "crs_fw_table is 18 words in WebAssembly");
 #endif
 

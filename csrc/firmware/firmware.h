@@ -2,10 +2,10 @@
  * lab is linked with the framework into the image the F28335 runs.
  *
  * crslab's default build compiles the firmware to a WebAssembly module (crslab/lab/firmware.py)
- * that the board (csrc/sim, run by crslab's worker) instantiates with wasmtime: the firmware
+ * that the board (csrc/board, run by crslab's worker) instantiates with wasmtime: the firmware
  * computes on its own memory and reaches the board only through the imports below. A native build
  * (crslab debug, --sanitize, --native) links the same firmware into one shared object with the
- * board (csrc/sim/firmware_native.c).
+ * board (csrc/board/firmware_native.c).
  *
  * Every address here is an address in the firmware's own memory. Nothing the board trusts lives
  * there: the board reads the firmware's variables as data, within the firmware's memory. */
@@ -22,7 +22,7 @@
 #define CRS_FW_IMPORT(name)
 /* The lab stopped on a check the WebAssembly build compiles into it (crslab/lab/firmware.py:
  * a NULL pointer dereferenced, an integer division by zero): `kind` is CRS_FW_TRAP_NULL,
- * CRS_FW_TRAP_DIVIDE or CRS_FW_TRAP_OVERFLOW (csrc/sim/sim.h), `line` the lab file's line. The board
+ * CRS_FW_TRAP_DIVIDE or CRS_FW_TRAP_OVERFLOW (csrc/port/firmware_board.h), `line` the lab file's line. The board
  * ends the run; the call does not return. */
 void crs_board_fault(int32_t kind, int32_t line) CRS_FW_IMPORT(fault);
 
@@ -39,13 +39,13 @@ typedef struct {
                                          then GPB's) */
     uintptr_t simulink_input[CRS_FW_SIMULINK_INPUTS]; /* int: SIMU_Var1..7_fromSIMU_16bit */
     uintptr_t matlab_lock;            /* float: Gen A's matlabLock */
-    int32_t symbols;                  /* CRS_LAB_HAS_* (csrc/sim/sim.h) of what the lab defines */
+    int32_t symbols;                  /* CRS_LAB_HAS_* (csrc/port/firmware_board.h) of what the lab defines */
     int32_t pad;
 } crs_fw_table;
 
 /* ---- exports: what the board calls ------------------------------------------------------- */
 
-/* Once, before the first tick: the framework generation (a row's id, csrc/sim/generations.c)
+/* Once, before the first tick: the framework generation (a row's id, csrc/port/generations.c)
  * decides how serial_printf formats and what asks for printing(); returns the table above, or NULL
  * when no row has that id or its row cannot run (crs_generation_problem). */
 const crs_fw_table *crs_fw_start(int32_t generation) CRS_FW_EXPORT(crs_fw_start);
@@ -75,7 +75,7 @@ int32_t crs_board_serial_send(int32_t port, const char *chars, uint32_t formatte
 
 /* The lab stopped on a check the WebAssembly build compiles into it (crslab/lab/firmware.py:
  * a NULL pointer dereferenced, an integer division by zero): `kind` is CRS_FW_TRAP_NULL,
- * CRS_FW_TRAP_DIVIDE or CRS_FW_TRAP_OVERFLOW (csrc/sim/sim.h), `line` the lab file's line. The board
+ * CRS_FW_TRAP_DIVIDE or CRS_FW_TRAP_OVERFLOW (csrc/port/firmware_board.h), `line` the lab file's line. The board
  * ends the run; the call does not return. */
 void crs_board_fault(int32_t kind, int32_t line) CRS_FW_IMPORT(fault);
 

@@ -1,6 +1,6 @@
 /* How serial_printf turns a format and its arguments into characters, in each of the two ways
  * the framework's generations do (docs/framework.md section 7; a generation's row names its
- * formatter, csrc/sim/generations.c). Internal to the firmware; not read by cffi.
+ * formatter, csrc/port/generations.c). Internal to the firmware; not read by cffi.
  *
  * Both take their arguments as a C28x would have passed them: `int` is 16 bits, `long` 32 bits,
  * and `float` and `double` are both 32-bit floats, so a float argument (promoted to double by
@@ -35,7 +35,7 @@ size_t crs_format_small(char *out, size_t cap, const char *fmt, va_list ap);
 size_t crs_format_ti(char *out, size_t cap, const char *fmt, va_list ap);
 
 typedef size_t (*crs_format_fn)(char *out, size_t cap, const char *fmt, va_list ap);
-/* The formatter of kind `formatter` (CRS_FORMATTER_*, csrc/sim/generations.h), or NULL. */
+/* The formatter of kind `formatter` (CRS_FORMATTER_*, csrc/port/generations.h), or NULL. */
 crs_format_fn crs_format_of(int32_t formatter);
 
 #endif

@@ -1,5 +1,5 @@
 /* The sandboxed worker's SIGSYS handler (see trap.c). Read by cffi (ABI mode) together with
- * csrc/sim/sim.h: plain declarations only. */
+ * csrc/board/sim.h: plain declarations only. */
 #ifndef CRSLAB_TRAP_H
 #define CRSLAB_TRAP_H
 

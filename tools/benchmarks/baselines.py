@@ -31,8 +31,8 @@ from mujoco import rollout
 
 from crslab.plant.model import SCENE_XML, load_model
 from crslab.plant.mujoco_c import stop_stage_timers
-from crslab.sim.config import SimConfig
 from crslab.sim.inprocess import InProcessRun
+from crslab.worker.config import SimConfig
 
 HARNESS_C = Path(__file__).resolve().parent / "bare_mj_step.c"
 MODEL_XML = SCENE_XML
@@ -108,9 +108,10 @@ class BareRun:
     cpu_s: list[float]        # the process's CPU time during each pass's loop
 
 
-def run_bare_loop(exe: Path, controls: Path, passes: int = 2) -> BareRun:
-    """Run the bare loop over a saved recording ``passes`` times in one process."""
-    r = subprocess.run([str(exe), str(MODEL_XML), str(controls), str(passes)], capture_output=True,
+def run_bare_loop(exe: Path, controls: Path, passes: int = 2, model_xml: Path = MODEL_XML) -> BareRun:
+    """Run the bare loop over a saved recording ``passes`` times in one process, on ``model_xml``
+    (default: the arm's own scene; a world's scene for a run in that world)."""
+    r = subprocess.run([str(exe), str(model_xml), str(controls), str(passes)], capture_output=True,
                        text=True, check=False)
     if r.returncode != 0:
         raise RuntimeError(f"bare_mj_step failed: {r.stderr.strip()}")

@@ -14,7 +14,7 @@ import sys
 import time
 
 from crslab.host_tools.ports import PtyPort
-from crslab.host_tools.protocols import read_request, simulink_packet
+from crslab.host_tools.serial_protocols import read_request, simulink_packet
 from crslab.live.bridge import SerialBridge
 from crslab.sim.api import make_config
 from crslab.sim.session import Simulation

@@ -22,8 +22,8 @@ from pathlib import Path
 
 from crslab.lab.build import DEFAULT_LAB, build_lab
 from crslab.sim.api import make_config
-from crslab.sim.board_ffi import board_ffi, shared_size
 from crslab.sim.session import Simulation
+from crslab.worker.board_ffi import board_ffi, shared_size
 
 REPEATS = 5
 TICKS = 100_000
@@ -51,7 +51,7 @@ def load_s(config) -> float:
     """Seconds a forked worker takes to enter the sandbox (if on) and load the lab."""
     read, write = os.pipe()
     pid = os.fork()
-    if pid == 0:  # the worker's last steps before its first tick, as crslab.sim.worker does them
+    if pid == 0:  # the worker's last steps before its first tick, as crslab.worker.worker does them
         os.close(read)
         ffi = board_ffi()
         block = ffi.cast("crs_shared *", ffi.from_buffer(mmap.mmap(-1, shared_size())))

@@ -9,6 +9,7 @@ taken in new processes too, one run of each kind per process, and both sides sam
 layouts.
 
     python sim_rates.py   # prints {"wasm": [wall, cpu], "native": [wall, cpu]} (ticks/s)
+    python sim_rates.py WORLD SCENARIO   # the same for the default lab on SCENARIO in WORLD
 """
 
 from __future__ import annotations
@@ -44,7 +45,11 @@ def sim_rate(config, ticks: int) -> tuple[float, float | None]:
 
 
 def main() -> None:
-    wasm, native = make_config(), make_config(native=True)
+    import sys
+
+    world, scenario = (sys.argv[1], sys.argv[2]) if len(sys.argv) == 3 else (None, None)
+    wasm = make_config(None, scenario, world=world)
+    native = make_config(None, scenario, world=world, native=True)
     ticks = wasm.scenario.end_tick
     print(json.dumps({"wasm": sim_rate(wasm, ticks), "native": sim_rate(native, ticks)}))
 

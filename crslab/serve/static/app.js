@@ -1,5 +1,5 @@
 // crslab serve: the page. Logs in, holds the lab in a CodeMirror editor, talks to the server over one
-// WebSocket (crslab/serve/protocol.py), and plays what a run streams at the time the board sent it:
+// WebSocket (crslab/serve/page_messages.py), and plays what a run streams at the time the board sent it:
 // Tera Term (xterm.js), the arm in 3D, the scopes, the watched variables.
 "use strict";
 
@@ -127,6 +127,7 @@
       no_startup_delay: $("no-startup-delay").checked,
       duration: duration > 0 ? duration : null,
       record: { csv: $("record-csv").checked, rrd: $("record-rrd").checked },
+      world: $("world").value || "none",
     };
   }
   function run() {
@@ -311,8 +312,12 @@
     for (const [name, title] of Object.entries(me.generations)) {
       $("gen-choice").appendChild(Object.assign(document.createElement("option"), { value: name, textContent: title }));
     }
-    const [scenarios, shapes] = await Promise.all([fetch("/api/scenarios").then((r) => r.json()),
-      fetch("/api/arm").then((r) => r.json())]);
+    const [scenarios, shapes, worlds] = await Promise.all([fetch("/api/scenarios").then((r) => r.json()),
+      fetch("/api/arm").then((r) => r.json()), fetch("/api/worlds").then((r) => r.json())]);
+    for (const w of worlds) {
+      $("world").appendChild(Object.assign(document.createElement("option"),
+        { value: w.name, textContent: w.name, title: w.description }));
+    }
     for (const s of scenarios) {
       $("scenario").appendChild(Object.assign(document.createElement("option"),
         { value: s.name, textContent: `${s.name} (${s.end_s} s)`, title: s.description }));
@@ -326,14 +331,26 @@
     state.term = new V.Terminal({ convertEol: false, scrollback: 5000, fontSize: 13, rows: 14 });
     state.term.open($("xterm"));
     state.scopes = new window.CrsScopes.Scopes($("scopes"));
-    try {
-      state.arm = new window.CrsArm.ArmView($("arm-view"), shapes, (hand) => {
-        if (!state.running) return;
-        send(hand ? { type: "hand", ...hand } : { type: "release" });
-      });
-    } catch (e) {
-      $("arm-view").textContent = `no 3D view in this browser (${e.message})`;
-    }
+    const showArm = (armShapes) => {
+      try {
+        if (state.arm) state.arm.dispose();
+        state.arm = new window.CrsArm.ArmView($("arm-view"), armShapes, (hand) => {
+          if (!state.running) return;
+          send(hand ? { type: "hand", ...hand } : { type: "release" });
+        });
+        state.arm.onWorld = (force, grams, broken) => {  // the egg's force, as the scale shows it
+          $("world-readout").textContent =
+            `egg ${force.toFixed(2)} N · scale ${grams.toFixed(0)} g${broken ? " · the egg is broken" : ""}`;
+        };
+        $("world-readout").textContent = "";
+      } catch (e) {
+        $("arm-view").textContent = `no 3D view in this browser (${e.message})`;
+      }
+    };
+    showArm(shapes);
+    $("world").onchange = async () => {  // the 3D view draws the chosen world's fixtures
+      showArm(await fetch(`/api/arm?world=${encodeURIComponent($("world").value)}`).then((r) => r.json()));
+    };
     wire();
     connect();
     requestAnimationFrame(frameLoop);

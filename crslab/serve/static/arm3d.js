@@ -42,11 +42,13 @@ window.CrsArm = (function () {
         frame = new T.Group();
         frame.position.set(-body.joint.anchor[0], -body.joint.anchor[1], -body.joint.anchor[2]);
         hinge.add(frame);
-        this.joints.push({ hinge, axis: new T.Vector3(...body.joint.axis), q: body.joint.q });
+        this.joints.push({ hinge, axis: new T.Vector3(...body.joint.axis), q: body.joint.q,
+          minusSum: body.joint.minus_sum || null });
       }
       frame.userData.body = body.name;
       for (const s of body.shapes) {
         const mesh = new T.Mesh(this.geometry(s), this.material(s.rgba));
+        if (s.name === "egg") this.egg = { mesh, z: s.pos[2], half: s.size[2] };
         mesh.position.set(...s.pos);
         mesh.quaternion.set(...s.quat);
         mesh.userData.body = body.name;
@@ -70,6 +72,7 @@ window.CrsArm = (function () {
     if (s.kind === "capsule") g = new T.CapsuleGeometry(s.size[0], 2 * s.size[1], 6, 16);
     else if (s.kind === "cylinder") g = new T.CylinderGeometry(s.size[0], s.size[0], 2 * s.size[1], 24);
     else if (s.kind === "sphere") return new T.SphereGeometry(s.size[0], 24, 16);
+    else if (s.kind === "ellipsoid") return new T.SphereGeometry(1, 24, 16).scale(s.size[0], s.size[1], s.size[2]);
     else return new T.BoxGeometry(2 * s.size[0], 2 * s.size[1], 2 * s.size[2]);
     g.rotateX(Math.PI / 2); // three's capsules and cylinders lie along y, MuJoCo's along z
     return g;
@@ -83,7 +86,14 @@ window.CrsArm = (function () {
     return m;
   };
 
+  ArmView.prototype.dispose = function () {
+    this.renderer.dispose();
+    this.renderer.domElement.remove();
+    this.disposed = true;
+  };
+
   ArmView.prototype.resize = function () {
+    if (this.disposed) return;
     const w = this.host.clientWidth || 400, h = this.host.clientHeight || 300;
     this.renderer.setSize(w, h);
     this.camera.aspect = w / h;
@@ -91,9 +101,18 @@ window.CrsArm = (function () {
     this.dirty = true;
   };
 
-  // One frame: [tick, 3 DH angles (rad), 3 motor angles, safety flag, motor board off].
+  // One frame: [tick, 3 DH angles (rad), 3 motor angles, safety flag, motor board off]; in a world with
+  // fixtures also [the egg's force (N), the scale (g), the egg broken (0/1)].
   ArmView.prototype.pose = function (frame) {
-    for (const j of this.joints) j.hinge.quaternion.setFromAxisAngle(j.axis, frame[1 + j.q]);
+    for (const j of this.joints) {
+      const angle = j.minusSum ? -(frame[1 + j.minusSum[0]] + frame[1 + j.minusSum[1]]) : frame[1 + j.q];
+      j.hinge.quaternion.setFromAxisAngle(j.axis, angle);
+    }
+    if (this.egg && frame.length > 11) { // a broken egg lies flat on the scale
+      this.egg.mesh.scale.set(1, 1, frame[11] ? 0.2 : 1);
+      this.egg.mesh.position.z = frame[11] ? this.egg.z - 0.8 * this.egg.half : this.egg.z;
+    }
+    if (frame.length > 11 && this.onWorld) this.onWorld(frame[9], frame[10], frame[11]);
     const tint = frame[8] ? [0.55, 0.55, 0.55] : frame[7] ? [1.0, 0.35, 0.3] : null;
     for (const m of this.materials) {
       m.color.copy(m.userData.base);

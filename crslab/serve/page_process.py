@@ -1,0 +1,365 @@
+"""One page's session: a process of its own that builds and runs the page's labs.
+
+The server starts it from a single-threaded fork server with crslab already imported (as
+``crslab grade`` starts its jobs), so it may fork each run's sandboxed worker safely and run the
+sandboxed compiler; a crash in it touches no other session. It speaks to the server over one
+pipe: the server's checked messages in (:mod:`crslab.serve.page_messages`), messages for the page out,
+each prefixed with one byte saying what the server should note (:data:`FORWARD`,
+:data:`RUN_STARTED`, :data:`RUN_ENDED`).
+
+Every run is ``crslab sim``'s: the same :func:`crslab.sim.api.make_config` (the lab built in the
+compile sandbox, the scenario loaded and checked against it), the same
+:class:`~crslab.sim.session.Simulation` and worker in the run sandbox, its transcript written by
+the same :class:`~crslab.sinks.transcript_file.TranscriptSink`, the CSV and the rerun recording
+by the same sinks as ``--csv`` and ``--rrd`` (in a recorder process, :mod:`crslab.serve.recorder`:
+this process stays single-threaded, so it may fork the next run's worker safely). Only the pacing
+is the page's (:class:`~crslab.serve.stream.PageControl`), so the bytes are the same at any speed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import shutil
+import signal
+from multiprocessing.connection import Connection
+from pathlib import Path
+
+from crslab import os_support
+from crslab.lab.build import LabBuildError, LabForbidden, build_lab
+from crslab.live.console import VarConsole
+from crslab.plant.plant_params import PlantParamsError
+from crslab.scenario.event import seconds_to_tick
+from crslab.scenario.load import ScenarioError
+from crslab.serve.page_messages import compile_diagnostics
+from crslab.serve.page_text import SESSION_SUBFOLDERS, PageText
+from crslab.serve.recorder import RecorderSink
+from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
+from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
+from crslab.sim.session import DEFAULT_DEADLINE_S, Limits, SimError, Simulation
+from crslab.sim.status import RunResult, RunStatus
+from crslab.sinks.sink import FanOut, SinkError
+from crslab.sinks.transcript_file import TranscriptSink
+
+FORWARD = b"F"
+"""The message is for the page only."""
+RUN_STARTED = b"R"
+"""For the page; the server notes that a run is going on."""
+RUN_ENDED = b"E"
+"""For the page; the server notes that the run is over."""
+BAD_INPUT = "bad-input"
+"""An ``ended`` status beside the run statuses: the scenario (or another input) could not be used."""
+DOWNLOADS = {"transcript": "transcript.txt", "csv": "run.csv", "rrd": "run.rrd"}
+"""The files of the last run a page may download, by kind."""
+
+
+@dataclasses.dataclass(frozen=True)
+class SessionLimits:
+    """What one run may take: simulated seconds, the worker's memory and CPU time, printed bytes."""
+
+    max_run_s: float = 600.0
+    memory_mb: int | None = 1024
+    cpu_s: float | None = None
+    output_mb: float = 16.0
+    sandboxed: bool = True
+
+
+class Session:
+    """The page's session: its folder (lab, scenario and golden files, the last run's outputs)."""
+
+    def __init__(self, conn: Connection, folder: Path, limits: SessionLimits) -> None:
+        self.conn = conn
+        self.folder = folder
+        self.limits = limits
+        self._arm: ArmPoses | None = None
+        for sub in SESSION_SUBFOLDERS:
+            (folder / sub).mkdir(parents=True, exist_ok=True)
+        self.page_text = PageText(folder)
+
+    def send(self, data: bytes, tag: bytes = FORWARD) -> None:
+        """A message for the page (``tag``: what the server should note), naming files as the page
+        named them and no server path (:mod:`crslab.serve.page_text`)."""
+        self.conn.send_bytes(tag + self.page_text.message(data))
+
+    @property
+    def arm(self) -> ArmPoses:
+        if self._arm is None:
+            self._arm = ArmPoses()
+        return self._arm
+
+    # -- files the page sent ----------------------------------------------------------------
+    def _write(self, sub: str, file: dict) -> Path:
+        folder = self.folder / sub
+        for old in folder.iterdir():  # one file at a time: a lab's folder holds only the lab
+            old.unlink()
+        path = folder / file["name"]
+        path.write_text(file["text"], encoding="utf-8")
+        return path
+
+    def _write_lab(self, lab: dict) -> Path:
+        """The page's lab written to the session's lab folder; returns its path relative to that
+        folder, the process's working directory (:func:`serve_session`): built from there, the
+        firmware names no session's folder, so every session running the same text shares one
+        build (the compiler's and wasmtime's) instead of compiling it again."""
+        path = self._write("lab", lab)
+        return path.relative_to(Path.cwd()) if path.parent == Path.cwd() else path
+
+    def build(self, lab: dict, tag: bytes = FORWARD) -> Path | None:
+        """Compile the page's lab and send ``built`` (tagged ``tag``: :data:`RUN_ENDED` when the
+        build was the page's whole request); its path when it built."""
+        path = self._write_lab(lab)
+        try:
+            build = build_lab(path, sandboxed=self.limits.sandboxed)
+        except LabBuildError as exc:
+            self.send(
+                message(
+                    "built",
+                    ok=False,
+                    message=str(exc),
+                    forbidden=isinstance(exc, LabForbidden),
+                    diagnostics=compile_diagnostics(exc.diagnostics, path.name),
+                    compiler_output=exc.diagnostics[-20_000:],
+                ),
+                tag,
+            )
+            return None
+        watched = [{"name": v.name, "ctype": v.ctype, "length": v.length} for v in build.watched]
+        self.send(
+            message(
+                "built",
+                ok=True,
+                message=f"{path.name} compiled",
+                diagnostics=[],
+                watched=watched,
+                generation=build.generation.name,
+            ),
+            tag,
+        )
+        return path
+
+    def _ended(self, status: RunStatus, message_text: str, **fields: object) -> None:
+        self.send(
+            message(
+                "ended", status=status.value, exit_status=status.exit_status, message=message_text, **fields
+            ),
+            RUN_ENDED,
+        )
+
+    # -- a run ------------------------------------------------------------------------------
+    def run(self, msg: dict) -> None:
+        """Build and run the page's lab, streaming it; ``ended`` comes last, whatever happens."""
+        for kind in DOWNLOADS.values():
+            (self.folder / "out" / kind).unlink(missing_ok=True)
+        path = self.build(msg["lab"])
+        if path is None:
+            self._ended(RunStatus.BUILD_ERROR, f"{msg['lab']['name']} does not compile: see the marked lines")
+            return
+        scenario = msg["scenario"]
+        scenario_arg = (
+            scenario["name"] if "name" in scenario else str(self._write("scenario", scenario["file"]))
+        )
+        rest = (DEFAULT_REST_MOTOR_RAD[0], *msg["offsets"]) if msg["offsets"] else None
+        record = msg["record"]
+        try:
+            config = make_config(
+                path,
+                scenario_arg,
+                startup_delay=not msg["no_startup_delay"],
+                rest_motor_rad=rest,
+                log=True,
+                sandbox=self.limits.sandboxed,
+                world=msg["world"],
+            )
+        except (LabBuildError, ScenarioError, PlantParamsError, ValueError) as exc:
+            # what crslab sim turns into one line and exit status 2 (bad input): nothing ran
+            line = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            ended = message("ended", status=BAD_INPUT, exit_status=2, bad_input=True, message=line)
+            self.send(ended, RUN_ENDED)
+            return
+        end_tick = seconds_to_tick(msg["duration"]) if msg["duration"] else config.scenario.end_tick
+        notes = []
+        if end_tick > seconds_to_tick(self.limits.max_run_s):
+            end_tick = seconds_to_tick(self.limits.max_run_s)
+            notes.append(f"this server runs a lab for at most {self.limits.max_run_s:g} s of simulated time")
+        out_dir = self.folder / "out"
+        out = FanOut()
+        stream = BrowserStream(self.send, self.arm, world=not config.world.is_free_air)
+        out.add(stream)
+        out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
+        console = VarConsole(config.build.watched)
+        control = PageControl(self.conn, self.send, stream, console, msg["speed"], self._busy,
+                              phase=msg.get("phase", 0.0))
+        limits = Limits(
+            memory_mb=self.limits.memory_mb,
+            cpu_s=self.limits.cpu_s,
+            output_bytes=int(self.limits.output_mb * 1e6),
+        )
+        if record["csv"] or record["rrd"]:  # forked now, while this process runs no other thread
+            out.add(RecorderSink(out_dir / DOWNLOADS["csv"] if record["csv"] else None,
+                                 out_dir / DOWNLOADS["rrd"] if record["rrd"] else None, path.name,
+                                 config.world))
+        result: RunResult | None = None
+        try:
+            with Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits) as sim:
+                if not sim.defines_lab:
+                    self._ended(RunStatus.NO_LAB, f"{path.name} defines no lab() function")
+                    return
+                events = [{"tick": e.tick, "text": e.describe()} for e in config.scenario.events]
+                control.start()
+                self.send(
+                    message(
+                        "started",
+                        end_tick=end_tick,
+                        scenario=config.scenario.name,
+                        speed=msg["speed"],
+                        events=events,
+                        notes=notes,
+                        due_monotonic=control.origin,
+                        watched=[v.name for v in config.build.watched],
+                    ),
+                    RUN_STARTED,
+                )
+                result = sim.run(
+                    end_tick,
+                    out,
+                    speed=None,
+                    controls=[control],
+                )
+        except SimError as exc:
+            result = RunResult(exc.status, 0, str(exc))
+        finally:
+            try:
+                out.close()
+            except SinkError as exc:
+                notes.append(str(exc))
+        if result.status is RunStatus.INTERRUPTED:
+            result = dataclasses.replace(result, message=f"stopped at t = {result.end_tick / 1000:.3f} s")
+        failed = [line for e in result.failed_expectations for line in e.lines()]
+        downloads = [kind for kind, name in DOWNLOADS.items() if (out_dir / name).exists()]
+        self._ended(
+            result.status,
+            result.message,
+            end_tick=result.end_tick,
+            failed_expectations=failed,
+            notes=notes,
+            downloads=downloads,
+        )
+
+    def _busy(self, msg: dict) -> None:
+        self.send(message("error", message=f"{msg.get('type')}: a run is going on; stop it first"))
+
+    # -- check against a golden file --------------------------------------------------------
+    def check(self, msg: dict) -> None:
+        """Run the page's lab as ``crslab check`` does and send ``checked``."""
+        from crslab.regress.compare import compare
+        from crslab.regress.runner import run_lab
+        from crslab.regress.transcript import GoldenError, read_golden, recorded_run, split_lines
+        from crslab.world.layout import WORLD_NAMES
+
+        lab = self._write_lab(msg["lab"])
+        golden_path = self._write("golden", msg["golden"])
+        try:
+            golden = read_golden(golden_path)
+            self._check_scenario(golden.header.get("scenario"), golden_path.name)
+            run = recorded_run(golden, [self.folder / "scenario"])
+            if run.plant is not None:
+                raise GoldenError(
+                    f"{golden_path.name} was recorded with plant file {run.plant}, which the "
+                    "page cannot send; check it with crslab check"
+                )
+            if run.world is not None and run.world not in WORLD_NAMES:
+                raise GoldenError(
+                    f"{golden_path.name} was recorded in world file {run.world}, which the page cannot "
+                    "send; check it with crslab check"
+                )
+            config = make_config(
+                lab,
+                run.scenario,
+                startup_delay=run.startup_delay is not False,
+                rest_motor_rad=run.rest_motor_rad,
+                motor_board=run.motor_board,
+                sandbox=self.limits.sandboxed,
+                world=run.world,
+            )
+            end_tick = seconds_to_tick(run.duration_s) if run.duration_s else config.scenario.end_tick
+            end_tick = min(end_tick, seconds_to_tick(self.limits.max_run_s))
+            result = run_lab(config, end_tick, limits=Limits(memory_mb=self.limits.memory_mb))
+        except (GoldenError, LabBuildError, ScenarioError, ValueError, SimError) as exc:
+            self.send(message("checked", ok=False, report=str(exc)), RUN_ENDED)
+            return
+        comparison = compare(split_lines(golden.body), split_lines(result.transcript, result.calls))
+        report = comparison.report()
+        if not result.ok:
+            report = f"{result.diagnosis()}\n{report}"
+        self.send(message("checked", ok=comparison.ok and result.ok, report=report), RUN_ENDED)
+
+
+    def _check_scenario(self, named: str | None, golden: str) -> None:
+        """Whether the page may run the scenario a golden file's header names: a built-in one or
+        the one uploaded into this session (by its file name); anything else (a server path) is
+        refused with one line that says nothing of what is there (raises ``GoldenError``)."""
+        from crslab.regress.transcript import GoldenError
+        from crslab.scenario.load import builtin_names
+
+        if not named or named in builtin_names():
+            return
+        uploaded = self.folder / "scenario"
+        if "/" not in named and named not in (".", "..") and (uploaded / named).is_file():
+            return
+        raise GoldenError(
+            f"{golden}: its scenario is neither a built-in scenario nor the scenario file uploaded into "
+            "this page (Run with it first); the page runs no other"
+        )
+
+
+def _terminated(signum: int, frame: object) -> None:
+    """SIGTERM (the server closing the session: the page went): unwind whatever runs, so a build's
+    compiler group and a run's worker are ended on the way out."""
+    raise SystemExit(0)
+
+
+def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
+    """The session process's body: carry out the server's messages until it closes the pipe."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the server's to handle
+    signal.signal(signal.SIGTERM, _terminated)
+    os_support.die_with_parent()
+    session = Session(conn, Path(folder), limits)
+    os.chdir(session.folder / "lab")  # the page's lab is built by its name alone (Session._write_lab)
+    try:
+        while True:
+            try:
+                msg = conn.recv()
+            except (EOFError, OSError):
+                break
+            kind = msg["type"]
+            try:
+                if kind == "build":
+                    session.build(msg["lab"], RUN_ENDED)
+                elif kind == "run":
+                    session.run(msg)
+                elif kind == "check":
+                    session.check(msg)
+                elif kind in ("stop", "speed", "hand", "release"):
+                    pass  # nothing runs: nothing to stop, pace or push
+                elif kind == "vars":
+                    session.send(
+                        message("vars", ok=False, cmd=msg["cmd"], reply="no run is going on: Run first")
+                    )
+            except Stopped:  # a stop that arrived between two chunks of nothing
+                pass
+            except (BrokenPipeError, EOFError):
+                break
+            except Exception as exc:  # noqa: BLE001 - a crslab bug: one line for the page, the session goes on
+                import traceback
+
+                traceback.print_exc()
+                text = f"crslab failed: {type(exc).__name__}: {exc}"
+                if kind in ("run", "check"):
+                    session.send(message("ended", status="crashed", exit_status=3, message=text), RUN_ENDED)
+                elif kind == "build":
+                    session.send(message("built", ok=False, message=text, diagnostics=[]), RUN_ENDED)
+                else:
+                    session.send(message("error", message=text))
+    finally:
+        shutil.rmtree(folder, ignore_errors=True)
+        os._exit(0)

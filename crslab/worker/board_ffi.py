@@ -1,0 +1,57 @@
+"""cffi declarations of the emulated board (csrc/board/sim.h), for the native worker and the reader,
+and its constants (phases, run codes, lab-symbol bits, trap kinds), so Python never writes them
+again.
+
+ABI mode: a native worker dlopens its lab's shared object (the board linked with the firmware) with
+these declarations and the native port's (firmware_native.h); the crslab process uses the same
+declarations, without loading any lab code, to read the shared-memory block. A WebAssembly worker
+uses crslab._core, which holds the board itself (API mode, from the same headers).
+"""
+
+from __future__ import annotations
+
+from functools import cache
+from typing import Any
+
+from cffi import FFI
+
+from crslab import resources
+from crslab.cheaders import cdef_from_header
+
+BOARD_HEADERS = ("port/firmware_board.h", "plant/world.h", "board/sim.h")
+"""sim.h and the port's header it includes (cffi reads no #include), under csrc/."""
+
+
+@cache
+def board_ffi() -> FFI:
+    """The FFI holding every declaration of sim.h."""
+    ffi = FFI()
+    for header in BOARD_HEADERS:
+        ffi.cdef(cdef_from_header(resources.path("csrc", *header.split("/")).read_text()))
+    return ffi
+
+
+@cache
+def native_board_ffi() -> FFI:
+    """sim.h's declarations, the debugger's (debug.h) and the native firmware port's
+    (crs_fw_native_attach): a native lab's shared object holds all of them."""
+    ffi = FFI()
+    for header in (*BOARD_HEADERS, "board/debug.h", "board/firmware_native.h"):
+        ffi.cdef(cdef_from_header(resources.path("csrc", *header.split("/")).read_text()))
+    return ffi
+
+
+def shared_size() -> int:
+    """Bytes of the shared block (``crs_shared``)."""
+    return board_ffi().sizeof("crs_shared")
+
+
+@cache
+def board_constants() -> Any:
+    """sim.h's constants as attributes (``CRS_PHASE_LAB``, ``CRS_RUN_NAN_STRICT``,
+    ``CRS_LAB_HAS_LAB``...), without loading any lab code.
+
+    >>> board_constants().CRS_PHASE_PRINTING
+    2
+    """
+    return board_ffi().dlopen(None)

@@ -1,0 +1,72 @@
+"""wasmtime, which runs a lab's WebAssembly firmware inside the worker: where its C library is (the
+PyPI package ``wasmtime`` ships it; crslab._core loads it by path, csrc/board/wasmtime_api.h), and the
+signal the crslab process sends the worker to interrupt a firmware call at its deadline, where a
+firmware's compiled code is kept between runs, and loading the library ahead of forks.
+
+>>> wasmtime_library().name
+'_libwasmtime.so'
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import platform
+import signal
+import sys
+from pathlib import Path
+
+from crslab.cache import CacheError, cache_dir
+
+INTERRUPT_SIGNAL = signal.SIGUSR1
+"""Sent to the worker at a deadline: its handler (csrc/board/firmware_wasm.c) bumps wasmtime's epoch,
+and the firmware's running call traps at its next loop iteration or call."""
+
+
+class WasmtimeMissing(FileNotFoundError):
+    """The wasmtime package (a dependency of crslab) is not installed or lacks its library."""
+
+
+def wasmtime_library() -> Path:
+    """The path of the wasmtime C library of the installed ``wasmtime`` package."""
+    spec = importlib.util.find_spec("wasmtime")
+    if spec is None or not spec.submodule_search_locations:
+        raise WasmtimeMissing("wasmtime is missing: reinstall crslab (it depends on the wasmtime package)")
+    machine = {"AMD64": "x86_64", "arm64": "aarch64", "ARM64": "aarch64"}.get(platform.machine(),
+                                                                              platform.machine())
+    system = "linux" if sys.platform.startswith("linux") else sys.platform
+    name = {"win32": "_wasmtime.dll", "darwin": "_libwasmtime.dylib"}.get(sys.platform, "_libwasmtime.so")
+    path = Path(next(iter(spec.submodule_search_locations))) / f"{system}-{machine}" / name
+    if not path.is_file():
+        raise WasmtimeMissing(f"wasmtime's library is missing ({path}): reinstall the wasmtime package")
+    return path
+
+
+def compiled_module_path(wasm: bytes, memory_bytes: int, stack_bytes: int) -> Path | None:
+    """Where wasmtime's compilation of the firmware ``wasm`` for a board with this memory and stack
+    is kept between runs (``compiled/`` of crslab's build cache; written by the board, see
+    ``keep_compiled`` in csrc/board/firmware_wasm.c), named by everything it depends on: the module's
+    bytes, wasmtime's library and the board's limits. None when the cache cannot be used (each run
+    compiles the module then, about 0.06 s)."""
+    library = wasmtime_library()
+    stat = library.stat()
+    h = hashlib.sha256(wasm)
+    h.update(f"{library}:{stat.st_size}:{stat.st_mtime_ns}:{memory_bytes}:{stack_bytes}".encode())
+    try:
+        folder = cache_dir() / "compiled"
+        folder.mkdir(parents=True, exist_ok=True)
+    except (CacheError, OSError):
+        return None
+    return folder / f"{h.hexdigest()[:32]}.cwasm"
+
+
+def preload() -> bool:
+    """Load wasmtime's library into this process now, so that the processes it forks (a fork
+    server's jobs and their lab workers) start with it loaded: about 0.1 s of CPU each saved.
+    False when it cannot be loaded (a run then says why)."""
+    from crslab._core import lib
+
+    try:
+        return lib.crs_fw_wasm_preload(str(wasmtime_library()).encode()) == 0
+    except WasmtimeMissing:
+        return False

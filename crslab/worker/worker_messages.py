@@ -1,0 +1,345 @@
+"""The messages between the crslab process and its worker (crslab/worker/worker.py), typed, and the
+one place the worker's replies are checked.
+
+The crslab process asks (:data:`Request`): :class:`Run` to a tick, :class:`Get` or :class:`Set`
+a watched variable, :class:`Push` the arm, :class:`Break` into the debugger, :class:`Stop`. The
+worker answers (:data:`Reply`): first :class:`Ready` (or :class:`Failed`, :class:`Trapped`), then
+:class:`Ran` for a run, :class:`Value` or :class:`Error` for the others, :class:`Stopped` last.
+Serial bytes never travel here: the board writes them into the shared block
+(:mod:`crslab.sim.shared_block`).
+
+On the pipe every message is a tuple of plain data, its kind first (:meth:`Message.wire`): the
+crslab process never unpickles a class the worker names. A native lab shares the worker's process
+and may write anything into the pipe, so a reply is unpickled with only plain data and numeric
+arrays allowed (:mod:`crslab.worker.worker_reply`), then :func:`read_reply` checks it is the reply
+due, field by field; anything else is :class:`~crslab.worker.worker_reply.UnreadableReply`.
+
+>>> Run(5000).wire()
+('run', 5000)
+>>> read_reply(("value", 1.5), Value, Error)
+Value(value=1.5)
+>>> read_reply(("ran", 0, "5000", {}, None, [], [], None), Ran)
+Traceback (most recent call last):
+...
+crslab.worker.worker_reply.UnreadableReply: its ran reply holds tick = '5000', not a whole number
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Any, ClassVar, NamedTuple, dataclass_transform
+
+import numpy as np
+
+from crslab.scenario.expect_events import Observation
+from crslab.worker.worker_reply import UnreadableReply
+
+
+@dataclass_transform(frozen_default=True)
+class Message:
+    """A message on the pipe: its :attr:`KIND` (the class's name in lower case) and its fields.
+    Every subclass is a frozen dataclass."""
+
+    KIND: ClassVar[str] = ""
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls.KIND = cls.__name__.lower()
+        dataclass(frozen=True)(cls)
+
+    def wire(self) -> tuple:
+        """The message as it travels: ``(KIND, field, ...)``, plain data only."""
+        return (self.KIND, *(_plain(getattr(self, f.name)) for f in dataclasses.fields(self)))
+
+
+def _plain(value: object) -> object:
+    """``value`` with the typed parts of a reply (observations, motor-board events) as plain data:
+    what :func:`read_reply` reads back."""
+    if isinstance(value, Observation):
+        return {**dataclasses.asdict(value), "motor_board_off": int(value.motor_board_off)}
+    if isinstance(value, MotorBoardEvent):
+        return (value.tick, value.joint, int(value.off))
+    if isinstance(value, tuple | list):
+        return [_plain(v) for v in value]
+    return value
+
+
+# -- the crslab process asks --------------------------------------------------------------------
+class Run(Message):
+    """Run the board up to ``until_tick`` (scenario events applied on their ticks)."""
+
+    until_tick: int
+
+
+class Get(Message):
+    """A watched variable's value."""
+
+    name: str
+
+
+class Set(Message):
+    """Write a watched variable (``index``: one element of a watched array)."""
+
+    name: str
+    index: int | None
+    value: float
+
+
+class Push(Message):
+    """A force and torque on each body (MuJoCo ``xfrc_applied``, rows of six) until the next push."""
+
+    body_forces: list
+
+
+class Break(Message):
+    """Call ``crs_debug_break`` (a debugged run: the debugger arms its breakpoint on ``lab()``)."""
+
+
+class Stop(Message):
+    """Send the last counters and end."""
+
+
+Request = Run | Get | Set | Push | Break | Stop
+_REQUESTS: dict[str, type[Message]] = {c.KIND: c for c in (Run, Get, Set, Push, Break, Stop)}
+
+
+def read_request(raw: tuple) -> Request:
+    """A request from its wire form (the worker trusts the crslab process).
+
+    >>> read_request(("set", "mycount", None, 2.0))
+    Set(name='mycount', index=None, value=2.0)
+    """
+    return _REQUESTS[raw[0]](*raw[1:])  # type: ignore[return-value]
+
+
+# -- the worker answers -------------------------------------------------------------------------
+class MotorBoardEvent(NamedTuple):
+    """The motor board cut every output (``off``; ``joint`` 1..3 over the limit, 0 no command) or
+    brought them back, at ``tick``."""
+
+    tick: int
+    joint: int
+    off: bool
+
+
+class Ready(Message):
+    """The worker built the plant and loaded the firmware: ``symbols`` are its ``CRS_LAB_HAS_*`` bits."""
+
+    symbols: int
+
+
+class Failed(Message):
+    """The worker could not enter the run sandbox."""
+
+    message: str
+
+
+class Trapped(Message):
+    """The firmware could not be loaded or stopped in a constructor (``trap``: see
+    :func:`crslab.worker.worker.trap_info`)."""
+
+    trap: dict
+
+
+class Ran(Message):
+    """A run request's answer: how the chunk ended (a ``CRS_RUN_*`` code), the next tick, the
+    board's counters, the scope rows (None when the run logs none), the motor board's cut-outs
+    starting or ending and what each expectation reached saw, since the last reply, and how the
+    firmware stopped when ``code`` is ``CRS_RUN_TRAPPED``."""
+
+    code: int
+    tick: int
+    stats: dict
+    log: dict | None
+    motor_board_events: tuple[MotorBoardEvent, ...]
+    observations: tuple[Observation, ...]
+    trap: dict | None
+
+
+class Value(Message):
+    """A variable's value (a list for an array), or None: done."""
+
+    value: float | list[float] | None
+
+
+class Error(Message):
+    """The request could not be done (no such watched variable, an index out of range)."""
+
+    message: str
+
+
+class Stopped(Message):
+    """The worker's last counters and scope rows; it ends after this."""
+
+    stats: dict
+    log: dict | None
+
+
+Reply = Ready | Failed | Trapped | Ran | Value | Error | Stopped
+
+
+# -- checking a reply ---------------------------------------------------------------------------
+class _Bad(Exception):
+    """A field that is not what the reply says it is (its name and why)."""
+
+
+def _whole(value: Any, what: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise _Bad(f"{what} = {value!r:.40}, not a whole number")
+    return value
+
+
+def _text(value: Any, what: str) -> str:
+    if not isinstance(value, str):
+        raise _Bad(f"{what} = {value!r:.40}, not text")
+    return value
+
+
+def _number(value: Any, what: str) -> float:
+    if not isinstance(value, float):
+        raise _Bad(f"{what} = {value!r:.40}, not a number")
+    return value
+
+
+def _items(value: Any, what: str) -> list | tuple:
+    if not isinstance(value, list | tuple):
+        raise _Bad(f"{what} is {type(value).__name__}, not a list")
+    return value
+
+
+def _stats(value: Any, what: str = "stats") -> dict:
+    """The board's counters: names to whole numbers, a flag, a name or a list of ticks."""
+    if not isinstance(value, dict):
+        raise _Bad(f"{what} is {type(value).__name__}, not a table")
+    for key, v in value.items():
+        _text(key, f"a key of {what}")
+        if isinstance(v, list):
+            for item in v:
+                _whole(item, f"{what}[{key!r}][...]")
+        elif not isinstance(v, bool | str):
+            _whole(v, f"{what}[{key!r}]")
+    return value
+
+
+def _log(value: Any) -> dict | None:
+    """Scope rows: None, or names to numeric arrays (the unpickler allowed no other array)."""
+    if value is None:
+        return None
+    if not isinstance(value, dict):
+        raise _Bad(f"log is {type(value).__name__}, not a table")
+    for key, v in value.items():
+        if not isinstance(key, str) or not isinstance(v, np.ndarray):
+            raise _Bad(f"log[{key!r:.40}] is not a column of numbers")
+    return value
+
+
+def _trap(value: Any) -> dict:
+    """How the firmware stopped (:func:`crslab.worker.worker.trap_info`'s fields)."""
+    if not isinstance(value, dict):
+        raise _Bad(f"trap is {type(value).__name__}, not a table")
+    for key in ("kind", "phase", "tick", "exit_code", "line"):
+        _whole(value.get(key), f"trap[{key!r}]")
+    _text(value.get("text"), "trap['text']")
+    return value
+
+
+def observation(raw: object) -> Observation:
+    """An expectation's observation from the worker's reply, checked (the reply is the lab's to
+    forge): raises ``ValueError``, ``TypeError`` or ``KeyError`` for anything else.
+
+    >>> observation({"tick": 5, "motor_board": "none", "motor_board_off": 0, "motor_board_cutouts": 0,
+    ...              "error": 1, "motor_rad": [0.0, 0.1, 0.2], "var": None}).error
+    1
+    >>> observation({"tick": 5})
+    Traceback (most recent call last):
+    ...
+    KeyError: 'motor_rad'
+    """
+    if not isinstance(raw, dict):
+        raise TypeError(f"{type(raw).__name__} is not an observation")
+
+    def whole(key: str) -> int:
+        value = raw[key]
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise TypeError(f"{key} is not a whole number")
+        return value
+
+    angles = raw["motor_rad"]
+    if not isinstance(angles, list | tuple) or len(angles) != 3 \
+            or not all(isinstance(v, float) for v in angles):
+        raise TypeError("motor_rad is not three numbers")
+    var = raw["var"]
+    if var is not None and not isinstance(var, float):
+        raise TypeError("var is not a number")
+    board = raw["motor_board"]
+    if not isinstance(board, str):
+        raise TypeError("motor_board is not a name")
+    world = raw.get("world")
+    if world is not None and (not isinstance(world, dict) or not all(
+            isinstance(k, str) and isinstance(v, float) for k, v in world.items())):
+        raise TypeError("world is not named numbers")
+    return Observation(tick=whole("tick"), motor_board=board, motor_board_off=bool(whole("motor_board_off")),
+                       motor_board_cutouts=whole("motor_board_cutouts"), error=whole("error"),
+                       motor_rad=(angles[0], angles[1], angles[2]), var=var, world=world)
+
+
+def _event(raw: Any) -> MotorBoardEvent:
+    items = _items(raw, "a motor-board event")
+    if len(items) != 3:
+        raise _Bad("a motor-board event is not (tick, joint, off)")
+    return MotorBoardEvent(_whole(items[0], "its tick"), _whole(items[1], "its joint"),
+                           bool(_whole(items[2], "its off")))
+
+
+def _observations(raw: Any) -> tuple[Observation, ...]:
+    try:
+        return tuple(observation(o) for o in _items(raw, "observations"))
+    except (TypeError, KeyError, ValueError) as exc:
+        raise _Bad(f"an observation crslab cannot read ({exc})") from None
+
+
+def _value(raw: Any) -> float | list[float] | None:
+    if raw is None or isinstance(raw, float):
+        return raw
+    return [_number(v, "value[...]") for v in _items(raw, "value")]
+
+
+_FIELDS: dict[type[Message], tuple] = {
+    Ready: (lambda v: _whole(v, "symbols"),),
+    Failed: (lambda v: _text(v, "message"),),
+    Trapped: (_trap,),
+    Ran: (lambda v: _whole(v, "code"), lambda v: _whole(v, "tick"), _stats, _log,
+          lambda v: tuple(_event(e) for e in _items(v, "motor_board_events")), _observations,
+          lambda v: None if v is None else _trap(v)),
+    Value: (_value,),
+    Error: (lambda v: _text(v, "message"),),
+    Stopped: (_stats, _log),
+}
+"""How each reply's fields are read, in order: each raises :class:`_Bad` for what it is not."""
+
+
+def read_reply(raw: object, *due: type[Message]) -> Any:
+    """The reply ``raw`` (as unpickled) as one of the classes ``due``, every field checked; raises
+    :class:`~crslab.worker.worker_reply.UnreadableReply` for anything else.
+
+    >>> read_reply(("ready", 3), Ready, Failed, Trapped)
+    Ready(symbols=3)
+    >>> read_reply(("value", 1.5), Ran)
+    Traceback (most recent call last):
+    ...
+    crslab.worker.worker_reply.UnreadableReply: it sent a value reply where ran was due
+    """
+    kinds = {c.KIND: c for c in due}
+    if not isinstance(raw, tuple) or not raw or not isinstance(raw[0], str):
+        raise UnreadableReply(f"it sent {type(raw).__name__} where {due[0].KIND} was due")
+    cls = kinds.get(raw[0])
+    if cls is None:
+        raise UnreadableReply(f"it sent a {raw[0]:.20} reply where {due[0].KIND} was due")
+    readers = _FIELDS[cls]
+    if len(raw) != 1 + len(readers):
+        raise UnreadableReply(f"its {cls.KIND} reply has {len(raw) - 1} fields, not {len(readers)}")
+    try:
+        return cls(*(read(v) for read, v in zip(readers, raw[1:], strict=True)))
+    except _Bad as exc:
+        raise UnreadableReply(f"its {cls.KIND} reply holds {exc}") from None

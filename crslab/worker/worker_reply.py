@@ -1,0 +1,81 @@
+"""Reading the worker's replies without trusting them.
+
+The worker runs the lab's code, and the lab can write anything to the pipe it shares with the
+crslab process. A plain ``Connection.recv()`` unpickles, and unpickling can call any function:
+a lab could run code in the crslab process, outside the sandbox. So replies are read as bytes
+(bounded in size) and unpickled with only the globals a reply holds: numpy arrays of numbers
+(the scope log) and their dtypes. Everything else in a reply (tuples, lists, dicts, strings,
+numbers) needs no global at all.
+
+>>> import pickle, numpy as np
+>>> decode(pickle.dumps(("ran", 0, 5, {"tick": [5]}, {"tick": np.arange(3)})))[4]["tick"]
+array([0, 1, 2])
+>>> decode(pickle.dumps(print))
+Traceback (most recent call last):
+...
+crslab.worker.worker_reply.UnreadableReply: the worker's reply names builtins.print
+"""
+
+from __future__ import annotations
+
+import io
+import pickle
+from multiprocessing.connection import Connection
+
+import numpy as np
+
+MAX_REPLY_BYTES = 256 * 1024 * 1024
+"""The largest reply read (a chunk's scope log is a few MB)."""
+
+_ALLOWED = {
+    ("numpy", "dtype"), ("numpy", "ndarray"),
+    ("numpy._core.numeric", "_frombuffer"), ("numpy.core.numeric", "_frombuffer"),
+    ("numpy._core.multiarray", "_reconstruct"), ("numpy.core.multiarray", "_reconstruct"),
+    ("numpy._core.multiarray", "scalar"), ("numpy.core.multiarray", "scalar"),
+}
+
+
+class UnreadableReply(Exception):
+    """The worker sent something that is not a reply (the lab wrote into the pipe)."""
+
+
+class _ReplyUnpickler(pickle.Unpickler):
+    def find_class(self, module: str, name: str) -> object:
+        if (module, name) not in _ALLOWED:
+            raise UnreadableReply(f"the worker's reply names {module}.{name}")
+        return super().find_class(module, name)
+
+    def persistent_load(self, pid: object) -> object:
+        raise UnreadableReply("the worker's reply holds a persistent reference")
+
+
+def _check(value: object) -> None:
+    if isinstance(value, np.ndarray) and value.dtype.kind not in "biuf":
+        raise UnreadableReply(f"the worker's reply holds an array of {value.dtype}")
+    if isinstance(value, (tuple, list)):
+        for v in value:
+            _check(v)
+    elif isinstance(value, dict):
+        for v in value.values():
+            _check(v)
+
+
+def decode(data: bytes) -> object:
+    """A reply from its pickled bytes, refusing anything but plain data and numeric arrays."""
+    try:
+        value = _ReplyUnpickler(io.BytesIO(data)).load()
+    except UnreadableReply:
+        raise
+    except Exception as exc:  # noqa: BLE001 - any malformed stream is one kind of failure
+        raise UnreadableReply(f"the worker's reply cannot be read ({type(exc).__name__})") from None
+    _check(value)
+    return value
+
+
+def receive(conn: Connection) -> object:
+    """The next reply on ``conn`` (raises ``EOFError`` when the worker is gone)."""
+    try:
+        data = conn.recv_bytes(MAX_REPLY_BYTES)
+    except OSError as exc:
+        raise UnreadableReply(f"the worker's reply cannot be read ({exc})") from None
+    return decode(data)

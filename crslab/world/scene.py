@@ -1,0 +1,483 @@
+"""The MuJoCo scene of a world: the arm's own model (``models/crs_arm``) with the world's peg and
+fixtures, generated from the world file as the arm is from ``params.toml``, so the two never
+disagree. docs/worlds.md says why each contact parameter is what it is.
+
+- World ``none`` is the arm's scene file itself (``models/crs_arm/scene.xml``), untouched: the
+  same physics, bit for bit, as before worlds existed.
+- Any other world: the arm, plus the peg on a wrist joint at the end-effector point (an equality
+  keeps it vertical: the forearm's absolute angle plus the wrist's is constant, as a parallel
+  link would), collision capsules on the upper arm and forearm (they touch the obstacle only),
+  and each fixture as a static body of boxes (the hole block: a ring of staves around a 16-sided
+  hole, a ring of inclined boxes for the chamfer; the groove plate: a floor and walls along the
+  Z; the egg: an ellipsoid on a box scale), each with a force sensor, and a site at the peg's tip.
+
+>>> from crslab.world.layout import load_world
+>>> model = load_scene(load_world("contest"))
+>>> model.nq, model.nu, model.joint(3).name
+(4, 3, 'peg_wrist')
+>>> load_scene(load_world("none")).nbody          # the arm's own scene
+5
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import xml.etree.ElementTree as ET
+
+import mujoco
+import numpy as np
+
+from crslab import crs
+from crslab.plant.model_files import ARM_XML, SCENE_XML
+from crslab.world.layout import World
+
+WRIST_JOINT = "peg_wrist"
+"""The peg's wrist joint (world scenes only): kept at minus the forearm's absolute angle."""
+PEG_BODY, PEG_TIP_SITE = "peg", "peg_tip"
+HOLE_STAVES = 16
+"""Sides of the polygon that stands for the round hole (its faces lie 0.2 % of the radius inside
+the circle through its corners)."""
+FIXTURE_SENSORS = ("table", "hole", "obstacle", "groove", "egg", "scale")
+"""The bodies with a force sensor, in sensor order after the peg tip's position."""
+FIXTURE_AFFINITY, ARM_LINK_TYPE = 1, 2
+"""Collision bits: the peg (contype 1) touches every fixture; the arm's links (contype 2) only the
+obstacle, whose conaffinity has both bits."""
+EGG_IMPEDANCE = 0.99
+
+
+def _f(*values: float) -> str:
+    return " ".join(f"{v:.10g}" for v in values)
+
+
+def _body(parent: ET.Element, name: str, **attrs: str) -> ET.Element:
+    return ET.SubElement(parent, "body", name=name, **attrs)
+
+
+def _site(body: ET.Element, name: str, pos: tuple = (0.0, 0.0, 0.0)) -> None:
+    ET.SubElement(body, "site", name=name, pos=_f(*pos), size="0.005", group="4")
+
+
+class _Materials:
+    """The contact attributes of each kind of fixture geom."""
+
+    def __init__(self, world: World, egg_solref: tuple[float, float]) -> None:
+        c = world.contact
+        d = c.rigid_impedance
+        friction = _f(c.friction, 0.005, 0.0001)
+        self.rigid = {
+            "priority": "1",
+            "condim": "3",
+            "friction": friction,
+            "solref": _f(c.rigid_timeconst_s, 1.0),
+            "solimp": _f(d, d, 0.001, 0.5, 2),
+            "contype": "0",
+            "conaffinity": str(FIXTURE_AFFINITY),
+        }
+        self.egg = dict(
+            self.rigid, solref=_f(*egg_solref), solimp=_f(EGG_IMPEDANCE, EGG_IMPEDANCE, 0.001, 0.5, 2)
+        )
+
+
+def _box(
+    body: ET.Element,
+    name: str,
+    center: object,
+    half: object,
+    attrs: dict,
+    rgba: str,
+    xyaxes: object | None = None,
+) -> None:
+    extra = {"xyaxes": _f(*xyaxes)} if xyaxes is not None else {}
+    ET.SubElement(
+        body, "geom", name=name, type="box", pos=_f(*center), size=_f(*half), rgba=rgba, **extra, **attrs
+    )
+
+
+WOOD, STEEL, EGG, SCALE = "0.72 0.55 0.36 1", "0.55 0.57 0.6 1", "0.96 0.91 0.80 1", "0.3 0.3 0.32 1"
+
+
+def _hole_block(parent: ET.Element, world: World, mat: _Materials) -> None:
+    h = world.hole
+    assert h is not None
+    cx, cy = h.center_xy_m
+    top, r, c = h.top_z_m, h.diameter_m / 2, h.chamfer_m
+    bx, by, bz = (s / 2 for s in h.block_size_m)
+    bottom, floor = top - 2 * bz, top - h.depth_m
+    body = _body(parent, "hole", pos=_f(cx, cy, 0.0))
+    _site(body, "hole_site")
+    a = mat.rigid
+    # the solid under the hole, and a frame around a square of half side s (past the mouth)
+    _box(body, "hole_floor", (0, 0, (bottom + floor) / 2), (bx, by, (floor - bottom) / 2), a, WOOD)
+    s = r + c + 0.004
+    zc, zh = (floor + top) / 2, (top - floor) / 2
+    _box(body, "hole_frame_px", ((bx + s) / 2, 0, zc), ((bx - s) / 2, by, zh), a, WOOD)
+    _box(body, "hole_frame_nx", (-(bx + s) / 2, 0, zc), ((bx - s) / 2, by, zh), a, WOOD)
+    _box(body, "hole_frame_py", (0, (by + s) / 2, zc), (s, (by - s) / 2, zh), a, WOOD)
+    _box(body, "hole_frame_ny", (0, -(by + s) / 2, zc), (s, (by - s) / 2, zh), a, WOOD)
+    reach = s * math.sqrt(2) + 0.002  # staves reach past the frame's inner corners
+    tan = math.tan(math.pi / HOLE_STAVES)
+    for i in range(HOLE_STAVES):
+        th = 2 * math.pi * i / HOLE_STAVES
+        radial, tangent = (math.cos(th), math.sin(th), 0.0), (-math.sin(th), math.cos(th), 0.0)
+        axes = (*radial, *tangent)
+        # below the chamfer: the hole's wall, its face at radius r
+        t = reach - r
+        z0 = top - c
+        _box(
+            body,
+            f"hole_wall{i}",
+            ((r + t / 2) * radial[0], (r + t / 2) * radial[1], (floor + z0) / 2),
+            (t / 2, reach * tan * 1.02, (z0 - floor) / 2),
+            a,
+            WOOD,
+            axes,
+        )
+        if c <= 0:
+            continue
+        # beside the chamfer, up to the top: the block's top around the mouth (radius r + c)
+        t = reach - (r + c)
+        _box(
+            body,
+            f"hole_top{i}",
+            ((r + c + t / 2) * radial[0], (r + c + t / 2) * radial[1], top - c / 2),
+            (t / 2, reach * tan * 1.02, c / 2),
+            a,
+            WOOD,
+            axes,
+        )
+        # the chamfer: a face through (radius r, top - c) and (radius r + c, top), 45 degrees
+        n = np.array([-radial[0], -radial[1], 1.0]) / math.sqrt(2)  # out of the solid: in and up
+        tg = np.array(tangent)
+        thick = 0.006
+        centre = np.array([(r + c / 2) * radial[0], (r + c / 2) * radial[1], top - c / 2]) - n * thick / 2
+        _box(
+            body,
+            f"hole_chamfer{i}",
+            centre,
+            (thick / 2, (r + c) * tan * 1.02, c / math.sqrt(2)),
+            a,
+            WOOD,
+            (*n, *tg),
+        )
+
+
+def _offset_polyline(points: np.ndarray, offset: float) -> np.ndarray:
+    """The polyline ``points`` shifted ``offset`` to its left, corners mitred."""
+    d = np.diff(points, axis=0)
+    u = d / np.linalg.norm(d, axis=1)[:, None]
+    left = np.stack([-u[:, 1], u[:, 0]], axis=1)
+    out = [points[0] + offset * left[0]]
+    for i in range(1, len(points) - 1):
+        bis = left[i - 1] + left[i]
+        bis = bis / np.linalg.norm(bis)
+        out.append(points[i] + bis * offset / float(bis @ left[i]))
+    out.append(points[-1] + offset * left[-1])
+    return np.array(out)
+
+
+def _groove_plate(parent: ET.Element, world: World, mat: _Materials) -> None:
+    g = world.groove
+    assert g is not None
+    px, py = g.plate_center_xy_m
+    sx, sy, sz = (s / 2 for s in g.plate_size_m)
+    top, floor, w = g.top_z_m, g.top_z_m - g.depth_m, g.width_m
+    body = _body(parent, "groove", pos=_f(px, py, 0.0))
+    _site(body, "groove_site")
+    a = mat.rigid
+    bottom = top - 2 * sz
+    _box(body, "groove_floor", (0, 0, (bottom + floor) / 2), (sx, sy, (floor - bottom) / 2), a, STEEL)
+    corners = np.asarray(g.corners_xy_m) - (px, py)
+    thick, zc, zh = 0.012, (floor + top) / 2, (top - floor) / 2
+    for side, sign in (("left", 1.0), ("right", -1.0)):
+        line = _offset_polyline(corners, sign * w / 2)
+        for i in range(3):
+            p, q = line[i], line[i + 1]
+            u = (q - p) / np.linalg.norm(q - p)
+            out = sign * np.array([-u[1], u[0]])  # away from the channel
+            mid = (p + q) / 2 + out * thick / 2
+            _box(
+                body,
+                f"groove_wall_{side}{i}",
+                (mid[0], mid[1], zc),
+                (float(np.linalg.norm(q - p)) / 2, thick / 2, zh),
+                a,
+                STEEL,
+                (u[0], u[1], 0.0, -u[1], u[0], 0.0),
+            )
+    for name, end, nxt in (
+        ("groove_cap_in", corners[0], corners[1]),
+        ("groove_cap_out", corners[3], corners[2]),
+    ):
+        u = (end - nxt) / np.linalg.norm(end - nxt)  # out of the channel, past its end
+        mid = end + u * (w / 2 + thick / 2)
+        _box(
+            body,
+            name,
+            (mid[0], mid[1], zc),
+            (thick / 2, w / 2 + thick, zh),
+            a,
+            STEEL,
+            (u[0], u[1], 0.0, -u[1], u[0], 0.0),
+        )
+
+
+def _egg_and_scale(parent: ET.Element, world: World, mat: _Materials) -> None:
+    e = world.egg
+    assert e is not None
+    ex, ey = e.center_xy_m
+    egg = _body(parent, "egg", pos=_f(ex, ey, 0.0))
+    _site(egg, "egg_site")
+    ET.SubElement(
+        egg,
+        "geom",
+        name="egg",
+        type="ellipsoid",
+        pos=_f(0, 0, e.top_z_m - e.height_m / 2),
+        size=_f(e.diameter_m / 2, e.diameter_m / 2, e.height_m / 2),
+        rgba=EGG,
+        **mat.egg,
+    )
+    scale = _body(parent, "scale", pos=_f(ex, ey, 0.0))
+    _site(scale, "scale_site")
+    sx, sy, sz = (s / 2 for s in e.scale_size_m)
+    _box(scale, "scale", (0, 0, e.scale_top_z_m - sz), (sx, sy, sz), mat.rigid, SCALE)
+
+
+def _stands(parent: ET.Element, world: World, mat: _Materials) -> None:
+    floor = world.table.top_z_m if world.table is not None else 0.0
+    body = _body(parent, "stands")
+    if (g := world.groove) is not None and (bottom := g.top_z_m - g.plate_size_m[2]) > floor:
+        sx, sy = g.plate_size_m[0] / 4, g.plate_size_m[1] / 4
+        _box(
+            body,
+            "groove_stand",
+            (*g.plate_center_xy_m, (floor + bottom) / 2),
+            (sx, sy, (bottom - floor) / 2),
+            mat.rigid,
+            WOOD,
+        )
+    if (e := world.egg) is not None and (bottom := e.scale_top_z_m - e.scale_size_m[2]) > floor:
+        sx, sy = e.scale_size_m[0] / 4, e.scale_size_m[1] / 4
+        _box(
+            body,
+            "scale_stand",
+            (*e.center_xy_m, (floor + bottom) / 2),
+            (sx, sy, (bottom - floor) / 2),
+            mat.rigid,
+            WOOD,
+        )
+
+
+def _peg(forearm: ET.Element, world: World) -> None:
+    """The peg on its wrist at the end-effector point, in the forearm's frame: at DH zero (the
+    frame the wrist's angle 0 is defined in) its axis is the world's vertical."""
+    p = world.peg
+    assert p is not None
+    ee = np.array([crs.FOREARM_IN * crs.M_PER_IN, 0.0, 0.0])
+    rot = crs.fk_pose_dh(np.zeros(3))[:3, :3]  # the forearm's frame at DH zero, in the world
+    up = rot.T @ np.array([0.0, 0.0, 1.0])
+    tip = rot.T @ np.asarray(p.tip_offset_m)
+    r, length = p.diameter_m / 2, p.length_m
+    body = _body(forearm, PEG_BODY, pos=_f(*ee))
+    ET.SubElement(
+        body,
+        "joint",
+        name=WRIST_JOINT,
+        type="hinge",
+        axis="0 0 1",
+        limited="false",
+        frictionloss="0",
+        armature="0.001",
+    )
+    # a solid cylinder: inertia about its centre, axis along "up"
+    axial, across = p.mass_kg * r * r / 2, p.mass_kg * (3 * r * r + length * length) / 12
+    com = tip + up * length / 2
+    ET.SubElement(
+        body,
+        "inertial",
+        pos=_f(*com),
+        mass=_f(p.mass_kg),
+        fullinertia=_f(
+            *(across * np.eye(3) + (axial - across) * np.outer(up, up))[
+                [0, 1, 2, 0, 0, 1], [0, 1, 2, 1, 2, 2]
+            ]
+        ),
+    )
+    ET.SubElement(
+        body,
+        "geom",
+        name="peg",
+        type="capsule",
+        fromto=_f(*(tip + up * r), *(tip + up * (length - r))),
+        size=_f(r),
+        rgba=STEEL,
+        contype="1",
+        conaffinity="0",
+        group="1",
+    )
+    ET.SubElement(body, "site", name=PEG_TIP_SITE, pos=_f(*tip), size="0.003", group="4")
+
+
+def _arm_collision(root: ET.Element) -> None:
+    """Collision capsules on the upper arm and the forearm, as their visual capsules: they touch the
+    obstacle only (collision bits), never the fixtures the peg works in."""
+    for body in root.iter("body"):
+        for g in list(body.findall("geom")):
+            if g.get("name") in ("upper_arm_link", "forearm_link"):
+                body.append(
+                    ET.Element(
+                        "geom",
+                        name=g.get("name") + "_collision",
+                        type="capsule",
+                        fromto=g.get("fromto"),
+                        size=g.get("size"),
+                        group="3",
+                        contype=str(ARM_LINK_TYPE),
+                        conaffinity="0",
+                        rgba="0 0 0 0",
+                    )
+                )
+
+
+def _world_root(world: World, egg_solref: tuple[float, float]) -> ET.Element:
+    arm = ET.parse(ARM_XML).getroot()
+    scene = ET.parse(SCENE_XML).getroot()
+    root = ET.Element("mujoco", model=f"crs_arm in world {world.name}")
+    for child in arm:
+        root.append(copy.deepcopy(child))
+    worldbody = root.find("worldbody")
+    assert worldbody is not None
+    for child in scene:
+        if child.tag == "include":
+            continue
+        if child.tag == "worldbody":
+            worldbody.extend(copy.deepcopy(list(child)))
+        elif child.tag == "option":
+            option = copy.deepcopy(child)
+            option.set("cone", "elliptic")  # a contact's normal force is one row of its own
+            root.append(option)
+        else:
+            root.append(copy.deepcopy(child))
+    mat = _Materials(world, egg_solref)
+    if world.peg is not None:
+        forearm = next(b for b in root.iter("body") if b.get("name") == "forearm")
+        _peg(forearm, world)
+        tendon = root.find("tendon")
+        assert tendon is not None
+        pitch = ET.SubElement(tendon, "fixed", name="peg_pitch")
+        for j in ("j2", "j3", WRIST_JOINT):
+            ET.SubElement(pitch, "joint", joint=j, coef="1")
+        equality = ET.SubElement(root, "equality")
+        ET.SubElement(
+            equality,
+            "tendon",
+            name="peg_vertical",
+            tendon1="peg_pitch",
+            solref="0.004 1",
+            solimp="0.99 0.99 0.001 0.5 2",
+        )
+        for key in root.iter("key"):
+            q = [float(v) for v in key.get("qpos", "").split()]
+            key.set("qpos", _f(*q, -(q[1] + q[2])))
+    _arm_collision(root)
+    if (t := world.table) is not None:
+        body = _body(worldbody, "table")
+        _site(body, "table_site")
+        _box(
+            body,
+            "table",
+            (0, 0, t.top_z_m - t.size_m[2] / 2),
+            np.asarray(t.size_m) / 2,
+            mat.rigid,
+            "0.45 0.42 0.38 1",
+        )
+    if world.hole is not None:
+        _hole_block(worldbody, world, mat)
+    if (o := world.obstacle) is not None:
+        body = _body(worldbody, "obstacle")
+        _site(body, "obstacle_site", o.center_m)
+        _box(
+            body,
+            "obstacle",
+            o.center_m,
+            np.asarray(o.size_m) / 2,
+            dict(mat.rigid, conaffinity=str(FIXTURE_AFFINITY | ARM_LINK_TYPE)),
+            "0.75 0.25 0.2 1",
+        )
+    if world.groove is not None:
+        _groove_plate(worldbody, world, mat)
+    if world.egg is not None:
+        _egg_and_scale(worldbody, world, mat)
+    if world.groove is not None or world.egg is not None:
+        _stands(worldbody, world, mat)
+    sensor = ET.SubElement(root, "sensor")
+    if world.peg is not None:
+        ET.SubElement(sensor, "framepos", name="peg_tip", objtype="site", objname=PEG_TIP_SITE)
+    for name in FIXTURE_SENSORS:
+        if worldbody.find(f"body[@name='{name}']") is not None:
+            ET.SubElement(sensor, "force", name=f"{name}_force", site=f"{name}_site")
+    ET.indent(root)
+    return root
+
+
+def egg_solref(world: World, peg_invweight: float) -> tuple[float, float]:
+    """The egg contact's ``solref`` in MuJoCo's direct form ``(-stiffness, -damping)`` that makes it a
+    spring of ``world.egg.stiffness_n_per_m`` N/m against the peg (docs/worlds.md derives it).
+
+    At rest a soft contact's force f and penetration r satisfy ``R f = K imp r`` (MuJoCo's
+    reference acceleration), with ``R = (1 - imp) / imp * A`` (``A``: the contact's approximate
+    inverse mass, here the peg's translational inverse weight) and, for the direct form,
+    ``K = stiffness / imp^2``: so r = f (1 - imp) A / stiffness, and the stiffness in MuJoCo's
+    units is ``k_N_per_m * (1 - imp) * A``. Damping: critical (times the world's ratio) for the
+    same constraint, ``B = 2 ratio sqrt(K imp)``.
+    """
+    e = world.egg
+    assert e is not None
+    d = EGG_IMPEDANCE
+    stiffness = e.stiffness_n_per_m * (1 - d) * peg_invweight
+    big_k = stiffness / (d * d)
+    damping = 2 * world.contact.egg_damping_ratio * math.sqrt(big_k * d) * d
+    return (-stiffness, -damping)
+
+
+def scene_xml(world: World) -> str:
+    """The MJCF text of ``world``'s scene (``none``: the arm's own scene file, as it is)."""
+    if world.is_free_air:
+        return SCENE_XML.read_text()
+    solref = (-1.0, -1.0)
+    if world.egg is not None:  # the peg's inverse weight comes from the compiled scene itself
+        first = mujoco.MjModel.from_xml_string(ET.tostring(_world_root(world, solref), encoding="unicode"))
+        solref = egg_solref(world, float(first.body_invweight0[first.body(PEG_BODY).id][0]))
+    return ET.tostring(_world_root(world, solref), encoding="unicode")
+
+
+def load_scene(world: World) -> mujoco.MjModel:
+    """The compiled scene of ``world`` (``none``: exactly :func:`crslab.plant.model.load_model`'s)."""
+    if world.is_free_air:
+        return mujoco.MjModel.from_xml_path(str(SCENE_XML))
+    return mujoco.MjModel.from_xml_string(scene_xml(world))
+
+
+def set_arm_pose(model: mujoco.MjModel, data: mujoco.MjData, dh_rad: object) -> None:
+    """Put the arm at DH angles ``dh_rad`` (rad), the peg's wrist where its equality holds it."""
+    q = np.asarray(dh_rad, dtype=float)
+    data.qpos[:3] = q
+    if model.nq > 3:
+        data.qpos[model.jnt_qposadr[model.joint(WRIST_JOINT).id]] = -(q[1] + q[2])
+
+
+EGG_FLAT = 0.2
+"""A broken egg keeps this share of its height (csrc/plant/world.c, CRS_EGG_FLAT_PERCENT)."""
+
+
+def flatten_egg(model: mujoco.MjModel) -> None:
+    """Draw the egg broken, as the board does when it breaks (csrc/plant/world.c): flat on the scale,
+    no longer colliding. Doing it twice changes nothing more."""
+    egg = model.geom("egg").id
+    if model.geom_conaffinity[egg] == 0:
+        return
+    bottom = model.geom_pos[egg][2] - model.geom_size[egg][2]
+    model.geom_size[egg][2] *= EGG_FLAT
+    model.geom_pos[egg][2] = bottom + model.geom_size[egg][2]
+    model.geom_contype[egg] = model.geom_conaffinity[egg] = 0
