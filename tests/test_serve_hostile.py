@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import re
 import subprocess
 import sys
 import tempfile
@@ -347,6 +348,8 @@ def test_messages_name_the_users_files_never_a_server_path(server, alice):
     texts = [s for m in got for s in _strings(m)]
     leaks = [(p, t) for t in texts for p in [*SERVER_PATHS, str(cache_dir()), "crslab-serve-"] if p in t]
     assert not leaks
+    # nor any other absolute path: a header's name is its own (stdio.h), never a folder's
+    assert [t for t in texts if re.search(r"(?:^|[\s'\"(])~?/[^\s/]", t)] == []
     first, second, ended = got[0], [m for m in got if m["type"] == "built"][1], got[-1]
     output = first["compiler_output"]
     assert not first["ok"] and "my lab.c:2:" in output and "stdio.h:" in output
