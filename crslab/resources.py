@@ -1,12 +1,13 @@
 """Where crslab's runtime files are, found through :mod:`importlib.resources`.
 
-Five folders travel with the package:
+Six folders travel with the package:
 
 - ``csrc``: the C that labs are compiled against (the firmware's stand-ins ``firmware`` and their
   headers ``firmware/include``, the emulated board ``board``, the plant's C ``plant``, what the
   board and the firmware share ``port``, the kinematics core ``kin``) and crslab's own labs (``labs``);
 - ``models``: the MuJoCo models (``models/crs_arm``);
 - ``scenarios``: the built-in scenarios (``crslab/scenario/builtin``); ``robots``: the course robots' files;
+  ``worlds``: the built-in worlds (``crslab/worlds``);
 - ``octave``: the files that let GNU Octave run the course's MATLAB scripts (``crslab/host_tools/octave``).
 
 ``csrc`` and ``models`` live at the top of the repository. The build (``setup.py``) copies them
@@ -44,7 +45,8 @@ PACKAGED = "_data"
 """Sub-folder of the installed package that holds ``csrc`` and ``models`` (setup.py puts them there)."""
 TOP_LEVEL = ("csrc", "models")
 """Folders kept at the top of the repository and mapped into the package by the build."""
-IN_PACKAGE = {"scenarios": ("scenario", "builtin"), "robots": ("robots",), "octave": ("host_tools", "octave")}
+IN_PACKAGE = {"scenarios": ("scenario", "builtin"), "robots": ("robots",), "octave": ("host_tools", "octave"),
+              "worlds": ("worlds",)}
 """Folders that are package data in ``crslab/`` itself, and where."""
 
 

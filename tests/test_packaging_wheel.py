@@ -41,7 +41,8 @@ def test_the_sdist_and_the_wheel_carry_the_c_sources_and_the_models(installed):
     assert {"crslab/_data/csrc/board/sim.c", "crslab/_data/csrc/kin/crs_arm.h",
             "crslab/_data/csrc/firmware/include/coecsl.h", "crslab/_data/csrc/labs/lab2_tracking.c",
             "crslab/_data/models/crs_arm/scene.xml", "crslab/_data/models/crs_arm/params.toml",
-            "crslab/scenario/builtin/tour.toml", "crslab/robots/crs.toml"} <= in_wheel
+            "crslab/scenario/builtin/tour.toml", "crslab/robots/crs.toml", "crslab/worlds/contest.toml",
+            "crslab/_data/csrc/plant/world.c", "crslab/_data/csrc/plant/world.h"} <= in_wheel
     assert any(n.startswith("crslab/_core") and n.endswith(".so") for n in in_wheel)
     # crslab serve's page works offline: every script, style and licence is in the wheel
     assert {"crslab/serve/static/index.html", "crslab/serve/static/app.js",

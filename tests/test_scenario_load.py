@@ -270,7 +270,7 @@ def test_every_event_class_of_the_scenario_package_is_registered_once():
             todo.append(sub)
             if sub.__module__.startswith("crslab.scenario."):
                 defined.add(sub)
-    assert len(modules) == 5 and defined == set(EVENT_CLASSES)
+    assert len(modules) == 6 and defined == set(EVENT_CLASSES)
     assert len(EVENT_CLASSES) == len(set(EVENT_CLASSES))
     # one class parses both joint faults; each event carries its own kind
     dead = one_event('at = 1\nkind = "dead_motor"\njoint = 2\nuntil = 2\n')

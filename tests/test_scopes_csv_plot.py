@@ -8,7 +8,7 @@ import pytest
 
 from crslab.cli import main
 from crslab.scopes.plot import read_scope_csv, scope_figure
-from crslab.scopes.signals import GROUPS, SIGNALS
+from crslab.scopes.signals import GROUPS, PUSH, SIGNALS
 from crslab.sim.api import simulate
 from crslab.sinks.csv_file import CsvSink
 
@@ -55,21 +55,25 @@ def test_plot_writes_a_png_with_one_labelled_panel_per_group(csv_run, tmp_path, 
     path, _ = csv_run
     out = tmp_path / "fig.png"
     assert main(["plot", str(path), "-o", str(out), "--from", "3"]) == 0
-    assert "5 panels (motor angles, torques, Simulink_PlotVar1..4" in capsys.readouterr().err
+    assert "6 panels (motor angles, torques, Simulink_PlotVar1..4" in capsys.readouterr().err
     image = matplotlib.image.imread(out)
-    # five panels: 10 in by (2.2 * 5 + 0.8) in at 110 dpi
-    assert image.shape[:2] == (round((2.2 * 5 + 0.8) * 110), 1100)
+    # six panels: 10 in by (2.2 * 6 + 0.8) in at 110 dpi
+    assert image.shape[:2] == (round((2.2 * 6 + 0.8) * 110), 1100)
     t, values = read_scope_csv(path)
     keep = t >= 3
     fig = scope_figure(t[keep], {s: v[keep] for s, v in values.items()}, path.name)
     titles = [ax.get_title(loc="left") for ax in fig.axes]
-    assert titles == [g.title for g in GROUPS]
+    drawn = [g for g in GROUPS if g is not PUSH]  # the tour has no push: its panel is left out
+    assert titles == [g.title for g in drawn]
     units = [ax.get_ylabel() for ax in fig.axes]
-    assert units == ["rad", "command units", "lab units", "0/1 (a lane each)", "rad"]
-    assert [len(ax.get_lines()) for ax in fig.axes] == [sum(s.group == g for s in SIGNALS) for g in GROUPS]
+    assert units == ["rad", "command units", "lab units", "0/1 (a lane each)", "rad", "m"]
+    assert [len(ax.get_lines()) for ax in fig.axes] == [sum(s.group == g for s in SIGNALS) for g in drawn]
     assert fig.axes[-1].get_xlabel() == "time (s)"
+    # with a push the push's panel is drawn too
+    pushed = {s: (np.full(len(v), 5.0) if s.group is PUSH else v) for s, v in values.items()}
+    assert [ax.get_title(loc="left") for ax in scope_figure(t, pushed, "x").axes] == [g.title for g in GROUPS]
     # the data drawn is the CSV's, from 3 s on: each signal's line (the logic lanes offset)
-    for ax, group in zip(fig.axes, GROUPS):
+    for ax, group in zip(fig.axes, drawn):
         members = [(s, v[keep]) for s, v in values.items() if s.group == group]
         for lane, (line, (s, v)) in enumerate(zip(ax.get_lines(), members)):
             assert line.get_label() == s.name

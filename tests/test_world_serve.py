@@ -8,10 +8,10 @@ from __future__ import annotations
 import json
 
 import pytest
-from crslab.serve.page_messages import ProtocolError, parse_message
 from serve_server import Client, ServeProcess, run_message, serial_of, write_roster
 
 from crslab.serve.app import arm_shapes
+from crslab.serve.page_messages import ProtocolError, parse_message
 from crslab.sim.api import simulate
 from crslab.starters import starter_text
 
@@ -56,3 +56,32 @@ def test_a_run_in_the_contest_world_is_crslab_sims_there(alice, tmp_path):
     assert {len(f) for f in frames} == {12}  # tick, 3 DH, 3 motor, safety, board, egg N, scale g, broken
     assert all(f[9] == 0 and f[10] == 0 and f[11] == 0 for f in frames)  # nothing presses the egg
     assert serial_of(got) == simulate(lab, "hands_off", duration_s=5.0, world="contest").sent
+
+
+def test_the_hand_on_the_page_pulls_the_arm_in_the_contest_world(alice):
+    """The hand's force goes to the world's scene (more bodies than the bare arm's): dragging the
+    forearm's tip 15 cm up raises it, as in free air."""
+    import numpy as np
+
+    from crslab import crs
+
+    alice.send(run_message(LAB_A, scenario={"name": "hands_off"}, speed=4.0, duration=8.0, world="contest"))
+    got = alice.until("chunk")
+    start = got[-1]["frames"][-1]
+    tip = crs.fk(crs.dh_to_motor(np.array(start[1:4]))) * crs.M_PER_IN
+    alice.send(
+        {
+            "type": "hand",
+            "body": "forearm",
+            "anchor": [0.254, 0.0, 0.0],
+            "target": (tip + [0, 0, 0.15]).tolist(),
+        }
+    )
+    frames = []
+    while not frames or frames[-1][0] < start[0] + 1500:
+        frames += alice.next().get("frames", [])
+    alice.send({"type": "release"})
+    alice.send({"type": "stop"})
+    ended = alice.until("ended")[-1]
+    assert ended["status"] in ("ok", "interrupted"), ended
+    assert np.array(frames[-1][4:7])[2] - start[6] < -0.2  # motor 3 turned the forearm up

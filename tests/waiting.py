@@ -124,9 +124,9 @@ def join(thread: threading.Thread, what: str, timeout_s: float = GUARD_S) -> Non
 
 
 def wait_until(ready: Callable[[], T | None], what: str, timeout_s: float = GUARD_S) -> T:
-    """Poll ``ready`` (a look at the system: /proc, a folder) until it gives something true (not
-    None, False, 0 or empty), and return that; fail, naming ``what`` was awaited, if the guard
-    expires."""
+    """Wait until ``ready()`` gives something true (not None, False, 0 or empty) and return it: a
+    state with no event to wait on (a process in or gone from /proc, a folder removed), looked at
+    again every 0.05 s; fail, naming ``what`` was awaited, if the guard expires."""
     end = time.monotonic() + timeout_s
     while True:
         got = ready()

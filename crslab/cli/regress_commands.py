@@ -27,6 +27,7 @@ from crslab.cli.run_options import add_c28x_option, add_run_options, config_from
 from crslab.cli.run_report import notices
 from crslab.executors.job import Executor
 from crslab.lab.c28x_check import C28xReport, check_lab
+from crslab.lab.compile_process import LabBuildError
 from crslab.output_paths import folder as made_folder
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
@@ -332,11 +333,21 @@ def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, refe
 
 
 def c28x_reports(subs: list[Path], *, sandboxed: bool, jobs: int) -> dict[Path, C28xReport]:
-    """The C28x arithmetic check of every submission, a few at a time (each is two compiles)."""
+    """The C28x arithmetic check of every submission, a few at a time (each is two compiles), each
+    from its text alone, as grade builds it: never from the class folder, where the others are."""
     from concurrent.futures import ThreadPoolExecutor
 
+    from crslab.regress.grade import read_submission
+
+    def one(path: Path) -> C28xReport:
+        try:
+            text = read_submission(path)
+        except (OSError, LabBuildError) as exc:
+            return C28xReport(skipped=str(exc))
+        return check_lab(path, sandboxed=sandboxed, text=text, alone=True)
+
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-        reports = pool.map(lambda p: check_lab(p, sandboxed=sandboxed), subs)
+        reports = pool.map(one, subs)
         return dict(zip(subs, reports))
 
 

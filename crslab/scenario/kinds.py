@@ -18,12 +18,14 @@ from crslab.scenario.fault_events import EncoderGlitch, EncoderNoise, JointFault
 from crslab.scenario.hand_events import HandMove, HandRelease
 from crslab.scenario.lab_events import SetVariable, SimulinkInput
 from crslab.scenario.plant_events import EndMass, FrictionScale
+from crslab.scenario.push_events import Push
 from crslab.scenario.table import TableReader
 
 EVENT_CLASSES: tuple[type[Event], ...] = (
     HandMove, HandRelease,  # the hand
     SetVariable, SimulinkInput,  # writes to the lab
     EndMass, FrictionScale,  # the plant
+    Push,  # a force at the end effector
     EncoderNoise, EncoderGlitch, JointFault, WristEstop,  # faults
     Expect,  # checks
 )

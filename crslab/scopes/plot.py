@@ -1,8 +1,9 @@
 """``crslab plot``: draw a ``--csv`` file for a lab report, one panel per signal group.
 
 Columns are recognised by their header cell (``theta1motor [rad]``, see
-:mod:`crslab.scopes.signals`); a panel is drawn for each group that has at least one column,
-titled with the group and its y axis labelled with the unit. Time (s) runs along the bottom.
+:mod:`crslab.scopes.signals`); a panel is drawn for each group that has at least one column
+(a group that is not ``always`` drawn, the push, only when a value is not 0), titled with the
+group and its y axis labelled with the unit. Time (s) runs along the bottom.
 """
 
 from __future__ import annotations
@@ -55,7 +56,8 @@ def scope_figure(t: np.ndarray, values: dict[Signal, np.ndarray], title: str) ->
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    groups = [g for g in GROUPS + WORLD_GROUPS if any(s.group == g for s in values)]
+    groups = [g for g in GROUPS + WORLD_GROUPS
+              if any(s.group == g and (g.always or np.any(v != 0)) for s, v in values.items())]
     fig, axes = plt.subplots(len(groups), 1, sharex=True, squeeze=False,
                              figsize=(10, 2.2 * len(groups) + 0.8), layout="constrained")
     for ax, group in zip(axes[:, 0], groups):

@@ -3,7 +3,7 @@
 A run's scope log (``SimConfig.log_signals``) has one row per tick. Each :class:`Signal` is one
 column of that table with its name, unit and the panel (:class:`Group`) it is drawn in.
 
->>> [g.title for g in GROUPS][2:]
+>>> [g.title for g in GROUPS][2:5]
 ['Simulink_PlotVar1..4', 'safety flag, LEDs, motor board', 'arm pose (true DH angles)']
 >>> csv_header()[:4]
 ['tick', 't [s]', 'theta1motor [rad]', 'theta2motor [rad]']
@@ -24,11 +24,13 @@ SIMULINK_PERIOD_TICKS = SIMULINK_PERIOD_MS
 
 @dataclass(frozen=True)
 class Group:
-    """One scope panel: a title and the unit its signals share."""
+    """One scope panel: a title and the unit its signals share. A group that is not ``always``
+    drawn is left out of a plot where every value is 0 (a run without a push)."""
 
     key: str
     title: str
     unit: str
+    always: bool = True
 
 
 @dataclass(frozen=True)
@@ -56,7 +58,9 @@ TORQUE = Group("torque", "torques", "command units")
 SIMULINK = Group("simulink", "Simulink_PlotVar1..4", "lab units")
 DIGITAL = Group("digital", "safety flag, LEDs, motor board", "0/1")
 POSE = Group("pose", "arm pose (true DH angles)", "rad")
-GROUPS: tuple[Group, ...] = (MOTOR, TORQUE, SIMULINK, DIGITAL, POSE)
+END_EFFECTOR = Group("ee", "end effector (course FK)", "m")
+PUSH = Group("push", "push at the end effector (world frame)", "N", always=False)
+GROUPS: tuple[Group, ...] = (MOTOR, TORQUE, SIMULINK, DIGITAL, POSE, END_EFFECTOR, PUSH)
 
 SIGNALS: tuple[Signal, ...] = (
     *(Signal(f"theta{j + 1}motor", "enc_rad", j, MOTOR) for j in range(3)),
@@ -68,6 +72,10 @@ SIGNALS: tuple[Signal, ...] = (
     Signal("GPIO60", "leds", 1, DIGITAL),   # LED on the e-stop box (active low): pin level
     Signal("motor_board_off", "motor_board_off", 0, DIGITAL),  # 1: the motor board cut every output
     *(Signal(f"th{j + 1}_dh", "qpos_dh_rad", j, POSE) for j in range(3)),
+    # the true end effector: the course's forward kinematics of the plant's angles, in metres
+    *(Signal(f"ee_{axis}", "ee", k, END_EFFECTOR) for k, axis in enumerate("xyz")),
+    # a scenario's push (crslab/scenario/push_events.py): this tick's force, 0 without one
+    *(Signal(f"push_f{axis}", "push_force", k, PUSH) for k, axis in enumerate("xyz")),
 )
 """Every signal, in CSV column order (after ``tick`` and ``t [s]``)."""
 
@@ -122,7 +130,7 @@ def signal_values(log: dict[str, np.ndarray], signal: Signal) -> np.ndarray:
     float32, so they print as the lab's values do).
 
     >>> log = {"leds": np.array([[0], [1], [2], [3]], np.uint32)}
-    >>> signal_values(log, SIGNALS[-5]).tolist()      # GPIO60, bit 1
+    >>> signal_values(log, SIGNALS[15]).tolist()      # GPIO60, bit 1
     [0, 0, 1, 1]
     """
     col = log[signal.column]

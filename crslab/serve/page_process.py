@@ -40,6 +40,7 @@ from crslab.sim.session import DEFAULT_DEADLINE_S, Limits, SimError, Simulation
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
+from crslab.world.layout import World
 
 FORWARD = b"F"
 """The message is for the page only."""
@@ -72,6 +73,7 @@ class Session:
         self.folder = folder
         self.limits = limits
         self._arm: ArmPoses | None = None
+        self._world_arms: dict[str, ArmPoses] = {}
         for sub in SESSION_SUBFOLDERS:
             (folder / sub).mkdir(parents=True, exist_ok=True)
         self.page_text = PageText(folder)
@@ -86,6 +88,14 @@ class Session:
         if self._arm is None:
             self._arm = ArmPoses()
         return self._arm
+
+    def arm_in(self, world: World) -> ArmPoses:
+        """The arm's poses in ``world``'s scene (the hand's forces go to that scene's bodies)."""
+        if world.is_free_air:
+            return self.arm
+        if world.name not in self._world_arms:
+            self._world_arms[world.name] = ArmPoses(world)
+        return self._world_arms[world.name]
 
     # -- files the page sent ----------------------------------------------------------------
     def _write(self, sub: str, file: dict) -> Path:
@@ -183,7 +193,7 @@ class Session:
             notes.append(f"this server runs a lab for at most {self.limits.max_run_s:g} s of simulated time")
         out_dir = self.folder / "out"
         out = FanOut()
-        stream = BrowserStream(self.send, self.arm, world=not config.world.is_free_air)
+        stream = BrowserStream(self.send, self.arm_in(config.world), world=not config.world.is_free_air)
         out.add(stream)
         out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
         console = VarConsole(config.build.watched)

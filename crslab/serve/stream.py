@@ -93,10 +93,10 @@ class ArmPoses:
     """The arm's bodies' world poses from DH angles (the MuJoCo model's kinematics), and where a
     point fixed on a link is."""
 
-    def __init__(self) -> None:
+    def __init__(self, world: object | None = None) -> None:
         from crslab.scopes.arm3d import ArmModel
 
-        self.model = ArmModel()
+        self.model = ArmModel(world)
         self.names = [b.name for b in self.model.moving]
         self.com_local = np.array([self.model.model.body_ipos[b.id] for b in self.model.moving])
         self.body_ids = [b.id for b in self.model.moving]

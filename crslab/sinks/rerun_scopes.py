@@ -13,6 +13,8 @@ entity                     holds
                            motor board)
 ``/scopes/digital``        the safety flag, the GPIO34 / GPIO60 LED pin levels and whether the
                            motor board has cut the outputs, every tick
+``/scopes/end_effector``   the end effector's x y z by the course's forward kinematics (m)
+``/scopes/push``           a scenario's push at the end effector, world frame (N; 0 without one)
 ``/serial``                the serial lines (TextLog), at the tick that ended each line
 ``/arm/<body>``            each body's world pose (Transform3D), every 10 ms; its link shapes
                            from the MuJoCo model are static children (``/arm/<body>/shapes``)
@@ -40,7 +42,9 @@ from crslab.scopes.arm3d import SHAPE_KINDS, quat_rotate
 from crslab.scopes.rerun_stream import SIMULINK_ENTITY, SIMULINK_NAMES, open_recording
 from crslab.scopes.signals import (
     DIGITAL,
+    END_EFFECTOR,
     MOTOR,
+    PUSH,
     SCALE,
     SIGNALS,
     SIMULINK,
@@ -64,6 +68,8 @@ SCALAR_ENTITIES = {  # entity: (log column, series names)
     "/scopes/motor_angle": ("enc_rad", ["theta1motor", "theta2motor", "theta3motor"]),
     "/scopes/torque/lab": ("tau_lab", ["tau1", "tau2", "tau3"]),
     "/scopes/torque/applied": ("tau_applied", ["tau1 applied", "tau2 applied", "tau3 applied"]),
+    "/scopes/end_effector": ("ee", ["x", "y", "z"]),
+    "/scopes/push": ("push_force", ["Fx", "Fy", "Fz"]),
 }
 DIGITAL_ENTITY = "/scopes/digital"
 DIGITAL_SIGNALS = [s for s in SIGNALS if s.group == DIGITAL]
@@ -104,6 +110,8 @@ def blueprint(world: bool = False) -> object:
                 scope("/scopes/motor_angle", MOTOR),
                 scope("/scopes/torque", TORQUE),
                 scope(DIGITAL_ENTITY, DIGITAL),
+                scope("/scopes/end_effector", END_EFFECTOR),
+                scope("/scopes/push", PUSH),
                 *([scope(WORLD_ENTITY, WORLD), scope(SCALE_ENTITY, SCALE)] if world else []),
             ),
             column_shares=[2, 3],

@@ -2,7 +2,8 @@
 
 An event at tick k is applied before tick k runs, so tick k's encoder reading and lab() call
 already see it. Faults act in the C framework (``crs_faults`` and ``estop_latched`` of
-csrc/board/sim.h); plant changes edit the MuJoCo model in place; writes go to the lab's globals.
+csrc/board/sim.h); plant changes edit the MuJoCo model in place; a push sets ``crs_push``, which
+the C tick reads (csrc/plant/push.h); writes go to the lab's globals.
 An expectation (``expect``) changes nothing: it notes what the worker sees, for the crslab
 process to judge. Each event class of :data:`crslab.scenario.kinds.EVENT_CLASSES` has its effect here, found
 from its class (:func:`effect_of` registers one).
@@ -21,6 +22,7 @@ from crslab.scenario.fault_events import EncoderGlitch, EncoderNoise, JointFault
 from crslab.scenario.hand_events import HandMove, HandRelease
 from crslab.scenario.lab_events import SetVariable, SimulinkInput
 from crslab.scenario.plant_events import EndMass, FrictionScale
+from crslab.scenario.push_events import Push
 
 if TYPE_CHECKING:
     import mujoco
@@ -119,6 +121,17 @@ def _friction_scale(worker: EffectTarget, e: FrictionScale) -> None:
     base = worker.config.plant
     scaled = tuple(s * e.scale for s in base.friction_scale)
     worker.set_friction(dataclasses.replace(base, friction_scale=scaled))
+
+
+@effect_of(Push)
+def _push(worker: EffectTarget, e: Push) -> None:
+    # the board works out each tick's force from the tick number (csrc/plant/push.c)
+    push = worker.sim.push
+    push.active = int(not e.ends)
+    push.start_tick = e.tick
+    push.half_period_ticks = e.half_period_ticks
+    for k in range(3):
+        push.force_n[k] = e.force_n[k]
 
 
 @effect_of(EncoderNoise)

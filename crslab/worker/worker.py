@@ -42,7 +42,13 @@ from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
-from crslab.worker.wasm_runtime import INTERRUPT_SIGNAL, compiled_module_path, wasmtime_library
+from crslab.worker.wasm_runtime import (
+    INTERRUPT_SIGNAL,
+    compiled_module_path,
+    seal_compiled,
+    unsealed_compiled_removed,
+    wasmtime_library,
+)
 from crslab.world.layout import World, peg_depth_m
 from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
 
@@ -52,6 +58,7 @@ _LOG_COLUMNS = {  # name: (width, dtype)
     "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
     "tau_applied": (3, np.float64), "plot": (4, np.float64), "safety": (1, np.int32),
     "leds": (1, np.uint32), "motor_board_off": (1, np.int32), "qpos_dh_rad": (3, np.float64),
+    "ee": (3, np.float64), "push_force": (3, np.float64),
 }
 WORLD_COLUMNS = {  # the C log's "world" row (csrc/plant/world.h CRS_WORLD_ROW_*), split by name: width
     "peg_tip": 3, "egg_force": 1, "scale_g": 1, "egg_broken": 1, "hole_force": 1, "obstacle_force": 1,
@@ -279,6 +286,8 @@ class Worker:
         wasm = config.build.image.read_bytes()
         library = self.ffi.new("char[]", str(wasmtime_library()).encode())
         kept = compiled_module_path(wasm, MEMORY_BYTES, NATIVE_STACK_BYTES)
+        if kept is not None:
+            unsealed_compiled_removed(kept)
         compiled = self.ffi.new("char[]", str(kept).encode()) if kept is not None else self.ffi.NULL
         image = self.ffi.new("uint8_t[]", wasm)
         options = self.ffi.new("crs_wasm_options *", {
@@ -287,6 +296,8 @@ class Worker:
         self._keep += [library, image, compiled, options]
         block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
         code = self.lib.crs_fw_wasm_load(sim, options)
+        if kept is not None:
+            seal_compiled(kept)
         if code != 0:
             raise FirmwareStopped(trap_info(self.ffi, sim))
         block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]

@@ -21,12 +21,11 @@ import re
 import tomllib
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
-from importlib.resources import files
 from pathlib import Path
 
 import numpy as np
 
-from crslab import crs
+from crslab import crs, resources
 from crslab.plant.model_files import ARM_XML, REST_MOTOR_RAD
 
 WORLD_NAMES = ("none", "contest")
@@ -287,7 +286,7 @@ class _Table:
 
 
 def _builtin_path(name: str) -> Path:
-    return Path(str(files("crslab").joinpath("worlds", f"{name}.toml")))
+    return resources.path("worlds", f"{name}.toml")
 
 
 def world_file(name_or_path: str | Path) -> tuple[Path, str]:

@@ -15,6 +15,7 @@
 #include "hand.h"
 #include "host_ports.h"
 #include "motor_board.h"
+#include "push.h"
 #include "serial_line.h"
 #include "world.h"
 
@@ -122,7 +123,11 @@ static void log_tick(crs_sim *sim, int plots)
         lg->tau_lab[3 * i + j] = sim->tau[j];
         lg->tau_applied[3 * i + j] = sim->applied[j];
         lg->qpos_dh_rad[3 * i + j] = sim->qpos[j];
+        lg->push_force[3 * i + j] = sim->push.now_n[j];
     }
+    double ee_in[3];
+    crs_fk_dh(sim->qpos, ee_in);
+    for (int k = 0; k < 3; ++k) lg->ee[3 * i + k] = CRS_M_PER_IN * ee_in[k];
     for (int k = 0; k < 4; ++k) lg->plot[4 * i + k] = plots ? plot_var(sim->fw.plot[k]) : 0.0;
     lg->safety[i] = sim->safety_flag;
     lg->leds[i] = sim->leds;
@@ -150,6 +155,7 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
         crs_friction_add(&sim->friction, speed, sim->ctrl);
         crs_hand_step_along(sim, &hand_path);
         for (int j = 0; j < 3; ++j) sim->qfrc_applied[j] = sim->hand.force_nm[j];
+        crs_push_apply(&sim->push, sim->tick, sim->qpos, sim->qfrc_applied);
         if (sim->log.capacity > 0) log_tick(sim, plots);
         crs_line_send(sh, sim->tick);
         crs_host_ports_tick(sim, sim->tick); /* after lab(): what the host sent, the replies */

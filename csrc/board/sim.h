@@ -110,6 +110,17 @@ typedef struct {
     double force_nm[3];          /* last applied generalized force on j1..j3, N.m */
 } crs_hand;
 
+/* A push at the end effector (csrc/plant/push.h; the scenario's `push` events): a force at the
+ * point the course's forward kinematics computes, constant or a square wave. */
+typedef struct {
+    int32_t active;              /* 0: no push */
+    int32_t pad;
+    int64_t start_tick;          /* the tick it began: its square wave counts from here */
+    int64_t half_period_ticks;   /* 0: constant; else the force flips sign every this many ticks */
+    double force_n[3];           /* world frame (DH frame 0), N: the force of the first half period */
+    double now_n[3];             /* this tick's force, world frame, N (0 when inactive) */
+} crs_push;
+
 /* Per-tick signals for scopes (rerun, CSV): filled when capacity > 0 (rows the arrays hold). */
 typedef struct {
     int64_t capacity, count;     /* rows */
@@ -122,6 +133,8 @@ typedef struct {
     uint32_t *leds;              /* bit 0: GPIO34 (control card), bit 1: GPIO60 (e-stop box) */
     int32_t *motor_board_off;    /* 1: the motor board has cut every output */
     double *qpos_dh_rad;         /* 3 per row: the true plant joint angles (DH, rad) */
+    double *ee;                  /* 3 per row: the end effector x y z by the course's FK, m */
+    double *push_force;          /* 3 per row: the push's force, world frame, N */
     double *world;               /* CRS_WORLD_ROW per row: the world's quantities (world.h); NULL
                                     in a world without fixtures */
 } crs_log;
@@ -283,7 +296,7 @@ typedef struct {
     const double *qvel;          /* rad/s */
     double *ctrl;                /* motor1..3 torques the drive delivers, with the sliding friction
                                     on each motor, command units (actuator gear: N.m/unit) */
-    double *qfrc_applied;        /* hand forces on j1..j3, N.m */
+    double *qfrc_applied;        /* the hand's and the push's generalized forces on j1..j3, N.m */
 
     /* configuration */
     int32_t generation;          /* the id of a row of generations.c (0 until set: no row) */
@@ -331,6 +344,7 @@ typedef struct {
     crs_shared *shared;
     crs_faults faults;
     crs_hand hand;
+    crs_push push;
     crs_motor_board motor_board;
     crs_drive drive;
     crs_friction friction;
