@@ -37,7 +37,7 @@ WAIT_MS = 120_000
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
     folder = tmp_path_factory.mktemp("serve")
-    srv = ServeProcess(folder, "--users", str(write_roster(folder)))
+    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000")
     yield srv
     srv.stop()
 
