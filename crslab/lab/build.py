@@ -229,7 +229,8 @@ def _board_objects(cc: Compiler, sanitize: bool, cache: Path, debug: bool = Fals
     flags = BOARD_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_BOARD_FLAGS if debug else [])
     out_dir = _own_c_dir(cache, "board", cc, flags, BOARD_SOURCES + BOARD_HEADERS)
     return [_compiled(out_dir / f"{src.parent.name}_{src.stem}.o",
-                      [*cc.argv, *flags, *INCLUDES, "-c", str(src)], f"crslab's board source {src.name}")
+                      [*cc.argv, *flags, *firmware.csrc_debug_map(), *INCLUDES, "-c", str(src)],
+                      f"crslab's board source {src.name}")
             for src in BOARD_SOURCES]
 
 

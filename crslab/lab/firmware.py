@@ -135,6 +135,23 @@ def is_zig_prepared() -> bool:
     return zig.is_prepared(TARGET, LINK_FLAGS)
 
 
+DEBUG_INFO_CSRC = "/crslab/csrc"
+"""How debug information names crslab's C folder, the same from every checkout: a build of crslab's
+own C is shared by content through the cache, so a path of its own would name whichever checkout
+built it first. ``crslab debug`` tells gdb where the folder is (``set substitute-path``)."""
+
+
+def csrc_debug_map(compiler_option: list[str] | None = None) -> list[str]:
+    """The flags that name crslab's C folder :data:`DEBUG_INFO_CSRC` in debug information (zig
+    passes the map on only through ``-Xclang``: ``compiler_option``). Not part of a build's cache
+    key: what they produce is the same from every checkout.
+
+    >>> csrc_debug_map()[0].endswith("=/crslab/csrc")
+    True
+    """
+    return [*(compiler_option or []), f"-fdebug-prefix-map={resources.path('csrc')}={DEBUG_INFO_CSRC}"]
+
+
 def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - build.content_digest
     """The stand-ins and the kinematics compiled for wasm32, once per content, flags and zig."""
     digest = digest_of([zig.zig_version().encode(), " ".join(FIRMWARE_FLAGS).encode()]
@@ -149,8 +166,9 @@ def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - bu
         try:
             for src, obj in zip(FIRMWARE_SOURCES, objects):
                 part = Path(tmp) / obj.name
-                procs.append((start_compile([*zig.zig_cc(), f"--target={TARGET}", *FIRMWARE_FLAGS, *INCLUDES,
-                                             "-c", str(src), "-o", str(part)], cwd=Path(tmp),
+                mapped = csrc_debug_map(["-Xclang"])  # debug information names no checkout
+                procs.append((start_compile([*zig.zig_cc(), f"--target={TARGET}", *FIRMWARE_FLAGS, *mapped,
+                                             *INCLUDES, "-c", str(src), "-o", str(part)], cwd=Path(tmp),
                                             env=zig.zig_environment(Path(tmp) / "cache")), src, part, obj))
             failed = []
             for proc, src, part, obj in procs:
