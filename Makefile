@@ -20,6 +20,7 @@ $(STAMP): $(DEPS)
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'
+	$(PY) -m crslab.lab.prepare   # zig's C library for the firmware, once per zig version (1-2 min the first time)
 	@touch $@
 
 venv: $(STAMP) ## create .venv and install crslab (editable) with its test tools

@@ -83,7 +83,7 @@ def _compiler() -> Check:
 
 
 def _wasm() -> Check:
-    from crslab.lab.zig import ZigMissing, is_prepared, zig_program, zig_version
+    from crslab.lab.zig import ZigMissing, zig_program, zig_version
     from crslab.worker.wasm_runtime import WasmtimeMissing, wasmtime_library
 
     fix = "pip install --force-reinstall crslab (it brings ziglang and wasmtime)"
@@ -92,10 +92,10 @@ def _wasm() -> Check:
         runtime = wasmtime_library()
     except (ZigMissing, WasmtimeMissing) as exc:
         return Check("WebAssembly compiler and runtime", False, str(exc), fix)
-    from crslab.lab.firmware import TARGET
+    from crslab.lab.firmware import is_zig_prepared
 
     try:
-        first = "" if is_prepared(TARGET) else "; its C library is built at first use (about 20 s)"
+        first = "" if is_zig_prepared() else "; its C library is built next, once per installation"
     except OSError:  # no cache to keep it in: the build cache's own line says so
         first = ""
     return Check("WebAssembly compiler and runtime", True, f"zig {zig_version()} ({zig}){first}; wasmtime "
@@ -106,7 +106,13 @@ def _lab_build(have_wasm: bool, folder: Path, sandboxed: bool) -> tuple[Check, o
     if not have_wasm:
         return Check("lab build", False, "needs the WebAssembly compiler", "see above", skipped=True), None
     from crslab.lab.build import LabBuildError, build_lab
+    from crslab.lab.firmware import prepare_zig
 
+    try:  # once per installation, with its progress on stderr (then a first build takes seconds)
+        prepare_zig()
+    except RuntimeError as exc:
+        return Check("lab build", False, str(exc),
+                     "reinstall crslab (pip install --force-reinstall crslab)"), None
     start = time.monotonic()
     try:
         build = build_lab(cache=folder, sandboxed=sandboxed)

@@ -34,6 +34,15 @@ if "ZIG_GLOBAL_CACHE_DIR" not in os.environ:
     os.environ["ZIG_GLOBAL_CACHE_DIR"] = str(zig_cache())
 
 
+# zig's C library for the firmware is kept beside crslab, built once (make venv): subprocesses that
+# run another installation (tests/test_packaging_wheel.py's fresh venv) use this one's too
+# (tests/test_zig_first_use.py prepares one afresh on purpose)
+if "CRSLAB_ZIG_LIBC_DIR" not in os.environ:
+    from crslab.lab.zig import libc_homes
+
+    os.environ["CRSLAB_ZIG_LIBC_DIR"] = str(libc_homes()[0])
+
+
 def missing_program(*names: str) -> str | None:
     """The first of ``names`` not on PATH, else None."""
     return next((n for n in names if shutil.which(n) is None), None)

@@ -21,6 +21,7 @@ from crslab.cli.live_options import LiveRun, live_needs_log
 from crslab.cli.run_options import limits_from_args
 from crslab.cli.run_report import near_budget_warning, print_run_notes, summary, summary_line
 from crslab.cli.sink_options import check_sinks, open_sinks, preload_sinks, sinks_need_scope_rows
+from crslab.lab.compiler import native_widths_note
 from crslab.scenario.event import seconds_to_tick
 from crslab.sim.running import LiveControl, RunDebugger
 from crslab.sim.session import SimError, Simulation
@@ -69,6 +70,20 @@ class LabRun:
         """One line on stderr, now."""
         print(f"{self.prefix}{line}", file=sys.stderr, flush=True)
 
+    def say_build_notes(self) -> None:
+        """What the build found that the board does otherwise, one line each (also with --quiet): the
+        C89 habits it built, and in a native build of a lab using ``long`` that its width differs."""
+        build = self.config.build
+        for line in build.habits:
+            self.say(f"warning: {line}")
+        if build.native:
+            try:
+                note = native_widths_note(build.source.read_text(errors="replace"))
+            except OSError:
+                note = None
+            if note is not None:
+                self.say(f"note: {note}")
+
     def _worker_started(self) -> None:
         self.live.worker_started()
         preload_sinks(self.args)
@@ -98,6 +113,7 @@ class LabRun:
                     self.out.add(sink)
                 if prepare is not None:
                     prepare(sim)
+                self.say_build_notes()
                 self.narration.say(introduction(self.end_tick))
                 self.narration.on_reached(0)
                 if ready is not None:

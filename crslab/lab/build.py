@@ -34,6 +34,7 @@ from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START
 from crslab.generations import Generation, detect
 from crslab.lab import firmware, zig
 from crslab.lab.c28x_memory import MemoryLayout, layout
+from crslab.lab.c89_habits import habit_warnings, lab_flags
 from crslab.lab.compile_process import (
     LabBuildError,
     LabForbidden,
@@ -45,6 +46,7 @@ from crslab.lab.compile_process import (
     run_compiler,
 )
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
+from crslab.lab.entry_points import EntryPointError, entry_calls
 from crslab.lab.includes import local_includes
 from crslab.lab.lab_file import read_lab_file
 from crslab.lab.variables import LabVariable, find_variables
@@ -71,7 +73,8 @@ BOARD_FOLDERS = [BOARD, PLANT, PORT]
 INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN),
             *(arg for folder in BOARD_FOLDERS for arg in ("-I", str(folder)))]
 ERROR_LIMIT = ["-fmax-errors=50"]
-LAB_FLAGS = ["-std=c11", "-O2", "-fPIC", "-w", "-fno-common"]
+LAB_FLAGS = ["-std=c11", "-O2", "-fPIC", "-fno-common"]
+"""The lab's flags; the C89 habits' (:func:`crslab.lab.c89_habits.lab_flags`) follow them."""
 BOARD_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-fno-math-errno"]
 # ASan finds out-of-bounds reads and writes (and says which); UBSan the rest (overflow,
 # misalignment, bad shifts), so UBSan's own array-bounds and object-size checks are left to ASan.
@@ -119,6 +122,9 @@ class LabBuild:
     trap_library: Path | None = None
     """Native builds: the run sandbox's SIGSYS handler (:func:`trap_library`), built here so that no
     worker ever compiles."""
+    habits: tuple[str, ...] = field(default=())
+    """The C89 habits the lab was built with, one line each saying what the board does
+    (:mod:`crslab.lab.c89_habits`)."""
 
     def image_name(self, name: str) -> str:
         """What the lab's global ``name`` is called in its image."""
@@ -147,6 +153,13 @@ def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
     """:attr:`LabBuild.memory` from a lab file's text alone: the layout depends on nothing else, so
     ``crslab map`` and ``crslab vars`` need no build."""
     return layout(find_variables(source_text), detect(source_text), lab_name)
+
+
+def _header_text(header: Path) -> str:
+    try:
+        return header.read_text(errors="replace")
+    except OSError:
+        return ""
 
 
 def content_digest(parts: list[bytes]) -> str:
@@ -322,12 +335,12 @@ def _cached_or_built(home: Path, src: Path, text: bytes, image: str,
         return _keep(home, private, reads, outputs)
 
 
-def _build_wasm(src: Path, text: bytes, variables: list[LabVariable], cache: Path,
+def _build_wasm(src: Path, text: bytes, variables: list[LabVariable], calls: str, cache: Path,
                 sandboxed: bool) -> tuple[firmware.WasmImage, str]:
     """The WebAssembly firmware of ``src`` (its bytes ``text``; cached, named by the text and by
     what the compiler read of the lab's folder); returns (image, digest)."""
     try:
-        firmware.prepare_zig()
+        libc = firmware.prepare_zig()
         objects = firmware.firmware_objects(cache, content_digest)
     except (RuntimeError, zig.ZigMissing, OSError) as exc:
         raise LabBuildError(f"the WebAssembly compiler cannot be used: {exc}") from None
@@ -339,10 +352,10 @@ def _build_wasm(src: Path, text: bytes, variables: list[LabVariable], cache: Pat
                              objects[0].parent.name.encode(), " ".join(globals_).encode()])
 
     def build(private: PrivateBuild) -> tuple[dict[str, Path], list[str]]:
-        readable = [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent]
+        readable = [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent, libc.folder]
         sandbox = compiler_sandbox([], private.folder, readable, compiler=(), run_dirs=[zig.zig_dir()],
                                    cache_dirs=[zig.zig_cache()]) if sandboxed else None
-        built, reads = firmware.build_module(private, globals_, objects, sandbox)
+        built, reads = firmware.build_module(private, globals_, objects, sandbox, calls, libc)
         built.save(private.folder)
         return {"lab.wasm": built.path, "names.json": private.folder / "names.json"}, reads
 
@@ -353,13 +366,29 @@ def _build_wasm(src: Path, text: bytes, variables: list[LabVariable], cache: Pat
     return image, f"{digest}-{variant.name}"
 
 
-def _build_native(src: Path, text: bytes, flags: list[str], break_when: str | None,
-                  sanitize: bool, debug: bool, cache: Path, sandboxed: bool) -> tuple[Path, str, Compiler]:
+def native_unit(lab: Path, calls: str, condition: str | None = None) -> str:
+    """The translation unit of a native build: the lab file itself (by its absolute path), the
+    ``--break-when`` condition when there is one (:func:`break_when_source`), then ``calls``, the
+    framework's calls of the lab's functions (:mod:`crslab.lab.entry_points`).
+
+    >>> native_unit(Path("/labs/lab1.c"), "")
+    '#include "/labs/lab1.c"\\n'
+    """
+    if condition is not None:
+        return break_when_source(lab, condition) + calls
+    quoted = str(lab.absolute()).replace("\\", "\\\\").replace('"', '\\"')
+    return f'#include "{quoted}"\n{calls}'
+
+
+def _build_native(src: Path, text: bytes, flags: list[str], calls: str, break_when: str | None,
+                  sanitize: bool, debug: bool, cache: Path,
+                  sandboxed: bool) -> tuple[Path, str, Compiler, tuple[str, ...]]:
     """The native shared object of ``src`` (its bytes ``text``) linked with the board (cached, named
-    like the WebAssembly build); returns (image, digest, cc)."""
+    like the WebAssembly build); returns (image, digest, cc, the C89 habits it was built with)."""
     cc = compiler()
     objects = _board_objects(cc, sanitize, cache, debug)
-    digest = content_digest([text, " ".join(flags).encode(), src.suffix.encode()]
+    flags = [*flags, *lab_flags(cc.family)]
+    digest = content_digest([text, " ".join(flags).encode(), src.suffix.encode(), calls.encode()]
                             + [o.parent.name.encode() for o in objects[:1]]  # it names the compiler
                             + ([break_when.encode()] if break_when is not None else [])
                             # a debugger finds the source by the path compiled into the build
@@ -374,20 +403,23 @@ def _build_native(src: Path, text: bytes, flags: list[str], break_when: str | No
         readable = [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent]
         sandbox = compiler_sandbox([], tmp, readable, compiler=cc.argv) if sandboxed else None
         obj = tmp / "lab.o"
-        compiled, what = copy, src.name
+        # the unit includes the lab's copy, then the framework's calls of its functions
+        compiled, what = tmp / "lab_unit.c", src.name
+        compiled.write_text(native_unit(copy, calls, break_when))
         if break_when is not None:
-            compiled = tmp / "break_when.c"
-            compiled.write_text(break_when_source(copy, break_when))
             what = f"{src.name} with --break-when {break_when!r}"
         maps = [f"-fmacro-prefix-map={copy.parent}/={shown}",
                 f"-fdebug-prefix-map={copy.parent}={shown.rstrip('/') or '.'}"]
         try:
-            run_compiler([*cc.argv, *flags, *ERROR_LIMIT, *maps, "-iquote", str(copy.parent), *INCLUDES,
-                          "-MD", "-MF", str(tmp / "reads.d"), "-x", "c", "-c", str(compiled), "-o", str(obj)],
-                         what, sandbox, reaper=private.reaper)
+            messages = run_compiler([*cc.argv, *flags, *ERROR_LIMIT, *maps, "-iquote", str(copy.parent),
+                                     *INCLUDES, "-MD", "-MF", str(tmp / "reads.d"), "-x", "c", "-c",
+                                     str(compiled), "-o", str(obj)], what, sandbox, reaper=private.reaper)
         except LabBuildError as exc:
             exc.diagnostics = firmware.shown_diagnostics(exc.diagnostics, compiled, src, copy)
             raise
+        habits = tmp / "habits.json"
+        shown_messages = firmware.shown_diagnostics(messages, compiled, src, copy)
+        habits.write_text(json.dumps(habit_warnings(shown_messages)))
         tmp_so = tmp / "lab.so"
         link_flags = [*os_support.SHARED_OBJECT_FLAGS, *(cc.sanitizer_link_flags() if sanitize else [])]
         try:
@@ -403,10 +435,14 @@ def _build_native(src: Path, text: bytes, flags: list[str], break_when: str | No
             raise
         check_image(tmp_so, src.name)
         reads = private.read_from_folder(dependencies((tmp / "reads.d").read_text("utf-8", "replace")))
-        return {"lab.so": tmp_so}, reads
+        return {"lab.so": tmp_so, "habits.json": habits}, reads
 
     variant = _cached_or_built(cache / f"lab-{digest}", src, text, "lab.so", build)
-    return variant / "lab.so", f"{digest}-{variant.name}", cc
+    try:
+        habits = tuple(json.loads((variant / "habits.json").read_text()))
+    except (OSError, ValueError):
+        habits = ()
+    return variant / "lab.so", f"{digest}-{variant.name}", cc, habits
 
 
 def build_lab(source: Path | None = None, *, native: bool = False, sanitize: bool = False,
@@ -426,9 +462,13 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     src = Path(source) if source is not None else DEFAULT_LAB
     text_bytes = read_lab_file(src)
     text = text_bytes.decode("utf-8", "replace")
-    special, _ = local_includes(src)
+    special, headers = local_includes(src)
     if special is not None:
         raise LabBuildError(f"{src.name} does not compile: {special}")
+    try:  # how the framework calls lab() and printing(), as the file (and its own headers) define them
+        calls = entry_calls("\n".join([text, *(_header_text(h) for h in headers)]))
+    except EntryPointError as exc:
+        raise LabBuildError(f"{src.name} cannot run on the board: {exc}") from None
     generation = detect(text)
     variables = find_variables(text)
     check_board_memory(variables, generation, src)
@@ -441,13 +481,13 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     trap: Path | None = None
     if native:
         flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_LAB_FLAGS if debug else [])
-        image, digest, cc = _build_native(src, text_bytes, flags, break_when, sanitize, debug, cache,
-                                          sandboxed)
+        image, digest, cc, habits = _build_native(src, text_bytes, flags, calls, break_when, sanitize, debug,
+                                                  cache, sandboxed)
         trap = trap_library(cc, cache)
     else:
-        wasm, digest = _build_wasm(src, text_bytes, variables, cache, sandboxed)
-        image, renamed, sized = wasm.path, wasm.renamed, wasm.sized
+        wasm, digest = _build_wasm(src, text_bytes, variables, calls, cache, sandboxed)
+        image, renamed, sized, habits = wasm.path, wasm.renamed, wasm.sized, wasm.habits
     return LabBuild(source=src, image=image, generation=generation, sanitized=sanitize, digest=digest,
                     native=native, watched=tuple(find_watched(text)), compiler=cc, debug=debug,
                     break_when=break_when, variables=tuple(variables), renamed=renamed, sized=sized,
-                    trap_library=trap)
+                    trap_library=trap, habits=habits)

@@ -30,6 +30,7 @@ from pathlib import Path
 
 from crslab import resources
 from crslab.cache import CacheError, cache_dir
+from crslab.lab.c89_habits import lab_flags
 from crslab.lab.compile_process import (
     LabBuildError,
     PrivateBuild,
@@ -47,9 +48,14 @@ DIAGNOSTICS = ["integer-overflow", "constant-conversion", "implicit-const-int-fl
                "literal-range", "tautological-constant-out-of-range-compare", "shift-overflow",
                "shift-count-overflow", "bitfield-constant-conversion", "implicit-int-float-conversion"]
 """The diagnostics that say a value changes (overflow, truncation, precision)."""
+POINTER_DIAGNOSTICS = ["implicit-function-declaration", "int-conversion"]
+"""What tells that an undeclared function's result lands in a pointer (:func:`cut_pointers`)."""
 FLAGS = ["-std=c11", "-c", "-nostdlib", "-ffreestanding", "-x", "c", "-Wno-everything",
-         *(f"-W{d}" for d in DIAGNOSTICS), "-fno-color-diagnostics", "-fno-caret-diagnostics",
-         "-Wno-unused-command-line-argument"]
+         *(f"-W{d}" for d in DIAGNOSTICS + POINTER_DIAGNOSTICS), *lab_flags("clang")[1:],
+         "-fno-color-diagnostics", "-fno-caret-diagnostics", "-Wno-unused-command-line-argument"]
+"""The check's flags: the C89 habits build as the lab's own build takes them (as warnings), with
+the compiler's built-in knowledge of the C library off (``-ffreestanding``), as on the board, where
+an undeclared ``malloc`` returns an ``int``."""
 TIMEOUT_S = 60.0
 _LINE = re.compile(r"^(?P<file>.+?):(?P<line>\d+):\d+: warning: (?P<message>.*?) \[-W(?P<flag>[\w-]+)\]$",
                    re.MULTILINE)
@@ -114,6 +120,41 @@ def board_only(board: Sequence[Finding], host: Sequence[Finding]) -> list[Findin
         if (f.file, f.line, f.flag) not in seen and f not in unique:
             unique.append(f)
     return unique
+
+
+_CALLED = re.compile(r"call to undeclared function '(\w+)'")
+
+
+def cut_pointers(board: Sequence[Finding]) -> list[Finding]:
+    """The places where the board compile stores the result of a function it has no declaration of
+    (so C89 makes it an ``int``, 16 bits on the C28x) in a pointer: there the board's pointer is cut
+    to 16 bits (an undeclared ``malloc`` without ``<stdlib.h>``).
+
+    >>> [f] = cut_pointers([Finding("l.c", 7, "call to undeclared function 'malloc'; ISO C99 ...",
+    ...                             "implicit-function-declaration"),
+    ...                     Finding("l.c", 7, "incompatible integer to pointer conversion ...",
+    ...                             "int-conversion")])
+    >>> f.describe()  # doctest: +NORMALIZE_WHITESPACE
+    'l.c:7: malloc() has no declaration before this line, so the board takes it to return a 16-bit int:
+    the pointer stored here is cut to 16 bits on the board (crslab runs it with the whole pointer);
+    declare it (its header)'
+    """
+    called: dict[tuple[str, int], str] = {}
+    for f in board:
+        m = _CALLED.search(f.message) if f.flag == "implicit-function-declaration" else None
+        if m is not None:
+            called.setdefault((f.file, f.line), m.group(1))
+    out: list[Finding] = []
+    for f in board:
+        name = called.get((f.file, f.line))
+        if f.flag == "int-conversion" and "integer to pointer" in f.message and name is not None:
+            cut = Finding(f.file, f.line, f"{name}() has no declaration before this line, so the board "
+                          "takes it to return a 16-bit int: the pointer stored here is cut to 16 bits on the "
+                          "board (crslab runs it with the whole pointer); declare it (its header)",
+                          "pointer-cut")
+            if cut not in out:
+                out.append(cut)
+    return out
 
 
 def include_dirs() -> list[str]:
@@ -182,7 +223,8 @@ class C28xCheck:
                     return C28xReport(skipped=f"the lab does not compile without a C library: "
                                               f"{first.split('error:', 1)[1].strip()}")
             board, host = (parse_diagnostics(o) for o in outputs)
-            return C28xReport(tuple(board_only(board, host)))
+            widths = [f for f in board if f.flag in DIAGNOSTICS]
+            return C28xReport(tuple(cut_pointers(board) + board_only(widths, host)))
         finally:
             self.close()
 

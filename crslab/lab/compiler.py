@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import platform
+import re
 import shlex
 import shutil
 import subprocess
@@ -135,3 +136,27 @@ def _probe_once(command: tuple[str, ...], program: str, resolved: str, mtime_ns:
         raise CompilerMissing(f"{what}: '{program} --version' failed; {INSTALL_HINT}")
     return Compiler(command=command, path=program, argv=argv, family=family_of(text),
                     version=version_of(text), identity=f"{resolved}\n{text}")
+
+
+_LONG = re.compile(r"(?<!long\s)\blong\b(?!\s+(?:long|double)\b)")
+
+
+def native_widths_note(lab_text: str) -> str | None:
+    """What a native build of a lab that uses ``long`` is told before its run: ``long`` (and a
+    pointer) is 64 bits on a 64-bit host and 32 on the board and in the WebAssembly build, and no
+    flag of gcc or clang gives an x86-64 shared object a 32-bit ``long`` (``-m32`` builds another
+    process's code). None when the lab never says ``long`` (``long long`` and ``long double`` are the
+    same here as in the WebAssembly build).
+
+    >>> native_widths_note("long long n; long double x;") is None
+    True
+    >>> native_widths_note("long mycount = 0; /* ... */")[:45]
+    'built natively: long is 64 bits here, 32 on t'
+    """
+    from crslab.lab.variables import _without_preprocessor, strip_comments
+
+    if _LONG.search(_without_preprocessor(strip_comments(lab_text, literals=True))) is None:
+        return None
+    return ("built natively: long is 64 bits here, 32 on the board and in the WebAssembly build; long "
+            "arithmetic that passes 32 bits (2147483647) prints differently here (crslab sim without "
+            "--native runs the board's widths)")

@@ -25,9 +25,11 @@ import re
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TextIO
 
 from crslab import resources
 from crslab.lab import zig
+from crslab.lab.c89_habits import habit_warnings, lab_flags
 from crslab.lab.compile_process import (
     CompilerStopped,
     LabBuildError,
@@ -59,10 +61,13 @@ INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", 
 board (nothing of the board's: tests/test_layout.py)."""
 COMPILE_FLAGS = ["-std=c11", "-O2", "-mexec-model=reactor", "-fno-common", "-g"]
 LAB_CHECKS = "null,integer-divide-by-zero"
-LAB_FLAGS = [*COMPILE_FLAGS, "-w", f"-fsanitize={LAB_CHECKS}", f"-fno-sanitize-recover={LAB_CHECKS}"]
+LAB_FLAGS = [*COMPILE_FLAGS, *lab_flags("clang"), f"-fsanitize={LAB_CHECKS}",
+             f"-fno-sanitize-recover={LAB_CHECKS}"]
 """The lab's flags: a NULL pointer dereferenced or an integer divided by zero stops the run at its
 line (the handlers are the firmware's, csrc/firmware/firmware.c). On the F28335 neither stops the
-board (address 0 is RAM; the division's result is undefined); a native build stops too."""
+board (address 0 is RAM; the division's result is undefined); a native build stops too. The C89
+habits the board's compiler builds build here too, as warnings (:mod:`crslab.lab.c89_habits`); no
+other warning is shown."""
 FIRMWARE_FLAGS = [*COMPILE_FLAGS, "-Wall", "-Wextra", "-Werror"]
 LINK_FLAGS = ["-mexec-model=reactor", f"-Wl,-z,stack-size={STACK_BYTES}", f"-Wl,--max-memory={MEMORY_BYTES}"]
 """zig's linker puts the stack first (tests/test_wasm_firmware.py checks it), then the data, then the heap."""
@@ -119,9 +124,15 @@ def memory_needed(diagnostics: str) -> int | None:
     return int(m.group(1)) if m else None
 
 
-def prepare_zig() -> None:
-    """zig's C library for wasm32, built once (with progress on stderr): see :func:`zig.prepare`."""
-    zig.prepare(TARGET, LINK_FLAGS)
+def prepare_zig(stream: TextIO | None = None) -> zig.LibC:
+    """zig's C library for wasm32, built once per installation (with progress on ``stream``, default
+    stderr): see :func:`zig.prepare`."""
+    return zig.prepare(TARGET, LINK_FLAGS, stream)
+
+
+def is_zig_prepared() -> bool:
+    """Whether the firmware's C library is built already (a first build then takes seconds)."""
+    return zig.is_prepared(TARGET, LINK_FLAGS)
 
 
 DEBUG_INFO_CSRC = "/crslab/csrc"
@@ -189,10 +200,11 @@ MAX_ROUNDS = 12
 one the C library also defines."""
 
 
-def unit_text(lab: Path, sized: list[str]) -> str:
+def unit_text(lab: Path, sized: list[str], calls: str = "") -> str:
     """The translation unit the firmware is compiled from: the lab file itself, then the size in
     bytes of each of its globals ``sized`` as the compiler laid it out, so the board never reads or
-    writes a variable past its end (the source's reading of a size may be wrong).
+    writes a variable past its end (the source's reading of a size may be wrong), then ``calls``,
+    the framework's calls of the lab's functions (:mod:`crslab.lab.entry_points`).
 
     >>> print(unit_text(Path("/labs/lab1.c"), ["mycount", "theta1array"]))
     #include "/labs/lab1.c"
@@ -206,7 +218,7 @@ def unit_text(lab: Path, sized: list[str]) -> str:
     lines = [f'#include "{lab.absolute()}"', f'#line 1 "{GLOBALS_UNIT}"',
              f"const unsigned int {SIZES_SYMBOL}[] = {{0"]
     lines += [f", sizeof({name})" for name in sized]
-    return "\n".join([*lines, "};", ""])
+    return "\n".join([*lines, "};", ""]) + calls
 
 
 def failed_sizes(diagnostics: str, sized: list[str]) -> list[str]:
@@ -247,7 +259,7 @@ def given_prefix(lab: Path) -> str:
 
 
 def compile_command(unit: Path, lab: Path, copy: Path, objects: list[Path], out: Path, exported: list[str],
-                    renamed: list[str]) -> list[str]:
+                    renamed: list[str], libc: zig.LibC) -> list[str]:
     """zig's command that compiles ``unit`` (including ``copy``, the private copy of the lab file
     ``lab``, and its size table; the lab's globals ``renamed`` under :data:`RENAMED_PREFIX`) and
     links it into ``out``, exporting ``exported`` (as they are named in the image), and writes the
@@ -255,15 +267,16 @@ def compile_command(unit: Path, lab: Path, copy: Path, objects: list[Path], out:
     compiler sees the build's folder (the copy of the lab's folder in it), crslab's headers and
     zig's C library, nothing else. A lab's ``main()`` is never called (the board runs the
     framework's loop), so it is compiled as an ordinary function: the course's ``void main(void)``
-    is fine on the C28x. ``__FILE__`` names the lab as it was given."""
+    is fine on the C28x. ``__FILE__`` names the lab as it was given. ``libc`` is zig's C library,
+    built once (:func:`prepare_zig`): linked as objects, so zig never builds it."""
     renames = [f"-D{n}={RENAMED_PREFIX}{n}" for n in renamed]
     folders = [unit.parent, SHIM_INCLUDE, FIRMWARE, KIN, PORT, zig.zig_dir() / "lib"]
     overlay = visible_files(unit.parent, [f.absolute() for f in folders])
     return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,
             *prefix_maps([copy.parent], given_prefix(lab)),
             "-ivfsoverlay", str(overlay), "-MD", "-MF", str(unit.parent / "reads.d"),
-            "-iquote", str(copy.parent), *INCLUDES,
-            "-x", "c", str(unit), "-x", "none", *map(str, objects), *LINK_FLAGS,
+            "-iquote", str(copy.parent), *INCLUDES, *libc.compile_flags(),
+            "-x", "c", str(unit), "-x", "none", *map(str, objects), *map(str, libc.link), *LINK_FLAGS,
             *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
 
 
@@ -276,9 +289,12 @@ class WasmImage:
     """The lab's globals compiled under another name (:func:`clashing_symbols`)."""
     sized: tuple[str, ...]
     """The lab's globals in the module's size table, in its order."""
+    habits: tuple[str, ...] = ()
+    """The C89 habits the lab was built with, one line each (:func:`crslab.lab.c89_habits.habit_warnings`)."""
 
     def save(self, folder: Path) -> None:
-        (folder / "names.json").write_text(json.dumps({"renamed": self.renamed, "sized": self.sized}))
+        (folder / "names.json").write_text(json.dumps({"renamed": self.renamed, "sized": self.sized,
+                                                       "habits": self.habits}))
 
     @staticmethod
     def load(folder: Path) -> WasmImage | None:
@@ -288,29 +304,35 @@ class WasmImage:
         except (OSError, ValueError):
             return None
         image = folder / "lab.wasm"
-        return WasmImage(image, tuple(names["renamed"]), tuple(names["sized"])) if image.exists() else None
+        if not image.exists():
+            return None
+        return WasmImage(image, tuple(names["renamed"]), tuple(names["sized"]),
+                         tuple(names.get("habits", ())))
 
 
 def build_module(private: PrivateBuild, globals_: list[str], objects: list[Path],
-                 sandbox: CompilerSandbox | None) -> tuple[WasmImage, list[str]]:
+                 sandbox: CompilerSandbox | None, calls: str = "",
+                 libc: zig.LibC | None = None) -> tuple[WasmImage, list[str]]:
     """Compile and link the lab of ``private`` (its private copy) into ``lab.wasm`` in the build's
     folder, exporting and sizing ``globals_`` (its globals as the source reads them) and the
-    framework's variables; returns the image and the files of the lab's folder the compiler read
-    (names from the folder). Raises LabBuildError (one line naming the problem)."""
+    framework's variables, with ``calls`` (the framework's calls of its functions,
+    :func:`crslab.lab.entry_points.entry_calls`); returns the image and the files of the lab's folder
+    the compiler read (names from the folder). Raises LabBuildError (one line naming the problem)."""
     lab, build_dir, included = private.lab, private.folder, private.copy
+    libc = libc if libc is not None else prepare_zig()
     sized = list(globals_)
     exported = sorted(set(globals_) | set(FRAMEWORK_VARIABLES))
     renamed: list[str] = []
     unit = build_dir / "firmware.c"
     out = build_dir / "lab.wasm"
     for _ in range(MAX_ROUNDS):
-        unit.write_text(unit_text(included, sized))
+        unit.write_text(unit_text(included, sized, calls))
         names = [RENAMED_PREFIX + n if n in renamed else n for n in exported]
         try:
-            command = compile_command(unit, lab, included, objects, out, names, renamed)
+            command = compile_command(unit, lab, included, objects, out, names, renamed, libc)
             # run from the build's folder: the compiler's own folder names no folder of the user's
-            run_compiler(command, lab.name, sandbox, env=compile_environment(build_dir), cwd=build_dir,
-                         reaper=private.reaper)
+            messages = run_compiler(command, lab.name, sandbox, env=compile_environment(build_dir),
+                                    cwd=build_dir, reaper=private.reaper)
             break
         except (LabForbidden, CompilerStopped) as exc:
             exc.diagnostics = shown_diagnostics(exc.diagnostics, unit, lab, included)
@@ -330,7 +352,8 @@ def build_module(private: PrivateBuild, globals_: list[str], objects: list[Path]
         raise LabBuildError(f"{lab.name} does not link: too many of its names clash with the C library's")
     check_image(out, lab.name)
     reads = private.read_from_folder(dependencies((build_dir / "reads.d").read_text("utf-8", "replace")))
-    return WasmImage(out, tuple(renamed), tuple(sized)), reads
+    habits = habit_warnings(shown_diagnostics(messages, unit, lab, included))
+    return WasmImage(out, tuple(renamed), tuple(sized), tuple(habits)), reads
 
 
 def shown_diagnostics(diagnostics: str, unit: Path, lab: Path, copy: Path | None = None) -> str:

@@ -1,10 +1,12 @@
 """zig, the C compiler crslab builds WebAssembly firmware with (``zig cc``: clang with a C library for
 wasm32), from the ``ziglang`` package on PyPI, so no system compiler is needed.
 
-Its first use for a target builds that target's C library into zig's cache, which takes about
-20 s; :func:`prepare` does it with a note and a running clock on stderr (never silently), and
-remembers that it is done. zig's cache lives in crslab's (``<cache>/zig``), so clearing one clears
-both.
+zig's first link for a target builds that target's C library (1 to 2 minutes of CPU). crslab does
+it once per installation (:func:`prepare`: ``make venv``, ``crslab doctor``, or else the first
+build, with a note and a running clock on stderr, never silently) and keeps the result beside
+crslab, keyed to zig's version and the link flags (:data:`LIBC_FOLDER`); a lab is then compiled
+with ``-nostdlib`` and linked with the kept objects, so zig never builds it again, even in a fresh
+cache. zig's own cache lives in crslab's (``<cache>/zig``), so clearing one clears both.
 
 >>> zig_cc()[-1]
 'cc'
@@ -14,19 +16,25 @@ True
 
 from __future__ import annotations
 
+import hashlib
 import importlib.util
+import json
 import os
+import re
+import shutil
 import sys
 import tempfile
 import threading
 import time
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TextIO
 
 from crslab.cache import cache_dir
 
-FIRST_USE_TIMEOUT_S = 600.0
-"""How long zig's first build of a C library may take (about 20 s on a laptop)."""
+FIRST_USE_TIMEOUT_S = 1800.0
+"""How long zig's build of a C library may take (40-150 s measured on 2 cores, 5 to over 10 minutes
+while 8 other jobs share them)."""
 PREPARE_MEMORY_BYTES = 8 * 1024 ** 3
 """The address space zig may map while it builds its C library (crslab's own sources, in threads)."""
 
@@ -89,63 +97,205 @@ def zig_environment(local_cache: Path | None = None) -> dict[str, str]:
     return env
 
 
-def _stamp(target: str) -> Path:
-    return zig_cache() / f"crslab-ready-{target}-{zig_version()}"
+LIBC_FOLDER = "zig-libc"
+"""Where a prepared C library lives: in the environment crslab is installed in
+(``<prefix>/share/crslab/zig-libc``, made at install: ``make venv``, ``crslab doctor``), else in
+the per-user cache (``<cache>/zig-libc``) when the environment is read-only."""
 
 
-def is_prepared(target: str) -> bool:
-    """Whether zig's C library for ``target`` is already built (a compile then takes ~60 ms)."""
-    return _stamp(target).exists()
+@dataclass(frozen=True)
+class LibC:
+    """zig's C library for one target and set of link flags, built once and kept apart from zig's
+    cache: a lab is then compiled without the C library (``-nostdlib``, so zig never builds one),
+    with its headers (:attr:`includes`) and linked with its objects (:attr:`link`)."""
+
+    folder: Path
+    includes: tuple[Path, ...]
+    link: tuple[Path, ...]
+
+    def compile_flags(self) -> list[str]:
+        """What a compile (and link) with this library adds to ``zig cc``'s command."""
+        flags = ["-nostdlib"]
+        for folder in self.includes:
+            flags += ["-isystem", str(folder)]
+        return flags
 
 
-PROBE = ("#include <math.h>\n#include <stdio.h>\n"
+LIBC_ENV = "CRSLAB_ZIG_LIBC_DIR"
+"""A folder to keep the prepared C library in instead (a read-only installation, a test)."""
+
+
+def libc_homes() -> list[Path]:
+    """Where a prepared C library is looked for, in order (see :data:`LIBC_FOLDER`; ``$CRSLAB_ZIG_LIBC_DIR``
+    alone when it is set)."""
+    if os.environ.get(LIBC_ENV):
+        return [Path(os.environ[LIBC_ENV])]
+    homes = [Path(sys.prefix) / "share" / "crslab" / LIBC_FOLDER]
+    try:
+        homes.append(cache_dir() / LIBC_FOLDER)
+    except Exception:  # noqa: BLE001 - no cache: the environment's alone
+        pass
+    return homes
+
+
+def libc_name(target: str, flags: list[str]) -> str:
+    """The folder name of a C library: the target, zig's version and the link flags.
+
+    >>> libc_name("wasm32-wasi", ["-O2"]).startswith("wasm32-wasi-zig")
+    True
+    """
+    digest = hashlib.sha256(" ".join(flags).encode()).hexdigest()[:12]
+    return f"{target}-zig{zig_version()}-{digest}"
+
+
+def prepared(target: str, flags: list[str]) -> LibC | None:
+    """The C library for ``target`` and ``flags`` when it is already built, else None."""
+    for home in libc_homes():
+        folder = home / libc_name(target, flags)
+        try:
+            manifest = json.loads((folder / "manifest.json").read_text())
+        except (OSError, ValueError):
+            continue
+        lib = zig_dir() / "lib"
+        libc = LibC(folder, tuple(lib / p for p in manifest["includes"]),
+                    tuple(folder / n for n in manifest["link"]))
+        if all(p.exists() for p in libc.link):
+            return libc
+    return None
+
+
+def is_prepared(target: str, flags: list[str]) -> bool:
+    """Whether zig's C library for ``target`` is already built (a compile then takes ~0.1 s)."""
+    return prepared(target, flags) is not None
+
+
+PROBE = ("#include <math.h>\n#include <stdio.h>\n#include <stdlib.h>\n"
          "int crs_probe(double x) { char b[32]; return snprintf(b, 32, \"%f\", sin(x)); }\n")
 
 
-def prepare(target: str, flags: list[str], stream: TextIO | None = None) -> None:
-    """Build zig's C library for ``target`` once (a tiny program compiled and linked with
-    ``flags``), saying so on ``stream`` (default stderr) with the seconds it has taken so far.
-    Raises ``RuntimeError`` with zig's message when zig cannot build it."""
-    if is_prepared(target):
-        return
+def link_inputs(verbose: str, cwd: Path) -> tuple[list[str], list[Path]]:
+    """From ``zig cc -v``'s messages: the C library's include folders (those under zig's ``lib``, as
+    paths inside it) and what the linker was given besides the program's own object: the start-up
+    object and the libraries (absolute paths).
+
+    >>> inc, link = link_inputs("#include <...> search starts here:\\n /z/lib/include\\n"
+    ...                         " /z/lib/libc/include/x\\nEnd of search list.\\n"
+    ...                         "wasm-ld -o p c/o/1/crt1-reactor.o l/o/2/probe.o "
+    ...                         "c/o/3/libc.a", Path("/t"))
+    >>> link
+    [PosixPath('/t/c/o/1/crt1-reactor.o'), PosixPath('/t/c/o/3/libc.a')]
+    """
+    includes: list[str] = []
+    searching = False
+    for line in verbose.splitlines():
+        if line.startswith("#include <...> search starts here:"):
+            searching = True
+        elif line.startswith("End of search list."):
+            searching = False
+        elif searching:
+            includes.append(line.strip())
+    link: list[Path] = []
+    command = next((line for line in verbose.splitlines() if line.startswith("wasm-ld ")), "")
+    for word in command.split():
+        if (word.endswith(".a") or re.search(r"crt1[\w-]*\.o$", word)) and "probe" not in word:
+            link.append(cwd / word)
+    return includes, link
+
+
+def prepare(target: str, flags: list[str], stream: TextIO | None = None) -> LibC:
+    """zig's C library for ``target``, built once for link ``flags`` (a tiny program compiled and
+    linked), saying so on ``stream`` (default stderr) with the seconds it has taken so far (a
+    running clock on a terminal, a line every :data:`PROGRESS_EVERY_S` elsewhere), and kept (see
+    :data:`LIBC_FOLDER`). Raises ``RuntimeError`` with zig's message when zig cannot build it."""
+    found = prepared(target, flags)
+    if found is not None:
+        return found
     stream = stream if stream is not None else sys.stderr
-    zig_cache().mkdir(parents=True, exist_ok=True)
-    stream.write(f"crslab: preparing the WebAssembly compiler (zig's C library for {target}; first use "
-                 "only, about 20 s)\n")
+    stream.write(f"crslab: preparing the WebAssembly compiler (zig's C library for {target}; once per "
+                 "installation, 1 to 2 minutes)\n")
     stream.flush()
     done = threading.Event()
     start = time.monotonic()
+    tty = stream.isatty()
 
-    def tick() -> None:  # a running clock on a terminal, nothing on a pipe
-        while not done.wait(1.0):
-            stream.write(f"\r  {time.monotonic() - start:4.0f} s")
+    def tick() -> None:  # a running clock on a terminal, a line now and then elsewhere
+        while not done.wait(1.0 if tty else PROGRESS_EVERY_S):
+            took = time.monotonic() - start
+            stream.write(f"\r  {took:4.0f} s" if tty else
+                         f"crslab:   still building zig's C library: {took:.0f} s\n")
             stream.flush()
 
-    clock = threading.Thread(target=tick, daemon=True) if stream.isatty() else None
-    if clock is not None:
-        clock.start()
+    clock = threading.Thread(target=tick, daemon=True)
+    clock.start()
     try:
         with tempfile.TemporaryDirectory(prefix="crslab-zig-") as tmp:
-            src = Path(tmp) / "probe.c"
+            work = Path(tmp)
+            src = work / "probe.c"
             src.write_text(PROBE)
             from crslab.lab.compile_process import run_compile
 
-            r = run_compile([*zig_cc(), f"--target={target}", *flags, str(src), "-o",
-                             str(Path(tmp) / "probe")],
-                            cwd=Path(tmp), env=zig_environment(Path(tmp) / "cache"),
-                            timeout_s=FIRST_USE_TIMEOUT_S, cpu_s=int(FIRST_USE_TIMEOUT_S),
-                            memory_bytes=PREPARE_MEMORY_BYTES)
+            env = zig_environment(work / "cache")
+            env[ZIG_CACHE_ENV] = str(work / "global")  # only what is copied out is kept
+            # built once (its messages are long), then linked again with -v, from zig's cache, to
+            # read which files it links
+            for verbose in ([], ["-v"]):
+                r = run_compile([*zig_cc(), f"--target={target}", *flags, *verbose, str(src), "-o",
+                                 str(work / "probe")], cwd=work, env=env, timeout_s=FIRST_USE_TIMEOUT_S,
+                                cpu_s=int(FIRST_USE_TIMEOUT_S), memory_bytes=PREPARE_MEMORY_BYTES)
+                if r.timed_out:
+                    raise RuntimeError(f"zig did not finish building its C library for {target} within "
+                                       f"{FIRST_USE_TIMEOUT_S:.0f} s")
+                if r.returncode != 0:
+                    first = next((line for line in r.stderr.splitlines() if "error" in line), "no message")
+                    raise RuntimeError(f"zig cannot build its C library for {target}: {first}")
+            includes, link = link_inputs(r.stderr, work)
+            lib = (zig_dir() / "lib").resolve()
+            inside = [str(Path(i).resolve().relative_to(lib)) for i in includes
+                      if Path(i).resolve().is_relative_to(lib / "libc")]
+            if not link or not inside:
+                raise RuntimeError(f"zig's messages named no C library for {target} (zig {zig_version()})")
+            libc = _keep(target, flags, inside, link)
     finally:
         done.set()
-        if clock is not None:
-            clock.join()
+        clock.join()
+        if tty:
             stream.write("\r")
-    if r.timed_out:
-        raise RuntimeError(f"zig did not finish building its C library for {target} within "
-                           f"{FIRST_USE_TIMEOUT_S:.0f} s")
-    if r.returncode != 0:
-        first = next((line for line in r.stderr.splitlines() if line.strip()), "no message")
-        raise RuntimeError(f"zig cannot build its C library for {target}: {first}")
-    _stamp(target).touch()
-    stream.write(f"crslab: the WebAssembly compiler is ready ({time.monotonic() - start:.0f} s)\n")
+    stream.write(f"crslab: the WebAssembly compiler is ready ({time.monotonic() - start:.0f} s, kept in "
+                 f"{libc.folder.parent})\n")
     stream.flush()
+    return libc
+
+
+PROGRESS_EVERY_S = 10.0
+"""How often a build of zig's C library says how long it has taken, where no terminal shows a clock."""
+
+
+def _keep(target: str, flags: list[str], includes: list[str], link: list[Path]) -> LibC:
+    """Copy the built library's objects into the first home that can be written, atomically."""
+    problems = []
+    for home in libc_homes():
+        folder = home / libc_name(target, flags)
+        try:
+            home.mkdir(parents=True, exist_ok=True)
+            part = Path(tempfile.mkdtemp(prefix=".part-", dir=home))
+            part.chmod(0o755)  # every user of the installation reads it
+            names = []
+            for i, path in enumerate(link):
+                name = f"{i:02d}-{path.name}"
+                shutil.copyfile(path, part / name)
+                names.append(name)
+            (part / "manifest.json").write_text(json.dumps({"zig": zig_version(), "target": target,
+                                                            "flags": flags, "includes": includes,
+                                                            "link": names}, indent=1))
+            try:
+                part.rename(folder)
+            except OSError:  # another process kept one first
+                shutil.rmtree(part, ignore_errors=True)
+        except OSError as exc:
+            problems.append(f"{home}: {exc.strerror}")
+            continue
+        found = prepared(target, flags)
+        if found is not None:
+            return found
+    raise RuntimeError(f"zig's C library cannot be kept ({'; '.join(problems)})")
+

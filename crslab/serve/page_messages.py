@@ -20,7 +20,7 @@ Every message is one JSON object with a ``type``. The browser sends:
                compare with the golden file (the answer is ``checked``)
 =============  =====================================================================================
 
-The server answers with ``hello``, ``built``, ``started``, ``chunk``, ``event``, ``ended``,
+The server answers with ``hello``, ``building``, ``built``, ``started``, ``chunk``, ``event``, ``ended``,
 ``vars``, ``checked`` and ``error`` (docs/serve.md lists their fields). A message that is not one
 of the above, or whose fields are wrong, gets one ``error`` naming the problem, and nothing else
 happens.

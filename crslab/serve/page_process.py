@@ -27,6 +27,7 @@ from pathlib import Path
 
 from crslab import os_support
 from crslab.lab.build import LabBuildError, LabForbidden, build_lab
+from crslab.lab.firmware import is_zig_prepared, prepare_zig
 from crslab.live.console import VarConsole
 from crslab.plant.plant_params import PlantParamsError
 from crslab.scenario.event import seconds_to_tick
@@ -52,6 +53,29 @@ BAD_INPUT = "bad-input"
 """An ``ended`` status beside the run statuses: the scenario (or another input) could not be used."""
 DOWNLOADS = {"transcript": "transcript.txt", "csv": "run.csv", "rrd": "run.rrd"}
 """The files of the last run a page may download, by kind."""
+
+
+class PageProgress:
+    """A text stream whose every line goes to the page as a ``building`` message (what
+    :func:`crslab.lab.zig.prepare` says while it builds zig's C library), without ``crslab: ``."""
+
+    def __init__(self, send) -> None:  # noqa: ANN001 - the session's send(message)
+        self._send = send
+        self._part = ""
+
+    def write(self, text: str) -> int:
+        self._part += text
+        *lines, self._part = self._part.split("\n")
+        for line in lines:
+            if line.strip():
+                self._send(message("building", message=line.strip().removeprefix("crslab:").strip() + "…"))
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
 
 
 @dataclasses.dataclass(frozen=True)
@@ -116,9 +140,16 @@ class Session:
 
     def build(self, lab: dict, tag: bytes = FORWARD) -> Path | None:
         """Compile the page's lab and send ``built`` (tagged ``tag``: :data:`RUN_ENDED` when the
-        build was the page's whole request); its path when it built."""
+        build was the page's whole request); its path when it built. Before the installation's
+        first build, zig's C library is built (1 to 2 minutes): its progress goes to the page as
+        ``building`` messages."""
         path = self._write_lab(lab)
         try:
+            try:
+                if not is_zig_prepared():
+                    prepare_zig(PageProgress(self.send))
+            except (RuntimeError, OSError):
+                pass  # build_lab says why, as a LabBuildError
             build = build_lab(path, sandboxed=self.limits.sandboxed)
         except LabBuildError as exc:
             self.send(

@@ -13,9 +13,14 @@
 #include "generations.h"
 
 /* ---- the lab file's symbols (weak: a lab may lack some) ----------------------------------- */
-extern void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2,
-                float *tau3, int error) __attribute__((weak));
-extern void printing(void) __attribute__((weak));
+/* lab() and printing() are called through these, compiled into the lab's own translation unit
+ * after its definitions (crslab/lab/entry_points.py): each passes the framework's arguments to the
+ * function as the lab defines it (six parameters, none, K&R style), as the C28x's calling convention
+ * lets the real framework call it through its own seven-parameter declaration. Absent when the lab
+ * does not define the function. */
+extern void crs_lab_call_lab(float theta1motor, float theta2motor, float theta3motor, float *tau1,
+                             float *tau2, float *tau3, int error) __attribute__((weak));
+extern void crs_lab_call_printing(void) __attribute__((weak));
 extern int UARTprint __attribute__((weak));
 extern float offset_Enc2_rad __attribute__((weak));
 extern float offset_Enc3_rad __attribute__((weak));
@@ -83,8 +88,8 @@ const crs_fw_table *crs_fw_start(int32_t gen)
     SWI_printf.posted = 0;
 
     int32_t has = 0;
-    if (lab != NULL) has |= CRS_LAB_HAS_LAB;
-    if (printing != NULL) has |= CRS_LAB_HAS_PRINTING;
+    if (crs_lab_call_lab != NULL) has |= CRS_LAB_HAS_LAB;
+    if (crs_lab_call_printing != NULL) has |= CRS_LAB_HAS_PRINTING;
     if (&UARTprint != NULL) has |= CRS_LAB_HAS_UARTPRINT;
     if (&offset_Enc2_rad != NULL) has |= CRS_LAB_HAS_OFFSET2;
     if (&offset_Enc3_rad != NULL) has |= CRS_LAB_HAS_OFFSET3;
@@ -110,8 +115,8 @@ const crs_fw_table *crs_fw_start(int32_t gen)
 
 int32_t crs_fw_lab(float theta1motor, float theta2motor, float theta3motor, int32_t error)
 {
-    if (lab == NULL) return 0;
-    lab(theta1motor, theta2motor, theta3motor, &tau[0], &tau[1], &tau[2], (int)error);
+    if (crs_lab_call_lab == NULL) return 0;
+    crs_lab_call_lab(theta1motor, theta2motor, theta3motor, &tau[0], &tau[1], &tau[2], (int)error);
     /* after lab() returns: Gen A's SWI runs printing() once however often it was posted; Gen B's
      * idle loop sees UARTprint at 1, clears it and calls printing() */
     switch (print_trigger) {
@@ -134,7 +139,7 @@ int32_t crs_fw_lab(float theta1motor, float theta2motor, float theta3motor, int3
 
 void crs_fw_printing(void)
 {
-    if (printing != NULL) printing();
+    if (crs_lab_call_printing != NULL) crs_lab_call_printing();
 }
 
 #if defined(__wasm__)

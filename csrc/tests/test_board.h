@@ -11,6 +11,19 @@
 #include "firmware_native.h"
 #include "sim.h"
 
+/* The calls the firmware makes to the test's lab() and printing() (crslab's builds append them to a
+ * lab's translation unit: crslab/lab/entry_points.py). Put after both definitions. */
+#define TEST_BOARD_LAB_CALLS                                                                         \
+    void crs_lab_call_lab(float t1, float t2, float t3, float *tau1, float *tau2, float *tau3,      \
+                          int error);                                                                \
+    void crs_lab_call_lab(float t1, float t2, float t3, float *tau1, float *tau2, float *tau3,      \
+                          int error)                                                                 \
+    {                                                                                                \
+        lab(t1, t2, t3, tau1, tau2, tau3, error);                                                    \
+    }                                                                                                \
+    void crs_lab_call_printing(void);                                                                \
+    void crs_lab_call_printing(void) { printing(); }
+
 static const double TEST_REST_MOTOR_RAD[3] = {0.0, -0.42, 0.24}; /* motor angles 1..3, rad */
 
 typedef struct {

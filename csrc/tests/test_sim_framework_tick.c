@@ -106,6 +106,8 @@ void printing(void)
     serial_printf(&SerialA, "P%ld\n\r", printing_calls++);
 }
 
+TEST_BOARD_LAB_CALLS
+
 /* ---- the stub plant ------------------------------------------------------------------------ */
 
 static double plant_motor[3];         /* the arm's motor angles, rad */

@@ -83,6 +83,8 @@ void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, f
 
 void printing(void) {}
 
+TEST_BOARD_LAB_CALLS
+
 static crs_mem_var VARS[] = {
     {0x9000, 1, 1, sizeof(int), CRS_MEM_SIGNED, 1, &mode},
     {0x9001, 1, 1, sizeof(int), CRS_MEM_SIGNED, 1, &count16},

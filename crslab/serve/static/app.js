@@ -87,6 +87,7 @@
         }
         if (m.watched) setWatched(m.watched.map((w) => w.name));
         break;
+      case "building": diagnose(m.message, false); break;
       case "started": started(m); break;
       case "chunk":
         state.playout.push(m);

@@ -1,0 +1,167 @@
+"""Every definition of lab() and printing() that C lets the board call runs on both of crslab's
+boards (WebAssembly and --native) with the same transcript: six parameters, K&R style; C89 habits
+(malloc without <stdlib.h>, a function called before its definition, implicit int) build with a
+warning that says what the board does; a lab counting in `long` prints the same on both boards, and
+a native run of it says that `long` is 64 bits there. A refusal names its real cause.
+
+Each lab runs once per board (module scope), on the arm at rest, for 5.2 s (the first lab() call is
+at 4.1 s)."""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crslab.lab.build import LabBuildError, build_lab
+from crslab.lab.c28x_check import check_lab
+from crslab.lab.entry_points import find_definitions, lab_definition, printing_definition
+
+ROOT = Path(__file__).resolve().parents[1]
+LABS = ROOT / "tests" / "labs"
+NEW_LABS = ["six_params_gen_b.c", "knr_gen_a.c", "implicit_decls_gen_b.c", "long_counts_gen_a.c"]
+
+
+def sim(lab: Path, *extra: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "crslab", "sim", "--lab", str(lab), "--scenario",
+                           "hands_off", "--fast", "--quiet", "--no-c28x-check", "--duration", "5.2", *extra],
+                          capture_output=True, text=True, timeout=600, env=os.environ)
+
+
+@pytest.fixture(scope="module")
+def runs() -> dict[tuple[str, str], subprocess.CompletedProcess]:
+    out = {}
+    for name in NEW_LABS:
+        for board, extra in (("wasm", ()), ("native", ("--native",))):
+            out[(name, board)] = sim(LABS / name, *extra)
+    return out
+
+
+@pytest.mark.parametrize("name", NEW_LABS)
+def test_the_lab_runs_on_both_boards_with_the_same_transcript(runs, name):
+    wasm, native = runs[(name, "wasm")], runs[(name, "native")]
+    assert wasm.returncode == 0, wasm.stderr
+    assert native.returncode == 0, native.stderr
+    assert wasm.stdout.strip() and wasm.stdout == native.stdout
+
+
+def test_a_lab_without_the_error_parameter_gets_its_six_arguments(runs):
+    lines = runs[("six_params_gen_b.c", "wasm")].stdout.splitlines()
+    assert lines[0] == "call 1: theta1 0.00 deg"  # the arm at rest: joint 1 at 0
+    degrees = [float(line.split()[3]) for line in lines]
+    # tau1 reaches joint 1: PD towards 0.2 rad = 11.46 deg (Kp 40: there within 250 ms, friction
+    # keeps it a little short), never going back
+    assert all(b >= a for a, b in zip(degrees, degrees[1:])), degrees
+    assert all(9.0 < d < math.degrees(0.2) + 0.5 for d in degrees[1:]), degrees
+
+
+def test_a_knr_lab_gets_its_float_arguments(runs):
+    # K&R float parameters are doubles in the definition: the framework's floats must arrive as such.
+    # The arm at rest reads the offsets: -0.42 rad = -24.064 deg, 0.24 rad = 13.751 deg (Gen A's
+    # printf truncates to -24.06 and 13.75); the first printing() runs after call 1
+    lines = runs[("knr_gen_a.c", "wasm")].stdout.splitlines()
+    assert lines[:2] == ["1 0.00 -24.06 13.75", "501 0.00 -24.06 13.75"]
+
+
+def test_c89_habits_build_with_a_warning_saying_what_the_board_does(runs):
+    # joint 2 at -0.42 rad is -2406.4 hundredths of a degree; (int) truncates towards zero
+    for board in ("wasm", "native"):
+        r = runs[("implicit_decls_gen_b.c", board)]
+        assert r.stdout.splitlines()[:2] == ["joint 2 average -2406 (0.01 deg) after 1 calls",
+                                             "joint 2 average -2406 (0.01 deg) after 501 calls"]
+        warnings = [line for line in r.stderr.splitlines() if line.startswith("crslab sim: warning: ")]
+        text = "\n".join(warnings)
+        assert "implicit_decls_gen_b.c:24: malloc() is called with no declaration before it" in text, r.stderr
+        assert "the pointer malloc() returns is cut to 16 bits there: #include <stdlib.h>" in text
+        assert "implicit_decls_gen_b.c:29: average() is called with no declaration before it" in text
+        assert "implicit_decls_gen_b.c:17: a declaration without a type, which C89 makes an int" in text
+        assert "free() is called with no declaration" in text
+        assert len(warnings) == 4, warnings  # once each: malloc, average, free, the implicit int
+
+
+def test_a_lab_with_every_habit_declared_gets_no_warning(runs):
+    assert "warning:" not in runs[("six_params_gen_b.c", "wasm")].stderr
+    assert "warning:" not in runs[("six_params_gen_b.c", "native")].stderr
+
+
+def expected_counts(theta: float) -> int:
+    """(long)(theta * 144000 / PI) as the lab computes it: a float product, then a double quotient."""
+    return int(float(np.float32(theta) * np.float32(144000)) / 3.1415926535897932384626433832795)
+
+
+def test_long_arithmetic_prints_the_same_on_both_boards(runs):
+    c2, c3 = expected_counts(-0.42), expected_counts(0.24)
+    assert (c2, c3) == (-19251, 11000)  # 60480/pi = 19251.1, 34560/pi = 11000.8
+    lines = runs[("long_counts_gen_a.c", "wasm")].stdout.splitlines()
+    assert lines[:2] == [f"0 us: counts 0 {c2} {c3}, sum {c3}",
+                         f"500000 us: counts 0 {c2} {c3}, sum {501 * c3}"]
+
+
+def test_a_native_run_of_a_lab_using_long_says_that_long_is_64_bits_there(runs):
+    note = ("crslab sim: note: built natively: long is 64 bits here, 32 on the board and in the WebAssembly "
+            "build")
+    assert note in runs[("long_counts_gen_a.c", "native")].stderr
+    assert "long is 64 bits" not in runs[("long_counts_gen_a.c", "wasm")].stderr
+
+
+def test_the_c28x_check_says_where_an_undeclared_malloc_cuts_a_pointer():
+    report = check_lab(LABS / "implicit_decls_gen_b.c", sandboxed=False)
+    assert not report.skipped, report.skipped
+    cuts = [f for f in report.findings if f.flag == "pointer-cut"]
+    assert [(f.file, f.line) for f in cuts] == [("implicit_decls_gen_b.c", 24)], report.findings
+    assert cuts[0].message.startswith("malloc() has no declaration before this line")
+
+
+@pytest.mark.parametrize(("text", "said"), [
+    ("void lab(void) { }\nstatic void printing(void) { }\n",
+     "printing() is static (line 2), so the framework's file cannot call it"),
+    ("static void lab(float a) { }\n", "lab() is static (line 1)"),
+    ("void lab(float a, float b, float c, float *t1, float *t2, float *t3, int e, int extra) { }\n",
+     "lab() takes 8 parameters (line 1); the framework passes 7"),
+    ("void lab(void) { }\nvoid printing(int n) { }\n",
+     "printing() takes 1 parameters (line 2); the framework calls it with none"),
+])
+def test_a_definition_the_framework_cannot_call_is_refused_by_its_cause(tmp_path, text, said):
+    lab = tmp_path / "odd.c"
+    lab.write_text(text)
+    with pytest.raises(LabBuildError) as caught:
+        build_lab(lab, cache=tmp_path / "cache", sandboxed=False)
+    assert str(caught.value) == f"odd.c cannot run on the board: {said}" or said in str(caught.value)
+    assert "\n" not in str(caught.value)
+
+
+def test_defines_no_lab_only_when_there_is_none(tmp_path):
+    lab = tmp_path / "no_lab.c"
+    lab.write_text("/* lab( in a comment */\nconst char *s = \"void lab(void) {}\";\n#if 0\n"
+                   "void lab(void) {}\n#endif\nvoid lab(float a);\nvoid printing(void) { }\n")
+    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--lab", str(lab), "--fast", "--quiet",
+                        "--no-c28x-check", "--duration", "0.1"], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 2
+    assert r.stderr.strip().splitlines()[-1] == "crslab sim: no_lab.c defines no lab() function"
+
+
+@pytest.mark.parametrize(("text", "parameters", "knr"), [
+    ("void lab(float a, float b, float c, float *t1, float *t2, float *t3, int error) { }", 7, False),
+    ("void lab(float a, float b, float c, float *t1, float *t2, float *t3)\n{\n}", 6, False),
+    ("void lab() { }", 0, False),
+    ("void lab(void) { }", 0, False),
+    ("void\nlab (a, b, c, t1, t2, t3)\nfloat a, b, c;\nfloat *t1, *t2, *t3;\n{ }", 6, True),
+    ("void lab(float (*f)(float, int), int n[3]) { }", 2, False),
+])
+def test_the_definition_is_read_from_the_text(text, parameters, knr):
+    d = lab_definition("void lab(float a);\n" + text)  # a declaration before it is not the definition
+    line = 2 + text[:text.index("lab")].count("\n")  # where its name is
+    assert d is not None and (d.parameters, d.knr, d.line) == (parameters, knr, line)
+    assert printing_definition(text) is None
+
+
+def test_calls_strings_comments_and_declarations_are_not_definitions():
+    text = ('void printing(void);\nvoid f(void) { printing(); lab(1); }\n/* void lab(void) { } */\n'
+            'const char *s = "void lab(void) { }";\n')
+    assert find_definitions(text, "lab") == []
+    assert [d.declared_only for d in find_definitions(text, "printing")] == [True]
