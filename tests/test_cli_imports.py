@@ -37,8 +37,9 @@ try:
     main(["contest", "--help"])
 except SystemExit:
     pass
-print("@@", " ".join(sorted(m for m in ("crslab.identify.fit", "crslab.cli.serve_commands", "crslab.cli.sim_commands",
-                                  "crslab.cli.contest_commands") if m in sys.modules)))
+PROBED = ("crslab.identify.fit", "crslab.cli.serve_commands", "crslab.cli.sim_commands",
+          "crslab.cli.contest_commands")
+print("@@", " ".join(sorted(m for m in PROBED if m in sys.modules)))
 """
 
 
