@@ -1,8 +1,9 @@
 """The ``crslab`` command: one module per group of subcommands, registered in ``COMMANDS``.
 
 Each command module (listed in ``COMMANDS`` with its commands) exposes ``register(subparsers)``,
-which adds its parsers and sets ``func`` (``args -> exit status``). Expected failures raise :class:`CliError` and become one
-line on stderr with status 2 (or the error's own status); nothing prints a traceback.
+which adds its parsers and sets ``func`` (``args -> exit status``). Expected failures raise
+:class:`CliError` and become one line on stderr with status 2 (or the error's own status);
+nothing prints a traceback.
 """
 
 from __future__ import annotations
