@@ -30,7 +30,7 @@ sim: $(STAMP) ## run the simulator on its built-in default lab and scenario
 test: $(STAMP) ## run the whole test suite (C core under -Werror, ASan and UBSan included), two at a time
 	$(PY) -m pytest -q -n 2 --dist loadfile
 
-bench: $(STAMP) ## run the benchmarks and print the ratios the issues ask for
+bench: $(STAMP) ## run every benchmark (speed, compile times, serve's capacity), each number beside its target
 	$(PY) -m pip install --quiet -e '.[test,bench]'
 	$(PY) tools/bench.py
 

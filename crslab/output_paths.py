@@ -24,6 +24,27 @@ def with_parent(path: str | os.PathLike[str]) -> Path:
     return target
 
 
+def ready_to_write(path: str | os.PathLike[str]) -> Path:
+    """``path`` with its folder made, checked before a long computation whose result goes there: a
+    folder that cannot be made, or cannot be written into, raises ``OSError`` now, not once the
+    work is done.
+
+    >>> import tempfile
+    >>> ready_to_write(Path(tempfile.mkdtemp()) / "fric" / "table.toml").parent.is_dir()
+    True
+    """
+    import errno
+
+    target = Path(path)
+    above = next((f for f in target.parents if f.exists() or f.is_symlink()), None)
+    if above is not None and not above.is_dir():
+        raise NotADirectoryError(errno.ENOTDIR, f"{above.name} is a file, not a folder", str(above))
+    target = with_parent(path)
+    if not os.access(target.parent, os.W_OK | os.X_OK):
+        raise OSError(errno.EACCES, os.strerror(errno.EACCES), str(target.parent))
+    return target
+
+
 def folder(path: str | os.PathLike[str]) -> Path:
     """The folder ``path``, made (with the folders above it) if missing."""
     target = Path(path)

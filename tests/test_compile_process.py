@@ -55,15 +55,31 @@ def test_a_fifo_is_found_through_the_headers_the_lab_includes(tmp_path):
 def test_a_compiler_out_of_time_is_killed_with_every_process_it_started(tmp_path):
     """A compiler driver's children (cc1, as) are in its process group: all of it is killed."""
     pid_file = tmp_path / "grandchild.pid"
-    script = f"sleep 600 & echo $! > {pid_file}; wait"
+    # its id and its start time (field 22 of /proc/PID/stat): ids wrap, and a new process may have
+    # this one's id by the time it is looked at; the pair names one process
+    script = f"sleep 600 & echo $! $(cut -d ' ' -f 22 /proc/$!/stat) > {pid_file}; wait"
     r = run_compile(["sh", "-c", script], env={"PATH": os.environ["PATH"]}, timeout_s=2.0)
     assert r.timed_out and r.returncode < 0
-    grandchild = int(pid_file.read_text())
-    try:
-        state = Path(f"/proc/{grandchild}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except FileNotFoundError:
-        state = "gone"
+    grandchild, started = (int(x) for x in pid_file.read_text().split())
+    state = process_state(grandchild, started)
     assert state in ("gone", "Z"), f"the compiler's child {grandchild} outlived it ({state})"
+
+
+def process_state(pid: int, started: int) -> str:
+    """The state letter of the process ``pid`` that started at ``started`` (clock ticks after boot),
+    or "gone" when no such process is left (its id free, or another process's now).
+
+    >>> process_state(os.getpid(), int(Path("/proc/self/stat").read_text().rsplit(")", 1)[1].split()[19]))
+    'R'
+    >>> process_state(os.getpid(), 0)
+    'gone'
+    """
+    try:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    except FileNotFoundError:
+        return "gone"
+    # after the command's closing parenthesis: field 3 (state) first, field 22 (start time) at 19
+    return fields[0] if int(fields[19]) == started else "gone"
 
 
 def test_a_compilers_address_space_is_bounded(tmp_path):

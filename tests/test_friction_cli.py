@@ -127,3 +127,21 @@ def test_the_table_file_round_trips(tmp_path):
     back = load_table(path)
     np.testing.assert_allclose(list(back.values().values()), list(table.values().values()), rtol=1e-5)
     assert back.speeds_rad_s == table.speeds_rad_s
+
+
+def test_an_output_in_a_new_folder_is_made_and_one_that_cannot_be_is_said_before_the_run(tmp_path):
+    log = tmp_path / "teraterm.log"
+    log.write_text("".join(f"joint 1 speed {s * w:.4f} rad/s command {s * (0.3 * w + 0.4):.4f}\n"
+                           for w in (0.1, 0.5, 1.0) for s in (1, -1)))
+    r = crslab("friction", "--log", log, "--joints", "1", "-o", tmp_path / "fric" / "table.toml",
+               "--plot", tmp_path / "fric2" / "p.png", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "fric" / "table.toml").is_file() and (tmp_path / "fric2" / "p.png").is_file()
+    (tmp_path / "a_file").write_text("not a folder\n")
+    for args, bad in ((["-o", tmp_path / "a_file" / "t.toml"],
+                       "a_file/t.toml: cannot write the table there (a_file is a file, not a folder)"),
+                      (["--plot", tmp_path / "a_file" / "p.png"],
+                       "a_file/p.png: cannot write the plot there (a_file is a file, not a folder)")):
+        r = crslab("friction", "--joints", "3", *args, cwd=tmp_path)  # crslab's arm: a long run
+        assert r.returncode == 2 and "running" not in r.stderr, r.stderr
+        assert r.stderr.strip().splitlines()[-1].endswith(bad), r.stderr

@@ -213,6 +213,17 @@ def test_a_lab_of_the_third_generation_prints_to_its_own_buffer_size(with_gen_c)
     assert b"the board's 136-byte serial_printf buffer" in as_b.stderr
 
 
+def test_first_lab_says_what_an_over_long_line_does():
+    """docs/first-lab.md section 5 says what the test above shows a line over the buffer does (the
+    run stops, exit 3), not that it only warns."""
+    text = (Path(__file__).resolve().parents[1] / "docs" / "first-lab.md").read_text()
+    section = text.split("## 5. Printing", 1)[1].split("\n## ", 1)[0]
+    said = " ".join(section.split())
+    assert "(Gen B: 135 characters and the terminating NUL in 136 bytes) stops the run at that line, exit " \
+           "status 3 (crashed)" in said
+    assert "warning" not in said.split("A line longer")[1].split(".")[0]
+
+
 def test_crslab_new_writes_a_starting_file_of_the_third_generation(with_gen_c):
     run, labs = with_gen_c
     made = run("-m", "crslab", "new", "lab1", "lab1_c.c")  # the newest row is the default

@@ -156,3 +156,28 @@ def test_a_bad_friction_table_is_one_line_naming_it(tmp_path, text, args, words)
     errors = [line for line in r.stderr.splitlines() if line.startswith("crslab identify:")]
     assert len(errors) == 1 and words in errors[0], r.stderr
     assert "Traceback" not in r.stderr and not (tmp_path / "out.toml").exists()
+
+
+def test_a_table_alone_announces_only_what_it_fits_and_why_no_plot(tmp_path):
+    """The default --fit names drive, friction, static and inertia; a friction table tells friction
+    and static friction only: the announcement says so, and why no picture is drawn."""
+    from crslab.identify.friction_table import predict
+
+    table = tmp_path / "other.toml"
+    other = PlantParams.defaults().with_values({"coulomb_pos3": 3.5})
+    table.write_text(predict(other).to_toml("another arm"))
+    r = crslab("identify", table, "-o", tmp_path / "new" / "arm.toml", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert ("crslab identify: fitting friction, static to 1 friction table (drive, inertia: not from "
+            "friction tables alone, which tell only friction and the motor gain; give a "
+            "recording)\n") in r.stderr
+    assert ("crslab identify: no plot: it draws a recording against its simulated run, and only friction "
+            "tables were given\n") in r.stderr
+    assert (tmp_path / "new" / "arm.toml").is_file() and not (tmp_path / "new" / "arm.png").exists()
+
+
+def test_the_help_says_the_default_uncertainty_as_a_number():
+    from crslab.identify.fit import RECORDING_SIGMA_RAD
+
+    r = crslab("identify", "--help")
+    assert f"default: {RECORDING_SIGMA_RAD:g})" in " ".join(r.stdout.split()) and "{" not in r.stdout

@@ -54,3 +54,21 @@ def test_serial_read_from_a_folder_without_a_map_says_no_map(course_folder):
     (course_folder / "ports").mkdir()
     r = crslab("serial", "read", "offset_Enc2_rad", "--dir", "ports", cwd=course_folder)
     assert r.returncode == 2 and "ports: no .map files (give --map FILE)" in r.stderr
+
+
+def test_a_transcript_given_as_the_lab_and_a_lab_given_as_the_golden_file_say_what_they_are(course_folder):
+    (course_folder / "golden").mkdir()
+    (course_folder / "golden" / "lab1_tour.txt").write_text("# crslab transcript\n# scenario: tour\n# ----\n")
+    (course_folder / "notes.txt").write_text("angles 0.1 0.2\n")
+    r = crslab("sim", "--fast", "--lab", "golden/lab1_tour.txt", cwd=course_folder)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
+    assert r.stderr.endswith("golden/lab1_tour.txt: is a transcript (crslab record wrote it), not a lab "
+                             "file: a lab is a .c file; a golden transcript goes to crslab check "
+                             "--golden\n")
+    r = crslab("sim", "--fast", "--lab", "notes.txt", cwd=course_folder)
+    assert r.returncode == 2 and "notes.txt: is a text file, not a lab file" in r.stderr, r.stderr
+    r = crslab("check", "--lab", "lab1.c", "--golden", "lab1.c", cwd=course_folder)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
+    assert r.stderr.endswith("lab1.c: is a C file (a lab), not a golden transcript: record the lab's "
+                             "transcript with crslab record --lab lab1.c -o golden.txt, then check "
+                             "against golden.txt\n")

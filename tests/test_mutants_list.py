@@ -40,3 +40,32 @@ def test_a_stale_mutation_is_named_with_why(tmp_path):
     assert m.problem(ROOT) == (
         "x.toml: 'gone': 'no such text' occurs 0 times in crslab/regress/compare.py (must be once)"
     )
+
+
+def test_a_failed_test_kills_a_mutant_and_an_error_elsewhere_is_said_apart(tmp_path):
+    """pytest's own report of a real run: an assertion that fails is a kill; a fixture that raises
+    (as a fixture's time limit would) is an error, not a kill; both pass is a survivor."""
+    import doctest
+    import subprocess
+
+    tool = _mutants()
+    assert doctest.testmod(sys.modules["crslab_mutants_tool"]).failed == 0  # outcome's examples
+    (tmp_path / "test_rule.py").write_text(
+        "import pytest\n\n"
+        "@pytest.fixture\ndef slow_setup():\n    raise TimeoutError('the fixture ran out of time')\n\n"
+        "def test_assertion():\n    assert 1 + 1 == 3\n\n"
+        "def test_fixture(slow_setup):\n    pass\n\n"
+        "def test_fine():\n    assert True\n")
+
+    def run(test: str) -> tuple[str, str]:
+        report = tmp_path / "report.xml"
+        done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--no-header",
+                               f"--junitxml={report}", f"test_rule.py::{test}"], cwd=tmp_path,
+                              capture_output=True, text=True, timeout=120)
+        return tool.outcome(done.returncode, report.read_text(), done.stdout.strip().splitlines()[-1])
+
+    verdict, why = run("test_assertion")
+    assert verdict == "killed" and why.startswith("test_rule::test_assertion: assert (1 + 1) == 3"), why
+    verdict, why = run("test_fixture")
+    assert verdict == "error" and "TimeoutError: the fixture ran out of time" in why, why
+    assert run("test_fine")[0] == "passed"

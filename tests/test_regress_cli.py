@@ -12,7 +12,7 @@ import pytest
 from crslab import __version__
 from crslab.regress.transcript import read_golden
 
-NULL_AT = ("crash_after_5s.c used a NULL pointer (one that was never set) at crash_after_5s.c:27 in "
+NULL_AT = ("crash_after_5s.c used a NULL pointer (its address was 0) at crash_after_5s.c:27 in "
            "lab() at tick 5100")
 
 LABS = Path(__file__).parent / "labs"

@@ -46,7 +46,7 @@ def test_each_submission_is_classed_and_grading_finishes(graded):
     assert " mismatch " in rows["wrong.c"] and "line 3 (t = 4.100 s): number 2 is 76.24" in rows["wrong.c"]
     assert " does not compile " in rows["broken.c"] and "broken.c:9:13: error:" in rows["broken.c"]
     assert " crashed " in rows["crash.c"]
-    assert "NULL pointer (one that was never set) at crash.c:27 in lab() at tick 5100" in rows["crash.c"]
+    assert "NULL pointer (its address was 0) at crash.c:27 in lab() at tick 5100" in rows["crash.c"]
     assert " hung " in rows["hang.cpp"]
     assert "lab() did not return within 1 s at tick 5100" in rows["hang.cpp"]
     assert r.stdout.splitlines()[-1] == (
@@ -87,15 +87,16 @@ def test_grade_bad_input(tmp_path):
     r = crslab("grade", tmp_path / "nowhere", "--reference", REFERENCE)
     assert r.returncode == 2 and r.stderr.strip().endswith("nowhere: no such folder of submissions")
     r = crslab("grade", tmp_path, "--reference", REFERENCE)
-    assert r.returncode == 2 and r.stderr.strip().endswith("no lab files (.c, .cpp) to grade")
+    assert r.returncode == 2 and r.stderr.strip().endswith(
+        "no lab files (.c, .cpp) to grade, directly in it or in a folder per student")
     shutil.copy(LABS / "lab1_own_ik.c", tmp_path / "a.c")
     r = crslab("grade", tmp_path, "--reference", LABS / "does_not_compile.c", "--out", tmp_path / "o")
     assert r.returncode == 2 and r.stderr.strip().splitlines()[-1] == (
         "crslab grade: does_not_compile.c does not compile")
     r = crslab("grade", tmp_path, "--reference", LABS / "crash_after_5s.c", "--out", tmp_path / "o")
     assert r.returncode == 2 and r.stderr.strip().splitlines()[-1].startswith(
-        "crslab grade: the reference lab did not run: crash_after_5s.c used a NULL pointer (one that was "
-        "never set) at crash_after_5s.c:27 in lab() at tick 5100")
+        "crslab grade: the reference lab did not run: crash_after_5s.c used a NULL pointer (its address "
+        "was 0) at crash_after_5s.c:27 in lab() at tick 5100")
 
 
 def test_a_submission_over_its_total_time_is_stopped_and_counts_as_hung(tmp_path):
@@ -126,3 +127,42 @@ def test_the_progress_bar_on_a_terminal():
     frames = out.getvalue().split("\r")[1:]
     assert frames[0].startswith("[" + "#" * 15 + "." * 15 + "] 1/2") and "good.c" in frames[0]
     assert frames[1].startswith("[" + "#" * 30 + "] 2/2") and frames[1].endswith("\n")
+
+
+def test_a_class_exported_one_folder_per_student_is_graded_with_each_folders_files(tmp_path):
+    """Gradescope and GitHub Classroom export a class as one folder per student: the folder's files
+    are the submission, so a header of the student's own beside the lab compiles; a lab file
+    directly in the class folder is graded alone, and its failure to find a header says so."""
+    text = (LABS / "lab1_own_ik.c").read_text()
+    own_header = text.replace('#include "math.h"', '#include "math.h"\n#include "my_offsets.h"').replace(
+        "float offset_Enc2_rad = -0.42;", "float offset_Enc2_rad = MY_OFFSET2;")
+    subs = tmp_path / "class"
+    (subs / "alice").mkdir(parents=True)
+    (subs / "alice" / "lab1.c").write_text(own_header)
+    (subs / "alice" / "my_offsets.h").write_text("#define MY_OFFSET2 (-0.42f)\n")
+    (subs / "bob" / "src").mkdir(parents=True)  # deeper, with a helper file that defines no lab()
+    (subs / "bob" / "src" / "lab1.c").write_text(text.replace("atan2(-s_in, r_in)", "atan2(s_in, r_in)"))
+    (subs / "bob" / "src" / "a_helper.c").write_text("int twice(int x) { return 2 * x; }\n")
+    (subs / "carol").mkdir()
+    (subs / "carol" / "README.md").write_text("I forgot my lab\n")
+    (subs / ".git").mkdir()
+    (subs / ".git" / "hook.c").write_text("void lab(void) { }\n")
+    (subs / "dave.c").write_text(own_header)
+    (subs / "my_offsets.h").write_text("#define MY_OFFSET2 (-0.42f)\n")
+    out = tmp_path / "out"
+    r = crslab("grade", subs, "--reference", LABS / "lab1_own_ik.c", "--duration", "4.2", "--out", out)
+    assert r.returncode == 1, r.stderr
+    assert "crslab grade: 3 submissions: 1 file, 2 folders; no lab file in carol/\n" in r.stderr
+    rows = {line.split()[0]: line.split()[1] for line in r.stdout.splitlines()[1:-1]}
+    assert rows == {"dave.c": "does", "alice/lab1.c": "pass", "bob/src/lab1.c": "mismatch"}
+    dave = next(line for line in r.stdout.splitlines() if line.startswith("dave.c"))
+    assert "dave.c:8:10: fatal error: 'my_offsets.h' file not found" in dave
+    assert ("'my_offsets.h' file not found (my_offsets.h lies beside it, but a lab file directly in the "
+            "class folder is graded alone: give each student with files of their own a folder, "
+            "dave/dave.c and dave/my_offsets.h)") in (out / "reports" / "dave.c.txt").read_text()
+    assert (out / "transcripts" / "alice" / "lab1.c.txt").read_bytes() == \
+        (out / "transcripts" / "lab1_own_ik.c.reference.txt").read_bytes()
+    assert (out / "reports" / "bob" / "src" / "lab1.c.txt").read_text().startswith("mismatch: ")
+    with (out / "grades.csv").open() as f:
+        assert sorted(row["submission"] for row in csv.DictReader(f)) == [
+            "alice/lab1.c", "bob/src/lab1.c", "dave.c"]

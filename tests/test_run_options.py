@@ -123,6 +123,25 @@ def test_budget_counts_the_calls_over_it(crslab, tmp_path):
     assert (loose["budget"], loose["over_budget"]) == (100000.0, 0)
 
 
+def test_a_call_costing_exactly_the_budget_is_not_over_it(crslab):
+    """The budget's edge: a lab() call over it costs more than the budget, not as much (issue 33).
+    Every call of busy_lab.c costs the same count C of instructions: a budget of C counts none of
+    its calls over, C - 1 counts every one."""
+    def run(budget):
+        r = crslab("sim", "--fast", "--quiet", "--lab", LABS / "faulty" / "busy_lab.c", "--scenario",
+                   "hands_off", "--no-startup-delay", "--duration", "0.005", "--json", "--budget", budget)
+        assert r.returncode == 0, r.stderr
+        return json.loads(next(line for line in reversed(r.stderr.splitlines()) if line.startswith("{")))
+
+    loose = run(20_000_000)
+    cost = int(loose["lab_cost_max"])
+    assert loose["lab_cost_mean"] == cost and loose["lab_calls"] == 5  # every call costs the same
+    exact, one_less = run(cost), run(cost - 1)
+    assert (exact["budget"], exact["over_budget"]) == (cost, 0)
+    assert (one_less["budget"], one_less["over_budget"], one_less["over_budget_ticks"]) == (cost - 1, 5,
+                                                                                            [0, 1, 2, 3, 4])
+
+
 def test_amax_bounds_the_acceleration_and_sets_the_shortest_time(crslab, tmp_path):
     """Li's profile as fast as the acceleration limit allows: T = 2 sqrt(2 L / amax) for the joint
     that moves most (L from the kinematics' own IK), whose peak acceleration is then amax."""

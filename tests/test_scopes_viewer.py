@@ -82,3 +82,54 @@ def test_with_a_display_a_mouse_drag_in_mujocos_viewer_pushes_the_simulated_arm(
     up_force_n, th2_before, th2_after = map(float, r.stdout.split())
     assert up_force_n > 10  # the drag became an upward force on the forearm in the worker...
     assert th2_after > th2_before + 0.05  # ...which lifted the upper arm against the friction
+
+
+def test_the_viewer_opens_without_its_panels_and_with_the_whole_arm_in_view(monkeypatch):
+    """A small window shows the arm: the viewer is asked for no side panels, and its camera looks
+    at the arm from far enough that every body (and 0.1 m past it) lies inside the field of view,
+    in every pose the tour takes it through."""
+    import mujoco
+    import mujoco.viewer
+    import numpy as np
+
+    from crslab import crs
+    from crslab.live import viewer as viewer_module
+    from crslab.plant.model import load_model
+
+    class Handle:
+        def __init__(self):
+            self.cam = mujoco.MjvCamera()
+
+        def lock(self):
+            import contextlib
+            return contextlib.nullcontext()
+
+    asked = {}
+
+    def launch_passive(model, data, **kwargs):
+        asked.update(kwargs)
+        return Handle()
+
+    monkeypatch.setattr(mujoco.viewer, "launch_passive", launch_passive)
+    monkeypatch.setattr("crslab.scopes.display.missing_display", lambda: None)
+    view = viewer_module.MujocoViewer(crs.motor_to_dh(np.array([0.0, -0.42, 0.24])))
+    assert view.start()
+    assert asked == {"show_left_ui": False, "show_right_ui": False}
+    model, data = load_model(), None
+    half_fov = np.radians(model.vis.global_.fovy) / 2
+    for motor_deg in ([0, -24, 14], [0, 0, 0], [0, 90, 0], [0, 0, -90], [60, 45, -30]):
+        data = mujoco.MjData(model)
+        data.qpos[:3] = crs.motor_to_dh(np.radians(motor_deg))
+        mujoco.mj_forward(model, data)
+        cam = mujoco.MjvCamera()
+        viewer_module.fit_camera(cam, model, data)
+        # each body's angle off the line of sight, seen from the camera, inside the half field of view
+        direction = np.array([np.cos(np.radians(cam.elevation)) * np.cos(np.radians(cam.azimuth)),
+                              np.cos(np.radians(cam.elevation)) * np.sin(np.radians(cam.azimuth)),
+                              np.sin(np.radians(cam.elevation))])
+        eye = np.asarray(cam.lookat) - cam.distance * direction
+        for point in data.xpos[1:]:
+            to = point - eye
+            off_axis = np.arccos(np.clip(to @ direction / np.linalg.norm(to), -1, 1))
+            assert off_axis < half_fov, (motor_deg, point)
+        assert cam.distance < 5.0  # not a speck far away: the arm fills much of the view

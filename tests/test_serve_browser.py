@@ -37,7 +37,7 @@ WAIT_MS = 120_000
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
     folder = tmp_path_factory.mktemp("serve")
-    srv = ServeProcess(folder, "--users", str(write_roster(folder)))
+    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000")
     yield srv
     srv.stop()
 
@@ -95,9 +95,9 @@ def test_the_tour_in_the_page_prints_what_crslab_sim_prints_and_moves_the_arm(al
     assert expected == tera_term_view(simulate(OWN_LAB1, "tour").transcript).decode("latin-1")
     expect(page.get_by_test_id("terminal")).to_have_text(expected, use_inner_text=False)
     dh = [
-        tuple(float(v) for v in re.search(r"DH angles: (\S+) (\S+) (\S+)", s).groups())
+        tuple(float(v) for v in re.search(r"DH angles \(true\): (\S+) (\S+) (\S+)", s).groups())
         for s in seen
-        if "DH angles: 0" in s or "DH angles: -" in s and "deg" in s
+        if "DH angles (true): " in s and "deg" in s
     ]
     assert len(set(dh)) >= 10  # the arm moved, frame after frame
     # the tour's hand holds the arm at DH (0, -90, 90) deg (motor zero) from 7 s to 9.5 s
@@ -138,7 +138,8 @@ def test_dragging_a_link_moves_the_arm(alice):
     angles = page.get_by_test_id("joint-angles")
 
     def dh() -> list[float]:
-        return [float(v) for v in re.search(r"DH angles: (\S+) (\S+) (\S+)", angles.text_content()).groups()]
+        shown = re.search(r"DH angles \(true\): (\S+) (\S+) (\S+)", angles.text_content())
+        return [float(v) for v in shown.groups()]
 
     rest = dh()
     view = page.get_by_test_id("arm").bounding_box()

@@ -189,7 +189,7 @@ def test_one_run_at_a_time_per_user(server, alice):
         alice.until("started")
         other.send(run_message(LAB_A))
         refused = other.next()
-        assert refused["type"] == "error" and "one run at a time" in refused["message"]
+        assert refused["type"] == "error" and "one build, run or check at a time" in refused["message"]
         alice.send({"type": "stop"})
         alice.until("ended")
     finally:

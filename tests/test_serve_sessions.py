@@ -14,6 +14,9 @@ from crslab.serve.page_sessions import LimitError, PageSession, Sessions, UserLi
 class _Process:
     """What a session's process must answer when the session closes."""
 
+    def terminate(self) -> None:
+        pass
+
     def join(self, timeout: float | None = None) -> None:
         pass
 
@@ -27,7 +30,8 @@ class _Conn:
 
 
 def test_sessions_starting_and_ending_in_threads_while_the_loop_admits_runs(monkeypatch, tmp_path):
-    sessions = Sessions(UserLimits(compiles_per_minute=10**9, max_sessions=150), SessionLimits())
+    sessions = Sessions(UserLimits(compiles_per_minute=10**9, max_sessions=150, max_sessions_per_user=10**6),
+                        SessionLimits())
     started = threading.Barrier(9)
 
     def fake_start(user: str) -> PageSession:

@@ -6,6 +6,7 @@ The WebAssembly firmware names the lab's line (its trap's backtrace, or the chec
 with); a native one dies by a signal, which names only the function."""
 
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -46,7 +47,7 @@ AT_5123 = "in lab() at tick 5123 (t = 5.123 s)"
 
 @pytest.mark.parametrize("lab, board, diagnosis", [
     ("segfault_in_lab.c", "wasm",
-     f"segfault_in_lab.c used a NULL pointer (one that was never set) at segfault_in_lab.c:25 {AT_5123}"),
+     f"segfault_in_lab.c used a NULL pointer (its address was 0) at segfault_in_lab.c:25 {AT_5123}"),
     ("segfault_in_lab.c", "native", f"segfault_in_lab.c crashed (SIGSEGV) {AT_5123}"),
     ("abort_in_lab.c", "wasm",
      f"abort_in_lab.c called abort() (or an assertion failed) at abort_in_lab.c:24 {AT_5123}"),
@@ -69,16 +70,36 @@ def test_crash_is_one_line_and_keeps_the_transcript(lab, board, diagnosis, tmp_p
 
 
 @pytest.mark.parametrize("board", ["wasm", "native"])
-@pytest.mark.parametrize("lab, func, tick", [("hang_in_lab.c", "lab()", 5123),
-                                             ("hang_in_printing.c", "printing()", 5100)])
-def test_hang_is_stopped_and_named(lab, func, tick, board, tmp_path):
+@pytest.mark.parametrize("lab, func, tick, loop", [("hang_in_lab.c", "lab()", 5123, 24),
+                                                   ("hang_in_printing.c", "printing()", 5100, 31)])
+def test_hang_is_stopped_and_named(lab, func, tick, loop, board, tmp_path):
     # (sim's timeout guards against no stop at all)
     r, transcript = sim(lab, tmp_path, "--deadline", "0.5", *(["--native"] if board == "native" else []))
     assert r.returncode == 4
+    # WebAssembly: where the firmware was when it was stopped, the busy loop's own line (wasmtime
+    # names no line for a loop's head: the firmware's line table does)
+    where = f"; it was at {lab}:{loop} in {func}" if board == "wasm" else ""
     assert last_line(r) == (f"crslab sim: {lab} hung: {func} did not return within 0.5 s "
-                            f"at tick {tick} (t = {tick / 1000:.3f} s)")
+                            f"at tick {tick} (t = {tick / 1000:.3f} s){where}")
+    summary = r.stderr.decode().strip().splitlines()[-2]
+    if board == "wasm":  # (a native worker that hung is killed with its counts)
+        assert re.search(r"lab\(\) x\d+: mean [\d,.]+ instructions, max [\d,.]+ instructions \(tick \d+\); ",
+                         summary), summary
+        if func == "lab()":  # the call that hung was never measured: no "0 over the budget"
+            assert summary.endswith(f"; the call at tick {tick} did not return (not counted above)"), summary
+        else:
+            assert re.search(r"; 0 over the budget of 75,000 instructions$", summary), summary
     assert transcript == BEFORE_FAULT
     assert no_process_left(tmp_path / lab)
+
+
+def test_a_native_runs_summary_gives_each_number_its_unit(tmp_path):
+    r, _ = sim("nan_torque.c", tmp_path, "--native", "--duration", "4.3")
+    assert r.returncode == 0, r.stderr
+    summary = next(line for line in r.stderr.decode().splitlines() if " simulated in " in line)
+    # 75,000 instructions at 150 MHz are 500 us; ticks 4100-4299 call lab()
+    assert re.search(r"; lab\(\) x200: mean [\d.]+ us, max [\d.]+ us \(tick \d+\); 0 over the budget of "
+                     r"500 us", summary), summary
 
 
 def test_nan_torque_warns_and_applies_nothing_on_that_joint():

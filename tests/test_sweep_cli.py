@@ -18,7 +18,7 @@ from crslab.sweep.metrics import METRIC_NAMES
 from crslab.sweep.table import shown_metrics
 from tests.waiting import LineWatcher, wait_exit
 
-NULL_AT = ("crash_after_5s.c used a NULL pointer (one that was never set) at crash_after_5s.c:27 in "
+NULL_AT = ("crash_after_5s.c used a NULL pointer (its address was 0) at crash_after_5s.c:27 in "
            "lab() at tick 5100")
 
 LABS = Path(__file__).parent / "labs"
@@ -319,3 +319,39 @@ def test_plot_metrics_draws_a_panel_per_varied_quantity_for_each_metric_asked(tm
     assert sweep("--lab", PD, *FAST, "--vary", "var:Kp2=40:80", "--grid", "2", "-o", out, "--plot",
                  tmp_path / "p.png", "--plot-metrics", "plotvar2_err_rm") == 2
     assert "no metric 'plotvar2_err_rm' (did you mean plotvar2_err_rms?)" in capsys.readouterr().err
+
+
+def test_the_plots_tick_labels_do_not_overlap_and_a_whole_number_metric_has_whole_ticks():
+    """Three quantities with long values side by side, a trip count of 0..3: no two tick labels of a
+    panel overlap (their drawn boxes), and the count's ticks are whole numbers."""
+    from crslab.sweep.table import figure
+    from crslab.sweep.variations import parse_vary
+
+    varies = [parse_vary("friction=0.51234:1.48766"), parse_vary("payload_kg=0.000125:0.000875"),
+              parse_vary("rest_offset2=-0.02213:-0.01487"), parse_vary("mass=0.9:1.1")]
+    rng = np.random.default_rng(3)
+    rows = [{"passed": k % 2 == 0, "safety_trips": int(k % 4), "plotvar2_err_rms": float(rng.random()),
+             **{v.name: v.low + (v.high - v.low) * rng.random() for v in varies}} for k in range(40)]
+    fig = figure(rows, varies, title="t", metrics=["safety_trips", "plotvar2_err_rms"])
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        for labels in (ax.get_xticklabels(), ax.get_yticklabels()):
+            boxes = [t.get_window_extent(renderer) for t in labels if t.get_text() and t.get_visible()]
+            assert len(boxes) >= 2
+            assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:]), ax.get_xlabel()
+    for ax in fig.axes[:4]:  # the trips row
+        lo, hi = ax.get_ylim()
+        shown = [t for t in ax.get_yticks() if lo <= t <= hi]
+        assert shown and all(float(t).is_integer() for t in shown), shown
+
+
+def test_a_sweep_of_the_default_lab_that_passes_nothing_says_why(tmp_path, capsys):
+    out = tmp_path / "r.csv"
+    status = sweep("--vary", "friction=0.9:1.1", "--grid", "2", "-o", out)  # the whole tour
+    printed = capsys.readouterr().out
+    assert status == 1 and "passed: 0 of 2 (0.0 %); left the safety envelope: 2" in printed, printed
+    assert ("note: nothing passed: crslab's own Lab 1 (the lab without --lab) applies no torque, so on the "
+            "tour, where a hand moves the arm about and lets go, it stays in the safety envelope only where "
+            "friction holds it; that is the lab, not your setup: sweep your own lab with --lab "
+            "FILE\n") in printed

@@ -21,10 +21,16 @@ AssertionError: the demo's stdout closed before 1 line matching 'never printed' 
 from __future__ import annotations
 
 import io
+import os
 import re
+import select
 import subprocess
 import threading
-from typing import IO, AnyStr, Generic
+import time
+from collections.abc import Callable, Iterable
+from typing import IO, AnyStr, Generic, TypeVar
+
+T = TypeVar("T")
 
 GUARD_S = 120.0
 """How long any wait may last before the test fails: only ever reached when something hangs."""
@@ -115,3 +121,33 @@ def join(thread: threading.Thread, what: str, timeout_s: float = GUARD_S) -> Non
     thread.join(timeout_s)
     if thread.is_alive():
         raise AssertionError(f"{what} had not finished after {timeout_s:g} s")
+
+
+def wait_until(ready: Callable[[], T | None], what: str, timeout_s: float = GUARD_S) -> T:
+    """Wait until ``ready()`` gives something true (not None, False, 0 or empty) and return it: a
+    state with no event to wait on (a process in or gone from /proc, a folder removed), looked at
+    again every 0.05 s; fail, naming ``what`` was awaited, if the guard expires."""
+    end = time.monotonic() + timeout_s
+    while True:
+        got = ready()
+        if got:
+            return got
+        if time.monotonic() > end:
+            raise AssertionError(f"{what}: not so after {timeout_s:g} s")
+        time.sleep(0.05)
+
+
+def wait_gone(pids: Iterable[int], what: str, timeout_s: float = GUARD_S) -> None:
+    """Wait until every process of ``pids`` has ended (any process, not only a child: a pidfd
+    becomes readable when it exits); fail, naming ``what`` should have ended them."""
+    end = time.monotonic() + timeout_s
+    for pid in pids:
+        try:
+            fd = os.pidfd_open(pid)
+        except ProcessLookupError:
+            continue
+        try:
+            if not select.select([fd], [], [], max(0.0, end - time.monotonic()))[0]:
+                raise AssertionError(f"process {pid} still runs {timeout_s:g} s after {what}")
+        finally:
+            os.close(fd)

@@ -5,10 +5,15 @@ must occur exactly once in that file) and what to put instead, and the tests tha
 The script copies the checkout (every tracked or new, not ignored, file) into a temporary
 folder once, checks that the named tests pass on the unmutated copy, then for each mutation:
 applies it, runs its tests there (``pytest -x``, crslab imported from the copy; the C core is
-rebuilt when the mutation touches it), and puts the line back. A mutation whose tests still
-pass **survived**: a rule no test pins down. One that breaks the build or the test collection
-instead of failing a test is **broken** (a mutation should be a plausible bug, not a syntax
-error). Exit 0 only when every mutation was killed.
+rebuilt when the mutation touches it), and puts the line back. A mutation is **killed** when a
+test fails (its assertion, or an exception in the test's own body); one whose tests still pass
+**survived**: a rule no test pins down. One whose tests were stopped only by an **error** (a
+fixture's set-up or tear-down, pytest's own ``E`` in its summary, not a failed test: perhaps
+the mutation, perhaps something unrelated such as a fixture's time limit) is said apart, with
+the error, and not counted as killed: nothing shows a test noticed the bug. One that breaks the
+build or the test collection is **broken** (a mutation should be a plausible bug, not a syntax
+error). pytest's outcome is read from its JUnit XML report. Exit 0 only when every mutation was
+killed.
 
 Too slow for CI (minutes); run it before resolving an issue that touches ``csrc/board``,
 ``csrc/board`` or ``crslab/regress``:
@@ -37,6 +42,7 @@ import sys
 import tempfile
 import time
 import tomllib
+import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -131,15 +137,60 @@ def rebuild_core(copy: Path, env: dict[str, str]) -> bool:
     return done.returncode == 0
 
 
-def run_tests(copy: Path, tests: tuple[str, ...], env: dict[str, str]) -> tuple[int, str]:
-    """pytest's exit status for ``tests`` in ``copy``, and the tail of what it printed."""
-    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--no-header", *tests]
+def run_tests(copy: Path, tests: tuple[str, ...], env: dict[str, str]) -> tuple[str, str]:
+    """What pytest made of ``tests`` in ``copy`` (:func:`outcome`), and the line that says why."""
+    report = copy.parent / "pytest-report.xml"
+    report.unlink(missing_ok=True)
+    cmd = [sys.executable, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "--no-header",
+           f"--junitxml={report}", *tests]
     try:
         done = subprocess.run(cmd, cwd=copy, env=env, capture_output=True, text=True, timeout=TEST_TIMEOUT_S)
     except subprocess.TimeoutExpired:
-        return 1, f"timed out after {TEST_TIMEOUT_S:g} s"
+        return "killed", f"timed out after {TEST_TIMEOUT_S:g} s"
     lines = (done.stdout + done.stderr).strip().splitlines()
-    return done.returncode, lines[-1] if lines else ""
+    xml = report.read_text() if report.is_file() else ""
+    return outcome(done.returncode, xml, lines[-1] if lines else "")
+
+
+def outcome(status: int, junit_xml: str, tail: str) -> tuple[str, str]:
+    """How a pytest run with exit ``status`` and JUnit report ``junit_xml`` ended: ``passed``,
+    ``killed`` (a test failed: its ``<failure>``), ``error`` (only errors: a fixture's set-up or
+    tear-down, ``<error>``), ``broken`` (no test ran: collection or usage); with the line that
+    says why (the first failure's or error's message, else pytest's last line ``tail``).
+
+    >>> ok = '<testsuites><testsuite><testcase name="t"/></testsuite></testsuites>'
+    >>> outcome(0, ok, "1 passed")
+    ('passed', '1 passed')
+    >>> failed = ('<testsuites><testsuite><testcase classname="tests.test_a" name="test_x">'
+    ...           '<failure message="assert 1 == 2">...</failure></testcase></testsuite></testsuites>')
+    >>> outcome(1, failed, "1 failed")
+    ('killed', 'tests.test_a::test_x: assert 1 == 2')
+    >>> errored = failed.replace("failure", "error").replace("assert 1 == 2", "failed on setup with X")
+    >>> outcome(1, errored, "1 error")
+    ('error', 'tests.test_a::test_x: failed on setup with X')
+    >>> outcome(2, "", "ERROR collecting tests/test_a.py")
+    ('broken', 'ERROR collecting tests/test_a.py')
+    """
+    if status == 0:
+        return "passed", tail
+    failures: list[str] = []
+    errors: list[str] = []
+    try:
+        root = ET.fromstring(junit_xml) if junit_xml else None
+    except ET.ParseError:
+        root = None
+    cases = list(root.iter("testcase")) if root is not None else []
+    for case in cases:
+        name = f"{case.get('classname', '')}::{case.get('name', '')}"
+        for kind, found in (("failure", failures), ("error", errors)):
+            for element in case.findall(kind):
+                message = (element.get("message") or "").strip().splitlines()
+                found.append(f"{name}: {message[0] if message else kind}")
+    if status == 1 and failures:
+        return "killed", failures[0]
+    if status == 1 and errors:
+        return "error", errors[0]
+    return "broken", tail
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -184,13 +235,14 @@ def main(argv: list[str] | None = None) -> int:
             shutil.copy2(built, core_backup / built.name)
         every_test = tuple(dict.fromkeys(t for m in mutations for t in m.tests))
         print(f"mutants: the {len(every_test)} test targets on the unmutated copy ...", file=sys.stderr)
-        status, tail = run_tests(copy, every_test, env)
-        if status != 0:
+        verdict, tail = run_tests(copy, every_test, env)
+        if verdict != "passed":
             print(f"mutants: the unmutated copy fails its tests ({tail}); fix that first", file=sys.stderr)
             return 2
 
         survived: list[Mutation] = []
         broken: list[tuple[Mutation, str]] = []
+        errored: list[tuple[Mutation, str]] = []
         for i, m in enumerate(mutations, 1):
             path = copy / m.file
             original = path.read_text()
@@ -201,8 +253,8 @@ def main(argv: list[str] | None = None) -> int:
                 if core and not rebuild_core(copy, env):
                     verdict, tail = "broken", "the C core does not build"
                 else:
-                    status, tail = run_tests(copy, m.tests, env)
-                    verdict = {0: "SURVIVED", 1: "killed"}.get(status, "broken")
+                    verdict, tail = run_tests(copy, m.tests, env)
+                    verdict = "SURVIVED" if verdict == "passed" else verdict
             finally:
                 path.write_text(original)
                 if core:
@@ -214,22 +266,27 @@ def main(argv: list[str] | None = None) -> int:
                 survived.append(m)
             elif verdict == "broken":
                 broken.append((m, tail))
+            elif verdict == "error":
+                errored.append((m, tail))
             seconds = time.monotonic() - started
             print(f"[{i}/{len(mutations)}] {verdict:<8} {m.name} ({seconds:.0f} s)"
-                  + (f": {tail}" if verdict == "broken" else ""), flush=True)
+                  + (f": {tail}" if verdict in ("broken", "error") else ""), flush=True)
     finally:
         if args.keep:
             print(f"mutants: the copy is kept in {copy}", file=sys.stderr)
         else:
             shutil.rmtree(tmp, ignore_errors=True)
 
-    killed = len(mutations) - len(survived) - len(broken)
-    print(f"mutants: {killed} of {len(mutations)} killed, {len(survived)} survived, {len(broken)} broken")
+    killed = len(mutations) - len(survived) - len(broken) - len(errored)
+    print(f"mutants: {killed} of {len(mutations)} killed by a failing test, {len(errored)} stopped by an "
+          f"error (not a failed test), {len(survived)} survived, {len(broken)} broken")
     for m in survived:
         print(f"  survived: {m.name} [{m.file}: {m.find!r} -> {m.replace!r}]")
+    for m, tail in errored:
+        print(f"  stopped by an error: {m.name} [{m.file}]: {tail}")
     for m, tail in broken:
         print(f"  broken: {m.name} [{m.file}]: {tail}")
-    return 0 if not survived and not broken else 1
+    return 0 if not survived and not broken and not errored else 1
 
 
 if __name__ == "__main__":

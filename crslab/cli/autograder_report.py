@@ -17,6 +17,7 @@ from crslab.regress import grade as g
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import DEFAULT_SCENARIO
 from crslab.sim.status import ExitStatus
+from crslab.untrusted_text import for_terminal
 
 
 def add_report_options(p: argparse.ArgumentParser) -> None:
@@ -68,6 +69,8 @@ def run_report(args: argparse.Namespace) -> int:
         )
         return ExitStatus.MISMATCH
     [submission] = found
+    # the submission folder is the student's: a header beside the lab comes with it
+    folders = {submission: submission.parent} if folder.is_dir() else {}
     executor = executor_from_args(args)
     start = time.monotonic()
     results = []
@@ -93,7 +96,8 @@ def run_report(args: argparse.Namespace) -> int:
                     f"{reference.message or reference.status}"
                 )
             [result] = g.run_many(
-                [submission], config, end_tick, deadline_s=args.deadline, limits=limits, executor=executor
+                [submission], config, end_tick, deadline_s=args.deadline, limits=limits, executor=executor,
+                folders=folders,
             )
             graded = ag.Outcome(
                 test, g.grade_result(result, reference, abs_tol=args.abs_tol, rel_tol=args.rel_tol)
@@ -101,7 +105,7 @@ def run_report(args: argparse.Namespace) -> int:
             results.append(graded)
             print(
                 f"{test.name}: {graded.grade.grade} ({graded.points:g} of {test.points:g} points): "
-                f"{graded.grade.detail}"
+                f"{for_terminal(graded.grade.detail)}"
             )
     finally:
         executor.close()
@@ -114,7 +118,7 @@ def run_report(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise CliError(f"{out}: cannot write the results file ({exc.strerror})") from None
     earned, possible = sum(r.points for r in results), sum(r.test.points for r in results)
-    print(f"{submission.name}: {earned:g} of {possible:g} points")
+    print(f"{for_terminal(submission.name)}: {earned:g} of {possible:g} points")
     print(f"crslab grade: {platform} results written to {out}", file=sys.stderr)
     return ExitStatus.OK if all(r.passed for r in results) else ExitStatus.MISMATCH
 

@@ -9,6 +9,7 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.cli.run_options import sandbox_from_args
+from crslab.output_paths import ready_to_write
 from crslab.resources import path as resource_path
 
 COURSE_TABLE = resource_path("models", "crs_arm", "recordings", "lab3_friction_table_course.toml")
@@ -85,6 +86,12 @@ def run_friction(args: argparse.Namespace) -> int:
         reference = load_table(args.reference)
     except FrictionTableError as exc:
         raise CliError(str(exc)) from None
+    figure = args.plot if args.plot is not None else args.output.with_suffix(".png")
+    for target, what_it_is in ((args.output, "table"), (figure, "plot")):  # before the long run
+        try:
+            ready_to_write(target)
+        except OSError as exc:
+            raise CliError(f"{target}: cannot write the {what_it_is} there ({exc.strerror})") from None
     if args.log is not None:
         if args.lab or args.plant:
             raise CliError("--log fits a real arm's log: --lab and --plant are for a run on crslab's arm")
@@ -146,7 +153,6 @@ def run_friction(args: argparse.Namespace) -> int:
         args.output.write_text(table.to_toml(header))
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the table ({exc.strerror})") from None
-    figure = args.plot if args.plot is not None else args.output.with_suffix(".png")
     try:
         plot_table(figure, table, reference, "real arm" if args.log else "crslab",
                    reference.source or "reference")

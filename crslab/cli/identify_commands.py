@@ -11,7 +11,7 @@ from typing import TextIO
 from crslab.cli import CliError
 from crslab.cli.run_options import sandbox_from_args
 from crslab.lab.build import LabBuildError, LabForbidden
-from crslab.output_paths import with_parent
+from crslab.output_paths import ready_to_write, with_parent
 from crslab.plant.plant_params import PlantParams, PlantParamsError
 from crslab.resources import path as resource_path
 from crslab.sim.status import RunStatus
@@ -22,7 +22,7 @@ CALIBRATION_LAB = resource_path("csrc", "labs", "lab2_square_pid.c")
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``identify`` subcommand."""
-    from crslab.identify.fit import DEFAULT_FIT, GROUPS
+    from crslab.identify.fit import DEFAULT_FIT, GROUPS, RECORDING_SIGMA_RAD
 
     p = sub.add_parser(
         "identify",
@@ -41,7 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="recordings of the real arm (.mat or .csv) and friction tables (.toml)")
     p.add_argument("--sigma", type=float, action="append", metavar="RAD",
                    help="a recording's uncertainty: how closely the arm should follow it, per sample, rad "
-                   "(once for all recordings or once per recording; default: {RECORDING_SIGMA_RAD:g})")
+                   f"(once for all recordings or once per recording; default: {RECORDING_SIGMA_RAD:g})")
     p.add_argument("--lab", type=Path, action="append", metavar="FILE",
                    help="the lab file that produced the recordings: once for all of them, or once per "
                    "recording in order (default: crslab's calibration lab, csrc/labs/lab2_square_pid.c)")
@@ -116,6 +116,19 @@ class FitProgress:
             self.stream.flush()
 
 
+def _told_names(names: list[str], told: list[str],
+                groups: dict[str, tuple[str, ...]]) -> tuple[list[str], list[str]]:
+    """Of the names asked for (values or groups), those a fit to friction tables alone fits (a
+    group when any of its values is told) and those it leaves as they were.
+
+    >>> _told_names(["drive", "friction", "Vpos1"], ["coulomb_pos1", "viscous_pos1"],
+    ...             {"drive": ("stall_nm1",), "friction": ("coulomb_pos1", "viscous_pos1")})
+    (['friction'], ['drive', 'Vpos1'])
+    """
+    fitted = [n for n in names if any(member in told for member in groups.get(n, (n,)))]
+    return fitted, [n for n in names if n not in fitted]
+
+
 def run_identify(args: argparse.Namespace) -> int:
     """``crslab identify``."""
     from crslab.identify import fit as fitting
@@ -156,10 +169,19 @@ def run_identify(args: argparse.Namespace) -> int:
                       for r, m in zip(recording_paths, maps)]
         fitting.check_recordings(recordings)
         tables = [fitting.TableSource(load_table(t), str(t)) for t in table_paths]
+        announced, untold = names, []
         if not recordings:
-            fitting.what_tables_tell(fitting.names_to_fit(names, {j for t in tables for j in t.table.rows}))
+            joints = {j for t in tables for j in t.table.rows}
+            told = fitting.what_tables_tell(fitting.names_to_fit(names, joints))
+            announced, untold = _told_names(names, told, fitting.GROUPS)
     except (RecordingError, fitting.FitError, FrictionTableError) as exc:
         raise CliError(str(exc)) from None
+    for target, what_it_is in ((args.output, "plant file"), (args.plot, "plot")):  # before the long fit
+        if target is not None:
+            try:
+                ready_to_write(target)
+            except OSError as exc:
+                raise CliError(f"{target}: cannot write the {what_it_is} there ({exc.strerror})") from None
     sandboxed = sandbox_from_args(args) if recordings else True
     sources = []
     configs: dict[Path, object] = {}
@@ -178,7 +200,10 @@ def run_identify(args: argparse.Namespace) -> int:
     what = ", ".join(filter(None, [f"{n} recording{'s' if n != 1 else ''}" if n else "",
                                    f"{len(tables)} friction table{'s' if len(tables) != 1 else ''}"
                                    if tables else ""]))
-    print(f"crslab identify: fitting {', '.join(names)} to {what}, {jobs} runs at a time", file=sys.stderr)
+    alone = (f" ({', '.join(untold)}: not from friction tables alone, which tell only friction and the "
+             "motor gain; give a recording)") if untold else ""
+    runs_at_once = f", {jobs} runs at a time" if recordings else ""
+    print(f"crslab identify: fitting {', '.join(announced)} to {what}{runs_at_once}{alone}", file=sys.stderr)
     progress = FitProgress()
     try:
         result = fitting.fit(sources, names=names, start=start, fit_rest=args.fit_rest, jobs=jobs,
@@ -203,6 +228,9 @@ def run_identify(args: argparse.Namespace) -> int:
             report.plot_fit(figure, result, sources)
         except (OSError, ValueError) as exc:
             raise CliError(f"{figure}: cannot write the plot ({exc})") from None
+    else:
+        print("crslab identify: no plot: it draws a recording against its simulated run, and only friction "
+              "tables were given", file=sys.stderr)
     if len(sources) + len(tables) > 1 and not args.no_cross_validation:
         print("crslab identify: cross-validation: fitting each experiment alone", file=sys.stderr)
         try:

@@ -12,6 +12,7 @@ import os
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from crslab.cli import CliError
 from crslab.cli.autograder_report import add_report_options, run_report
@@ -27,6 +28,7 @@ from crslab.cli.run_options import add_c28x_option, add_run_options, config_from
 from crslab.cli.run_report import notices
 from crslab.executors.job import Executor
 from crslab.lab.c28x_check import C28xReport, check_lab
+from crslab.lab.compile_process import LabBuildError
 from crslab.output_paths import folder as made_folder
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
@@ -45,6 +47,9 @@ from crslab.sim.session import SimError
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.untrusted_text import for_terminal, for_text
 from crslab.worker.config import SimConfig
+
+if TYPE_CHECKING:
+    from crslab.regress.grade import Found
 
 
 def non_negative(text: str) -> float:
@@ -92,16 +97,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_check)
 
     p = sub.add_parser("grade", help="grade a folder of lab files against a reference lab",
-                       description="Run every lab file (.c, .cpp) in a folder on a scenario, each in a "
-                       "process of its own and several at once, each compiled and run in the sandbox "
-                       "from a private copy of that one file, compare each transcript with the "
+                       description="Run every submission in a folder on a scenario: each lab file (.c, "
+                       ".cpp) directly in it, graded alone, and each sub-folder as one student's "
+                       "submission (alice/lab1.c, as Gradescope and GitHub Classroom export a class: "
+                       "the folder's files come with its lab, so a header of the student's own "
+                       "compiles), each in a process of its own and several at once, each compiled "
+                       "and run in the sandbox from a private copy, compare each transcript with the "
                        "reference lab's, and class each as pass, mismatch, unmet (an expectation of the "
                        "scenario failed), does not compile, crashed, forbidden (the sandbox stopped it) "
                        "or hung. Writes a summary table (stdout and "
                        "summary.txt), grades.csv, "
                        "junit.xml, and every transcript and report, into --out. With --contest instead of "
                        "a reference: score each by the final project's contest (docs/contest.md).")
-    p.add_argument("submissions", type=Path, metavar="SUBMISSIONS_DIR", help="folder of lab files")
+    p.add_argument("submissions", type=Path, metavar="SUBMISSIONS_DIR",
+                   help="folder of lab files, or of one folder per student")
     against = p.add_mutually_exclusive_group(required=True)
     against.add_argument("--reference", type=Path, metavar="FILE",
                          help="the reference lab file (or --contest)")
@@ -252,9 +261,12 @@ def run_grade(args: argparse.Namespace) -> int:
     end_tick = _end_tick(args, config)
     limits = limits_from_args(args)
     reference_path = args.reference.resolve()
-    subs = [p for p in g.find_submissions(folder) if p.resolve() != reference_path]
+    found = g.find_class(folder)
+    found.labs = [p for p in found.labs if p.resolve() != reference_path]
+    subs = found.labs
     if not subs:
-        raise CliError(f"{folder}: no lab files (.c, .cpp) to grade")
+        raise CliError(f"{folder}: no lab files (.c, .cpp) to grade, directly in it or in a folder per "
+                       "student")
     try:
         for sub_dir in ("transcripts", "reports"):
             made_folder(args.out / sub_dir)
@@ -271,17 +283,19 @@ def run_grade(args: argparse.Namespace) -> int:
                            f"expectations: {reference.message}; the first: {first}")
         if not reference.ok:
             raise CliError(f"the reference lab did not run: {reference.message or reference.status}")
-        grades = _grade_all(args, subs, config, end_tick, reference, executor)
+        grades = _grade_all(args, found, config, end_tick, reference, executor)
     finally:
         executor.close()
     return _write_grades(args, subs, grades, reference, config)
 
 
-def _grade_all(args: argparse.Namespace, subs: list[Path], config: SimConfig, end_tick: int,
+def _grade_all(args: argparse.Namespace, found: Found, config: SimConfig, end_tick: int,
                reference: RunResult, executor: Executor) -> dict:
     """Run and grade every submission on ``executor``; their grades by path."""
     from crslab.regress import grade as g
 
+    subs = found.labs
+    print(f"crslab grade: {found.summary()}", file=sys.stderr)
     print(f"crslab grade: {len(subs)} submissions against {args.reference.name} on {config.scenario.name} "
           f"({end_tick / 1000:.3f} s), {executor.description}", file=sys.stderr)
 
@@ -290,11 +304,12 @@ def _grade_all(args: argparse.Namespace, subs: list[Path], config: SimConfig, en
 
     def on_done(result: RunResult) -> None:
         grade = g.grade_result(result, reference, abs_tol=args.abs_tol, rel_tol=args.rel_tol)
+        grade.name = g.submission_name(grade.path, found.folders.get(grade.path))
         grades[grade.path] = grade
-        progress.update(grade.path.name, grade.grade)
+        progress.update(grade.label, grade.grade)
 
     g.run_many(subs, config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args),
-               on_done=on_done, executor=executor)
+               on_done=on_done, executor=executor, folders=found.folders)
     return grades
 
 
@@ -309,14 +324,18 @@ def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, refe
                                                       jobs=args.jobs or os.cpu_count() or 1)
     (out / "transcripts" / f"{args.reference.name}.reference.txt").write_bytes(reference.transcript)
     for grade in ordered:
-        (out / "transcripts" / f"{grade.path.name}.txt").write_bytes(grade.result.transcript)
+        transcript = out / "transcripts" / f"{grade.label}.txt"
+        report = out / "reports" / f"{grade.label}.txt"
+        for made in (transcript.parent, report.parent):  # alice/lab1.c.txt for a student's folder
+            made.mkdir(parents=True, exist_ok=True)
+        transcript.write_bytes(grade.result.transcript)
         board = c28x.get(grade.path, C28xReport()).lines()
         extra = "\n" + "\n".join(board) + "\n" if board else ""
         if grade.grade != GradeClass.PASS:
-            (out / "reports" / f"{grade.path.name}.txt").write_text(
-                for_text(f"{grade.grade}: {grade.detail}\n\n{grade.report}\n{extra}"))
+            more = "" if grade.report.strip() == grade.detail else f"\n{grade.report}\n"  # not said twice
+            report.write_text(for_text(f"{grade.verdict}\n{more}{extra}"))
         elif board:
-            (out / "reports" / f"{grade.path.name}.txt").write_text(for_text(f"{grade.grade}{extra}"))
+            report.write_text(for_text(f"{grade.grade}{extra}"))
     g.write_csv(out / "grades.csv", ordered)
     g.write_junit_grades(out / "junit.xml", ordered, f"crslab.grade.{config.scenario.name}")
     with (out / "summary.txt").open("w") as f:
@@ -332,11 +351,21 @@ def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, refe
 
 
 def c28x_reports(subs: list[Path], *, sandboxed: bool, jobs: int) -> dict[Path, C28xReport]:
-    """The C28x arithmetic check of every submission, a few at a time (each is two compiles)."""
+    """The C28x arithmetic check of every submission, a few at a time (each is two compiles), each
+    from its text alone, as grade builds it: never from the class folder, where the others are."""
     from concurrent.futures import ThreadPoolExecutor
 
+    from crslab.regress.grade import read_submission
+
+    def one(path: Path) -> C28xReport:
+        try:
+            text = read_submission(path)
+        except (OSError, LabBuildError) as exc:
+            return C28xReport(skipped=str(exc))
+        return check_lab(path, sandboxed=sandboxed, text=text, alone=True)
+
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-        reports = pool.map(lambda p: check_lab(p, sandboxed=sandboxed), subs)
+        reports = pool.map(one, subs)
         return dict(zip(subs, reports))
 
 

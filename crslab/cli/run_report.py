@@ -13,7 +13,7 @@ from crslab.framework_facts import CPU_CYCLES_PER_TICK, SCI_TX_FIFO_CHARS, SERIA
 from crslab.generations import Generation
 from crslab.lab.print_trigger import missing_printing_notice
 from crslab.scenario.expect_events import summary_text
-from crslab.sim.status import RunResult
+from crslab.sim.status import RunResult, RunStatus
 from crslab.untrusted_text import for_terminal
 from crslab.worker.board_ffi import board_constants
 
@@ -46,6 +46,9 @@ def summary(result: RunResult, wall_s: float, budget: int) -> dict:
         "status": result.status,
         "message": result.message,
         "simulated_s": result.end_tick / 1000.0,
+        # a lab() call that hung was never measured: the summary says so, not "0 over the budget"
+        **({"hung_tick": result.end_tick} if result.status is RunStatus.HUNG
+           and "hung: lab() did not return" in result.message else {}),
         "wall_s": round(wall_s, 3),
         "lab_calls": st.get("lab_calls", 0),
         **lab_cost(st, budget),
@@ -76,7 +79,16 @@ def summary_line(info: dict) -> str:
     ...               "lab_cost_unit": "instructions", "lab_cost_max": 5678.0, "lab_max_tick": 4100,
     ...               "over_budget": 2, "over_budget_ticks": [5000, 6000], "budget": 75000,
     ...               "motor_board": "piccolo", "motor_board_cutouts": 1})
-    '25.000 s simulated in 0.50 s; lab() x10: mean 1,234 instructions, max 5,678 (tick 4100); 2 over ...'
+    '25.000 s simulated in 0.50 s; lab() x10: mean 1,234 instructions, max 5,678 instructions (tick ...'
+    >>> summary_line({"simulated_s": 0.4, "wall_s": 0.1, "lab_calls": 400, "lab_cost_mean": 2.5,
+    ...               "lab_cost_unit": "us", "lab_cost_max": 9.0, "lab_max_tick": 7, "over_budget": 0,
+    ...               "over_budget_ticks": [], "budget": 500.0})
+    '0.400 s simulated in 0.10 s; lab() x400: mean 2.5 us, max 9.0 us (tick 7); 0 over the budget of 500 us'
+    >>> summary_line({"simulated_s": 5.1, "wall_s": 2.0, "lab_calls": 5100, "lab_cost_mean": 900.0,
+    ...               "lab_cost_unit": "instructions", "lab_cost_max": 950.0, "lab_max_tick": 7,
+    ...               "over_budget": 0, "over_budget_ticks": [], "budget": 75000,
+    ...               "hung_tick": 5100}).split("; ")[2]
+    'the call at tick 5100 did not return (not counted above)'
     >>> summary_line({"simulated_s": 1.0, "wall_s": 0.1, "lab_calls": 0, "motor_board": "piccolo",
     ...               "motor_board_cutouts": 2, "expectations_met": 1, "expectations_failed": 1,
     ...               "expectations_not_reached": 0, "expectations": [{}, {}]})
@@ -87,10 +99,15 @@ def summary_line(info: dict) -> str:
     if info["lab_calls"]:
         unit = info["lab_cost_unit"]
         line += (f"; lab() x{info['lab_calls']}: mean {_count(info['lab_cost_mean'])} {unit}, "
-                 f"max {_count(info['lab_cost_max'])} (tick {info['lab_max_tick']}); "
-                 f"{info['over_budget']} over the budget of {_count(info['budget'])}")
-        if info["over_budget"]:
-            line += f" (ticks {', '.join(map(str, info['over_budget_ticks']))})"
+                 f"max {_count(info['lab_cost_max'])} {unit} (tick {info['lab_max_tick']})")
+        if "hung_tick" in info:  # the lab() call that hung never finished, so was never measured
+            line += f"; the call at tick {info['hung_tick']} did not return (not counted above)"
+        else:
+            budget = info["budget"]
+            budget_text = f"{budget:,.0f}" if float(budget).is_integer() else _count(budget)
+            line += f"; {info['over_budget']} over the budget of {budget_text} {unit}"
+            if info["over_budget"]:
+                line += f" (ticks {', '.join(map(str, info['over_budget_ticks']))})"
     if info.get("motor_board", "none") != "none":
         n = info.get("motor_board_cutouts", 0)
         line += f"; motor board: {n} cut-out{'' if n == 1 else 's'}"

@@ -47,11 +47,18 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="page sessions at once, every user together (default: %(default)s)",
     )
     p.add_argument(
+        "--max-sessions-per-user",
+        type=int,
+        default=2,
+        metavar="N",
+        help="page sessions one user may hold at once (default: %(default)s)",
+    )
+    p.add_argument(
         "--compiles-per-minute",
         type=int,
-        default=20,
+        default=6,
         metavar="N",
-        help="builds, runs and checks a user may start per minute (default: %(default)s)",
+        help="builds, runs and checks a user may start per minute, one at a time (default: %(default)s)",
     )
     p.add_argument(
         "--max-run-s",
@@ -140,7 +147,7 @@ def run_serve(args: argparse.Namespace) -> int:
             f"without --users crslab serve serves only this machine; --host {args.host} would let "
             "anyone reach it: give a roster (--users roster.csv), or leave --host out"
         )
-    for name in ("max_sessions", "compiles_per_minute"):
+    for name in ("max_sessions", "max_sessions_per_user", "compiles_per_minute"):
         if getattr(args, name) < 1:
             raise CliError(f"--{name.replace('_', '-')} must be at least 1")
     if not args.max_run_s > 0:
@@ -170,7 +177,8 @@ def run_serve(args: argparse.Namespace) -> int:
     from crslab.serve.page_sessions import Sessions, UserLimits
 
     sessions = Sessions(
-        UserLimits(compiles_per_minute=args.compiles_per_minute, max_sessions=args.max_sessions),
+        UserLimits(compiles_per_minute=args.compiles_per_minute, max_sessions=args.max_sessions,
+                   max_sessions_per_user=args.max_sessions_per_user),
         SessionLimits(max_run_s=args.max_run_s, memory_mb=args.mem_limit_mb, sandboxed=not lacking),
     )
     token = secrets.token_urlsafe(16)

@@ -255,6 +255,11 @@ def run_sweep(args: argparse.Namespace) -> int:
         print(f"  {v.name:<22} {v.low:g} .. {v.high:g}")
     for line in tbl.summary(ordered, varies, total=len(jobs), golden=golden is not None):
         print(line)
+    nothing_passed = ordered and not any(r["passed"] for r in ordered)
+    if args.lab is None and config.scenario.name == "tour" and nothing_passed:
+        print("note: nothing passed: crslab's own Lab 1 (the lab without --lab) applies no torque, so on the "
+              "tour, where a hand moves the arm about and lets go, it stays in the safety envelope only "
+              "where friction holds it; that is the lab, not your setup: sweep your own lab with --lab FILE")
     where = f" and {args.plot}" if args.plot is not None and rows else ""
     print(f"crslab sweep: {len(rows)} rows written to {output}{where}", file=sys.stderr)
     if interrupted:

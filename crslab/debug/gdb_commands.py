@@ -11,6 +11,8 @@ own C, arms the break and stops crashes at the lab's line.
 
 >>> "define next-tick" in setup_script(Path("/crslab/csrc"))
 True
+>>> [line for line in setup_script(Path("/home/s/crslab/csrc")).splitlines() if "substitute" in line]
+['set substitute-path /crslab/csrc "/home/s/crslab/csrc"']
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from crslab import resources
+from crslab.lab.firmware import DEBUG_INFO_CSRC
 
 IN_GDB = Path(__file__).with_name("in_gdb.py")
 """The Python gdb runs to stop a crash at the lab's own line (:mod:`crslab.debug.in_gdb`)."""
@@ -57,6 +60,8 @@ def setup_script(csrc: Path, *, lab_file: Path | None = None, sanitizer_report: 
     lines = [
         "# crslab debug: gdb's setup (docs/debugging.md)",
         f"set $crs_csrc = {_quote(str(csrc))}",
+        # crslab's own C is named alike from every checkout in its debug information: here it is
+        f"set substitute-path {DEBUG_INFO_CSRC} {_quote(str(csrc))}",
         f"set $crs_batch = {_quote('1' if batch else '')}",
         f"set $crs_lab_file = {_quote(str(lab_file) if lab_file else '')}",
         f"set $crs_sanitizer_report = {_quote(str(sanitizer_report) if sanitizer_report else '')}",

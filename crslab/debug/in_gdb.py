@@ -194,8 +194,9 @@ def _setup() -> None:
     gdb.execute("handle SIGSYS nostop noprint pass", to_string=True)
     csrc = _setting("crs_csrc")
     if csrc:
-        for folder in ("board", "plant", "port", "kin", "firmware/include"):
-            gdb.execute(f"skip -gfile {csrc}/{folder}/*", to_string=True)
+        for root in (csrc, "/crslab/csrc"):  # the folder, and its name in the debug information
+            for folder in ("board", "plant", "port", "kin", "firmware/include"):
+                gdb.execute(f"skip -gfile {root}/{folder}/*", to_string=True)
     armed = gdb.Breakpoint("crs_debug_break", internal=True)
     armed.silent = True
     armed.commands = "python crslab_stop_in_lab()\ncontinue"

@@ -8,29 +8,42 @@ the lab, the same stand-ins and the whole board into one shared object with the 
 
 Either way the lab is compiled as C11 (never a GNU dialect, so globals named ``gamma``, ``y0`` or
 ``j1`` do not clash with the C library's math declarations), a ``.cpp`` file holding C is compiled
-as C, and the compiler runs contained (:mod:`crslab.lab.compile_process`: limits, its own process
-group) in the compile sandbox (crslab/sandbox/compile_sandbox.py: it reads only the lab's folder,
-crslab's headers and the compiler's own files, and writes only the build folder; reading anything
-else is :class:`LabForbidden`). A lab whose globals do not fit the F28335's data memory, as the TI
-linker would lay them out, does not build either (:func:`check_board_memory`). Builds are cached per
-user by the content of the lab, of every board source, of the flags and by the compiler's identity.
+as C, and the compiler runs contained (:mod:`crslab.lab.compile_process`: a private copy of the
+lab's folder's allowed files, limits, its own process group, a reaper) in the compile sandbox
+(crslab/sandbox/compile_sandbox.py: it reads only that copy, crslab's headers and the compiler's own
+files, and writes only the build folder; a file it may not read is "not there", as a missing one). A
+lab whose globals do not fit the F28335's data memory, as the TI linker would lay them out, does not
+build either (:func:`check_board_memory`). Builds are cached per user (each sealed: a file planted in
+the cache is not loaded), named by the lab's text, by what the compiler read of the lab's folder and
+the names in it, by the flags and by the compiler's identity.
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
 import os
-import tempfile
+import shutil
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from crslab import os_support, resources
-from crslab.cache import CacheError, cache_dir
+from crslab.cache import CacheError, cache_dir, is_sealed, seal
 from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START
 from crslab.generations import Generation, detect
 from crslab.lab import firmware, zig
 from crslab.lab.c28x_memory import MemoryLayout, layout
-from crslab.lab.compile_process import LabBuildError, LabForbidden, check_image, run_compiler
+from crslab.lab.compile_process import (
+    LabBuildError,
+    LabForbidden,
+    PrivateBuild,
+    allowed_files,
+    check_image,
+    dependencies,
+    folder_listing,
+    run_compiler,
+)
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.includes import local_includes
 from crslab.lab.lab_file import read_lab_file
@@ -71,7 +84,8 @@ DEBUG_LAB_FLAGS = ["-O0", "-g", "-fno-omit-frame-pointer"]
 DEBUG_BOARD_FLAGS = ["-g"]
 LINK_LIBS = os_support.MATH_LIBS
 TRAP_SOURCE = CSRC / "sandbox" / "trap.c"
-TRAP_HEADERS = [CSRC / "sandbox" / "trap.h", *sorted(BOARD.glob("*.h")), *sorted(PORT.glob("*.h"))]
+TRAP_HEADERS = [CSRC / "sandbox" / "trap.h", *sorted(BOARD.glob("*.h")), *sorted(PLANT.glob("*.h")),
+                *sorted(PORT.glob("*.h"))]
 TRAP_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-shared"]
 
 
@@ -135,17 +149,6 @@ def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
     return layout(find_variables(source_text), detect(source_text), lab_name)
 
 
-def header_part(lab: Path, header: Path) -> bytes:
-    """What a header the lab includes from its folder adds to the build's name: its path from the
-    lab's folder and its bytes."""
-    try:
-        data = header.read_bytes()
-    except OSError:
-        data = b""
-    name = os.path.relpath(header, lab.resolve().parent).encode()
-    return len(name).to_bytes(8, "little") + name + len(data).to_bytes(8, "little") + data
-
-
 def content_digest(parts: list[bytes]) -> str:
     """A short hash of ``parts`` (each length-prefixed), naming a cached build."""
     h = hashlib.sha256()
@@ -187,13 +190,15 @@ def check_board_memory(variables: list[LabVariable], generation: Generation, sou
 
 
 def _compiled(out: Path, argv: list[str], what: str) -> Path:
-    """``out``, compiled by ``argv`` (without its ``-o``) unless it is there already: through a
-    temporary name, so a build cut short or run beside another never leaves half a file."""
-    if not out.exists():
+    """``out``, compiled by ``argv`` (without its ``-o``) unless this user's build sealed it there
+    already (:func:`crslab.cache.seal`): through a temporary name, so a build cut short or run
+    beside another never leaves half a file."""
+    if not is_sealed(out):
         out.parent.mkdir(parents=True, exist_ok=True)
         tmp = out.with_suffix(f".{os.getpid()}.tmp")
         run_compiler([*argv, "-o", str(tmp)], what)
         tmp.replace(out)
+        seal(out)
     return out
 
 
@@ -211,7 +216,8 @@ def _board_objects(cc: Compiler, sanitize: bool, cache: Path, debug: bool = Fals
     flags = BOARD_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_BOARD_FLAGS if debug else [])
     out_dir = _own_c_dir(cache, "board", cc, flags, BOARD_SOURCES + BOARD_HEADERS)
     return [_compiled(out_dir / f"{src.parent.name}_{src.stem}.o",
-                      [*cc.argv, *flags, *INCLUDES, "-c", str(src)], f"crslab's board source {src.name}")
+                      [*cc.argv, *flags, *firmware.csrc_debug_map(), *INCLUDES, "-c", str(src)],
+                      f"crslab's board source {src.name}")
             for src in BOARD_SOURCES]
 
 
@@ -220,7 +226,8 @@ def trap_library(cc: Compiler, cache: Path) -> Path:
     it), built once per content and compiler, like the board."""
     out_dir = _own_c_dir(cache, "sandbox", cc, TRAP_FLAGS, [TRAP_SOURCE, *TRAP_HEADERS])
     return _compiled(out_dir / "trap.so",
-                     [*cc.argv, *TRAP_FLAGS, "-I", str(BOARD), "-I", str(PORT), str(TRAP_SOURCE)],
+                     [*cc.argv, *TRAP_FLAGS, "-I", str(BOARD), "-I", str(PLANT), "-I", str(PORT),
+                      str(TRAP_SOURCE)],
                      "crslab's sandbox trap")
 
 
@@ -244,10 +251,81 @@ def break_when_source(lab: Path, condition: str) -> str:
             f"{condition}\n) != 0; }}\n")
 
 
-def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], cache: Path,
+READS_FILE = "reads.json"
+"""A cached build's record of the files of the lab's folder its compiler read (their digests), and
+of the names in the folder (``__has_include`` reads no file but sees a name)."""
+
+
+def _sha(path: Path) -> str | None:
+    try:
+        return hashlib.sha256(path.read_bytes()).hexdigest()
+    except OSError:
+        return None
+
+
+def _variant(home: Path, lab: Path, image: str) -> Path | None:
+    """The cached build in ``home`` (the folder of builds of one lab text) whose compiler read what
+    the lab's folder holds now: the same names in the folder, the same bytes in each file it read;
+    only what this user's build sealed counts. None when there is none."""
+    if not home.is_dir():
+        return None
+    files = allowed_files(lab.absolute().parent)
+    listing = folder_listing(files)
+    paths = {name: path for name, path, _ in files}
+    for variant in sorted(home.iterdir()):
+        record = variant / READS_FILE
+        if not (is_sealed(record) and is_sealed(variant / image)):
+            continue
+        try:
+            kept = json.loads(record.read_text())
+        except (OSError, ValueError):
+            continue
+        reads = kept.get("reads", {})
+        if kept.get("listing") == listing and all(
+                name in paths and _sha(paths[name]) == digest for name, digest in reads.items()):
+            return variant
+    return None
+
+
+def _keep(home: Path, private: PrivateBuild, reads: list[str], outputs: dict[str, Path]) -> Path:
+    """Put a finished build into the cache (``home``, a folder of its own named by what its compiler
+    read: the names in the lab's folder and the bytes of each file it read, from the private copy),
+    each output sealed; returns that folder."""
+    record = {"listing": folder_listing(private.files),
+              "reads": {name: _sha(private.source / name) for name in reads}}
+    text = json.dumps(record, sort_keys=True)
+    variant = home / f"v-{content_digest([text.encode()])}"
+    variant.mkdir(parents=True, exist_ok=True)
+    for name, made in outputs.items():
+        target = variant / name
+        tmp = variant / f"{name}.{os.getpid()}.tmp"
+        shutil.copyfile(made, tmp)
+        tmp.replace(target)
+        seal(target)
+    (variant / f"{READS_FILE}.{os.getpid()}.tmp").write_text(text)
+    (variant / f"{READS_FILE}.{os.getpid()}.tmp").replace(variant / READS_FILE)
+    seal(variant / READS_FILE)
+    return variant
+
+
+def _cached_or_built(home: Path, src: Path, text: bytes, image: str,
+                     build: Callable[[PrivateBuild], tuple[dict[str, Path], list[str]]]) -> Path:
+    """The folder of ``src``'s build in ``home``: the cached one whose compiler read what the lab's
+    folder holds now (cheap: the folder's names and a digest of each file it read), else one
+    ``build`` makes in a private build (:class:`crslab.lab.compile_process.PrivateBuild`, outside
+    the cache: a build killed on its time leaves no text of the lab anywhere) and that is kept."""
+    found = _variant(home, src, image)
+    if found is not None:
+        return found
+    with PrivateBuild(src, text) as private:
+        outputs, reads = build(private)
+        return _keep(home, private, reads, outputs)
+
+
+def _build_wasm(src: Path, text: bytes, variables: list[LabVariable], cache: Path,
                 sandboxed: bool) -> tuple[firmware.WasmImage, str]:
-    """The WebAssembly firmware of ``src`` (cached, named by ``named_by``: the lab's bytes and its
-    folder's headers it includes); returns (image, digest)."""
+    """The WebAssembly firmware of ``src`` (its bytes ``text``; cached, named by the text and by
+    what the compiler read of the lab's folder); returns (image, digest)."""
     try:
         firmware.prepare_zig()
         objects = firmware.firmware_objects(cache, content_digest)
@@ -256,70 +334,79 @@ def _build_wasm(src: Path, named_by: bytes, variables: list[LabVariable], cache:
     globals_ = [v.name for v in variables if not v.static]
     # the path as given, not the folder: the module names the lab as given (prefix maps), so a lab
     # given by the same relative path builds the same module in any folder (crslab serve's sessions)
-    digest = content_digest([named_by, src.suffix.encode(), str(src).encode(),
+    digest = content_digest([text, src.suffix.encode(), str(src).encode(),
                              " ".join(firmware.LAB_FLAGS + firmware.LINK_FLAGS).encode(),
                              objects[0].parent.name.encode(), " ".join(globals_).encode()])
-    out_dir = cache / f"wasm-{digest}"
-    cached = firmware.WasmImage.load(out_dir)
-    if cached is not None:
-        return cached, digest
-    out_dir.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
-        build_dir = Path(tmp)
-        sandbox = compiler_sandbox([src], build_dir,
-                                   [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent],
-                                   compiler=(), run_dirs=[zig.zig_dir()],
+
+    def build(private: PrivateBuild) -> tuple[dict[str, Path], list[str]]:
+        readable = [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent]
+        sandbox = compiler_sandbox([], private.folder, readable, compiler=(), run_dirs=[zig.zig_dir()],
                                    cache_dirs=[zig.zig_cache()]) if sandboxed else None
-        built = firmware.build_module(src, globals_, objects, build_dir, sandbox)
-        built.path.replace(out_dir / "lab.wasm")
-        built.save(out_dir)
-    image = firmware.WasmImage.load(out_dir)
-    assert image is not None
-    return image, digest
+        built, reads = firmware.build_module(private, globals_, objects, sandbox)
+        built.save(private.folder)
+        return {"lab.wasm": built.path, "names.json": private.folder / "names.json"}, reads
+
+    variant = _cached_or_built(cache / f"wasm-{digest}", src, text, "lab.wasm", build)
+    image = firmware.WasmImage.load(variant)
+    if image is None:
+        raise LabBuildError(f"{src.name}: its build in {variant} cannot be read")
+    return image, f"{digest}-{variant.name}"
 
 
-def _build_native(src: Path, named_by: bytes, flags: list[str], unit: str | None, break_when: str | None,
+def _build_native(src: Path, text: bytes, flags: list[str], break_when: str | None,
                   sanitize: bool, debug: bool, cache: Path, sandboxed: bool) -> tuple[Path, str, Compiler]:
-    """The native shared object of ``src`` linked with the board (cached); returns (image, digest, cc)."""
+    """The native shared object of ``src`` (its bytes ``text``) linked with the board (cached, named
+    like the WebAssembly build); returns (image, digest, cc)."""
     cc = compiler()
     objects = _board_objects(cc, sanitize, cache, debug)
-    digest = content_digest([named_by, " ".join(flags).encode(), src.suffix.encode()]
+    digest = content_digest([text, " ".join(flags).encode(), src.suffix.encode()]
                             + [o.parent.name.encode() for o in objects[:1]]  # it names the compiler
-                            + ([unit.encode()] if unit is not None else [])
+                            + ([break_when.encode()] if break_when is not None else [])
                             # a debugger finds the source by the path compiled into the build
                             + ([str(src.absolute()).encode()] if debug else []))
-    out_dir = cache / f"lab-{digest}"
-    so = out_dir / "lab.so"
-    if not so.exists():
-        out_dir.mkdir(parents=True, exist_ok=True)
-        with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
-            readable = [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent]
-            sandbox = compiler_sandbox([src], Path(tmp), readable, compiler=cc.argv) if sandboxed else None
-            obj = Path(tmp) / "lab.o"
-            # compile the user's own path so the compiler's messages name the user's file and line
-            # (absolute for a debugger, which then finds the source from any folder)
-            compiled, what = (src.absolute() if debug else src), src.name
-            if unit is not None:
-                compiled = Path(tmp) / "break_when.c"
-                compiled.write_text(unit)
-                what = f"{src.name} with --break-when {break_when!r}"
-            run_compiler([*cc.argv, *flags, *ERROR_LIMIT, *INCLUDES, "-x", "c", "-c", str(compiled), "-o",
-                          str(obj)], what, sandbox)
-            tmp_so = Path(tmp) / "lab.so"
-            link_flags = [*os_support.SHARED_OBJECT_FLAGS, *(cc.sanitizer_link_flags() if sanitize else [])]
-            try:
-                run_compiler([*cc.argv, *link_flags, "-Wl,--no-undefined", "-o", str(tmp_so), str(obj),
-                              *map(str, objects), *LINK_LIBS], f"{src.name} (link)", sandbox)
-            except LabForbidden:
-                raise
-            except LabBuildError as exc:
-                if "undefined reference to `" in exc.diagnostics:
-                    text = exc.diagnostics.replace("undefined reference to `", "undefined symbol: ")
-                    raise firmware.link_failure(src, text) from None
-                raise
-            check_image(tmp_so, src.name)
-            tmp_so.replace(so)
-    return so, digest, cc
+    given = firmware.given_prefix(src)
+    # the copy's folder is named as the user's folder: __FILE__ and the debug information (a
+    # debugger finds the source by it; absolute for crslab debug)
+    shown = f"{src.absolute().parent}/" if debug else given
+
+    def build(private: PrivateBuild) -> tuple[dict[str, Path], list[str]]:
+        tmp, copy = private.folder, private.copy
+        readable = [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent]
+        sandbox = compiler_sandbox([], tmp, readable, compiler=cc.argv) if sandboxed else None
+        obj = tmp / "lab.o"
+        compiled, what = copy, src.name
+        if break_when is not None:
+            compiled = tmp / "break_when.c"
+            compiled.write_text(break_when_source(copy, break_when))
+            what = f"{src.name} with --break-when {break_when!r}"
+        maps = [f"-fmacro-prefix-map={copy.parent}/={shown}",
+                f"-fdebug-prefix-map={copy.parent}={shown.rstrip('/') or '.'}"]
+        try:
+            run_compiler([*cc.argv, *flags, *ERROR_LIMIT, *maps, "-iquote", str(copy.parent), *INCLUDES,
+                          "-MD", "-MF", str(tmp / "reads.d"), "-x", "c", "-c", str(compiled), "-o", str(obj)],
+                         what, sandbox, reaper=private.reaper)
+        except LabBuildError as exc:
+            exc.diagnostics = firmware.shown_diagnostics(exc.diagnostics, compiled, src, copy)
+            raise
+        tmp_so = tmp / "lab.so"
+        link_flags = [*os_support.SHARED_OBJECT_FLAGS, *(cc.sanitizer_link_flags() if sanitize else [])]
+        try:
+            run_compiler([*cc.argv, *link_flags, "-Wl,--no-undefined", "-o", str(tmp_so), str(obj),
+                          *map(str, objects), *LINK_LIBS], f"{src.name} (link)", sandbox,
+                         reaper=private.reaper)
+        except LabForbidden:
+            raise
+        except LabBuildError as exc:
+            if "undefined reference to `" in exc.diagnostics:
+                text = exc.diagnostics.replace("undefined reference to `", "undefined symbol: ")
+                raise firmware.link_failure(src, text) from None
+            raise
+        check_image(tmp_so, src.name)
+        reads = private.read_from_folder(dependencies((tmp / "reads.d").read_text("utf-8", "replace")))
+        return {"lab.so": tmp_so}, reads
+
+    variant = _cached_or_built(cache / f"lab-{digest}", src, text, "lab.so", build)
+    return variant / "lab.so", f"{digest}-{variant.name}", cc
 
 
 def build_lab(source: Path | None = None, *, native: bool = False, sanitize: bool = False,
@@ -339,11 +426,9 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     src = Path(source) if source is not None else DEFAULT_LAB
     text_bytes = read_lab_file(src)
     text = text_bytes.decode("utf-8", "replace")
-    special, headers = local_includes(src)
+    special, _ = local_includes(src)
     if special is not None:
         raise LabBuildError(f"{src.name} does not compile: {special}")
-    # the headers the lab includes from its own folder name the build as much as the lab does
-    named_by = text_bytes + b"".join(header_part(src, h) for h in headers)
     generation = detect(text)
     variables = find_variables(text)
     check_board_memory(variables, generation, src)
@@ -356,12 +441,11 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     trap: Path | None = None
     if native:
         flags = LAB_FLAGS + (SANITIZE_FLAGS if sanitize else []) + (DEBUG_LAB_FLAGS if debug else [])
-        unit = break_when_source(src, break_when) if break_when is not None else None
-        image, digest, cc = _build_native(src, named_by, flags, unit, break_when, sanitize, debug, cache,
+        image, digest, cc = _build_native(src, text_bytes, flags, break_when, sanitize, debug, cache,
                                           sandboxed)
         trap = trap_library(cc, cache)
     else:
-        wasm, digest = _build_wasm(src, named_by, variables, cache, sandboxed)
+        wasm, digest = _build_wasm(src, text_bytes, variables, cache, sandboxed)
         image, renamed, sized = wasm.path, wasm.renamed, wasm.sized
     return LabBuild(source=src, image=image, generation=generation, sanitized=sanitize, digest=digest,
                     native=native, watched=tuple(find_watched(text)), compiler=cc, debug=debug,

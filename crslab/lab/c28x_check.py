@@ -23,17 +23,21 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
 import re
-import signal
-import subprocess
-import tempfile
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from crslab import resources
 from crslab.cache import CacheError, cache_dir
+from crslab.lab.compile_process import (
+    LabBuildError,
+    PrivateBuild,
+    same_answer,
+    start_sandboxed,
+    visible_files,
+)
+from crslab.lab.lab_file import read_lab_file
 
 BOARD_TARGET = ["--target=avr-freestanding", "-mmcu=atmega2560"]
 """A target whose C widths are the C28x's: int 16 bits, long 32, double 32."""
@@ -121,40 +125,45 @@ def include_dirs() -> list[str]:
 
 class C28xCheck:
     """The two compiles of one lab, started at once (they run while the lab runs) and awaited by
-    :meth:`report`. ``sandboxed`` runs them in the compile sandbox (a class's submissions)."""
+    :meth:`report`: each in a private build of its own (a copy of the lab's folder's allowed files,
+    the overlay that shows the compiler nothing else: :mod:`crslab.lab.compile_process`), never on
+    the lab's own folder. ``sandboxed`` runs them in the compile sandbox too; ``text``: the lab's
+    text as the caller read it (None: read here); ``alone``: the lab without its folder's files (a
+    class's submission, as grade builds it)."""
 
-    def __init__(self, lab: Path, *, sandboxed: bool = True) -> None:
+    def __init__(self, lab: Path, *, sandboxed: bool = True, text: bytes | None = None,
+                 alone: bool = False) -> None:
         self.lab = Path(lab).absolute()
-        self._tmp = tempfile.TemporaryDirectory(prefix="crslab-c28x-", ignore_cleanup_errors=True)
-        self._procs: list[subprocess.Popen] = []
-        self._rules: list = []
+        self._builds: list[PrivateBuild] = []
+        self._procs: list = []
         self._skipped = ""
         try:
             from crslab.lab.zig import zig_cc, zig_dir, zig_environment
 
             argv = zig_cc()
-            for name, target in (("board", BOARD_TARGET), ("host", HOST_TARGET)):
-                work = Path(self._tmp.name) / name
+            text = read_lab_file(self.lab) if text is None else text
+            for target in (BOARD_TARGET, HOST_TARGET):
+                private = PrivateBuild(self.lab, text, alone=alone)
+                self._builds.append(private)
+                work = private.folder
                 for sub in ("cache", "global"):
-                    (work / sub).mkdir(parents=True)
+                    (work / sub).mkdir()
                 env = zig_environment(work / "cache")
                 env["ZIG_GLOBAL_CACHE_DIR"] = str(work / "global")  # nothing of the lab's is kept
-                extra: dict = {}
+                overlay = visible_files(work, [work, resources.path("csrc"), zig_dir() / "lib"])
+                box = None
                 if sandboxed:
                     from crslab.sandbox.compile_sandbox import compiler_sandbox
 
-                    box = compiler_sandbox([self.lab], work, [resources.path("csrc"), zig_dir()],
-                                           compiler=argv)
-                    rules = box.ruleset()
-                    self._rules.append(rules)
-                    env.update({k: str(work) for k in ("TMPDIR", "TMP", "TEMP")})
-                    extra = {"preexec_fn": box.preexec(rules.fd), "pass_fds": (rules.fd,)}
-                self._procs.append(subprocess.Popen(
-                    [*argv, *target, *FLAGS, *include_dirs(), str(self.lab), "-o", str(work / "lab.o")],
-                    stdout=subprocess.DEVNULL, start_new_session=True,
-                    stderr=subprocess.PIPE, text=True, env=env, cwd=work, **extra))
+                    box = compiler_sandbox([], work, [resources.path("csrc"), zig_dir()], compiler=argv)
+                self._procs.append(start_sandboxed(
+                    [*argv, *target, *FLAGS, "-ivfsoverlay", str(overlay), *include_dirs(),
+                     "-iquote", str(private.source), str(private.copy), "-o", str(work / "lab.o")],
+                    box, env=env, cwd=work, reaper=private.reaper))
         except (ImportError, FileNotFoundError, OSError) as exc:
             self._skipped = f"zig cannot be run ({exc})"
+        except LabBuildError as exc:
+            self._skipped = str(exc)
 
     def report(self) -> C28xReport:
         """Wait for both compiles and compare them."""
@@ -163,14 +172,12 @@ class C28xCheck:
                 return C28xReport(skipped=self._skipped)
             outputs = []
             for proc in self._procs:
-                try:
-                    _, err = proc.communicate(timeout=TIMEOUT_S)
-                except subprocess.TimeoutExpired:
-                    proc.kill()
-                    proc.communicate()
+                r = proc.wait(TIMEOUT_S)
+                if r.timed_out:
                     return C28xReport(skipped=f"zig took longer than {TIMEOUT_S:.0f} s")
+                err = same_answer(r.stderr)
                 outputs.append(err)
-                if proc.returncode != 0 and "error:" in err:
+                if r.returncode != 0 and "error:" in err:
                     first = next(line for line in err.splitlines() if "error:" in line)
                     return C28xReport(skipped=f"the lab does not compile without a C library: "
                                               f"{first.split('error:', 1)[1].strip()}")
@@ -180,23 +187,20 @@ class C28xCheck:
             self.close()
 
     def close(self) -> None:
-        """Stop what still runs and remove the temporary folder (again: nothing)."""
-        for proc in self._procs:  # zig and the clang it runs: the whole group
-            if proc.poll() is None:
-                try:
-                    os.killpg(proc.pid, signal.SIGKILL)
-                except ProcessLookupError:
-                    pass
-                proc.wait()
-        for rules in self._rules:
-            rules.close()
-        self._rules = []
-        self._tmp.cleanup()
+        """Stop what still runs (zig and the clang it runs: the whole group) and remove the private
+        builds (again: nothing)."""
+        for proc in self._procs:
+            proc.kill()
+        self._procs = []
+        for private in self._builds:
+            private.close()
+        self._builds = []
 
 
-def check_lab(lab: Path, *, sandboxed: bool = True) -> C28xReport:
-    """Run the check on ``lab`` and wait for it."""
-    return C28xCheck(lab, sandboxed=sandboxed).report()
+def check_lab(lab: Path, *, sandboxed: bool = True, text: bytes | None = None,
+              alone: bool = False) -> C28xReport:
+    """Run the check on ``lab`` (see :class:`C28xCheck`) and wait for it."""
+    return C28xCheck(lab, sandboxed=sandboxed, text=text, alone=alone).report()
 
 
 def _key(lab: Path) -> str:

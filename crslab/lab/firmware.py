@@ -22,8 +22,6 @@ from __future__ import annotations
 
 import json
 import re
-import shutil
-import subprocess
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -31,12 +29,15 @@ from pathlib import Path
 from crslab import resources
 from crslab.lab import zig
 from crslab.lab.compile_process import (
-    COMPILE_TIMEOUT_S,
     CompilerStopped,
     LabBuildError,
     LabForbidden,
+    PrivateBuild,
     check_image,
+    dependencies,
     run_compiler,
+    start_compile,
+    visible_files,
 )
 from crslab.sandbox.compile_sandbox import CompilerSandbox
 
@@ -123,6 +124,23 @@ def prepare_zig() -> None:
     zig.prepare(TARGET, LINK_FLAGS)
 
 
+DEBUG_INFO_CSRC = "/crslab/csrc"
+"""How debug information names crslab's C folder, the same from every checkout: a build of crslab's
+own C is shared by content through the cache, so a path of its own would name whichever checkout
+built it first. ``crslab debug`` tells gdb where the folder is (``set substitute-path``)."""
+
+
+def csrc_debug_map(compiler_option: list[str] | None = None) -> list[str]:
+    """The flags that name crslab's C folder :data:`DEBUG_INFO_CSRC` in debug information (zig
+    passes the map on only through ``-Xclang``: ``compiler_option``). Not part of a build's cache
+    key: what they produce is the same from every checkout.
+
+    >>> csrc_debug_map()[0].endswith("=/crslab/csrc")
+    True
+    """
+    return [*(compiler_option or []), f"-fdebug-prefix-map={resources.path('csrc')}={DEBUG_INFO_CSRC}"]
+
+
 def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - build.content_digest
     """The stand-ins and the kinematics compiled for wasm32, once per content, flags and zig."""
     digest = digest_of([zig.zig_version().encode(), " ".join(FIRMWARE_FLAGS).encode()]
@@ -134,19 +152,24 @@ def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - bu
     out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
         procs = []
-        for src, obj in zip(FIRMWARE_SOURCES, objects):
-            part = Path(tmp) / obj.name
-            procs.append((subprocess.Popen([*zig.zig_cc(), f"--target={TARGET}", *FIRMWARE_FLAGS, *INCLUDES,
-                                            "-c", str(src), "-o", str(part)],
-                                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=tmp,
-                                           env=zig.zig_environment(Path(tmp) / "cache")), src, part, obj))
-        failed = []
-        for proc, src, part, obj in procs:
-            _, err = proc.communicate(timeout=COMPILE_TIMEOUT_S)
-            if proc.returncode != 0:
-                failed.append(f"crslab's firmware source {src.name} does not compile for wasm32:\n{err}")
-            else:
-                part.replace(obj)
+        try:
+            for src, obj in zip(FIRMWARE_SOURCES, objects):
+                part = Path(tmp) / obj.name
+                mapped = csrc_debug_map(["-Xclang"])  # debug information names no checkout
+                procs.append((start_compile([*zig.zig_cc(), f"--target={TARGET}", *FIRMWARE_FLAGS, *mapped,
+                                             *INCLUDES, "-c", str(src), "-o", str(part)], cwd=Path(tmp),
+                                            env=zig.zig_environment(Path(tmp) / "cache")), src, part, obj))
+            failed = []
+            for proc, src, part, obj in procs:
+                r = proc.wait()
+                if r.returncode != 0:
+                    failed.append(f"crslab's firmware source {src.name} does not compile for wasm32:\n"
+                                  f"{r.stderr}")
+                else:
+                    part.replace(obj)
+        finally:
+            for proc, *_ in procs:
+                proc.kill()
         if failed:
             raise RuntimeError("\n".join(failed))
     return objects
@@ -186,16 +209,6 @@ def unit_text(lab: Path, sized: list[str]) -> str:
     return "\n".join([*lines, "};", ""])
 
 
-def copy_name(name: str) -> str:
-    """The name of the build's copy of a lab named ``name``: the same, unless an ``#include`` cannot
-    spell it (a quote or a line break), so messages and backtraces name the lab as the user does.
-
-    >>> copy_name("my lab.c"), copy_name('=F("x").c')
-    ('my lab.c', '_F__x__.c')
-    """
-    return re.sub(r"[^\w.+-]", "_", name) if any(ch in name for ch in '"\n\r') else name
-
-
 def failed_sizes(diagnostics: str, sized: list[str]) -> list[str]:
     """The names whose line of the size table did not compile (a global the source's reading found
     that the compiler does not see: in a branch of an ``#if``, a macro).
@@ -205,24 +218,6 @@ def failed_sizes(diagnostics: str, sized: list[str]) -> list[str]:
     """
     lines = {int(n) for n in re.findall(rf"{re.escape(GLOBALS_UNIT)}:(\d+):\d+: error", diagnostics)}
     return [name for i, name in enumerate(sized) if i + 2 in lines]
-
-
-def visible_files(build_dir: Path, folders: list[Path]) -> Path:
-    """A file-system overlay for clang (``-ivfsoverlay``) in which only ``folders`` exist: the lab's
-    folder, crslab's headers, zig's C library, the build folder. Everything else is not found, as if
-    it were not there, so ``#include`` and ``__has_include`` of a path outside cannot even tell
-    whether a file exists (the compile sandbox, which refuses to read it, would). Returns its path.
-
-    >>> import tempfile
-    >>> path = visible_files(Path(tempfile.mkdtemp()), [Path("/labs/me")])
-    >>> json.loads(path.read_text())["roots"][0]["name"]
-    '/labs/me'
-    """
-    roots = [{"name": str(f), "type": "directory-remap", "external-contents": str(f)}
-             for f in dict.fromkeys(folders)]
-    path = build_dir / "visible-files.json"
-    path.write_text(json.dumps({"version": 0, "fallthrough": False, "roots": roots}))
-    return path
 
 
 def prefix_maps(folders: list[Path], given: str) -> list[str]:
@@ -242,22 +237,32 @@ def prefix_maps(folders: list[Path], given: str) -> list[str]:
     return [*flags, "-Xclang", "-fdebug-compilation-dir=."]
 
 
+def given_prefix(lab: Path) -> str:
+    """The lab's folder as the user gave it, as a prefix of its files' names (empty, or with its slash).
+
+    >>> given_prefix(Path("lab.c")), given_prefix(Path("labs/me/lab.c"))
+    ('', 'labs/me/')
+    """
+    return "" if str(lab.parent) == "." else f"{lab.parent}/"
+
+
 def compile_command(unit: Path, lab: Path, copy: Path, objects: list[Path], out: Path, exported: list[str],
                     renamed: list[str]) -> list[str]:
-    """zig's command that compiles ``unit`` (the lab file ``lab`` and its size table; the lab's
-    globals ``renamed`` under :data:`RENAMED_PREFIX`) and links it into ``out``, exporting
-    ``exported`` (as they are named in the image). A lab's ``main()`` is never called (the board
-    runs the framework's loop), so it is compiled as an ordinary function: the course's
-    ``void main(void)`` is fine on the C28x. ``__FILE__`` names the lab as it was given."""
+    """zig's command that compiles ``unit`` (including ``copy``, the private copy of the lab file
+    ``lab``, and its size table; the lab's globals ``renamed`` under :data:`RENAMED_PREFIX`) and
+    links it into ``out``, exporting ``exported`` (as they are named in the image), and writes the
+    files it read to ``unit``'s folder's ``reads.d`` (``-MD``: the build is named by them). The
+    compiler sees the build's folder (the copy of the lab's folder in it), crslab's headers and
+    zig's C library, nothing else. A lab's ``main()`` is never called (the board runs the
+    framework's loop), so it is compiled as an ordinary function: the course's ``void main(void)``
+    is fine on the C28x. ``__FILE__`` names the lab as it was given."""
     renames = [f"-D{n}={RENAMED_PREFIX}{n}" for n in renamed]
-    given = "" if str(lab.parent) == "." else f"{lab.parent}/"
-    folders = [lab.absolute().parent, lab.resolve().parent, SHIM_INCLUDE, FIRMWARE, KIN, PORT,
-               zig.zig_dir() / "lib", unit.parent]
+    folders = [unit.parent, SHIM_INCLUDE, FIRMWARE, KIN, PORT, zig.zig_dir() / "lib"]
     overlay = visible_files(unit.parent, [f.absolute() for f in folders])
     return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,
-            *prefix_maps([lab.absolute().parent, lab.resolve().parent, copy.parent], given),
-            "-ivfsoverlay", str(overlay),
-            "-iquote", str(lab.absolute().parent), *INCLUDES,
+            *prefix_maps([copy.parent], given_prefix(lab)),
+            "-ivfsoverlay", str(overlay), "-MD", "-MF", str(unit.parent / "reads.d"),
+            "-iquote", str(copy.parent), *INCLUDES,
             "-x", "c", str(unit), "-x", "none", *map(str, objects), *LINK_FLAGS,
             *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
 
@@ -286,30 +291,26 @@ class WasmImage:
         return WasmImage(image, tuple(names["renamed"]), tuple(names["sized"])) if image.exists() else None
 
 
-def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir: Path,
-                 sandbox: CompilerSandbox | None) -> WasmImage:
-    """Compile and link ``lab`` into ``build_dir/lab.wasm``, exporting and sizing ``globals_`` (its
-    globals as the source reads them) and the framework's variables. Raises LabBuildError (one line
-    naming the problem) or LabForbidden."""
+def build_module(private: PrivateBuild, globals_: list[str], objects: list[Path],
+                 sandbox: CompilerSandbox | None) -> tuple[WasmImage, list[str]]:
+    """Compile and link the lab of ``private`` (its private copy) into ``lab.wasm`` in the build's
+    folder, exporting and sizing ``globals_`` (its globals as the source reads them) and the
+    framework's variables; returns the image and the files of the lab's folder the compiler read
+    (names from the folder). Raises LabBuildError (one line naming the problem)."""
+    lab, build_dir, included = private.lab, private.folder, private.copy
     sized = list(globals_)
     exported = sorted(set(globals_) | set(FRAMEWORK_VARIABLES))
     renamed: list[str] = []
     unit = build_dir / "firmware.c"
     out = build_dir / "lab.wasm"
-    # the unit includes a copy of the lab in the build's folder, under a name an #include can spell
-    # (its own folder's files still come through -iquote): so the module names no folder of the
-    # user's (UBSan's locations keep the path the compiler read), and the same text given by the
-    # same name builds the same module from any folder (crslab serve's sessions share one build)
-    included = build_dir / "submission" / copy_name(lab.name)
-    included.parent.mkdir()
-    shutil.copyfile(lab, included)
     for _ in range(MAX_ROUNDS):
         unit.write_text(unit_text(included, sized))
         names = [RENAMED_PREFIX + n if n in renamed else n for n in exported]
         try:
             command = compile_command(unit, lab, included, objects, out, names, renamed)
             # run from the build's folder: the compiler's own folder names no folder of the user's
-            run_compiler(command, lab.name, sandbox, env=compile_environment(build_dir), cwd=build_dir)
+            run_compiler(command, lab.name, sandbox, env=compile_environment(build_dir), cwd=build_dir,
+                         reaper=private.reaper)
             break
         except (LabForbidden, CompilerStopped) as exc:
             exc.diagnostics = shown_diagnostics(exc.diagnostics, unit, lab, included)
@@ -328,12 +329,14 @@ def build_module(lab: Path, globals_: list[str], objects: list[Path], build_dir:
     else:
         raise LabBuildError(f"{lab.name} does not link: too many of its names clash with the C library's")
     check_image(out, lab.name)
-    return WasmImage(out, tuple(renamed), tuple(sized))
+    reads = private.read_from_folder(dependencies((build_dir / "reads.d").read_text("utf-8", "replace")))
+    return WasmImage(out, tuple(renamed), tuple(sized)), reads
 
 
 def shown_diagnostics(diagnostics: str, unit: Path, lab: Path, copy: Path | None = None) -> str:
-    """The compiler's messages as the user should read them: about the lab as they named it (not
-    the build's ``copy`` of it), without the line that says the lab was included by crslab's unit.
+    """The compiler's messages as the user should read them: about the lab and its folder's files
+    as they named them (not the build's ``copy`` of them), without the line that says the lab was
+    included by crslab's unit.
 
     >>> shown_diagnostics("In file included from /b/firmware.c:1:\\n/b/submission/lab.c:3:1: error: e",
     ...                   Path("/b/firmware.c"), Path("x/lab.c"), Path("/b/submission/lab.c"))
@@ -343,7 +346,7 @@ def shown_diagnostics(diagnostics: str, unit: Path, lab: Path, copy: Path | None
              if not line.startswith(f"In file included from {unit}:")]
     text = "".join(lines)
     if copy is not None:
-        text = text.replace(str(copy), str(lab))
+        text = text.replace(str(copy), str(lab)).replace(f"{copy.parent}/", given_prefix(lab))
     return text.replace(str(lab.absolute()), str(lab))
 
 

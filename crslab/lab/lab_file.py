@@ -16,6 +16,10 @@ True
 >>> lab_file_problem(folder / "mine.h").endswith("mine.h: is a header, not a lab file: give the .c file "
 ...                                              "that defines lab()")
 True
+>>> _ = (folder / "lab1_tour.txt").write_text("# crslab transcript\\n")
+>>> print(lab_file_problem(folder / "lab1_tour.txt").split(": ", 1)[1])  # doctest: +NORMALIZE_WHITESPACE
+is a transcript (crslab record wrote it), not a lab file: a lab is a .c file; a golden transcript
+goes to crslab check --golden
 """
 
 from __future__ import annotations
@@ -26,6 +30,25 @@ from crslab.lab.compile_process import LabBuildError
 
 LAB_SUFFIXES = (".c", ".cpp")
 HEADER_SUFFIXES = (".h", ".hpp", ".hh")
+TRANSCRIPT_MAGIC = b"# crslab transcript"
+"""How a golden transcript starts (:data:`crslab.regress.transcript.MAGIC`)."""
+NOT_C = {".txt": "a text file", ".log": "a log", ".csv": "a CSV table", ".toml": "a TOML file",
+         ".json": "a JSON file", ".md": "a Markdown file", ".mat": "a MATLAB file", ".png": "a picture"}
+"""Files given as a lab that are surely not C, by suffix: what each is."""
+
+
+def _what_it_is(path: Path) -> str | None:
+    """What a file that is surely not a lab file is (a transcript, a text file, ...), else None."""
+    if path.suffix.lower() in LAB_SUFFIXES:
+        return None
+    try:
+        with path.open("rb") as f:
+            start = f.read(len(TRANSCRIPT_MAGIC))
+    except OSError:
+        start = b""
+    if start == TRANSCRIPT_MAGIC:
+        return "a transcript (crslab record wrote it)"
+    return NOT_C.get(path.suffix.lower())
 
 
 def lab_file_problem(path: Path) -> str | None:
@@ -40,6 +63,11 @@ def lab_file_problem(path: Path) -> str | None:
         return f"{path}: is a header, not a lab file: give the .c file that defines lab()"
     if not path.is_file():
         return f"{path}: is not a regular file, so not a lab file"
+    what = _what_it_is(path)
+    if what is not None:
+        golden = "; a golden transcript goes to crslab check --golden" if "transcript" in what or \
+            path.suffix.lower() == ".txt" else ""
+        return f"{path}: is {what}, not a lab file: a lab is a .c file{golden}"
     return None
 
 

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import importlib.util
 import os
-import subprocess
 import sys
 import tempfile
 import threading
@@ -28,6 +27,8 @@ from crslab.cache import cache_dir
 
 FIRST_USE_TIMEOUT_S = 600.0
 """How long zig's first build of a C library may take (about 20 s on a laptop)."""
+PREPARE_MEMORY_BYTES = 8 * 1024 ** 3
+"""The address space zig may map while it builds its C library (crslab's own sources, in threads)."""
 
 
 class ZigMissing(FileNotFoundError):
@@ -127,17 +128,21 @@ def prepare(target: str, flags: list[str], stream: TextIO | None = None) -> None
         with tempfile.TemporaryDirectory(prefix="crslab-zig-") as tmp:
             src = Path(tmp) / "probe.c"
             src.write_text(PROBE)
-            r = subprocess.run([*zig_cc(), f"--target={target}", *flags, str(src), "-o",
-                                str(Path(tmp) / "probe")], capture_output=True, text=True, cwd=tmp,
-                               env=zig_environment(Path(tmp) / "cache"), timeout=FIRST_USE_TIMEOUT_S)
-    except subprocess.TimeoutExpired:
-        raise RuntimeError(f"zig did not finish building its C library for {target} within "
-                           f"{FIRST_USE_TIMEOUT_S:.0f} s") from None
+            from crslab.lab.compile_process import run_compile
+
+            r = run_compile([*zig_cc(), f"--target={target}", *flags, str(src), "-o",
+                             str(Path(tmp) / "probe")],
+                            cwd=Path(tmp), env=zig_environment(Path(tmp) / "cache"),
+                            timeout_s=FIRST_USE_TIMEOUT_S, cpu_s=int(FIRST_USE_TIMEOUT_S),
+                            memory_bytes=PREPARE_MEMORY_BYTES)
     finally:
         done.set()
         if clock is not None:
             clock.join()
             stream.write("\r")
+    if r.timed_out:
+        raise RuntimeError(f"zig did not finish building its C library for {target} within "
+                           f"{FIRST_USE_TIMEOUT_S:.0f} s")
     if r.returncode != 0:
         first = next((line for line in r.stderr.splitlines() if line.strip()), "no message")
         raise RuntimeError(f"zig cannot build its C library for {target}: {first}")

@@ -5,7 +5,9 @@ the model. After every chunk of ticks the copy takes the arm's latest pose from 
 the viewer draws it, and the force of a mouse drag (double-click a link, then Ctrl + right-drag
 to pull it, Ctrl + left-drag to twist it) goes to the worker, which applies it to that link
 until it changes. At real-time speed a chunk is 20 ms, so the drag acts with that delay.
-Without a display, the run goes on without a viewer and one line says so.
+Without a display, the run goes on without a viewer and one line says so. The window opens with
+its panels hidden (Tab and Shift + Tab show them) and its camera fitted to the arm, so that a small
+window shows the arm, not mostly panels.
 """
 
 from __future__ import annotations
@@ -20,6 +22,26 @@ from crslab.sim.running import RunningLab
 from crslab.sinks.sink import Sink
 from crslab.world.layout import FREE_AIR, World
 from crslab.world.scene import flatten_egg, load_scene, set_arm_pose
+
+CAMERA_AZIMUTH_DEG = 135.0
+CAMERA_ELEVATION_DEG = -20.0
+FIT_MARGIN = 1.3
+"""The arm's farthest point from the camera's target lies this many times inside the view's
+half-height."""
+
+
+def fit_camera(cam: object, model: object, data: object) -> None:
+    """Point ``cam`` (an ``MjvCamera``) at the arm's bodies (their positions in ``data``, after
+    ``mj_forward``) from far enough that every one, and the reach past it, is in view of the
+    model's field of view (``vis.global.fovy``)."""
+    bodies = np.asarray(data.xpos)[1:]  # type: ignore[attr-defined]  # the world body is at the origin
+    center = (bodies.min(axis=0) + bodies.max(axis=0)) / 2
+    reach = float(np.max(np.linalg.norm(bodies - center, axis=1))) + 0.1  # m: and the links' own length
+    half_fov = np.radians(float(model.vis.global_.fovy)) / 2  # type: ignore[attr-defined]
+    cam.lookat[:] = center  # type: ignore[attr-defined]
+    cam.distance = FIT_MARGIN * reach / np.tan(half_fov)  # type: ignore[attr-defined]
+    cam.azimuth = CAMERA_AZIMUTH_DEG  # type: ignore[attr-defined]
+    cam.elevation = CAMERA_ELEVATION_DEG  # type: ignore[attr-defined]
 
 
 class MujocoViewer(Sink):
@@ -55,7 +77,11 @@ class MujocoViewer(Sink):
             self.data = mujoco.MjData(self.model)
             set_arm_pose(self.model, self.data, self.rest_dh_rad)
             self._forward = mujoco.mj_forward
-            self.handle = mujoco.viewer.launch_passive(self.model, self.data)
+            self._forward(self.model, self.data)
+            self.handle = mujoco.viewer.launch_passive(self.model, self.data, show_left_ui=False,
+                                                       show_right_ui=False)
+            with self.handle.lock():
+                fit_camera(self.handle.cam, self.model, self.data)
         except Exception as exc:  # noqa: BLE001 - no OpenGL, no mjpython on macOS...: one line
             self.on_status(f"--viewer: MuJoCo's viewer did not open ({str(exc).splitlines()[0]}); "
                            "running without it")

@@ -35,6 +35,7 @@ from crslab.regress.grade import Grade
 from crslab.scenario.load import resolve
 from crslab.scenario.table import ScenarioError, TableReader
 from crslab.sim.status import GradeClass
+from crslab.untrusted_text import for_terminal, for_text
 
 PLATFORMS = ("gradescope", "prairielearn")
 OUTPUT_CHARS = 4000
@@ -69,9 +70,10 @@ class Outcome:
 
     def output(self) -> str:
         """What the student reads: the grade, the report (first differing lines or the crash), and
-        the last lines the submission printed."""
+        the last lines the submission printed; what the submission controls is escaped
+        (:mod:`crslab.untrusted_text`), as in crslab grade's reports."""
         g = self.grade
-        parts = [f"{g.grade}: {g.detail}"]
+        parts = [g.verdict]
         report = g.report
         if report and report != g.detail:
             parts.append(report)
@@ -79,7 +81,7 @@ class Outcome:
         if lines:
             shown = lines[-15:]
             parts.append(f"the last {len(shown)} of the {len(lines)} lines it printed:\n" + "\n".join(shown))
-        return _excerpt("\n\n".join(parts))
+        return _excerpt(for_text("\n\n".join(parts)))
 
 
 def _excerpt(text: str) -> str:
@@ -156,9 +158,9 @@ def prairielearn_results(results: Sequence[Outcome], *, note: str = "") -> dict:
         g = not_compiling[0].grade
         return {
             "gradable": False,
-            "format_errors": [g.detail],
-            "message": f"{g.path.name} does not compile",
-            "output": _excerpt(g.report),
+            "format_errors": [for_terminal(g.detail)],
+            "message": f"{for_terminal(g.path.name)} does not compile",
+            "output": _excerpt(for_text(g.report)),
         }
     total = sum(r.points for r in results)
     possible = sum(r.test.points for r in results)
@@ -173,7 +175,7 @@ def prairielearn_results(results: Sequence[Outcome], *, note: str = "") -> dict:
                 "description": _describe(r.test),
                 "points": r.points,
                 "max_points": r.test.points,
-                "message": f"{r.grade.grade}: {r.grade.detail}",
+                "message": for_terminal(r.grade.verdict),
                 "output": r.output(),
             }
             for r in results
@@ -183,7 +185,7 @@ def prairielearn_results(results: Sequence[Outcome], *, note: str = "") -> dict:
 
 def not_one_submission(platform: str, found: Sequence[Path], folder: Path) -> dict:
     """The results file when the folder does not hold exactly one lab file: no points, and why."""
-    names = ", ".join(p.name for p in found) or "none"
+    names = ", ".join(for_terminal(p.name) for p in found) or "none"
     why = f"expected exactly one lab file (.c or .cpp) in the submission, found {len(found)}: {names}"
     if platform == "gradescope":
         return {"score": 0.0, "output": why, "tests": []}

@@ -1,6 +1,9 @@
 """Grade a folder of lab files against a reference lab: every submission is built and run in a
-process of its own (several at once), from a private copy of that one file (in the sandbox, it
-can read nothing else of the class folder), its transcript compared with the reference's, and
+process of its own (several at once), from a private copy of that one file, or of its student's
+folder when the class came one folder per student (``alice/lab1.c``, as Gradescope and GitHub
+Classroom export it: the folder's files are that student's submission, so a header of their own
+beside the lab compiles; in the sandbox, it can read nothing else of the class folder), its
+transcript compared with the reference's, and
 the outcome classed as pass, mismatch, unmet (an expectation of the scenario failed), does not
 compile, crashed, forbidden or hung. One broken
 submission never stops the others: its process may crash, hang or be killed, and grading goes on.
@@ -12,6 +15,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import re
 import sys
 import tempfile
 import time
@@ -36,10 +40,119 @@ SHOWN_ALWAYS = (GradeClass.PASS, GradeClass.MISMATCH, GradeClass.DOES_NOT_COMPIL
 LAB_SUFFIXES = (".c", ".cpp")
 
 
+MAX_FOLDER_FILES = 200
+"""How many files of one student's folder are copied with their lab (a lab has a few headers)."""
+MAX_FOLDER_BYTES = 16 * 1024 * 1024
+"""How many bytes of one student's folder are copied in all."""
+DEFINES_LAB = re.compile(rb"^[ \t]*(?:void[ \t]+)?lab[ \t]*\(", re.MULTILINE)
+
+
+def _is_lab(path: Path) -> bool:
+    return (path.is_file() or path.is_symlink()) and path.suffix.lower() in LAB_SUFFIXES
+
+
+def _hidden(path: Path, folder: Path) -> bool:
+    return any(part.startswith((".", "__")) for part in path.relative_to(folder).parts)
+
+
+def folder_lab(student: Path) -> Path | None:
+    """The lab file of one student's folder: its only lab file (``.c``, ``.cpp``, at any depth,
+    hidden folders aside), else the first by name that defines ``lab(``, else the first by name;
+    None when it holds none.
+
+    >>> import tempfile
+    >>> alice = Path(tempfile.mkdtemp())
+    >>> _ = (alice / "util.c").write_text("int twice(int x) { return 2 * x; }\\n")
+    >>> _ = (alice / "lab1.c").write_text("void lab(float a) { }\\n")
+    >>> folder_lab(alice).name
+    'lab1.c'
+    """
+    labs = sorted((p for p in student.rglob("*") if _is_lab(p) and not _hidden(p, student)),
+                  key=lambda p: p.relative_to(student).as_posix())
+    if len(labs) <= 1:
+        return labs[0] if labs else None
+    for lab in labs:
+        try:
+            if DEFINES_LAB.search(lab.read_bytes()[:4 * 1024 * 1024]):
+                return lab
+        except OSError:
+            continue
+    return labs[0]
+
+
+@dataclass
+class Found:
+    """What a class folder holds: its submissions' lab files, in order, and for each one that came
+    in a student's folder, that folder; the folders that hold no lab file."""
+
+    labs: list[Path]
+    folders: dict[Path, Path]
+    empty: list[Path]
+
+    def summary(self) -> str:
+        """``N submissions: M files, K folders`` (and the folders without a lab file)."""
+        files = len(self.labs) - len(self.folders)
+        line = (f"{len(self.labs)} submission{'s' * (len(self.labs) != 1)}: {files} "
+                f"file{'s' * (files != 1)}, {len(self.folders)} folder{'s' * (len(self.folders) != 1)}")
+        if self.empty:
+            names = ", ".join(for_terminal(p.name) + "/" for p in self.empty[:5])
+            more = f" and {len(self.empty) - 5} more" if len(self.empty) > 5 else ""
+            line += f"; no lab file in {names}{more}"
+        return line
+
+
 def find_submissions(folder: Path) -> list[Path]:
-    """The lab files (``.c``, ``.cpp``) directly in ``folder``, by name."""
-    return sorted(p for p in folder.iterdir()
-                  if (p.is_file() or p.is_symlink()) and p.suffix.lower() in LAB_SUFFIXES)
+    """The submissions' lab files in ``folder``: each lab file (``.c``, ``.cpp``) directly in it,
+    then each sub-folder's lab file (:func:`folder_lab`), by name."""
+    return find_class(folder).labs
+
+
+def find_class(folder: Path) -> Found:
+    """Every submission of ``folder``: a lab file directly in it is graded alone; a sub-folder is
+    one student's submission (``alice/lab1.c``; hidden folders aside), graded with its files."""
+    entries = sorted(folder.iterdir())
+    labs = [p for p in entries if _is_lab(p)]
+    folders: dict[Path, Path] = {}
+    empty = []
+    for sub in entries:
+        if not sub.is_dir() or sub.is_symlink() or sub.name.startswith((".", "__")):
+            continue
+        lab = folder_lab(sub)
+        if lab is None:
+            empty.append(sub)
+        else:
+            labs.append(lab)
+            folders[lab] = sub
+    return Found(labs, folders, empty)
+
+
+def submission_name(lab: Path, student: Path | None) -> str:
+    """How a report names a submission: its file's name, or ``alice/lab1.c`` for one in a folder."""
+    return lab.name if student is None else f"{student.name}/{lab.relative_to(student).as_posix()}"
+
+
+def read_folder(student: Path, lab: Path) -> tuple[tuple[str, bytes], ...]:
+    """The files of one student's folder but its lab (which :func:`read_submission` reads), each by
+    its path inside the folder: regular files, and links to files inside the folder, hidden
+    folders aside. Raises ``PermissionError`` past :data:`MAX_FOLDER_FILES` or
+    :data:`MAX_FOLDER_BYTES`."""
+    root = student.resolve()
+    files, total = [], 0
+    for p in sorted(student.rglob("*")):
+        if p == lab or _hidden(p, student):
+            continue
+        if p.is_symlink():
+            if not p.resolve().is_relative_to(root):
+                continue  # a link out of the student's folder is not theirs to hand in
+        if not p.is_file():
+            continue
+        data = p.read_bytes()
+        total += len(data)
+        files.append((p.relative_to(student).as_posix(), data))
+        if len(files) > MAX_FOLDER_FILES or total > MAX_FOLDER_BYTES:
+            raise PermissionError(f"{student.name}/ holds more than {MAX_FOLDER_FILES} files or "
+                                  f"{MAX_FOLDER_BYTES // 2**20} MB: too much for one submission")
+    return tuple(files)
 
 
 @dataclass
@@ -51,6 +164,28 @@ class Grade:
     detail: str
     result: RunResult
     comparison: Comparison | None = None
+    name: str = ""
+    """How reports name it (``alice/lab1.c`` for a student's folder); empty: its file's name."""
+
+    @property
+    def label(self) -> str:
+        """Its name in the reports."""
+        return self.name or self.path.name
+
+    @property
+    def verdict(self) -> str:
+        """``grade: detail`` in one line, the grade said once: a detail that already says it
+        (``hang.c hung: lab() did not return ...``) stands alone.
+
+        >>> r = RunResult(RunStatus.HUNG)
+        >>> Grade(Path("hang.c"), GradeClass.HUNG, "hang.c hung: lab() did not return", r).verdict
+        'hang.c hung: lab() did not return'
+        >>> Grade(Path("c.c"), GradeClass.CRASHED, "c.c used a NULL pointer", r).verdict
+        'crashed: c.c used a NULL pointer'
+        """
+        head = self.detail.partition(": ")[0]
+        return self.detail if head == self.grade or head.endswith(f" {self.grade}") else \
+            f"{self.grade}: {self.detail}"
 
     @property
     def exit_status(self) -> ExitStatus:
@@ -96,22 +231,41 @@ def read_submission(path: Path) -> bytes:
 
 
 def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, limits: Limits,
-            source: bytes | None = None) -> RunResult:
+            source: bytes | None = None, files: tuple[tuple[str, bytes], ...] = (),
+            where: str = "") -> RunResult:
     """Build the lab and run it on ``config``'s scenario with ``config``'s flags (in this process;
     the lab itself runs in a worker process of its own). ``wall_s`` counts the build too.
     ``source``: the submission's text, built from a private copy alone in a folder of its own,
-    never the folder it came from; None builds ``path`` where it is (the trusted reference)."""
+    never the folder it came from; None builds ``path`` where it is (the trusted reference).
+    ``files``: the rest of the student's folder (each by its path inside it), copied beside the
+    lab, which goes at ``where`` inside it (default: its name)."""
     start = time.monotonic()
     if source is None:
         return _build_and_run(path, path, config, end_tick, deadline_s, limits, start)
     with tempfile.TemporaryDirectory(prefix="crslab-submission-") as folder:
-        copy = Path(folder) / path.name
+        for name, data in files:
+            copied = Path(folder) / name
+            copied.parent.mkdir(parents=True, exist_ok=True)
+            copied.write_bytes(data)
+        copy = Path(folder) / (where or path.name)
+        copy.parent.mkdir(parents=True, exist_ok=True)
         copy.write_bytes(source)
-        return _build_and_run(path, copy, config, end_tick, deadline_s, limits, start)
+        return _build_and_run(path, copy, config, end_tick, deadline_s, limits, start, alone=not files)
+
+
+def _alone_note(path: Path, diagnostics: str) -> str:
+    """When a lab graded alone includes a file that lies beside it in the class folder, why the
+    compiler found no such file; else empty."""
+    for m in re.finditer(r"'([^'\n]+)' file not found", diagnostics):
+        if (path.parent / m.group(1)).is_file():
+            return (f" ({m.group(1)} lies beside it, but a lab file directly in the class folder is "
+                    "graded alone: give each student with files of their own a folder, "
+                    f"{path.stem}/{path.name} and {path.stem}/{m.group(1)})")
+    return ""
 
 
 def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, deadline_s: float,
-                   limits: Limits, start: float) -> RunResult:
+                   limits: Limits, start: float, alone: bool = False) -> RunResult:
     from crslab.lab.build import LabBuildError, LabForbidden, build_lab
     from crslab.regress.runner import run_lab
     from crslab.scenario.load import ScenarioError, check_lab
@@ -128,7 +282,8 @@ def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, d
         return ended(RunStatus.FORBIDDEN, str(exc), exc.diagnostics)
     except LabBuildError as exc:
         first = _first_error(exc.diagnostics, path.name)
-        return ended(RunStatus.BUILD_ERROR, first or str(exc), exc.diagnostics)
+        note = _alone_note(path, exc.diagnostics) if alone else ""
+        return ended(RunStatus.BUILD_ERROR, (first or str(exc)) + note, exc.diagnostics)
     try:
         check_lab(config.scenario, build)
     except ScenarioError as exc:
@@ -153,13 +308,18 @@ class GradeJob:
     limits: Limits
     source: bytes | None = None
     """The submission's text; None builds ``path`` in place (the reference, on this machine)."""
+    files: tuple[tuple[str, bytes], ...] = ()
+    """The rest of its student's folder, by path inside it (empty for a lab file graded alone)."""
+    where: str = ""
+    """The lab's path inside its student's folder (empty: its file's name)."""
 
     @property
     def name(self) -> str:
         return self.path.name
 
     def run(self) -> RunResult:
-        return run_one(self.path, self.config, self.end_tick, self.deadline_s, self.limits, self.source)
+        return run_one(self.path, self.config, self.end_tick, self.deadline_s, self.limits, self.source,
+                       self.files, self.where)
 
     def lost(self, status: RunStatus, message: str) -> RunResult:
         return RunResult(status, message=message, lab_file=self.path)
@@ -169,11 +329,13 @@ def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: i
              deadline_s: float = DEFAULT_DEADLINE_S, limits: Limits = NO_LIMITS,
              timeout_s: float = DEFAULT_TIMEOUT_S, private: bool = True,
              on_done: Callable[[RunResult], None] | None = None,
-             executor: Executor | None = None) -> list[RunResult]:
+             executor: Executor | None = None,
+             folders: dict[Path, Path] | None = None) -> list[RunResult]:
     """Run every lab file in ``paths`` on ``executor`` (default: ``jobs`` local processes at a
     time); results in ``paths`` order, each naming its file (``lab_file``) and how long it took in
     all (``wall_s``). ``private``: each from a private copy of that one file's text (read here, so
     it runs anywhere; see :func:`run_one`), else built where it is (this machine only).
+    ``folders``: for a lab that came in a student's folder, that folder (its files come too).
 
     A process that dies without answering counts as crashed; one that takes longer than
     ``timeout_s`` in all (building included) is killed and counts as hung.
@@ -192,10 +354,13 @@ def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: i
             on_done(result)
 
     for i, path in enumerate(paths):
-        source = None
+        source, files, where = None, (), ""
+        student = (folders or {}).get(path)
         if private:
             try:
                 source = read_submission(path)
+                if student is not None:
+                    files, where = read_folder(student, path), path.relative_to(student).as_posix()
             except PermissionError as exc:
                 done(i, RunResult(RunStatus.FORBIDDEN, message=str(exc), lab_file=path))
                 continue
@@ -203,7 +368,7 @@ def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: i
                 why = f"{path.name} cannot be read ({exc.strerror})"
                 done(i, RunResult(RunStatus.BUILD_ERROR, message=why, lab_file=path))
                 continue
-        batch.append((i, GradeJob(path, config, end_tick, deadline_s, limits, source)))
+        batch.append((i, GradeJob(path, config, end_tick, deadline_s, limits, source, files, where)))
     executor.run([job for _, job in batch], lambda k, result: done(batch[k][0], result))
     return [results[i] for i in range(len(paths))]
 
@@ -235,7 +400,7 @@ def grade_result(result: RunResult, reference: RunResult, *, abs_tol: float = DE
 
 def summary_table(grades: Sequence[Grade], stream: TextIO, *, width: int = 100) -> None:
     """The table a TA reads: one row per submission, then the counts."""
-    names = [for_terminal(g.path.name) for g in grades]  # a file's name is the submitter's to choose
+    names = [for_terminal(g.label) for g in grades]  # a file's name is the submitter's to choose
     name_w = max([len("submission")] + [len(n) for n in names])
     grade_w = max(len(c) for c in GradeClass)
     stream.write(f"{'submission':<{name_w}}  {'result':<{grade_w}}  detail\n")
@@ -269,7 +434,7 @@ def write_csv(path: Path, grades: Sequence[Grade]) -> None:
                 first_line = str(d.number)
                 if d.got is not None and d.got.tick is not None:
                     first_t = f"{d.got.tick / 1000:.3f}"
-            w.writerow([for_csv(g.path.name), g.grade, for_csv(g.detail), lines, first_line, first_t,
+            w.writerow([for_csv(g.label), g.grade, for_csv(g.detail), lines, first_line, first_t,
                         f"{g.result.wall_s:.2f}", len(g.result.failed_expectations), g.result.status,
                         int(g.exit_status)])
 
@@ -281,7 +446,7 @@ def write_junit_grades(path: Path, grades: Sequence[Grade], suite: str) -> None:
     for g in grades:
         status = {GradeClass.PASS: "pass", GradeClass.MISMATCH: "failure",
                   GradeClass.UNMET: "failure"}.get(g.grade, "error")
-        cases.append(Case(g.path.name, suite, g.result.wall_s, status, f"{g.grade}: {g.detail}", g.report))
+        cases.append(Case(g.label, suite, g.result.wall_s, status, g.verdict, g.report))
     write_junit(path, "crslab grade", cases)
 
 

@@ -240,6 +240,10 @@ def read_golden(path: Path) -> Golden:
     >>> g = read_golden(p); g.header, g.body
     ({'scenario': 'tour'}, b'1.00\\n\\r')
     """
+    if path.suffix.lower() in (".c", ".cpp", ".h", ".hpp", ".hh") and path.is_file():
+        raise GoldenError(f"{path}: is a C file (a lab), not a golden transcript: record the lab's "
+                          f"transcript with crslab record --lab {path} -o golden.txt, then check "
+                          "against golden.txt")
     try:
         data = path.read_bytes()
     except FileNotFoundError:

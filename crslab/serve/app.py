@@ -22,6 +22,7 @@ import pickle
 import secrets
 import struct
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import urlparse
@@ -33,8 +34,8 @@ from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect, WebSocketDisconnected
 
-from crslab.generations import GENERATIONS
-from crslab.serve.auth import CookieSigner, RateLimit, User, verify_secret
+from crslab.generations import GENERATIONS, NEWEST
+from crslab.serve.auth import Backoff, CookieSigner, User, verify_secret
 from crslab.serve.page_messages import ProtocolError, parse_message
 from crslab.serve.page_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
 from crslab.serve.page_sessions import LimitError, PageSession, Sessions
@@ -60,13 +61,24 @@ class ServeSettings:
     local_token: str = ""
 
 
-class CrsServer:
-    """The server's state and its request handlers."""
+NAME_BACKOFF = dict(free=5, base_s=1.0, max_s=30.0)
+"""Wrong passwords for one name: 5 free, then 1 s, 2 s, 4 s, ... at most 30 s (never a lock
+that shuts the right password out for longer)."""
+ADDRESS_BACKOFF = dict(free=20, base_s=1.0, max_s=30.0)
+"""Wrong passwords and tokens from one client address, whatever the name: 20 free (a class behind
+one campus address mistypes), then the same back-off."""
 
-    def __init__(self, settings: ServeSettings, sessions: Sessions) -> None:
+
+class CrsServer:
+    """The server's state and its request handlers (``clock``: seconds, for the login limits)."""
+
+    def __init__(self, settings: ServeSettings, sessions: Sessions,
+                 clock: Callable[[], float] = time.monotonic) -> None:
         self.settings = settings
         self.sessions = sessions
-        self._logins: dict[str, RateLimit] = {}
+        self.clock = clock
+        self._by_name = Backoff(**NAME_BACKOFF)
+        self._by_address = Backoff(**ADDRESS_BACKOFF)
         self._scenarios: list[dict] | None = None
         self._arm: dict[str, dict] = {}
 
@@ -100,8 +112,15 @@ class CrsServer:
     async def index(self, request: Request) -> Response:
         token = request.query_params.get("token")
         if token is not None:  # the URL crslab serve printed, or a roster user's token link
+            address, now = _address(request), self.clock()
+            wait = self._by_address.wait_s(address, now)
+            if wait > 0:
+                return _too_many(f"too many wrong tokens or passwords from your address; try again in "
+                                 f"{_seconds(wait)}", wait, html_page=True)
+            self._by_address.tried(address, now)  # a wrong token until it proves right
             user = self._token_user(token)
             if user is not None:
+                self._by_address.forgiven(address, entirely=False)
                 return self._logged_in(RedirectResponse("/", status_code=303), request, user)
         response = FileResponse(
             STATIC / "index.html", headers={"Content-Security-Policy": CSP, "Cache-Control": "no-store"}
@@ -133,9 +152,16 @@ class CrsServer:
             return JSONResponse(
                 {"error": "this server has no logins: open the URL crslab serve printed"}, status_code=400
             )
-        limit = self._logins.setdefault(name, RateLimit(10, 60.0))
-        if not limit.allow(time.monotonic()):
-            return JSONResponse({"error": "too many attempts; wait a minute"}, status_code=429)
+        # the limits, checked before the slow hash: per client address (whatever the names it
+        # tries) and per name (from whatever addresses), each an exponential back-off
+        address, now = _address(request), self.clock()
+        for limit, key, whose in ((self._by_address, address, "from your address"),
+                                  (self._by_name, name, "for this name")):
+            wait = limit.wait_s(key, now)
+            if wait > 0:
+                return _too_many(f"too many wrong passwords {whose}; try again in {_seconds(wait)}", wait)
+        self._by_address.tried(address, now)  # counted as wrong now: tries at once cannot slip past
+        self._by_name.tried(name, now)
         user = roster.get(name)
         # the hash is checked even for an unknown name, so the time taken does not tell names apart
         secret = user.secret if user is not None else "pbkdf2_sha256$600000$00$00"
@@ -143,6 +169,8 @@ class CrsServer:
         # the relay of every running session goes on meanwhile
         if not await asyncio.to_thread(verify_secret, secret, password) or user is None:
             return JSONResponse({"error": "wrong name or password"}, status_code=401)
+        self._by_name.forgiven(name)
+        self._by_address.forgiven(address, entirely=False)
         return self._logged_in(JSONResponse({"user": name}), request, name)
 
     async def logout(self, request: Request) -> Response:
@@ -167,6 +195,8 @@ class CrsServer:
                 },
                 "labs": LABS,
                 "generations": {g.name: g.title.removeprefix("the ") for g in GENERATIONS},
+                "generation_headers": {g.name: g.include for g in GENERATIONS},
+                "default_generation": NEWEST.name,  # what crslab new writes without --gen
             }
         )
 
@@ -320,6 +350,24 @@ class CrsServer:
             writer.close()  # the session process sees the pipe close: it ends its run and itself
 
 
+def _address(request: Request) -> str:
+    """The client's address (behind a trusted proxy, the one it forwarded)."""
+    return request.client.host if request.client is not None else "unknown"
+
+
+def _seconds(wait_s: float) -> str:
+    """``3 s``: a wait rounded up to whole seconds."""
+    return f"{max(1, int(-(-wait_s // 1)))} s"
+
+
+def _too_many(text: str, wait_s: float, *, html_page: bool = False) -> Response:
+    """A 429 with its one line (JSON for the page's login form, a short page for a token link)."""
+    headers = {"Retry-After": str(max(1, int(-(-wait_s // 1)))), "Cache-Control": "no-store"}
+    if html_page:
+        return HTMLResponse(f"<p>{html.escape(text)}</p>", status_code=429, headers=headers)
+    return JSONResponse({"error": text}, status_code=429, headers=headers)
+
+
 def arm_shapes(world: str = "none") -> dict:
     """The arm's bodies as the MuJoCo model has them, for the page to draw and pose: each body's
     parent, its frame in the parent's (metres; quaternions ``x y z w``), its hinge (axis and anchor
@@ -371,9 +419,10 @@ def arm_shapes(world: str = "none") -> dict:
     return {"bodies": out}
 
 
-def make_app(settings: ServeSettings, sessions: Sessions) -> Starlette:
-    """The ASGI application."""
-    server = CrsServer(settings, sessions)
+def make_app(settings: ServeSettings, sessions: Sessions,
+             clock: Callable[[], float] = time.monotonic) -> Starlette:
+    """The ASGI application (``clock``: seconds, for the login limits)."""
+    server = CrsServer(settings, sessions, clock)
     app = Starlette(
         routes=[
             Route("/", server.index),

@@ -187,3 +187,71 @@ def load_secret(path: Path | None) -> bytes:
             f"{path}: the secret must be at least 32 bytes (e.g. openssl rand -hex 32 > {path})"
         )
     return key
+
+
+class Backoff:
+    """Wrong tries per key (a user's name, a client's address): the first ``free`` cost nothing,
+    each one after shuts the key out for an exponential back-off, ``base_s`` doubling up to
+    ``max_s``; never longer. A key with no wrong try for ``forget_s`` starts afresh. Times are the
+    caller's clock (seconds; :func:`time.monotonic` in the server), so tests need no sleeps.
+
+    A try is counted as wrong when it starts (:meth:`tried`), before the slow hash is checked, so
+    many tries at once cannot all slip past the count; a right one is then :meth:`forgiven`.
+
+    >>> b = Backoff(free=2, base_s=1.0, max_s=4.0)
+    >>> for t in (0.0, 0.0, 0.0): b.tried("bob", t)
+    >>> b.wait_s("bob", 0.5), b.wait_s("bob", 1.0)
+    (0.5, 0.0)
+    >>> b.tried("bob", 1.0); b.wait_s("bob", 1.0)
+    2.0
+    >>> for t in (3.0, 7.0, 11.0): b.tried("bob", t)
+    >>> b.wait_s("bob", 11.0)
+    4.0
+    >>> b.forgiven("bob"); b.wait_s("bob", 11.0)
+    0.0
+    """
+
+    def __init__(self, free: int, base_s: float, max_s: float, forget_s: float = 900.0) -> None:
+        self.free = free
+        self.base_s = base_s
+        self.max_s = max_s
+        self.forget_s = forget_s
+        self._keys: dict[str, tuple[int, float, float]] = {}
+        """key: (wrong tries, when the last one came, until when the key is shut out)."""
+
+    def delay_s(self, wrong: int) -> float:
+        """How long ``wrong`` wrong tries in a row shut a key out.
+
+        >>> [Backoff(3, 1.0, 30.0).delay_s(n) for n in (3, 4, 5, 6, 9, 40)]
+        [0.0, 1.0, 2.0, 4.0, 30.0, 30.0]
+        """
+        if wrong <= self.free:
+            return 0.0
+        return min(self.max_s, self.base_s * 2.0 ** min(wrong - self.free - 1, 64))
+
+    def _state(self, key: str, now: float) -> tuple[int, float, float]:
+        state = self._keys.get(key)
+        if state is None or now - state[1] >= self.forget_s:
+            return (0, now, now)
+        return state
+
+    def wait_s(self, key: str, now: float) -> float:
+        """How long ``key`` is still shut out (0: it may try now)."""
+        return max(0.0, self._state(key, now)[2] - now)
+
+    def tried(self, key: str, now: float) -> None:
+        """Count a try of ``key`` as wrong (call it once :meth:`wait_s` let the try in)."""
+        wrong = self._state(key, now)[0] + 1
+        self._keys[key] = (wrong, now, now + self.delay_s(wrong))
+        if len(self._keys) > 100_000:  # an address-spraying client: drop the keys it has forgotten
+            self._keys = {k: s for k, s in self._keys.items() if now - s[1] < self.forget_s}
+
+    def forgiven(self, key: str, *, entirely: bool = True) -> None:
+        """The try was right: ``key`` starts afresh (``entirely``) or loses the one try counted."""
+        state = self._keys.get(key)
+        if state is None:
+            return
+        if entirely or state[0] <= 1:
+            del self._keys[key]
+        else:
+            self._keys[key] = (state[0] - 1, state[1], state[2])

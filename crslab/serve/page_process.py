@@ -32,6 +32,7 @@ from crslab.plant.plant_params import PlantParamsError
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
 from crslab.serve.page_messages import compile_diagnostics
+from crslab.serve.page_text import SESSION_SUBFOLDERS, PageText
 from crslab.serve.recorder import RecorderSink
 from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
@@ -73,12 +74,14 @@ class Session:
         self.limits = limits
         self._arm: ArmPoses | None = None
         self._world_arms: dict[str, ArmPoses] = {}
-        for sub in ("lab", "scenario", "golden", "out"):
+        for sub in SESSION_SUBFOLDERS:
             (folder / sub).mkdir(parents=True, exist_ok=True)
+        self.page_text = PageText(folder)
 
     def send(self, data: bytes, tag: bytes = FORWARD) -> None:
-        """A message for the page (``tag``: what the server should note)."""
-        self.conn.send_bytes(tag + data)
+        """A message for the page (``tag``: what the server should note), naming files as the page
+        named them and no server path (:mod:`crslab.serve.page_text`)."""
+        self.conn.send_bytes(tag + self.page_text.message(data))
 
     @property
     def arm(self) -> ArmPoses:
@@ -111,8 +114,9 @@ class Session:
         path = self._write("lab", lab)
         return path.relative_to(Path.cwd()) if path.parent == Path.cwd() else path
 
-    def build(self, lab: dict) -> Path | None:
-        """Compile the page's lab and send ``built``; its path when it built."""
+    def build(self, lab: dict, tag: bytes = FORWARD) -> Path | None:
+        """Compile the page's lab and send ``built`` (tagged ``tag``: :data:`RUN_ENDED` when the
+        build was the page's whole request); its path when it built."""
         path = self._write_lab(lab)
         try:
             build = build_lab(path, sandboxed=self.limits.sandboxed)
@@ -125,7 +129,8 @@ class Session:
                     forbidden=isinstance(exc, LabForbidden),
                     diagnostics=compile_diagnostics(exc.diagnostics, path.name),
                     compiler_output=exc.diagnostics[-20_000:],
-                )
+                ),
+                tag,
             )
             return None
         watched = [{"name": v.name, "ctype": v.ctype, "length": v.length} for v in build.watched]
@@ -137,7 +142,8 @@ class Session:
                 diagnostics=[],
                 watched=watched,
                 generation=build.generation.name,
-            )
+            ),
+            tag,
         )
         return path
 
@@ -264,6 +270,7 @@ class Session:
         golden_path = self._write("golden", msg["golden"])
         try:
             golden = read_golden(golden_path)
+            self._check_scenario(golden.header.get("scenario"), golden_path.name)
             run = recorded_run(golden, [self.folder / "scenario"])
             if run.plant is not None:
                 raise GoldenError(
@@ -297,9 +304,34 @@ class Session:
         self.send(message("checked", ok=comparison.ok and result.ok, report=report), RUN_ENDED)
 
 
+    def _check_scenario(self, named: str | None, golden: str) -> None:
+        """Whether the page may run the scenario a golden file's header names: a built-in one or
+        the one uploaded into this session (by its file name); anything else (a server path) is
+        refused with one line that says nothing of what is there (raises ``GoldenError``)."""
+        from crslab.regress.transcript import GoldenError
+        from crslab.scenario.load import builtin_names
+
+        if not named or named in builtin_names():
+            return
+        uploaded = self.folder / "scenario"
+        if "/" not in named and named not in (".", "..") and (uploaded / named).is_file():
+            return
+        raise GoldenError(
+            f"{golden}: its scenario is neither a built-in scenario nor the scenario file uploaded into "
+            "this page (Run with it first); the page runs no other"
+        )
+
+
+def _terminated(signum: int, frame: object) -> None:
+    """SIGTERM (the server closing the session: the page went): unwind whatever runs, so a build's
+    compiler group and a run's worker are ended on the way out."""
+    raise SystemExit(0)
+
+
 def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
     """The session process's body: carry out the server's messages until it closes the pipe."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the server's to handle
+    signal.signal(signal.SIGTERM, _terminated)
     os_support.die_with_parent()
     session = Session(conn, Path(folder), limits)
     os.chdir(session.folder / "lab")  # the page's lab is built by its name alone (Session._write_lab)
@@ -312,7 +344,7 @@ def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
             kind = msg["type"]
             try:
                 if kind == "build":
-                    session.build(msg["lab"])
+                    session.build(msg["lab"], RUN_ENDED)
                 elif kind == "run":
                     session.run(msg)
                 elif kind == "check":
@@ -334,6 +366,8 @@ def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
                 text = f"crslab failed: {type(exc).__name__}: {exc}"
                 if kind in ("run", "check"):
                     session.send(message("ended", status="crashed", exit_status=3, message=text), RUN_ENDED)
+                elif kind == "build":
+                    session.send(message("built", ok=False, message=text, diagnostics=[]), RUN_ENDED)
                 else:
                     session.send(message("error", message=text))
     finally:

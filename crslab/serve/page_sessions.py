@@ -4,7 +4,8 @@ A session process is started from a fork server that imported crslab once
 (:func:`session_context`), with a pipe to the server and a private folder. The server keeps, per
 session, who owns it, when it started and what it runs (from the tags of the messages it relays,
 :mod:`crslab.serve.page_process`), and enforces the per-user limits before it hands a message
-on: one run at a time, compiles per minute, and the number of sessions at once.
+on: one build, run or check at a time, compiles per minute, and the number of sessions at once
+(the server's and each user's).
 """
 
 from __future__ import annotations
@@ -60,11 +61,14 @@ def run_phase(n: int) -> float:
 
 @dataclass(frozen=True)
 class UserLimits:
-    """What one user may do: compiles (builds, runs, checks) per minute; one run at a time always."""
+    """What one user may do: compiles (builds, runs, checks) per minute; one build, run or check
+    at a time always, across all their pages."""
 
-    compiles_per_minute: int = 20
+    compiles_per_minute: int = 6
     max_sessions: int = 200
     """Sessions on this server at once, all users together (``--max-sessions``)."""
+    max_sessions_per_user: int = 2
+    """Sessions of one user at once (``--max-sessions-per-user``): no one takes every session."""
 
 
 class LimitError(Exception):
@@ -114,7 +118,8 @@ class Sessions:
         """Every session by id: changed only under ``_lock`` (sessions start and end in threads
         while the event loop reads it): read a snapshot, :meth:`all`."""
         self._lock = threading.Lock()
-        self._starting = 0
+        self._starting: dict[str, int] = {}
+        """Sessions whose process is starting, by user: their places are kept."""
         self._runs = 0
         self._compiles: dict[str, RateLimit] = {}
         self._ctx: mp.context.BaseContext | None = None
@@ -127,11 +132,17 @@ class Sessions:
     def start(self, user: str) -> PageSession:
         """A new session process for ``user`` (blocking: call it from a thread)."""
         with self._lock:
-            if len(self.by_id) + self._starting >= self.limits.max_sessions:
+            if len(self.by_id) + sum(self._starting.values()) >= self.limits.max_sessions:
                 raise LimitError(
                     f"this server is full ({self.limits.max_sessions} sessions at once); try again later"
                 )
-            self._starting += 1  # its place is kept while its process starts
+            mine = sum(s.user == user for s in self.by_id.values()) + self._starting.get(user, 0)
+            if mine >= self.limits.max_sessions_per_user:
+                raise LimitError(
+                    f"you have {mine} pages open on this server, as many as one user may "
+                    f"({self.limits.max_sessions_per_user}): close one to open this one"
+                )
+            self._starting[user] = self._starting.get(user, 0) + 1  # its place is kept while it starts
             if self._ctx is None:
                 self._ctx = session_context()
         session = None
@@ -139,7 +150,9 @@ class Sessions:
             session = self._start(user)
         finally:
             with self._lock:  # its kept place becomes the session's (or is given back) at once
-                self._starting -= 1
+                self._starting[user] -= 1
+                if not self._starting[user]:
+                    del self._starting[user]
                 if session is not None:
                     self.by_id[session.id] = session
         return session
@@ -161,6 +174,9 @@ class Sessions:
         with self._lock:
             self.by_id.pop(session.id, None)
         session.conn.close()  # (already closed when the relay took it): the session sees its pipe close
+        # and is told to end now, not after the build or run it is in: its SIGTERM handler unwinds
+        # it, so the compiler's process group and the run's worker end with it
+        session.process.terminate()
         session.process.join(3.0)
         if session.process.is_alive():
             session.process.kill()
@@ -174,17 +190,19 @@ class Sessions:
             return
         if session.running is not None:
             raise LimitError(f"{kind}: a {session.running} is going on; stop it first")
-        if kind in ("run", "check"):
-            other = next((s for s in self.all() if s.user == session.user and s.running), None)
-            if other is not None:
-                raise LimitError(f"{kind}: you have a run going on in another page; one run at a time")
+        other = next((s for s in self.all() if s.user == session.user and s.running), None)
+        if other is not None:  # builds too: a user's compilers run one at a time
+            raise LimitError(
+                f"{kind}: you have a {other.running} going on in another page; "
+                "one build, run or check at a time"
+            )
         limit = self._compiles.setdefault(session.user, RateLimit(self.limits.compiles_per_minute, 60.0))
         if not limit.allow(now):
             raise LimitError(
                 f"{kind}: at most {self.limits.compiles_per_minute} compiles a minute; wait a little"
             )
+        session.running = kind  # until the session process's reply tagged RUN_ENDED
         if kind in ("run", "check"):
-            session.running = kind
             session.runs += 1
             if kind == "run":
                 scenario = msg["scenario"]

@@ -134,7 +134,8 @@ class BrowserStream(Sink):
         self.send(message("motor_board", tick=tick, joint=joint, off=off))
 
     def on_expectation(self, outcome: ExpectOutcome) -> None:
-        self.send(message("expectation", tick=outcome.tick, met=outcome.met, lines=outcome.lines()))
+        self.send(message("expectation", tick=outcome.tick, met=outcome.met, lines=outcome.lines(),
+                          what=outcome.what))
 
     def on_serial(self, tick: int, data: bytes) -> None:
         self.serial.append((tick, data.decode("latin-1")))

@@ -15,14 +15,17 @@ debug information); the first frame in the lab's own file is the line shown.
 'div.c divided an integer by zero at div.c:12 in lab() at tick 5123 (t = 5.123 s)'
 >>> diagnose({**t, "kind": 8, "text": ""}, "div.c", deadline_s=2.0)[1]
 'div.c hung: lab() did not return within 2 s at tick 5123 (t = 5.123 s)'
+>>> diagnose({**t, "kind": 8}, "div.c", deadline_s=2.0)[1].split("; ")[1]
+'it was at div.c:12 in lab()'
 """
 
 from __future__ import annotations
 
 import re
-from pathlib import PurePath
+from pathlib import Path, PurePath
 
 from crslab.sim.status import RunStatus
+from crslab.sim.wasm_lines import line_at
 from crslab.untrusted_text import for_terminal
 from crslab.worker.board_ffi import board_constants
 
@@ -55,6 +58,32 @@ def where_in(text: str, lab_name: str) -> str | None:
     return None
 
 
+_FRAME_AT = re.compile(r"^\s*\d+:\s+(0x[0-9a-f]+) - (\S+)\n\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
+
+
+def where_stopped(text: str, lab_name: str, image: Path | None = None) -> str:
+    """Where in the lab's own file a firmware that was stopped (an interrupt) was: ``FILE:LINE in
+    FUNCTION()`` of the innermost frame in the lab's file (a line wasmtime does not give, as for a
+    loop's head, read from the firmware ``image``'s own line table: :mod:`crslab.sim.wasm_lines`),
+    ``in FUNCTION() (FILE)`` when its line is not known, else empty.
+
+    >>> where_stopped("    0:   0x561a - wait_ready\\n        at /x/hang.c\\n    1: 0x50b - lab\\n"
+    ...               "        at /x/hang.c:30:5\\n", "hang.c")
+    'in wait_ready() (hang.c)'
+    """
+    for offset, function, path, line in _FRAME_AT.findall(text):
+        if PurePath(path).name == lab_name:
+            name = for_terminal(function)
+            if not line and image is not None:
+                try:
+                    found = line_at(image.read_bytes(), int(offset, 16), lab_name)
+                except OSError:
+                    found = None
+                line = str(found) if found else ""
+            return f"at {lab_name}:{line} in {name}()" if line else f"in {name}() ({lab_name})"
+    return ""
+
+
 def _phase_words(phase: int) -> tuple[str, str]:
     """(the function it was in, where in the tick) for a phase."""
     c = board_constants()
@@ -65,8 +94,10 @@ def _phase_words(phase: int) -> tuple[str, str]:
     return "lab()", "in lab()"
 
 
-def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[RunStatus, str]:
-    """How the run ends and the one line that says why."""
+def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None,
+             image: Path | None = None) -> tuple[RunStatus, str]:
+    """How the run ends and the one line that says why (``image``: the firmware, whose line table
+    says where a hung call was when wasmtime does not)."""
     c = board_constants()
     kind, phase, tick = int(trap.get("kind", 0)), int(trap.get("phase", 0)), int(trap.get("tick", 0))
     text = str(trap.get("text", ""))
@@ -77,7 +108,9 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[Ru
     place = f"at {line} {where}" if line else where
     if kind == c.CRS_FW_TRAP_INTERRUPT:
         within = f" within {deadline_s:g} s" if deadline_s is not None else ""
-        return RunStatus.HUNG, f"{lab_name} hung: {func} did not return{within} {at}"
+        stopped = where_stopped(text, lab_name, image)
+        was = f"; it was {stopped}" if stopped and stopped != f"in {func} ({lab_name})" else ""
+        return RunStatus.HUNG, f"{lab_name} hung: {func} did not return{within} {at}{was}"
     if kind == c.CRS_FW_TRAP_EXIT:
         return RunStatus.EXITED, f"{lab_name} called exit({int(trap.get('exit_code', 0))}) {place} {at}"
     if kind == c.CRS_FW_TRAP_REFUSED:
@@ -95,7 +128,7 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None) -> tuple[Ru
         c.CRS_FW_TRAP_CONVERSION: "converted a float that is NaN or out of range to an integer",
         c.CRS_FW_TRAP_UNREACHABLE: "called abort() (or an assertion failed)",
         c.CRS_FW_TRAP_CALL: "called a function through a bad pointer",
-        c.CRS_FW_TRAP_NULL: "used a NULL pointer (one that was never set)",
+        c.CRS_FW_TRAP_NULL: "used a NULL pointer (its address was 0)",  # set to 0 or NULL, or never set
     }.get(kind)
     if kind == c.CRS_FW_TRAP_MEMORY and recursed(text):
         what = "overflowed its call stack (runaway recursion)"

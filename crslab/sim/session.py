@@ -16,6 +16,7 @@ way out when a run ends is handed on last, marked with the tick the run ended at
 
 from __future__ import annotations
 
+import pathlib
 import signal
 import threading
 from collections.abc import Callable, Iterator, Sequence
@@ -298,7 +299,8 @@ class Simulation:
                 return reply
             self.tick, self.stats = reply.tick, reply.stats
             if reply.code == c.CRS_RUN_TRAPPED:
-                return _trapped(reply.trap or {}, self.lab_name, self.deadline_s, self.tick)
+                return _trapped(reply.trap or {}, self.lab_name, self.deadline_s, self.tick,
+                                self.config.build.image)
             try:
                 judged = [self.judge.observed(seen) for seen in reply.observations]
             except ValueError as exc:
@@ -371,7 +373,8 @@ class Simulation:
                          wall_s=pacer.elapsed_s(), expectations=expectations)
 
 
-def _trapped(trap: dict, lab_name: str, deadline_s: float | None, tick: int) -> Ending:
+def _trapped(trap: dict, lab_name: str, deadline_s: float | None, tick: int,
+             image: pathlib.Path | None = None) -> Ending:
     """A WebAssembly firmware that stopped (the worker survives it and says how)."""
-    status, message = diagnose(trap, lab_name, deadline_s=deadline_s)
+    status, message = diagnose(trap, lab_name, deadline_s=deadline_s, image=image)
     return Ending(status, tick, message)

@@ -16,7 +16,7 @@ import math
 import os
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TextIO
+from typing import TYPE_CHECKING, TextIO
 
 import numpy as np
 
@@ -24,6 +24,9 @@ from crslab.output_paths import with_parent
 from crslab.sweep.job import Row
 from crslab.sweep.metrics import INTEGER_METRICS, METRIC_NAMES
 from crslab.sweep.variations import Vary, describe
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 FORMATS = (".csv", ".parquet")
 JOURNAL_SUFFIX = ".partial.csv"
@@ -241,11 +244,28 @@ def plot(path: Path, rows: Sequence[Row], varies: Sequence[Vary], *, title: str,
          metrics: Sequence[str] | None = None) -> None:
     """One panel per varied quantity for each of ``metrics`` (default: see :func:`plot_metrics`,
     never one every run has the same value of): the metric of every run against that quantity,
-    passed runs in one colour and failed ones in another."""
+    passed runs in one colour and failed ones in another (:func:`figure`)."""
+    import matplotlib.pyplot as plt
+
+    fig = figure(rows, varies, title=title, metrics=metrics)
+    fig.savefig(with_parent(path), dpi=100)
+    plt.close(fig)
+
+
+TICKS_PER_AXIS = 4
+"""At most this many ticks on each axis of a panel: a panel is about 3 inches wide, and a quantity's
+values (0.0125) take a label's width each."""
+
+
+def figure(rows: Sequence[Row], varies: Sequence[Vary], *, title: str,
+           metrics: Sequence[str] | None = None) -> Figure:
+    """The figure :func:`plot` saves: at most :data:`TICKS_PER_AXIS` ticks on each axis, and a
+    whole-number metric (:data:`INTEGER_METRICS`: trips, cut-outs) ticked at whole numbers only."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     metrics = list(metrics) if metrics else plot_metrics(rows, None)[0]
     n_rows, n_cols = len(metrics), len(varies)
@@ -263,9 +283,10 @@ def plot(path: Path, rows: Sequence[Row], varies: Sequence[Vary], *, title: str,
             if j == 0:
                 ax.set_ylabel(m, fontsize=8)
             ax.tick_params(labelsize=7)
+            ax.xaxis.set_major_locator(MaxNLocator(nbins=TICKS_PER_AXIS, prune=None))
+            ax.yaxis.set_major_locator(MaxNLocator(nbins=TICKS_PER_AXIS, integer=m in INTEGER_METRICS))
             ax.grid(alpha=0.3)
     axes[0][0].legend(fontsize=7, loc="best")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout(rect=(0.0, 0.0, 1.0, 1.0 - 0.5 / fig.get_figheight()))
-    fig.savefig(with_parent(path), dpi=100)
-    plt.close(fig)
+    return fig

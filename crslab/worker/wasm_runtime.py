@@ -16,7 +16,7 @@ import signal
 import sys
 from pathlib import Path
 
-from crslab.cache import CacheError, cache_dir
+from crslab.cache import CacheError, cache_dir, is_sealed, seal
 
 INTERRUPT_SIGNAL = signal.SIGUSR1
 """Sent to the worker at a deadline: its handler (csrc/board/firmware_wasm.c) bumps wasmtime's epoch,
@@ -58,6 +58,24 @@ def compiled_module_path(wasm: bytes, memory_bytes: int, stack_bytes: int) -> Pa
     except (CacheError, OSError):
         return None
     return folder / f"{h.hexdigest()[:32]}.cwasm"
+
+
+def unsealed_compiled_removed(kept: Path) -> None:
+    """Remove the compiled firmware at ``kept`` unless this user's board wrote it (its keyed digest,
+    :func:`crslab.cache.is_sealed`): wasmtime loads such a file as machine code without checking it,
+    so one planted under its name must never be loaded (the board compiles the module anew)."""
+    if kept.exists() and not is_sealed(kept):
+        kept.unlink(missing_ok=True)
+        kept.with_name(kept.name + ".seal").unlink(missing_ok=True)
+
+
+def seal_compiled(kept: Path) -> None:
+    """Seal the compiled firmware the board has just written at ``kept`` (if it did)."""
+    try:
+        if kept.exists() and not is_sealed(kept):
+            seal(kept)
+    except (CacheError, OSError):
+        kept.unlink(missing_ok=True)
 
 
 def preload() -> bool:

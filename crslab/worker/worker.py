@@ -42,7 +42,13 @@ from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
-from crslab.worker.wasm_runtime import INTERRUPT_SIGNAL, compiled_module_path, wasmtime_library
+from crslab.worker.wasm_runtime import (
+    INTERRUPT_SIGNAL,
+    compiled_module_path,
+    seal_compiled,
+    unsealed_compiled_removed,
+    wasmtime_library,
+)
 from crslab.world.layout import World, peg_depth_m
 from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
 
@@ -280,6 +286,8 @@ class Worker:
         wasm = config.build.image.read_bytes()
         library = self.ffi.new("char[]", str(wasmtime_library()).encode())
         kept = compiled_module_path(wasm, MEMORY_BYTES, NATIVE_STACK_BYTES)
+        if kept is not None:
+            unsealed_compiled_removed(kept)
         compiled = self.ffi.new("char[]", str(kept).encode()) if kept is not None else self.ffi.NULL
         image = self.ffi.new("uint8_t[]", wasm)
         options = self.ffi.new("crs_wasm_options *", {
@@ -288,6 +296,8 @@ class Worker:
         self._keep += [library, image, compiled, options]
         block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
         code = self.lib.crs_fw_wasm_load(sim, options)
+        if kept is not None:
+            seal_compiled(kept)
         if code != 0:
             raise FirmwareStopped(trap_info(self.ffi, sim))
         block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]

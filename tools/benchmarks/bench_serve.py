@@ -291,7 +291,7 @@ def page_lines() -> list[str]:
         return ["page timings: skipped (no /usr/bin/chromium: apt-get install chromium)"]
     from playwright.sync_api import expect, sync_playwright
 
-    server = Server()
+    server = Server("--compiles-per-minute", "1000", "--max-sessions-per-user", "10")  # 5 pages in turn
     loads, firsts = [], []
     try:
         with sync_playwright() as p:

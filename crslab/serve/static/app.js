@@ -93,8 +93,10 @@
         state.lastTick = m.tick;
         if (state.speed === null) drain(Infinity);
         break;
-      case "expectation":
-        queueNote(m.tick, `${at(m.tick)}: expect ${m.met ? "met" : "FAILED"}: ${m.lines.join("; ")}`); break;
+      case "expectation": // said once, when judged (the scenario's own list leaves expectations out)
+        queueNote(m.tick, m.met ? `${at(m.tick)}: expect ${m.what}: met`
+          : `${at(m.tick)}: expect ${m.what}: FAILED: ${m.lines.map((l) => l.replace(/^t = [\d.]+ s: /, "")).join("; ")}`);
+        break;
       case "motor_board":
         queueNote(m.tick, `${at(m.tick)}: motor board ${m.off ? `cut every output (joint ${m.joint})` : "outputs back"}`);
         break;
@@ -153,17 +155,26 @@
     state.lastTick = 0;
     state.shownTick = 0;
     $("events").textContent = "";
+    $("var-reply").textContent = "";
+    $("var-reply").className = "";
+    $("var-table").replaceChildren();
+    $("joint-angles").textContent = "DH angles: -";
+    $("check-report").textContent = "";
+    $("sim-time").textContent = at(0);
+    if (state.arm && state.restFrame) state.arm.pose(state.restFrame);
     state.scopes.clear();
     ["transcript", "csv", "rrd"].forEach((k) => $(`dl-${k}`).classList.add("disabled"));
   }
   function started(m) {
     diagnose(`running ${state.labName} on ${m.scenario}`);
-    for (const e of m.events) queueNote(e.tick, `${at(e.tick)}: ${e.text}`);
+    for (const e of m.events) if (!e.text.startsWith("expect ")) queueNote(e.tick, `${at(e.tick)}: ${e.text}`);
     for (const n of m.notes) note(n);
     setWatched(m.watched);
   }
   function ended(m) {
     state.end = m;
+    // the clock reaches the tick the run ended at (a crash at 7.100 s is not shown as 7.000 s)
+    if (m.end_tick !== undefined) state.lastTick = Math.max(state.lastTick, m.end_tick);
     if (state.speed === null || m.end_tick === undefined) drain(Infinity);
     setRunning(false);
   }
@@ -202,10 +213,14 @@
       if (m.serial.length || (m.frames && m.frames.length)) break; // the rest of it is not due yet
       state.playout.shift();
     }
-    const reached = state.playout.length ? Math.min(upTo, state.shownTick) : upTo;
+    // a note is due once the run has reached its tick (as fast as possible too: never ahead of it)
+    const reached = Math.min(upTo, state.playout.length ? state.shownTick : state.lastTick);
     while (state.notes.length && state.notes[0].tick <= reached) note(state.notes.shift().text);
     if (state.end && !state.playout.length && (state.end.end_tick === undefined || state.end.end_tick <= upTo)) {
-      while (state.notes.length) note(state.notes.shift().text);
+      // only what the run reached: after a crash at 7.1 s a release planned at 23 s never happened
+      const last = state.end.end_tick === undefined ? state.lastTick : state.end.end_tick;
+      while (state.notes.length && state.notes[0].tick <= last) note(state.notes.shift().text);
+      state.notes = [];
       const m = state.end;
       state.end = null;
       showEnd(m);
@@ -233,8 +248,9 @@
   function showFrame(f) {
     if (state.arm) state.arm.pose(f);
     const deg = (r) => (r * 180 / Math.PI).toFixed(2);
-    $("joint-angles").textContent = `DH angles: ${deg(f[1])} ${deg(f[2])} ${deg(f[3])} deg; motor angles: ${deg(f[4])} ` +
-      `${deg(f[5])} ${deg(f[6])} deg`;
+    if (!state.restFrame) state.restFrame = f;
+    $("joint-angles").textContent = `the arm's DH angles (true): ${deg(f[1])} ${deg(f[2])} ${deg(f[3])} deg; ` +
+      `the lab's motor angles (what lab() reads, offset-dependent): ${deg(f[4])} ${deg(f[5])} ${deg(f[6])} deg`;
     const s = $("arm-state");
     if (f[8]) { s.textContent = "motor board: every output cut"; s.className = "badge bad"; }
     else if (f[7]) { s.textContent = "outside the safety envelope: the hold controller has the arm"; s.className = "badge bad"; }
@@ -277,6 +293,14 @@
     }
   }
 
+  // The generation a lab was written for: the first whose header it includes (crslab/generations.py).
+  function showGeneration(text) {
+    for (const [name, header] of Object.entries(state.generations)) {
+      const include = new RegExp(`^[ \\t]*#[ \\t]*include[ \\t]*["<]${header.replace(/[.]/g, "\\.")}[">]`, "m");
+      if (include.test(text)) { $("gen-choice").value = name; return; }
+    }
+  }
+
   // -- files ----------------------------------------------------------------------------------------
   function readFile(input) {
     return new Promise((resolve) => {
@@ -309,9 +333,11 @@
     for (const [key, title] of Object.entries(me.labs)) {
       $("lab-choice").appendChild(Object.assign(document.createElement("option"), { value: key, textContent: title }));
     }
+    state.generations = me.generation_headers || {};
     for (const [name, title] of Object.entries(me.generations)) {
       $("gen-choice").appendChild(Object.assign(document.createElement("option"), { value: name, textContent: title }));
     }
+    if (me.default_generation) $("gen-choice").value = me.default_generation; // crslab new's default
     const [scenarios, shapes, worlds] = await Promise.all([fetch("/api/scenarios").then((r) => r.json()),
       fetch("/api/arm").then((r) => r.json()), fetch("/api/worlds").then((r) => r.json())]);
     for (const w of worlds) {
@@ -327,7 +353,8 @@
     let saved = null;
     try { saved = JSON.parse(localStorage.getItem(`crslab:${state.user}:lab`) || "null"); } catch (e) { saved = null; }
     makeEditor(saved ? saved.text : "");
-    if (saved) { state.labName = saved.name; $("lab-name").textContent = saved.name; } else await loadTemplate();
+    if (saved) { state.labName = saved.name; $("lab-name").textContent = saved.name; showGeneration(saved.text); }
+    else await loadTemplate();
     state.term = new V.Terminal({ convertEol: false, scrollback: 5000, fontSize: 13, rows: 14 });
     state.term.open($("xterm"));
     state.scopes = new window.CrsScopes.Scopes($("scopes"));
@@ -369,7 +396,7 @@
     $("new-lab").onclick = () => { if (confirm("Replace the editor's lab with the template?")) loadTemplate(); };
     $("lab-file").onchange = async () => {
       const f = await readFile($("lab-file"));
-      if (f) setLab(f.name, f.text);
+      if (f) { setLab(f.name, f.text); showGeneration(f.text); }
       $("lab-file").value = "";
     };
     $("save-lab").onclick = () => download(state.labName, labText());
@@ -386,6 +413,7 @@
       const f = await readFile($("golden-file"));
       $("golden-file").value = "";
       if (!f) return;
+      resetRun(); // what the panels showed was the previous run's
       $("check-report").textContent = `checking ${state.labName} against ${f.name}…`;
       send({ type: "check", lab: { name: state.labName, text: labText() }, golden: f });
     };

@@ -15,6 +15,24 @@ window.CrsScopes = (function () {
   ];
   const COLORS = ["#0b63b6", "#d0531f", "#1e7a34", "#7b3fa0"];
   const MAX_ROWS = 120000; // two minutes of simulated time at 1 kHz
+  const TITLE_H = 16; // px: the title's band; the traces are drawn below it
+  const BOTTOM_H = 14; // px: the time labels' band
+
+  // The value range a panel shows for data from lo to hi: never narrower than a thousandth of the
+  // values' size (at least 1e-3), so that float noise of 1e-5 on a steady signal draws a flat line,
+  // not steps across the whole panel; padded by 8 % each side.
+  function shownRange(lo, hi) {
+    if (!(hi >= lo)) { lo = -1; hi = 1; }
+    const minSpan = Math.max(1e-3, 1e-3 * Math.max(Math.abs(lo), Math.abs(hi)));
+    if (hi - lo < minSpan) { const mid = (lo + hi) / 2; lo = mid - minSpan / 2; hi = mid + minSpan / 2; }
+    const pad = (hi - lo) * 0.08;
+    return [lo - pad, hi + pad];
+  }
+  // A value label that fits the 50 px left of the traces: 3 significant digits, or an exponent.
+  function label(v) {
+    const a = Math.abs(v);
+    return a !== 0 && (a >= 1e4 || a < 1e-2) ? v.toExponential(1) : String(Number(v.toPrecision(3)));
+  }
 
   function Scopes(host) {
     this.host = host;
@@ -96,18 +114,19 @@ window.CrsScopes = (function () {
         if (v > hi) hi = v;
       }
     }
-    if (!(hi >= lo)) { lo = -1; hi = 1; }
-    if (hi - lo < 1e-6) { lo -= 0.5; hi += 0.5; }
-    const pad = (hi - lo) * 0.08;
-    lo -= pad; hi += pad;
+    [lo, hi] = shownRange(lo, hi);
     const left = 52;
     const x = (tick) => left + ((tick - start) / (end - start)) * (w - left - 4);
-    const y = (v) => h - 14 - ((v - lo) / (hi - lo)) * (h - 20);
+    const y = (v) => h - BOTTOM_H - ((v - lo) / (hi - lo)) * (h - BOTTOM_H - TITLE_H - 2);
     g.font = "11px system-ui, sans-serif";
     g.fillStyle = "#5b6670";
-    g.fillText(`${panel.title} (${panel.unit})`, left, 11);
-    g.fillText(hi.toPrecision(3), 2, 14);
-    g.fillText(lo.toPrecision(3), 2, h - 16);
+    g.fillText(`${panel.title} (${panel.unit})`, left, 11, w - left - 100);
+    g.fillText(label(hi), 2, TITLE_H + 10, left - 4); // below the title's band, within the left margin
+    g.fillText(label(lo), 2, h - BOTTOM_H - 2, left - 4);
+    g.save();
+    g.beginPath();
+    g.rect(left, TITLE_H, w - left, h - TITLE_H - BOTTOM_H + 2);
+    g.clip(); // the traces stay in their band
     g.fillText(`${(start / 1000).toFixed(2)} s`, left, h - 2);
     g.fillText(`${(end / 1000).toFixed(2)} s`, w - 60, h - 2);
     const step = Math.max(1, Math.floor((last - first) / (w - left))); // at most a few points per pixel
@@ -127,10 +146,13 @@ window.CrsScopes = (function () {
         if (mx !== mn) g.lineTo(px, y(mx));
       }
       g.stroke();
+    });
+    g.restore();
+    panel.cols.forEach((c, i) => {
       g.fillStyle = COLORS[i];
-      g.fillText(panel.names[i], w - 90, 24 + 12 * i);
+      g.fillText(panel.names[i], w - 90, 11 + 12 * i);
     });
   };
 
-  return { Scopes, PANELS };
+  return { Scopes, PANELS, shownRange, label, TITLE_H };
 })();
