@@ -188,3 +188,36 @@ def test_past_the_breaking_force_the_egg_is_broken_for_the_rest_of_the_run_and_t
     down_n = grams[first - 1] * STANDARD_GRAVITY / 1000
     assert 0.5 * force[first - 1] < down_n <= force[first - 1] * (1 + 1e-12)
     assert (force[first + 1 :] == 0).all() and (grams[first + 1 :] == 0).all()  # nothing holds the peg up
+
+
+def test_the_peg_fits_along_the_whole_groove_its_walls_at_half_the_width_from_the_centre_line():
+    """Every groove wall and cap (boxes, in the compiled scene) is farther from the Z's centre line
+    than the peg's radius: a peg following the line touches nothing (walls 12 mm thick stuck out
+    into the other leg's channel at the sharp corners, 3.4 mm from the line); away from the corners,
+    and at the capped ends, the nearest wall is exactly half the groove's width away."""
+    world = load_world("contest")
+    model = load_scene(world)
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    g = world.groove
+    corners = np.asarray(g.corners_xy_m)
+    names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or "" for i in range(model.ngeom)]
+    walls = [i for i, name in enumerate(names) if name.startswith(("groove_wall", "groove_cap"))]
+    assert len(walls) == 8
+
+    def nearest_wall_m(point):
+        out = []
+        for i in walls:
+            rot = data.geom_xmat[i].reshape(3, 3)[:2, :2]
+            local = np.abs(rot.T @ (point - data.geom_xpos[i][:2])) - model.geom_size[i][:2]
+            out.append(float(np.linalg.norm(np.maximum(local, 0.0))))
+        return min(out)
+
+    line = [(i, t, corners[i] + t * (corners[i + 1] - corners[i]))
+            for i in range(3) for t in np.linspace(0, 1, 301)]
+    distances = [nearest_wall_m(p) for _, _, p in line]
+    assert min(distances) > world.peg.diameter_m / 2 + 0.001
+    mids = [d for (_, t, _), d in zip(line, distances) if 0.4 <= t <= 0.6]
+    assert mids == pytest.approx([g.width_m / 2] * len(mids), abs=1e-9)
+    assert nearest_wall_m(corners[0]) == pytest.approx(g.width_m / 2, abs=1e-9)
+    assert nearest_wall_m(corners[-1]) == pytest.approx(g.width_m / 2, abs=1e-9)

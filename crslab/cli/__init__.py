@@ -1,8 +1,9 @@
 """The ``crslab`` command: one module per group of subcommands, registered in ``COMMANDS``.
 
-Each command module exposes ``register(subparsers)``, which adds its parsers and sets
-``func`` (``args -> exit status``). Expected failures raise :class:`CliError` and become one
-line on stderr with status 2 (or the error's own status); nothing prints a traceback.
+Each command module (listed in ``COMMANDS`` with its commands) exposes ``register(subparsers)``,
+which adds its parsers and sets ``func`` (``args -> exit status``). Expected failures raise
+:class:`CliError` and become one line on stderr with status 2 (or the error's own status);
+nothing prints a traceback.
 """
 
 from __future__ import annotations
@@ -15,24 +16,27 @@ from collections.abc import Sequence
 
 from crslab.untrusted_text import for_terminal
 
-COMMANDS = [
-    "crslab.cli.kinematics_commands",
-    "crslab.cli.sim_commands",
-    "crslab.cli.debug_commands",
-    "crslab.cli.scenario_commands",
-    "crslab.cli.regress_commands",
-    "crslab.cli.contest_commands",
-    "crslab.cli.sweep_commands",
-    "crslab.cli.traj_commands",
-    "crslab.cli.toolbox_commands",
-    "crslab.cli.scope_commands",
-    "crslab.cli.serial_commands",
-    "crslab.cli.doctor_commands",
-    "crslab.cli.identify_commands",
-    "crslab.cli.new_commands",
-    "crslab.cli.friction_commands",
-    "crslab.cli.serve_commands",
-]
+COMMANDS: dict[str, tuple[str, ...]] = {
+    "crslab.cli.kinematics_commands": ("fk", "ik"),
+    "crslab.cli.sim_commands": ("sim",),
+    "crslab.cli.debug_commands": ("debug",),
+    "crslab.cli.scenario_commands": ("scenarios",),
+    "crslab.cli.regress_commands": ("record", "check", "grade"),
+    "crslab.cli.contest_commands": ("contest",),
+    "crslab.cli.sweep_commands": ("sweep",),
+    "crslab.cli.traj_commands": ("traj",),
+    "crslab.cli.toolbox_commands": ("robots", "workspace", "rot"),
+    "crslab.cli.scope_commands": ("vars", "plot"),
+    "crslab.cli.serial_commands": ("map", "serial"),
+    "crslab.cli.doctor_commands": ("doctor",),
+    "crslab.cli.identify_commands": ("identify",),
+    "crslab.cli.new_commands": ("new",),
+    "crslab.cli.friction_commands": ("friction",),
+    "crslab.cli.serve_commands": ("serve",),
+}
+"""Each command module and the commands its ``register`` adds (tests/test_cli_imports.py checks
+the two agree). ``crslab COMMAND ...`` imports only COMMAND's module: each command's start pays
+for its own imports (MuJoCo, numpy, a web server...), not for every other command's."""
 
 
 class CliError(Exception):
@@ -125,8 +129,9 @@ class CommandsParser(OneLineParser):
         return next(a for a in self._actions if isinstance(a, argparse._SubParsersAction))
 
 
-def build_parser() -> CommandsParser:
-    """The full ``crslab`` parser with every registered subcommand."""
+def build_parser(command: str | None = None) -> CommandsParser:
+    """The ``crslab`` parser with every registered subcommand, or with only the module of
+    ``command`` (and ``help``) when ``command`` names one."""
     from crslab import __version__
 
     parser = CommandsParser(
@@ -136,7 +141,8 @@ def build_parser() -> CommandsParser:
     )
     parser.add_argument("--version", action="version", version=f"crslab {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
-    for name in COMMANDS:
+    modules = [m for m, names in COMMANDS.items() if command in names] or list(COMMANDS)
+    for name in modules:
         importlib.import_module(name).register(sub)
     h = sub.add_parser("help", help="show the help of a command ('crslab help sim'), or this list")
     h.add_argument("topic", nargs="?", metavar="COMMAND", help="the command")
@@ -188,12 +194,12 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         start_writer(sys.argv[1:])
         termination.install()  # SIGTERM and SIGHUP clean up as Ctrl-C does
+    argv = list(sys.argv[1:] if argv is None else argv)
     try:
-        parser = build_parser()
+        parser = build_parser(argv[0] if argv else None)
     except ResourceError as exc:  # a broken installation: say how to repair it
         print(f"crslab: {exc}", file=sys.stderr)
         return 2
-    argv = list(sys.argv[1:] if argv is None else argv)
     unknown = _unknown_command(parser, argv)
     if unknown:
         print(unknown, file=sys.stderr)

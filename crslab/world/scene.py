@@ -188,9 +188,19 @@ def _groove_plate(parent: ET.Element, world: World, mat: _Materials) -> None:
     bottom = top - 2 * sz
     _box(body, "groove_floor", (0, 0, (bottom + floor) / 2), (sx, sy, (floor - bottom) / 2), a, STEEL)
     corners = np.asarray(g.corners_xy_m) - (px, py)
-    thick, zc, zh = 0.012, (floor + top) / 2, (top - floor) / 2
+    # thin walls: at the Z's sharp corners (over 90 degrees) a wall's box, running from the inner
+    # corner's mitre point, sticks out of its side into the other leg's channel as far as it is
+    # thick; 3 mm keeps every wall more than the peg's radius from the centre line (12 mm walls
+    # stood 3.4 mm from it, and a peg following the groove jammed on them)
+    thick, zc, zh = 0.003, (floor + top) / 2, (top - floor) / 2
+    # each wall runs on past the Z's two ends to the caps' outer faces (w / 2 + thick beyond the
+    # end): the channel is closed there, no gap between a wall's end and a cap for the peg to enter
+    ends = np.array(corners)
+    for a_, b_ in ((0, 1), (-1, -2)):
+        ends[a_] = corners[a_] + (corners[a_] - corners[b_]) / np.linalg.norm(corners[a_] - corners[b_]) * (
+            w / 2 + thick)
     for side, sign in (("left", 1.0), ("right", -1.0)):
-        line = _offset_polyline(corners, sign * w / 2)
+        line = _offset_polyline(ends, sign * w / 2)
         for i in range(3):
             p, q = line[i], line[i + 1]
             u = (q - p) / np.linalg.norm(q - p)
