@@ -35,6 +35,8 @@ NATIVE_ONLY = {"firmware_native.c", "debug.c"}
 native port and what a debugger reads (a second ``crs_tick`` here would be the one gdb finds)."""
 SOURCES = (sorted(KIN.glob("*.c")) + sorted(p for p in BOARD.glob("*.c") if p.name not in NATIVE_ONLY)
            + sorted(PLANT.glob("*.c")) + sorted(PORT.glob("*.c")))
+INCLUDE_DIRS = (KIN, BOARD, PLANT, PORT)
+"""Where the core's sources find their headers."""
 C_FLAGS = ["-std=c11", "-O3", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-fno-trapping-math"]
 # glibc's vector math (libmvec) backs the vectorized batch loops on x86-64 Linux.
 LIBRARIES = (["m", "mvec"] if platform.machine() == "x86_64" and sys.platform == "linux" else ["m"]) + ["dl"]
@@ -57,7 +59,7 @@ ffibuilder.set_source(
     "crslab._core",
     "\n".join(f'#include "{h.name}"' for h in HEADERS),
     sources=[str(s.relative_to(HERE.parent)) for s in SOURCES],
-    include_dirs=[str(d.relative_to(HERE.parent)) for d in (KIN, BOARD, PLANT, PORT)],
+    include_dirs=[str(d.relative_to(HERE.parent)) for d in INCLUDE_DIRS],
     extra_compile_args=C_FLAGS,
     libraries=LIBRARIES,
 )

@@ -26,6 +26,7 @@ from crslab.scenario.fault_events import WristEstop
 from crslab.scenario.load import load_scenario
 from crslab.sim.api import make_config
 from crslab.sim.inprocess import InProcessRun
+from crslab.worker.board_ffi import BOARD_HEADERS
 
 LAB = Path(__file__).parent / "labs" / "framework_rules.c"
 LAB_GEN_B = Path(__file__).parent / "labs" / "framework_rules_gen_b.c"
@@ -67,8 +68,8 @@ class Board:
         self.worker = self.run.worker
         self.sim = self.worker.sim
         self.ffi = FFI()
-        for header in ("port/firmware_board.h", "board/sim.h", "board/debug.h", "kin/traj_profiles.h",
-                       "board/framework.h", "plant/hand.h"):
+        for header in (*BOARD_HEADERS, "board/debug.h", "kin/traj_profiles.h", "board/framework.h",
+                       "plant/hand.h"):
             self.ffi.cdef(cdef_from_header(resources.path("csrc", *header.split("/")).read_text()))
         self.ffi.cdef(BOARD_FUNCTIONS + LAB_VARIABLES[lab])
         # the library the worker loaded (found among those loaded, not opened again)

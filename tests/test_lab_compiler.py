@@ -92,12 +92,13 @@ def test_a_lab_built_with_clang_prints_what_the_gcc_build_prints(tmp_path):
 
 @pytest.mark.requires("clang")
 def test_the_c_core_builds_with_clang_under_the_wheel_flags(tmp_path):
-    """csrc/cffi_build.py's flags (-O3 -Werror ...) work with clang on every kinematics source."""
+    """csrc/cffi_build.py's flags (-O3 -Werror ...) work with clang on every source of the core."""
     spec = importlib.util.spec_from_file_location("cffi_build", ROOT / "csrc" / "cffi_build.py")
     build = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(build)
     for source in build.SOURCES:
-        r = subprocess.run(["clang", *build.C_FLAGS, "-fPIC", "-I", str(build.KIN), "-c", str(source), "-o",
+        includes = [arg for folder in build.INCLUDE_DIRS for arg in ("-I", str(folder))]
+        r = subprocess.run(["clang", *build.C_FLAGS, "-fPIC", *includes, "-c", str(source), "-o",
                             str(tmp_path / f"{source.stem}.o")], capture_output=True, text=True)
         assert r.returncode == 0, r.stderr
 

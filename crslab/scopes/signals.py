@@ -105,7 +105,7 @@ def signals_of(log: dict[str, np.ndarray] | None) -> tuple[Signal, ...]:
     world's columns.
 
     >>> len(signals_of({})), len(signals_of({"egg_force": np.zeros((0, 1))})) - len(SIGNALS)
-    (20, 11)
+    (26, 11)
     """
     return SIGNALS + WORLD_SIGNALS if log is not None and "egg_force" in log else SIGNALS
 

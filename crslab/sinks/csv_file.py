@@ -13,10 +13,10 @@ before Simulink's 5 ms sampling and 1e-4 quantization (the rerun scope shows tho
 ...        "tau_applied": np.zeros((2, 3)), "plot": np.full((2, 4), 0.5),
 ...        "safety": np.zeros((2, 1), np.int32),
 ...        "leds": np.array([[0], [3]], np.uint32), "motor_board_off": np.array([[0], [1]], np.int32),
-...        "qpos_dh_rad": np.zeros((2, 3))}
+...        "qpos_dh_rad": np.zeros((2, 3)), "ee": np.zeros((2, 3)), "push_force": np.zeros((2, 3))}
 >>> sink.on_log(log); sink.close()
 >>> text = out.getvalue().decode().splitlines()
->>> text[0].split(",")[:3], text[2].split(",")[:2], text[2].split(",")[-7:-3]
+>>> text[0].split(",")[:3], text[2].split(",")[:2], text[2].split(",")[15:19]
 (['tick', 't [s]', 'theta1motor [rad]'], ['1', '0.001'], ['0', '1', '1', '1'])
 """
 
