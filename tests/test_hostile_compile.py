@@ -514,6 +514,29 @@ def test_the_reaper_removes_a_build_whose_crslab_died(tmp_path):
     wait_until(lambda: not made.exists(), "the removal of the dead build's folder", 15)
 
 
+def test_the_reaper_kills_the_compilers_group_when_crslab_dies(tmp_path):
+    """A compiler's own children (zig cc's ``zig clang``, gcc's ``cc1``) do not get the parent-death
+    signal: when crslab dies, the reaper kills them by the compiler's process group (/bin/sh may be
+    dash, whose kill needs ``-s KILL -- -PGID``, not ``-KILL -- -PGID``)."""
+    pid_file = tmp_path / "grandchild"
+    code = ("import os, signal\nfrom crslab.lab.compile_process import start_compile\n"
+            f"start_compile(['sh', '-c', 'sleep 300 & echo $! > {pid_file}; wait'], "
+            "env={'PATH': os.environ['PATH']})\nprint('started', flush=True)\nsignal.pause()\n")
+    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == "started"
+        wait_until(lambda: pid_file.is_file() and pid_file.read_text().endswith("\n"), "the grandchild's id")
+        pid = int(pid_file.read_text())
+        start = int(Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[19])
+        assert still_running({(pid, start)})
+        proc.kill()
+        proc.wait()
+        wait_until(lambda: not still_running({(pid, start)}), "the end of the compiler's own child", 15)
+    finally:
+        proc.kill()
+        proc.wait()
+
+
 def test_a_compile_is_bounded_in_memory():
     assert compile_process.COMPILE_MEMORY_BYTES <= 2 * 1024 ** 3
     text = (ROOT / "docs" / "sandbox.md").read_text()

@@ -15,7 +15,8 @@ files, and writes only the build folder; a file it may not read is "not there", 
 lab whose globals do not fit the F28335's data memory, as the TI linker would lay them out, does not
 build either (:func:`check_board_memory`). Builds are cached per user (each sealed: a file planted in
 the cache is not loaded), named by the lab's text, by what the compiler read of the lab's folder and
-the names in it, by the flags and by the compiler's identity.
+the names in it (the cache itself left out, when it lies in that folder), by the flags and by the
+compiler's identity.
 """
 
 from __future__ import annotations
@@ -86,6 +87,9 @@ SANITIZE_FLAGS = ["-fsanitize=address,undefined", "-fno-sanitize=bounds,object-s
 DEBUG_LAB_FLAGS = ["-O0", "-g", "-fno-omit-frame-pointer"]
 DEBUG_BOARD_FLAGS = ["-g"]
 LINK_LIBS = os_support.MATH_LIBS
+NATIVE_RECIPE = b"unit named as the lab"
+"""How a native build compiles the lab (part of its name): a build made another way (an older
+crslab's) is not this one."""
 TRAP_SOURCE = CSRC / "sandbox" / "trap.c"
 TRAP_HEADERS = [CSRC / "sandbox" / "trap.h", *sorted(BOARD.glob("*.h")), *sorted(PLANT.glob("*.h")),
                 *sorted(PORT.glob("*.h"))]
@@ -282,7 +286,7 @@ def _variant(home: Path, lab: Path, image: str) -> Path | None:
     only what this user's build sealed counts. None when there is none."""
     if not home.is_dir():
         return None
-    files = allowed_files(lab.absolute().parent)
+    files = allowed_files(lab.absolute().parent, [home.parent])  # the cache is no part of the lab
     listing = folder_listing(files)
     paths = {name: path for name, path, _ in files}
     for variant in sorted(home.iterdir()):
@@ -330,7 +334,7 @@ def _cached_or_built(home: Path, src: Path, text: bytes, image: str,
     found = _variant(home, src, image)
     if found is not None:
         return found
-    with PrivateBuild(src, text) as private:
+    with PrivateBuild(src, text, leave_out=[home.parent]) as private:
         outputs, reads = build(private)
         return _keep(home, private, reads, outputs)
 
@@ -388,7 +392,8 @@ def _build_native(src: Path, text: bytes, flags: list[str], calls: str, break_wh
     cc = compiler()
     objects = _board_objects(cc, sanitize, cache, debug)
     flags = [*flags, *lab_flags(cc.family)]
-    digest = content_digest([text, " ".join(flags).encode(), src.suffix.encode(), calls.encode()]
+    digest = content_digest([NATIVE_RECIPE, text, " ".join(flags).encode(), src.suffix.encode(),
+                             calls.encode()]
                             + [o.parent.name.encode() for o in objects[:1]]  # it names the compiler
                             + ([break_when.encode()] if break_when is not None else [])
                             # a debugger finds the source by the path compiled into the build
@@ -403,13 +408,19 @@ def _build_native(src: Path, text: bytes, flags: list[str], calls: str, break_wh
         readable = [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent]
         sandbox = compiler_sandbox([], tmp, readable, compiler=cc.argv) if sandboxed else None
         obj = tmp / "lab.o"
-        # the unit includes the lab's copy, then the framework's calls of its functions
-        compiled, what = tmp / "lab_unit.c", src.name
+        # the unit includes the lab's copy, then the framework's calls of its functions (their
+        # lines are crslab-calls' and --break-when's): it is named as the lab, in a folder of its
+        # own named as the lab's, so the debug information names the lab's file (the compilation
+        # unit's name) where it is, as gdb shows it
+        unit_dir = tmp / "unit"
+        unit_dir.mkdir()
+        compiled, what = unit_dir / copy.name, src.name
         compiled.write_text(native_unit(copy, calls, break_when))
         if break_when is not None:
             what = f"{src.name} with --break-when {break_when!r}"
-        maps = [f"-fmacro-prefix-map={copy.parent}/={shown}",
-                f"-fdebug-prefix-map={copy.parent}={shown.rstrip('/') or '.'}"]
+        maps = [arg for folder in (copy.parent, unit_dir)
+                for arg in (f"-fmacro-prefix-map={folder}/={shown}",
+                            f"-fdebug-prefix-map={folder}={shown.rstrip('/') or '.'}")]
         try:
             messages = run_compiler([*cc.argv, *flags, *ERROR_LIMIT, *maps, "-iquote", str(copy.parent),
                                      *INCLUDES, "-MD", "-MF", str(tmp / "reads.d"), "-x", "c", "-c",

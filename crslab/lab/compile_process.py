@@ -81,10 +81,12 @@ class CompileRun:
     timed_out: bool
 
 
-def allowed_files(folder: Path) -> list[tuple[str, Path, int]]:
+def allowed_files(folder: Path, leave_out: Sequence[Path] = ()) -> list[tuple[str, Path, int]]:
     """The files of ``folder`` a compiler may see, as (name from the folder, path, size in bytes),
     in a stable order: regular files (a symbolic link only when it leads to a regular file inside
-    the folder), :data:`COPY_MAX_DEPTH` folders deep (hidden folders left out), each at most
+    the folder), :data:`COPY_MAX_DEPTH` folders deep (hidden folders and the folders ``leave_out``
+    left out: crslab's build cache, when it lies in the lab's folder, is no part of the lab and
+    changes with every build), each at most
     :data:`COPY_MAX_FILE_BYTES`, at most :data:`COPY_MAX_FILES` of them and :data:`COPY_MAX_BYTES`
     in all. A FIFO, a socket, a device, a link out of the folder are not among them.
 
@@ -95,6 +97,7 @@ def allowed_files(folder: Path) -> list[tuple[str, Path, int]]:
     [('in.h', 6), ('lab.c', 6)]
     """
     root = os.path.realpath(folder)
+    left_out = {os.path.realpath(f) for f in leave_out}
     out: list[tuple[str, Path, int]] = []
     total = 0
     level = [("", Path(folder))]
@@ -113,7 +116,8 @@ def allowed_files(folder: Path) -> list[tuple[str, Path, int]]:
                 name = prefix + entry.name
                 try:
                     if entry.is_dir(follow_symlinks=False):
-                        if depth < COPY_MAX_DEPTH and not entry.name.startswith("."):
+                        if (depth < COPY_MAX_DEPTH and not entry.name.startswith(".")
+                                and os.path.realpath(entry.path) not in left_out):
                             below.append((name + "/", Path(entry.path)))
                         continue
                     real = os.path.realpath(entry.path)
@@ -168,7 +172,7 @@ while IFS= read -r l; do
     done) exit 0 ;;
   esac
 done
-[ -n "$g" ] && kill -KILL -- "-$g" 2>/dev/null
+[ -n "$g" ] && kill -s KILL -- "-$g" 2>/dev/null
 [ -n "$1" ] && rm -rf -- "$1"
 exit 0
 """
@@ -336,16 +340,17 @@ class PrivateBuild:
     """A build's private folder (in ``parent``, else the system's temporary folder): ``source`` holds
     a copy of the lab's folder's allowed files (:func:`allowed_files`; none when ``alone``: a
     class's submission, whose folder holds the others), the lab itself as ``copy`` (its ``text``,
-    read once); a :class:`Reaper` removes the folder if crslab dies before :meth:`close` does. Use
-    it as a context manager."""
+    read once); a :class:`Reaper` removes the folder if crslab dies before :meth:`close` does. The
+    folders ``leave_out`` (the build cache) are not copied. Use it as a context manager."""
 
-    def __init__(self, lab: Path, text: bytes, parent: Path | None = None, *, alone: bool = False) -> None:
+    def __init__(self, lab: Path, text: bytes, parent: Path | None = None, *, alone: bool = False,
+                 leave_out: Sequence[Path] = ()) -> None:
         self.lab = Path(lab)
         self.folder = Path(tempfile.mkdtemp(prefix="crslab-build-", dir=parent))
         self.reaper = Reaper(self.folder)
         self.source = self.folder / SOURCE_FOLDER
         self.source.mkdir()
-        self.files = [] if alone else allowed_files(self.lab.absolute().parent)
+        self.files = [] if alone else allowed_files(self.lab.absolute().parent, leave_out)
         for name, path, _ in self.files:
             target = self.source / name
             target.parent.mkdir(parents=True, exist_ok=True)
