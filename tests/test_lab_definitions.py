@@ -165,3 +165,28 @@ def test_calls_strings_comments_and_declarations_are_not_definitions():
             'const char *s = "void lab(void) { }";\n')
     assert find_definitions(text, "lab") == []
     assert [d.declared_only for d in find_definitions(text, "printing")] == [True]
+
+
+def test_grade_s_report_says_the_c89_habits_as_crslab_sim_does(runs, tmp_path):
+    """A submission that builds with C89 habits passes, and its report says each habit in one line,
+    as ``crslab sim`` says it on stderr; one without habits gets none."""
+    subs = tmp_path / "class"
+    subs.mkdir()
+    for name in ("implicit_decls_gen_b.c", "six_params_gen_b.c"):
+        (subs / name).write_bytes((LABS / name).read_bytes())
+    out = tmp_path / "grades"
+    r = subprocess.run([sys.executable, "-m", "crslab", "grade", str(subs), "--reference",
+                        str(LABS / "implicit_decls_gen_b.c"), "--scenario", "hands_off", "--duration", "5.2",
+                        "--no-c28x-check", "--jobs", "1", "--out", str(out)],
+                       capture_output=True, text=True, timeout=600, env=os.environ)
+    assert r.returncode == 1, r.stderr  # six_params_gen_b.c prints something else
+    # sim names the lab as it was given (its path here); grade by its path in the submission
+    sim_said = runs[("implicit_decls_gen_b.c", "wasm")].stderr.splitlines()
+    said = [line.removeprefix("crslab sim: ").replace(f"{LABS}{os.sep}", "") for line in sim_said
+            if line.startswith("crslab sim: warning: ")]
+    assert len(said) == 4 and said[0].startswith("warning: implicit_decls_gen_b.c:")
+    report = (out / "reports" / "implicit_decls_gen_b.c.txt").read_text().splitlines()
+    assert report == ["pass", *said]
+    other = (out / "reports" / "six_params_gen_b.c.txt").read_text()
+    assert other.startswith("mismatch") and "warning:" not in other
+    assert "crslab grade: 1 of 2 submissions use C89 habits that newer compilers refuse" in r.stderr

@@ -195,6 +195,37 @@ def test_a_compile_error_marks_its_line(alice):
     expect(page.locator(".cm-content .cm-lintRange-error")).to_have_count(1)
 
 
+def test_a_c89_habit_is_marked_at_its_line_and_said_in_the_events(alice):
+    """The C89 habits the lab builds with: a warning marker at each line, and each said in the
+    events in one line, as crslab sim says it on stderr (the lab named as the page names it)."""
+    from playwright.sync_api import expect
+
+    page = alice
+    page.get_by_test_id("editor").fill((LABS / "implicit_decls_gen_b.c").read_text())
+    page.get_by_test_id("build").click()
+    name = page.get_by_test_id("lab-name").text_content()
+    expect(page.get_by_test_id("diagnosis")).to_have_text(f"{name} compiled")
+    said = page.locator("#events .build-warning")
+    expect(said).to_have_count(4)  # malloc, average, free, the implicit int: once each
+    lines = said.all_text_contents()
+    implicit_int = f"warning: {name}:17: a declaration without a type, which C89 makes an int"
+    assert lines[0].startswith(implicit_int), lines
+    assert any(x.startswith(f"warning: {name}:24: malloc() is called with no declaration before it") and
+               x.endswith("the pointer malloc() returns is cut to 16 bits there: #include <stdlib.h>")
+               for x in lines), lines
+    own_call = f"warning: {name}:29: average() is called with no declaration"
+    assert any(x.startswith(own_call) for x in lines), lines
+    marked = page.locator(".cm-content .cm-line")
+    for line in (17, 24, 29):
+        expect(marked.nth(line - 1).locator(".cm-lintRange-warning")).to_have_count(1)
+    expect(page.locator(".cm-content .cm-lintRange-error")).to_have_count(0)
+    # a build of a lab without habits takes them away
+    page.get_by_test_id("editor").fill((LABS / "six_params_gen_b.c").read_text())
+    page.get_by_test_id("build").click()
+    expect(said).to_have_count(0)
+    expect(page.locator(".cm-content .cm-lintRange-warning")).to_have_count(0)
+
+
 def test_a_hostile_lab_shows_its_diagnosis(alice):
     from playwright.sync_api import expect
 

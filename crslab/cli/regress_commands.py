@@ -329,7 +329,9 @@ def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, refe
         for made in (transcript.parent, report.parent):  # alice/lab1.c.txt for a student's folder
             made.mkdir(parents=True, exist_ok=True)
         transcript.write_bytes(grade.result.transcript)
-        board = c28x.get(grade.path, C28xReport()).lines()
+        # the C89 habits it built with, one line each as crslab sim says them, then the C28x check's
+        board = [f"warning: {line}" for line in grade.result.habits]
+        board += c28x.get(grade.path, C28xReport()).lines()
         extra = "\n" + "\n".join(board) + "\n" if board else ""
         if grade.grade != GradeClass.PASS:
             more = "" if grade.report.strip() == grade.detail else f"\n{grade.report}\n"  # not said twice
@@ -341,6 +343,11 @@ def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, refe
     with (out / "summary.txt").open("w") as f:
         g.summary_table(ordered, f)
     g.summary_table(ordered, sys.stdout)
+    habits = sum(1 for x in ordered if x.result.habits)
+    if habits:
+        print(f"crslab grade: {habits} of {len(subs)} submissions use C89 habits that newer compilers refuse "
+              "(the board's compiler warns and builds them, so does crslab): in their reports",
+              file=sys.stderr)
     differ = sum(1 for r in c28x.values() if r.findings)
     if differ:
         print(f"crslab grade: {differ} of {len(subs)} submissions have places where the board's arithmetic "

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import os
 import re
 import sys
 import tempfile
@@ -250,7 +251,8 @@ def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, lim
         copy = Path(folder) / (where or path.name)
         copy.parent.mkdir(parents=True, exist_ok=True)
         copy.write_bytes(source)
-        return _build_and_run(path, copy, config, end_tick, deadline_s, limits, start, alone=not files)
+        return _build_and_run(path, copy, config, end_tick, deadline_s, limits, start, alone=not files,
+                              root=Path(folder))
 
 
 def _alone_note(path: Path, diagnostics: str) -> str:
@@ -265,7 +267,7 @@ def _alone_note(path: Path, diagnostics: str) -> str:
 
 
 def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, deadline_s: float,
-                   limits: Limits, start: float, alone: bool = False) -> RunResult:
+                   limits: Limits, start: float, alone: bool = False, root: Path | None = None) -> RunResult:
     from crslab.lab.build import LabBuildError, LabForbidden, build_lab
     from crslab.regress.runner import run_lab
     from crslab.scenario.load import ScenarioError, check_lab
@@ -284,16 +286,20 @@ def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, d
         first = _first_error(exc.diagnostics, path.name)
         note = _alone_note(path, exc.diagnostics) if alone else ""
         return ended(RunStatus.BUILD_ERROR, (first or str(exc)) + note, exc.diagnostics)
+    # what the board's compiler would warn about, said in the report, by the file's path in the
+    # submission (not the private copy's folder)
+    inside = f"{root}{os.sep}" if root is not None else None
+    habits = tuple(h.removeprefix(inside) if inside else h for h in build.habits)
     try:
         check_lab(config.scenario, build)
     except ScenarioError as exc:
-        return ended(RunStatus.UNFIT, str(exc))
+        return dataclasses.replace(ended(RunStatus.UNFIT, str(exc)), habits=habits)
     try:
         result = run_lab(dataclasses.replace(config, build=build), end_tick, deadline_s=deadline_s,
                          limits=limits)
     except SimError as exc:
-        return ended(exc.status, str(exc))
-    return dataclasses.replace(result, lab_file=path, wall_s=time.monotonic() - start)
+        return dataclasses.replace(ended(exc.status, str(exc)), habits=habits)
+    return dataclasses.replace(result, lab_file=path, wall_s=time.monotonic() - start, habits=habits)
 
 
 @dataclass(frozen=True)

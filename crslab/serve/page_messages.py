@@ -270,3 +270,21 @@ def compile_diagnostics(text: str, file_name: str) -> list[dict]:
                 }
             )
     return out
+
+
+def habit_diagnostics(habits: tuple[str, ...] | list[str], file_name: str) -> list[dict]:
+    """The C89 habits a lab built with (``file:line: what the board does``, :mod:`crslab.lab.c89_habits`)
+    as warning markers at their lines, each saying it as ``crslab sim`` does (the file by its name).
+
+    >>> [m] = habit_diagnostics(["/tmp/s/lab.c:24: malloc() is called with no declaration"], "lab.c")
+    >>> (m["line"], m["severity"], m["message"])
+    (24, 'warning', 'lab.c:24: malloc() is called with no declaration')
+    """
+    out = []
+    for habit in habits:
+        m = re.match(r"^.*?:(\d+): (.*)$", habit)
+        if m:
+            line = int(m.group(1))
+            out.append({"line": line, "column": 1, "severity": "warning",
+                        "message": f"{file_name}:{line}: {m.group(2)}"})
+    return out

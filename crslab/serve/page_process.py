@@ -32,7 +32,7 @@ from crslab.live.console import VarConsole
 from crslab.plant.plant_params import PlantParamsError
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
-from crslab.serve.page_messages import compile_diagnostics
+from crslab.serve.page_messages import compile_diagnostics, habit_diagnostics
 from crslab.serve.page_text import SESSION_SUBFOLDERS, PageText
 from crslab.serve.recorder import RecorderSink
 from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
@@ -170,7 +170,7 @@ class Session:
                 "built",
                 ok=True,
                 message=f"{path.name} compiled",
-                diagnostics=[],
+                diagnostics=habit_diagnostics(build.habits, path.name),  # the C89 habits, as warnings
                 watched=watched,
                 generation=build.generation.name,
             ),

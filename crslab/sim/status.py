@@ -127,6 +127,9 @@ class RunResult:
     lab_file: Path | None = None
     wall_s: float = 0.0
     expectations: list[ExpectOutcome] = field(default_factory=list)
+    habits: tuple[str, ...] = ()
+    """The C89 habits the lab was built with, one line each saying what the board does
+    (:mod:`crslab.lab.c89_habits`), when the caller built it (``crslab grade``)."""
 
     @property
     def ok(self) -> bool:

@@ -71,6 +71,15 @@
     line.textContent = text;
     $("events").appendChild(line);
     $("events").scrollTop = $("events").scrollHeight;
+    return line;
+  }
+  // The build's warnings (the C89 habits the board's compiler builds), one line each as crslab sim
+  // says them, above the run's events; a new build replaces them.
+  function buildWarnings(diagnostics) {
+    $("events").querySelectorAll(".build-warning").forEach((e) => e.remove());
+    for (const d of diagnostics.filter((x) => x.severity === "warning")) {
+      note(`warning: ${d.message}`).classList.add("build-warning");
+    }
   }
   const at = (tick) => `t = ${(tick / 1000).toFixed(3)} s`;
 
@@ -82,8 +91,9 @@
         if (!m.ok) {
           const first = m.diagnostics.find((d) => d.severity === "error");
           diagnose(first ? `${m.message}: line ${first.line}: ${first.message}` : m.message, true);
-        } else if (!state.running) {
-          diagnose(m.message, false);
+        } else {
+          buildWarnings(m.diagnostics);
+          if (!state.running) diagnose(m.message, false);
         }
         if (m.watched) setWatched(m.watched.map((w) => w.name));
         break;
