@@ -43,6 +43,49 @@ if "CRSLAB_ZIG_LIBC_DIR" not in os.environ:
     os.environ["CRSLAB_ZIG_LIBC_DIR"] = str(libc_homes()[0])
 
 
+# `make test` runs the suite in two pytest-xdist workers, a file at a time (--dist loadfile): a free
+# worker takes the next file of the collection. The files that take longest go first (measured with
+# --durations; the rest keep their order), so the two workers end together instead of one running a
+# long file alone at the end; xdist's own order (by number of tests: the long files with few tests
+# came last) is turned off. The docs test builds the wheel the packaging test shares
+# (:func:`installed_wheel`): the packaging test comes once the other worker has had work of its own
+# for that long, so it does not wait for the wheel idle.
+SLOW_FIRST = (
+    "test_docs_commands.py",
+    "test_firmware_hostile.py",
+    "test_hostile_compile.py",
+    "test_packaging_wheel.py",
+    "test_wasm_firmware.py",
+    "test_c_core.py",
+    "test_scenario_expect.py",
+    "test_identify_cli.py",
+    "test_sweep_dask.py",
+    "test_zig_first_use.py",
+    "test_regress_cli.py",
+    "test_serve_browser.py",
+    "test_serve_protocol.py",
+    "test_sandbox_hostile.py",
+    "test_generations.py",
+    "test_sim_untrusted.py",
+    "test_identify_experiments.py",
+    "test_debug_gdb.py",
+    "test_contest_acceptance.py",
+    "test_regress_pytest_plugin.py",
+)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    if hasattr(config.option, "loadscopereorder"):  # pytest-xdist: keep the order below
+        config.option.loadscopereorder = False
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """The files of :data:`SLOW_FIRST` first, in its order; every other test after them, in the
+    order collected (a stable sort)."""
+    rank = {name: i for i, name in enumerate(SLOW_FIRST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))
+
+
 def missing_program(*names: str) -> str | None:
     """The first of ``names`` not on PATH, else None."""
     return next((n for n in names if shutil.which(n) is None), None)

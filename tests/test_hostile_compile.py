@@ -61,8 +61,17 @@ void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, f
 
 @pytest.fixture(scope="module")
 def shared_cache(tmp_path_factory):
-    """One build cache for the module (the firmware's own objects are built once into it)."""
+    """One build cache for the module's tests that plant files in it or look into it (the firmware's
+    own objects are built once into it)."""
     return tmp_path_factory.mktemp("cache")
+
+
+@pytest.fixture(scope="module")
+def build_cache():
+    """The user's build cache, for the tests that only build in it: keyed by content, it holds the
+    board's and the firmware's own objects already (built by any earlier test or run), so these tests
+    compile only their labs."""
+    return cache_module.cache_dir()
 
 
 def with_sign(sign: int) -> str:
@@ -99,7 +108,7 @@ def folder(base: Path, name: str, lab_text: str, files: dict[str, str]) -> Path:
 
 
 @pytest.mark.parametrize("form", sorted(FORMS))
-def test_two_folders_that_differ_only_in_a_header_get_two_builds(form, shared_cache, tmp_path, monkeypatch):
+def test_two_folders_that_differ_only_in_a_header_get_two_builds(form, build_cache, tmp_path, monkeypatch):
     """alice and bob each build ``lab.c`` (byte-identical, given by the same name from their own
     folder) in one cache: bob's header is his, so his build is not alice's (finding 3)."""
     prefix, alice_files, bob_files = FORMS[form]
@@ -107,17 +116,17 @@ def test_two_folders_that_differ_only_in_a_header_get_two_builds(form, shared_ca
     alice = folder(tmp_path, "alice", text, alice_files)
     bob = folder(tmp_path, "bob", text, bob_files)
     monkeypatch.chdir(alice)
-    a = build_lab(Path("lab.c"), cache=shared_cache)
+    a = build_lab(Path("lab.c"), cache=build_cache)
     monkeypatch.chdir(bob)
-    b = build_lab(Path("lab.c"), cache=shared_cache)
+    b = build_lab(Path("lab.c"), cache=build_cache)
     assert a.digest != b.digest
     assert a.image.read_bytes() != b.image.read_bytes()
     # and each is found again (the key is cheap on a hit: no compile)
     monkeypatch.chdir(alice)
-    assert build_lab(Path("lab.c"), cache=shared_cache).image == a.image
+    assert build_lab(Path("lab.c"), cache=build_cache).image == a.image
 
 
-def test_alice_and_bob_with_crslab_check(shared_cache, tmp_path):
+def test_alice_and_bob_with_crslab_check(build_cache, tmp_path):
     """The issue's case end to end: bob's lab.c is byte-identical to alice's, his header (included
     through a macro) flips the torque signs; after alice ran in the same cache, bob's run prints
     what his own build prints (sign -1), not alice's."""
@@ -125,7 +134,7 @@ def test_alice_and_bob_with_crslab_check(shared_cache, tmp_path):
     text = HEAD + prefix + BODY
     alice = folder(tmp_path, "alice", text, alice_files)
     bob = folder(tmp_path, "bob", text, bob_files)
-    env = {**os.environ, "CRSLAB_CACHE_DIR": str(shared_cache)}
+    env = {**os.environ, "CRSLAB_CACHE_DIR": str(build_cache)}
 
     def run(where: Path) -> str:
         r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--lab", "lab.c", "--fast", "--duration",
@@ -138,16 +147,16 @@ def test_alice_and_bob_with_crslab_check(shared_cache, tmp_path):
     assert "sign -1" in run(bob)
 
 
-def test_an_edited_header_is_built_anew(shared_cache, tmp_path):
+def test_an_edited_header_is_built_anew(build_cache, tmp_path):
     """``record`` and ``sim`` after a header is edited run the edited code."""
     where = folder(tmp_path, "lab", HEAD + '#define H "signs.h"\n#include H\n' + BODY,
                    {"signs.h": with_sign(1)})
-    first = build_lab(where / "lab.c", cache=shared_cache)
+    first = build_lab(where / "lab.c", cache=build_cache)
     (where / "signs.h").write_text(with_sign(-1))
-    second = build_lab(where / "lab.c", cache=shared_cache)
+    second = build_lab(where / "lab.c", cache=build_cache)
     assert first.digest != second.digest
     (where / "signs.h").write_text(with_sign(1))
-    assert build_lab(where / "lab.c", cache=shared_cache).digest == first.digest
+    assert build_lab(where / "lab.c", cache=build_cache).digest == first.digest
 
 
 # -- finding 1: the C28x check reads only a private copy ------------------------------------------
@@ -180,7 +189,7 @@ def test_the_c28x_check_of_a_class_folder_never_shows_a_neighbours_bytes(tmp_pat
 
 
 @pytest.mark.parametrize("board", [pytest.param([], id="wasm"), pytest.param(["--native"], id="native")])
-def test_grade_does_not_reveal_a_neighbours_bytes(tmp_path, board, shared_cache):
+def test_grade_does_not_reveal_a_neighbours_bytes(tmp_path, board, build_cache):
     subs = tmp_path / "class"
     subs.mkdir()
     (subs / "neighbour.c").write_text(SECRET + "\n" + HONEST.read_text())
@@ -190,7 +199,7 @@ def test_grade_does_not_reveal_a_neighbours_bytes(tmp_path, board, shared_cache)
                         "--scenario", "hands_off", "--duration", "1", "--jobs", "2", "--out", str(out),
                         *board],
                        capture_output=True, text=True, timeout=600,
-                       env={**os.environ, "CRSLAB_CACHE_DIR": str(shared_cache)})
+                       env={**os.environ, "CRSLAB_CACHE_DIR": str(build_cache)})
     assert r.returncode in (0, 1), r.stderr[-2000:]
     everything = r.stdout + r.stderr + "".join(p.read_text("utf-8", "replace") for p in out.rglob("*")
                                                if p.is_file())
@@ -225,8 +234,8 @@ def _build_answer(lab: Path, **options) -> str:  # noqa: ANN003
 
 
 @pytest.mark.parametrize("native", [False, True], ids=["wasm", "native"])
-def test_an_existing_forbidden_include_and_a_missing_one_get_the_same_answer(tmp_path, shared_cache, native):
-    there, missing = _answers(tmp_path, lambda lab: _build_answer(lab, cache=shared_cache, native=native))
+def test_an_existing_forbidden_include_and_a_missing_one_get_the_same_answer(tmp_path, build_cache, native):
+    there, missing = _answers(tmp_path, lambda lab: _build_answer(lab, cache=build_cache, native=native))
     assert there == missing
     assert "Permission denied" not in there and "crs_secret" not in there
 
@@ -543,10 +552,10 @@ def test_a_compile_is_bounded_in_memory():
     assert f"{compile_process.COMPILE_MEMORY_BYTES // 2**30} GB of memory" in text
 
 
-def test_json_of_a_kept_build_names_only_the_labs_folder(shared_cache, tmp_path):
+def test_json_of_a_kept_build_names_only_the_labs_folder(build_cache, tmp_path):
     """What a build records of the folder is names from the folder, never a path of the machine."""
     where = folder(tmp_path, "lab", HEAD + '#include "signs.h"\n' + BODY, {"signs.h": with_sign(1)})
-    b = build_lab(where / "lab.c", cache=shared_cache)
+    b = build_lab(where / "lab.c", cache=build_cache)
     record = json.loads((b.image.parent / "reads.json").read_text())
     assert sorted(record["reads"]) == ["signs.h"]
     assert record["listing"] == ["lab.c", "signs.h"]

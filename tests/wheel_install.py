@@ -65,11 +65,19 @@ class Installed:
                    cwd=self.work, env={**self.env, "CRSLAB_DOC_CWD": str(cwd or self.work)}, timeout=timeout)
 
 
+NO_BYTECODE = {"PIP_NO_COMPILE": "1"}
+"""pip's own setting: no byte-compiling of what it installs. The wheel's dependencies are 1.5 GB of
+about 7,600 modules (ziglang, rerun-sdk, pyarrow, scipy, ...), which pip would compile to .pyc at
+install for half a minute of CPU; a run imports a few hundred of them, compiled when first imported.
+What is installed, and how a student's commands run it, is the same."""
+
+
 def install_wheel(base: Path) -> Installed:
     """Build the wheel from a clean copy of the checkout and install it as first-lab.md says."""
     source = clean_copy(base / "crslab-src")
     dist = base / "dist"
-    r = run(sys.executable, "-m", "build", "--outdir", dist, source)  # the sdist, then the wheel from it
+    # the sdist, then the wheel from it (each in an isolated environment of its own, which pip fills)
+    r = run(sys.executable, "-m", "build", "--outdir", dist, source, env={**os.environ, **NO_BYTECODE})
     assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-3000:]
     [wheel], [sdist] = sorted(dist.glob("*.whl")), sorted(dist.glob("*.tar.gz"))
     work = base / "work"
@@ -80,7 +88,7 @@ def install_wheel(base: Path) -> Installed:
     (tools / "python3").symlink_to(sys.executable)
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "CRSLAB_CACHE_DIR")}
     env.update(PATH=f"{tools}{os.pathsep}{os.environ['PATH']}", CRSLAB_CACHE_DIR=str(base / "cache"),
-               PYTHONNOUSERSITE="1")
+               PYTHONNOUSERSITE="1", **NO_BYTECODE)
     [install, *_] = code_blocks(DOCS / "first-lab.md", "sh")
     assert install.startswith("python3 -m venv .venv"), install
     r = run("bash", "-c", "set -euo pipefail\n" + install, cwd=work, env=env)

@@ -273,9 +273,11 @@ def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, d
     from crslab.scenario.load import ScenarioError, check_lab
     from crslab.sim.session import SimError
 
+    habits: tuple[str, ...] = ()  # the C89 habits it built with, once it built
+
     def ended(status: RunStatus, message: str, details: str = "") -> RunResult:
         return RunResult(status, message=message, details=details, lab_file=path,
-                         wall_s=time.monotonic() - start)
+                         wall_s=time.monotonic() - start, habits=habits)
 
     try:
         build = build_lab(source, native=config.build.native, sanitize=config.build.sanitized,
@@ -293,12 +295,12 @@ def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, d
     try:
         check_lab(config.scenario, build)
     except ScenarioError as exc:
-        return dataclasses.replace(ended(RunStatus.UNFIT, str(exc)), habits=habits)
+        return ended(RunStatus.UNFIT, str(exc))
     try:
         result = run_lab(dataclasses.replace(config, build=build), end_tick, deadline_s=deadline_s,
                          limits=limits)
     except SimError as exc:
-        return dataclasses.replace(ended(exc.status, str(exc)), habits=habits)
+        return ended(exc.status, str(exc))
     return dataclasses.replace(result, lab_file=path, wall_s=time.monotonic() - start, habits=habits)
 
 
