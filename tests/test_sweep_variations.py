@@ -10,7 +10,7 @@ import pytest
 from crslab.lab.source import LabSource
 from crslab.scenario.load import parse_scenario
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 from crslab.sweep import variations
 from crslab.sweep.job import SweepJob, SweepSpec

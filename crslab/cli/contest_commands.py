@@ -17,7 +17,7 @@ from crslab.cli import CliError
 from crslab.cli.run_options import add_run_options, config_from_args, limits_from_args
 from crslab.contest.scorecard import Scorecard, ScorecardError, score
 from crslab.scenario.event import seconds_to_tick
-from crslab.sim.session import SimError
+from crslab.sim.simulation import SimError
 from crslab.sim.status import ExitStatus, RunStatus
 from crslab.untrusted_text import for_terminal
 from crslab.worker.config import SimConfig

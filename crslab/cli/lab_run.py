@@ -23,9 +23,10 @@ from crslab.cli.run_report import near_budget_warning, print_run_notes, summary,
 from crslab.cli.sink_options import check_sinks, open_sinks, preload_sinks, sinks_need_scope_rows
 from crslab.lab.compiler import native_widths_note
 from crslab.scenario.event import seconds_to_tick
+from crslab.sim.assemble import started
 from crslab.sim.running import LiveControl, RunDebugger
-from crslab.sim.session import SimError, Simulation
-from crslab.sim.status import RunResult, RunStatus
+from crslab.sim.simulation import SimError, Simulation
+from crslab.sim.status import RunResult
 from crslab.sinks.narration import NarrationSink
 from crslab.sinks.sink import FanOut, Sink, SinkError
 from crslab.sinks.stdout import StdoutSink
@@ -100,11 +101,8 @@ class LabRun:
         worker and the run (``crslab debug``)."""
         start = time.monotonic()
         try:
-            with Simulation(self.config, deadline_s=self.args.deadline, limits=limits_from_args(self.args),
-                            debug=debug, on_started=self._worker_started) as sim:
-                if not sim.defines_lab:
-                    raise CliError(f"{self.lab_name} defines no lab() function",
-                                   status=RunStatus.NO_LAB.exit_status)
+            with started(self.config, deadline_s=self.args.deadline, limits=limits_from_args(self.args),
+                         debug=debug, on_started=self._worker_started) as sim:
                 open_sinks(self.args, self.config, self.out)
                 self.live.start(self.out)
                 if self.host is not None:

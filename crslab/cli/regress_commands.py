@@ -43,7 +43,7 @@ from crslab.regress.transcript import (
 )
 from crslab.scenario.event import seconds_to_tick
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD
-from crslab.sim.session import SimError
+from crslab.sim.simulation import SimError
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.untrusted_text import for_terminal, for_text
 from crslab.worker.config import SimConfig

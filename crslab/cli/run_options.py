@@ -22,7 +22,7 @@ from crslab.plant.plant_params import PlantParamsError
 from crslab.sandbox import missing as sandbox_missing
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
-from crslab.sim.session import DEFAULT_DEADLINE_S, Limits
+from crslab.sim.simulation import DEFAULT_DEADLINE_S, Limits
 from crslab.sim.status import RunStatus
 from crslab.untrusted_text import for_text
 from crslab.worker.config import SimConfig

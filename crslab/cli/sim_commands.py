@@ -15,7 +15,7 @@ from crslab.cli.sink_options import add_sink_options
 from crslab.cli.tracking_options import TrackingRun, add_tracking_options
 from crslab.lab.c28x_check import C28xCheck, first_run_check, remember
 from crslab.live.console import VarConsole
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.worker.config import SimConfig
 
 

@@ -17,7 +17,7 @@ from crslab.host_tools.ports import PtyPort
 from crslab.host_tools.serial_protocols import read_request, simulink_packet
 from crslab.live.bridge import SerialBridge
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.sink import Sink
 
 READS = 300

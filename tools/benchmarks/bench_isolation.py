@@ -8,7 +8,7 @@ import time
 
 from crslab.sim.api import make_config
 from crslab.sim.inprocess import InProcessRun
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.sink import Sink
 
 REPEATS = 5

@@ -22,7 +22,7 @@ from pathlib import Path
 
 from crslab.lab.build import DEFAULT_LAB, build_lab
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.worker.board_ffi import board_ffi, shared_size
 
 REPEATS = 5

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 
 LAB = Path(__file__).resolve().parents[2] / "tests" / "labs" / "lab3_inverse_dynamics.c"
