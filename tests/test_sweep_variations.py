@@ -13,8 +13,8 @@ from crslab.sim.api import make_config
 from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 from crslab.sweep import variations
-from crslab.sweep.job import SweepJob, SweepSpec
-from crslab.sweep.metrics import run_metrics
+from crslab.sweep.run_metrics import run_metrics
+from crslab.sweep.sample_job import SweepJob, SweepSpec
 
 LAB = Path(__file__).parent / "labs" / "sweep_pd.c"
 END_TICK = 600

@@ -13,7 +13,7 @@ from crslab.cli.lab_run import LabRun, end_tick_of, scope_rows_asked
 from crslab.cli.live_options import add_live_options
 from crslab.cli.run_options import add_run_options, config_from_args, positive
 from crslab.cli.sink_options import add_sink_options
-from crslab.debug.debug_session import DebugPlan, DebugSession
+from crslab.debug.debugged_run import DebugPlan, DebugSession
 from crslab.debug.local_port import PortError
 from crslab.debug.programs import DebuggerMissing, debugger_for
 from crslab.debug.tracer import TracerError

@@ -33,6 +33,7 @@ from typing import Any, ClassVar, NamedTuple, dataclass_transform
 import numpy as np
 
 from crslab.scenario.expect_events import Observation
+from crslab.worker.run_stats import RunStats
 from crslab.worker.worker_reply import UnreadableReply
 
 
@@ -60,6 +61,8 @@ def _plain(value: object) -> object:
         return {**dataclasses.asdict(value), "motor_board_off": int(value.motor_board_off)}
     if isinstance(value, MotorBoardEvent):
         return (value.tick, value.joint, int(value.off))
+    if isinstance(value, RunStats):
+        return value.wire()
     if isinstance(value, tuple | list):
         return [_plain(v) for v in value]
     return value
@@ -150,7 +153,7 @@ class Ran(Message):
 
     code: int
     tick: int
-    stats: dict
+    stats: RunStats
     log: dict | None
     motor_board_events: tuple[MotorBoardEvent, ...]
     observations: tuple[Observation, ...]
@@ -172,7 +175,7 @@ class Error(Message):
 class Stopped(Message):
     """The worker's last counters and scope rows; it ends after this."""
 
-    stats: dict
+    stats: RunStats
     log: dict | None
 
 
@@ -208,18 +211,12 @@ def _items(value: Any, what: str) -> list | tuple:
     return value
 
 
-def _stats(value: Any, what: str = "stats") -> dict:
-    """The board's counters: names to whole numbers, a flag, a name or a list of ticks."""
-    if not isinstance(value, dict):
-        raise _Bad(f"{what} is {type(value).__name__}, not a table")
-    for key, v in value.items():
-        _text(key, f"a key of {what}")
-        if isinstance(v, list):
-            for item in v:
-                _whole(item, f"{what}[{key!r}][...]")
-        elif not isinstance(v, bool | str):
-            _whole(v, f"{what}[{key!r}]")
-    return value
+def _stats(value: Any) -> RunStats:
+    """The board's counters (:class:`~crslab.worker.run_stats.RunStats`), every value checked."""
+    try:
+        return RunStats.read(value)
+    except ValueError as exc:
+        raise _Bad(str(exc)) from None
 
 
 def _log(value: Any) -> dict | None:

@@ -17,7 +17,7 @@ from crslab.sim.assemble import run_kept
 from crslab.sim.simulation import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, SimError
 from crslab.sim.status import RunStatus
 from crslab.sweep import variations
-from crslab.sweep.metrics import METRIC_NAMES, run_metrics
+from crslab.sweep.run_metrics import METRIC_NAMES, run_metrics
 from crslab.sweep.variations import Vary
 from crslab.worker.config import SimConfig
 
