@@ -77,6 +77,15 @@ def test_scope_rows_travel_as_numeric_arrays():
 def test_every_reply_has_a_reader_for_each_of_its_fields():
     for cls in (Ready, Failed, Trapped, Ran, Value, Error, Stopped):
         assert len(worker_messages._FIELDS[cls]) == len(dataclasses.fields(cls)), cls.KIND
+    assert set(worker_messages._STATS) == {f.name for f in dataclasses.fields(RunStats)}
+
+
+def test_run_statistics_read_back_typed_from_the_pipe():
+    stats = RunStats(lab_calls=900, first_over_tick=(4100, 4200), native=True, motor_board="piccolo",
+                     motor_board_events=((4600, 1, True), (6100, 1, False)))
+    back = read_reply(pickle.loads(pickle.dumps(Stopped(stats, None).wire())), Stopped).stats
+    assert back == stats and back.lab_calls == 900 and back.nan_first_tick == -1
+    assert back.motor_board_events[0] == (4600, 1, True) and back.motor_board_events[1][2] is False
 
 
 @pytest.mark.parametrize(("raw", "due", "words"), [

@@ -3,16 +3,12 @@
 :class:`RunStats` (``RunResult.stats``), read by attribute.
 
 On the pipe they travel as a table of plain data (:meth:`RunStats.wire`); the crslab process reads
-that table back with :meth:`RunStats.read`, which checks every value, since a native lab may have
-written it.
+that table back in :mod:`crslab.worker.worker_messages` (``_stats``), which checks every value,
+since a native lab may have written it.
 
->>> stats = RunStats.read({"lab_calls": 900, "first_over_tick": [4100], "native": False})
->>> stats.lab_calls, stats.first_over_tick, stats.nan_first_tick
-(900, (4100,), -1)
->>> RunStats.read({"lab_calls": "900"})
-Traceback (most recent call last):
-...
-ValueError: stats['lab_calls'] = '900', not a whole number
+>>> stats = RunStats(lab_calls=900, first_over_tick=(4100,), motor_board_events=((4600, 1, True),))
+>>> stats.nan_first_tick, stats.wire()["first_over_tick"], stats.wire()["motor_board_events"]
+(-1, [4100], [[4600, 1, 1]])
 """
 
 from __future__ import annotations
@@ -99,67 +95,8 @@ class RunStats:
         """The statistics as plain data (names to ints, a flag, a name, lists of ticks)."""
         return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
 
-    @classmethod
-    def read(cls, raw: Any, what: str = "stats") -> RunStats:
-        """Statistics from their plain form, every value checked: raises ``ValueError`` naming
-        the first that is not what its field holds (a name crslab does not know included)."""
-        if not isinstance(raw, dict):
-            raise ValueError(f"{what} is {type(raw).__name__}, not a table")
-        values: dict[str, Any] = {}
-        for key, value in raw.items():
-            kind = _KINDS.get(key) if isinstance(key, str) else None
-            if kind is None:
-                raise ValueError(f"{what} holds {key!r:.40}, which crslab does not count")
-            values[key] = kind(value, f"{what}[{key!r}]")
-        return cls(**values)
-
 
 def _plain(value: object) -> object:
     if isinstance(value, tuple):  # a list of ticks, or of events whose flag travels as 0 or 1
         return [int(v) if isinstance(v, bool) else _plain(v) for v in value]
     return value
-
-
-def _whole(value: Any, what: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise ValueError(f"{what} = {value!r:.40}, not a whole number")
-    return value
-
-
-def _flag(value: Any, what: str) -> bool:
-    if not isinstance(value, bool):
-        raise ValueError(f"{what} = {value!r:.40}, not a flag")
-    return value
-
-
-def _name(value: Any, what: str) -> str:
-    if not isinstance(value, str):
-        raise ValueError(f"{what} = {value!r:.40}, not a name")
-    return value
-
-
-def _ticks(value: Any, what: str) -> tuple[int, ...]:
-    if not isinstance(value, list | tuple):
-        raise ValueError(f"{what} is {type(value).__name__}, not a list")
-    return tuple(_whole(v, f"{what}[...]") for v in value)
-
-
-def _events(value: Any, what: str) -> tuple[tuple[int, int, bool], ...]:
-    if not isinstance(value, list | tuple):
-        raise ValueError(f"{what} is {type(value).__name__}, not a list")
-    out = []
-    for event in value:
-        if not isinstance(event, list | tuple) or len(event) != 3:
-            raise ValueError(f"{what}[...] is not (tick, joint, off)")
-        out.append((_whole(event[0], f"{what}[...]"), _whole(event[1], f"{what}[...]"),
-                    bool(_whole(event[2], f"{what}[...]"))))
-    return tuple(out)
-
-
-_KINDS = {
-    **{name: _whole for name in BOARD_COUNTERS},
-    "tick": _whole, "first_over_tick": _ticks, "native": _flag, "motor_board": _name,
-    "motor_board_cutouts": _whole, "serial_dropped": _whole, "lab_symbols": _whole,
-    "motor_board_events": _events,
-}
-"""How each field is read from the pipe."""
