@@ -25,7 +25,7 @@ import threading
 from pathlib import Path
 
 import pytest
-from serve_server import USERS, Client, ServeProcess, run_message, write_roster
+from serve_server import USERS, Client, ServeProcess, logged_in, roster_server, run_message, write_roster
 from serve_tables import start_without_processes, table_session
 from waiting import wait_gone, wait_until
 
@@ -221,18 +221,12 @@ def test_one_user_opening_pages_at_once_holds_at_most_the_per_user_cap(monkeypat
 # -- a real server -------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("serve")
-    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000",
-                       "--max-sessions", "6")
-    yield srv
-    srv.stop()
+    yield from roster_server(tmp_path_factory, "--max-sessions", "6")
 
 
 @pytest.fixture(scope="module")
 def alice(server):
-    client = Client(server, server.login("alice"))
-    yield client
-    client.close()
+    yield from logged_in(server, "alice")
 
 
 def test_one_user_cannot_take_every_session(server, alice):
