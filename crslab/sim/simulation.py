@@ -286,7 +286,9 @@ class Simulation:
                 tick = self.block.tick
                 how = f"terminated ({exc.name})" if isinstance(exc, termination.Terminated) else "interrupted"
                 ending = Ending(RunStatus.INTERRUPTED, tick, f"{how} at t = {tick / 1000:.3f} s")
-            return self._ended(ending, sink, printed, pacer)
+            result = self._ended(ending, sink, printed, pacer)
+            sink.on_end(result)  # the end-of-run report, among others: a Ctrl-C now waits for it
+            return result
 
     def _chunks(self, end_tick: int, sink: Sink, printed: _Printed, pacer: Pacer,
                 controls: Sequence[LiveControl], ctrl_c: CtrlC) -> Ending:
