@@ -27,10 +27,12 @@ import tempfile
 import threading
 import time
 from dataclasses import dataclass
+from functools import cache
 from pathlib import Path
 from typing import TextIO
 
 from crslab.cache import cache_dir
+from crslab.sandbox.compile_sandbox import include_search_dirs
 
 FIRST_USE_TIMEOUT_S = 1800.0
 """How long zig's build of a C library may take (40-150 s measured on 2 cores, 5 to over 10 minutes
@@ -64,8 +66,19 @@ def zig_cc() -> list[str]:
     return [str(zig_program()), "cc"]
 
 
+@cache
 def zig_version() -> str:
-    """zig's version, as the ``ziglang`` package records it."""
+    """zig's version, as the ``ziglang`` package records it: the name of its one ``.dist-info``
+    folder beside the package, else importlib.metadata's answer (a cached build's key needs the
+    version at every command's start, and importing importlib.metadata costs it tens of ms).
+
+    >>> from importlib.metadata import version
+    >>> zig_version() == version("ziglang")
+    True
+    """
+    infos = list(zig_dir().parent.glob("ziglang-*.dist-info"))
+    if len(infos) == 1:
+        return infos[0].name.removeprefix("ziglang-").removesuffix(".dist-info")
     from importlib.metadata import version
 
     return version("ziglang")
@@ -185,15 +198,7 @@ def link_inputs(verbose: str, cwd: Path) -> tuple[list[str], list[Path]]:
     >>> link
     [PosixPath('/t/c/o/1/crt1-reactor.o'), PosixPath('/t/c/o/3/libc.a')]
     """
-    includes: list[str] = []
-    searching = False
-    for line in verbose.splitlines():
-        if line.startswith("#include <...> search starts here:"):
-            searching = True
-        elif line.startswith("End of search list."):
-            searching = False
-        elif searching:
-            includes.append(line.strip())
+    includes = include_search_dirs(verbose)
     link: list[Path] = []
     command = next((line for line in verbose.splitlines() if line.startswith("wasm-ld ")), "")
     for word in command.split():

@@ -42,6 +42,7 @@ from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
+from crslab.worker.run_stats import BOARD_COUNTERS, RunStats
 from crslab.worker.wasm_runtime import (
     INTERRUPT_SIGNAL,
     compiled_module_path,
@@ -68,14 +69,6 @@ WORLD_COLUMNS = {  # the C log's "world" row (csrc/plant/world.h CRS_WORLD_ROW_*
 STANDARD_GRAVITY = 9.80665
 """What a scale divides a force by to show grams (m/s^2): scales are calibrated to it."""
 _C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
-
-
-STAT_FIELDS = (
-    "lab_calls", "lab_cost_total", "lab_cost_max", "lab_max_tick", "over_budget", "cost_unit", "budget",
-    "nan_first_tick", "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag",
-    "leds", "estop_latched", "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars",
-    "overflow_phase", "console_bytes",
-)
 
 
 def split_world_row(row: object) -> dict:
@@ -433,16 +426,14 @@ class Worker:
         self.lib.crs_tick = self.sim.tick
         self.lib.crs_debug_break(self.sim.tick)
 
-    def stats(self) -> dict[str, int]:
-        """The board's counters, as plain ints."""
+    def stats(self) -> RunStats:
+        """The board's counters."""
         s = self.sim
-        out = {name: int(getattr(s, name)) for name in STAT_FIELDS}
-        out["tick"] = int(s.tick)
-        out["first_over_tick"] = [int(s.first_over_tick[i]) for i in range(min(8, int(s.over_budget)))]
-        out["native"] = self.config.build.native
-        out["motor_board"] = self.config.motor_board_model
-        out["motor_board_cutouts"] = int(s.motor_board.cutouts)
-        return out
+        over = min(8, int(s.over_budget))
+        return RunStats(**{name: int(getattr(s, name)) for name in BOARD_COUNTERS}, tick=int(s.tick),
+                        first_over_tick=tuple(int(s.first_over_tick[i]) for i in range(over)),
+                        native=self.config.build.native, motor_board=self.config.motor_board_model,
+                        motor_board_cutouts=int(s.motor_board.cutouts))
 
     def take_motor_board_events(self) -> list[worker_messages.MotorBoardEvent]:
         """The motor board's cut-outs starting or ending since the last call."""

@@ -33,6 +33,7 @@ from typing import Any, ClassVar, NamedTuple, dataclass_transform
 import numpy as np
 
 from crslab.scenario.expect_events import Observation
+from crslab.worker.run_stats import BOARD_COUNTERS, RunStats
 from crslab.worker.worker_reply import UnreadableReply
 
 
@@ -60,6 +61,8 @@ def _plain(value: object) -> object:
         return {**dataclasses.asdict(value), "motor_board_off": int(value.motor_board_off)}
     if isinstance(value, MotorBoardEvent):
         return (value.tick, value.joint, int(value.off))
+    if isinstance(value, RunStats):
+        return value.wire()
     if isinstance(value, tuple | list):
         return [_plain(v) for v in value]
     return value
@@ -150,7 +153,7 @@ class Ran(Message):
 
     code: int
     tick: int
-    stats: dict
+    stats: RunStats
     log: dict | None
     motor_board_events: tuple[MotorBoardEvent, ...]
     observations: tuple[Observation, ...]
@@ -172,7 +175,7 @@ class Error(Message):
 class Stopped(Message):
     """The worker's last counters and scope rows; it ends after this."""
 
-    stats: dict
+    stats: RunStats
     log: dict | None
 
 
@@ -208,18 +211,24 @@ def _items(value: Any, what: str) -> list | tuple:
     return value
 
 
-def _stats(value: Any, what: str = "stats") -> dict:
-    """The board's counters: names to whole numbers, a flag, a name or a list of ticks."""
-    if not isinstance(value, dict):
-        raise _Bad(f"{what} is {type(value).__name__}, not a table")
-    for key, v in value.items():
-        _text(key, f"a key of {what}")
-        if isinstance(v, list):
-            for item in v:
-                _whole(item, f"{what}[{key!r}][...]")
-        elif not isinstance(v, bool | str):
-            _whole(v, f"{what}[{key!r}]")
+def _flag(value: Any, what: str) -> bool:
+    if not isinstance(value, bool):
+        raise _Bad(f"{what} = {value!r:.40}, not a flag")
     return value
+
+
+def _stats(value: Any) -> RunStats:
+    """The run's counters (:class:`~crslab.worker.run_stats.RunStats`), every value checked: a
+    name crslab does not count, or a value its field does not hold, is :class:`_Bad`."""
+    if not isinstance(value, dict):
+        raise _Bad(f"stats is {type(value).__name__}, not a table")
+    fields = {}
+    for key, v in value.items():
+        read = _STATS.get(key) if isinstance(key, str) else None
+        if read is None:
+            raise _Bad(f"stats holds {key!r:.40}, which crslab does not count")
+        fields[key] = read(v, f"stats[{key!r}]")
+    return RunStats(**fields)
 
 
 def _log(value: Any) -> dict | None:
@@ -304,6 +313,15 @@ def _value(raw: Any) -> float | list[float] | None:
         return raw
     return [_number(v, "value[...]") for v in _items(raw, "value")]
 
+
+_STATS = {
+    **{name: _whole for name in BOARD_COUNTERS},
+    "tick": _whole, "native": _flag, "motor_board": _text, "motor_board_cutouts": _whole,
+    "serial_dropped": _whole, "lab_symbols": _whole,
+    "first_over_tick": lambda v, what: tuple(_whole(t, f"{what}[...]") for t in _items(v, what)),
+    "motor_board_events": lambda v, what: tuple(tuple(_event(e)) for e in _items(v, what)),
+}
+"""How each field of :class:`~crslab.worker.run_stats.RunStats` is read off the pipe."""
 
 _FIELDS: dict[type[Message], tuple] = {
     Ready: (lambda v: _whole(v, "symbols"),),
