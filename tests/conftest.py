@@ -63,7 +63,7 @@ SLOW_FIRST = (
     "test_zig_first_use.py",
     "test_regress_cli.py",
     "test_serve_browser.py",
-    "test_serve_protocol.py",
+    "test_serve_page_messages.py",
     "test_sandbox_hostile.py",
     "test_generations.py",
     "test_sim_untrusted.py",

@@ -45,3 +45,13 @@ def test_the_suite_waits_for_the_webassembly_compiler_before_its_first_test():
     from crslab.lab.firmware import is_zig_prepared
 
     assert is_zig_prepared()
+
+
+def test_every_file_the_suite_runs_first_exists():
+    """tests/conftest.py's list of the longest files (run first, so make test's two workers end
+    together) names files that are there: a renamed file would silently lose its place."""
+    from conftest import SLOW_FIRST
+
+    tests = Path(__file__).parent
+    assert [name for name in SLOW_FIRST if not (tests / name).is_file()] == []
+    assert len(set(SLOW_FIRST)) == len(SLOW_FIRST)
