@@ -65,11 +65,12 @@ class Installed:
                    cwd=self.work, env={**self.env, "CRSLAB_DOC_CWD": str(cwd or self.work)}, timeout=timeout)
 
 
-NO_BYTECODE = {"PIP_NO_COMPILE": "1"}
-"""pip's own setting: no byte-compiling of what it installs. The wheel's dependencies are 1.5 GB of
-about 7,600 modules (ziglang, rerun-sdk, pyarrow, scipy, ...), which pip would compile to .pyc at
-install for half a minute of CPU; a run imports a few hundred of them, compiled when first imported.
-What is installed, and how a student's commands run it, is the same."""
+NO_BYTECODE = {"PIP_COMPILE": "0"}
+"""pip's own setting for ``--compile``, off (pip reads PIP_NO_COMPILE=1 as compile *on*): no
+byte-compiling of what it installs. The wheel's dependencies are 1.5 GB of about 7,600 modules
+(ziglang, rerun-sdk, pyarrow, scipy, ...), which pip would compile to .pyc at install for half a
+minute of CPU; a run imports a few hundred of them, compiled when first imported. What is
+installed, and how a student's commands run it, is the same."""
 
 
 def install_wheel(base: Path) -> Installed:
