@@ -4,6 +4,7 @@ section 12), compile unmodified and print what they should."""
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from crslab.generations import GEN_A, GEN_B
 from crslab.lab.build import build_lab
@@ -51,8 +52,15 @@ def test_default_lab_is_gen_a_and_watches_whattoprint():
     assert [v.name for v in build.watched] == ["whattoprint", "theta1array", "theta2array"]
 
 
-def test_build_is_cached_by_content(tmp_path, monkeypatch):
-    monkeypatch.setenv("CRSLAB_CACHE_DIR", str(tmp_path / "cache"))
+@pytest.fixture(scope="module")
+def own_cache(tmp_path_factory):
+    """A build cache of this module's own for the tests that build in it and compare what it holds
+    (one, so the firmware's own objects are compiled into it once)."""
+    return tmp_path_factory.mktemp("cache")
+
+
+def test_build_is_cached_by_content(tmp_path, monkeypatch, own_cache):
+    monkeypatch.setenv("CRSLAB_CACHE_DIR", str(own_cache))
     lab = tmp_path / "lab.c"
     lab.write_text((LABS / "persistent_tau.c").read_text())
     first = build_lab(lab)
@@ -64,11 +72,12 @@ def test_build_is_cached_by_content(tmp_path, monkeypatch):
 
 
 
-def test_a_lab_given_by_the_same_name_in_two_folders_is_one_build_naming_neither(tmp_path, monkeypatch):
+def test_a_lab_given_by_the_same_name_in_two_folders_is_one_build_naming_neither(tmp_path, monkeypatch,
+                                                                                  own_cache):
     """``crslab serve`` builds each page's lab by its name from the session's own folder: the same
     text is one build (one compile, one wasmtime compilation) whatever the folder, and the module
     names the lab only as given (``__FILE__``, the debug information a trap's backtrace quotes)."""
-    monkeypatch.setenv("CRSLAB_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setenv("CRSLAB_CACHE_DIR", str(own_cache))
     text = (LABS / "persistent_tau.c").read_text()
     images = []
     for name in ("first-session-folder", "second-session-folder"):
@@ -83,10 +92,10 @@ def test_a_lab_given_by_the_same_name_in_two_folders_is_one_build_naming_neither
     assert b"session-folder" not in module  # ... by name only, in neither folder
 
 
-def test_a_header_the_lab_includes_from_its_folder_names_the_build_too(tmp_path, monkeypatch):
+def test_a_header_the_lab_includes_from_its_folder_names_the_build_too(tmp_path, monkeypatch, own_cache):
     """Editing a header the lab includes from its own folder builds anew: the gain it defines is
     the one the run uses."""
-    monkeypatch.setenv("CRSLAB_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.setenv("CRSLAB_CACHE_DIR", str(own_cache))
     lab = tmp_path / "lab.c"
     lab.write_text((LABS / "persistent_tau.c").read_text().replace(
         "#include", '#include "gains.h"\n#include', 1))
