@@ -87,7 +87,10 @@ def install_wheel(base: Path) -> Installed:
     tools = base / "bin"  # `python3` is the Python running these tests (not another one on PATH)
     tools.mkdir()
     (tools / "python3").symlink_to(sys.executable)
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV", "CRSLAB_CACHE_DIR")}
+    # a student's shell: no PYTHONDONTWRITEBYTECODE either (a module is compiled when first imported
+    # and kept, as on any machine: see NO_BYTECODE)
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("PYTHONPATH", "VIRTUAL_ENV", "CRSLAB_CACHE_DIR", "PYTHONDONTWRITEBYTECODE")}
     env.update(PATH=f"{tools}{os.pathsep}{os.environ['PATH']}", CRSLAB_CACHE_DIR=str(base / "cache"),
                PYTHONNOUSERSITE="1", **NO_BYTECODE)
     [install, *_] = code_blocks(DOCS / "first-lab.md", "sh")
