@@ -12,7 +12,7 @@ from its class (:func:`effect_of` registers one).
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any, Protocol, TypeVar
 
 from crslab.plant.model import set_end_mass
@@ -36,7 +36,7 @@ class EffectTarget(Protocol):
     """What an effect may act on: the worker's board (``sim``, a ``crs_sim *``), its MuJoCo model
     and data, the run's configuration, and the worker's own ways to write the lab's variables,
     Simulink's inputs and the friction, or to note what an expectation sees
-    (:class:`crslab.worker.worker.Worker` is one)."""
+    (:class:`crslab.worker.board.Board` is one)."""
 
     sim: Any
     model: mujoco.MjModel
@@ -68,6 +68,15 @@ def effect_of(kind: type[E]) -> Callable[[Apply[E]], Apply[E]]:
         return effect
 
     return register
+
+
+MODEL_EVENTS: tuple[type[Event], ...] = (EndMass, FrictionScale)
+"""The kinds of events that edit the run's MuJoCo model in place (so its instance cannot share it)."""
+
+
+def changes_model(events: Iterable[Event]) -> bool:
+    """Whether any of ``events`` edits the MuJoCo model in place."""
+    return any(isinstance(e, MODEL_EVENTS) for e in events)
 
 
 def apply_event(worker: EffectTarget, event: Event) -> None:
