@@ -30,8 +30,7 @@ class InProcessRun:
         # never sandboxed: the sandbox would close this very process
         config = dataclasses.replace(config, sandboxed=False)
         self.block = SharedBlock.new()
-        self.worker = Board(config, self.block.memory)
-        self.worker.sim.time_lab = 0
+        self.worker = Board(config, self.block.memory, time_lab=False)
 
     def close(self) -> None:
         """Free the firmware and the shared block."""

@@ -26,12 +26,12 @@ import numpy as np
 
 from crslab.scenario.expect_events import Judge
 from crslab.sim import diagnosis, termination
+from crslab.sim.board_worker import DEFAULT_DEADLINE_S, BoardHandle, BoardWorker, InstanceNotOpened
 from crslab.sim.diagnosis import Ending
 from crslab.sim.firmware_trap import diagnose
 from crslab.sim.host_ports import PortExchange
 from crslab.sim.pacing import Pacer
 from crslab.sim.running import LiveControl, PacedControl, RunDebugger
-from crslab.sim.board_worker import DEFAULT_DEADLINE_S, BoardHandle, BoardWorker, InstanceNotOpened
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sim.worker_process import NO_LIMITS, Limits
 from crslab.sinks.sink import FanOut, Sink

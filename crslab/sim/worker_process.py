@@ -23,7 +23,6 @@ import signal
 import sys
 import tempfile
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from multiprocessing.reduction import DupFd as _spawn_dup
@@ -97,8 +96,10 @@ def _child(conn: Connection, config: SimConfig | None, shared: WorkerFd | None, 
            debug: DebugSetup | None = None, console: WorkerFd | None = None,
            deadline_s: float | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
-    if config is not None and config.build.native:  # a crash is diagnosed by the crslab process, not dumped here (a WebAssembly
-        faulthandler.disable()  # firmware's faults are wasmtime's: its handlers stay as they are)
+    if config is not None and config.build.native:
+        # a crash is diagnosed by the crslab process, not dumped here (a WebAssembly firmware's faults
+        # are wasmtime's: its handlers stay as they are)
+        faulthandler.disable()
     os_support.die_with_parent()  # whatever kills the crslab process
     if debug is not None:  # Ctrl-C on the terminal is the debugger's: it interrupts the lab itself
         os.setpgid(0, 0)
@@ -260,7 +261,8 @@ class WorkerProcess:
                     call_seen[i], call_seen_at[i] = call, time.monotonic()
                 if time.monotonic() - call_seen_at[i] > allowed_s:  # type: ignore[operator]
                     return self._hung(block, phase, deadline_s)
-            if self._rss_limit_mb is not None and self._rss_mb() > self._rss_limit_mb and self.block is not None:
+            over_memory = self._rss_limit_mb is not None and self._rss_mb() > self._rss_limit_mb
+            if over_memory and self.block is not None:
                 tick, phase = self.block.tick, self.block.phase
                 self.kill()
                 return diagnosis.over_memory(self.lab_name, tick, phase, self.limits.memory_mb)

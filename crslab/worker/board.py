@@ -28,7 +28,6 @@ import numpy as np
 from cffi import FFI
 
 from crslab import crs, os_support
-from crslab.framework_facts import CPU_CYCLES_PER_TICK, MOTOR_BOARDS
 from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
 from crslab.lab.watched import WatchedError, WatchedVar, watched_var
 from crslab.plant.model import apply_friction, apply_plant, motor_to_qpos
@@ -37,6 +36,7 @@ from crslab.plant.plant_params import PlantParams
 from crslab.scenario.expect_events import Observation
 from crslab.worker import worker_messages
 from crslab.worker.board_ffi import board_constants, native_board_ffi
+from crslab.worker.board_settings import board_settings, friction
 from crslab.worker.config import SimConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import apply_event
@@ -156,13 +156,15 @@ class Board:
     """One board instance: its plant's data, the board and the lab, stepped in chunks.
 
     ``deadline_s``: a WebAssembly firmware's call running longer is interrupted (None: never).
-    ``model``: the MuJoCo model to run on (:class:`Models` shares one among instances that never
-    change theirs); None: its own, loaded here. ``image``: the firmware's bytes and digest, when the
-    worker already read them (:class:`WasmImages`)."""
+    ``model``: the MuJoCo model to run on (:class:`crslab.worker.worker.Models` shares one among
+    instances that never change theirs); None: its own, loaded here. ``image``: the firmware's bytes
+    and digest, when the worker already read them (:class:`crslab.worker.worker.Images`).
+    ``time_lab`` False counts no lab() call's cost (measuring what timing costs:
+    :mod:`crslab.sim.inprocess`)."""
 
     def __init__(self, config: SimConfig, shared: mmap.mmap, keep_fds: Iterable[int] = (),
                  debug: DebugSetup | None = None, *, deadline_s: float | None = None,
-                 model: object | None = None, image: WasmImage | None = None) -> None:
+                 model: object | None = None, image: WasmImage | None = None, time_lab: bool = True) -> None:
         import mujoco
 
         self.config = config
@@ -194,32 +196,15 @@ class Board:
             self.firmware = WasmMemory(ffi, lib, sim, config.build)
         self.sim = sim
         # the lab's globals as the board's MATLAB code sees them (C28x addresses)
-        self._keep += fill_memory_table(sim, ffi, self.firmware, config.build.memory)
-        sim.mj_model = ffi.cast("void *", self.model._address)
-        sim.mj_data = ffi.cast("void *", self.data._address)
-        sim.mj_step = ffi.cast("crs_mj_step_fn", mj_step)
-        sim.qpos = self._ptr("double *", self.data.qpos)
-        sim.qvel = self._ptr("double *", self.data.qvel)
-        sim.ctrl = self._ptr("double *", self.data.ctrl)
-        sim.qfrc_applied = self._ptr("double *", self.data.qfrc_applied)
-        sim.motor_board.model = MOTOR_BOARDS[config.motor_board_model]
-        sim.strict_nan = int(config.strict_nan)
-        sim.startup_ticks = config.startup_ticks
-        # lab()'s budget in the firmware's cost unit: instructions, or (native) ns at one
-        # instruction per cycle of the F28335 (CPU_CYCLES_PER_TICK per ms)
-        sim.budget = (config.budget_instructions if sim.cost_unit == board_constants().CRS_COST_INSTRUCTIONS
-                      else config.budget_instructions * 1_000_000 // CPU_CYCLES_PER_TICK)
-        for j in range(3):
-            sim.rest_motor_rad[j] = rest[j]
-        self._set_drive(config.plant)
-        self._set_sliding_friction(config.plant)
-        for j in range(3):
-            sim.faults.noise_counts[j] = config.plant.encoder_noise_counts
-        h = sim.hand
-        h.kp_nm_per_rad, h.ki_nm_per_rad_s = config.hand.kp, config.hand.ki
-        h.kd_nm_s_per_rad, h.max_nm = config.hand.kd, config.hand.max_nm
-        sim.debug.break_when = int(config.build.break_when is not None)
-        sim.debug.trap_fp = int(debug is not None and debug.trap_fp)
+        self._keep += fill_memory_table(sim, ffi, self.lib, self.firmware, config.build.memory)
+        plant = {"model": ffi.cast("void *", self.model._address),
+                 "data": ffi.cast("void *", self.data._address),
+                 "step": ffi.cast("crs_mj_step_fn", mj_step), "qpos": self._ptr("double *", self.data.qpos),
+                 "qvel": self._ptr("double *", self.data.qvel), "ctrl": self._ptr("double *", self.data.ctrl),
+                 "qfrc_applied": self._ptr("double *", self.data.qfrc_applied)}
+        self.lib.crs_board_attach_plant(sim, ffi.new("crs_board_plant *", plant))
+        settings = board_settings(config, trap_fp=debug is not None and debug.trap_fp, time_lab=time_lab)
+        self.lib.crs_board_configure(sim, ffi.new("crs_board_config *", settings))
         self._set_world(config.world)
         self.events = list(config.scenario.events)
         self.motor_board_events: list[worker_messages.MotorBoardEvent] = []
@@ -230,13 +215,19 @@ class Board:
             self._columns["world"] = (sum(WORLD_COLUMNS.values()), np.float64)
         if config.log_signals:
             self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in self._columns.items()}
-            sim.log.capacity = LOG_ROWS
-            for k, arr in self._log_arrays.items():
-                setattr(sim.log, k, self._ptr(_C_TYPE[self._columns[k][1]], arr))
+            log = {k: self._ptr(_C_TYPE[self._columns[k][1]], arr) for k, arr in self._log_arrays.items()}
+            self.lib.crs_board_attach_log(sim, ffi.new("crs_log *", {"capacity": LOG_ROWS, **log}))
 
     def _set_world(self, world: World) -> None:
         """Point the board's world (csrc/plant/world.h) at the scene's sensors and the egg's geom."""
-        self._keep += attach_world(self.ffi, self.sim.world, self.model, self.data, world)
+        fixtures = self.ffi.new("crs_world *")
+        self._keep += attach_world(self.ffi, fixtures, self.model, self.data, world)
+        self.lib.crs_board_attach_world(self.sim, fixtures)
+
+    def board_event(self, fields: dict) -> None:
+        """Have the board apply one ``crs_board_event`` (csrc/board/board_config.h) now."""
+        if self.lib.crs_board_apply_event(self.sim, self.ffi.new("crs_board_event *", fields)) != 0:
+            raise ValueError(f"the board knows no event of kind {fields.get('kind')}")
 
     def world_values(self) -> dict[str, float] | None:
         """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...),
@@ -259,9 +250,7 @@ class Board:
 
     def _new_sim(self, config: SimConfig, block: object) -> object:
         sim = self.ffi.new("crs_sim *")
-        self.lib.crs_sim_init(sim)
-        sim.generation = config.build.generation.id
-        sim.shared = block
+        self.lib.crs_board_init(sim, config.build.generation.id, block)
         return sim
 
     def _load_native(self, config: SimConfig, block: object, keep_fds: Iterable[int],
@@ -330,26 +319,12 @@ class Board:
         native firmware)."""
         return 0 if self.config.build.native else int(self.lib.crs_fw_wasm_module_refs(self.sim))
 
-    def _set_drive(self, plant: PlantParams) -> None:
-        drive = self.sim.drive
-        drive.lag_s = plant.drive_lag_s
-        for j in range(3):
-            # the C drive works in the commands' units: the plant's N.m over the motor gain
-            drive.stall_units[j] = plant.stall_nm[j] / plant.motor_gain
-            drive.backemf_units_s_per_rad[j] = plant.backemf_nm_s_per_rad[j] / plant.motor_gain
-
-    def _set_sliding_friction(self, plant: PlantParams) -> None:
-        friction = self.sim.friction
-        friction.transition_rad_s = plant.friction_transition_rad_s
-        for field, values in plant.sliding_units().items():
-            for j in range(3):
-                getattr(friction, field)[j] = values[j]
-
     def set_friction(self, plant: PlantParams) -> None:
         """Run on with ``plant``'s friction."""
         self.plant = plant
         apply_friction(self.model, plant)
-        self._set_sliding_friction(plant)
+        self.board_event({"kind": board_constants().CRS_EVENT_FRICTION,
+                          "friction": friction(plant.sliding_units(), plant.friction_transition_rad_s)})
 
     def _ptr(self, ctype: str, arr: np.ndarray) -> object:
         self._keep.append(arr)
@@ -409,21 +384,13 @@ class Board:
         taken, self.observations = self.observations, []
         return taken
 
-    def set_simulink_input(self, number: int, value: int) -> None:
-        """What Simulink sent on input ``number`` (1..7), as the lab sees it from the next tick."""
-        pointer = self.sim.fw.simulink_input[number - 1]
-        if pointer != self.ffi.NULL:
-            pointer[0] = int(value)
-
     def _drain_log(self) -> None:
-        log = self.sim.log
-        n = int(log.count)
+        n = int(self.lib.crs_board_take_log(self.sim))
         if n:
             block = {k: a[:n].copy() for k, a in self._log_arrays.items()}
             if "world" in block:
                 block.update(split_world_row(block.pop("world")))
             self.log_blocks.append(block)
-            log.count = 0
 
     def run(self, until_tick: int) -> int:
         """Run to ``until_tick`` (events applied on their tick); returns a CRS_RUN_* code."""
@@ -444,11 +411,11 @@ class Board:
 
     def _drain_motor_board_events(self) -> None:
         mb = self.sim.motor_board
+        n = int(self.lib.crs_board_take_motor_board_events(self.sim))
         self.motor_board_events.extend(
             worker_messages.MotorBoardEvent(int(mb.event_tick[i]), int(mb.event_joint[i]),
                                             bool(mb.event_off[i]))
-            for i in range(int(mb.event_count)))
-        mb.event_count = 0
+            for i in range(min(n, len(mb.event_tick))))
 
     def debug_break(self) -> None:
         """Stop in the debugger before the next tick (it then stops at the next ``lab()`` call)."""

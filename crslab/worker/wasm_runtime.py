@@ -18,6 +18,7 @@ from pathlib import Path
 
 from crslab.cache import CacheError, cache_dir, is_sealed, seal
 
+
 class WasmtimeMissing(FileNotFoundError):
     """The wasmtime package (a dependency of crslab) is not installed or lacks its library."""
 
@@ -49,7 +50,8 @@ def module_digest(wasm: bytes, memory_bytes: int, stack_bytes: int) -> str:
     return h.hexdigest()[:32]
 
 
-def compiled_module_path(wasm: bytes, memory_bytes: int, stack_bytes: int, digest: str | None = None) -> Path | None:
+def compiled_module_path(wasm: bytes, memory_bytes: int, stack_bytes: int,
+                         digest: str | None = None) -> Path | None:
     """Where wasmtime's compilation of the firmware ``wasm`` for a board with this memory and stack
     is kept between runs (``compiled/`` of crslab's build cache; written by the board, see
     ``keep_compiled`` in csrc/board/firmware_wasm.c), named by its :func:`module_digest` (``digest``
@@ -79,7 +81,8 @@ class WasmImage:
         from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
 
         wasm = path.read_bytes()
-        return cls(wasm, module_digest(wasm, MEMORY_BYTES, NATIVE_STACK_BYTES), MEMORY_BYTES, NATIVE_STACK_BYTES)
+        digest = module_digest(wasm, MEMORY_BYTES, NATIVE_STACK_BYTES)
+        return cls(wasm, digest, MEMORY_BYTES, NATIVE_STACK_BYTES)
 
     def compiled_path(self) -> Path | None:
         """Where its compiled module is kept between runs (:func:`compiled_module_path`)."""

@@ -90,7 +90,8 @@ class Worker:
                 board = Board(config, shared, keep_fds=keep_fds, debug=debug, deadline_s=deadline_s)
             else:
                 board = Board(config, shared, debug=debug, deadline_s=deadline_s,
-                              model=self.models.model_for(config), image=self.images.image(config.build.image))
+                              model=self.models.model_for(config),
+                              image=self.images.image(config.build.image))
         except SandboxError as exc:
             return worker_messages.Failed(instance, str(exc))
         except FirmwareStopped as exc:
@@ -108,7 +109,8 @@ class Worker:
         code = board.run(until_tick)
         trap = trap_info(board.ffi, board.sim) if code == board.lib.CRS_RUN_TRAPPED else None
         return worker_messages.Ran(instance, code, int(board.sim.tick), board.stats(), board.take_log(),
-                                   tuple(board.take_motor_board_events()), tuple(board.take_observations()), trap)
+                                   tuple(board.take_motor_board_events()), tuple(board.take_observations()),
+                                   trap)
 
     def answer(self, request: worker_messages.Request) -> worker_messages.Message:
         """The reply to a request about one open instance (not Open, RunMany)."""

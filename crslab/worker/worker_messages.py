@@ -2,16 +2,16 @@
 one place the worker's replies are checked.
 
 A worker holds board instances (:class:`crslab.worker.board.Board`), each named by a whole number
-the crslab process chose; every request about one carries its ``instance``. The crslab process
-asks (:data:`Request`): :class:`Open` an instance (a WebAssembly worker only: its shared block
-follows the message as a passed descriptor), :class:`Run` it to a tick, :class:`RunMany`
-instances each to its tick in one request, :class:`Get` or :class:`Set` a watched variable,
-:class:`Push` the arm, :class:`Break` into the debugger, :class:`Stop` an instance (its last
-counters, and it is gone), :class:`End` the worker. The worker answers (:data:`Reply`): for an instance opened,
-:class:`Ready` (or :class:`Failed`, :class:`Trapped`: it is not open), then :class:`Ran` for a
-run (one per instance of a :class:`RunMany`, in its order), :class:`Value` or :class:`Error` for
-the others, :class:`Stopped` last. Serial bytes never travel here: each instance's board writes them
-into its own shared block (:mod:`crslab.sim.shared_block`).
+the crslab process chose; every request about one carries its ``instance``. The crslab process asks
+(:data:`Request`): :class:`Open` an instance (a WebAssembly worker only: its shared block follows
+the message as a passed descriptor), :class:`Run` it to a tick, :class:`RunMany` instances each to
+its tick in one request, :class:`Get` or :class:`Set` a watched variable, :class:`Push` the arm,
+:class:`Break` into the debugger, :class:`Stop` an instance (its last counters, and it is gone),
+:class:`End` the worker. The worker answers (:data:`Reply`): for an instance opened, :class:`Ready`
+(or :class:`Failed`, :class:`Trapped`: it is not open), then :class:`Ran` for a run (one per
+instance of a :class:`RunMany`, in its order), :class:`Value` or :class:`Error` for the others,
+:class:`Stopped` last. Serial bytes never travel here: each instance's board writes them into its
+own shared block (:mod:`crslab.sim.shared_block`).
 
 On the pipe every message is a tuple of plain data, its kind first (:meth:`Message.wire`): the
 crslab process never unpickles a class the worker names. A native lab shares the worker's process
@@ -138,7 +138,8 @@ class End(Message):
 
 
 Request = Open | Run | RunMany | Get | Set | Push | Break | Stop | End
-_REQUESTS: dict[str, type[Message]] = {c.KIND: c for c in (Open, Run, RunMany, Get, Set, Push, Break, Stop, End)}
+_REQUESTS: dict[str, type[Message]] = {
+    c.KIND: c for c in (Open, Run, RunMany, Get, Set, Push, Break, Stop, End)}
 
 
 def read_request(raw: tuple) -> Request:
