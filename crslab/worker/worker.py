@@ -17,6 +17,7 @@ run sandbox.
 
 from __future__ import annotations
 
+import copy
 import mmap
 import os
 from multiprocessing.connection import Connection
@@ -34,20 +35,21 @@ from crslab.worker.wasm_runtime import WasmImage
 
 
 class Models:
-    """The MuJoCo models of a worker, one per world and plant, shared by the instances whose run
-    never changes its model (no scenario event edits it, no egg to break); the others get their own."""
+    """The MuJoCo models of a worker: each world and plant compiled once, that model shared by the
+    instances whose run never changes its model; one whose run does (a scenario event edits it, an
+    egg breaks) gets a copy of its own (``mj_copyModel``, far cheaper than compiling the scene)."""
 
     def __init__(self) -> None:
         self._shared: dict[tuple, object] = {}
 
     def model_for(self, config: SimConfig) -> object:
         """The model an instance of ``config`` runs on."""
-        if changes_model(config.scenario.events) or config.world.egg is not None:
-            return plant_model(config)
         key = (config.world, config.plant)
         model = self._shared.get(key)
         if model is None:
             model = self._shared[key] = plant_model(config)
+        if changes_model(config.scenario.events) or config.world.egg is not None:
+            return copy.copy(model)
         return model
 
 
