@@ -16,7 +16,8 @@ import pytest
 
 from crslab.plant.plant_params import PlantParams
 from crslab.sim.api import make_config, simulate
-from crslab.sim.board_worker import BoardWorker
+from crslab.sim.board_worker import BoardWorker, InstanceNotOpened
+from crslab.sim.diagnosis import Ending
 from crslab.worker.board_ffi import board_constants
 from crslab.worker.board_settings import board_settings, event_struct
 
@@ -80,35 +81,44 @@ def hostile_labs(tmp_path_factory):
 @pytest.fixture(scope="module")
 def twenty_in_one_worker(hostile_labs):
     """The 17 well-behaved labs and the 3 hostile ones, each an instance of one worker, run together
-    to END_TICK in chunks (one request per chunk for all of them): each one's serial bytes and the
-    code and trap its run ended with."""
+    to END_TICK in chunks (one request per chunk for all of them): each one's serial bytes, how each
+    run that stopped early ended (its code and trap, or why it never ran), and whether the worker
+    was still alive at the end."""
     configs = {lab: make_config(lab, "tour") for lab in [*WELL_BEHAVED, *hostile_labs.values()]}
     worker = BoardWorker()
+    printed: dict[Path, bytearray] = {lab: bytearray() for lab in configs}
+    ended: dict[Path, tuple] = {}
     try:
-        handles = {lab: worker.open(config, deadline_s=HANG_DEADLINE_S if lab.name == "spins.c" else 2.0)
-                   for lab, config in configs.items()}
-        printed = {lab: bytearray() for lab in handles}
-        ended: dict[Path, tuple[int, dict | None]] = {}
+        handles = {}
+        for lab, config in configs.items():
+            deadline_s = HANG_DEADLINE_S if lab.name == "spins.c" else 2.0
+            try:
+                handles[lab] = worker.open(config, deadline_s=deadline_s)
+            except InstanceNotOpened as exc:
+                ended[lab] = ("not opened", str(exc.reply))
         tick = 0
         while tick < END_TICK:
             tick = min(END_TICK, tick + CHUNK_TICKS)
             running = [(lab, h) for lab, h in handles.items() if lab not in ended]
-            results = worker.run([(h, tick) for _, h in running])
-            for (lab, h), ran in zip(running, results, strict=True):
+            for (lab, h), ran in zip(running, worker.run([(h, tick) for _, h in running]), strict=True):
                 h.block.drain(lambda t, c: None, lambda t, data, out=printed[lab]: out.extend(data))
-                if ran.code not in (0, board_constants().CRS_RUN_SERIAL_FULL):
+                if isinstance(ran, Ending):
+                    ended[lab] = ("the worker ended", ran.message)
+                elif ran.code not in (0, board_constants().CRS_RUN_SERIAL_FULL):
                     ended[lab] = (ran.code, ran.trap)
         for lab, h in handles.items():
             printed[lab] += h.block.take_line()
+        alive = worker.alive
+        for h in handles.values():
             worker.release(h)
-        assert worker.alive
     finally:
         worker.close()
-    return printed, ended
+    return printed, ended, alive
 
 
 def test_a_hostile_lab_among_twenty_ends_only_its_own_run(twenty_in_one_worker, hostile_labs):
-    printed, ended = twenty_in_one_worker
+    printed, ended, alive = twenty_in_one_worker
+    assert alive
     c = board_constants()
     by_name = {lab.name: result for lab, result in ended.items()}
     assert set(by_name) == set(HOSTILE), by_name  # the three hostile labs, and no other
@@ -125,7 +135,8 @@ def test_a_hostile_lab_among_twenty_ends_only_its_own_run(twenty_in_one_worker, 
 
 @pytest.mark.parametrize("lab", WELL_BEHAVED, ids=lambda p: p.name)
 def test_each_neighbour_prints_what_it_prints_alone(twenty_in_one_worker, lab):
-    printed, _ = twenty_in_one_worker
+    printed, ended, _ = twenty_in_one_worker
+    assert lab not in ended
     alone = simulate(lab, "tour", duration_s=END_TICK / 1000)
     assert alone.status == "ok", alone.message
     assert bytes(printed[lab]) == alone.transcript

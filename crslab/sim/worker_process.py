@@ -352,7 +352,7 @@ class WorkerProcess:
         if self._console >= 0:
             os.close(self._console)
             self._console = -1
-        if self.sanitizer_dir:
+        if self.sanitizer_dir and os.path.isdir(self.sanitizer_dir):
             for p in Path(self.sanitizer_dir).glob("*"):
                 p.unlink()
             os.rmdir(self.sanitizer_dir)

@@ -177,7 +177,7 @@ static void *watchdog(void *unused);
 static void watch_begin(crs_wasm *w)
 {
     pthread_mutex_lock(&watch_lock);
-    api.context_set_epoch_deadline(w->ctx, 1);
+    api.context_set_epoch_deadline(w->ctx, 1); /* this store's deadline: the next epoch */
     watch_running = w;
     pthread_cond_signal(&watch_wake);
     pthread_mutex_unlock(&watch_lock);
