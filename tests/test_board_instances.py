@@ -106,6 +106,9 @@ def twenty_in_one_worker(hostile_labs):
                     ended[lab] = ("the worker ended", ran.message)
                 elif ran.code not in (0, board_constants().CRS_RUN_SERIAL_FULL):
                     ended[lab] = (ran.code, ran.trap)
+            for lab, h in handles.items():  # the worker itself ended: every instance of it did
+                if h.ending is not None and lab not in ended:
+                    ended[lab] = ("the worker ended", h.ending.message)
         for lab, h in handles.items():
             printed[lab] += h.block.take_line()
         alive = worker.alive
