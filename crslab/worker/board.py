@@ -288,12 +288,13 @@ class Board:
         # a trap's backtrace names the lab's file and line (the firmware carries its DWARF)
         os.environ["WASMTIME_BACKTRACE_DETAILS"] = "1"
         library = self.ffi.new("char[]", str(wasmtime_library()).encode())
-        kept = image.compiled_path()
-        if kept is not None:
-            unsealed_compiled_removed(kept)
+        key = self.ffi.new("char[]", image.digest.encode())
+        # the compiled module kept between runs: read (and its seal checked) only when this process
+        # does not hold the module already (another instance of the same firmware)
+        kept = None if self.lib.crs_fw_wasm_module_held(key) else image.compiled_path()
+        sealed_stamp = unsealed_compiled_removed(kept) if kept is not None else None
         compiled = self.ffi.new("char[]", str(kept).encode()) if kept is not None else self.ffi.NULL
         wasm = self.ffi.from_buffer("uint8_t[]", image.wasm)
-        key = self.ffi.new("char[]", image.digest.encode())
         options = self.ffi.new("crs_wasm_options *", {
             "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": MEMORY_BYTES,
             "stack_bytes": NATIVE_STACK_BYTES, "compiled_path": compiled, "module_key": key,
@@ -302,7 +303,7 @@ class Board:
         block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
         code = self.lib.crs_fw_wasm_load(sim, options)
         if kept is not None:
-            seal_compiled(kept)
+            seal_compiled(kept, sealed_stamp)
         if code != 0:
             raise FirmwareStopped(trap_info(self.ffi, sim))
         block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
