@@ -7,9 +7,10 @@ pipe: the server's checked messages in (:mod:`crslab.serve.page_messages`), mess
 each prefixed with one byte saying what the server should note (:data:`FORWARD`,
 :data:`RUN_STARTED`, :data:`RUN_ENDED`).
 
-Every run is ``crslab sim``'s: the same :func:`crslab.sim.api.make_config` (the lab built in the
-compile sandbox, the scenario loaded and checked against it), the same
-:class:`~crslab.sim.session.Simulation` and worker in the run sandbox, its transcript written by
+Every run is ``crslab sim``'s, put together by :mod:`crslab.sim.assemble`: the same
+:func:`~crslab.sim.assemble.make_config` (the lab built in the compile sandbox, once: the build the
+page was shown is the one that runs; the scenario loaded and checked against it), the same
+:func:`~crslab.sim.assemble.started` run and worker in the run sandbox, its transcript written by
 the same :class:`~crslab.sinks.transcript_file.TranscriptSink`, the CSV and the rerun recording
 by the same sinks as ``--csv`` and ``--rrd`` (in a recorder process, :mod:`crslab.serve.recorder`:
 this process stays single-threaded, so it may fork the next run's worker safely). Only the pacing
@@ -26,7 +27,7 @@ from multiprocessing.connection import Connection
 from pathlib import Path
 
 from crslab import os_support
-from crslab.lab.build import LabBuildError, LabForbidden, build_lab
+from crslab.lab.build import LabBuild, LabBuildError, LabForbidden, build_lab
 from crslab.lab.firmware import is_zig_prepared, prepare_zig
 from crslab.live.console import VarConsole
 from crslab.plant.plant_params import PlantParamsError
@@ -36,8 +37,8 @@ from crslab.serve.page_messages import compile_diagnostics
 from crslab.serve.page_text import SESSION_SUBFOLDERS, PageText
 from crslab.serve.recorder import RecorderSink
 from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
-from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
-from crslab.sim.session import DEFAULT_DEADLINE_S, Limits, SimError, Simulation
+from crslab.sim.assemble import DEFAULT_REST_MOTOR_RAD, NoLab, make_config, started
+from crslab.sim.simulation import DEFAULT_DEADLINE_S, Limits, SimError
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
@@ -138,9 +139,9 @@ class Session:
         path = self._write("lab", lab)
         return path.relative_to(Path.cwd()) if path.parent == Path.cwd() else path
 
-    def build(self, lab: dict, tag: bytes = FORWARD) -> Path | None:
+    def build(self, lab: dict, tag: bytes = FORWARD) -> tuple[Path, LabBuild] | None:
         """Compile the page's lab and send ``built`` (tagged ``tag``: :data:`RUN_ENDED` when the
-        build was the page's whole request); its path when it built. Before the installation's
+        build was the page's whole request); its path and build when it built. Before the installation's
         first build, zig's C library is built (1 to 2 minutes): its progress goes to the page as
         ``building`` messages."""
         path = self._write_lab(lab)
@@ -176,7 +177,7 @@ class Session:
             ),
             tag,
         )
-        return path
+        return path, build
 
     def _ended(self, status: RunStatus, message_text: str, **fields: object) -> None:
         self.send(
@@ -191,10 +192,11 @@ class Session:
         """Build and run the page's lab, streaming it; ``ended`` comes last, whatever happens."""
         for kind in DOWNLOADS.values():
             (self.folder / "out" / kind).unlink(missing_ok=True)
-        path = self.build(msg["lab"])
-        if path is None:
+        built = self.build(msg["lab"])
+        if built is None:
             self._ended(RunStatus.BUILD_ERROR, f"{msg['lab']['name']} does not compile: see the marked lines")
             return
+        path, build = built
         scenario = msg["scenario"]
         scenario_arg = (
             scenario["name"] if "name" in scenario else str(self._write("scenario", scenario["file"]))
@@ -210,6 +212,7 @@ class Session:
                 log=True,
                 sandbox=self.limits.sandboxed,
                 world=msg["world"],
+                build=build,
             )
         except (LabBuildError, ScenarioError, PlantParamsError, ValueError) as exc:
             # what crslab sim turns into one line and exit status 2 (bad input): nothing ran
@@ -241,10 +244,7 @@ class Session:
                                  config.world))
         result: RunResult | None = None
         try:
-            with Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits) as sim:
-                if not sim.defines_lab:
-                    self._ended(RunStatus.NO_LAB, f"{path.name} defines no lab() function")
-                    return
+            with started(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits) as sim:
                 events = [{"tick": e.tick, "text": e.describe()} for e in config.scenario.events]
                 control.start()
                 self.send(
@@ -266,6 +266,9 @@ class Session:
                     speed=None,
                     controls=[control],
                 )
+        except NoLab as exc:
+            self._ended(exc.status, str(exc))
+            return
         except SimError as exc:
             result = RunResult(exc.status, 0, str(exc))
         finally:

@@ -42,6 +42,7 @@ from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
+from crslab.worker.run_stats import RunStats
 from crslab.worker.wasm_runtime import (
     WasmImage,
     seal_compiled,
@@ -425,18 +426,17 @@ class Board:
         self.lib.crs_tick = self.sim.tick
         self.lib.crs_debug_break(self.sim.tick)
 
-    def stats(self) -> dict[str, int]:
-        """The board's counters, as plain ints (read in one call)."""
+    def stats(self) -> RunStats:
+        """The board's counters (read in one call)."""
         if self._counters is None:
             self._counter_names = counter_names(self.ffi)
             self._counters = self.ffi.new("int64_t[]", len(self._counter_names))
         self.lib.crs_board_counters(self.sim, self._counters)
-        out: dict = dict(zip(self._counter_names, self.ffi.unpack(self._counters, len(self._counter_names))))
-        over = min(8, out["over_budget"])
-        out["first_over_tick"] = [int(self.sim.first_over_tick[i]) for i in range(over)] if over else []
-        out["native"] = self.config.build.native
-        out["motor_board"] = self.config.motor_board_model
-        return out
+        counters = dict(zip(self._counter_names, self.ffi.unpack(self._counters, len(self._counter_names))))
+        over = min(8, counters["over_budget"])
+        first_over = tuple(int(self.sim.first_over_tick[i]) for i in range(over))
+        return RunStats(**counters, first_over_tick=first_over,
+                        native=self.config.build.native, motor_board=self.config.motor_board_model)
 
     def take_motor_board_events(self) -> list[worker_messages.MotorBoardEvent]:
         """The motor board's cut-outs starting or ending since the last call."""
