@@ -20,7 +20,7 @@ import pathlib
 import signal
 import threading
 from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import AbstractContextManager, contextmanager, nullcontext
 
 import numpy as np
 
@@ -270,13 +270,11 @@ class Simulation:
         where it is called; time spent stopped in the debugger is not made up for: pacing starts
         again from where the lab resumed.
         """
-        sink = FanOut([sink or Sink()])
-        pacer = Pacer(speed, self.tick, debugger)
-        printed = _Printed(sink, self.limits.output_bytes)
+        run = self.start(end_tick, sink, Pacer(speed, self.tick, debugger), controls)
         with CtrlC() as ctrl_c:
             try:
                 try:
-                    ending = self._chunks(end_tick, sink, printed, pacer, controls, ctrl_c)
+                    ending = self._chunks(run, ctrl_c)
                 finally:
                     ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
             except KeyboardInterrupt as exc:
@@ -284,63 +282,79 @@ class Simulation:
                 tick = self.block.tick
                 how = f"terminated ({exc.name})" if isinstance(exc, termination.Terminated) else "interrupted"
                 ending = Ending(RunStatus.INTERRUPTED, tick, f"{how} at t = {tick / 1000:.3f} s")
-            return self._ended(ending, sink, printed, pacer)
+            return run.ended(ending)
 
-    def _chunks(self, end_tick: int, sink: Sink, printed: _Printed, pacer: Pacer,
-                controls: Sequence[LiveControl], ctrl_c: CtrlC) -> Ending:
-        """Run chunk after chunk to ``end_tick``; how the run ended."""
-        c = board_constants()
-        while self.tick < end_tick:
-            target, pause = pacer.next_chunk(self.tick, end_tick, controls)
+    def start(self, end_tick: int, sink: Sink | None, pacer: Pacer,
+              controls: Sequence[LiveControl] = ()) -> ChunkedRun:
+        """A run to ``end_tick`` taken chunk by chunk by its caller (:meth:`run` is one such caller,
+        a server that runs many labs in one worker another: crslab/serve/run_host.py)."""
+        return ChunkedRun(self, end_tick, FanOut([sink or Sink()]), pacer, controls)
+
+    def _chunks(self, run: ChunkedRun, ctrl_c: CtrlC) -> Ending:
+        """Run chunk after chunk to the run's end; how the run ended."""
+        pacer = run.pacer
+        while not run.done:
+            target, pause = run.next_chunk()
             self.worker.send(worker_messages.Run(target))
             reply = self.worker.reply(worker_messages.Ran, deadline_s=self.deadline_s,
                                       ticks=target - self.tick)
-            if isinstance(reply, Ending):
-                return reply
-            self.tick, self.stats = reply.tick, reply.stats
-            if reply.code == c.CRS_RUN_TRAPPED:
-                return _trapped(reply.trap or {}, self.lab_name, self.deadline_s, self.tick,
-                                self.config.build.image)
-            try:
-                judged = [self.judge.observed(seen) for seen in reply.observations]
-            except ValueError as exc:
-                return self.worker.tampered(f"it sent an observation crslab cannot read: {exc}")
-            for event in reply.motor_board_events:
-                self.motor_board_events.append(event)
-                sink.on_motor_board(*event)
-            for outcome in judged:
-                if outcome is not None:
-                    sink.on_expectation(outcome)
-            with ctrl_c.held():  # every sink gets all of the chunk, or none of it
-                lost = self._drain(sink, printed)
-                printed.bytes += lost  # what was lost counts toward the limit too
-                # printf: counted, never shown (the board's count, or what a native lab wrote)
-                printed.console(self._console_bytes())
-                if not printed.over:
-                    if reply.log is not None:
-                        sink.on_log(reply.log)
-                    sink.flush()
-                    sink.on_reached(self.tick)
-            if printed.over:
-                return diagnosis.output_limit(self.lab_name, self.tick, printed.cap)
-            for control in controls:
-                control.serve(self)
-            if reply.code == c.CRS_RUN_NAN_STRICT:
-                return diagnosis.nan_strict(self.lab_name, self.stats, self.tick)
-            if reply.code == c.CRS_RUN_PRINTF_OVERFLOW:
-                return diagnosis.print_overflow(self.lab_name, self.stats, self.tick,
-                                                self.config.build.printf_buffer_chars)
-            broke = reply.code == c.CRS_RUN_BREAK
+            ending = run.took(reply, ctrl_c.held)
+            if ending is not None:
+                return ending
+            broke = reply.code == board_constants().CRS_RUN_BREAK  # (took returned: reply is a Ran)
             if pacer.debugger is not None and (broke or self.tick == pause):
                 pacer.debugger.paused(self, broke)
             waited = pacer.wait(self.tick)
             if waited.slept:
-                for control in controls:  # what a host sent while we slept: this tick
+                for control in run.controls:  # what a host sent while we slept: this tick
                     if isinstance(control, PacedControl):
                         control.serve(self)
             if waited.behind is not None:
-                sink.on_behind(waited.behind)
+                run.sink.on_behind(waited.behind)
         return Ending(RunStatus.OK, self.tick)
+
+    def _took(self, reply: worker_messages.Ran | Ending, run: ChunkedRun,
+              held: Callable[[], AbstractContextManager[None]]) -> Ending | None:
+        """Hand a chunk's reply to the run's sink and serve its controls: None, or how the run
+        ended (a trap, the output limit, a strict NaN, a printf overflow, the worker gone)."""
+        c = board_constants()
+        sink, printed = run.sink, run.printed
+        if isinstance(reply, Ending):
+            return reply
+        self.tick, self.stats = reply.tick, reply.stats
+        if reply.code == c.CRS_RUN_TRAPPED:
+            return _trapped(reply.trap or {}, self.lab_name, self.deadline_s, self.tick,
+                            self.config.build.image)
+        try:
+            judged = [self.judge.observed(seen) for seen in reply.observations]
+        except ValueError as exc:
+            return self.worker.tampered(f"it sent an observation crslab cannot read: {exc}")
+        for event in reply.motor_board_events:
+            self.motor_board_events.append(event)
+            sink.on_motor_board(*event)
+        for outcome in judged:
+            if outcome is not None:
+                sink.on_expectation(outcome)
+        with held():  # every sink gets all of the chunk, or none of it
+            lost = self._drain(sink, printed)
+            printed.bytes += lost  # what was lost counts toward the limit too
+            # printf: counted, never shown (the board's count, or what a native lab wrote)
+            printed.console(self._console_bytes())
+            if not printed.over:
+                if reply.log is not None:
+                    sink.on_log(reply.log)
+                sink.flush()
+                sink.on_reached(self.tick)
+        if printed.over:
+            return diagnosis.output_limit(self.lab_name, self.tick, printed.cap)
+        for control in run.controls:
+            control.serve(self)
+        if reply.code == c.CRS_RUN_NAN_STRICT:
+            return diagnosis.nan_strict(self.lab_name, self.stats, self.tick)
+        if reply.code == c.CRS_RUN_PRINTF_OVERFLOW:
+            return diagnosis.print_overflow(self.lab_name, self.stats, self.tick,
+                                            self.config.build.printf_buffer_chars)
+        return None
 
     def _drain(self, sink: Sink, printed: _Printed) -> int:
         """Hand what the board printed since the last drain to ``sink`` (through the output
@@ -371,6 +385,41 @@ class Simulation:
             message = f"{failed} of {len(expectations)} expectations of scenario {scenario} failed"
         return RunResult(status, ending.tick, message, stats, lab_file=self.config.build.source,
                          wall_s=pacer.elapsed_s(), expectations=expectations)
+
+
+class ChunkedRun:
+    """One run of a :class:`Simulation`, taken chunk by chunk: where the next chunk ends
+    (:meth:`next_chunk`), what a chunk's reply hands to the sink and the controls (:meth:`took`),
+    and the result once it ended (:meth:`ended`). The worker is asked by the caller, so a server
+    may run many labs of one worker forward in one request (crslab/serve/run_host.py)."""
+
+    def __init__(self, sim: Simulation, end_tick: int, sink: Sink, pacer: Pacer,
+                 controls: Sequence[LiveControl]) -> None:
+        self.sim = sim
+        self.end_tick = end_tick
+        self.sink = sink
+        self.pacer = pacer
+        self.controls = controls
+        self.printed = _Printed(sink, sim.limits.output_bytes)
+
+    @property
+    def done(self) -> bool:
+        """Whether the run reached its end tick."""
+        return self.sim.tick >= self.end_tick
+
+    def next_chunk(self) -> tuple[int, int | None]:
+        """Where the next chunk ends, and the tick a debugger asks to stop before (None)."""
+        return self.pacer.next_chunk(self.sim.tick, self.end_tick, self.controls)
+
+    def took(self, reply: worker_messages.Ran | Ending,
+             held: Callable[[], AbstractContextManager[None]] = nullcontext) -> Ending | None:
+        """Hand a chunk's reply (or the worker's end) on: None while the run goes on, else how it
+        ended. ``held`` holds a Ctrl-C back while the sinks take the chunk."""
+        return self.sim._took(reply, self, held)
+
+    def ended(self, ending: Ending) -> RunResult:
+        """The run's result (the last bytes handed on first)."""
+        return self.sim._ended(ending, self.sink, self.printed, self.pacer)
 
 
 def _trapped(trap: dict, lab_name: str, deadline_s: float | None, tick: int,
