@@ -295,9 +295,7 @@ class Simulation:
         pacer = run.pacer
         while not run.done:
             target, pause = run.next_chunk()
-            self.worker.send(worker_messages.Run(target))
-            reply = self.worker.reply(worker_messages.Ran, deadline_s=self.deadline_s,
-                                      ticks=target - self.tick)
+            reply = self.run_chunk(target)
             ending = run.took(reply, ctrl_c.held)
             if ending is not None:
                 return ending
@@ -312,6 +310,11 @@ class Simulation:
             if waited.behind is not None:
                 run.sink.on_behind(waited.behind)
         return Ending(RunStatus.OK, self.tick)
+
+    def run_chunk(self, target: int) -> worker_messages.Ran | Ending:
+        """Have the worker run the lab to ``target``: its reply, or how the worker ended."""
+        self.worker.send(worker_messages.Run(target))
+        return self.worker.reply(worker_messages.Ran, deadline_s=self.deadline_s, ticks=target - self.tick)
 
     def _took(self, reply: worker_messages.Ran | Ending, run: ChunkedRun,
               held: Callable[[], AbstractContextManager[None]]) -> Ending | None:
