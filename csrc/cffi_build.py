@@ -29,7 +29,7 @@ PORT = HERE / "port"
 # vector_math.h is internal (attributes, no API); every other header is the Python-visible API.
 HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [
     PORT / "framework_facts.h", PORT / "generations.h", PORT / "firmware_board.h", PLANT / "world.h",
-    BOARD / "sim.h", BOARD / "firmware_wasm.h", PLANT / "push.h"]
+    BOARD / "sim.h", BOARD / "board_config.h", BOARD / "firmware_wasm.h", PLANT / "push.h"]
 NATIVE_ONLY = {"firmware_native.c", "debug.c"}
 """Board sources linked only with a native lab (crslab/lab/build.py), never into the core: the
 native port and what a debugger reads (a second ``crs_tick`` here would be the one gdb finds)."""
@@ -39,7 +39,9 @@ INCLUDE_DIRS = (KIN, BOARD, PLANT, PORT)
 """Where the core's sources find their headers."""
 C_FLAGS = ["-std=c11", "-O3", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-fno-trapping-math"]
 # glibc's vector math (libmvec) backs the vectorized batch loops on x86-64 Linux.
-LIBRARIES = (["m", "mvec"] if platform.machine() == "x86_64" and sys.platform == "linux" else ["m"]) + ["dl"]
+# pthread: the WebAssembly port's watchdog thread (interrupts per store)
+LIBRARIES = (["m", "mvec"] if platform.machine() == "x86_64" and sys.platform == "linux" else ["m"]) + ["dl",
+                                                                                                      "pthread"]
 
 
 def _load_cheaders():

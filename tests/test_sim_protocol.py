@@ -12,14 +12,17 @@ from crslab.scenario.expect_events import Observation
 from crslab.worker import worker_messages
 from crslab.worker.worker_messages import (
     Break,
+    End,
     Error,
     Failed,
     Get,
     MotorBoardEvent,
+    Open,
     Push,
     Ran,
     Ready,
     Run,
+    RunMany,
     Set,
     Stop,
     Stopped,
@@ -34,22 +37,24 @@ TRAP = {"kind": 3, "phase": 1, "tick": 5123, "exit_code": 0, "line": 27, "text":
 OBSERVATION = Observation(tick=4200, motor_board="piccolo", motor_board_off=True, motor_board_cutouts=1,
                           error=0, motor_rad=(0.0, -0.42, 0.24), var=1.5)
 REPLIES = [
-    Ready(symbols=7),
-    Failed(message="Landlock is not available"),
-    Trapped(trap=TRAP),
-    Ran(code=0, tick=5000,
+    Ready(instance=0, symbols=7),
+    Failed(instance=0, message="Landlock is not available"),
+    Trapped(instance=3, trap=TRAP),
+    Ran(instance=0, code=0, tick=5000,
         stats={"over_budget": 0, "first_over_tick": [4100, 4200], "cost_unit": "fuel", "strict": False},
         log=None, motor_board_events=(MotorBoardEvent(4500, 2, True), MotorBoardEvent(4800, 0, False)),
         observations=(OBSERVATION,), trap=None),
-    Ran(code=3, tick=5123, stats={}, log=None, motor_board_events=(), observations=(), trap=TRAP),
+    Ran(instance=12, code=3, tick=5123, stats={}, log=None, motor_board_events=(), observations=(),
+        trap=TRAP),
     Value(value=1.5),
     Value(value=[1.0, 2.5]),
     Value(value=None),
     Error(message="no watched variable Kp"),
-    Stopped(stats={"ticks": 5000}, log=None),
+    Stopped(instance=0, stats={"ticks": 5000}, log=None),
 ]
-REQUESTS = [Run(5000), Get("mycount"), Set("Kp", None, 2.0), Set("gains", 1, 0.5),
-            Push([[0.0] * 6, [1.0, 0, 0, 0, 0, 0]]), Break(), Stop()]
+REQUESTS = [Run(0, 5000), RunMany([[0, 5000], [4, 4200]]), Get(0, "mycount"), Set(2, "Kp", None, 2.0),
+            Set(0, "gains", 1, 0.5), Push(0, [[0.0] * 6, [1.0, 0, 0, 0, 0, 0]]), Break(0), Stop(7), End(),
+            Open(5, None, 2.0)]
 
 
 @pytest.mark.parametrize("reply", REPLIES, ids=lambda r: r.KIND)
@@ -66,10 +71,10 @@ def test_each_request_reads_back_as_itself(request_):
 
 def test_scope_rows_travel_as_numeric_arrays():
     log = {"tick": np.arange(3, dtype=np.int64).reshape(3, 1), "plot": np.zeros((3, 4), dtype=np.float32)}
-    back = read_reply(Stopped(stats={}, log=log).wire(), Stopped)
+    back = read_reply(Stopped(instance=0, stats={}, log=log).wire(), Stopped)
     assert back.log is log
     with pytest.raises(UnreadableReply, match=r"log\['tick'\] is not a column of numbers"):
-        read_reply(("stopped", {}, {"tick": [1, 2, 3]}), Stopped)
+        read_reply(("stopped", 0, {}, {"tick": [1, 2, 3]}), Stopped)
 
 
 def test_every_reply_has_a_reader_for_each_of_its_fields():
@@ -80,15 +85,17 @@ def test_every_reply_has_a_reader_for_each_of_its_fields():
 @pytest.mark.parametrize(("raw", "due", "words"), [
     ("ran", Ran, "it sent str where ran was due"),
     (("value", 1.5), Ran, "it sent a value reply where ran was due"),
-    (("ran", 0, 5000, {}), Ran, "its ran reply has 3 fields, not 7"),
-    (("ran", 0, True, {}, None, [], [], None), Ran, "tick = True, not a whole number"),
-    (("ran", 0, 5000, {"x": object()}, None, [], [], None), Ran, r"stats\['x'\]"),
-    (("ran", 0, 5000, {}, None, [(1, 2)], [], None), Ran, r"not \(tick, joint, off\)"),
-    (("ran", 0, 5000, {}, None, [], [{"tick": 1}], None), Ran, "an observation crslab cannot read"),
-    (("trapped", {**TRAP, "line": "27"}), Trapped, r"trap\['line'\]"),
+    (("ran", 0, 0, 5000, {}), Ran, "its ran reply has 4 fields, not 8"),
+    (("ran", 0, 0, True, {}, None, [], [], None), Ran, "tick = True, not a whole number"),
+    (("ran", 0, 0, 5000, {"x": object()}, None, [], [], None), Ran, r"stats\['x'\]"),
+    (("ran", 0, 0, 5000, {}, None, [(1, 2)], [], None), Ran, r"not \(tick, joint, off\)"),
+    (("ran", 0, 0, 5000, {}, None, [], [{"tick": 1}], None), Ran, "an observation crslab cannot read"),
+    (("ran", 1, 0, 5000, {}, None, [], [], None), Ran, "its ran reply is about instance 1, not 0"),
+    (("ran", "0", 0, 5000, {}, None, [], [], None), Ran, "instance = '0', not a whole number"),
+    (("trapped", 0, {**TRAP, "line": "27"}), Trapped, r"trap\['line'\]"),
     (("value", ["1.0"]), Value, r"value\[...\] = '1.0', not a number"),
-    (("ready", 1, 2), Ready, "its ready reply has 2 fields, not 1"),
+    (("ready", 0, 1, 2), Ready, "its ready reply has 3 fields, not 2"),
 ])
 def test_a_reply_that_is_not_the_one_due_is_one_line(raw, due, words):
     with pytest.raises(UnreadableReply, match=words):
-        read_reply(raw, due)
+        read_reply(raw, due, instance=0)

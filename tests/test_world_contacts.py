@@ -21,7 +21,7 @@ import pytest
 from crslab._core import ffi, lib
 
 from crslab import crs
-from crslab.worker.worker import STANDARD_GRAVITY, attach_world
+from crslab.worker.board import STANDARD_GRAVITY, attach_world
 from crslab.world.layout import load_world
 from crslab.world.scene import PEG_BODY, PEG_TIP_SITE, load_scene, set_arm_pose
 

@@ -30,6 +30,7 @@ from crslab import os_support
 from crslab.live.console import VarConsole
 from crslab.serve.page_text import PageText
 from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
+from crslab.sim.board_worker import BoardWorker
 from crslab.sim.diagnosis import Ending
 from crslab.sim.pacing import PAGE_CHUNKS, Pacer
 from crslab.sim.session import DEFAULT_DEADLINE_S, ChunkedRun, Limits, SimError, Simulation
@@ -202,11 +203,16 @@ class RunHost:
     def __init__(self, conn: Connection) -> None:
         self.conn = conn
         self.sessions: dict[str, HostedSession] = {}
+        self.worker: BoardWorker | None = None
+        """The board worker every run of this host is an instance of."""
         self._arms: dict[str, ArmPoses] = {}
 
     def simulation(self, config: SimConfig, limits: Limits) -> Simulation:
-        """A run's lab, opened (raises ``SimError`` when it cannot start)."""
-        return Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits)
+        """A run's lab, opened as an instance of the host's worker (started now if there is none,
+        or it ended); raises ``SimError`` when it cannot start."""
+        if self.worker is None or not self.worker.alive:
+            self.worker = BoardWorker()
+        return Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits, worker=self.worker)
 
     def arm_in(self, world: World) -> ArmPoses:
         """The arm's poses in ``world``'s scene (one per world, shared by the host's runs)."""
@@ -235,6 +241,8 @@ class RunHost:
             for session in list(self.sessions.values()):
                 self._guarded(session, session.close)
             self.sessions.clear()
+            if self.worker is not None:
+                self.worker.close()
 
     def handle(self, msg: tuple) -> None:
         """One message of the server's."""
@@ -268,8 +276,18 @@ class RunHost:
                 self.sessions.pop(session.key, None)
 
     def run_chunks(self, targets: list[tuple[Simulation, int]]) -> list[object]:
-        """Each simulation run to its tick: the worker's reply for each."""
-        return [sim.run_chunk(target) for sim, target in targets]
+        """Each simulation run to its tick, one request per worker: the worker's reply for each
+        (the worker's :class:`~crslab.sim.diagnosis.Ending` for a run whose worker ended)."""
+        replies: list[object] = [sim.board.ending for sim, _ in targets]
+        by_worker: dict[int, list[int]] = {}
+        for i, (sim, _) in enumerate(targets):
+            if replies[i] is None:
+                by_worker.setdefault(id(sim.board_worker), []).append(i)
+        for runs in by_worker.values():
+            worker = targets[runs[0]][0].board_worker
+            for i, reply in zip(runs, worker.run([(targets[i][0].board, targets[i][1]) for i in runs])):
+                replies[i] = reply
+        return replies
 
     def _guarded(self, session: HostedSession, step: object) -> bool:
         """``step()``'s answer; a crslab bug in it ends that session's run (one line for its page)

@@ -17,7 +17,7 @@ class InProcessRun:
     """The worker's plant, board and lab, set up in this process."""
 
     def __init__(self, config: SimConfig) -> None:
-        from crslab.worker.worker import Worker
+        from crslab.worker.board import Board
 
         # a native firmware from a private copy of the lab's shared object: loading the cached one
         # here would leave its globals (counters, arrays) changed for every worker this process
@@ -30,8 +30,7 @@ class InProcessRun:
         # never sandboxed: the sandbox would close this very process
         config = dataclasses.replace(config, sandboxed=False)
         self.block = SharedBlock.new()
-        self.worker = Worker(config, self.block.memory)
-        self.worker.sim.time_lab = 0
+        self.worker = Board(config, self.block.memory, time_lab=False)
 
     def close(self) -> None:
         """Free the firmware and the shared block."""

@@ -26,21 +26,19 @@ import numpy as np
 
 from crslab.scenario.expect_events import Judge
 from crslab.sim import diagnosis, termination
+from crslab.sim.board_worker import DEFAULT_DEADLINE_S, BoardHandle, BoardWorker, InstanceNotOpened
 from crslab.sim.diagnosis import Ending
 from crslab.sim.firmware_trap import diagnose
 from crslab.sim.host_ports import PortExchange
 from crslab.sim.pacing import Pacer
 from crslab.sim.running import LiveControl, PacedControl, RunDebugger
-from crslab.sim.shared_block import SharedBlock
 from crslab.sim.status import RunResult, RunStatus
-from crslab.sim.worker_process import NO_LIMITS, READY_TIMEOUT_S, Limits, WorkerProcess
+from crslab.sim.worker_process import NO_LIMITS, Limits
 from crslab.sinks.sink import FanOut, Sink
 from crslab.worker import worker_messages
 from crslab.worker.board_ffi import board_constants
 from crslab.worker.config import SimConfig
 from crslab.worker.debug_setup import DebugSetup
-
-DEFAULT_DEADLINE_S = 2.0
 
 __all__ = ["DEFAULT_DEADLINE_S", "NO_LIMITS", "CtrlC", "Limits", "SimError", "Simulation"]
 
@@ -143,18 +141,18 @@ class Simulation:
     trace it. ``deadline_s`` None never calls the lab hung (a debugger holds it as long as it
     likes). ``on_started()`` is called once the worker process exists, while it loads the plant
     and the lab: what it starts overlaps the worker's start-up (threads may start then: the fork
-    is done).
+    is done). ``worker``: open the run as an instance of that worker (a WebAssembly one other runs
+    share: a server's) instead of starting a worker of its own.
     """
 
     def __init__(self, config: SimConfig, *, deadline_s: float | None = DEFAULT_DEADLINE_S,
                  limits: Limits = NO_LIMITS, debug: DebugSetup | None = None,
-                 on_started: Callable[[], None] | None = None) -> None:
+                 on_started: Callable[[], None] | None = None, worker: BoardWorker | None = None) -> None:
         self.config = config
         self.deadline_s = deadline_s
         self.debug = debug
         self.limits = limits
         self.lab_name = config.build.source.name
-        self.block = SharedBlock.new()
         self.tick = 0
         self.stats: dict = {}
         self.serial_dropped = 0
@@ -166,20 +164,28 @@ class Simulation:
         self.judge = Judge(config.scenario.events, config.scenario.source)
         """The scenario's expectations, judged as the worker's observations arrive."""
         self.symbols = 0
-        self.worker = WorkerProcess(config, self.block, limits, debug)
+        self._own_worker = worker is None
+        try:
+            if worker is None:
+                self.board_worker = BoardWorker(config, deadline_s=deadline_s, limits=limits, debug=debug,
+                                                on_started=on_started)
+                assert self.board_worker.first is not None
+                self.board: BoardHandle = self.board_worker.first
+            else:
+                self.board_worker = worker
+                self.board = worker.open(config, deadline_s=deadline_s)
+        except InstanceNotOpened as exc:
+            reply = exc.reply
+            if isinstance(reply, worker_messages.Trapped):
+                reply = _trapped(reply.trap, self.lab_name, deadline_s, 0)
+            elif isinstance(reply, worker_messages.Failed):
+                reply = Ending(RunStatus.CRASHED, 0, f"{self.lab_name}: {reply.message}")
+            assert isinstance(reply, Ending)
+            raise SimError(reply.message, reply.status) from None
+        self.block = self.board.block
+        self.worker = self.board_worker.process
         self.sanitizer_dir = self.worker.sanitizer_dir
-        if on_started is not None:
-            on_started()
-        reply = self.worker.reply(worker_messages.Ready, worker_messages.Failed, worker_messages.Trapped,
-                                  deadline_s=deadline_s, timeout_s=READY_TIMEOUT_S, during_setup=True)
-        if isinstance(reply, worker_messages.Trapped):
-            reply = _trapped(reply.trap, self.lab_name, deadline_s, 0)
-        elif isinstance(reply, worker_messages.Failed):
-            reply = Ending(RunStatus.CRASHED, 0, f"{self.lab_name}: {reply.message}")
-        if isinstance(reply, Ending):
-            self.close()
-            raise SimError(reply.message, reply.status)
-        self.symbols = reply.symbols
+        self.symbols = self.board.symbols
 
     @property
     def worker_pid(self) -> int:
@@ -199,18 +205,19 @@ class Simulation:
         self.close()
 
     def close(self) -> None:
-        """Stop the worker (it leaves no process behind) and free the shared block."""
-
-        def stopped(reply: worker_messages.Stopped) -> None:
-            self.stats = reply.stats or self.stats
-
-        self.worker.close(on_stopped=stopped)
+        """Stop the instance and its worker, unless the worker is shared (it leaves no process
+        behind), and free the shared block."""
+        if self.board_worker.alive:
+            stopped = self.board_worker.stop(self.board)
+            if stopped is not None:
+                self.stats = stopped.stats or self.stats
+        if self._own_worker:
+            self.board_worker.close()
         self.block.close()
 
     # -- the running lab (crslab.sim.running.RunningLab) ---------------------------------------
     def _ask(self, request: worker_messages.Request) -> float | list[float] | None:
-        self.worker.send(request)
-        reply = self.worker.reply(worker_messages.Value, worker_messages.Error, deadline_s=self.deadline_s)
+        reply = self.board_worker.ask(self.board, request)
         if isinstance(reply, Ending):
             raise SimError(reply.message)
         if isinstance(reply, worker_messages.Error):
@@ -219,13 +226,13 @@ class Simulation:
 
     def get(self, name: str) -> float | list[float]:
         """Read a watched variable of the running lab (between ticks)."""
-        value = self._ask(worker_messages.Get(name))
+        value = self._ask(worker_messages.Get(self.board.id, name))
         assert value is not None
         return value
 
     def set(self, name: str, value: float, index: int | None = None) -> None:
         """Write a watched variable (or one array element) of the running lab, between ticks."""
-        self._ask(worker_messages.Set(name, index, float(value)))
+        self._ask(worker_messages.Set(self.board.id, name, index, float(value)))
 
     def exchange(self, port: str, incoming: bytes) -> PortExchange:
         """Between chunks: what left the board on host port ``port`` (``SerialB``, ``SerialC``)
@@ -236,12 +243,12 @@ class Simulation:
     def push(self, body_forces: np.ndarray) -> None:
         """Apply a force and torque to each body (MuJoCo ``xfrc_applied``, world frame, N and N.m)
         from the next tick on, until the next push: MuJoCo's viewer passes the mouse's drag."""
-        self._ask(worker_messages.Push(np.asarray(body_forces, dtype=float).tolist()))
+        self._ask(worker_messages.Push(self.board.id, np.asarray(body_forces, dtype=float).tolist()))
 
     def debug_break(self) -> None:
         """Have the worker call ``crs_debug_break``: the debugger attached to it stops there and
         arms its breakpoint on ``lab()``, so it stops in the next ``lab()`` call (this tick's)."""
-        self._ask(worker_messages.Break())
+        self._ask(worker_messages.Break(self.board.id))
 
     # -- running -----------------------------------------------------------------------------
     def run(
@@ -313,8 +320,7 @@ class Simulation:
 
     def run_chunk(self, target: int) -> worker_messages.Ran | Ending:
         """Have the worker run the lab to ``target``: its reply, or how the worker ended."""
-        self.worker.send(worker_messages.Run(target))
-        return self.worker.reply(worker_messages.Ran, deadline_s=self.deadline_s, ticks=target - self.tick)
+        return self.board_worker.run([(self.board, target)])[0]
 
     def _took(self, reply: worker_messages.Ran | Ending, run: ChunkedRun,
               held: Callable[[], AbstractContextManager[None]]) -> Ending | None:

@@ -1,11 +1,13 @@
 """The worker as a process seen from the crslab process: started (forked, or spawned with the
 sanitizer runtime for ``--sanitize``), asked through the pipe (:mod:`crslab.worker.worker_messages`),
-watched while it works, and stopped so that it leaves no process behind.
+watched while it works, and stopped so that it leaves no process behind. Its board instances are
+:mod:`crslab.sim.board_worker`'s to open and run.
 
 While a request is out, :meth:`WorkerProcess.reply` watches what the worker cannot hide: that it
-is alive (else :func:`crslab.sim.diagnosis.died` says why), how long the lab's current call has
-run by the phase it wrote into the shared block (a WebAssembly firmware is interrupted at its
-deadline and the worker answers; a native worker is killed), its CPU time by the kernel's count
+is alive (else :func:`crslab.sim.diagnosis.died` says why), how long a lab's current call has
+run by the phase its board wrote into its shared block (a WebAssembly firmware is interrupted at
+its deadline by the worker's own watchdog and the worker answers; a native worker, or a
+WebAssembly one that does not answer within a grace, is killed), its CPU time by the kernel's count
 (a native lab could hide that it is stuck in ``lab()``), the resident memory of a sanitized lab,
 and what a native lab wrote to its standard streams (counted toward the output limit, never
 shown).
@@ -21,10 +23,10 @@ import signal
 import sys
 import tempfile
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from multiprocessing.reduction import DupFd as _spawn_dup
+from multiprocessing.reduction import send_handle
 from pathlib import Path
 from typing import Any
 
@@ -37,8 +39,7 @@ from crslab.sim.status import RunStatus
 from crslab.worker.board_ffi import board_constants
 from crslab.worker.config import SimConfig
 from crslab.worker.debug_setup import DebugSetup
-from crslab.worker.wasm_runtime import INTERRUPT_SIGNAL
-from crslab.worker.worker_messages import Message, Stop, Stopped, read_reply
+from crslab.worker.worker_messages import End, Message, read_reply
 from crslab.worker.worker_reply import UnreadableReply, receive
 
 CPU_S_PER_TICK = 1e-3
@@ -46,7 +47,8 @@ CPU_S_PER_TICK = 1e-3
 (a native lab could hide that it is stuck in lab()): a millisecond, a slow lab's whole tick. A
 WebAssembly firmware cannot write the phase the board reports, so its deadline alone holds."""
 INTERRUPT_GRACE_S = 2.0
-"""How long a WebAssembly worker has to answer once its firmware's call was interrupted."""
+"""How long a WebAssembly worker has to answer once its firmware's call ran past its deadline (its
+watchdog interrupts the call within 10 ms of it)."""
 READY_TIMEOUT_S = 60.0
 SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
 ABORT_ON_ERROR = ":abort_on_error=1"
@@ -90,11 +92,14 @@ def _same(dup: Any) -> Any:
     return dup
 
 
-def _child(conn: Connection, config: SimConfig, shared: WorkerFd, limits: Limits = NO_LIMITS,
-           debug: DebugSetup | None = None, console: WorkerFd | None = None) -> None:
+def _child(conn: Connection, config: SimConfig | None, shared: WorkerFd | None, limits: Limits = NO_LIMITS,
+           debug: DebugSetup | None = None, console: WorkerFd | None = None,
+           deadline_s: float | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
-    if config.build.native:  # a crash is diagnosed by the crslab process, not dumped here (a WebAssembly
-        faulthandler.disable()  # firmware's faults are wasmtime's: its handlers stay as they are)
+    if config is not None and config.build.native:
+        # a crash is diagnosed by the crslab process, not dumped here (a WebAssembly firmware's faults
+        # are wasmtime's: its handlers stay as they are)
+        faulthandler.disable()
     os_support.die_with_parent()  # whatever kills the crslab process
     if debug is not None:  # Ctrl-C on the terminal is the debugger's: it interrupts the lab itself
         os.setpgid(0, 0)
@@ -115,25 +120,29 @@ def _child(conn: Connection, config: SimConfig, shared: WorkerFd, limits: Limits
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
     from crslab.worker.worker import serve
 
-    serve(conn, config, shared.detach(), debug)
+    serve(conn, config, shared.detach() if shared is not None else None, debug, deadline_s)
     os._exit(0)
 
 
 class WorkerProcess:
-    """The worker of one run, started at once on ``block`` (see the module's text)."""
+    """A worker, started at once; with ``config``, its instance 0 runs it on ``block`` (opened
+    while the worker starts; a native worker holds only that one), else (a WebAssembly worker) it
+    starts with no instance. See the module's text."""
 
-    def __init__(self, config: SimConfig, block: SharedBlock, limits: Limits = NO_LIMITS,
-                 debug: DebugSetup | None = None) -> None:
+    def __init__(self, config: SimConfig | None, block: SharedBlock | None, limits: Limits = NO_LIMITS,
+                 debug: DebugSetup | None = None, deadline_s: float | None = None) -> None:
         self.config = config
         self.block = block
+        """The shared block of instance 0 (None: a worker started with no instance)."""
         self.limits = limits
         self.debug = debug
-        self.lab_name = config.build.source.name
+        self.native = config is not None and config.build.native
+        self.lab_name = config.build.source.name if config is not None else "the worker"
         self.sanitizer_dir: str | None = None
         self._rss_limit_mb: int | None = None
         sys.stdout.flush()
         sys.stderr.flush()
-        if config.build.sanitized:
+        if config is not None and config.build.sanitized:
             # the sanitizer runtime must be loaded first: a fresh interpreter with it preloaded
             ctx = mp.get_context("spawn")
             self.sanitizer_dir = tempfile.mkdtemp(prefix="crslab-sanitize-")
@@ -158,7 +167,7 @@ class WorkerProcess:
         self._console = -1
         self.console_bytes = 0
         console = None
-        if config.build.native and debug is None:
+        if self.native and debug is None:
             self._console, console_w = os.pipe()
             os.set_blocking(self._console, False)
             console = WorkerFd(console_w)
@@ -166,7 +175,8 @@ class WorkerProcess:
         os.environ.update(env)
         try:
             self._conn, child_conn = ctx.Pipe()
-            args = (child_conn, config, WorkerFd(block.fd), limits, debug, console)
+            shared = WorkerFd(block.fd) if block is not None and config is not None else None
+            args = (child_conn, config, shared, limits, debug, console, deadline_s)
             self.process = ctx.Process(target=_child, args=args, daemon=True)
             self.process.start()
         finally:
@@ -191,32 +201,42 @@ class WorkerProcess:
         """Send ``request`` (a :data:`crslab.worker.worker_messages.Request`)."""
         self._conn.send(request.wire())
 
+    def send_block(self, block: SharedBlock) -> None:
+        """Pass ``block``'s descriptor to the worker (after an ``Open``: the new instance's)."""
+        send_handle(self._conn, block.fd, self.pid)
+
     def reply(self, *due: type[Message], deadline_s: float | None, timeout_s: float | None = None,
-              during_setup: bool = False, ticks: int | None = None) -> Any:
-        """The worker's next reply, checked to be one of ``due``, or how the run ended meanwhile
-        (an :class:`~crslab.sim.diagnosis.Ending`): the worker died (``during_setup``: before it
-        was ready), a lab() or printing() call ran past ``deadline_s``, the worker used more CPU
-        time than a chunk of ``ticks`` may (:data:`CPU_S_PER_TICK` each, and a deadline's worth
-        more; a native lab only), stopped answering within ``timeout_s``, or sent what is not a reply."""
+              during_setup: bool = False, ticks: int | None = None, instance: int | None = None,
+              blocks: list[SharedBlock] | None = None) -> Any:
+        """The worker's next reply, checked to be one of ``due`` (about ``instance`` when given), or
+        how the run ended meanwhile (an :class:`~crslab.sim.diagnosis.Ending`): the worker died
+        (``during_setup``: before it was ready), a lab() or printing() call of the instance of one
+        of ``blocks`` (default: instance 0's) ran past ``deadline_s`` and the worker did not answer,
+        the worker used more CPU time than a chunk of ``ticks`` may (:data:`CPU_S_PER_TICK` each,
+        and a deadline's worth more; a native lab only), stopped answering within ``timeout_s``, or
+        sent what is not a reply."""
         cpu_allowance_s = None
-        if ticks is not None and deadline_s is not None and self.config.build.native:
+        if ticks is not None and deadline_s is not None and self.native:
             cpu_allowance_s = ticks * CPU_S_PER_TICK + deadline_s
+        watched = blocks if blocks is not None else [b for b in (self.block,) if b is not None]
         try:
-            raw = self._watch(deadline_s, timeout_s, during_setup, cpu_allowance_s)
-            return raw if isinstance(raw, Ending) else read_reply(raw, *due)
+            raw = self._watch(deadline_s, timeout_s, during_setup, cpu_allowance_s, watched)
+            return raw if isinstance(raw, Ending) else read_reply(raw, *due, instance=instance)
         except UnreadableReply as exc:
             return self.tampered(str(exc))
 
     def _watch(self, deadline_s: float | None, timeout_s: float | None, during_setup: bool,
-               cpu_allowance_s: float | None) -> object:
+               cpu_allowance_s: float | None, blocks: list[SharedBlock]) -> object:
         c = board_constants()
         start = time.monotonic()
         cpu0 = self._cpu_s() if cpu_allowance_s is not None else None
-        interrupted_at: float | None = None
-        # when this poll first saw the lab() or printing() call now running: the tick and the
-        # phase, and the wall time (the board keeps no clock of its own for it)
-        call_seen: tuple[int, int] | None = None
-        call_seen_at = start
+        # when this poll first saw the lab() or printing() call now running, per block: the tick
+        # and the phase, and the wall time (the board keeps no clock of its own for it)
+        call_seen: list[tuple[int, int] | None] = [None] * len(blocks)
+        call_seen_at = [start] * len(blocks)
+        # a native worker is killed at the deadline; a WebAssembly one has its watchdog, and a
+        # grace to answer after it
+        allowed_s = None if deadline_s is None else deadline_s + (0.0 if self.native else INTERRUPT_GRACE_S)
         polls = 0
         while True:
             try:
@@ -230,50 +250,50 @@ class WorkerProcess:
                 pass
             if not self.process.is_alive():
                 self.process.join(1.0)
-                death = self._death()
+                death = self._death(blocks[0] if blocks else None)
                 return diagnosis.not_loaded(death) if during_setup else diagnosis.died(death)
-            phase = self.block.phase
-            if deadline_s is not None and phase in (c.CRS_PHASE_LAB, c.CRS_PHASE_PRINTING):
-                call = (self.block.tick, phase)
-                if call != call_seen:
-                    call_seen, call_seen_at = call, time.monotonic()
-                if time.monotonic() - call_seen_at > deadline_s:
-                    if not self.config.build.native and interrupted_at is None:
-                        # the firmware's call traps at its next loop or call; the worker answers
-                        os.kill(self.pid, INTERRUPT_SIGNAL)
-                        interrupted_at = time.monotonic()
-                    elif interrupted_at is None or time.monotonic() - interrupted_at > INTERRUPT_GRACE_S:
-                        return self._hung(phase, deadline_s)
-            if self._rss_limit_mb is not None and self._rss_mb() > self._rss_limit_mb:
+            for i, block in enumerate(blocks if allowed_s is not None else ()):
+                phase = block.phase
+                if phase not in (c.CRS_PHASE_LAB, c.CRS_PHASE_PRINTING):
+                    continue
+                call = (block.tick, phase)
+                if call != call_seen[i]:
+                    call_seen[i], call_seen_at[i] = call, time.monotonic()
+                if time.monotonic() - call_seen_at[i] > allowed_s:  # type: ignore[operator]
+                    return self._hung(block, phase, deadline_s)
+            over_memory = self._rss_limit_mb is not None and self._rss_mb() > self._rss_limit_mb
+            if over_memory and self.block is not None:
                 tick, phase = self.block.tick, self.block.phase
                 self.kill()
                 return diagnosis.over_memory(self.lab_name, tick, phase, self.limits.memory_mb)
             polls += 1
-            if cpu0 is not None and polls % CPU_EVERY_POLLS == 0:
+            if cpu0 is not None and polls % CPU_EVERY_POLLS == 0 and blocks:
                 cpu = self._cpu_s()
                 if cpu is not None and cpu - cpu0 > cpu_allowance_s:  # type: ignore[operator]
-                    return self._hung(c.CRS_PHASE_LAB, deadline_s)
+                    return self._hung(blocks[0], c.CRS_PHASE_LAB, deadline_s)
             if timeout_s is not None and time.monotonic() - start > timeout_s:
                 self.process.kill()
-                return Ending(RunStatus.CRASHED, self.block.tick,
+                return Ending(RunStatus.CRASHED, blocks[0].tick if blocks else 0,
                               f"{self.lab_name}: the worker stopped answering")
 
-    def _death(self) -> WorkerDeath:
-        return WorkerDeath(self.lab_name, self.process.exitcode, self.block, self.limits.memory_mb,
+    def _death(self, block: SharedBlock | None) -> WorkerDeath:
+        if block is None:  # a worker with no instance: a block of its own, zeroed, says nothing
+            block = SharedBlock.new()
+        return WorkerDeath(self.lab_name, self.process.exitcode, block, self.limits.memory_mb,
                            self.limits.cpu_s, debugged=self.debug is not None,
                            trap_fp=self.debug is not None and self.debug.trap_fp,
                            sanitizer_report=diagnosis.sanitizer_finding(self.sanitizer_dir, self.lab_name))
 
-    def _hung(self, phase: int, deadline_s: float | None) -> Ending:
-        """The worker is killed: its lab() or printing() did not return."""
-        tick = self.block.tick
+    def _hung(self, block: SharedBlock, phase: int, deadline_s: float | None) -> Ending:
+        """The worker is killed: a lab() or printing() did not return."""
+        tick = block.tick
         self.kill()
         return diagnosis.hung(self.lab_name, diagnosis.phase_function(phase), tick, deadline_s)
 
     def tampered(self, what: str) -> Ending:
         """The worker is killed: the lab wrote into the pipe to crslab."""
         self.kill()
-        return diagnosis.tampered(self.lab_name, what, self.block.tick)
+        return diagnosis.tampered(self.lab_name, what, self.block.tick if self.block is not None else 0)
 
     def _cpu_s(self) -> float | None:
         """The worker's CPU time so far (the kernel's count, which nothing in the worker can
@@ -311,23 +331,20 @@ class WorkerProcess:
         self.process.kill()
         self.process.join()
 
-    def close(self, on_stopped: Callable[[Stopped], None] | None = None) -> None:
-        """Stop the worker (its last counters to ``on_stopped``; it leaves no process behind) and
-        remove the sanitizer's folder."""
+    def close(self) -> None:
+        """End the worker (it frees its instances and ends; it leaves no process behind) and remove
+        the sanitizer's folder."""
         if self.process.is_alive():
             try:
-                self.send(Stop())
-                if self._conn.poll(2.0):
-                    stopped = read_reply(receive(self._conn), Stopped)
-                    if on_stopped is not None:
-                        on_stopped(stopped)
-            except (OSError, EOFError, BrokenPipeError, UnreadableReply):
+                self.send(End())
+            except OSError:
                 pass
+        self._conn.close()
+        if self.process.is_alive():
             self.process.join(2.0)
             if self.process.is_alive():
                 self.process.kill()
         self.process.join()
-        self._conn.close()
         if self._console >= 0:
             os.close(self._console)
             self._console = -1

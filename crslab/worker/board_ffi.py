@@ -18,8 +18,9 @@ from cffi import FFI
 from crslab import resources
 from crslab.cheaders import cdef_from_header
 
-BOARD_HEADERS = ("port/firmware_board.h", "plant/world.h", "board/sim.h")
-"""sim.h and the port's header it includes (cffi reads no #include), under csrc/."""
+BOARD_HEADERS = ("port/firmware_board.h", "plant/world.h", "board/sim.h", "board/board_config.h")
+"""sim.h, the headers it includes (cffi reads no #include) and the board's configuration (board_config.h),
+under csrc/."""
 
 
 @cache

@@ -16,9 +16,11 @@ from crslab.worker.board_ffi import board_constants
 from crslab.worker.firmware_memory import FirmwareMemory
 
 
-def fill_memory_table(sim: object, board: FFI, firmware: FirmwareMemory, mem: MemoryLayout) -> list[object]:
-    """Point ``sim.memory`` (a ``crs_sim *`` of ``board``) at a table of ``mem``'s variables in the
-    loaded ``firmware``; returns what must stay alive as long as the table is used."""
+def fill_memory_table(sim: object, board: FFI, lib: object, firmware: FirmwareMemory,
+                      mem: MemoryLayout) -> list[object]:
+    """Point the board ``sim`` (a ``crs_sim *`` of ``board``, whose functions are ``lib``'s) at a
+    table of ``mem``'s variables in the loaded ``firmware`` (``crs_board_attach_memory``); returns
+    what must stay alive as long as the table is used."""
     c = board_constants()
     codes = {kind: getattr(c, f"CRS_MEM_{kind.upper()}") for kind in KINDS}
     table = board.new("crs_mem_var[]", max(1, len(mem.variables)))
@@ -35,6 +37,5 @@ def fill_memory_table(sim: object, board: FFI, firmware: FirmwareMemory, mem: Me
         if address is not None:
             e.host_bytes = size
             e.host = board.cast("void *", address)
-    sim.memory.vars = table  # type: ignore[attr-defined]
-    sim.memory.count = len(mem.variables)  # type: ignore[attr-defined]
+    lib.crs_board_attach_memory(sim, table, len(mem.variables))  # type: ignore[attr-defined]
     return [table]

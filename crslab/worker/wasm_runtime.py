@@ -1,7 +1,7 @@
 """wasmtime, which runs a lab's WebAssembly firmware inside the worker: where its C library is (the
-PyPI package ``wasmtime`` ships it; crslab._core loads it by path, csrc/board/wasmtime_api.h), and the
-signal the crslab process sends the worker to interrupt a firmware call at its deadline, where a
-firmware's compiled code is kept between runs, and loading the library ahead of forks.
+PyPI package ``wasmtime`` ships it; crslab._core loads it by path, csrc/board/wasmtime_api.h), a
+firmware's bytes and the digest that names its compiled code (shared by the worker's instances of
+one firmware, and kept between runs), and loading the library ahead of forks.
 
 >>> wasmtime_library().name
 '_libwasmtime.so'
@@ -12,15 +12,11 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import platform
-import signal
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 from crslab.cache import CacheError, cache_dir, is_sealed, seal
-
-INTERRUPT_SIGNAL = signal.SIGUSR1
-"""Sent to the worker at a deadline: its handler (csrc/board/firmware_wasm.c) bumps wasmtime's epoch,
-and the firmware's running call traps at its next loop iteration or call."""
 
 
 class WasmtimeMissing(FileNotFoundError):
@@ -42,22 +38,55 @@ def wasmtime_library() -> Path:
     return path
 
 
-def compiled_module_path(wasm: bytes, memory_bytes: int, stack_bytes: int) -> Path | None:
-    """Where wasmtime's compilation of the firmware ``wasm`` for a board with this memory and stack
-    is kept between runs (``compiled/`` of crslab's build cache; written by the board, see
-    ``keep_compiled`` in csrc/board/firmware_wasm.c), named by everything it depends on: the module's
-    bytes, wasmtime's library and the board's limits. None when the cache cannot be used (each run
-    compiles the module then, about 0.06 s)."""
+def module_digest(wasm: bytes, memory_bytes: int, stack_bytes: int) -> str:
+    """The digest of wasmtime's compilation of the firmware ``wasm`` for a board with this memory
+    and stack: everything it depends on (the module's bytes, wasmtime's library, the board's
+    limits). It names the compiled module a worker's instances of this firmware share, and the file
+    it is kept in between runs (:func:`compiled_module_path`)."""
     library = wasmtime_library()
     stat = library.stat()
     h = hashlib.sha256(wasm)
     h.update(f"{library}:{stat.st_size}:{stat.st_mtime_ns}:{memory_bytes}:{stack_bytes}".encode())
+    return h.hexdigest()[:32]
+
+
+def compiled_module_path(wasm: bytes, memory_bytes: int, stack_bytes: int,
+                         digest: str | None = None) -> Path | None:
+    """Where wasmtime's compilation of the firmware ``wasm`` for a board with this memory and stack
+    is kept between runs (``compiled/`` of crslab's build cache; written by the board, see
+    ``keep_compiled`` in csrc/board/firmware_wasm.c), named by its :func:`module_digest` (``digest``
+    when already computed). None when the cache cannot be used (each run compiles the module then,
+    about 0.06 s)."""
     try:
         folder = cache_dir() / "compiled"
         folder.mkdir(parents=True, exist_ok=True)
     except (CacheError, OSError):
         return None
-    return folder / f"{h.hexdigest()[:32]}.cwasm"
+    return folder / f"{digest or module_digest(wasm, memory_bytes, stack_bytes)}.cwasm"
+
+
+@dataclass(frozen=True)
+class WasmImage:
+    """A firmware's bytes, read once, and its :func:`module_digest`, computed once: a worker
+    reads and hashes each distinct firmware once, whatever number of instances run it."""
+
+    wasm: bytes
+    digest: str
+    memory_bytes: int
+    stack_bytes: int
+
+    @classmethod
+    def read(cls, path: Path) -> WasmImage:
+        """The firmware at ``path``, for a board with crslab's memory and stack limits."""
+        from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
+
+        wasm = path.read_bytes()
+        digest = module_digest(wasm, MEMORY_BYTES, NATIVE_STACK_BYTES)
+        return cls(wasm, digest, MEMORY_BYTES, NATIVE_STACK_BYTES)
+
+    def compiled_path(self) -> Path | None:
+        """Where its compiled module is kept between runs (:func:`compiled_module_path`)."""
+        return compiled_module_path(self.wasm, self.memory_bytes, self.stack_bytes, self.digest)
 
 
 def unsealed_compiled_removed(kept: Path) -> None:

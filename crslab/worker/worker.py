@@ -1,518 +1,191 @@
-"""The worker process: owns the MuJoCo plant, the board and the lab's firmware, and runs ticks on
+"""The worker process: holds board instances (:class:`crslab.worker.board.Board`) and runs them on
 request.
 
-It answers the crslab process's requests (:mod:`crslab.worker.worker_messages`: run to a tick, get or set
-a watched variable, push the arm, break into the debugger, stop) until ``Stop`` or the pipe
-closes; :func:`serve` is its whole loop. Serial bytes never travel through the pipe: the board
-writes them into the shared block, where the crslab process reads them even if this process dies.
+It answers the crslab process's requests (:mod:`crslab.worker.worker_messages`: open an instance,
+run one or many to their ticks, get or set a watched variable, push an arm, break into the
+debugger, stop an instance) until ``End`` or the pipe closes; :func:`serve` is its whole loop.
 
-The lab's firmware is a WebAssembly module by default: the board (crslab._core) runs it in a
-store of its own, and it can reach nothing of this process (csrc/board/firmware_wasm.c). A native
-firmware (crslab debug, --sanitize, --native) is a shared object holding the board too; with
-``SimConfig.sandboxed`` the worker builds the plant, then closes itself in the run sandbox
-(crslab/sandbox/run_sandbox.py), then loads it: from the lab's first constructor on, it may
-compute and print, and nothing else. Everything a native worker sends is read by the crslab
-process as untrusted (crslab/worker/worker_messages.py).
+A WebAssembly worker may hold many instances: they share one wasmtime engine, one compiled module
+per distinct firmware (read and hashed once: :class:`Images`), and one MuJoCo model per world and
+plant among instances whose scenario never changes their model (:class:`Models`); each has its own
+MuJoCo data, board, firmware store and shared block. A fault of one firmware (a trap, a hang past
+its deadline, an overflowing print) ends that instance's run and leaves the others running. No lab
+code runs in a WebAssembly worker's address space, so what it sends is trusted. A native worker
+(``--native``, ``--sanitize``, ``crslab debug``) holds its one instance, loaded at its start, in the
+run sandbox.
 """
 
 from __future__ import annotations
 
-import contextlib
-import copy
 import mmap
 import os
-from collections.abc import Iterable
 from multiprocessing.connection import Connection
+from multiprocessing.reduction import recv_handle
+from pathlib import Path
 
 import numpy as np
-from cffi import FFI
 
-from crslab import crs, os_support
-from crslab.framework_facts import CPU_CYCLES_PER_TICK, MOTOR_BOARDS
-from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
-from crslab.lab.watched import WatchedError, WatchedVar, watched_var
-from crslab.plant.model import apply_friction, apply_plant, motor_to_qpos
-from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
-from crslab.plant.plant_params import PlantParams
-from crslab.scenario.expect_events import Observation
 from crslab.worker import worker_messages
-from crslab.worker.board_ffi import board_constants, native_board_ffi
+from crslab.worker.board import Board, FirmwareStopped, plant_model, trap_info
 from crslab.worker.config import SimConfig
 from crslab.worker.debug_setup import DebugSetup
-from crslab.worker.event_effects import apply_event
-from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
-from crslab.worker.memory_table import fill_memory_table
-from crslab.worker.wasm_runtime import (
-    INTERRUPT_SIGNAL,
-    compiled_module_path,
-    seal_compiled,
-    unsealed_compiled_removed,
-    wasmtime_library,
-)
-from crslab.world.layout import World, peg_depth_m
-from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
-
-LOG_ROWS = 2000  # rows per scope-log block
-
-_LOG_COLUMNS = {  # name: (width, dtype)
-    "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
-    "tau_applied": (3, np.float64), "plot": (4, np.float64), "safety": (1, np.int32),
-    "leds": (1, np.uint32), "motor_board_off": (1, np.int32), "qpos_dh_rad": (3, np.float64),
-    "ee": (3, np.float64), "push_force": (3, np.float64),
-}
-WORLD_COLUMNS = {  # the C log's "world" row (csrc/plant/world.h CRS_WORLD_ROW_*), split by name: width
-    "peg_tip": 3, "egg_force": 1, "scale_g": 1, "egg_broken": 1, "hole_force": 1, "obstacle_force": 1,
-    "groove_side_force": 1, "groove_force": 1, "table_force": 1,
-}
-"""The scope log's world columns (docs/worlds.md), in a run whose world has fixtures."""
-STANDARD_GRAVITY = 9.80665
-"""What a scale divides a force by to show grams (m/s^2): scales are calibrated to it."""
-_C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
+from crslab.worker.event_effects import changes_model
+from crslab.worker.wasm_runtime import WasmImage
 
 
-STAT_FIELDS = (
-    "lab_calls", "lab_cost_total", "lab_cost_max", "lab_max_tick", "over_budget", "cost_unit", "budget",
-    "nan_first_tick", "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag",
-    "leds", "estop_latched", "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars",
-    "overflow_phase", "console_bytes",
-)
+class Models:
+    """The MuJoCo models of a worker, one per world and plant, shared by the instances whose run
+    never changes its model (no scenario event edits it, no egg to break); the others get their own."""
+
+    def __init__(self) -> None:
+        self._shared: dict[tuple, object] = {}
+
+    def model_for(self, config: SimConfig) -> object:
+        """The model an instance of ``config`` runs on."""
+        if changes_model(config.scenario.events) or config.world.egg is not None:
+            return plant_model(config)
+        key = (config.world, config.plant)
+        model = self._shared.get(key)
+        if model is None:
+            model = self._shared[key] = plant_model(config)
+        return model
 
 
-def split_world_row(row: object) -> dict:
-    """The world's row (``CRS_WORLD_ROW`` values, or rows of them) split into named columns.
+class Images:
+    """The firmware images a worker has read, each read and hashed once (by path, size and
+    modification time)."""
 
-    >>> split_world_row(np.arange(11.0))["scale_g"], split_world_row(np.zeros((2, 11)))["peg_tip"].shape
-    (array([4.]), (2, 3))
-    """
-    a = np.asarray(row, dtype=float)
-    flat = a.ndim == 1
-    a = a.reshape(-1, sum(WORLD_COLUMNS.values()))
-    out, i = {}, 0
-    for name, width in WORLD_COLUMNS.items():
-        out[name] = a[0, i:i + width] if flat else a[:, i:i + width].copy()
-        i += width
-    return out
+    def __init__(self) -> None:
+        self._read: dict[tuple[Path, int, int], WasmImage] = {}
 
-
-def attach_world(ffi: FFI, w: object, model: object, data: object, world: World) -> list[object]:
-    """Set the C world ``w`` (a ``crs_world *``; csrc/plant/world.h) for ``world``'s compiled scene
-    ``model`` and its ``data``: the sensors' places in ``data.sensordata``, the egg's breaking force
-    and geom, the groove's corners. Returns what must stay alive as long as ``w`` is used."""
-    if world.is_free_air:
-        return []
-    keep: list[object] = [model, data]
-
-    def ptr(ctype: str, arr: np.ndarray, offset: int = 0) -> object:
-        keep.append(arr)
-        return ffi.cast(ctype, arr.ctypes.data) + offset
-
-    w.enabled = 1  # type: ignore[attr-defined]
-    w.sensordata = ptr("double *", data.sensordata)  # type: ignore[attr-defined]
-    names = [model.sensor(i).name for i in range(model.nsensor)]  # type: ignore[attr-defined]
-    if PEG_TIP_SITE in names:
-        w.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])  # type: ignore[attr-defined]
-    for i, fixture in enumerate(FIXTURE_SENSORS):
-        if f"{fixture}_force" in names:
-            w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")])  # type: ignore[attr-defined]
-    w.gravity_m_s2 = STANDARD_GRAVITY  # type: ignore[attr-defined]
-    if world.groove is not None:
-        for i, (x, y) in enumerate(world.groove.corners_xy_m):
-            w.groove_xy_m[2 * i], w.groove_xy_m[2 * i + 1] = x, y  # type: ignore[attr-defined]
-    if world.egg is not None:
-        w.breaking_force_n = world.egg.breaking_force_n  # type: ignore[attr-defined]
-        egg = model.geom("egg").id  # type: ignore[attr-defined]
-        w.egg_contype = ptr("int32_t *", model.geom_contype, egg)  # type: ignore[attr-defined]
-        w.egg_conaffinity = ptr("int32_t *", model.geom_conaffinity, egg)  # type: ignore[attr-defined]
-        w.egg_size_m = ptr("double *", model.geom_size, 3 * egg)  # type: ignore[attr-defined]
-        w.egg_pos_m = ptr("double *", model.geom_pos, 3 * egg)  # type: ignore[attr-defined]
-    return keep
-
-
-class FirmwareStopped(Exception):
-    """The firmware could not be loaded, or stopped in a constructor: ``trap`` says how
-    (:func:`trap_info`)."""
-
-    def __init__(self, trap: dict) -> None:
-        super().__init__(trap.get("text", ""))
-        self.trap = trap
-
-
-def trap_info(ffi: FFI, sim: object) -> dict:
-    """How the firmware stopped (``crs_sim.trap``), as plain data: kind, phase, tick, exit code and
-    wasmtime's text (the firmware's frames included)."""
-    t = sim.trap  # type: ignore[attr-defined]
-    return {"kind": int(t.kind), "phase": int(t.phase), "tick": int(t.tick), "exit_code": int(t.exit_code),
-            "line": int(t.line), "text": ffi.string(t.text).decode("utf-8", "replace")}
+    def image(self, path: Path) -> WasmImage:
+        """The firmware at ``path``."""
+        stat = path.stat()
+        key = (path, stat.st_size, stat.st_mtime_ns)
+        image = self._read.get(key)
+        if image is None:
+            image = self._read[key] = WasmImage.read(path)
+        return image
 
 
 class Worker:
-    """The plant, the board and the lab, stepped in chunks."""
+    """The instances of one worker process, by the number the crslab process gave each."""
 
-    def __init__(self, config: SimConfig, shared: mmap.mmap, keep_fds: Iterable[int] = (),
-                 debug: DebugSetup | None = None) -> None:
-        import mujoco
+    def __init__(self) -> None:
+        self.instances: dict[int, Board] = {}
+        self.models = Models()
+        self.images = Images()
 
-        self.config = config
-        self.model = load_scene(config.world)
-        apply_plant(self.model, config.plant, loaded=copy.copy(self.model))
-        self.plant = config.plant
-        """The plant parameters in force (a scenario's friction scale changes them)."""
-        self.data = mujoco.MjData(self.model)
-        rest = np.asarray(config.rest_motor_rad, dtype=float)
-        set_arm_pose(self.model, self.data, motor_to_qpos(rest))
-        mujoco.mj_forward(self.model, self.data)
-        self.rest_dh = crs.motor_to_dh(rest)
-        mj_step = mj_step_address()
-        stop_stage_timers()  # nothing reads mjData.timer: mj_step does the physics and only that
-        self.watched = {v.name: v for v in config.build.watched}
-        self.sandbox = None
-        self._keep: list[object] = [shared]
-        if config.build.native:
-            ffi = self.ffi = native_board_ffi()
-            block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
-            self.lib, sim = self._load_native(config, block, keep_fds, debug)
-            names = [v.name for v in config.build.variables]
-            self.firmware: FirmwareMemory = NativeMemory(config.build.image, names)
-        else:
-            from crslab._core import ffi, lib
+    def open(self, instance: int, config: SimConfig, shared: mmap.mmap, deadline_s: float | None,
+             keep_fds: list[int], debug: DebugSetup | None = None) -> worker_messages.Message:
+        """Open ``instance`` on the shared block ``shared``; the reply that says how it went."""
+        from crslab.sandbox.run_sandbox import SandboxError
 
-            self.ffi, self.lib = ffi, lib
-            block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
-            sim = self._load_wasm(config, block)
-            self.firmware = WasmMemory(ffi, lib, sim, config.build)
-        self.sim = sim
-        # the lab's globals as the board's MATLAB code sees them (C28x addresses)
-        self._keep += fill_memory_table(sim, ffi, self.firmware, config.build.memory)
-        sim.mj_model = ffi.cast("void *", self.model._address)
-        sim.mj_data = ffi.cast("void *", self.data._address)
-        sim.mj_step = ffi.cast("crs_mj_step_fn", mj_step)
-        sim.qpos = self._ptr("double *", self.data.qpos)
-        sim.qvel = self._ptr("double *", self.data.qvel)
-        sim.ctrl = self._ptr("double *", self.data.ctrl)
-        sim.qfrc_applied = self._ptr("double *", self.data.qfrc_applied)
-        sim.motor_board.model = MOTOR_BOARDS[config.motor_board_model]
-        sim.strict_nan = int(config.strict_nan)
-        sim.startup_ticks = config.startup_ticks
-        # lab()'s budget in the firmware's cost unit: instructions, or (native) ns at one
-        # instruction per cycle of the F28335 (CPU_CYCLES_PER_TICK per ms)
-        sim.budget = (config.budget_instructions if sim.cost_unit == board_constants().CRS_COST_INSTRUCTIONS
-                      else config.budget_instructions * 1_000_000 // CPU_CYCLES_PER_TICK)
-        for j in range(3):
-            sim.rest_motor_rad[j] = rest[j]
-        self._set_drive(config.plant)
-        self._set_sliding_friction(config.plant)
-        for j in range(3):
-            sim.faults.noise_counts[j] = config.plant.encoder_noise_counts
-        h = sim.hand
-        h.kp_nm_per_rad, h.ki_nm_per_rad_s = config.hand.kp, config.hand.ki
-        h.kd_nm_s_per_rad, h.max_nm = config.hand.kd, config.hand.max_nm
-        sim.debug.break_when = int(config.build.break_when is not None)
-        sim.debug.trap_fp = int(debug is not None and debug.trap_fp)
-        self._set_world(config.world)
-        self.events = list(config.scenario.events)
-        self.motor_board_events: list[worker_messages.MotorBoardEvent] = []
-        self.observations: list[Observation] = []
-        self.log_blocks: list[dict[str, np.ndarray]] = []
-        self._columns = dict(_LOG_COLUMNS)
-        if sim.world.enabled:
-            self._columns["world"] = (sum(WORLD_COLUMNS.values()), np.float64)
-        if config.log_signals:
-            self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in self._columns.items()}
-            sim.log.capacity = LOG_ROWS
-            for k, arr in self._log_arrays.items():
-                setattr(sim.log, k, self._ptr(_C_TYPE[self._columns[k][1]], arr))
-
-    def _set_world(self, world: World) -> None:
-        """Point the board's world (csrc/plant/world.h) at the scene's sensors and the egg's geom."""
-        self._keep += attach_world(self.ffi, self.sim.world, self.model, self.data, world)
-
-    def world_values(self) -> dict[str, float] | None:
-        """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...),
-        and ``peg_depth``: how far the peg's tip is below the hole's top while inside its radius (m,
-        else 0). None in a world without fixtures."""
-        w = self.sim.world
-        if not w.enabled:
-            return None
-        values = {}
-        row = [float(w.row[i]) for i in range(sum(WORLD_COLUMNS.values()))]
-        for name, value in split_world_row(row).items():
-            if len(value) == 3:
-                values.update({f"{name}_{a}": float(v) for a, v in zip("xyz", value)})
+        if instance in self.instances:
+            return worker_messages.Failed(instance, f"instance {instance} is already open")
+        try:
+            if config.build.native:
+                if self.instances:
+                    return worker_messages.Failed(instance, "a native worker holds one instance")
+                board = Board(config, shared, keep_fds=keep_fds, debug=debug, deadline_s=deadline_s)
             else:
-                values[name] = float(value[0])
-        values["peg_depth"] = peg_depth_m(self.config.world, (values.get("peg_tip_x", 0.0),
-                                                               values.get("peg_tip_y", 0.0),
-                                                               values.get("peg_tip_z", 0.0)))
-        return values
+                board = Board(config, shared, debug=debug, deadline_s=deadline_s,
+                              model=self.models.model_for(config),
+                              image=self.images.image(config.build.image))
+        except SandboxError as exc:
+            return worker_messages.Failed(instance, str(exc))
+        except FirmwareStopped as exc:
+            return worker_messages.Trapped(instance, exc.trap)
+        except OSError as exc:
+            return worker_messages.Failed(instance, f"cannot open the lab's firmware ({exc.strerror})")
+        self.instances[instance] = board
+        return worker_messages.Ready(instance, int(board.sim.fw.symbols))
 
-    def _new_sim(self, config: SimConfig, block: object) -> object:
-        sim = self.ffi.new("crs_sim *")
-        self.lib.crs_sim_init(sim)
-        sim.generation = config.build.generation.id
-        sim.shared = block
-        return sim
+    def ran(self, instance: int, until_tick: int) -> worker_messages.Message:
+        """Run ``instance`` to ``until_tick``: its :class:`~crslab.worker.worker_messages.Ran`."""
+        board = self.instances.get(instance)
+        if board is None:
+            return worker_messages.Error(f"no instance {instance} is open")
+        code = board.run(until_tick)
+        trap = trap_info(board.ffi, board.sim) if code == board.lib.CRS_RUN_TRAPPED else None
+        return worker_messages.Ran(instance, code, int(board.sim.tick), board.stats(), board.take_log(),
+                                   tuple(board.take_motor_board_events()), tuple(board.take_observations()),
+                                   trap)
 
-    def _load_native(self, config: SimConfig, block: object, keep_fds: Iterable[int],
-                     debug: DebugSetup | None) -> tuple[object, object]:
-        """The native firmware's shared object, loaded (in the run sandbox when asked) and
-        attached to a new board; returns (library, sim)."""
-        tracer = debug.tracer_pid if debug is not None else None
-        constants = board_constants()  # read from sim.h before the sandbox closes every file
-        if config.sandboxed:
-            from crslab.sandbox.run_sandbox import enter_run_sandbox
-
-            self.sandbox = enter_run_sandbox(block, config.build.image, keep_fds,
-                                             trap_library=config.build.trap_library,
-                                             sanitizer=config.build.sanitized, tracer_pid=tracer)
-        elif tracer is not None:
-            os_support.allow_tracer(tracer)
-        block.phase = constants.CRS_PHASE_LOADING  # type: ignore[attr-defined]
-        with self.sandbox.loading() if self.sandbox is not None else contextlib.nullcontext():
-            lib = self.ffi.dlopen(str(config.build.image))
-        block.phase = constants.CRS_PHASE_IDLE  # type: ignore[attr-defined]
-        self.lib = lib
-        sim = self._new_sim(config, block)
-        if lib.crs_fw_native_attach(sim) != 0:
-            raise FirmwareStopped(trap_info(self.ffi, sim))
-        return lib, sim
-
-    def _load_wasm(self, config: SimConfig, block: object) -> object:
-        """The WebAssembly firmware, loaded into a new board (crslab._core); raises
-        :class:`FirmwareStopped` when it cannot be loaded or stops in a constructor."""
-        sim = self._new_sim(config, block)
-        self.lib.crs_fw_wasm_interrupt_on(INTERRUPT_SIGNAL)
-        # a trap's backtrace names the lab's file and line (the firmware carries its DWARF)
-        os.environ["WASMTIME_BACKTRACE_DETAILS"] = "1"
-        wasm = config.build.image.read_bytes()
-        library = self.ffi.new("char[]", str(wasmtime_library()).encode())
-        kept = compiled_module_path(wasm, MEMORY_BYTES, NATIVE_STACK_BYTES)
-        if kept is not None:
-            unsealed_compiled_removed(kept)
-        compiled = self.ffi.new("char[]", str(kept).encode()) if kept is not None else self.ffi.NULL
-        image = self.ffi.new("uint8_t[]", wasm)
-        options = self.ffi.new("crs_wasm_options *", {
-            "libwasmtime": library, "wasm": image, "wasm_len": len(wasm), "memory_bytes": MEMORY_BYTES,
-            "stack_bytes": NATIVE_STACK_BYTES, "compiled_path": compiled})
-        self._keep += [library, image, compiled, options]
-        block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
-        code = self.lib.crs_fw_wasm_load(sim, options)
-        if kept is not None:
-            seal_compiled(kept)
-        if code != 0:
-            raise FirmwareStopped(trap_info(self.ffi, sim))
-        block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
-        return sim
+    def answer(self, request: worker_messages.Request) -> worker_messages.Message:
+        """The reply to a request about one open instance (not Open, RunMany)."""
+        board = self.instances.get(getattr(request, "instance", -1))
+        if board is None:
+            return worker_messages.Error(f"no instance {getattr(request, 'instance', '?')} is open")
+        match request:
+            case worker_messages.Run(instance, until_tick):
+                return self.ran(instance, until_tick)
+            case worker_messages.Get(_, name):
+                try:
+                    return worker_messages.Value(board.get_var(name))
+                except KeyError as exc:
+                    return worker_messages.Error(str(exc.args[0]))
+            case worker_messages.Set(_, name, index, value):
+                try:
+                    board.set_var(name, index, value)
+                    return worker_messages.Value(None)
+                except (KeyError, OverflowError) as exc:
+                    return worker_messages.Error(str(exc.args[0]))
+            case worker_messages.Push(_, body_forces):
+                push = board.data.xfrc_applied  # MuJoCo's viewer: the mouse's force on each body
+                push[:] = np.asarray(body_forces, dtype=float).reshape(push.shape)
+                return worker_messages.Value(None)
+            case worker_messages.Break(_):
+                board.debug_break()
+                return worker_messages.Value(None)
+            case worker_messages.Stop(instance):
+                stopped = worker_messages.Stopped(instance, board.stats(), board.take_log())
+                board.close()
+                del self.instances[instance]
+                return stopped
+        raise TypeError(f"not a request about one instance: {request!r}")  # pragma: no cover
 
     def close(self) -> None:
-        """Free the firmware (a WebAssembly one; a native one stays loaded with the process)."""
-        if not self.config.build.native and self.sim is not None:
-            self.lib.crs_fw_wasm_unload(self.sim)
-
-    def _set_drive(self, plant: PlantParams) -> None:
-        drive = self.sim.drive
-        drive.lag_s = plant.drive_lag_s
-        for j in range(3):
-            # the C drive works in the commands' units: the plant's N.m over the motor gain
-            drive.stall_units[j] = plant.stall_nm[j] / plant.motor_gain
-            drive.backemf_units_s_per_rad[j] = plant.backemf_nm_s_per_rad[j] / plant.motor_gain
-
-    def _set_sliding_friction(self, plant: PlantParams) -> None:
-        friction = self.sim.friction
-        friction.transition_rad_s = plant.friction_transition_rad_s
-        for field, values in plant.sliding_units().items():
-            for j in range(3):
-                getattr(friction, field)[j] = values[j]
-
-    def set_friction(self, plant: PlantParams) -> None:
-        """Run on with ``plant``'s friction."""
-        self.plant = plant
-        apply_friction(self.model, plant)
-        self._set_sliding_friction(plant)
-
-    def _ptr(self, ctype: str, arr: np.ndarray) -> object:
-        self._keep.append(arr)
-        return self.ffi.cast(ctype, arr.ctypes.data)
-
-    # -- watched variables -------------------------------------------------------------------
-    def _var(self, name: str, index: int | None, *, whole: bool) -> tuple[WatchedVar, object]:
-        """A watched variable, checked with ``index`` (:func:`crslab.lab.watched.watched_var`), and
-        its first element (a cffi pointer)."""
-        try:
-            var = watched_var(self.watched.values(), name, index, self.config.build.source.name, whole=whole)
-        except WatchedError as exc:
-            raise KeyError(str(exc)) from None
-        element = self.firmware.element_type(var.ctype)
-        count = var.length if var.length is not None else 1
-        address = None
-        if element is not None:
-            address = self.firmware.address(name, count * self.firmware.ffi.sizeof(element))
-        if address is None:
-            raise KeyError(f"{name} cannot be reached in the lab's firmware")
-        return var, self.firmware.ffi.cast(f"{element} *", address)
-
-    def get_var(self, name: str) -> float | list[float]:
-        """Current value of a watched variable (a list for arrays)."""
-        var, pointer = self._var(name, None, whole=True)
-        if var.length is not None:
-            return [float(pointer[i]) for i in range(var.length)]  # type: ignore[index]
-        return float(pointer[0])  # type: ignore[index]
-
-    def set_var(self, name: str, index: int | None, value: float) -> None:
-        """Write a watched variable (or one element of a watched array) between ticks."""
-        var, pointer = self._var(name, index, whole=False)
-        try:
-            var.check_value(value, self.config.build.source.name)
-        except WatchedError as exc:
-            raise KeyError(str(exc)) from None
-        pointer[index or 0] = int(round(value)) if var.is_integer else float(value)  # type: ignore[index]
-
-    def observe(self, var: tuple[str, int | None] | None) -> None:
-        """Note what an expectation sees now, before this tick runs: the motor board and the
-        safety flag as the last tick left them, the arm's motor angles (what this tick's encoders
-        read, without offsets or faults), and the watched variable ``var`` (name, index) if any."""
-        sim = self.sim
-        motor = crs.dh_to_motor(np.asarray(self.data.qpos[:3], dtype=float))
-        value = None
-        if var is not None:
-            got = self.get_var(var[0])
-            value = float(got[var[1]] if isinstance(got, list) and var[1] is not None else got)
-        self.observations.append(Observation(
-            tick=int(sim.tick), motor_board=self.config.motor_board_model,
-            motor_board_off=bool(sim.motor_board.off), motor_board_cutouts=int(sim.motor_board.cutouts),
-            error=int(sim.safety_flag), motor_rad=(float(motor[0]), float(motor[1]), float(motor[2])),
-            var=value, world=self.world_values()))
-
-    def take_observations(self) -> list[Observation]:
-        """What the expectations saw since the last call."""
-        taken, self.observations = self.observations, []
-        return taken
-
-    def set_simulink_input(self, number: int, value: int) -> None:
-        """What Simulink sent on input ``number`` (1..7), as the lab sees it from the next tick."""
-        pointer = self.sim.fw.simulink_input[number - 1]
-        if pointer != self.ffi.NULL:
-            pointer[0] = int(value)
-
-    def _drain_log(self) -> None:
-        log = self.sim.log
-        n = int(log.count)
-        if n:
-            block = {k: a[:n].copy() for k, a in self._log_arrays.items()}
-            if "world" in block:
-                block.update(split_world_row(block.pop("world")))
-            self.log_blocks.append(block)
-            log.count = 0
-
-    def run(self, until_tick: int) -> int:
-        """Run to ``until_tick`` (events applied on their tick); returns a CRS_RUN_* code."""
-        lib, sim = self.lib, self.sim
-        while True:
-            while self.events and self.events[0].tick <= sim.tick:
-                apply_event(self, self.events.pop(0))
-            if sim.tick >= until_tick:
-                return lib.CRS_RUN_DONE
-            stop_at = min(until_tick, self.events[0].tick) if self.events else until_tick
-            code = lib.crs_sim_run(sim, stop_at)
-            if code == lib.CRS_RUN_LOG_FULL or (self.config.log_signals and code != lib.CRS_RUN_DONE):
-                self._drain_log()
-            if code == lib.CRS_RUN_EVENTS_FULL:
-                self._drain_motor_board_events()
-            if code not in (lib.CRS_RUN_DONE, lib.CRS_RUN_LOG_FULL, lib.CRS_RUN_EVENTS_FULL):
-                return code
-
-    def _drain_motor_board_events(self) -> None:
-        mb = self.sim.motor_board
-        self.motor_board_events.extend(
-            worker_messages.MotorBoardEvent(int(mb.event_tick[i]), int(mb.event_joint[i]),
-                                            bool(mb.event_off[i]))
-            for i in range(int(mb.event_count)))
-        mb.event_count = 0
-
-    def debug_break(self) -> None:
-        """Stop in the debugger before the next tick (it then stops at the next ``lab()`` call)."""
-        self.lib.crs_tick = self.sim.tick
-        self.lib.crs_debug_break(self.sim.tick)
-
-    def stats(self) -> dict[str, int]:
-        """The board's counters, as plain ints."""
-        s = self.sim
-        out = {name: int(getattr(s, name)) for name in STAT_FIELDS}
-        out["tick"] = int(s.tick)
-        out["first_over_tick"] = [int(s.first_over_tick[i]) for i in range(min(8, int(s.over_budget)))]
-        out["native"] = self.config.build.native
-        out["motor_board"] = self.config.motor_board_model
-        out["motor_board_cutouts"] = int(s.motor_board.cutouts)
-        return out
-
-    def take_motor_board_events(self) -> list[worker_messages.MotorBoardEvent]:
-        """The motor board's cut-outs starting or ending since the last call."""
-        self._drain_motor_board_events()
-        events, self.motor_board_events = self.motor_board_events, []
-        return events
-
-    def take_log(self) -> dict[str, np.ndarray] | None:
-        """The scope rows gathered since the last call (None when logging is off)."""
-        if not self.config.log_signals:
-            return None
-        self._drain_log()
-        blocks, self.log_blocks = self.log_blocks, []
-        if not blocks:
-            empty = {k: np.zeros((0, w), dt) for k, (w, dt) in self._columns.items()}
-            if "world" in empty:
-                empty.update(split_world_row(empty.pop("world")))
-            return empty
-        return {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}
+        """Free every instance."""
+        for board in self.instances.values():
+            board.close()
+        self.instances.clear()
 
 
-def serve(conn: Connection, config: SimConfig, shared_fd: int, debug: DebugSetup | None = None) -> None:
-    """Worker entry point: answer requests until ``Stop`` or the pipe closes."""
-    from crslab.sandbox.run_sandbox import SandboxError
-
-    shared = mmap.mmap(shared_fd, 0)
-    os.close(shared_fd)
+def serve(conn: Connection, first: SimConfig | None, shared_fd: int | None, debug: DebugSetup | None = None,
+          deadline_s: float | None = None) -> None:
+    """Worker entry point: open instance 0 of ``first`` on the shared block ``shared_fd`` (when
+    given), then answer requests until ``End`` or the pipe closes."""
+    worker = Worker()
 
     def send(reply: worker_messages.Message) -> None:
         conn.send(reply.wire())
 
-    try:
-        worker = Worker(config, shared, keep_fds=[conn.fileno()], debug=debug)
-    except SandboxError as exc:
-        send(worker_messages.Failed(str(exc)))
-        return
-    except FirmwareStopped as exc:
-        send(worker_messages.Trapped(exc.trap))
-        return
-    send(worker_messages.Ready(int(worker.sim.fw.symbols)))
-    while True:
-        try:
-            request = worker_messages.read_request(conn.recv())
-        except EOFError:
+    def mapped(fd: int) -> mmap.mmap:
+        shared = mmap.mmap(fd, 0)
+        os.close(fd)
+        return shared
+
+    if first is not None and shared_fd is not None:
+        reply = worker.open(0, first, mapped(shared_fd), deadline_s, [conn.fileno()], debug)
+        send(reply)
+        if not isinstance(reply, worker_messages.Ready):
             return
-        match request:
-            case worker_messages.Run(until_tick):
-                code = worker.run(until_tick)
-                trap = trap_info(worker.ffi, worker.sim) if code == worker.lib.CRS_RUN_TRAPPED else None
-                send(worker_messages.Ran(code, int(worker.sim.tick), worker.stats(), worker.take_log(),
-                         tuple(worker.take_motor_board_events()), tuple(worker.take_observations()), trap))
-            case worker_messages.Get(name):
-                try:
-                    send(worker_messages.Value(worker.get_var(name)))
-                except KeyError as exc:
-                    send(worker_messages.Error(str(exc.args[0])))
-            case worker_messages.Set(name, index, value):
-                try:
-                    worker.set_var(name, index, value)
-                    send(worker_messages.Value(None))
-                except (KeyError, OverflowError) as exc:
-                    send(worker_messages.Error(str(exc.args[0])))
-            case worker_messages.Push(body_forces):
-                push = worker.data.xfrc_applied  # MuJoCo's viewer: the mouse's force on each body
-                push[:] = np.asarray(body_forces, dtype=float).reshape(push.shape)
-                send(worker_messages.Value(None))
-            case worker_messages.Break():
-                worker.debug_break()
-                send(worker_messages.Value(None))
-            case worker_messages.Stop():
-                send(worker_messages.Stopped(worker.stats(), worker.take_log()))
-                worker.close()
+    try:
+        while True:
+            try:
+                request = worker_messages.read_request(conn.recv())
+            except EOFError:
                 return
+            match request:
+                case worker_messages.Open(instance, config, deadline):
+                    send(worker.open(instance, config, mapped(recv_handle(conn)), deadline, [conn.fileno()]))
+                case worker_messages.End():
+                    return
+                case worker_messages.RunMany(targets):
+                    for instance, until_tick in targets:
+                        send(worker.ran(instance, until_tick))
+                case _:
+                    send(worker.answer(request))
+    finally:
+        worker.close()

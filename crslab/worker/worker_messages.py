@@ -1,12 +1,17 @@
 """The messages between the crslab process and its worker (crslab/worker/worker.py), typed, and the
 one place the worker's replies are checked.
 
-The crslab process asks (:data:`Request`): :class:`Run` to a tick, :class:`Get` or :class:`Set`
-a watched variable, :class:`Push` the arm, :class:`Break` into the debugger, :class:`Stop`. The
-worker answers (:data:`Reply`): first :class:`Ready` (or :class:`Failed`, :class:`Trapped`), then
-:class:`Ran` for a run, :class:`Value` or :class:`Error` for the others, :class:`Stopped` last.
-Serial bytes never travel here: the board writes them into the shared block
-(:mod:`crslab.sim.shared_block`).
+A worker holds board instances (:class:`crslab.worker.board.Board`), each named by a whole number
+the crslab process chose; every request about one carries its ``instance``. The crslab process asks
+(:data:`Request`): :class:`Open` an instance (a WebAssembly worker only: its shared block follows
+the message as a passed descriptor), :class:`Run` it to a tick, :class:`RunMany` instances each to
+its tick in one request, :class:`Get` or :class:`Set` a watched variable, :class:`Push` the arm,
+:class:`Break` into the debugger, :class:`Stop` an instance (its last counters, and it is gone),
+:class:`End` the worker. The worker answers (:data:`Reply`): for an instance opened, :class:`Ready`
+(or :class:`Failed`, :class:`Trapped`: it is not open), then :class:`Ran` for a run (one per
+instance of a :class:`RunMany`, in its order), :class:`Value` or :class:`Error` for the others,
+:class:`Stopped` last. Serial bytes never travel here: each instance's board writes them into its
+own shared block (:mod:`crslab.sim.shared_block`).
 
 On the pipe every message is a tuple of plain data, its kind first (:meth:`Message.wire`): the
 crslab process never unpickles a class the worker names. A native lab shares the worker's process
@@ -14,11 +19,11 @@ and may write anything into the pipe, so a reply is unpickled with only plain da
 arrays allowed (:mod:`crslab.worker.worker_reply`), then :func:`read_reply` checks it is the reply
 due, field by field; anything else is :class:`~crslab.worker.worker_reply.UnreadableReply`.
 
->>> Run(5000).wire()
-('run', 5000)
+>>> Run(0, 5000).wire()
+('run', 0, 5000)
 >>> read_reply(("value", 1.5), Value, Error)
 Value(value=1.5)
->>> read_reply(("ran", 0, "5000", {}, None, [], [], None), Ran)
+>>> read_reply(("ran", 0, 0, "5000", {}, None, [], [], None), Ran)
 Traceback (most recent call last):
 ...
 crslab.worker.worker_reply.UnreadableReply: its ran reply holds tick = '5000', not a whole number
@@ -28,12 +33,15 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Any, ClassVar, NamedTuple, dataclass_transform
+from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple, dataclass_transform
 
 import numpy as np
 
 from crslab.scenario.expect_events import Observation
 from crslab.worker.worker_reply import UnreadableReply
+
+if TYPE_CHECKING:
+    from crslab.worker.config import SimConfig
 
 
 @dataclass_transform(frozen_default=True)
@@ -66,21 +74,41 @@ def _plain(value: object) -> object:
 
 
 # -- the crslab process asks --------------------------------------------------------------------
-class Run(Message):
-    """Run the board up to ``until_tick`` (scenario events applied on their ticks)."""
+class Open(Message):
+    """Add instance ``instance`` running ``config``: a call of its firmware running longer than
+    ``deadline_s`` is interrupted (None: never). Its shared block follows on the pipe as a
+    descriptor (:func:`multiprocessing.reduction.send_handle`)."""
 
+    instance: int
+    config: SimConfig
+    deadline_s: float | None
+
+
+class Run(Message):
+    """Run instance ``instance`` up to ``until_tick`` (scenario events applied on their ticks)."""
+
+    instance: int
     until_tick: int
+
+
+class RunMany(Message):
+    """Run each instance of ``targets`` (``(instance, until_tick)`` pairs) to its tick, one after
+    the other: one :class:`Ran` reply each, in this order."""
+
+    targets: list
 
 
 class Get(Message):
     """A watched variable's value."""
 
+    instance: int
     name: str
 
 
 class Set(Message):
     """Write a watched variable (``index``: one element of a watched array)."""
 
+    instance: int
     name: str
     index: int | None
     value: float
@@ -89,26 +117,36 @@ class Set(Message):
 class Push(Message):
     """A force and torque on each body (MuJoCo ``xfrc_applied``, rows of six) until the next push."""
 
+    instance: int
     body_forces: list
 
 
 class Break(Message):
     """Call ``crs_debug_break`` (a debugged run: the debugger arms its breakpoint on ``lab()``)."""
 
+    instance: int
+
 
 class Stop(Message):
-    """Send the last counters and end."""
+    """Send the instance's last counters and remove it."""
+
+    instance: int
 
 
-Request = Run | Get | Set | Push | Break | Stop
-_REQUESTS: dict[str, type[Message]] = {c.KIND: c for c in (Run, Get, Set, Push, Break, Stop)}
+class End(Message):
+    """Free every instance and end the worker process (no reply)."""
+
+
+Request = Open | Run | RunMany | Get | Set | Push | Break | Stop | End
+_REQUESTS: dict[str, type[Message]] = {
+    c.KIND: c for c in (Open, Run, RunMany, Get, Set, Push, Break, Stop, End)}
 
 
 def read_request(raw: tuple) -> Request:
     """A request from its wire form (the worker trusts the crslab process).
 
-    >>> read_request(("set", "mycount", None, 2.0))
-    Set(name='mycount', index=None, value=2.0)
+    >>> read_request(("set", 3, "mycount", None, 2.0))
+    Set(instance=3, name='mycount', index=None, value=2.0)
     """
     return _REQUESTS[raw[0]](*raw[1:])  # type: ignore[return-value]
 
@@ -124,21 +162,25 @@ class MotorBoardEvent(NamedTuple):
 
 
 class Ready(Message):
-    """The worker built the plant and loaded the firmware: ``symbols`` are its ``CRS_LAB_HAS_*`` bits."""
+    """The worker built the instance's plant and loaded its firmware: ``symbols`` are its
+    ``CRS_LAB_HAS_*`` bits."""
 
+    instance: int
     symbols: int
 
 
 class Failed(Message):
-    """The worker could not enter the run sandbox."""
+    """The worker could not enter the run sandbox, or open the instance."""
 
+    instance: int
     message: str
 
 
 class Trapped(Message):
-    """The firmware could not be loaded or stopped in a constructor (``trap``: see
-    :func:`crslab.worker.worker.trap_info`)."""
+    """The instance's firmware could not be loaded or stopped in a constructor (``trap``: see
+    :func:`crslab.worker.board.trap_info`); the instance is not open."""
 
+    instance: int
     trap: dict
 
 
@@ -148,6 +190,7 @@ class Ran(Message):
     starting or ending and what each expectation reached saw, since the last reply, and how the
     firmware stopped when ``code`` is ``CRS_RUN_TRAPPED``."""
 
+    instance: int
     code: int
     tick: int
     stats: dict
@@ -170,8 +213,9 @@ class Error(Message):
 
 
 class Stopped(Message):
-    """The worker's last counters and scope rows; it ends after this."""
+    """The instance's last counters and scope rows; it is gone after this."""
 
+    instance: int
     stats: dict
     log: dict | None
 
@@ -305,26 +349,35 @@ def _value(raw: Any) -> float | list[float] | None:
     return [_number(v, "value[...]") for v in _items(raw, "value")]
 
 
+def _instance(value: Any) -> int:
+    return _whole(value, "instance")
+
+
 _FIELDS: dict[type[Message], tuple] = {
-    Ready: (lambda v: _whole(v, "symbols"),),
-    Failed: (lambda v: _text(v, "message"),),
-    Trapped: (_trap,),
-    Ran: (lambda v: _whole(v, "code"), lambda v: _whole(v, "tick"), _stats, _log,
+    Ready: (_instance, lambda v: _whole(v, "symbols")),
+    Failed: (_instance, lambda v: _text(v, "message")),
+    Trapped: (_instance, _trap),
+    Ran: (_instance, lambda v: _whole(v, "code"), lambda v: _whole(v, "tick"), _stats, _log,
           lambda v: tuple(_event(e) for e in _items(v, "motor_board_events")), _observations,
           lambda v: None if v is None else _trap(v)),
     Value: (_value,),
     Error: (lambda v: _text(v, "message"),),
-    Stopped: (_stats, _log),
+    Stopped: (_instance, _stats, _log),
 }
 """How each reply's fields are read, in order: each raises :class:`_Bad` for what it is not."""
 
 
-def read_reply(raw: object, *due: type[Message]) -> Any:
-    """The reply ``raw`` (as unpickled) as one of the classes ``due``, every field checked; raises
+def read_reply(raw: object, *due: type[Message], instance: int | None = None) -> Any:
+    """The reply ``raw`` (as unpickled) as one of the classes ``due``, every field checked, about
+    ``instance`` when given (a reply that names an instance must name that one); raises
     :class:`~crslab.worker.worker_reply.UnreadableReply` for anything else.
 
-    >>> read_reply(("ready", 3), Ready, Failed, Trapped)
-    Ready(symbols=3)
+    >>> read_reply(("ready", 0, 3), Ready, Failed, Trapped, instance=0)
+    Ready(instance=0, symbols=3)
+    >>> read_reply(("ready", 1, 3), Ready, instance=0)
+    Traceback (most recent call last):
+    ...
+    crslab.worker.worker_reply.UnreadableReply: its ready reply is about instance 1, not 0
     >>> read_reply(("value", 1.5), Ran)
     Traceback (most recent call last):
     ...
@@ -340,6 +393,10 @@ def read_reply(raw: object, *due: type[Message]) -> Any:
     if len(raw) != 1 + len(readers):
         raise UnreadableReply(f"its {cls.KIND} reply has {len(raw) - 1} fields, not {len(readers)}")
     try:
-        return cls(*(read(v) for read, v in zip(readers, raw[1:], strict=True)))
+        reply = cls(*(read(v) for read, v in zip(readers, raw[1:], strict=True)))
     except _Bad as exc:
         raise UnreadableReply(f"its {cls.KIND} reply holds {exc}") from None
+    about = getattr(reply, "instance", instance)
+    if instance is not None and about != instance:
+        raise UnreadableReply(f"its {cls.KIND} reply is about instance {about}, not {instance}")
+    return reply

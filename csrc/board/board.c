@@ -24,7 +24,10 @@ int crs_board_check_generation(crs_sim *sim)
 {
     const crs_generation *gen = crs_generation_of(sim->generation);
     const char *problem = crs_generation_problem(gen);
-    if (problem == NULL) return 0;
+    if (problem == NULL) {
+        sim->gen = gen; /* the row every serial_printf and host reply reads */
+        return 0;
+    }
     crs_fw_trap *t = &sim->trap;
     t->kind = CRS_FW_TRAP_LOAD;
     t->phase = CRS_PHASE_LOADING;
@@ -61,7 +64,7 @@ void crs_board_lab_cost(crs_sim *sim, int64_t cost)
 int32_t crs_board_serial_out(crs_sim *sim, const char *chars, uint32_t available, uint32_t formatted)
 {
     if (sim == NULL || sim->shared == NULL || sim->overflow_tick >= 0) return 0;
-    const crs_generation *gen = crs_generation_of(sim->generation); /* checked when loaded */
+    const crs_generation *gen = sim->gen; /* looked up when loaded */
     const uint32_t buffer = (uint32_t)gen->printf_buffer_chars;
     crs_shared *sh = sim->shared;
     if (formatted >= buffer) {

@@ -70,6 +70,10 @@ int crs_fw_call_lab(crs_sim *sim, int32_t *print)
 
 int crs_fw_tick_begins(crs_sim *sim) { return crs_debug_tick_begins(sim); }
 
+void crs_fw_chunk_begins(crs_sim *sim) { (void)sim; /* the crslab process watches a native worker */ }
+
+void crs_fw_chunk_ends(crs_sim *sim) { (void)sim; }
+
 int crs_fw_call_printing(crs_sim *sim)
 {
     sim->shared->phase = CRS_PHASE_PRINTING;

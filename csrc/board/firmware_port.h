@@ -24,6 +24,11 @@ int crs_fw_call_printing(crs_sim *sim);
  * only a native firmware runs under a debugger), else 0. */
 int crs_fw_tick_begins(crs_sim *sim);
 
+/* Before and after each chunk of ticks (crs_sim_run): the WebAssembly port arms this board's
+ * store and its watchdog (interrupts per store); the native port does nothing. */
+void crs_fw_chunk_begins(crs_sim *sim);
+void crs_fw_chunk_ends(crs_sim *sim);
+
 /* What the firmware's serial_printf sends (firmware.h: crs_board_serial_send): `formatted`
  * characters, the first of them at `chars` (`available` of them readable). Queues them on SerialA's
  * line and returns how many the transmit ring took; a line that overflows the generation's

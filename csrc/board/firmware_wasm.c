@@ -7,17 +7,26 @@
  * go to CCS's console, not Tera Term) are counted and dropped, exit() ends the run, and everything
  * else (files, the clock, the environment, random bytes, sockets) is refused and named.
  *
+ * A worker may hold many boards (crs_sim), each with its own firmware: they share one wasmtime
+ * engine (per process) and one compiled module per distinct firmware (refcounted, by the module's
+ * digest), and each has a store and an instance of its own, so what one firmware does (a trap, a
+ * hang) ends its own board only.
+ *
  * What each lab() call costs is counted in WebAssembly instructions (wasmtime's fuel), which does
- * not depend on the host's load. A call that does not return is stopped by epoch interruption:
- * the crslab process signals the worker at the deadline (crs_fw_wasm_interrupt_on), the firmware
- * traps at its next loop iteration or call, and the board reports it; no state the firmware can
- * write takes part. Everything read out of the firmware's memory is bounded by its size. */
+ * not depend on the host's load. A call that does not return is stopped by epoch interruption, per
+ * store: a watchdog thread in the worker looks at the board whose firmware is running (the tick and
+ * the phase its board wrote into its shared block; only the board writes them) and, once one call
+ * has run past that board's deadline, bumps the engine's epoch; only the running store has a
+ * deadline of the current epoch (each store's is set again before its board runs a chunk), so only
+ * its call traps, at its next loop iteration or call, and its board reports it. No state a firmware
+ * can write takes part. Everything read out of the firmware's memory is bounded by its size. */
 #define _POSIX_C_SOURCE 200809L
 
 #include "firmware_wasm.h"
 
 #include <dlfcn.h>
-#include <signal.h>
+#include <pthread.h>
+#include <time.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -114,13 +123,22 @@ int crs_wasmtime_api_load(crs_wasmtime_api *out, const char *path, char *error, 
 
 /* ---- one loaded firmware --------------------------------------------------------------------- */
 
+/* A compiled module, shared by every board running the same firmware in this process. */
+typedef struct crs_wasm_module {
+    char key[96];                /* the module's digest (crs_wasm_options.module_key) */
+    wasmtime_module_t *module;
+    int32_t refs;                /* boards using it */
+    struct crs_wasm_module *next;
+} crs_wasm_module;
+
 typedef struct {
     crs_sim *sim;
-    wasm_engine_t *engine;
     wasmtime_store_t *store;
     wasmtime_context_t *ctx;
     wasmtime_linker_t *linker;
-    wasmtime_module_t *module;
+    crs_wasm_module *shared;     /* the compiled module (shared) */
+    wasmtime_module_t *module;   /* shared->module */
+    int64_t deadline_ns;         /* a call running longer is interrupted; 0: never */
     wasmtime_instance_t instance;
     wasmtime_memory_t memory;
     uint8_t *base;               /* the firmware's memory: it grows (its heap) up to the board's limit, */
@@ -129,8 +147,95 @@ typedef struct {
     uint64_t fuel_left;          /* fuel after the last call */
 } crs_wasm;
 
-/* The engine whose running call an interrupt stops (the worker runs one firmware at a time). */
-static wasm_engine_t *volatile interrupt_engine;
+/* The process's engine (created by the first load, kept until the process ends), the modules it
+ * compiled, and its limits (every board of a process has the same: a later load asking for others
+ * is refused). */
+static wasm_engine_t *engine;
+static uint64_t engine_memory_bytes, engine_stack_bytes;
+static crs_wasm_module *modules;
+
+/* ---- the watchdog: interrupts per store ------------------------------------------------------ */
+
+enum { WATCH_PERIOD_NS = 10000000 }; /* how often it looks: a hang is stopped within a deadline + 10 ms */
+
+static pthread_mutex_t watch_lock = PTHREAD_MUTEX_INITIALIZER;
+static pthread_cond_t watch_wake = PTHREAD_COND_INITIALIZER;
+static crs_wasm *watch_running;   /* the board whose firmware may run now (NULL: none) */
+static int watch_started;
+
+static int64_t watch_now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000000000LL + ts.tv_nsec;
+}
+
+static void *watchdog(void *unused);
+
+/* The firmware of `w` may run from now on (until watch_end): its store's deadline is the next
+ * epoch, and the watchdog times its calls. */
+static void watch_begin(crs_wasm *w)
+{
+    pthread_mutex_lock(&watch_lock);
+    api.context_set_epoch_deadline(w->ctx, 1);
+    watch_running = w;
+    pthread_cond_signal(&watch_wake);
+    pthread_mutex_unlock(&watch_lock);
+}
+
+static void watch_end(void)
+{
+    pthread_mutex_lock(&watch_lock);
+    watch_running = NULL;
+    pthread_mutex_unlock(&watch_lock);
+}
+
+static void *watchdog(void *unused)
+{
+    (void)unused;
+    const crs_wasm *seen = NULL;
+    int64_t seen_tick = -1, since_ns = 0;
+    int32_t seen_phase = -1, fired = 0;
+    pthread_mutex_lock(&watch_lock);
+    for (;;) {
+        while (watch_running == NULL) {
+            seen = NULL;
+            pthread_cond_wait(&watch_wake, &watch_lock);
+        }
+        const crs_wasm *w = watch_running;
+        /* the tick and phase its board is in (written by the board, in the worker's main thread) */
+        const volatile crs_shared *sh = w->sim->shared;
+        const int64_t tick = sh->tick;
+        const int32_t phase = sh->phase;
+        const int64_t now = watch_now_ns();
+        const int calling = phase == CRS_PHASE_LAB || phase == CRS_PHASE_PRINTING || phase == CRS_PHASE_LOADING;
+        if (!calling || w != seen || tick != seen_tick || phase != seen_phase) {
+            seen = w, seen_tick = tick, seen_phase = calling ? phase : -1, since_ns = now, fired = 0;
+        } else if (w->deadline_ns > 0 && !fired && now - since_ns > w->deadline_ns) {
+            api.engine_increment_epoch(engine); /* only the running store's deadline is this epoch */
+            fired = 1;
+        }
+        pthread_mutex_unlock(&watch_lock);
+        const struct timespec period = {0, WATCH_PERIOD_NS};
+        nanosleep(&period, NULL);
+        pthread_mutex_lock(&watch_lock);
+    }
+    return NULL;
+}
+
+static int watch_start(void)
+{
+    if (watch_started) return 0;
+    pthread_t thread;
+    pthread_attr_t attr;
+    pthread_attr_init(&attr);
+    pthread_attr_setdetachstate(&attr, PTHREAD_CREATE_DETACHED);
+    const int failed = pthread_create(&thread, &attr, watchdog, NULL);
+    pthread_attr_destroy(&attr);
+    if (failed) return -1;
+    watch_started = 1;
+    return 0;
+}
 
 static const uint64_t FUEL = (uint64_t)1 << 62; /* never runs out: fuel only counts instructions */
 enum { WASI_EBADF = 8, WASI_EFAULT = 21, WASI_ESPIPE = 70 };
@@ -661,25 +766,25 @@ int crs_fw_wasm_preload(const char *libwasmtime)
 }
 
 /* The module as wasmtime compiled it for this engine, from `path` (crslab's build cache, written by
- * keep_compiled from this firmware's bytes): 1 when loaded; 0 when there is none or wasmtime refuses
- * it (another wasmtime or another configuration: its header says so), and it is compiled anew. */
-static int load_compiled(crs_wasm *w, const char *path)
+ * keep_compiled from this firmware's bytes), or NULL when there is none or wasmtime refuses it
+ * (another wasmtime or another configuration: its header says so), and it is compiled anew. */
+static wasmtime_module_t *load_compiled(const char *path)
 {
-    if (access(path, R_OK) != 0) return 0;
-    wasmtime_error_t *err = api.module_deserialize_file(w->engine, path, &w->module);
-    if (err == NULL) return 1;
+    if (access(path, R_OK) != 0) return NULL;
+    wasmtime_module_t *module = NULL;
+    wasmtime_error_t *err = api.module_deserialize_file(engine, path, &module);
+    if (err == NULL) return module;
     api.error_delete(err);
-    w->module = NULL;
-    return 0;
+    return NULL;
 }
 
 /* Keep the compiled module at `path` for the next run of the same firmware (written whole to a
  * file of its own, then renamed into place: a run reading it never sees half of it). A cache:
  * when it cannot be written, the next run compiles again. */
-static void keep_compiled(crs_wasm *w, const char *path)
+static void keep_compiled(const wasmtime_module_t *module, const char *path)
 {
     wasm_byte_vec_t bytes = {0, NULL};
-    wasmtime_error_t *err = api.module_serialize(w->module, &bytes);
+    wasmtime_error_t *err = api.module_serialize((wasmtime_module_t *)module, &bytes);
     if (err != NULL) {
         api.error_delete(err);
         return;
@@ -697,26 +802,19 @@ static void keep_compiled(crs_wasm *w, const char *path)
     api.byte_vec_delete(&bytes);
 }
 
-int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
+/* The process's engine, created with the board's limits by the first load; 0, or -1 with
+ * sim->trap saying why. */
+static int engine_for(crs_sim *sim, const crs_wasm_options *o)
 {
-    char error[256];
-    memset(&sim->trap, 0, sizeof sim->trap);
-    if (crs_board_check_generation(sim) != 0) return CRS_RUN_TRAPPED;
-    if (crs_wasmtime_api_load(&api, o->libwasmtime, error, sizeof error) != 0) {
-        load_failed(sim, error, NULL, 0);
-        return CRS_RUN_TRAPPED;
+    if (engine != NULL) {
+        if (o->memory_bytes == engine_memory_bytes && o->stack_bytes == engine_stack_bytes) return 0;
+        load_failed(sim, "this worker's boards have other memory or stack limits", NULL, 0);
+        return -1;
     }
-    crs_wasm *w = calloc(1, sizeof *w);
-    if (w == NULL) {
-        load_failed(sim, "out of memory", NULL, 0);
-        return CRS_RUN_TRAPPED;
-    }
-    w->sim = sim;
-    sim->firmware = w;
     wasm_config_t *config = api.config_new();
     api.config_consume_fuel_set(config, true);
     api.config_epoch_interruption_set(config, true);
-    api.config_parallel_compilation_set(config, false); /* the worker stays one thread */
+    api.config_parallel_compilation_set(config, false); /* the worker compiles in its main thread */
     api.config_wasm_threads_set(config, false);
     api.config_max_wasm_stack_set(config, (size_t)o->stack_bytes);
     /* the memory grows (the lab's heap) up to the board's limit, within one reservation, so it never
@@ -726,36 +824,85 @@ int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
     api.config_memory_reservation_for_growth_set(config, 0);
     api.config_memory_guard_size_set(config, 0);
     api.config_memory_may_move_set(config, false);
-    w->engine = api.engine_new_with_config(config);
-    if (w->engine == NULL) {
+    engine = api.engine_new_with_config(config);
+    if (engine == NULL) {
         load_failed(sim, "wasmtime cannot start", NULL, 0);
-        return CRS_RUN_TRAPPED;
+        return -1;
     }
-    wasmtime_error_t *err = NULL;
-    if (o->compiled_path == NULL || !load_compiled(w, o->compiled_path)) {
-        err = api.module_new(w->engine, o->wasm, (size_t)o->wasm_len, &w->module);
+    engine_memory_bytes = o->memory_bytes;
+    engine_stack_bytes = o->stack_bytes;
+    return 0;
+}
+
+/* The compiled module for `o` (one per distinct module_key, shared and counted), or NULL with
+ * sim->trap saying why. */
+static crs_wasm_module *module_for(crs_sim *sim, const crs_wasm_options *o)
+{
+    const char *key = o->module_key != NULL ? o->module_key : "";
+    if (key[0] != '\0') {
+        for (crs_wasm_module *m = modules; m != NULL; m = m->next) {
+            if (strcmp(m->key, key) == 0) {
+                m->refs++;
+                return m;
+            }
+        }
+    }
+    crs_wasm_module *m = calloc(1, sizeof *m);
+    if (m == NULL) {
+        load_failed(sim, "out of memory", NULL, 0);
+        return NULL;
+    }
+    snprintf(m->key, sizeof m->key, "%s", key);
+    if (o->compiled_path != NULL) m->module = load_compiled(o->compiled_path);
+    if (m->module == NULL) {
+        wasmtime_error_t *err = api.module_new(engine, o->wasm, (size_t)o->wasm_len, &m->module);
         if (err != NULL) {
             take_error(sim, "not a WebAssembly module wasmtime can run", err);
-            return CRS_RUN_TRAPPED;
+            free(m);
+            return NULL;
         }
-        if (o->compiled_path != NULL) keep_compiled(w, o->compiled_path);
+        if (o->compiled_path != NULL) keep_compiled(m->module, o->compiled_path);
     }
-    w->store = api.store_new(w->engine, w, NULL);
-    w->ctx = api.store_context(w->store);
-    api.store_limiter(w->store, (int64_t)o->memory_bytes, 100000, 1, 1, 1);
-    w->fuel_left = FUEL;
-    err = api.context_set_fuel(w->ctx, FUEL);
-    if (err != NULL) {
-        take_error(sim, "wasmtime cannot count the firmware's instructions", err);
-        return CRS_RUN_TRAPPED;
-    }
-    api.context_set_epoch_deadline(w->ctx, 1); /* the next interrupt stops the running call */
-    w->linker = api.linker_new(w->engine);
-    if (define_imports(w) != 0) return CRS_RUN_TRAPPED;
-    interrupt_engine = w->engine;
+    m->refs = 1;
+    m->next = modules;
+    modules = m;
+    return m;
+}
 
+static void module_release(crs_wasm_module *m)
+{
+    if (m == NULL || --m->refs > 0) return;
+    for (crs_wasm_module **p = &modules; *p != NULL; p = &(*p)->next) {
+        if (*p == m) {
+            *p = m->next;
+            break;
+        }
+    }
+    api.module_delete(m->module);
+    free(m);
+}
+
+int32_t crs_fw_wasm_module_count(void)
+{
+    int32_t n = 0;
+    for (const crs_wasm_module *m = modules; m != NULL; m = m->next) ++n;
+    return n;
+}
+
+int32_t crs_fw_wasm_module_refs(const crs_sim *sim)
+{
+    const crs_wasm *w = sim->firmware;
+    return w != NULL && w->shared != NULL ? w->shared->refs : 0;
+}
+
+/* Instantiate the module in the store of `w` and run its constructors and crs_fw_start; 0, or
+ * CRS_RUN_TRAPPED with sim->trap saying why. */
+static int start_firmware(crs_wasm *w)
+{
+    crs_sim *sim = w->sim;
+    char error[256];
     wasm_trap_t *trap = NULL;
-    err = api.linker_instantiate(w->linker, w->ctx, w->module, &w->instance, &trap);
+    wasmtime_error_t *err = api.linker_instantiate(w->linker, w->ctx, w->module, &w->instance, &trap);
     if (err != NULL) {
         take_error(sim, "the firmware cannot be started", err);
         return CRS_RUN_TRAPPED;
@@ -805,18 +952,69 @@ int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
     return 0;
 }
 
+int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
+{
+    char error[256];
+    memset(&sim->trap, 0, sizeof sim->trap);
+    if (crs_board_check_generation(sim) != 0) return CRS_RUN_TRAPPED;
+    if (crs_wasmtime_api_load(&api, o->libwasmtime, error, sizeof error) != 0) {
+        load_failed(sim, error, NULL, 0);
+        return CRS_RUN_TRAPPED;
+    }
+    if (engine_for(sim, o) != 0) return CRS_RUN_TRAPPED;
+    if (watch_start() != 0) {
+        load_failed(sim, "the board cannot start its watchdog", NULL, 0);
+        return CRS_RUN_TRAPPED;
+    }
+    crs_wasm *w = calloc(1, sizeof *w);
+    if (w == NULL) {
+        load_failed(sim, "out of memory", NULL, 0);
+        return CRS_RUN_TRAPPED;
+    }
+    w->sim = sim;
+    w->deadline_ns = (int64_t)o->deadline_ns;
+    sim->firmware = w;
+    w->shared = module_for(sim, o);
+    if (w->shared == NULL) return CRS_RUN_TRAPPED;
+    w->module = w->shared->module;
+    w->store = api.store_new(engine, w, NULL);
+    w->ctx = api.store_context(w->store);
+    api.store_limiter(w->store, (int64_t)o->memory_bytes, 100000, 1, 1, 1);
+    w->fuel_left = FUEL;
+    wasmtime_error_t *err = api.context_set_fuel(w->ctx, FUEL);
+    if (err != NULL) {
+        take_error(sim, "wasmtime cannot count the firmware's instructions", err);
+        return CRS_RUN_TRAPPED;
+    }
+    w->linker = api.linker_new(engine);
+    if (define_imports(w) != 0) return CRS_RUN_TRAPPED;
+    watch_begin(w); /* the constructors are timed as lab() is */
+    const int code = start_firmware(w);
+    watch_end();
+    return code;
+}
+
 void crs_fw_wasm_unload(crs_sim *sim)
 {
     crs_wasm *w = sim->firmware;
     if (w == NULL) return;
-    if (interrupt_engine == w->engine) interrupt_engine = NULL;
     if (w->store != NULL) api.store_delete(w->store);
     if (w->linker != NULL) api.linker_delete(w->linker);
-    if (w->module != NULL) api.module_delete(w->module);
-    if (w->engine != NULL) api.engine_delete(w->engine);
+    module_release(w->shared);
     free(w);
     sim->firmware = NULL;
     memset(&sim->fw, 0, sizeof sim->fw);
+}
+
+void crs_fw_chunk_begins(crs_sim *sim)
+{
+    if (sim->firmware != NULL) watch_begin(sim->firmware);
+}
+
+void crs_fw_chunk_ends(crs_sim *sim)
+{
+    (void)sim;
+    watch_end();
 }
 
 uint8_t *crs_fw_wasm_memory(crs_sim *sim, uint64_t *size)
@@ -837,26 +1035,4 @@ uint32_t crs_fw_wasm_variable(crs_sim *sim, const char *name)
     wasmtime_val_t v;
     api.global_get(w->ctx, &e.of.global, &v);
     return v.kind == WASMTIME_I32 ? (uint32_t)v.of.i32 : 0;
-}
-
-void crs_fw_wasm_interrupt(void)
-{
-    wasm_engine_t *engine = interrupt_engine;
-    if (engine != NULL) api.engine_increment_epoch(engine);
-}
-
-static void on_interrupt(int signo)
-{
-    (void)signo;
-    crs_fw_wasm_interrupt();
-}
-
-int crs_fw_wasm_interrupt_on(int signo)
-{
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_interrupt;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESTART;
-    return sigaction(signo, &sa, NULL);
 }

@@ -102,7 +102,7 @@ static void echo(crs_sim *sim, int64_t now)
 static void dispatch(crs_sim *sim, int64_t now)
 {
     const crs_matlab_rx *rx = &sim->matlab;
-    const int32_t matlab = crs_generation_of(sim->generation)->matlab; /* checked when loaded */
+    const int32_t matlab = sim->gen->matlab; /* looked up when loaded */
     const uint8_t *m = rx->message; /* a 2-byte message finds the last one's payload still here */
     switch (m[0]) {
     case '2':

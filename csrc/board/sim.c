@@ -134,7 +134,7 @@ static void log_tick(crs_sim *sim, int plots)
     lg->motor_board_off[i] = sim->motor_board.off;
 }
 
-int crs_sim_run(crs_sim *sim, int64_t until_tick)
+static int run_ticks(crs_sim *sim, int64_t until_tick)
 {
     crs_shared *sh = sim->shared;
     /* what changes only between chunks (the lab's symbols never; the drive's lag and the hand's
@@ -182,4 +182,12 @@ int crs_sim_run(crs_sim *sim, int64_t until_tick)
         if (sim->log.capacity > 0 && sim->log.count >= sim->log.capacity) return CRS_RUN_LOG_FULL;
     }
     return CRS_RUN_DONE;
+}
+
+int crs_sim_run(crs_sim *sim, int64_t until_tick)
+{
+    crs_fw_chunk_begins(sim);
+    const int code = run_ticks(sim, until_tick);
+    crs_fw_chunk_ends(sim);
+    return code;
 }

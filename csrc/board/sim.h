@@ -300,6 +300,8 @@ typedef struct {
 
     /* configuration */
     int32_t generation;          /* the id of a row of generations.c (0 until set: no row) */
+    int32_t pad_generation;
+    const struct crs_generation *gen; /* its row (generations.h), once the firmware's port checked it */
     int32_t strict_nan;          /* 1: a NaN/Inf torque stops the run */
     int64_t startup_ticks;       /* lab() first runs at this tick (CRS_STARTUP_TICKS, or 0) */
     double rest_motor_rad[3];    /* true resting pose the encoders were zeroed at */

@@ -40,7 +40,7 @@ enum {
 /* The largest serial_printf buffer a row may have: the firmware formats into one this large. */
 enum { CRS_PRINTF_BUFFER_MAX = 2048 };
 
-typedef struct {
+typedef struct crs_generation {
     int32_t id;                    /* what crs_sim.generation holds; 1 and up */
     const char *name;              /* "A": `crslab new --gen`, messages */
     const char *title;             /* what a starting file (`crslab new`) calls it */

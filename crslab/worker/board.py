@@ -1,0 +1,453 @@
+"""One board instance in the worker: one lab's MuJoCo data, its board (``crs_sim``: the framework's
+state), its firmware and its outputs (its own shared block, its scope log), stepped in chunks on
+request. A worker process holds many (:mod:`crslab.worker.worker`).
+
+Serial bytes never travel through the pipe: the board writes them into the instance's shared
+block, where the crslab process reads them even if this process dies.
+
+The lab's firmware is a WebAssembly module by default: the board (crslab._core) runs it in a
+store of its own, and it can reach nothing of this process (csrc/board/firmware_wasm.c); the
+instances of a worker share one wasmtime engine and one compiled module per distinct firmware,
+and a trap or a hang ends only the instance whose firmware did it. A native
+firmware (crslab debug, --sanitize, --native) is a shared object holding the board too; with
+``SimConfig.sandboxed`` the worker builds the plant, then closes itself in the run sandbox
+(crslab/sandbox/run_sandbox.py), then loads it: from the lab's first constructor on, it may
+compute and print, and nothing else. Everything a native worker sends is read by the crslab
+process as untrusted (crslab/worker/worker_messages.py).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import copy
+import mmap
+import os
+from collections.abc import Iterable
+
+import numpy as np
+from cffi import FFI
+
+from crslab import crs, os_support
+from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
+from crslab.lab.watched import WatchedError, WatchedVar, watched_var
+from crslab.plant.model import apply_friction, apply_plant, motor_to_qpos
+from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
+from crslab.plant.plant_params import PlantParams
+from crslab.scenario.expect_events import Observation
+from crslab.worker import worker_messages
+from crslab.worker.board_ffi import board_constants, native_board_ffi
+from crslab.worker.board_settings import board_settings, friction
+from crslab.worker.config import SimConfig
+from crslab.worker.debug_setup import DebugSetup
+from crslab.worker.event_effects import apply_event
+from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
+from crslab.worker.memory_table import fill_memory_table
+from crslab.worker.wasm_runtime import (
+    WasmImage,
+    seal_compiled,
+    unsealed_compiled_removed,
+    wasmtime_library,
+)
+from crslab.world.layout import World, peg_depth_m
+from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
+
+LOG_ROWS = 2000  # rows per scope-log block
+
+_LOG_COLUMNS = {  # name: (width, dtype)
+    "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
+    "tau_applied": (3, np.float64), "plot": (4, np.float64), "safety": (1, np.int32),
+    "leds": (1, np.uint32), "motor_board_off": (1, np.int32), "qpos_dh_rad": (3, np.float64),
+    "ee": (3, np.float64), "push_force": (3, np.float64),
+}
+WORLD_COLUMNS = {  # the C log's "world" row (csrc/plant/world.h CRS_WORLD_ROW_*), split by name: width
+    "peg_tip": 3, "egg_force": 1, "scale_g": 1, "egg_broken": 1, "hole_force": 1, "obstacle_force": 1,
+    "groove_side_force": 1, "groove_force": 1, "table_force": 1,
+}
+"""The scope log's world columns (docs/worlds.md), in a run whose world has fixtures."""
+STANDARD_GRAVITY = 9.80665
+"""What a scale divides a force by to show grams (m/s^2): scales are calibrated to it."""
+_C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
+
+
+STAT_FIELDS = (
+    "lab_calls", "lab_cost_total", "lab_cost_max", "lab_max_tick", "over_budget", "cost_unit", "budget",
+    "nan_first_tick", "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag",
+    "leds", "estop_latched", "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars",
+    "overflow_phase", "console_bytes",
+)
+
+
+def split_world_row(row: object) -> dict:
+    """The world's row (``CRS_WORLD_ROW`` values, or rows of them) split into named columns.
+
+    >>> split_world_row(np.arange(11.0))["scale_g"], split_world_row(np.zeros((2, 11)))["peg_tip"].shape
+    (array([4.]), (2, 3))
+    """
+    a = np.asarray(row, dtype=float)
+    flat = a.ndim == 1
+    a = a.reshape(-1, sum(WORLD_COLUMNS.values()))
+    out, i = {}, 0
+    for name, width in WORLD_COLUMNS.items():
+        out[name] = a[0, i:i + width] if flat else a[:, i:i + width].copy()
+        i += width
+    return out
+
+
+def attach_world(ffi: FFI, w: object, model: object, data: object, world: World) -> list[object]:
+    """Set the C world ``w`` (a ``crs_world *``; csrc/plant/world.h) for ``world``'s compiled scene
+    ``model`` and its ``data``: the sensors' places in ``data.sensordata``, the egg's breaking force
+    and geom, the groove's corners. Returns what must stay alive as long as ``w`` is used."""
+    if world.is_free_air:
+        return []
+    keep: list[object] = [model, data]
+
+    def ptr(ctype: str, arr: np.ndarray, offset: int = 0) -> object:
+        keep.append(arr)
+        return ffi.cast(ctype, arr.ctypes.data) + offset
+
+    w.enabled = 1  # type: ignore[attr-defined]
+    w.sensordata = ptr("double *", data.sensordata)  # type: ignore[attr-defined]
+    names = [model.sensor(i).name for i in range(model.nsensor)]  # type: ignore[attr-defined]
+    if PEG_TIP_SITE in names:
+        w.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])  # type: ignore[attr-defined]
+    for i, fixture in enumerate(FIXTURE_SENSORS):
+        if f"{fixture}_force" in names:
+            w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")])  # type: ignore[attr-defined]
+    w.gravity_m_s2 = STANDARD_GRAVITY  # type: ignore[attr-defined]
+    if world.groove is not None:
+        for i, (x, y) in enumerate(world.groove.corners_xy_m):
+            w.groove_xy_m[2 * i], w.groove_xy_m[2 * i + 1] = x, y  # type: ignore[attr-defined]
+    if world.egg is not None:
+        w.breaking_force_n = world.egg.breaking_force_n  # type: ignore[attr-defined]
+        egg = model.geom("egg").id  # type: ignore[attr-defined]
+        w.egg_contype = ptr("int32_t *", model.geom_contype, egg)  # type: ignore[attr-defined]
+        w.egg_conaffinity = ptr("int32_t *", model.geom_conaffinity, egg)  # type: ignore[attr-defined]
+        w.egg_size_m = ptr("double *", model.geom_size, 3 * egg)  # type: ignore[attr-defined]
+        w.egg_pos_m = ptr("double *", model.geom_pos, 3 * egg)  # type: ignore[attr-defined]
+    return keep
+
+
+def plant_model(config: SimConfig) -> object:
+    """The MuJoCo model of ``config``'s world with its plant parameters applied (loaded from the
+    MJCF once)."""
+    model = load_scene(config.world)
+    apply_plant(model, config.plant, loaded=copy.copy(model))
+    return model
+
+
+class FirmwareStopped(Exception):
+    """The firmware could not be loaded, or stopped in a constructor: ``trap`` says how
+    (:func:`trap_info`)."""
+
+    def __init__(self, trap: dict) -> None:
+        super().__init__(trap.get("text", ""))
+        self.trap = trap
+
+
+def trap_info(ffi: FFI, sim: object) -> dict:
+    """How the firmware stopped (``crs_sim.trap``), as plain data: kind, phase, tick, exit code and
+    wasmtime's text (the firmware's frames included)."""
+    t = sim.trap  # type: ignore[attr-defined]
+    return {"kind": int(t.kind), "phase": int(t.phase), "tick": int(t.tick), "exit_code": int(t.exit_code),
+            "line": int(t.line), "text": ffi.string(t.text).decode("utf-8", "replace")}
+
+
+class Board:
+    """One board instance: its plant's data, the board and the lab, stepped in chunks.
+
+    ``deadline_s``: a WebAssembly firmware's call running longer is interrupted (None: never).
+    ``model``: the MuJoCo model to run on (:class:`crslab.worker.worker.Models` shares one among
+    instances that never change theirs); None: its own, loaded here. ``image``: the firmware's bytes
+    and digest, when the worker already read them (:class:`crslab.worker.worker.Images`).
+    ``time_lab`` False counts no lab() call's cost (measuring what timing costs:
+    :mod:`crslab.sim.inprocess`)."""
+
+    def __init__(self, config: SimConfig, shared: mmap.mmap, keep_fds: Iterable[int] = (),
+                 debug: DebugSetup | None = None, *, deadline_s: float | None = None,
+                 model: object | None = None, image: WasmImage | None = None, time_lab: bool = True) -> None:
+        import mujoco
+
+        self.config = config
+        self.model = model if model is not None else plant_model(config)
+        self.plant = config.plant
+        """The plant parameters in force (a scenario's friction scale changes them)."""
+        self.data = mujoco.MjData(self.model)
+        rest = np.asarray(config.rest_motor_rad, dtype=float)
+        set_arm_pose(self.model, self.data, motor_to_qpos(rest))
+        mujoco.mj_forward(self.model, self.data)
+        self.rest_dh = crs.motor_to_dh(rest)
+        mj_step = mj_step_address()
+        stop_stage_timers()  # nothing reads mjData.timer: mj_step does the physics and only that
+        self.watched = {v.name: v for v in config.build.watched}
+        self.sandbox = None
+        self._keep: list[object] = [shared]
+        if config.build.native:
+            ffi = self.ffi = native_board_ffi()
+            block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
+            self.lib, sim = self._load_native(config, block, keep_fds, debug)
+            names = [v.name for v in config.build.variables]
+            self.firmware: FirmwareMemory = NativeMemory(config.build.image, names)
+        else:
+            from crslab._core import ffi, lib
+
+            self.ffi, self.lib = ffi, lib
+            block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
+            sim = self._load_wasm(config, block, deadline_s, image or WasmImage.read(config.build.image))
+            self.firmware = WasmMemory(ffi, lib, sim, config.build)
+        self.sim = sim
+        # the lab's globals as the board's MATLAB code sees them (C28x addresses)
+        self._keep += fill_memory_table(sim, ffi, self.lib, self.firmware, config.build.memory)
+        plant = {"model": ffi.cast("void *", self.model._address),
+                 "data": ffi.cast("void *", self.data._address),
+                 "step": ffi.cast("crs_mj_step_fn", mj_step), "qpos": self._ptr("double *", self.data.qpos),
+                 "qvel": self._ptr("double *", self.data.qvel), "ctrl": self._ptr("double *", self.data.ctrl),
+                 "qfrc_applied": self._ptr("double *", self.data.qfrc_applied)}
+        self.lib.crs_board_attach_plant(sim, ffi.new("crs_board_plant *", plant))
+        settings = board_settings(config, trap_fp=debug is not None and debug.trap_fp, time_lab=time_lab)
+        self.lib.crs_board_configure(sim, ffi.new("crs_board_config *", settings))
+        self._set_world(config.world)
+        self.events = list(config.scenario.events)
+        self.motor_board_events: list[worker_messages.MotorBoardEvent] = []
+        self.observations: list[Observation] = []
+        self.log_blocks: list[dict[str, np.ndarray]] = []
+        self._columns = dict(_LOG_COLUMNS)
+        if sim.world.enabled:
+            self._columns["world"] = (sum(WORLD_COLUMNS.values()), np.float64)
+        if config.log_signals:
+            self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in self._columns.items()}
+            log = {k: self._ptr(_C_TYPE[self._columns[k][1]], arr) for k, arr in self._log_arrays.items()}
+            self.lib.crs_board_attach_log(sim, ffi.new("crs_log *", {"capacity": LOG_ROWS, **log}))
+
+    def _set_world(self, world: World) -> None:
+        """Point the board's world (csrc/plant/world.h) at the scene's sensors and the egg's geom."""
+        fixtures = self.ffi.new("crs_world *")
+        self._keep += attach_world(self.ffi, fixtures, self.model, self.data, world)
+        self.lib.crs_board_attach_world(self.sim, fixtures)
+
+    def board_event(self, fields: dict) -> None:
+        """Have the board apply one ``crs_board_event`` (csrc/board/board_config.h) now."""
+        if self.lib.crs_board_apply_event(self.sim, self.ffi.new("crs_board_event *", fields)) != 0:
+            raise ValueError(f"the board knows no event of kind {fields.get('kind')}")
+
+    def world_values(self) -> dict[str, float] | None:
+        """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...),
+        and ``peg_depth``: how far the peg's tip is below the hole's top while inside its radius (m,
+        else 0). None in a world without fixtures."""
+        w = self.sim.world
+        if not w.enabled:
+            return None
+        values = {}
+        row = [float(w.row[i]) for i in range(sum(WORLD_COLUMNS.values()))]
+        for name, value in split_world_row(row).items():
+            if len(value) == 3:
+                values.update({f"{name}_{a}": float(v) for a, v in zip("xyz", value)})
+            else:
+                values[name] = float(value[0])
+        values["peg_depth"] = peg_depth_m(self.config.world, (values.get("peg_tip_x", 0.0),
+                                                               values.get("peg_tip_y", 0.0),
+                                                               values.get("peg_tip_z", 0.0)))
+        return values
+
+    def _new_sim(self, config: SimConfig, block: object) -> object:
+        sim = self.ffi.new("crs_sim *")
+        self.lib.crs_board_init(sim, config.build.generation.id, block)
+        return sim
+
+    def _load_native(self, config: SimConfig, block: object, keep_fds: Iterable[int],
+                     debug: DebugSetup | None) -> tuple[object, object]:
+        """The native firmware's shared object, loaded (in the run sandbox when asked) and
+        attached to a new board; returns (library, sim)."""
+        tracer = debug.tracer_pid if debug is not None else None
+        constants = board_constants()  # read from sim.h before the sandbox closes every file
+        if config.sandboxed:
+            from crslab.sandbox.run_sandbox import enter_run_sandbox
+
+            self.sandbox = enter_run_sandbox(block, config.build.image, keep_fds,
+                                             trap_library=config.build.trap_library,
+                                             sanitizer=config.build.sanitized, tracer_pid=tracer)
+        elif tracer is not None:
+            os_support.allow_tracer(tracer)
+        block.phase = constants.CRS_PHASE_LOADING  # type: ignore[attr-defined]
+        with self.sandbox.loading() if self.sandbox is not None else contextlib.nullcontext():
+            lib = self.ffi.dlopen(str(config.build.image))
+        block.phase = constants.CRS_PHASE_IDLE  # type: ignore[attr-defined]
+        self.lib = lib
+        sim = self._new_sim(config, block)
+        if lib.crs_fw_native_attach(sim) != 0:
+            raise FirmwareStopped(trap_info(self.ffi, sim))
+        return lib, sim
+
+    def _load_wasm(self, config: SimConfig, block: object, deadline_s: float | None,
+                   image: WasmImage) -> object:
+        """The WebAssembly firmware, loaded into a new board (crslab._core): a store of its own, the
+        compiled module shared with every instance of the same firmware in this process; raises
+        :class:`FirmwareStopped` when it cannot be loaded or stops in a constructor."""
+        sim = self._new_sim(config, block)
+        # a trap's backtrace names the lab's file and line (the firmware carries its DWARF)
+        os.environ["WASMTIME_BACKTRACE_DETAILS"] = "1"
+        library = self.ffi.new("char[]", str(wasmtime_library()).encode())
+        kept = image.compiled_path()
+        if kept is not None:
+            unsealed_compiled_removed(kept)
+        compiled = self.ffi.new("char[]", str(kept).encode()) if kept is not None else self.ffi.NULL
+        wasm = self.ffi.from_buffer("uint8_t[]", image.wasm)
+        key = self.ffi.new("char[]", image.digest.encode())
+        options = self.ffi.new("crs_wasm_options *", {
+            "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": MEMORY_BYTES,
+            "stack_bytes": NATIVE_STACK_BYTES, "compiled_path": compiled, "module_key": key,
+            "deadline_ns": 0 if deadline_s is None else max(1, round(deadline_s * 1e9))})
+        self._keep += [library, wasm, compiled, key, options]
+        block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
+        code = self.lib.crs_fw_wasm_load(sim, options)
+        if kept is not None:
+            seal_compiled(kept)
+        if code != 0:
+            raise FirmwareStopped(trap_info(self.ffi, sim))
+        block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
+        return sim
+
+    def close(self) -> None:
+        """Free the firmware (a WebAssembly one: its store, and its compiled module when no other
+        instance runs it; a native one stays loaded with the process)."""
+        if not self.config.build.native and self.sim is not None:
+            self.lib.crs_fw_wasm_unload(self.sim)
+            self.sim = None
+
+    @property
+    def module_refs(self) -> int:
+        """How many instances of this process share this one's compiled firmware module (0: a
+        native firmware)."""
+        return 0 if self.config.build.native else int(self.lib.crs_fw_wasm_module_refs(self.sim))
+
+    def set_friction(self, plant: PlantParams) -> None:
+        """Run on with ``plant``'s friction."""
+        self.plant = plant
+        apply_friction(self.model, plant)
+        self.board_event({"kind": board_constants().CRS_EVENT_FRICTION,
+                          "friction": friction(plant.sliding_units(), plant.friction_transition_rad_s)})
+
+    def _ptr(self, ctype: str, arr: np.ndarray) -> object:
+        self._keep.append(arr)
+        return self.ffi.cast(ctype, arr.ctypes.data)
+
+    # -- watched variables -------------------------------------------------------------------
+    def _var(self, name: str, index: int | None, *, whole: bool) -> tuple[WatchedVar, object]:
+        """A watched variable, checked with ``index`` (:func:`crslab.lab.watched.watched_var`), and
+        its first element (a cffi pointer)."""
+        try:
+            var = watched_var(self.watched.values(), name, index, self.config.build.source.name, whole=whole)
+        except WatchedError as exc:
+            raise KeyError(str(exc)) from None
+        element = self.firmware.element_type(var.ctype)
+        count = var.length if var.length is not None else 1
+        address = None
+        if element is not None:
+            address = self.firmware.address(name, count * self.firmware.ffi.sizeof(element))
+        if address is None:
+            raise KeyError(f"{name} cannot be reached in the lab's firmware")
+        return var, self.firmware.ffi.cast(f"{element} *", address)
+
+    def get_var(self, name: str) -> float | list[float]:
+        """Current value of a watched variable (a list for arrays)."""
+        var, pointer = self._var(name, None, whole=True)
+        if var.length is not None:
+            return [float(pointer[i]) for i in range(var.length)]  # type: ignore[index]
+        return float(pointer[0])  # type: ignore[index]
+
+    def set_var(self, name: str, index: int | None, value: float) -> None:
+        """Write a watched variable (or one element of a watched array) between ticks."""
+        var, pointer = self._var(name, index, whole=False)
+        try:
+            var.check_value(value, self.config.build.source.name)
+        except WatchedError as exc:
+            raise KeyError(str(exc)) from None
+        pointer[index or 0] = int(round(value)) if var.is_integer else float(value)  # type: ignore[index]
+
+    def observe(self, var: tuple[str, int | None] | None) -> None:
+        """Note what an expectation sees now, before this tick runs: the motor board and the
+        safety flag as the last tick left them, the arm's motor angles (what this tick's encoders
+        read, without offsets or faults), and the watched variable ``var`` (name, index) if any."""
+        sim = self.sim
+        motor = crs.dh_to_motor(np.asarray(self.data.qpos[:3], dtype=float))
+        value = None
+        if var is not None:
+            got = self.get_var(var[0])
+            value = float(got[var[1]] if isinstance(got, list) and var[1] is not None else got)
+        self.observations.append(Observation(
+            tick=int(sim.tick), motor_board=self.config.motor_board_model,
+            motor_board_off=bool(sim.motor_board.off), motor_board_cutouts=int(sim.motor_board.cutouts),
+            error=int(sim.safety_flag), motor_rad=(float(motor[0]), float(motor[1]), float(motor[2])),
+            var=value, world=self.world_values()))
+
+    def take_observations(self) -> list[Observation]:
+        """What the expectations saw since the last call."""
+        taken, self.observations = self.observations, []
+        return taken
+
+    def _drain_log(self) -> None:
+        n = int(self.lib.crs_board_take_log(self.sim))
+        if n:
+            block = {k: a[:n].copy() for k, a in self._log_arrays.items()}
+            if "world" in block:
+                block.update(split_world_row(block.pop("world")))
+            self.log_blocks.append(block)
+
+    def run(self, until_tick: int) -> int:
+        """Run to ``until_tick`` (events applied on their tick); returns a CRS_RUN_* code."""
+        lib, sim = self.lib, self.sim
+        while True:
+            while self.events and self.events[0].tick <= sim.tick:
+                apply_event(self, self.events.pop(0))
+            if sim.tick >= until_tick:
+                return lib.CRS_RUN_DONE
+            stop_at = min(until_tick, self.events[0].tick) if self.events else until_tick
+            code = lib.crs_sim_run(sim, stop_at)
+            if code == lib.CRS_RUN_LOG_FULL or (self.config.log_signals and code != lib.CRS_RUN_DONE):
+                self._drain_log()
+            if code == lib.CRS_RUN_EVENTS_FULL:
+                self._drain_motor_board_events()
+            if code not in (lib.CRS_RUN_DONE, lib.CRS_RUN_LOG_FULL, lib.CRS_RUN_EVENTS_FULL):
+                return code
+
+    def _drain_motor_board_events(self) -> None:
+        mb = self.sim.motor_board
+        n = int(self.lib.crs_board_take_motor_board_events(self.sim))
+        self.motor_board_events.extend(
+            worker_messages.MotorBoardEvent(int(mb.event_tick[i]), int(mb.event_joint[i]),
+                                            bool(mb.event_off[i]))
+            for i in range(min(n, len(mb.event_tick))))
+
+    def debug_break(self) -> None:
+        """Stop in the debugger before the next tick (it then stops at the next ``lab()`` call)."""
+        self.lib.crs_tick = self.sim.tick
+        self.lib.crs_debug_break(self.sim.tick)
+
+    def stats(self) -> dict[str, int]:
+        """The board's counters, as plain ints."""
+        s = self.sim
+        out = {name: int(getattr(s, name)) for name in STAT_FIELDS}
+        out["tick"] = int(s.tick)
+        out["first_over_tick"] = [int(s.first_over_tick[i]) for i in range(min(8, int(s.over_budget)))]
+        out["native"] = self.config.build.native
+        out["motor_board"] = self.config.motor_board_model
+        out["motor_board_cutouts"] = int(s.motor_board.cutouts)
+        return out
+
+    def take_motor_board_events(self) -> list[worker_messages.MotorBoardEvent]:
+        """The motor board's cut-outs starting or ending since the last call."""
+        self._drain_motor_board_events()
+        events, self.motor_board_events = self.motor_board_events, []
+        return events
+
+    def take_log(self) -> dict[str, np.ndarray] | None:
+        """The scope rows gathered since the last call (None when logging is off)."""
+        if not self.config.log_signals:
+            return None
+        self._drain_log()
+        blocks, self.log_blocks = self.log_blocks, []
+        if not blocks:
+            empty = {k: np.zeros((0, w), dt) for k, (w, dt) in self._columns.items()}
+            if "world" in empty:
+                empty.update(split_world_row(empty.pop("world")))
+            return empty
+        return {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}

@@ -1,0 +1,92 @@
+/* A run's settings and a scenario's events, handed to the board whole: the worker fills one struct
+ * and makes one call (crs_board_configure, crs_board_apply_event, ...); nothing outside the board
+ * writes crs_sim's fields. Read by cffi (after sim.h). */
+#ifndef CRSLAB_BOARD_CONFIG_H
+#define CRSLAB_BOARD_CONFIG_H
+
+#include <stdint.h>
+
+#include "sim.h"
+
+/* Everything of a run that decides what the board does (crslab/worker/config.py: SimConfig). */
+typedef struct {
+    int32_t strict_nan;                /* 1: a NaN/Inf torque stops the run */
+    int32_t motor_board;               /* CRS_MOTOR_BOARD_* */
+    int64_t startup_ticks;             /* lab() first runs at this tick */
+    int64_t budget_instructions;       /* lab()'s budget per call; a native firmware's time is
+                                          compared at one instruction per F28335 cycle */
+    double rest_motor_rad[3];          /* the true resting pose the encoders were zeroed at */
+    double encoder_noise_counts;       /* encoder noise on every joint, standard deviation, counts */
+    double motor_gain_nm_per_unit;     /* N.m per command unit (the drive works in command units) */
+    double stall_nm[3];                /* the drive's torque at standstill, at most, N.m */
+    double backemf_nm_s_per_rad[3];    /* what each rad/s of motor speed takes off it, N.m s/rad */
+    double drive_lag_s;                /* first-order lag of the delivered torque; 0: none */
+    crs_friction friction;             /* the sliding friction beyond the static band */
+    double hand_kp_nm_per_rad, hand_ki_nm_per_rad_s, hand_kd_nm_s_per_rad, hand_max_nm; /* the hand */
+    int32_t break_when;                /* crslab debug --break-when (a native firmware) */
+    int32_t trap_fp;                   /* crslab debug: a NaN or Inf in lab() raises SIGFPE */
+    int32_t time_lab;                  /* 1: count each lab() call's cost (0: measuring only) */
+    int32_t pad;
+} crs_board_config;
+
+/* The MuJoCo model and data a board steps, and the arrays of the data it reads and writes. */
+typedef struct {
+    const void *model;
+    void *data;
+    crs_mj_step_fn step;
+    const double *qpos;                /* j1..j3 DH angles, rad */
+    const double *qvel;                /* rad/s */
+    double *ctrl;                      /* motor1..3, command units */
+    double *qfrc_applied;              /* j1..j3, N.m */
+} crs_board_plant;
+
+/* A scenario's event (crslab/scenario), applied before the tick it is at. */
+enum {
+    CRS_EVENT_HAND_MOVE = 1,       /* from where the arm is to values[] (DH rad) over duration_ticks */
+    CRS_EVENT_HAND_RELEASE = 2,    /* the hand lets go */
+    CRS_EVENT_PUSH = 3,            /* on: values[] N at the end effector (square wave: half_period_ticks);
+                                      off: the push ends */
+    CRS_EVENT_ENCODER_NOISE = 4,   /* values[] counts on the joints of `joints`; rng_state: a new seed */
+    CRS_EVENT_ENCODER_GLITCH = 5,  /* values[] counts added this tick (two at one tick add up) */
+    CRS_EVENT_STUCK_ENCODER = 6,   /* the encoders of `joints` freeze (on) or read again (off) */
+    CRS_EVENT_DEAD_MOTOR = 7,      /* the amplifiers of `joints` output nothing (on) or again (off) */
+    CRS_EVENT_WRIST_ESTOP = 8,     /* every output latched to zero */
+    CRS_EVENT_FRICTION = 9,        /* the sliding friction becomes `friction` */
+    CRS_EVENT_SIMULINK_INPUT = 10  /* Simulink's input `input` (1..7) becomes `value` */
+};
+typedef struct {
+    int32_t kind;                  /* CRS_EVENT_* */
+    int32_t joints;                /* bit j-1: joint j */
+    int32_t on;                    /* push, stuck, dead: 1 starts, 0 ends */
+    int32_t input;                 /* Simulink's input 1..7 */
+    int64_t tick;                  /* the event's own tick (a push's square wave counts from it) */
+    int64_t duration_ticks;        /* hand move */
+    int64_t half_period_ticks;     /* push: 0 constant */
+    uint64_t rng_state;            /* encoder noise: the new seed; 0 keeps the generator's state */
+    int64_t value;                 /* Simulink's input value */
+    double values[3];
+    crs_friction friction;
+} crs_board_event;
+
+/* A new board of framework generation `generation` writing into `shared` (crs_sim_init, then
+ * those two). */
+void crs_board_init(crs_sim *sim, int32_t generation, crs_shared *shared);
+/* Give the board a run's settings (after its firmware is loaded: the budget is converted into
+ * its cost unit). */
+void crs_board_configure(crs_sim *sim, const crs_board_config *config);
+/* Step `plant` (its model, its data and their arrays). */
+void crs_board_attach_plant(crs_sim *sim, const crs_board_plant *plant);
+/* Fill `log`'s arrays (capacity rows each) from now on; a capacity of 0 logs nothing. */
+void crs_board_attach_log(crs_sim *sim, const crs_log *log);
+/* The rows logged since the last call (the reader took them: logging starts again at row 0). */
+int64_t crs_board_take_log(crs_sim *sim);
+/* The motor board's events since the last call (the reader took them). */
+uint32_t crs_board_take_motor_board_events(crs_sim *sim);
+/* The lab's variables in C28x memory: `count` entries of `vars` (kept by the caller). */
+void crs_board_attach_memory(crs_sim *sim, crs_mem_var *vars, uint32_t count);
+/* The world's configuration: the fields of `world` above its state (crs_world, world.h). */
+void crs_board_attach_world(crs_sim *sim, const crs_world *world);
+/* Apply `event` now (before the tick sim->tick runs): 0, or -1 for a kind the board does not know. */
+int crs_board_apply_event(crs_sim *sim, const crs_board_event *event);
+
+#endif
