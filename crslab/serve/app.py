@@ -290,6 +290,8 @@ class CrsServer:
             await ws.send_text(json.dumps({"type": "error", "message": str(exc)}))
             await ws.close(code=4429)
             return
+        if len(self.sessions.hosts.hosts) < self.sessions.hosts.count:
+            asyncio.create_task(self.sessions.hosts.warm())  # noqa: RUF006 - the hosts keep themselves
         try:
             await self._relay(ws, session)
         finally:

@@ -19,8 +19,10 @@ byte), the key, the tag (:data:`~crslab.serve.page_process.FORWARD`, ``RUN_START
 
 from __future__ import annotations
 
+import os
 import pickle
 import signal
+import socket
 import time
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
@@ -47,8 +49,12 @@ FORWARD = b"F"
 RUN_STARTED = b"R"
 RUN_ENDED = b"E"
 """The tags of a page message (as :mod:`crslab.serve.page_process`'s)."""
+SEND_BUFFER_BYTES = 4 << 20
+"""The host's side of its pipe to the server buffers this much (as far as the system allows)."""
 BATCH_S = 0.005
 """A wake-up runs every run due within this much of now (s), in one request to the worker."""
+PROCESS_NAME = "crslab-host"
+"""What ``ps`` calls a run host (its board worker is its child)."""
 DOWNLOADS = {"transcript": "transcript.txt", "csv": "run.csv", "rrd": "run.rrd"}
 """The files of the last run a page may download, by kind."""
 
@@ -319,6 +325,14 @@ def serve_host(conn: Connection) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the server's to handle
     signal.signal(signal.SIGTERM, _terminated)
     os_support.die_with_parent()
-    RunHost(conn).serve()
+    os_support.name_process(PROCESS_NAME)
+    out = socket.socket(fileno=os.dup(conn.fileno()))
+    try:  # room for a few hundred chunks: a busy server never holds every run of this host back
+        out.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SEND_BUFFER_BYTES)
+    finally:
+        out.close()
+    host = RunHost(conn)
+    host.worker = BoardWorker()  # ready before the first run comes
+    host.serve()
 
 

@@ -56,6 +56,14 @@ class RunHosts:
         """Runs the hosts run now."""
         return sum(len(h.runs) for h in self.hosts)
 
+    async def warm(self) -> None:
+        """Start every host now (a page opened: its first run will not wait for one)."""
+        await self._host()
+        while len(self.hosts) < self.count:
+            async with self._lock:
+                if len(self.hosts) < self.count:
+                    self.hosts.append(await self._start())
+
     async def _host(self) -> Host:
         async with self._lock:  # one start at a time: never more hosts than count
             if len(self.hosts) < self.count:
