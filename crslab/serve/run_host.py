@@ -181,6 +181,7 @@ class HostedSession:
         """The run ended: its last bytes to the sinks, the instance closed, ``ended`` sent."""
         assert self.chunked is not None
         result = self.chunked.ended(ending)
+        self.out.flush()  # the bytes still on the serial line as it ended: the page shows them too
         self.close()
         self.ended(result)
 

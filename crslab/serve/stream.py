@@ -143,7 +143,9 @@ class BrowserStream(Sink):
             return
         fields: dict[str, object] = {"serial": self.serial}
         if self.blocks:
-            log = {k: np.concatenate([b[k] for b in self.blocks]) for k in self.blocks[0]}
+            blocks = self.blocks  # (one per chunk as a rule: nothing to join then)
+            log = blocks[0] if len(blocks) == 1 else {k: np.concatenate([b[k] for b in blocks])
+                                                      for k in blocks[0]}
             fields.update(self._frames(log))
             fields["scope"] = self._scope(log)
             self.last_tick = int(log["tick"][-1, 0]) + 1
