@@ -114,7 +114,7 @@ def apply_plant(model: mujoco.MjModel, plant: PlantParams, loaded: mujoco.MjMode
     (from the
     next step on). ``loaded`` is the model as compiled from the MJCF (default: a fresh
     :func:`load_model`), the reference the mass scale applies to, so applying twice never
-    compounds. The drive is the C board's (``crs_drive``, set by the worker).
+    compounds. The drive is the C board's (``crs_drive``, set by ``crs_board_configure``).
 
     >>> model = load_model()
     >>> apply_plant(model, PlantParams.defaults().with_values({"friction": 0.5, "mass": 2.0}))

@@ -130,7 +130,7 @@ class BoardWorker:
         if not isinstance(reply, worker_messages.Ready):
             handle.block.close()
             if isinstance(reply, Ending):
-                self.close()
+                self._ended(reply)
             raise InstanceNotOpened(reply)
         handle.symbols = reply.symbols
         handle.open = True

@@ -137,6 +137,9 @@ class WorkerProcess:
         self.limits = limits
         self.debug = debug
         self.native = config is not None and config.build.native
+        self.trusted = not self.native
+        """A WebAssembly worker: no lab code runs in its address space, so its replies are read as
+        they are (a native worker's are read as untrusted, field by field)."""
         self.lab_name = config.build.source.name if config is not None else "the worker"
         self.sanitizer_dir: str | None = None
         self._rss_limit_mb: int | None = None
@@ -221,7 +224,8 @@ class WorkerProcess:
         watched = blocks if blocks is not None else [b for b in (self.block,) if b is not None]
         try:
             raw = self._watch(deadline_s, timeout_s, during_setup, cpu_allowance_s, watched)
-            return raw if isinstance(raw, Ending) else read_reply(raw, *due, instance=instance)
+            return raw if isinstance(raw, Ending) else read_reply(raw, *due, instance=instance,
+                                                                  trusted=self.trusted)
         except UnreadableReply as exc:
             return self.tampered(str(exc))
 
@@ -245,7 +249,7 @@ class WorkerProcess:
                     self.kill()
                     return diagnosis.output_limit(self.lab_name, self.block.tick, self.limits.output_bytes)
                 if self._conn in ready and self._conn.poll(0):
-                    return receive(self._conn)
+                    return receive(self._conn, self.trusted)
             except (EOFError, ConnectionResetError):
                 pass
             if not self.process.is_alive():
@@ -348,7 +352,7 @@ class WorkerProcess:
         if self._console >= 0:
             os.close(self._console)
             self._console = -1
-        if self.sanitizer_dir:
+        if self.sanitizer_dir and os.path.isdir(self.sanitizer_dir):
             for p in Path(self.sanitizer_dir).glob("*"):
                 p.unlink()
             os.rmdir(self.sanitizer_dir)

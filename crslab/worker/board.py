@@ -69,12 +69,12 @@ STANDARD_GRAVITY = 9.80665
 _C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
 
 
-STAT_FIELDS = (
-    "lab_calls", "lab_cost_total", "lab_cost_max", "lab_max_tick", "over_budget", "cost_unit", "budget",
-    "nan_first_tick", "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag",
-    "leds", "estop_latched", "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars",
-    "overflow_phase", "console_bytes",
-)
+def counter_names(ffi: FFI) -> list[str]:
+    """The names of the board's counters in the order ``crs_board_counters`` writes them (its enum
+    ``crs_counter``, csrc/board/board_config.h: ``CRS_COUNTER_LAB_CALLS`` is ``lab_calls``)."""
+    elements = ffi.typeof("crs_counter").elements
+    return [elements[i].removeprefix("CRS_COUNTER_").lower() for i in range(len(elements)) if i in elements
+            and elements[i] != "CRS_COUNTERS"]
 
 
 def split_world_row(row: object) -> dict:
@@ -206,6 +206,8 @@ class Board:
         settings = board_settings(config, trap_fp=debug is not None and debug.trap_fp, time_lab=time_lab)
         self.lib.crs_board_configure(sim, ffi.new("crs_board_config *", settings))
         self._set_world(config.world)
+        self._counters: object | None = None
+        self._counter_names: list[str] = []
         self.events = list(config.scenario.events)
         self.motor_board_events: list[worker_messages.MotorBoardEvent] = []
         self.observations: list[Observation] = []
@@ -423,14 +425,16 @@ class Board:
         self.lib.crs_debug_break(self.sim.tick)
 
     def stats(self) -> dict[str, int]:
-        """The board's counters, as plain ints."""
-        s = self.sim
-        out = {name: int(getattr(s, name)) for name in STAT_FIELDS}
-        out["tick"] = int(s.tick)
-        out["first_over_tick"] = [int(s.first_over_tick[i]) for i in range(min(8, int(s.over_budget)))]
+        """The board's counters, as plain ints (read in one call)."""
+        if self._counters is None:
+            self._counter_names = counter_names(self.ffi)
+            self._counters = self.ffi.new("int64_t[]", len(self._counter_names))
+        self.lib.crs_board_counters(self.sim, self._counters)
+        out: dict = dict(zip(self._counter_names, self.ffi.unpack(self._counters, len(self._counter_names))))
+        over = min(8, out["over_budget"])
+        out["first_over_tick"] = [int(self.sim.first_over_tick[i]) for i in range(over)] if over else []
         out["native"] = self.config.build.native
         out["motor_board"] = self.config.motor_board_model
-        out["motor_board_cutouts"] = int(s.motor_board.cutouts)
         return out
 
     def take_motor_board_events(self) -> list[worker_messages.MotorBoardEvent]:

@@ -17,6 +17,7 @@ run sandbox.
 
 from __future__ import annotations
 
+import copy
 import mmap
 import os
 from multiprocessing.connection import Connection
@@ -34,20 +35,21 @@ from crslab.worker.wasm_runtime import WasmImage
 
 
 class Models:
-    """The MuJoCo models of a worker, one per world and plant, shared by the instances whose run
-    never changes its model (no scenario event edits it, no egg to break); the others get their own."""
+    """The MuJoCo models of a worker: each world and plant compiled once, that model shared by the
+    instances whose run never changes its model; one whose run does (a scenario event edits it, an
+    egg breaks) gets a copy of its own (``mj_copyModel``, far cheaper than compiling the scene)."""
 
     def __init__(self) -> None:
         self._shared: dict[tuple, object] = {}
 
     def model_for(self, config: SimConfig) -> object:
         """The model an instance of ``config`` runs on."""
-        if changes_model(config.scenario.events) or config.world.egg is not None:
-            return plant_model(config)
         key = (config.world, config.plant)
         model = self._shared.get(key)
         if model is None:
             model = self._shared[key] = plant_model(config)
+        if changes_model(config.scenario.events) or config.world.egg is not None:
+            return copy.copy(model)
         return model
 
 
@@ -77,16 +79,19 @@ class Worker:
         self.images = Images()
 
     def open(self, instance: int, config: SimConfig, shared: mmap.mmap, deadline_s: float | None,
-             keep_fds: list[int], debug: DebugSetup | None = None) -> worker_messages.Message:
-        """Open ``instance`` on the shared block ``shared``; the reply that says how it went."""
+             keep_fds: list[int], debug: DebugSetup | None = None, *,
+             first: bool = False) -> worker_messages.Message:
+        """Open ``instance`` on the shared block ``shared`` (``first``: the instance the worker was
+        started with, the only one a native firmware may be); the reply that says how it went."""
         from crslab.sandbox.run_sandbox import SandboxError
 
         if instance in self.instances:
             return worker_messages.Failed(instance, f"instance {instance} is already open")
+        if config.build.native and (self.instances or not first):
+            return worker_messages.Failed(instance, "a native firmware runs in a worker of its own, "
+                                                    "started with it")
         try:
             if config.build.native:
-                if self.instances:
-                    return worker_messages.Failed(instance, "a native worker holds one instance")
                 board = Board(config, shared, keep_fds=keep_fds, debug=debug, deadline_s=deadline_s)
             else:
                 board = Board(config, shared, debug=debug, deadline_s=deadline_s,
@@ -167,7 +172,7 @@ def serve(conn: Connection, first: SimConfig | None, shared_fd: int | None, debu
         return shared
 
     if first is not None and shared_fd is not None:
-        reply = worker.open(0, first, mapped(shared_fd), deadline_s, [conn.fileno()], debug)
+        reply = worker.open(0, first, mapped(shared_fd), deadline_s, [conn.fileno()], debug, first=True)
         send(reply)
         if not isinstance(reply, worker_messages.Ready):
             return

@@ -50,20 +50,29 @@ class Message:
     Every subclass is a frozen dataclass."""
 
     KIND: ClassVar[str] = ""
+    NAMES: ClassVar[tuple[str, ...]] = ()
+    """Its fields' names, in order."""
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
         cls.KIND = cls.__name__.lower()
         dataclass(frozen=True)(cls)
+        cls.NAMES = tuple(f.name for f in dataclasses.fields(cls))  # type: ignore[arg-type]
 
     def wire(self) -> tuple:
         """The message as it travels: ``(KIND, field, ...)``, plain data only."""
-        return (self.KIND, *(_plain(getattr(self, f.name)) for f in dataclasses.fields(self)))
+        return (self.KIND, *[_plain(getattr(self, name)) for name in self.NAMES])
+
+
+_AS_IS = (int, float, str, bool, type(None), dict)
+"""What travels as it is (a table is the counters' or the scope rows': plain already)."""
 
 
 def _plain(value: object) -> object:
     """``value`` with the typed parts of a reply (observations, motor-board events) as plain data:
     what :func:`read_reply` reads back."""
+    if type(value) in _AS_IS:
+        return value
     if isinstance(value, Observation):
         return {**dataclasses.asdict(value), "motor_board_off": int(value.motor_board_off)}
     if isinstance(value, MotorBoardEvent):
@@ -367,10 +376,19 @@ _FIELDS: dict[type[Message], tuple] = {
 """How each reply's fields are read, in order: each raises :class:`_Bad` for what it is not."""
 
 
-def read_reply(raw: object, *due: type[Message], instance: int | None = None) -> Any:
+_TYPED: dict[type[Message], dict[int, Any]] = {
+    Ran: {5: lambda v: tuple(MotorBoardEvent(e[0], e[1], bool(e[2])) for e in v),
+          6: lambda v: tuple(observation(o) for o in v)},
+}
+"""A trusted reply's fields that travel as plain data but are read back typed (by position)."""
+
+
+def read_reply(raw: object, *due: type[Message], instance: int | None = None, trusted: bool = False) -> Any:
     """The reply ``raw`` (as unpickled) as one of the classes ``due``, every field checked, about
     ``instance`` when given (a reply that names an instance must name that one); raises
-    :class:`~crslab.worker.worker_reply.UnreadableReply` for anything else.
+    :class:`~crslab.worker.worker_reply.UnreadableReply` for anything else. ``trusted``: a
+    WebAssembly worker's reply (no lab code runs in its address space): its kind, its length and
+    its instance are checked, its fields taken as they are.
 
     >>> read_reply(("ready", 0, 3), Ready, Failed, Trapped, instance=0)
     Ready(instance=0, symbols=3)
@@ -392,10 +410,14 @@ def read_reply(raw: object, *due: type[Message], instance: int | None = None) ->
     readers = _FIELDS[cls]
     if len(raw) != 1 + len(readers):
         raise UnreadableReply(f"its {cls.KIND} reply has {len(raw) - 1} fields, not {len(readers)}")
-    try:
-        reply = cls(*(read(v) for read, v in zip(readers, raw[1:], strict=True)))
-    except _Bad as exc:
-        raise UnreadableReply(f"its {cls.KIND} reply holds {exc}") from None
+    if trusted:
+        typed = _TYPED.get(cls, {})
+        reply = cls(*(typed[i](v) if i in typed else v for i, v in enumerate(raw[1:])))
+    else:
+        try:
+            reply = cls(*(read(v) for read, v in zip(readers, raw[1:], strict=True)))
+        except _Bad as exc:
+            raise UnreadableReply(f"its {cls.KIND} reply holds {exc}") from None
     about = getattr(reply, "instance", instance)
     if instance is not None and about != instance:
         raise UnreadableReply(f"its {cls.KIND} reply is about instance {about}, not {instance}")

@@ -94,6 +94,33 @@ void crs_board_attach_world(crs_sim *sim, const crs_world *world)
     w->egg_pos_m = world->egg_pos_m;
 }
 
+void crs_board_counters(const crs_sim *sim, int64_t *out)
+{
+    out[CRS_COUNTER_LAB_CALLS] = sim->lab_calls;
+    out[CRS_COUNTER_LAB_COST_TOTAL] = sim->lab_cost_total;
+    out[CRS_COUNTER_LAB_COST_MAX] = sim->lab_cost_max;
+    out[CRS_COUNTER_LAB_MAX_TICK] = sim->lab_max_tick;
+    out[CRS_COUNTER_OVER_BUDGET] = sim->over_budget;
+    out[CRS_COUNTER_COST_UNIT] = sim->cost_unit;
+    out[CRS_COUNTER_BUDGET] = sim->budget;
+    out[CRS_COUNTER_NAN_FIRST_TICK] = sim->nan_first_tick;
+    out[CRS_COUNTER_NAN_FIRST_JOINT] = sim->nan_first_joint;
+    out[CRS_COUNTER_NAN_COUNT] = sim->nan_count;
+    out[CRS_COUNTER_PRINTING_RUNS] = sim->printing_runs;
+    out[CRS_COUNTER_PRINT_TRIGGERS] = sim->print_triggers;
+    out[CRS_COUNTER_SAFETY_FLAG] = sim->safety_flag;
+    out[CRS_COUNTER_LEDS] = sim->leds;
+    out[CRS_COUNTER_ESTOP_LATCHED] = sim->estop_latched;
+    out[CRS_COUNTER_TX_DROPPED] = sim->tx_dropped;
+    out[CRS_COUNTER_TX_FIRST_DROP_TICK] = sim->tx_first_drop_tick;
+    out[CRS_COUNTER_OVERFLOW_TICK] = sim->overflow_tick;
+    out[CRS_COUNTER_OVERFLOW_CHARS] = sim->overflow_chars;
+    out[CRS_COUNTER_OVERFLOW_PHASE] = sim->overflow_phase;
+    out[CRS_COUNTER_CONSOLE_BYTES] = sim->console_bytes;
+    out[CRS_COUNTER_TICK] = sim->tick;
+    out[CRS_COUNTER_MOTOR_BOARD_CUTOUTS] = sim->motor_board.cutouts;
+}
+
 static void set_joints(int32_t flags[3], int32_t joints, int32_t on)
 {
     for (int j = 0; j < 3; ++j) {

@@ -68,6 +68,35 @@ typedef struct {
     crs_friction friction;
 } crs_board_event;
 
+/* The board's counters, in the order crs_board_counters writes them (the names, lower case, are
+ * crs_sim's fields; motor_board_cutouts is the motor board's). */
+typedef enum {
+    CRS_COUNTER_LAB_CALLS = 0,
+    CRS_COUNTER_LAB_COST_TOTAL = 1,
+    CRS_COUNTER_LAB_COST_MAX = 2,
+    CRS_COUNTER_LAB_MAX_TICK = 3,
+    CRS_COUNTER_OVER_BUDGET = 4,
+    CRS_COUNTER_COST_UNIT = 5,
+    CRS_COUNTER_BUDGET = 6,
+    CRS_COUNTER_NAN_FIRST_TICK = 7,
+    CRS_COUNTER_NAN_FIRST_JOINT = 8,
+    CRS_COUNTER_NAN_COUNT = 9,
+    CRS_COUNTER_PRINTING_RUNS = 10,
+    CRS_COUNTER_PRINT_TRIGGERS = 11,
+    CRS_COUNTER_SAFETY_FLAG = 12,
+    CRS_COUNTER_LEDS = 13,
+    CRS_COUNTER_ESTOP_LATCHED = 14,
+    CRS_COUNTER_TX_DROPPED = 15,
+    CRS_COUNTER_TX_FIRST_DROP_TICK = 16,
+    CRS_COUNTER_OVERFLOW_TICK = 17,
+    CRS_COUNTER_OVERFLOW_CHARS = 18,
+    CRS_COUNTER_OVERFLOW_PHASE = 19,
+    CRS_COUNTER_CONSOLE_BYTES = 20,
+    CRS_COUNTER_TICK = 21,
+    CRS_COUNTER_MOTOR_BOARD_CUTOUTS = 22,
+    CRS_COUNTERS = 23
+} crs_counter;
+
 /* A new board of framework generation `generation` writing into `shared` (crs_sim_init, then
  * those two). */
 void crs_board_init(crs_sim *sim, int32_t generation, crs_shared *shared);
@@ -86,6 +115,8 @@ uint32_t crs_board_take_motor_board_events(crs_sim *sim);
 void crs_board_attach_memory(crs_sim *sim, crs_mem_var *vars, uint32_t count);
 /* The world's configuration: the fields of `world` above its state (crs_world, world.h). */
 void crs_board_attach_world(crs_sim *sim, const crs_world *world);
+/* The board's counters now, into out[CRS_COUNTERS] (crs_counter's order): one call, however many. */
+void crs_board_counters(const crs_sim *sim, int64_t *out);
 /* Apply `event` now (before the tick sim->tick runs): 0, or -1 for a kind the board does not know. */
 int crs_board_apply_event(crs_sim *sim, const crs_board_event *event);
 

@@ -177,7 +177,7 @@ static void *watchdog(void *unused);
 static void watch_begin(crs_wasm *w)
 {
     pthread_mutex_lock(&watch_lock);
-    api.context_set_epoch_deadline(w->ctx, 1);
+    api.context_set_epoch_deadline(w->ctx, 1); /* this store's deadline: the next epoch */
     watch_running = w;
     pthread_cond_signal(&watch_wake);
     pthread_mutex_unlock(&watch_lock);
@@ -223,8 +223,26 @@ static void *watchdog(void *unused)
     return NULL;
 }
 
+/* A process forked from one that ran firmware (a benchmark's in-process run, then its workers)
+ * has neither the watchdog thread nor a use for the parent's engine and modules: it starts its own
+ * on its first load (what the parent's were is left alone: it is the parent's). */
+static void forget_after_fork(void)
+{
+    pthread_mutex_init(&watch_lock, NULL);
+    pthread_cond_init(&watch_wake, NULL);
+    watch_running = NULL;
+    watch_started = 0;
+    engine = NULL;
+    modules = NULL;
+}
+
 static int watch_start(void)
 {
+    static int fork_handled;
+    if (!fork_handled) {
+        if (pthread_atfork(NULL, NULL, forget_after_fork) != 0) return -1;
+        fork_handled = 1;
+    }
     if (watch_started) return 0;
     pthread_t thread;
     pthread_attr_t attr;
@@ -961,11 +979,11 @@ int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
         load_failed(sim, error, NULL, 0);
         return CRS_RUN_TRAPPED;
     }
-    if (engine_for(sim, o) != 0) return CRS_RUN_TRAPPED;
     if (watch_start() != 0) {
         load_failed(sim, "the board cannot start its watchdog", NULL, 0);
         return CRS_RUN_TRAPPED;
     }
+    if (engine_for(sim, o) != 0) return CRS_RUN_TRAPPED;
     crs_wasm *w = calloc(1, sizeof *w);
     if (w == NULL) {
         load_failed(sim, "out of memory", NULL, 0);
