@@ -46,3 +46,24 @@ print("@@", " ".join(sorted(m for m in PROBED if m in sys.modules)))
 def test_a_command_imports_only_its_own_module():
     r = subprocess.run([sys.executable, "-c", ONE_COMMAND], capture_output=True, text=True, check=True)
     assert r.stdout.split("@@")[-1].split() == ["crslab.cli.contest_commands"], r.stdout[-300:]
+
+
+ONE_RUN = """
+import sys
+from crslab.cli import main
+try:
+    main(["sim", "--fast", "--no-startup-delay", "--duration", "0.002", "--quiet"])
+except SystemExit:
+    pass
+SLOW = ("pycparser", "cffi.cparser", "importlib.metadata")
+print("@@", " ".join(sorted(m for m in SLOW if m in sys.modules)))
+"""
+
+
+def test_a_webassembly_run_parses_no_c_header_in_the_crslab_process():
+    """The crslab process reads the shared block and the board's constants through crslab._core's
+    compiled declarations and libseccomp's version through ctypes: cffi's C parser (pycparser, about
+    a tenth of a second of a command's start) is never loaded; nor is importlib.metadata (zig's
+    version, in a cached build's key, is read from its package's folder name)."""
+    r = subprocess.run([sys.executable, "-c", ONE_RUN], capture_output=True, text=True, check=True)
+    assert r.stdout.split("@@")[-1].split() == [], r.stdout[-300:]

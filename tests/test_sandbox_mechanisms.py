@@ -115,6 +115,15 @@ def test_path_arguments_are_known_for_the_file_calls():
     assert all(seccomp.number(name) < 1024 for name in PATH_ARGUMENT)
 
 
+
+def test_libseccomp_version_read_by_ctypes_is_cffis():
+    """version() reads the library through ctypes (no C parser at a command's start); the filters'
+    cffi declarations read the same struct."""
+    ffi, lib = seccomp._library()
+    v = lib.seccomp_version()
+    assert seccomp.version() == (int(v.major), int(v.minor), int(v.micro))
+    assert seccomp.version() >= (2, 0, 0)
+
 # A machine whose kernel lacks Landlock, as inside a container whose seccomp profile refuses it:
 # this wrapper makes landlock_create_ruleset fail with ENOSYS, then runs crslab.
 WITHOUT_LANDLOCK = """

@@ -14,6 +14,7 @@ below are the kernel's and libseccomp's stable ABI.
 
 from __future__ import annotations
 
+import ctypes
 import os
 from dataclasses import dataclass
 from functools import cache
@@ -104,13 +105,16 @@ def _library() -> tuple[FFI, object]:
 
 
 def version() -> tuple[int, int, int] | None:
-    """libseccomp's version, or None when it cannot be loaded."""
+    """libseccomp's version, or None when it cannot be loaded. Read through ctypes: every command's
+    start asks (crslab/sandbox/support.py), and cffi's declarations would cost it cffi's C parser
+    (pycparser: tens of milliseconds); the filters are built with cffi (:func:`_library`)."""
     try:
-        ffi, lib = _library()
-    except SeccompError:
+        lib = ctypes.CDLL("libseccomp.so.2")
+    except OSError:
         return None
-    v = lib.seccomp_version()
-    return (int(v.major), int(v.minor), int(v.micro))
+    lib.seccomp_version.restype = ctypes.POINTER(ctypes.c_uint * 3)  # struct scmp_version
+    v = lib.seccomp_version().contents
+    return (int(v[0]), int(v[1]), int(v[2]))
 
 
 def number(syscall: str) -> int:

@@ -118,6 +118,9 @@ def _child(conn: Connection, config: SimConfig | None, shared: WorkerFd | None, 
     if limits.cpu_s is not None:
         cpu = int(limits.cpu_s) + 1
         resource.setrlimit(resource.RLIMIT_CPU, (cpu, cpu + 1))
+    # the worker never draws: MuJoCo's import then makes no OpenGL context (glfw, whose import loads
+    # cffi's C parser: some 40-100 ms of CPU before the first lab() call); a user's MUJOCO_GL stays
+    os.environ.setdefault("MUJOCO_GL", "disable")
     from crslab.worker.worker import serve
 
     serve(conn, config, shared.detach() if shared is not None else None, debug, deadline_s)

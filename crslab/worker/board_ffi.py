@@ -2,10 +2,12 @@
 and its constants (phases, run codes, lab-symbol bits, trap kinds), so Python never writes them
 again.
 
-ABI mode: a native worker dlopens its lab's shared object (the board linked with the firmware) with
-these declarations and the native port's (firmware_native.h); the crslab process uses the same
-declarations, without loading any lab code, to read the shared-memory block. A WebAssembly worker
-uses crslab._core, which holds the board itself (API mode, from the same headers).
+A native worker dlopens its lab's shared object (the board linked with the firmware) with these
+declarations and the native port's (firmware_native.h), parsed from the headers (ABI mode). The
+crslab process reads the shared-memory block and the constants through crslab._core, which holds
+the board itself compiled from the same headers (API mode): no lab code is loaded, and no header is
+parsed at run time (pycparser took about a tenth of a second of every command's start). A
+WebAssembly worker runs the board in crslab._core.
 """
 
 from __future__ import annotations
@@ -23,12 +25,11 @@ BOARD_HEADERS = ("port/firmware_board.h", "plant/world.h", "board/sim.h", "board
 under csrc/."""
 
 
-@cache
-def board_ffi() -> FFI:
-    """The FFI holding every declaration of sim.h."""
-    ffi = FFI()
-    for header in BOARD_HEADERS:
-        ffi.cdef(cdef_from_header(resources.path("csrc", *header.split("/")).read_text()))
+def board_ffi() -> Any:
+    """The FFI holding every declaration of sim.h (crslab._core's, compiled from :data:`BOARD_HEADERS`
+    and the core's other headers)."""
+    from crslab._core import ffi
+
     return ffi
 
 
@@ -55,4 +56,6 @@ def board_constants() -> Any:
     >>> board_constants().CRS_PHASE_PRINTING
     2
     """
-    return board_ffi().dlopen(None)
+    from crslab._core import lib
+
+    return lib
