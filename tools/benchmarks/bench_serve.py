@@ -87,6 +87,8 @@ class Server:
         if not match:
             raise RuntimeError(f"crslab serve did not start: {Path(self.log.name).read_text()}")
         self.url = match.group(0)
+        if NICE:  # the kernel schedules each session (autogroup) as one: nice -10 for the server's
+            autogroup_nice(self.proc.pid, -10)
         self.host = self.url.split("/")[2]
         self.cookie = self.cookie_of(self.url.split(self.host)[1]) if not users else ""
 
@@ -115,6 +117,19 @@ class Server:
         self.log.close()
         if errors:
             raise RuntimeError("crslab serve wrote to stderr: " + " | ".join(errors[-12:]))
+
+
+def autogroup_nice(pid: int, nice: int) -> int | None:
+    """Set the nice value of ``pid``'s scheduling autogroup (Linux with autogroups: a process's
+    own nice counts only against its session's other processes; between sessions the kernel shares
+    the CPU by the autogroup's nice). Returns the old one, None where there is none to set."""
+    path = Path(f"/proc/{pid}/autogroup")
+    try:
+        old = int(path.read_text().split("nice")[1])
+        path.write_text(str(nice))
+    except (OSError, IndexError, ValueError):
+        return None
+    return old
 
 
 def cpu_by_role(root: int) -> dict[str, float]:
@@ -276,9 +291,11 @@ def capacity_lines(ladder: tuple[int, ...] = LADDER, default_priority: bool = Tr
     default priority."""
     lines, best = [], 0
     own = os.getpriority(os.PRIO_PROCESS, 0)
+    own_group = None
     try:
         os.nice(-10)
         NICE[:] = ["nice", "-n", "-10"]
+        own_group = autogroup_nice(os.getpid(), -10)
         how = "server and generator at nice -10"
     except PermissionError:
         how = "default priority (not root: no nice -10)"
@@ -295,6 +312,8 @@ def capacity_lines(ladder: tuple[int, ...] = LADDER, default_priority: bool = Tr
     finally:
         server.stop()
         os.setpriority(os.PRIO_PROCESS, 0, own)
+        if own_group is not None:
+            autogroup_nice(os.getpid(), own_group)
         NICE.clear()
     verdict = "meets" if best >= TARGET_SESSIONS else "misses"
     lines.append(
