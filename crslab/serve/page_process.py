@@ -322,5 +322,6 @@ def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
                 else:
                     session.send(message("error", message=text))
     finally:
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # the server's SIGTERM may come now: finish
         shutil.rmtree(folder, ignore_errors=True)
         os._exit(0)
