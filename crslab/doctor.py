@@ -154,19 +154,17 @@ def _simulation(build: object, sandboxed: bool) -> Check:
     if build is None:
         return Check("simulation", False, "needs the lab build", "see the lab build (above)", skipped=True)
     from crslab.scenario.load import load_scenario
-    from crslab.sim.session import SimError, Simulation
-    from crslab.sinks.memory import MemorySink
+    from crslab.sim.assemble import run_kept
+    from crslab.sim.simulation import SimError
     from crslab.worker.config import SimConfig
 
     config = SimConfig(build=build, scenario=load_scenario("hands_off"), startup_ticks=0,  # type: ignore[arg-type]
                        sandboxed=sandboxed)
-    printed = MemorySink()
     try:
-        with Simulation(config) as sim:
-            result = sim.run(600, printed)
+        result = run_kept(config, 600)
     except SimError as exc:
         return Check("simulation", False, str(exc), "run 'crslab sim' to see the whole message")
-    lines = printed.transcript.count(b"\n")
+    lines = result.transcript.count(b"\n")
     if not result.ok or lines < 3:
         return Check("simulation", False, f"the lab's run ended {result.status} after {lines} lines "
                      f"{result.message}".rstrip(), "run 'crslab sim' to see the whole message")

@@ -63,7 +63,7 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
     )
     from crslab.scenario.event import seconds_to_tick
     from crslab.sim.api import make_config
-    from crslab.sim.session import DEFAULT_DEADLINE_S
+    from crslab.sim.simulation import DEFAULT_DEADLINE_S
 
     base = base or Path.cwd()
     lab_path = base / lab

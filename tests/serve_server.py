@@ -10,6 +10,7 @@ import re
 import signal
 import subprocess
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 from waiting import LineWatcher, wait_exit
@@ -128,3 +129,25 @@ def run_message(lab: Path | str, name: str = "lab.c", **options: object) -> dict
     msg = {"type": "run", "lab": {"name": name, "text": text}, "scenario": {"name": "tour"}, "speed": None}
     msg.update(options)
     return msg
+
+
+def roster_server(tmp_path_factory, *options: str) -> Iterator[ServeProcess]:  # noqa: ANN001 - pytest's
+    """A module's server with the test roster and room for the module's compiles (``options``:
+    more of ``crslab serve``'s), stopped when the module is done: ``yield from roster_server(...)``
+    in a module-scoped fixture."""
+    folder = tmp_path_factory.mktemp("serve")
+    server = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000",
+                          *options)
+    try:
+        yield server
+    finally:
+        server.stop()
+
+
+def logged_in(server: ServeProcess, user: str) -> Iterator[Client]:
+    """A page of ``user``'s on ``server``, closed when done: ``yield from logged_in(...)``."""
+    client = Client(server, server.login(user))
+    try:
+        yield client
+    finally:
+        client.close()

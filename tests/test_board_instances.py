@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 from crslab.plant.plant_params import PlantParams
-from crslab.sim.api import make_config, simulate
+from crslab.sim.api import simulate
+from crslab.sim.assemble import make_config
 from crslab.sim.board_worker import BoardWorker, InstanceNotOpened
 from crslab.sim.diagnosis import Ending
 from crslab.worker.board_ffi import board_constants
@@ -106,6 +107,9 @@ def twenty_in_one_worker(hostile_labs):
                     ended[lab] = ("the worker ended", ran.message)
                 elif ran.code not in (0, board_constants().CRS_RUN_SERIAL_FULL):
                     ended[lab] = (ran.code, ran.trap)
+            for lab, h in handles.items():  # the worker itself ended: every instance of it did
+                if h.ending is not None and lab not in ended:
+                    ended[lab] = ("the worker ended", h.ending.message)
         for lab, h in handles.items():
             printed[lab] += h.block.take_line()
         alive = worker.alive
@@ -146,7 +150,7 @@ SHARING = """
 import json, sys
 from crslab._core import lib
 from crslab.scenario.load import load_scenario
-from crslab.sim.api import make_config
+from crslab.sim.assemble import make_config
 from crslab.sim.shared_block import SharedBlock
 from crslab.worker import worker_messages
 from crslab.worker.worker import Worker
@@ -211,6 +215,22 @@ def configured():
     plant_arrays = ffi.new("crs_board_plant *", {"qpos": ffi.cast("double *", qpos.ctypes.data)})
     lib.crs_board_attach_plant(sim, plant_arrays)
     return ffi, lib, sim, config, keep
+
+
+def test_the_boards_counters_are_the_run_statistics_it_reports_by_name(configured):
+    from crslab.worker.board import counter_names
+    from crslab.worker.run_stats import BOARD_COUNTERS
+
+    ffi, lib, sim, _, _ = configured
+    names = counter_names(ffi)
+    assert names == [*BOARD_COUNTERS, "tick", "motor_board_cutouts"]
+    out = ffi.new("int64_t[]", len(names))
+    sim.lab_calls, sim.overflow_chars, sim.motor_board.cutouts = 321, 77, 4
+    lib.crs_board_counters(sim, out)
+    read = dict(zip(names, ffi.unpack(out, len(names))))
+    fields = [*BOARD_COUNTERS, "tick"]
+    assert {n: getattr(sim, n) for n in fields} == {n: read[n] for n in fields}
+    assert (read["lab_calls"], read["overflow_chars"], read["motor_board_cutouts"]) == (321, 77, 4)
 
 
 def test_what_the_board_holds_is_what_the_run_asked(configured):

@@ -209,7 +209,7 @@ def test_the_shared_block_has_no_name_in_any_file_system(place):
     """What a run shares with its worker is a memfd: nothing in /dev/shm or the temporary folder to
     leave behind when a grader's time limit kills the run."""
     from crslab.sim.api import make_config
-    from crslab.sim.session import Simulation
+    from crslab.sim.simulation import Simulation
 
     with Simulation(make_config(HONEST, "hands_off")) as sim:
         maps = Path(f"/proc/{sim.worker_pid}/maps").read_text()

@@ -14,7 +14,7 @@ from crslab.plant.model import holding_torques_nm
 from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 
 LABS = Path(__file__).parent / "labs"

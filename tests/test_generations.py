@@ -17,7 +17,7 @@ from crslab._core import ffi, lib
 
 from crslab.generations import GEN_A, GEN_B, GENERATIONS, NEWEST, UnknownGeneration, detect, named, of
 from crslab.sim.api import make_config
-from crslab.sim.session import SimError, Simulation
+from crslab.sim.simulation import SimError, Simulation
 from crslab.sinks.memory import MemorySink
 from crslab.sinks.sink import FanOut
 from crslab.starters import starter_text

@@ -19,7 +19,7 @@ from waiting import LineWatcher, wait_exit
 
 from crslab.host_tools.serial_protocols import plot_values, simulink_packet
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 
 ROOT = Path(__file__).resolve().parents[1]

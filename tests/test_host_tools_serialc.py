@@ -13,7 +13,7 @@ import pytest
 from crslab.host_tools.serial_protocols import read_request, write_request
 from crslab.live.bridge import SerialBridge
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 
 LABS = Path(__file__).parent / "labs"

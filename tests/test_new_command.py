@@ -48,7 +48,7 @@ def test_each_starter_is_of_its_generation_and_runs_to_the_end(runs, lab, gen):
     assert detect(text).id == GEN[gen]
     assert ("SWI_post(&SWI_printf);" in text) == (gen == "A") and ("UARTprint = 1;" in text) == (gen == "B")
     assert run.status == "ok" and run.end_tick == 7600, run.message
-    assert run.stats["lab_calls"] == 3500 and run.stats.get("motor_board_cutouts", 0) == 0
+    assert run.stats.lab_calls == 3500 and run.stats.motor_board_cutouts == 0
     assert run.lines(), "it prints"
 
 

@@ -218,7 +218,7 @@ def test_gen_a_prints_a_line_at_its_2048_byte_limit_and_stops_beyond_it(tmp_path
     assert GEN_A.printf_buffer_chars == GEN_A.tx_ring_chars == 2048
     at_limit = simulate(long_line_lab(tmp_path, 2047), "hands_off", duration_s=0.25, startup_delay=False)
     dump = bytes(ord("a") + i % 26 for i in range(2045))
-    assert at_limit.status == "ok" and at_limit.stats["tx_dropped"] == 0  # the ring holds all of it too
+    assert at_limit.status == "ok" and at_limit.stats.tx_dropped == 0  # the ring holds all of it too
     assert at_limit.transcript == dump + b"\n\rcall 100\n\rcall 200\n\r"
     beyond = simulate(long_line_lab(tmp_path, 2048), "hands_off", duration_s=0.25, startup_delay=False)
     assert (beyond.status, beyond.exit_status, beyond.transcript) == ("crashed", 3, b"")

@@ -83,7 +83,7 @@ def test_end_mass_payload_is_held_at_rest_then_sags_by_gravitys_share(steps):
     np.testing.assert_allclose(b[0], [0, -0.42, 0.24], atol=0.01)    # held at rest until 4.1 s
     # the hand lets go as lab() takes over: no fight between them, so no motor-board cut-out and
     # the arm never leaves the envelope, loaded or not
-    assert plain.stats["motor_board_events"] == [] and loaded.stats["motor_board_events"] == []
+    assert plain.stats.motor_board_events == () and loaded.stats.motor_board_events == ()
     assert np.all(plain.log["safety"][:, 0] == 0) and np.all(loaded.log["safety"][:, 0] == 0)
     # both follow the steps between 0 and pi/6 (every 100 ms from 4.1 s; the last sample of each
     # 1 s step settled), and come to rest where friction holds them: motor 3, which carries the

@@ -316,7 +316,7 @@ def test_the_wrist_estop_latches_every_output_to_zero_only_past_0_11_rad(motor_f
     run = motor_faults
     t, applied = run.log["tick"][:, 0], run.log["tau_applied"]
     assert np.any(applied[(t >= 5500) & (t < 6000)] != 0)     # 0.05 rad: nothing happens
-    assert np.all(applied[t >= 6000] == 0) and run.stats["estop_latched"] == 1
+    assert np.all(applied[t >= 6000] == 0) and run.stats.estop_latched == 1
     assert run.log["tau_lab"][-1, 0] == 1.0                    # lab() still runs
 
 

@@ -33,7 +33,7 @@ import mujoco, numpy as np
 from crslab import crs
 from crslab.live.viewer import MujocoViewer
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.sink import FanOut, Sink
 
 config = make_config(scenario="hands_off", log=True)

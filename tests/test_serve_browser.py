@@ -11,7 +11,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from serve_server import USERS, ServeProcess, write_roster
+from serve_server import USERS, roster_server
 
 from crslab.regress.transcript import read_golden
 from crslab.sim.api import simulate
@@ -36,10 +36,7 @@ WAIT_MS = 120_000
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("serve")
-    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000")
-    yield srv
-    srv.stop()
+    yield from roster_server(tmp_path_factory)
 
 
 @pytest.fixture(scope="module")

@@ -25,7 +25,8 @@ import threading
 from pathlib import Path
 
 import pytest
-from serve_server import USERS, Client, ServeProcess, run_message, write_roster
+from serve_server import USERS, Client, ServeProcess, logged_in, roster_server, run_message, write_roster
+from serve_tables import start_without_processes, table_session
 from waiting import wait_gone, wait_until
 
 import crslab
@@ -177,22 +178,6 @@ def test_token_guesses_back_off_per_address():
 
 
 # -- sessions per user: the table alone ----------------------------------------------------------
-class _Process:
-    def terminate(self) -> None:
-        pass
-
-    def join(self, timeout: float | None = None) -> None:
-        pass
-
-    def is_alive(self) -> bool:
-        return False
-
-
-class _Conn:
-    def close(self) -> None:
-        pass
-
-
 def test_one_user_opening_pages_at_once_holds_at_most_the_per_user_cap(monkeypatch, tmp_path):
     """Finding 6: with ``--max-sessions 6``, one student's 8 pages, opened at once (the server
     starts each in a thread), hold 2; the next student still gets in."""
@@ -202,11 +187,9 @@ def test_one_user_opening_pages_at_once_holds_at_most_the_per_user_cap(monkeypat
     def fake_start(user: str) -> PageSession:
         if user == "mallory":
             release.wait()  # her admitted pages are still starting while the others ask
-        return PageSession(f"{user}-{threading.get_ident()}", user, _Process(), _Conn(),  # type: ignore[arg-type]
-                           Path(tmp_path))
+        return table_session(f"{user}-{threading.get_ident()}", user, Path(tmp_path))
 
-    monkeypatch.setattr(sessions, "_start", fake_start)
-    sessions._ctx = object()  # type: ignore[assignment]  # no fork server: fake_start forks nothing
+    start_without_processes(monkeypatch, sessions, fake_start)
     outcomes: list[str] = []
 
     def open_page() -> None:
@@ -238,18 +221,12 @@ def test_one_user_opening_pages_at_once_holds_at_most_the_per_user_cap(monkeypat
 # -- a real server -------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("serve")
-    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000",
-                       "--max-sessions", "6")
-    yield srv
-    srv.stop()
+    yield from roster_server(tmp_path_factory, "--max-sessions", "6")
 
 
 @pytest.fixture(scope="module")
 def alice(server):
-    client = Client(server, server.login("alice"))
-    yield client
-    client.close()
+    yield from logged_in(server, "alice")
 
 
 def test_one_user_cannot_take_every_session(server, alice):

@@ -7,26 +7,10 @@ from __future__ import annotations
 import threading
 from pathlib import Path
 
+from serve_tables import start_without_processes, table_session
+
 from crslab.serve.page_process import SessionLimits
 from crslab.serve.page_sessions import LimitError, PageSession, Sessions, UserLimits
-
-
-class _Process:
-    """What a session's process must answer when the session closes."""
-
-    def terminate(self) -> None:
-        pass
-
-    def join(self, timeout: float | None = None) -> None:
-        pass
-
-    def is_alive(self) -> bool:
-        return False
-
-
-class _Conn:
-    def close(self) -> None:
-        pass
 
 
 def test_sessions_starting_and_ending_in_threads_while_the_loop_admits_runs(monkeypatch, tmp_path):
@@ -36,10 +20,10 @@ def test_sessions_starting_and_ending_in_threads_while_the_loop_admits_runs(monk
 
     def fake_start(user: str) -> PageSession:
         # a real start forks a process from the fork server: here, only what the table keeps
-        return PageSession(f"{user}-{threading.get_ident()}-{len(sessions.all())}-{id(object())}", user,
-                           _Process(), _Conn(), Path(tmp_path))  # type: ignore[arg-type]
+        return table_session(f"{user}-{threading.get_ident()}-{len(sessions.all())}-{id(object())}", user,
+                             Path(tmp_path))
 
-    monkeypatch.setattr(sessions, "_start", fake_start)
+    start_without_processes(monkeypatch, sessions, fake_start)
     outcomes: list[str] = []
 
     def page_opener(k: int) -> None:
@@ -59,7 +43,7 @@ def test_sessions_starting_and_ending_in_threads_while_the_loop_admits_runs(monk
         t.start()
     started.wait()
     errors = []
-    probe = PageSession("probe", "studentX", _Process(), _Conn(), Path(tmp_path))  # type: ignore[arg-type]
+    probe = table_session("probe", "studentX", Path(tmp_path))
     while any(t.is_alive() for t in threads):
         try:  # what the event loop does for every page message: reads the whole table
             sessions.admit(probe, {"type": "run", "scenario": {"name": "tour"}}, 0.0)

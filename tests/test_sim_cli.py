@@ -80,7 +80,7 @@ def test_ctrl_c_stops_cleanly_and_keeps_what_was_printed(tmp_path):
 def test_a_ctrl_c_while_a_chunk_goes_to_the_sinks_waits_until_every_sink_has_it():
     from crslab.sim.api import make_config
     from crslab.sim.pacing import FAST_SLICE_TICKS
-    from crslab.sim.session import Simulation
+    from crslab.sim.simulation import Simulation
     from crslab.sim.status import RunStatus
     from crslab.sinks.memory import MemorySink
     from crslab.sinks.sink import FanOut

@@ -35,27 +35,27 @@ def test_a_saturated_gen_b_controller_goes_limp_after_500_ms_and_comes_back_when
     # at 6.1 s the lab commands 0 (within 4 units): the board is back; from 6.6 s its 1 unit arrives
     assert np.all(off[tick >= 6100] == 0)
     np.testing.assert_array_equal(applied[tick >= 6600], 1.0)
-    assert saturated.stats["motor_board_events"] == [(4600, 1, 1), (6100, 1, 0)]
-    assert saturated.stats["motor_board_cutouts"] == 1
+    assert saturated.stats.motor_board_events == ((4600, 1, True), (6100, 1, False))
+    assert saturated.stats.motor_board_cutouts == 1
 
 
 def test_without_a_motor_board_the_saturated_commands_reach_the_arm():
     run = simulate(SATURATING, "hands_off", duration_s=6.1, log=True, motor_board="none")
     applied = run.log["tau_applied"][4100:6100, 0]
     np.testing.assert_array_equal(np.abs(applied), 4.5)
-    assert run.stats["motor_board_events"] == [] and run.stats["motor_board"] == "none"
+    assert run.stats.motor_board_events == () and run.stats.motor_board == "none"
 
 
 def test_gen_a_labs_default_to_no_motor_board_and_gen_b_to_the_piccolo():
     gen_a = simulate(LABS / "persistent_tau.c", "hands_off", duration_s=5.5, log=True)
-    assert gen_a.stats["motor_board"] == "none"
+    assert gen_a.stats.motor_board == "none"
     # tau1 = 40, clamped to 5 and applied as long as the arm is inside the envelope
     inside = gen_a.log["safety"][4100:4700, 0] == 0
     assert inside.sum() > 100
     np.testing.assert_array_equal(gen_a.log["tau_applied"][4100:4700, 0][inside], 5.0)
     piccolo = simulate(LABS / "persistent_tau.c", "hands_off", duration_s=5.5, log=True,
                        motor_board="piccolo")
-    assert piccolo.stats["motor_board"] == "piccolo"
+    assert piccolo.stats.motor_board == "piccolo"
     # the Piccolo board takes whole PWM counts, 300 per unit (the DSP truncates): tau2 = 0.5 is
     # 150 counts, the hold controller's outputs are whole counts too
     counts = piccolo.log["tau_applied"][4100:] * 300

@@ -75,8 +75,8 @@ def test_three_bursts_of_four_60_byte_lines_lose_characters_as_the_ring_would(ge
     # per print: its tick and what the ring took of it (burst 1: 60, 60, 33, 0 of 60 each)
     assert gen_b_bursts.calls == [(tick, data) for tick, data in kept if data]
     assert [len(d) for _, d in kept] == [60, 60, 33, 0, 34, 0, 0, 0, 60, 60, 33, 0]
-    assert gen_b_bursts.stats["tx_dropped"] == dropped == 87 + 206 + 87
-    assert gen_b_bursts.stats["tx_first_drop_tick"] == first_drop == 4100
+    assert gen_b_bursts.stats.tx_dropped == dropped == 87 + 206 + 87
+    assert gen_b_bursts.stats.tx_first_drop_tick == first_drop == 4100
 
 
 def test_bytes_leave_the_board_at_11_52_characters_per_ms(gen_b_bursts):
@@ -90,7 +90,7 @@ def test_gen_a_has_room_for_every_burst_in_its_2048_byte_ring(tmp_path):
     lab.write_text(BURSTS.read_text().replace('#include "F28335Serial.h"', "#include <coecsl.h>"))
     run = simulate(lab, "hands_off", duration_s=6.2)
     kept, sent, dropped, _ = serial_line_model(bursts(False), ring=2048)
-    assert dropped == 0 and run.stats["tx_dropped"] == 0
+    assert dropped == 0 and run.stats.tx_dropped == 0
     assert run.sent == per_tick(sent) and run.transcript == b"".join(d for _, d in bursts(False))
 
 

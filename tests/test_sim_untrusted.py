@@ -106,7 +106,7 @@ def test_nan_torque_warns_and_applies_nothing_on_that_joint():
     run = simulate(FAULTY / "nan_torque.c", "hands_off", duration_s=5.2, log=True)
     assert run.ok
     st = run.stats
-    assert (st["nan_first_tick"], st["nan_first_joint"]) == (5099, 2)
+    assert (st.nan_first_tick, st.nan_first_joint) == (5099, 2)
     log = run.log
     rows = log["tick"][:, 0] >= 5099
     assert np.all(np.isnan(log["tau_lab"][rows, 1]))
@@ -152,8 +152,8 @@ def test_a_burst_far_beyond_the_transmit_ring_loses_what_does_not_fit_as_on_the_
     # FIFO and the shift register make room for 17 more characters; the rest never leaves the board
     kept = 2 * 1024 + 17
     run = simulate(FAULTY / "burst_in_one_tick.c", "hands_off", duration_s=0.35, startup_delay=False)
-    assert run.ok and run.stats["tx_dropped"] == 5000 * 1024 - kept and run.stats["tx_first_drop_tick"] == 0
-    assert run.stats["serial_dropped"] == 0  # crslab itself kept everything that left the board
+    assert run.ok and run.stats.tx_dropped == 5000 * 1024 - kept and run.stats.tx_first_drop_tick == 0
+    assert run.stats.serial_dropped == 0  # crslab itself kept everything that left the board
     row = "".join(chr(ord("a") + i % 26) for i in range(1022))
     assert run.lines() == [row, row, row[:17] + "after 100", "after 200", "after 300"]
     # at 11.52 characters per ms the 2065 take 179.3 ms: the print of tick 100 waits its turn and

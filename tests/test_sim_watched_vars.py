@@ -4,7 +4,7 @@ import pytest
 
 from crslab.lab.watched import find_watched
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 
 

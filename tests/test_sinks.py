@@ -99,3 +99,40 @@ def test_stdout_and_transcript_see_the_same_bytes_split_anywhere(tmp_path):
     assert path.read_bytes() == b"1.00 2.00\n\r3.00\n\r4\r\n"  # flushed: on disk before the end
     out.close()
     assert stream.getvalue() == b"1.00 2.00\n3.00\n4\n"
+
+
+class EndWatcher(Sink):
+    """Notes every call of a run, to see where ``on_end`` comes."""
+
+    def __init__(self):
+        self.calls: list[str] = []
+        self.result = None
+
+    def on_serial(self, tick, data):
+        self.calls.append("on_serial")
+
+    def flush(self):
+        self.calls.append("flush")
+
+    def on_end(self, result):
+        self.calls.append("on_end")
+        self.result = result
+
+    def close(self):
+        self.calls.append("close")
+
+
+def test_a_run_ends_with_on_end_once_after_every_byte_with_its_result():
+    from crslab.sim.api import simulate
+
+    watcher, inner = EndWatcher(), EndWatcher()
+    threaded = ThreadedSink(inner)
+    result = simulate(None, "hands_off", duration_s=5.0, sinks=[watcher, threaded])
+    threaded.close()
+    assert result.ok and result.end_tick == 5000 and result.transcript
+    assert watcher.calls.count("on_end") == 1 and watcher.calls[-1] == "on_end"  # close is the caller's
+    assert "on_serial" in watcher.calls
+    assert (watcher.result.status, watcher.result.end_tick, watcher.result.stats) == \
+        (result.status, 5000, result.stats)
+    assert inner.calls[-2:] == ["on_end", "close"] and inner.calls.count("on_end") == 1
+    assert inner.result is watcher.result

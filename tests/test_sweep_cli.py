@@ -14,7 +14,7 @@ import pytest
 from crslab.cli import main
 from crslab.framework_facts import CLAMP_UNITS
 from crslab.sim.api import simulate
-from crslab.sweep.metrics import METRIC_NAMES
+from crslab.sweep.run_metrics import METRIC_NAMES
 from crslab.sweep.table import shown_metrics
 from tests.waiting import LineWatcher, wait_exit
 
@@ -239,7 +239,7 @@ def test_motor_board_cutouts_are_counted(tmp_path):
     )
     [row] = rows_of(out)
     run = simulate(LABS / "saturating_gen_b.c", "hands_off", duration_s=3.0, startup_delay=False)
-    cutouts = sum(1 for _, _, off in run.stats["motor_board_events"] if off)
+    cutouts = sum(1 for _, _, off in run.stats.motor_board_events if off)
     assert int(row["motor_board_cutouts"]) == cutouts >= 1 and row["passed"] == "False"
 
 

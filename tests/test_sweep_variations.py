@@ -10,11 +10,11 @@ import pytest
 from crslab.lab.source import LabSource
 from crslab.scenario.load import parse_scenario
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 from crslab.sweep import variations
-from crslab.sweep.job import SweepJob, SweepSpec
-from crslab.sweep.metrics import run_metrics
+from crslab.sweep.run_metrics import run_metrics
+from crslab.sweep.sample_job import SweepJob, SweepSpec
 
 LAB = Path(__file__).parent / "labs" / "sweep_pd.c"
 END_TICK = 600

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 from crslab.traj.tracking import TRACKING_LAB, tracking_report, write_plan
 from crslab.traj.waypoints import plan_waypoints, read_waypoints

@@ -15,7 +15,7 @@ from waiting import LineWatcher, join, wait_exit
 from crslab.cli import main
 from crslab.live.console import CommandError, VarConsole, parse_command
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -98,6 +98,24 @@ def test_sizes_that_cannot_work_together_are_refused(tmp_path):
     assert "contest.band_g: must be [low, high] with low < high" in error_of(write(tmp_path, text))
 
 
+def test_each_table_reads_its_keys_with_the_fixtures_defaults_and_checks():
+    from crslab.world.layout import Contact, parse_world
+
+    w = parse_world('[peg]\ndiameter_m = 0.01\nlength_m = 0.1\nmass_kg = 0.05\n'
+                    '[contact]\nfriction = 0.7\n', "w.toml")
+    assert w.peg.tip_offset_m == (0.0, 0.0, 0.0)  # left out: the field's own default
+    assert w.contact == Contact(friction=0.7, rigid_timeconst_s=0.004, rigid_impedance=0.99,
+                                egg_damping_ratio=1.0)
+    with pytest.raises(WorldError, match=r"^w.toml:2: contact.rigid_impedance: must be below 1"):
+        parse_world("[contact]\nrigid_impedance = 1.0\n", "w.toml")
+    with pytest.raises(WorldError, match=r"^w.toml:3: peg.length_m: 0.01 m is not longer than the peg"):
+        parse_world("[peg]\ndiameter_m = 0.01\nlength_m = 0.01\nmass_kg = 0.05\n", "w.toml")
+    with pytest.raises(WorldError, match=r"^w.toml:2: obstacle.center_m: must be a list of 3 numbers"):
+        parse_world("[obstacle]\ncenter_m = [0.1, 0.2]\nsize_m = [0.1, 0.1, 0.1]\n", "w.toml")
+    with pytest.raises(WorldError, match=r"^w.toml:2: table.size_m: must be 3 numbers > 0"):
+        parse_world("[table]\nsize_m = [1.0, 0.0, 1.0]\ntop_z_m = 0.0\n", "w.toml")
+
+
 def test_a_fixture_in_the_arms_way_at_rest_is_refused_with_what_and_where(tmp_path):
     elbow = arm_points_m(REST_MOTOR_RAD)["elbow"]
     assert elbow[0] < 0  # at rest the upper arm leans back: the elbow is behind the base

@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from serve_server import Client, ServeProcess, run_message, serial_of, write_roster
+from serve_server import logged_in, roster_server, run_message, serial_of
 
 from crslab.serve.app import arm_shapes
 from crslab.serve.page_messages import ProtocolError, parse_message
@@ -38,12 +38,8 @@ def test_the_3d_view_gets_the_worlds_fixtures_and_the_pegs_wrist():
 
 @pytest.fixture(scope="module")
 def alice(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("serve_world")
-    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000")
-    client = Client(srv, srv.login("alice"))
-    yield client
-    client.close()
-    srv.stop()
+    for server in roster_server(tmp_path_factory):
+        yield from logged_in(server, "alice")
 
 
 def test_a_run_in_the_contest_world_is_crslab_sims_there(alice, tmp_path):

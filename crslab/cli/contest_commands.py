@@ -14,10 +14,9 @@ import sys
 from pathlib import Path
 
 from crslab.cli import CliError
-from crslab.cli.run_options import add_run_options, config_from_args, limits_from_args
+from crslab.cli.run_options import add_run_options, config_from_args, run_to_end
 from crslab.contest.scorecard import Scorecard, ScorecardError, score
 from crslab.scenario.event import seconds_to_tick
-from crslab.sim.session import SimError
 from crslab.sim.status import ExitStatus, RunStatus
 from crslab.untrusted_text import for_terminal
 from crslab.worker.config import SimConfig
@@ -81,19 +80,12 @@ def contest_config(args: argparse.Namespace, world: World) -> SimConfig:
 
 def run_contest(args: argparse.Namespace) -> int:
     """``crslab contest``."""
-    from crslab.regress.runner import run_lab
-
     if not args.lab.is_file():
         raise CliError(f"{args.lab}: no such lab file")
     world = load_contest_world(args.world)
     config = contest_config(args, world)
     end_tick = seconds_to_tick(args.duration or CONTEST_DURATION_S)
-    try:
-        result = run_lab(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
-    except SimError as exc:
-        raise CliError(str(exc), status=exc.status.exit_status) from None
-    if result.status is RunStatus.NO_LAB:
-        raise CliError(result.message, status=result.exit_status)
+    result = run_to_end(config, end_tick, args)
     if not result.log:
         raise CliError(f"{args.lab.name}: the run ended before its first tick: "
                        f"{for_terminal(result.message or result.status)}", status=result.exit_status)

@@ -9,16 +9,16 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.cli.introduction import WIDTH, pace_text
-from crslab.cli.lab_run import LabRun, end_tick_of, scope_rows_asked
+from crslab.cli.lab_run import AtEnd, LabRun, end_tick_of, scope_rows_asked
 from crslab.cli.live_options import add_live_options
 from crslab.cli.run_options import add_run_options, config_from_args, positive
 from crslab.cli.sink_options import add_sink_options
-from crslab.debug.debug_session import DebugPlan, DebugSession
+from crslab.debug.debugged_run import DebugPlan, DebugSession
 from crslab.debug.local_port import PortError
 from crslab.debug.programs import DebuggerMissing, debugger_for
 from crslab.debug.tracer import TracerError
 from crslab.scenario.event import seconds_to_tick
-from crslab.sim.status import RunStatus
+from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.narration import seconds
 
 PREFIX = "crslab debug: "
@@ -175,13 +175,16 @@ def run_debug(args: argparse.Namespace) -> int:
 
     try:
         with DebugSession(plan, first_lab_tick, say, program) as session:
+            def say_unreached(result: RunResult) -> None:
+                unreached = session.unreached() if result.status is RunStatus.OK else None
+                if unreached:
+                    run.say(unreached)
+
             result = run.run(intro, speed=args.speed, controls=[session], debug=session.setup,
-                             debugger=session, ready=session.start)
-            unreached = session.unreached() if result.status is RunStatus.OK else None
+                             debugger=session, ready=session.start, extra_sinks=[AtEnd(say_unreached)],
+                             lab_cost=False)
     except PortError as exc:
         raise CliError(f"--gdbserver {args.gdbserver}: {exc}") from None
     except TracerError as exc:
         raise CliError(str(exc)) from None
-    if unreached:
-        run.say(unreached)
-    return run.report(result, lab_cost=False)
+    return result.exit_status

@@ -194,7 +194,10 @@ def run_identify(args: argparse.Namespace) -> int:
                     sys.stderr.write(exc.diagnostics)
                 status = RunStatus.FORBIDDEN if isinstance(exc, LabForbidden) else RunStatus.BUILD_ERROR
                 raise CliError(str(exc), status.exit_status) from None
-            configs[lab] = (config, lab_offsets(config))
+            try:
+                configs[lab] = (config, lab_offsets(config))
+            except RunFailed as exc:
+                raise CliError(f"a run of the lab failed: {exc}", status=3) from None
         config, offsets = configs[lab]  # type: ignore[misc]
         sources.append(fitting.Source(rec, config, offsets, sigma))
     what = ", ".join(filter(None, [f"{n} recording{'s' if n != 1 else ''}" if n else "",

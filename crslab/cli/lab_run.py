@@ -1,7 +1,9 @@
 """One ``crslab sim`` or ``crslab debug`` run as its command assembles it: the configuration from
 the run options, every output as a sink of one fan-out (the narration on stderr, stdout as Tera
 Term shows it, the file outputs of :mod:`crslab.cli.sink_options`, the live windows, SerialA on
-the host ports), the live controls, the worker, and what is said once the run has ended.
+the host ports), the live controls, the worker, and what is said once the run has ended: the
+end-of-run report is the last sink's (:class:`AtEnd`), said when the run ends (``on_end``), after
+what the sinks before it say then (the waypoint tracking's report, the C28x check's findings).
 
 The commands differ only in what they pass: ``sim`` its host ports, waypoint tracking and pace,
 ``debug`` its debugger (the worker's setup, a control, and where chunks end) and introduction.
@@ -23,11 +25,12 @@ from crslab.cli.run_report import near_budget_warning, print_run_notes, summary,
 from crslab.cli.sink_options import check_sinks, open_sinks, preload_sinks, sinks_need_scope_rows
 from crslab.lab.compiler import native_widths_note
 from crslab.scenario.event import seconds_to_tick
+from crslab.sim.assemble import started
 from crslab.sim.running import LiveControl, RunDebugger
-from crslab.sim.session import SimError, Simulation
-from crslab.sim.status import RunResult, RunStatus
+from crslab.sim.simulation import SimError, Simulation
+from crslab.sim.status import RunResult
 from crslab.sinks.narration import NarrationSink
-from crslab.sinks.sink import FanOut, Sink, SinkError
+from crslab.sinks.sink import Ended, FanOut, Sink, SinkError
 from crslab.sinks.stdout import StdoutSink
 from crslab.untrusted_text import for_terminal
 from crslab.worker.config import SimConfig
@@ -44,10 +47,20 @@ def scope_rows_asked(args: argparse.Namespace) -> bool:
     return live_needs_log(args) or sinks_need_scope_rows(args)
 
 
+class AtEnd(Sink):
+    """An output said when the run ends: ``say(result)`` (on stderr, after the sinks before it)."""
+
+    def __init__(self, say: Callable[[RunResult], None]) -> None:
+        self.say = say
+
+    def on_end(self, result: Ended) -> None:
+        self.say(result)  # type: ignore[arg-type]  # a Simulation's run ends with its RunResult
+
+
 class LabRun:
     """The outputs, windows and controls of one run of ``config`` (built from ``args``), said with
     ``crslab COMMAND: `` before each line. Bad options are one-line errors here, before the worker
-    starts; :meth:`run` runs it, :meth:`report` says how it went."""
+    starts; :meth:`run` runs it and says how it went (:meth:`report`, when it ends)."""
 
     def __init__(self, args: argparse.Namespace, config: SimConfig, command: str, *,
                  host_ports: bool = False) -> None:
@@ -65,6 +78,7 @@ class LabRun:
                                        prefix=self.prefix)
         self.out = FanOut([self.narration, self.stdout])
         self.wall_s = 0.0
+        self._start = 0.0
 
     def say(self, line: str) -> None:
         """One line on stderr, now."""
@@ -92,25 +106,24 @@ class LabRun:
             extra_sinks: Sequence[Sink] = (), controls: Sequence[LiveControl] = (),
             debug: DebugSetup | None = None, debugger: RunDebugger | None = None,
             prepare: Callable[[Simulation], None] | None = None,
-            ready: Callable[[Simulation], None] | None = None) -> RunResult:
-        """Start the worker, open every output, say ``introduction(end_tick)``, run to the end and
+            ready: Callable[[Simulation], None] | None = None, lab_cost: bool = True) -> RunResult:
+        """Start the worker, open every output, say ``introduction(end_tick)``, run to the end,
+        say how it went (:meth:`report`, the last sink's: ``extra_sinks`` say theirs before it) and
         close the outputs (a failure to finish a file is a one-line error). ``prepare(sim)`` comes
         before the introduction (it may move :attr:`end_tick`), ``ready(sim)`` right after it;
         ``controls`` are served before the live windows', and ``debug``, ``debugger`` go to the
-        worker and the run (``crslab debug``)."""
-        start = time.monotonic()
+        worker and the run (``crslab debug``); ``lab_cost`` goes to :meth:`report`."""
+        self._start = time.monotonic()
         try:
-            with Simulation(self.config, deadline_s=self.args.deadline, limits=limits_from_args(self.args),
-                            debug=debug, on_started=self._worker_started) as sim:
-                if not sim.defines_lab:
-                    raise CliError(f"{self.lab_name} defines no lab() function",
-                                   status=RunStatus.NO_LAB.exit_status)
+            with started(self.config, deadline_s=self.args.deadline, limits=limits_from_args(self.args),
+                         debug=debug, on_started=self._worker_started) as sim:
                 open_sinks(self.args, self.config, self.out)
                 self.live.start(self.out)
                 if self.host is not None:
                     self.host.start(self.out)
                 for sink in extra_sinks:
                     self.out.add(sink)
+                self.out.add(AtEnd(lambda result: self.report(result, lab_cost=lab_cost)))
                 if prepare is not None:
                     prepare(sim)
                 self.say_build_notes()
@@ -130,13 +143,14 @@ class LabRun:
                 self.out.close()
             except SinkError as exc:
                 raise CliError(str(exc)) from None
-        self.wall_s = time.monotonic() - start
         return result
 
     def report(self, result: RunResult, *, lab_cost: bool = True) -> int:
         """Say how the run went on stderr (its notices, failed expectations, the summary or
         ``--json``, the diagnosis); ``lab_cost`` False leaves lab()'s timings out of the summary
         line (they mean nothing once a debugger held it). Returns the exit status."""
+        self.wall_s = time.monotonic() - self._start
+        self.stdout.flush()  # the run's last bytes before what is said of it
         print_run_notes(self.prefix, self.lab_name, result, self.config.build.generation)
         info = summary(result, self.wall_s, self.args.budget)
         if self.args.json:

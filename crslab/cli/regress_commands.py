@@ -24,7 +24,13 @@ from crslab.cli.contest_commands import (
     load_contest_world,
 )
 from crslab.cli.executor_options import add_executor_options, executor_from_args
-from crslab.cli.run_options import add_c28x_option, add_run_options, config_from_args, limits_from_args
+from crslab.cli.run_options import (
+    add_c28x_option,
+    add_run_options,
+    config_from_args,
+    limits_from_args,
+    run_to_end,
+)
 from crslab.cli.run_report import notices
 from crslab.executors.job import Executor
 from crslab.lab.c28x_check import C28xReport, check_lab
@@ -32,7 +38,7 @@ from crslab.lab.compile_process import LabBuildError
 from crslab.output_paths import folder as made_folder
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
-from crslab.regress.runner import plant_fields, run_header, run_lab
+from crslab.regress.runner import plant_fields, run_header
 from crslab.regress.transcript import (
     GoldenError,
     read_golden,
@@ -43,7 +49,6 @@ from crslab.regress.transcript import (
 )
 from crslab.scenario.event import seconds_to_tick
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD
-from crslab.sim.session import SimError
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.untrusted_text import for_terminal, for_text
 from crslab.worker.config import SimConfig
@@ -150,12 +155,7 @@ def _end_tick(args: argparse.Namespace, config: SimConfig) -> int:
 
 
 def _run(config: SimConfig, args: argparse.Namespace, end_tick: int) -> RunResult:
-    try:
-        result = run_lab(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
-    except SimError as exc:
-        raise CliError(str(exc), status=exc.status.exit_status) from None
-    if result.status is RunStatus.NO_LAB:
-        raise CliError(result.message, status=result.exit_status)
+    result = run_to_end(config, end_tick, args)
     for line in notices(config.build.source.name, result.stats, config.build.generation, config.build.source):
         print(f"crslab {args.command}: {line}", file=sys.stderr)
     return result

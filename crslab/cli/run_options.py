@@ -22,8 +22,8 @@ from crslab.plant.plant_params import PlantParamsError
 from crslab.sandbox import missing as sandbox_missing
 from crslab.scenario.load import ScenarioError
 from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
-from crslab.sim.session import DEFAULT_DEADLINE_S, Limits
-from crslab.sim.status import RunStatus
+from crslab.sim.simulation import DEFAULT_DEADLINE_S, Limits, SimError
+from crslab.sim.status import RunResult, RunStatus
 from crslab.untrusted_text import for_text
 from crslab.worker.config import SimConfig
 from crslab.world.layout import WorldError
@@ -155,3 +155,16 @@ def config_from_args(args: argparse.Namespace, *, log: bool = False,
         raise CliError(str(exc)) from None
 
 
+def run_to_end(config: SimConfig, end_tick: int, args: argparse.Namespace) -> RunResult:
+    """``config`` run to ``end_tick`` at full speed, with the deadline and limits of ``args``, every
+    serial call and the scope log kept (``record``, ``check``, ``contest``): a worker that cannot
+    start, or a lab without ``lab()``, is a one-line error with its exit status."""
+    from crslab.regress.runner import run_lab
+
+    try:
+        result = run_lab(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
+    except SimError as exc:
+        raise CliError(str(exc), status=exc.status.exit_status) from None
+    if result.status is RunStatus.NO_LAB:
+        raise CliError(result.message, status=result.exit_status)
+    return result

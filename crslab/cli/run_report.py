@@ -16,26 +16,26 @@ from crslab.scenario.expect_events import summary_text
 from crslab.sim.status import RunResult, RunStatus
 from crslab.untrusted_text import for_terminal
 from crslab.worker.board_ffi import board_constants
+from crslab.worker.run_stats import RunStats
 
 NEAR_BUDGET = 0.8  # warn when a lab() call took this share of the budget
 
 
-def lab_cost(stats: dict, budget: int) -> dict:
+def lab_cost(stats: RunStats, budget: int) -> dict:
     """lab()'s cost per call, in the firmware's unit: WebAssembly instructions, or (native) the
     microseconds it took, with the budget in the same unit (``budget`` is in instructions, one per cycle
     of the 150 MHz F28335)."""
-    calls = stats.get("lab_calls", 0)
-    instructions = stats.get("cost_unit", board_constants().CRS_COST_INSTRUCTIONS) == \
-        board_constants().CRS_COST_INSTRUCTIONS
+    calls = stats.lab_calls
+    instructions = stats.cost_unit == board_constants().CRS_COST_INSTRUCTIONS
     scale = 1.0 if instructions else 1e-3  # ns to us
     return {
         "lab_cost_unit": "instructions" if instructions else "us",
-        "lab_cost_mean": round(stats.get("lab_cost_total", 0) * scale / calls, 1) if calls else 0.0,
-        "lab_cost_max": round(stats.get("lab_cost_max", 0) * scale, 1),
-        "lab_max_tick": stats.get("lab_max_tick", 0),
+        "lab_cost_mean": round(stats.lab_cost_total * scale / calls, 1) if calls else 0.0,
+        "lab_cost_max": round(stats.lab_cost_max * scale, 1),
+        "lab_max_tick": stats.lab_max_tick,
         "budget": budget if instructions else round(budget * 1000 / CPU_CYCLES_PER_TICK, 1),
-        "over_budget": stats.get("over_budget", 0),
-        "over_budget_ticks": stats.get("first_over_tick", []),
+        "over_budget": stats.over_budget,
+        "over_budget_ticks": list(stats.first_over_tick),
     }
 
 
@@ -50,17 +50,17 @@ def summary(result: RunResult, wall_s: float, budget: int) -> dict:
         **({"hung_tick": result.end_tick} if result.status is RunStatus.HUNG
            and "hung: lab() did not return" in result.message else {}),
         "wall_s": round(wall_s, 3),
-        "lab_calls": st.get("lab_calls", 0),
+        "lab_calls": st.lab_calls,
         **lab_cost(st, budget),
-        "nan_first_tick": st.get("nan_first_tick", -1),
-        "nan_first_tau": st.get("nan_first_joint", 0),
-        "nan_count": st.get("nan_count", 0),
-        "serial_dropped": st.get("serial_dropped", 0),
-        "tx_ring_dropped": st.get("tx_dropped", 0),
-        "tx_ring_first_drop_tick": st.get("tx_first_drop_tick", -1),
-        "console_bytes": st.get("console_bytes", 0),
-        "motor_board": st.get("motor_board", ""),
-        "motor_board_cutouts": st.get("motor_board_cutouts", 0),
+        "nan_first_tick": st.nan_first_tick,
+        "nan_first_tau": st.nan_first_joint,
+        "nan_count": st.nan_count,
+        "serial_dropped": st.serial_dropped,
+        "tx_ring_dropped": st.tx_dropped,
+        "tx_ring_first_drop_tick": st.tx_first_drop_tick,
+        "console_bytes": st.console_bytes,
+        "motor_board": st.motor_board,
+        "motor_board_cutouts": st.motor_board_cutouts,
         "expectations_met": sum(e.met for e in result.expectations),
         "expectations_failed": len(result.failed_expectations),
         "expectations_not_reached": sum(not e.reached for e in result.expectations),
@@ -117,13 +117,13 @@ def summary_line(info: dict) -> str:
     return line
 
 
-def lost_serial_notice(lab_name: str, stats: dict) -> str | None:
+def lost_serial_notice(lab_name: str, stats: RunStats) -> str | None:
     """The warning for bytes that left the board but never reached the transcript, if any were lost.
 
-    >>> lost_serial_notice("lab.c", {"serial_dropped": 925696}).split("; ")[1]
+    >>> lost_serial_notice("lab.c", RunStats(serial_dropped=925696)).split("; ")[1]
     'the 925696 bytes after that are missing from the transcript'
     """
-    dropped = stats.get("serial_dropped", 0)
+    dropped = stats.serial_dropped
     if not dropped:
         return None
     c = board_constants()
@@ -152,36 +152,36 @@ def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: G
             print(f"{prefix}expectation failed: {for_terminal(line)}", file=sys.stderr)
 
 
-def notices(lab_name: str, stats: dict, generation: Generation, source: Path | None = None) -> list[str]:
+def notices(lab_name: str, stats: RunStats, generation: Generation, source: Path | None = None) -> list[str]:
     """One-line warnings about the run (printed on stderr); ``source``, the lab file, names the
     function a lab that triggers printing without a ``printing()`` probably meant."""
     out = []
-    if source is not None and "lab_symbols" in stats:
+    if source is not None and stats.lab_symbols:  # a run's: every lab that ran has its bits
         try:
             text = source.read_bytes().decode("utf-8", "replace")
         except OSError:
             text = ""
         missing = missing_printing_notice(
-            lab_name, text, has_printing=bool(stats["lab_symbols"] & board_constants().CRS_LAB_HAS_PRINTING),
-            triggers=int(stats.get("print_triggers", 0)), generation=generation)
+            lab_name, text, has_printing=bool(stats.lab_symbols & board_constants().CRS_LAB_HAS_PRINTING),
+            triggers=stats.print_triggers, generation=generation)
         if missing:
             out.append(missing)
     lost = lost_serial_notice(lab_name, stats)
     if lost:
         out.append(lost)
-    if stats.get("console_bytes", 0) > 0:
-        out.append(f"note: {lab_name} wrote {stats['console_bytes']} bytes with printf, puts or the like: "
+    if stats.console_bytes > 0:
+        out.append(f"note: {lab_name} wrote {stats.console_bytes} bytes with printf, puts or the like: "
                    "on the board they go to Code Composer Studio's console, not to Tera Term, and crslab "
                    "does not show them (serial_printf(&SerialA, ...) prints to Tera Term)")
-    if stats.get("nan_first_tick", -1) >= 0:
-        t = stats["nan_first_tick"]
-        out.append(f"warning: {lab_name} returned a NaN or Inf in tau{stats['nan_first_joint']} at tick {t} "
+    if stats.nan_first_tick >= 0:
+        t = stats.nan_first_tick
+        out.append(f"warning: {lab_name} returned a NaN or Inf in tau{stats.nan_first_joint} at tick {t} "
                    f"(t = {t / 1000:.3f} s); no torque was applied on that joint for that tick "
-                   f"({stats['nan_count']} such torques in all)")
-    if stats.get("tx_dropped", 0) > 0:
-        t = stats["tx_first_drop_tick"]
+                   f"({stats.nan_count} such torques in all)")
+    if stats.tx_dropped > 0:
+        t = stats.tx_first_drop_tick
         out.append(f"warning: {lab_name} printed faster than the serial line sends "
-                   f"({SERIAL_CHARS_PER_MS:g} characters per ms): {stats['tx_dropped']} characters did not "
+                   f"({SERIAL_CHARS_PER_MS:g} characters per ms): {stats.tx_dropped} characters did not "
                    f"fit the board's {generation.tx_ring_chars}-byte transmit ring (and "
                    f"{SCI_TX_FIFO_CHARS}-byte FIFO) and were dropped, as on the real board; the first at "
                    f"tick {t} (t = {t / 1000:.3f} s)")

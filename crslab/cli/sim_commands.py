@@ -8,14 +8,14 @@ from pathlib import Path
 
 from crslab.cli.host_options import add_host_options
 from crslab.cli.introduction import introduction
-from crslab.cli.lab_run import LabRun, scope_rows_asked
+from crslab.cli.lab_run import AtEnd, LabRun, scope_rows_asked
 from crslab.cli.live_options import add_live_options
 from crslab.cli.run_options import add_c28x_option, add_run_options, config_from_args, positive
 from crslab.cli.sink_options import add_sink_options
 from crslab.cli.tracking_options import TrackingRun, add_tracking_options
 from crslab.lab.c28x_check import C28xCheck, first_run_check, remember
 from crslab.live.console import VarConsole
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.worker.config import SimConfig
 
 
@@ -84,8 +84,8 @@ def _run_sim(args: argparse.Namespace, config: SimConfig, tracking: TrackingRun,
             startup_ticks=config.startup_ticks, speed=speed,
             console=any(isinstance(c, VarConsole) for c in run.live.controls), waypoints=args.waypoints)
 
-    result = run.run(intro, speed=speed, extra_sinks=[tracking.rows] if tracking.active else [],
-                     prepare=follow_waypoints)
-    tracking.finish()
-    say_c28x_report(c28x, config.build.source)
-    return run.report(result)
+    said_at_end = [AtEnd(lambda result: tracking.finish()),
+                   AtEnd(lambda result: say_c28x_report(c28x, config.build.source))]
+    rows = [tracking.rows] if tracking.active else []
+    result = run.run(intro, speed=speed, extra_sinks=[*rows, *said_at_end], prepare=follow_waypoints)
+    return result.exit_status

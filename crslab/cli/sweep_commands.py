@@ -22,8 +22,8 @@ from crslab.sim.api import DEFAULT_REST_MOTOR_RAD
 from crslab.sim.status import ExitStatus
 from crslab.sweep import sampling, variations
 from crslab.sweep import table as tbl
-from crslab.sweep.job import Row, SweepJob, SweepSpec
-from crslab.sweep.metrics import METRIC_NAMES
+from crslab.sweep.run_metrics import METRIC_NAMES
+from crslab.sweep.sample_job import Row, SweepJob, SweepSpec
 
 
 def register(sub: argparse._SubParsersAction) -> None:

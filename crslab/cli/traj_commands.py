@@ -89,7 +89,7 @@ def run_traj(args: argparse.Namespace) -> int:
     print(f"{args.profile} profile through {len(pts.lines)} waypoints of {args.waypoints}: "
           f"{plan.trajectory.end_s:.3f} s, {t.size} rows at {RATE_HZ} Hz -> {args.output}")
     if args.plot is not None:
-        from crslab.traj.plot import plot_trajectory
+        from crslab.traj.trajectory_plot import plot_trajectory
 
         names = [f"{arm.joint_label} {j + 1}" for j in range(arm.n_joints)]
         try:

@@ -28,7 +28,7 @@ from crslab.sim.status import RunStatus
 DEFAULT_TIMEOUT_S = 300.0
 """Wall-clock time one job may take in all (building included), by default."""
 PRELOAD = ["crslab.executors.local", "crslab.regress.grade", "crslab.regress.runner", "crslab.lab.build",
-           "crslab.sweep.job", "crslab.worker.worker", "crslab.sandbox.run_sandbox",
+           "crslab.sweep.sample_job", "crslab.worker.worker", "crslab.sandbox.run_sandbox",
            "crslab.executors.warmup"]
 """Modules the fork server imports once, so that no job process, and no lab worker it forks,
 imports them again (MuJoCo's import alone costs more than a short run)."""

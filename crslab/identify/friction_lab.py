@@ -65,8 +65,8 @@ def run_friction_lab(plant: PlantParams | None = None, *, joints: Sequence[int] 
     ``speeds_rad_s``; ``on_progress(simulated_s, bound_s)`` after every slice. Raises
     :class:`FrictionRunError` when the run fails or the lab never says ``done``,
     :class:`NotAFrictionLab` for a lab without the variables crslab sets."""
-    from crslab.sim.api import make_config
-    from crslab.sim.session import SimError, Simulation
+    from crslab.sim.assemble import make_config, started
+    from crslab.sim.simulation import SimError
     from crslab.sinks.memory import MemorySink
 
     speeds = [float(s) for s in speeds_rad_s]
@@ -84,7 +84,7 @@ def run_friction_lab(plant: PlantParams | None = None, *, joints: Sequence[int] 
     memory = MemorySink()
     tick, end = 0, int(bound * 1000)
     try:
-        with Simulation(config) as sim:
+        with started(config) as sim:
             sim.set("n_speeds", float(len(speeds)))
             for i, s in enumerate(speeds):
                 sim.set("speeds_rad_s", s, index=i)

@@ -35,20 +35,18 @@ class IdentifyRun:
 
 def run_plotvars(run: IdentifyRun) -> np.ndarray:
     """The lab's PlotVar1..4 after every tick, shape ``(end_tick, 4)``. Raises :class:`RunFailed`."""
-    from crslab.sim.session import SimError, Simulation
-    from crslab.sinks.memory import MemorySink
+    from crslab.sim.assemble import run_kept
+    from crslab.sim.simulation import SimError
 
     config = dataclasses.replace(run.config, plant=run.plant, rest_motor_rad=run.rest_motor_rad,
                                  log_signals=True)
-    memory = MemorySink()
     try:
-        with Simulation(config) as sim:
-            result = sim.run(run.end_tick, memory)
+        result = run_kept(config, run.end_tick)
     except SimError as exc:
         raise RunFailed(str(exc)) from None
     if not result.ok:
         raise RunFailed(result.message or str(result.status))
-    log = memory.log
+    log = result.log
     if log is None or len(log["plot"]) < run.end_tick:
         raise RunFailed(f"{config.build.source.name}: the run logged no Simulink PlotVars")
     return np.asarray(log["plot"][: run.end_tick], dtype=float)
@@ -67,7 +65,7 @@ class Runner:
 
     def __enter__(self) -> Runner:
         if self.jobs > 1:
-            ctx = os_support.fork_server(["crslab.identify.runs", "crslab.sim.session"])
+            ctx = os_support.fork_server(["crslab.identify.runs", "crslab.sim.simulation"])
             self._pool = ProcessPoolExecutor(self.jobs, mp_context=ctx)
         return self
 
@@ -99,16 +97,19 @@ class Runner:
 def lab_offsets(config: SimConfig) -> tuple[float, float, float]:
     """The motor angles the lab's encoders read at its resting pose: ``(0, offset_Enc2_rad,
     offset_Enc3_rad)`` as the lab file sets them (what the lab believes the resting pose is).
-    Read from one tick of the lab, so whatever the file computes, it is the board's float value."""
-    from crslab.sim.session import Simulation
-    from crslab.sinks.memory import MemorySink
+    Read from one tick of the lab, so whatever the file computes, it is the board's float value.
+    Raises :class:`RunFailed` when that tick does not run."""
+    from crslab.sim.assemble import run_kept
+    from crslab.sim.simulation import SimError
 
-    memory = MemorySink()
     config = dataclasses.replace(config, log_signals=True, startup_ticks=10**9)
-    with Simulation(config) as sim:
-        sim.run(1, memory)
-    log = memory.log
-    assert log is not None
+    try:
+        result = run_kept(config, 1)
+    except SimError as exc:
+        raise RunFailed(str(exc)) from None
+    log = result.log
+    if log is None:
+        raise RunFailed(result.message or str(result.status))
     enc = log["enc_rad"][0]
     rest = config.rest_motor_rad
     # encoders read offset + (true - rest); at tick 0 the arm is at rest

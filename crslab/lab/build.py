@@ -51,7 +51,7 @@ from crslab.lab.entry_points import EntryPointError, entry_calls
 from crslab.lab.includes import local_includes
 from crslab.lab.lab_file import read_lab_file
 from crslab.lab.variables import LabVariable, find_variables
-from crslab.lab.watched import WatchedVar, find_watched
+from crslab.lab.watched import WatchedVar, watched_of
 from crslab.sandbox.compile_sandbox import compiler_sandbox
 
 CSRC = resources.path("csrc")
@@ -117,6 +117,10 @@ class LabBuild:
     """The ``--break-when`` condition compiled in with the lab (``crs_debug_condition``), if any."""
     variables: tuple[LabVariable, ...] = field(default=())
     """Every global the file defines (laid out in C28x memory by crslab.lab.c28x_memory)."""
+    memory: MemoryLayout = field(default=MemoryLayout((), ()))
+    """The lab's globals in the F28335's data memory, laid out as the TI linker would (once, when
+    the lab is built: the build checks it fits, the worker points the board's table at it, the map
+    is written from it)."""
     renamed: tuple[str, ...] = field(default=())
     """Globals of the lab compiled under another name in its WebAssembly image, because the C
     library defines theirs (:func:`crslab.lab.firmware.clashing_symbols`)."""
@@ -139,11 +143,6 @@ class LabBuild:
         """Characters the real board's serial_printf buffer holds for this framework generation
         (a line of this many or more overflows it)."""
         return self.generation.printf_buffer_chars
-
-    @property
-    def memory(self) -> MemoryLayout:
-        """The lab's globals in the F28335's data memory, laid out as the TI linker would."""
-        return layout(self.variables, self.generation, self.source.stem)
 
     @property
     def shared_object(self) -> Path:
@@ -191,11 +190,11 @@ def _cache() -> Path:
         raise LabBuildError(str(exc)) from None
 
 
-def check_board_memory(variables: list[LabVariable], generation: Generation, source: Path) -> None:
+def check_board_memory(memory: MemoryLayout, source: Path) -> None:
     """Refuse a lab whose globals, laid out as the TI linker would (16-bit words, the framework's
-    sections), run past the F28335's data memory (``DATA_RAM_START`` to ``DATA_RAM_END``): the
-    real board's link fails the same way."""
-    placed = layout(variables, generation, source.stem).variables
+    sections: ``memory``), run past the F28335's data memory (``DATA_RAM_START`` to
+    ``DATA_RAM_END``): the real board's link fails the same way."""
+    placed = memory.variables
     end = max((v.address + v.words for v in placed), default=DATA_RAM_START)
     if end > DATA_RAM_END:
         need_kb = (end - DATA_RAM_START) * 2 / 1024
@@ -481,8 +480,9 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     except EntryPointError as exc:
         raise LabBuildError(f"{src.name} cannot run on the board: {exc}") from None
     generation = detect(text)
-    variables = find_variables(text)
-    check_board_memory(variables, generation, src)
+    variables = find_variables(text)  # parsed once: the layout, the watched ones and the WebAssembly unit
+    memory = layout(variables, generation, src.stem)
+    check_board_memory(memory, src)
     debug = debug or break_when is not None
     native = native or sanitize or debug
     cache = cache if cache is not None else _cache()
@@ -499,6 +499,6 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
         wasm, digest = _build_wasm(src, text_bytes, variables, calls, cache, sandboxed)
         image, renamed, sized, habits = wasm.path, wasm.renamed, wasm.sized, wasm.habits
     return LabBuild(source=src, image=image, generation=generation, sanitized=sanitize, digest=digest,
-                    native=native, watched=tuple(find_watched(text)), compiler=cc, debug=debug,
-                    break_when=break_when, variables=tuple(variables), renamed=renamed, sized=sized,
-                    trap_library=trap, habits=habits)
+                    native=native, watched=tuple(watched_of(variables)), compiler=cc, debug=debug,
+                    break_when=break_when, variables=tuple(variables), memory=memory, renamed=renamed,
+                    sized=sized, trap_library=trap, habits=habits)

@@ -16,7 +16,7 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 
-from crslab.lab.variables import HOST_TYPES, find_variables, wasm_element_type
+from crslab.lab.variables import HOST_TYPES, LabVariable, find_variables, wasm_element_type
 
 
 class WatchedError(ValueError):
@@ -87,8 +87,13 @@ class WatchedVar:
 def find_watched(source_text: str) -> list[WatchedVar]:
     """Every variable named by a ``DATA_SECTION`` pragma, with its declaration, in file order
     (pointers and ``const`` variables left out: they are not values to watch or set)."""
+    return watched_of(find_variables(source_text))
+
+
+def watched_of(variables: Iterable[LabVariable]) -> list[WatchedVar]:
+    """:func:`find_watched` of a file whose globals were found already (``variables``)."""
     return [WatchedVar(v.name, v.ctype, v.length, v.initial, v.section, v.line)
-            for v in find_variables(source_text) if v.section is not None and not v.pointer and not v.const]
+            for v in variables if v.section is not None and not v.pointer and not v.const]
 
 
 def watched_var(watched: Iterable[WatchedVar], name: str, index: int | None, lab: str, *,

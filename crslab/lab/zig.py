@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import TextIO
 
 from crslab.cache import cache_dir
+from crslab.sandbox.compile_sandbox import include_search_dirs
 
 FIRST_USE_TIMEOUT_S = 1800.0
 """How long zig's build of a C library may take (40-150 s measured on 2 cores, 5 to over 10 minutes
@@ -197,15 +198,7 @@ def link_inputs(verbose: str, cwd: Path) -> tuple[list[str], list[Path]]:
     >>> link
     [PosixPath('/t/c/o/1/crt1-reactor.o'), PosixPath('/t/c/o/3/libc.a')]
     """
-    includes: list[str] = []
-    searching = False
-    for line in verbose.splitlines():
-        if line.startswith("#include <...> search starts here:"):
-            searching = True
-        elif line.startswith("End of search list."):
-            searching = False
-        elif searching:
-            includes.append(line.strip())
+    includes = include_search_dirs(verbose)
     link: list[Path] = []
     command = next((line for line in verbose.splitlines() if line.startswith("wasm-ld ")), "")
     for word in command.split():

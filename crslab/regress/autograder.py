@@ -32,8 +32,8 @@ from pathlib import Path
 
 from crslab.output_paths import with_parent
 from crslab.regress.grade import Grade
+from crslab.scenario.file_table import ScenarioError, TableReader
 from crslab.scenario.load import resolve
-from crslab.scenario.table import ScenarioError, TableReader
 from crslab.sim.status import GradeClass
 from crslab.untrusted_text import for_terminal, for_text
 

@@ -29,7 +29,7 @@ from crslab.executors.local import DEFAULT_TIMEOUT_S
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, Comparison, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.transcript import split_lines
-from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
+from crslab.sim.simulation import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
 from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.untrusted_text import for_csv, for_terminal
 from crslab.worker.config import SimConfig
@@ -269,7 +269,7 @@ def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, d
     from crslab.lab.build import LabBuildError, LabForbidden, build_lab
     from crslab.regress.runner import run_lab
     from crslab.scenario.load import ScenarioError, check_lab
-    from crslab.sim.session import SimError
+    from crslab.sim.simulation import SimError
 
     def ended(status: RunStatus, message: str, details: str = "") -> RunResult:
         return RunResult(status, message=message, details=details, lab_file=path,

@@ -3,14 +3,13 @@ regression commands (record, check, grade) and the pytest plugin."""
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 
 from crslab import __version__
 from crslab.regress.transcript import DEFAULT_PLANT, DEFAULT_WORLD, sha256_of
-from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, Simulation
-from crslab.sim.status import RunResult, RunStatus
-from crslab.sinks.memory import MemorySink
+from crslab.sim.assemble import run_kept
+from crslab.sim.simulation import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
+from crslab.sim.status import RunResult
 from crslab.worker.config import SimConfig
 from crslab.world.layout import WORLD_NAMES
 
@@ -20,14 +19,7 @@ def run_lab(config: SimConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEA
     """Run ``config`` to ``end_tick`` at full speed, keeping every serial call (and the scope log
     when ``config.log_signals``). Raises ``SimError`` when the worker cannot start; a lab without
     ``lab()`` ends as ``no-lab`` before any tick."""
-    memory = MemorySink()
-    with Simulation(config, deadline_s=deadline_s, limits=limits) as sim:
-        if not sim.defines_lab:
-            source = config.build.source
-            return RunResult(RunStatus.NO_LAB, 0, f"{source.name} defines no lab() function", lab_file=source)
-        result = sim.run(end_tick, memory)
-    return dataclasses.replace(result, calls=memory.calls, sent=memory.sent,
-                               log=memory.log if config.log_signals else None)
+    return run_kept(config, end_tick, deadline_s=deadline_s, limits=limits)
 
 
 def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None,

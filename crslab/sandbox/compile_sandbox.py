@@ -54,6 +54,25 @@ def forbidden_read(diagnostics: str) -> str | None:
     return None
 
 
+def include_search_dirs(verbose: str) -> list[str]:
+    """The folders a C compiler searches for ``<...>`` headers, as its ``-v`` messages list them
+    (gcc's and clang's, zig's clang included).
+
+    >>> include_search_dirs("#include <...> search starts here:\\n /usr/include\\nEnd of search list.\\n")
+    ['/usr/include']
+    """
+    found: list[str] = []
+    inside = False
+    for line in verbose.splitlines():
+        if line.startswith("#include <...> search starts here"):
+            inside = True
+        elif line.startswith("End of search list"):
+            inside = False
+        elif inside:
+            found.append(line.strip())
+    return found
+
+
 @cache
 def compiler_dirs(compiler: tuple[str, ...]) -> tuple[str, ...]:
     """Where the compiler (its command, e.g. ``("gcc",)`` or ``("ccache", "clang")``) lives and
@@ -74,16 +93,8 @@ def compiler_dirs(compiler: tuple[str, ...]) -> tuple[str, ...]:
         for line in dirs.splitlines():
             _, _, value = line.partition(": ")
             found += [d for d in value.lstrip("=").split(":") if d]
-        includes = subprocess.run([*compiler, "-E", "-v", "-x", "c", os.devnull], capture_output=True,
-                                  text=True, timeout=30).stderr
-        inside = False
-        for line in includes.splitlines():
-            if line.startswith("#include <...> search starts here"):
-                inside = True
-            elif line.startswith("End of search list"):
-                inside = False
-            elif inside:
-                found.append(line.strip())
+        found += include_search_dirs(subprocess.run([*compiler, "-E", "-v", "-x", "c", os.devnull],
+                                                    capture_output=True, text=True, timeout=30).stderr)
     except (OSError, subprocess.SubprocessError):
         pass
     out: list[str] = []

@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
 if TYPE_CHECKING:
-    from crslab.scenario.table import TableReader
+    from crslab.scenario.file_table import TableReader
 
 _MASK64 = (1 << 64) - 1
 

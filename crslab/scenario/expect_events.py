@@ -32,7 +32,7 @@ import numpy as np
 
 from crslab import crs
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
-from crslab.scenario.table import TableReader, joint_numbers
+from crslab.scenario.file_table import TableReader, joint_numbers
 
 DEFAULT_TOL_DEG = 1.0
 """How close an expected angle must be when the file gives no ``tol_deg`` or ``tol_rad``."""

@@ -11,7 +11,7 @@ import numpy as np
 
 from crslab.framework_facts import WRIST_ESTOP_RAD
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick, until_tick
-from crslab.scenario.table import TableReader, joint_numbers, per_joint
+from crslab.scenario.file_table import TableReader, joint_numbers, per_joint
 
 MAX_GLITCHES = 100_000
 """Most glitches one ``glitches`` event may draw."""

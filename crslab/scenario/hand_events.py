@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from crslab import crs
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
-from crslab.scenario.table import TableReader, hand_target
+from crslab.scenario.file_table import TableReader, hand_target
 
 
 @dataclass(frozen=True)

@@ -15,11 +15,11 @@ from collections.abc import Iterable
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
 from crslab.scenario.expect_events import Expect
 from crslab.scenario.fault_events import EncoderGlitch, EncoderNoise, JointFault, WristEstop
+from crslab.scenario.file_table import TableReader
 from crslab.scenario.hand_events import HandMove, HandRelease
 from crslab.scenario.lab_events import SetVariable, SimulinkInput
 from crslab.scenario.plant_events import EndMass, FrictionScale
 from crslab.scenario.push_events import Push
-from crslab.scenario.table import TableReader
 
 EVENT_CLASSES: tuple[type[Event], ...] = (
     HandMove, HandRelease,  # the hand

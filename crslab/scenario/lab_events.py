@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from crslab.framework_facts import SIMULINK_INPUTS
 from crslab.scenario.event import Event, RandomFaults
-from crslab.scenario.table import TableReader
+from crslab.scenario.file_table import TableReader
 
 INT16_MIN, INT16_MAX = -32768, 32767
 _IDENTIFIER = re.compile(r"[A-Za-z_]\w*\Z")

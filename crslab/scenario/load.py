@@ -20,10 +20,10 @@ from crslab.lab.build import LabBuild
 from crslab.lab.watched import WatchedError, watched_var
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
 from crslab.scenario.expect_events import Expect
+from crslab.scenario.file_table import ScenarioError, TableReader
 from crslab.scenario.kinds import parse_event
 from crslab.scenario.lab_events import SetVariable
 from crslab.scenario.plant_events import parse_plant
-from crslab.scenario.table import ScenarioError, TableReader
 
 BUILTIN_DIR = resources.path("scenarios")
 DEFAULT_SCENARIO = "tour"
@@ -81,7 +81,7 @@ def parse_scenario(text: str, path: Path) -> Scenario:
     >>> parse_scenario('end = 2.0\\n[[event]]\\nat = 1\\nkind = "nap"\\n', Path("x.toml"))
     Traceback (most recent call last):
     ...
-    crslab.scenario.table.ScenarioError: x.toml:4: kind: unknown event kind 'nap' (known: ...)
+    crslab.scenario.file_table.ScenarioError: x.toml:4: kind: unknown event kind 'nap' (known: ...)
     """
     try:
         doc = tomllib.loads(text)

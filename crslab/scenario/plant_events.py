@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from crslab.scenario.event import Event, RandomFaults
-from crslab.scenario.table import TableReader, end_mass_kg
+from crslab.scenario.file_table import TableReader, end_mass_kg
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from crslab.scenario.event import Event, RandomFaults, until_tick
-from crslab.scenario.table import TableReader
+from crslab.scenario.file_table import TableReader
 
 FRAME_ANGLES = ("thz", "thx", "thy")
 """The angles of a push's frame, in the order the rotation applies them: R = Rz Rx Ry."""

@@ -8,10 +8,11 @@ pipe: the server's checked messages in (:mod:`crslab.serve.page_messages`), mess
 each prefixed with one byte saying what the server should note (:data:`FORWARD`,
 :data:`RUN_STARTED`, :data:`RUN_ENDED`), or :data:`HOST_RUN`: a prepared run for a run host.
 
-Every run is ``crslab sim``'s: the same :func:`crslab.sim.api.make_config` (the lab built in the
-compile sandbox, the scenario loaded and checked against it) here; then a run host
-(:mod:`crslab.serve.run_host`) runs it as an instance of its board worker with the same
-:class:`~crslab.sim.session.Simulation` steps, its transcript written by the same
+Every run is ``crslab sim``'s, put together by :mod:`crslab.sim.assemble`: the same
+:func:`~crslab.sim.assemble.make_config` here (the lab built in the compile sandbox, once: the build
+the page was shown is the one that runs; the scenario loaded and checked against it); then a run
+host (:mod:`crslab.serve.run_host`) runs it as an instance of its board worker with the same
+:class:`~crslab.sim.simulation.Simulation` steps, its transcript written by the same
 :class:`~crslab.sinks.transcript_file.TranscriptSink`, the CSV and the rerun recording by the same
 sinks as ``--csv`` and ``--rrd`` (in a recorder process, :mod:`crslab.serve.recorder`). Only the
 chunks are the page's (:data:`~crslab.sim.pacing.PAGE_CHUNKS`), so the bytes are the same at any
@@ -29,7 +30,7 @@ from multiprocessing.connection import Connection
 from pathlib import Path
 
 from crslab import os_support
-from crslab.lab.build import LabBuildError, LabForbidden, build_lab
+from crslab.lab.build import LabBuild, LabBuildError, LabForbidden, build_lab
 from crslab.lab.firmware import is_zig_prepared, prepare_zig
 from crslab.plant.plant_params import PlantParamsError
 from crslab.scenario.event import seconds_to_tick
@@ -38,8 +39,8 @@ from crslab.serve.page_messages import compile_diagnostics
 from crslab.serve.page_text import SESSION_SUBFOLDERS, PageText
 from crslab.serve.run_host import DOWNLOADS, FORWARD, RUN_ENDED, HostedRun
 from crslab.serve.stream import Stopped, message
-from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
-from crslab.sim.session import Limits, SimError
+from crslab.sim.assemble import DEFAULT_REST_MOTOR_RAD, make_config
+from crslab.sim.simulation import Limits, SimError
 from crslab.sim.status import RunStatus
 
 HOST_RUN = b"H"
@@ -116,9 +117,9 @@ class Session:
         path = self._write("lab", lab)
         return path.relative_to(Path.cwd()) if path.parent == Path.cwd() else path
 
-    def build(self, lab: dict, tag: bytes = FORWARD) -> Path | None:
+    def build(self, lab: dict, tag: bytes = FORWARD) -> tuple[Path, LabBuild] | None:
         """Compile the page's lab and send ``built`` (tagged ``tag``: :data:`RUN_ENDED` when the
-        build was the page's whole request); its path when it built. Before the installation's
+        build was the page's whole request); its path and build when it built. Before the installation's
         first build, zig's C library is built (1 to 2 minutes): its progress goes to the page as
         ``building`` messages."""
         path = self._write_lab(lab)
@@ -154,7 +155,7 @@ class Session:
             ),
             tag,
         )
-        return path
+        return path, build
 
     def _ended(self, status: RunStatus, message_text: str, **fields: object) -> None:
         self.send(
@@ -169,10 +170,11 @@ class Session:
         """Build and run the page's lab, streaming it; ``ended`` comes last, whatever happens."""
         for kind in DOWNLOADS.values():
             (self.folder / "out" / kind).unlink(missing_ok=True)
-        path = self.build(msg["lab"])
-        if path is None:
+        built = self.build(msg["lab"])
+        if built is None:
             self._ended(RunStatus.BUILD_ERROR, f"{msg['lab']['name']} does not compile: see the marked lines")
             return
+        path, build = built
         scenario = msg["scenario"]
         scenario_arg = (
             scenario["name"] if "name" in scenario else str(self._write("scenario", scenario["file"]))
@@ -188,6 +190,7 @@ class Session:
                 log=True,
                 sandbox=self.limits.sandboxed,
                 world=msg["world"],
+                build=build,
             )
         except (LabBuildError, ScenarioError, PlantParamsError, ValueError) as exc:
             # what crslab sim turns into one line and exit status 2 (bad input): nothing ran

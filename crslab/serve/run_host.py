@@ -3,11 +3,11 @@ produces their pages' messages itself.
 
 ``crslab serve`` starts a few of them (about one per core: :mod:`crslab.serve.run_hosts`). A page's
 session process builds its lab and prepares the run (:class:`HostedRun`); the server hands it to a
-host, which opens it as an instance of its worker (:class:`crslab.sim.session.Simulation` on a
+host, which opens it as an instance of its worker (:class:`crslab.sim.simulation.Simulation` on a
 shared :class:`~crslab.sim.board_worker.BoardWorker`), paces it with the one pacer
 (:class:`~crslab.sim.pacing.Pacer`, the page's chunks), and after each chunk hands it to the run's
 sinks (the page's stream, the transcript, the recorder) as ``crslab sim`` does
-(:class:`~crslab.sim.session.ChunkedRun`). One wake-up runs every run of the worker that is due
+(:class:`~crslab.sim.simulation.ChunkedRun`). One wake-up runs every run of the worker that is due
 (within :data:`BATCH_S`) in one request. The page's commands (stop, speed, vars, hand, release)
 reach the run between two chunks, as they arrive.
 
@@ -32,10 +32,11 @@ from crslab import os_support
 from crslab.live.console import VarConsole
 from crslab.serve.page_text import PageText
 from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
+from crslab.sim.assemble import NoLab
 from crslab.sim.board_worker import BoardWorker
 from crslab.sim.diagnosis import Ending
 from crslab.sim.pacing import PAGE_CHUNKS, Pacer
-from crslab.sim.session import DEFAULT_DEADLINE_S, ChunkedRun, Limits, SimError, Simulation
+from crslab.sim.simulation import DEFAULT_DEADLINE_S, ChunkedRun, Limits, SimError, Simulation
 from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
@@ -123,8 +124,10 @@ class HostedSession:
             self.ended(RunResult(exc.status, 0, str(exc)))
             return False
         name = config.build.source.name
-        if not self.sim.defines_lab:
-            self.ended(RunResult(RunStatus.NO_LAB, 0, f"{name} defines no lab() function"))
+        if not self.sim.defines_lab:  # refused before any tick, as crslab sim refuses it
+            refused = NoLab(name)
+            self.close()
+            self.ended(RunResult(refused.status, 0, str(refused)))
             return False
         out_dir = run.folder / "out"
         stream = BrowserStream(self.send, self.host.arm_in(config.world), world=not config.world.is_free_air)

@@ -1,7 +1,7 @@
 """Board instances in worker processes, seen from the crslab process: a :class:`BoardWorker` starts
 one worker (:mod:`crslab.sim.worker_process`) and opens, runs and stops board instances in it; a
 :class:`BoardHandle` is one instance (its number in the worker, its shared block, its last tick and
-counters). :class:`crslab.sim.session.Simulation` runs one instance in a worker of its own; a
+counters). :class:`crslab.sim.simulation.Simulation` runs one instance in a worker of its own; a
 server runs many sessions as instances of a few workers (one per core).
 
 A WebAssembly worker holds any number of instances, of any labs: they share one wasmtime engine,
@@ -31,6 +31,7 @@ from crslab.sim.worker_process import NO_LIMITS, READY_TIMEOUT_S, Limits, Worker
 from crslab.worker import worker_messages
 from crslab.worker.config import SimConfig
 from crslab.worker.debug_setup import DebugSetup
+from crslab.worker.run_stats import RunStats
 
 DEFAULT_DEADLINE_S = 2.0
 """How long one call of a lab's firmware (lab(), printing(), a constructor) may run before it is
@@ -63,7 +64,7 @@ class BoardHandle:
         self.deadline_s = deadline_s
         self.symbols = 0
         self.tick = 0
-        self.stats: dict = {}
+        self.stats = RunStats()
         self.ending: Ending | None = None
         self.open = False
 
@@ -223,7 +224,7 @@ class BoardWorker:
         if isinstance(reply, Ending):
             self._ended(reply)
             return None
-        handle.stats = reply.stats or handle.stats
+        handle.stats = reply.stats
         return reply
 
     def release(self, handle: BoardHandle) -> None:

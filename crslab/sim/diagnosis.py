@@ -22,6 +22,7 @@ from crslab.sim.shared_block import SharedBlock
 from crslab.sim.status import RunStatus
 from crslab.untrusted_text import for_terminal
 from crslab.worker.board_ffi import board_constants
+from crslab.worker.run_stats import RunStats
 
 
 class Ending(NamedTuple):
@@ -173,23 +174,23 @@ def tampered(lab_name: str, what: str, tick: int) -> Ending:
                   f"into crslab's pipe ({what}) by tick {tick} (t = {tick / 1000:.3f} s)")
 
 
-def nan_strict(lab_name: str, stats: dict, tick: int) -> Ending:
+def nan_strict(lab_name: str, stats: RunStats, tick: int) -> Ending:
     """``--strict``: the lab returned a NaN or an infinity as a torque."""
-    first, joint = stats.get("nan_first_tick", tick), stats.get("nan_first_joint", 0)
+    first, joint = stats.nan_first_tick, stats.nan_first_joint
     return Ending(RunStatus.NAN, tick, f"{lab_name} returned a NaN or Inf in tau{joint} {at_tick(first)} "
                   "and --strict is on")
 
 
-def print_overflow(lab_name: str, stats: dict, tick: int, buffer_chars: int) -> Ending:
+def print_overflow(lab_name: str, stats: RunStats, tick: int, buffer_chars: int) -> Ending:
     """A serial_printf that overflowed the board's format buffer (the run ends at its tick).
 
-    >>> print_overflow("long.c", {"overflow_tick": 4100, "overflow_chars": 300, "overflow_phase": 1}, 4200,
+    >>> print_overflow("long.c", RunStats(overflow_tick=4100, overflow_chars=300, overflow_phase=1), 4200,
     ...                136).message.split(";")[0]
     'long.c: a serial_printf in lab() at tick 4100 (t = 4.100 s) formatted 300 characters'
     """
-    at = int(stats.get("overflow_tick", tick))
-    where = phase_where(int(stats.get("overflow_phase", 0)))
+    at = stats.overflow_tick if stats.overflow_tick >= 0 else tick
+    where = phase_where(stats.overflow_phase)
     return Ending(RunStatus.CRASHED, at, f"{lab_name}: a serial_printf {where} {at_tick(at)} formatted "
-                  f"{stats.get('overflow_chars', 0)} characters; the board's {buffer_chars}-byte "
+                  f"{stats.overflow_chars} characters; the board's {buffer_chars}-byte "
                   f"serial_printf buffer holds {buffer_chars - 1} and a terminating NUL, so this line "
                   "overflows it and corrupts the board's memory")

@@ -1,7 +1,7 @@
 """A running lab as the windows into it see it between two chunks of ticks.
 
 The live-variable console, MuJoCo's viewer and the waypoint tracking all act on a lab while it
-runs, through this one interface (:class:`crslab.sim.session.Simulation` has it): read and write
+runs, through this one interface (:class:`crslab.sim.simulation.Simulation` has it): read and write
 its watched variables (``get``, ``set``), push the arm (``push``), and know the run's
 configuration and current tick; the serial bridge exchanges bytes with the host ports
 (``exchange``). Each of them that acts after every chunk of ticks is a :class:`LiveControl`, handed

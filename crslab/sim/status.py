@@ -25,6 +25,7 @@ import numpy as np
 
 from crslab import serial_lines
 from crslab.scenario.expect_events import ExpectOutcome
+from crslab.worker.run_stats import RunStats
 
 
 class ExitStatus(IntEnum):
@@ -108,8 +109,9 @@ class RunResult:
     ``calls`` holds ``(tick, bytes)`` per serial_printf call: its tick and the bytes of it that
     fit the board's transmit ring. ``sent`` holds the same bytes as they left the board:
     ``(tick, bytes)`` per tick whose millisecond carried any (11.52 characters per ms).
-    ``stats`` holds the board's counters (lab() timing, NaN notices, characters the transmit ring
-    dropped, the motor board's cut-outs as ``motor_board_events``: ``(tick, joint, off)``);
+    ``stats`` holds the run's counters (:class:`~crslab.worker.run_stats.RunStats`: lab() timing,
+    NaN notices, characters the transmit ring dropped, the motor board's cut-outs as
+    ``motor_board_events``: ``(tick, joint, off)``);
     ``details`` the full diagnostics behind ``message`` (gcc's output); ``lab_file`` the lab that
     ran and ``wall_s`` the wall-clock seconds it took, when the caller timed it.
     ``expectations`` holds how each of the scenario's expectations went, in time order (those
@@ -119,7 +121,7 @@ class RunResult:
     status: RunStatus
     end_tick: int = 0
     message: str = ""
-    stats: dict = field(default_factory=dict)
+    stats: RunStats = field(default_factory=RunStats)
     calls: list[tuple[int, bytes]] = field(default_factory=list)
     sent: list[tuple[int, bytes]] = field(default_factory=list)
     log: dict[str, np.ndarray] | None = None

@@ -210,6 +210,9 @@ class WriterSink(Sink):
         """Keep the call ``name`` for the chunk's message."""
         self._calls.append((name, args))
 
+    def on_end(self, result: object) -> None:
+        """Nothing: a recording has no use for how the run ended (and it stays in this process)."""
+
     def flush(self) -> None:
         self._calls.append(("flush", ()))
         calls, self._calls = self._calls, []

@@ -9,7 +9,9 @@ board, with the tick during whose millisecond they left (:meth:`Sink.on_serial`:
 sends 11.52 characters per ms); the chunk's scope rows when the run logs them
 (:meth:`Sink.on_log`); then :meth:`Sink.flush` and :meth:`Sink.on_reached` with the tick the run
 reached. :meth:`Sink.on_behind` says once that the machine cannot keep the pace asked for.
-:meth:`Sink.close` comes once at the end, also after a crash or Ctrl-C. A sink never feeds back
+:meth:`Sink.on_end` comes once when the run has ended, with how it ended (the last call of a run:
+the end-of-run report is a sink's); :meth:`Sink.close` comes once at the end, also after a crash or
+Ctrl-C. A sink never feeds back
 into the run, so what the lab prints is the same whichever sinks watch it.
 
 A new output of a run is one :class:`Sink` subclass that overrides what it takes; a sink that
@@ -27,7 +29,7 @@ True
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable
-from typing import TYPE_CHECKING, TypeVar
+from typing import TYPE_CHECKING, Protocol, TypeVar
 
 if TYPE_CHECKING:  # not imported at run time: the --rrd writer is forked before numpy is loaded
     import numpy as np
@@ -35,8 +37,28 @@ if TYPE_CHECKING:  # not imported at run time: the --rrd writer is forked before
     from crslab.scenario.expect_events import ExpectOutcome
 
 CALLS = ("on_motor_board", "on_expectation", "on_print", "on_serial", "on_log", "flush", "on_reached",
-         "on_behind")
-"""Every call a run makes on its sink but :meth:`Sink.close`, in the order of a chunk."""
+         "on_behind", "on_end")
+"""Every call a run makes on its sink but :meth:`Sink.close`, in the order of a chunk (and
+:meth:`Sink.on_end` once, last)."""
+
+
+class Ended(Protocol):
+    """How a run ended, as a sink sees it (:class:`crslab.sim.status.RunResult` is one)."""
+
+    @property
+    def status(self) -> str:
+        """The run's status (``ok``, ``hung``, ...)."""
+        ...
+
+    @property
+    def end_tick(self) -> int:
+        """The tick the run ended at."""
+        ...
+
+    @property
+    def message(self) -> str:
+        """Why it ended early ("" when it did not)."""
+        ...
 
 
 class Sink:
@@ -69,6 +91,10 @@ class Sink:
 
     def on_behind(self, rate: float) -> None:
         """The machine keeps up only ``rate`` x real time, less than asked; called once."""
+
+    def on_end(self, result: Ended) -> None:
+        """The run has ended (``result``, a :class:`crslab.sim.status.RunResult`): every byte was
+        handed on before; called once, the run's last call before :meth:`close`."""
 
     def close(self) -> None:
         """Finish and release; called once, also after a crash."""

@@ -21,8 +21,8 @@ from typing import TYPE_CHECKING, TextIO
 import numpy as np
 
 from crslab.output_paths import with_parent
-from crslab.sweep.job import Row
-from crslab.sweep.metrics import INTEGER_METRICS, METRIC_NAMES
+from crslab.sweep.run_metrics import INTEGER_METRICS, METRIC_NAMES
+from crslab.sweep.sample_job import Row
 from crslab.sweep.variations import Vary, describe
 
 if TYPE_CHECKING:

@@ -42,6 +42,7 @@ from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
+from crslab.worker.run_stats import RunStats
 from crslab.worker.wasm_runtime import (
     WasmImage,
     seal_compiled,
@@ -288,12 +289,13 @@ class Board:
         # a trap's backtrace names the lab's file and line (the firmware carries its DWARF)
         os.environ["WASMTIME_BACKTRACE_DETAILS"] = "1"
         library = self.ffi.new("char[]", str(wasmtime_library()).encode())
-        kept = image.compiled_path()
-        if kept is not None:
-            unsealed_compiled_removed(kept)
+        key = self.ffi.new("char[]", image.digest.encode())
+        # the compiled module kept between runs: read (and its seal checked) only when this process
+        # does not hold the module already (another instance of the same firmware)
+        kept = None if self.lib.crs_fw_wasm_module_held(key) else image.compiled_path()
+        sealed_stamp = unsealed_compiled_removed(kept) if kept is not None else None
         compiled = self.ffi.new("char[]", str(kept).encode()) if kept is not None else self.ffi.NULL
         wasm = self.ffi.from_buffer("uint8_t[]", image.wasm)
-        key = self.ffi.new("char[]", image.digest.encode())
         options = self.ffi.new("crs_wasm_options *", {
             "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": MEMORY_BYTES,
             "stack_bytes": NATIVE_STACK_BYTES, "compiled_path": compiled, "module_key": key,
@@ -302,7 +304,7 @@ class Board:
         block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
         code = self.lib.crs_fw_wasm_load(sim, options)
         if kept is not None:
-            seal_compiled(kept)
+            seal_compiled(kept, sealed_stamp)
         if code != 0:
             raise FirmwareStopped(trap_info(self.ffi, sim))
         block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
@@ -424,18 +426,17 @@ class Board:
         self.lib.crs_tick = self.sim.tick
         self.lib.crs_debug_break(self.sim.tick)
 
-    def stats(self) -> dict[str, int]:
-        """The board's counters, as plain ints (read in one call)."""
+    def stats(self) -> RunStats:
+        """The board's counters (read in one call)."""
         if self._counters is None:
             self._counter_names = counter_names(self.ffi)
             self._counters = self.ffi.new("int64_t[]", len(self._counter_names))
         self.lib.crs_board_counters(self.sim, self._counters)
-        out: dict = dict(zip(self._counter_names, self.ffi.unpack(self._counters, len(self._counter_names))))
-        over = min(8, out["over_budget"])
-        out["first_over_tick"] = [int(self.sim.first_over_tick[i]) for i in range(over)] if over else []
-        out["native"] = self.config.build.native
-        out["motor_board"] = self.config.motor_board_model
-        return out
+        counters = dict(zip(self._counter_names, self.ffi.unpack(self._counters, len(self._counter_names))))
+        over = min(8, counters["over_budget"])
+        first_over = tuple(int(self.sim.first_over_tick[i]) for i in range(over))
+        return RunStats(**counters, first_over_tick=first_over,
+                        native=self.config.build.native, motor_board=self.config.motor_board_model)
 
     def take_motor_board_events(self) -> list[worker_messages.MotorBoardEvent]:
         """The motor board's cut-outs starting or ending since the last call."""

@@ -89,19 +89,32 @@ class WasmImage:
         return compiled_module_path(self.wasm, self.memory_bytes, self.stack_bytes, self.digest)
 
 
-def unsealed_compiled_removed(kept: Path) -> None:
+def unsealed_compiled_removed(kept: Path) -> int | None:
     """Remove the compiled firmware at ``kept`` unless this user's board wrote it (its keyed digest,
     :func:`crslab.cache.is_sealed`): wasmtime loads such a file as machine code without checking it,
-    so one planted under its name must never be loaded (the board compiles the module anew)."""
-    if kept.exists() and not is_sealed(kept):
-        kept.unlink(missing_ok=True)
-        kept.with_name(kept.name + ".seal").unlink(missing_ok=True)
-
-
-def seal_compiled(kept: Path) -> None:
-    """Seal the compiled firmware the board has just written at ``kept`` (if it did)."""
+    so one planted under its name must never be loaded (the board compiles the module anew).
+    Returns the sealed file's modification time (ns), or None when none is kept there now."""
     try:
-        if kept.exists() and not is_sealed(kept):
+        stamp = kept.stat().st_mtime_ns
+    except OSError:
+        return None
+    if is_sealed(kept):
+        return stamp
+    kept.unlink(missing_ok=True)
+    kept.with_name(kept.name + ".seal").unlink(missing_ok=True)
+    return None
+
+
+def seal_compiled(kept: Path, sealed_stamp: int | None = None) -> None:
+    """Seal the compiled firmware the board has just written at ``kept`` (if it did: a file still
+    with the modification time ``sealed_stamp`` it had when its seal was checked is the one sealed,
+    and is not read again)."""
+    try:
+        stamp = kept.stat().st_mtime_ns
+    except OSError:
+        return
+    try:
+        if stamp != sealed_stamp and not is_sealed(kept):
             seal(kept)
     except (CacheError, OSError):
         kept.unlink(missing_ok=True)

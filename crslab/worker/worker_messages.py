@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple, dataclass_transform
 import numpy as np
 
 from crslab.scenario.expect_events import Observation
+from crslab.worker.run_stats import BOARD_COUNTERS, RunStats
 from crslab.worker.worker_reply import UnreadableReply
 
 if TYPE_CHECKING:
@@ -77,6 +78,8 @@ def _plain(value: object) -> object:
         return {**dataclasses.asdict(value), "motor_board_off": int(value.motor_board_off)}
     if isinstance(value, MotorBoardEvent):
         return (value.tick, value.joint, int(value.off))
+    if isinstance(value, RunStats):
+        return value.wire()
     if isinstance(value, tuple | list):
         return [_plain(v) for v in value]
     return value
@@ -202,7 +205,7 @@ class Ran(Message):
     instance: int
     code: int
     tick: int
-    stats: dict
+    stats: RunStats
     log: dict | None
     motor_board_events: tuple[MotorBoardEvent, ...]
     observations: tuple[Observation, ...]
@@ -225,7 +228,7 @@ class Stopped(Message):
     """The instance's last counters and scope rows; it is gone after this."""
 
     instance: int
-    stats: dict
+    stats: RunStats
     log: dict | None
 
 
@@ -261,18 +264,24 @@ def _items(value: Any, what: str) -> list | tuple:
     return value
 
 
-def _stats(value: Any, what: str = "stats") -> dict:
-    """The board's counters: names to whole numbers, a flag, a name or a list of ticks."""
-    if not isinstance(value, dict):
-        raise _Bad(f"{what} is {type(value).__name__}, not a table")
-    for key, v in value.items():
-        _text(key, f"a key of {what}")
-        if isinstance(v, list):
-            for item in v:
-                _whole(item, f"{what}[{key!r}][...]")
-        elif not isinstance(v, bool | str):
-            _whole(v, f"{what}[{key!r}]")
+def _flag(value: Any, what: str) -> bool:
+    if not isinstance(value, bool):
+        raise _Bad(f"{what} = {value!r:.40}, not a flag")
     return value
+
+
+def _stats(value: Any) -> RunStats:
+    """The run's counters (:class:`~crslab.worker.run_stats.RunStats`), every value checked: a
+    name crslab does not count, or a value its field does not hold, is :class:`_Bad`."""
+    if not isinstance(value, dict):
+        raise _Bad(f"stats is {type(value).__name__}, not a table")
+    fields = {}
+    for key, v in value.items():
+        read = _STATS.get(key) if isinstance(key, str) else None
+        if read is None:
+            raise _Bad(f"stats holds {key!r:.40}, which crslab does not count")
+        fields[key] = read(v, f"stats[{key!r}]")
+    return RunStats(**fields)
 
 
 def _log(value: Any) -> dict | None:
@@ -362,6 +371,15 @@ def _instance(value: Any) -> int:
     return _whole(value, "instance")
 
 
+_STATS = {
+    **{name: _whole for name in BOARD_COUNTERS},
+    "tick": _whole, "native": _flag, "motor_board": _text, "motor_board_cutouts": _whole,
+    "serial_dropped": _whole, "lab_symbols": _whole,
+    "first_over_tick": lambda v, what: tuple(_whole(t, f"{what}[...]") for t in _items(v, what)),
+    "motor_board_events": lambda v, what: tuple(tuple(_event(e)) for e in _items(v, what)),
+}
+"""How each field of :class:`~crslab.worker.run_stats.RunStats` is read off the pipe."""
+
 _FIELDS: dict[type[Message], tuple] = {
     Ready: (_instance, lambda v: _whole(v, "symbols")),
     Failed: (_instance, lambda v: _text(v, "message")),
@@ -376,9 +394,19 @@ _FIELDS: dict[type[Message], tuple] = {
 """How each reply's fields are read, in order: each raises :class:`_Bad` for what it is not."""
 
 
+def _trusted_stats(value: dict) -> RunStats:
+    """A trusted reply's counters, typed as they were sent."""
+    fields = dict(value)
+    fields["first_over_tick"] = tuple(fields.get("first_over_tick", ()))
+    events = fields.get("motor_board_events", ())
+    fields["motor_board_events"] = tuple((t, j, bool(off)) for t, j, off in events)
+    return RunStats(**fields)
+
+
 _TYPED: dict[type[Message], dict[int, Any]] = {
-    Ran: {5: lambda v: tuple(MotorBoardEvent(e[0], e[1], bool(e[2])) for e in v),
+    Ran: {3: _trusted_stats, 5: lambda v: tuple(MotorBoardEvent(e[0], e[1], bool(e[2])) for e in v),
           6: lambda v: tuple(observation(o) for o in v)},
+    Stopped: {1: _trusted_stats},
 }
 """A trusted reply's fields that travel as plain data but are read back typed (by position)."""
 

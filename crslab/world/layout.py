@@ -20,7 +20,7 @@ from __future__ import annotations
 import re
 import tomllib
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass, field
+from dataclasses import MISSING, dataclass, field, fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -350,122 +350,15 @@ def parse_world(text: str, source: str) -> World:
     if not isinstance(name, str) or not name:
         raise r.fail(None, "name", f"must be a non-empty string, got {name!r}")
 
-    def table(key: str, keys: tuple[str, ...], optional: tuple[str, ...] = ()) -> _Table | None:
-        return _Table(r, key, doc[key], keys, optional) if key in doc else None
-
     world = World(name=name, source=source)
-    if (t := table("table", ("top_z_m", "size_m"))) is not None:
-        world = _with(world, table=Table(t.number("top_z_m"), t.numbers("size_m", 3, positive=True)))
-    if (
-        t := table("peg", ("diameter_m", "length_m", "mass_kg", "tip_offset_m"), ("tip_offset_m",))
-    ) is not None:
-        world = _with(
-            world,
-            peg=Peg(
-                t.number("diameter_m", positive=True),
-                t.number("length_m", positive=True),
-                t.number("mass_kg", positive=True),
-                t.numbers("tip_offset_m", 3, default=(0.0, 0.0, 0.0)),
-            ),
-        )
-        if world.peg.length_m <= world.peg.diameter_m:
-            raise t.fail("length_m", f"{world.peg.length_m:g} m is not longer than the peg is wide")
-    if (
-        t := table("hole", ("center_xy_m", "top_z_m", "diameter_m", "depth_m", "chamfer_m", "block_size_m"))
-    ) is not None:
-        hole = Hole(
-            t.numbers("center_xy_m", 2),
-            t.number("top_z_m", positive=True),
-            t.number("diameter_m", positive=True),
-            t.number("depth_m", positive=True),
-            t.number("chamfer_m", minimum=0.0),
-            t.numbers("block_size_m", 3, positive=True),
-        )
-        _check_hole(t, hole, world.peg)
-        world = _with(world, hole=hole)
-    if (t := table("obstacle", ("center_m", "size_m"))) is not None:
-        world = _with(
-            world, obstacle=Obstacle(t.numbers("center_m", 3), t.numbers("size_m", 3, positive=True))
-        )
-    if (t := table("groove", ("corners_xy_m", "top_z_m", "width_m", "depth_m", "plate_size_m"))) is not None:
-        groove = Groove(
-            t.points("corners_xy_m", 4),
-            t.number("top_z_m", positive=True),
-            t.number("width_m", positive=True),
-            t.number("depth_m", positive=True),
-            t.numbers("plate_size_m", 3, positive=True),
-        )
-        _check_groove(t, groove, world.peg)
-        world = _with(world, groove=groove)
-    if (
-        t := table(
-            "egg",
-            (
-                "center_xy_m",
-                "top_z_m",
-                "diameter_m",
-                "height_m",
-                "stiffness_n_per_m",
-                "breaking_force_n",
-                "scale_size_m",
-            ),
-        )
-    ) is not None:
-        egg = Egg(
-            t.numbers("center_xy_m", 2),
-            t.number("top_z_m", positive=True),
-            t.number("diameter_m", positive=True),
-            t.number("height_m", positive=True),
-            t.number("stiffness_n_per_m", positive=True),
-            t.number("breaking_force_n", positive=True),
-            t.numbers("scale_size_m", 3, positive=True),
-        )
-        if egg.scale_top_z_m - egg.scale_size_m[2] < 0:
-            raise t.fail(
-                "scale_size_m",
-                "the scale would stand below the table: the egg's top is lower "
-                "than the egg and the scale are tall",
-            )
-        world = _with(world, egg=egg)
-    contact_keys = ("friction", "rigid_timeconst_s", "rigid_impedance", "egg_damping_ratio")
-    if (t := table("contact", contact_keys, contact_keys)) is not None:
-        d = Contact()
-        impedance = t.number("rigid_impedance", positive=True, default=d.rigid_impedance)
-        if impedance >= 1:
-            raise t.fail("rigid_impedance", f"must be below 1 (MuJoCo's solimp), got {impedance!r}")
-        timeconst = t.number("rigid_timeconst_s", positive=True, default=d.rigid_timeconst_s)
-        if timeconst < 0.002:
-            raise t.fail(
-                "rigid_timeconst_s", f"must be at least 0.002 s, twice the 1 ms step, got {timeconst!r}"
-            )
-        world = _with(
-            world,
-            contact=Contact(
-                t.number("friction", minimum=0.0, default=d.friction),
-                timeconst,
-                impedance,
-                t.number("egg_damping_ratio", positive=True, default=d.egg_damping_ratio),
-            ),
-        )
-    rules = ("band_g", "hold_s", "peg_min_depth_m", "peg_hold_s", "groove_min_share")
-    if (t := table("contest", rules, rules)) is not None:
-        d = ContestRules()
-        band = t.numbers("band_g", 2, positive=True, default=d.band_g)
-        if band[0] >= band[1]:
-            raise t.fail("band_g", f"must be [low, high] with low < high, got {list(band)}")
-        share = t.number("groove_min_share", positive=True, default=d.groove_min_share)
-        if share > 1:
-            raise t.fail("groove_min_share", f"must be at most 1, got {share!r}")
-        world = _with(
-            world,
-            contest=ContestRules(
-                band,
-                t.number("hold_s", positive=True, default=d.hold_s),
-                t.number("peg_min_depth_m", positive=True, default=d.peg_min_depth_m),
-                t.number("peg_hold_s", positive=True, default=d.peg_hold_s),
-                share,
-            ),
-        )
+    for key, (cls, kinds) in _FIXTURE_FIELDS.items():  # in file order: a hole's check needs the peg
+        if key not in doc:
+            continue
+        optional = tuple(f.name for f in fields(cls) if f.default is not MISSING)
+        t = _Table(r, key, doc[key], tuple(kinds), optional)
+        value = cls(**{name: kind.read(t, name, getattr(cls, name, None)) for name, kind in kinds.items()})
+        _CHECKS.get(key, _no_check)(t, value, world.peg)
+        world = replace(world, **{key: value})
     if world.peg is None:
         needing = [n for n in ("hole", "groove", "egg") if getattr(world, n) is not None]
         if needing:
@@ -473,10 +366,77 @@ def parse_world(text: str, source: str) -> World:
     return world
 
 
-def _with(world: World, **changes: object) -> World:
-    from dataclasses import replace
+@dataclass(frozen=True)
+class _Kind:
+    """What one key of a fixture's table holds: a number (``count`` 0), a list of ``count``
+    numbers, or (``points``) of ``count`` [x, y] points; above 0 when ``positive``, at least
+    ``minimum``."""
 
-    return replace(world, **changes)
+    count: int = 0
+    positive: bool = False
+    minimum: float | None = None
+    points: bool = False
+
+    def read(self, t: _Table, key: str, default: object) -> object:
+        """``key`` of ``t``, checked; ``default`` (the field's) when the table leaves it out."""
+        if self.points:
+            return t.points(key, self.count)
+        if self.count:
+            return t.numbers(key, self.count, positive=self.positive, default=default)  # type: ignore[arg-type]
+        return t.number(key, positive=self.positive, minimum=self.minimum, default=default)  # type: ignore[arg-type]
+
+
+_NUMBER, _POSITIVE, _AT_LEAST_0 = _Kind(), _Kind(positive=True), _Kind(minimum=0.0)
+_XY, _XYZ, _SIZE = _Kind(2), _Kind(3), _Kind(3, positive=True)
+_FIXTURE_FIELDS: dict[str, tuple[type, dict[str, _Kind]]] = {
+    "table": (Table, {"top_z_m": _NUMBER, "size_m": _SIZE}),
+    "peg": (Peg, {"diameter_m": _POSITIVE, "length_m": _POSITIVE, "mass_kg": _POSITIVE,
+                  "tip_offset_m": _XYZ}),
+    "hole": (Hole, {"center_xy_m": _XY, "top_z_m": _POSITIVE, "diameter_m": _POSITIVE, "depth_m": _POSITIVE,
+                    "chamfer_m": _AT_LEAST_0, "block_size_m": _SIZE}),
+    "obstacle": (Obstacle, {"center_m": _XYZ, "size_m": _SIZE}),
+    "groove": (Groove, {"corners_xy_m": _Kind(4, points=True), "top_z_m": _POSITIVE, "width_m": _POSITIVE,
+                        "depth_m": _POSITIVE, "plate_size_m": _SIZE}),
+    "egg": (Egg, {"center_xy_m": _XY, "top_z_m": _POSITIVE, "diameter_m": _POSITIVE, "height_m": _POSITIVE,
+                  "stiffness_n_per_m": _POSITIVE, "breaking_force_n": _POSITIVE, "scale_size_m": _SIZE}),
+    "contact": (Contact, {"friction": _AT_LEAST_0, "rigid_timeconst_s": _POSITIVE,
+                          "rigid_impedance": _POSITIVE, "egg_damping_ratio": _POSITIVE}),
+    "contest": (ContestRules, {"band_g": _Kind(2, positive=True), "hold_s": _POSITIVE,
+                               "peg_min_depth_m": _POSITIVE, "peg_hold_s": _POSITIVE,
+                               "groove_min_share": _POSITIVE}),
+}
+"""Each table of a world file: the fixture it makes and what each of its keys holds, in the
+fixture's field order (a key with a default in the fixture's class may be left out)."""
+
+
+def _no_check(t: _Table, value: object, peg: Peg | None) -> None:
+    pass
+
+
+def _check_peg(t: _Table, peg: Peg, _: Peg | None) -> None:
+    if peg.length_m <= peg.diameter_m:
+        raise t.fail("length_m", f"{peg.length_m:g} m is not longer than the peg is wide")
+
+
+def _check_egg(t: _Table, egg: Egg, _: Peg | None) -> None:
+    if egg.scale_top_z_m - egg.scale_size_m[2] < 0:
+        raise t.fail("scale_size_m", "the scale would stand below the table: the egg's top is lower than "
+                     "the egg and the scale are tall")
+
+
+def _check_contact(t: _Table, contact: Contact, _: Peg | None) -> None:
+    if contact.rigid_impedance >= 1:
+        raise t.fail("rigid_impedance", f"must be below 1 (MuJoCo's solimp), got {contact.rigid_impedance!r}")
+    if contact.rigid_timeconst_s < 0.002:
+        raise t.fail("rigid_timeconst_s",
+                     f"must be at least 0.002 s, twice the 1 ms step, got {contact.rigid_timeconst_s!r}")
+
+
+def _check_contest(t: _Table, rules: ContestRules, _: Peg | None) -> None:
+    if rules.band_g[0] >= rules.band_g[1]:
+        raise t.fail("band_g", f"must be [low, high] with low < high, got {list(rules.band_g)}")
+    if rules.groove_min_share > 1:
+        raise t.fail("groove_min_share", f"must be at most 1, got {rules.groove_min_share!r}")
 
 
 def _check_hole(t: _Table, hole: Hole, peg: Peg | None) -> None:
@@ -753,3 +713,8 @@ def check_world(world: World, text: str, rest_motor_rad: Triple = REST_MOTOR_RAD
                 None,
                 f"{what} at {where} is out of the arm's reach (outside the framework's safety envelope)",
             )
+
+
+_CHECKS = {"peg": _check_peg, "hole": _check_hole, "groove": _check_groove, "egg": _check_egg,
+           "contact": _check_contact, "contest": _check_contest}
+"""What is checked of a fixture beyond each value's own range (against the peg, where it goes in)."""

@@ -907,6 +907,15 @@ int32_t crs_fw_wasm_module_count(void)
     return n;
 }
 
+int32_t crs_fw_wasm_module_held(const char *module_key)
+{
+    if (module_key == NULL || module_key[0] == '\0') return 0;
+    for (const crs_wasm_module *m = modules; m != NULL; m = m->next) {
+        if (strcmp(m->key, module_key) == 0) return 1;
+    }
+    return 0;
+}
+
 int32_t crs_fw_wasm_module_refs(const crs_sim *sim)
 {
     const crs_wasm *w = sim->firmware;

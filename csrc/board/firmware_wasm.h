@@ -39,6 +39,8 @@ int crs_fw_wasm_preload(const char *libwasmtime);
 void crs_fw_wasm_unload(crs_sim *sim);
 /* The compiled modules this process holds now (one per distinct module_key in use). */
 int32_t crs_fw_wasm_module_count(void);
+/* 1 when this process holds the compiled module of `module_key` now (a load of it reads no file). */
+int32_t crs_fw_wasm_module_held(const char *module_key);
 /* How many boards share the compiled module of sim's firmware (0: none loaded). */
 int32_t crs_fw_wasm_module_refs(const crs_sim *sim);
 /* The firmware's memory: its first byte, and its size in *size (0 when none is loaded). */

@@ -17,7 +17,7 @@ from crslab.host_tools.ports import PtyPort
 from crslab.host_tools.serial_protocols import read_request, simulink_packet
 from crslab.live.bridge import SerialBridge
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.assemble import started
 from crslab.sinks.sink import Sink
 
 READS = 300
@@ -68,7 +68,7 @@ def host_run(config, port_name: str, kind: str, request: bytes, count: int) -> t
                             stdout=subprocess.PIPE, text=True)
     cpu0, wall0 = time.process_time(), time.perf_counter()
     try:
-        with Simulation(config) as sim:
+        with started(config) as sim:
             while host.poll() is None:
                 sim.run(sim.tick + 200, Sink(), speed=1.0, controls=[bridge])
         share = (time.process_time() - cpu0) / (time.perf_counter() - wall0)
@@ -81,7 +81,7 @@ def host_run(config, port_name: str, kind: str, request: bytes, count: int) -> t
 def fast_rate(config, bridge: bool) -> float:
     ports = {"SerialB": [PtyPort()], "SerialC": [PtyPort()]}
     controls = [SerialBridge(ports, lambda line: None)] if bridge else []
-    with Simulation(config) as sim:
+    with started(config) as sim:
         t = time.perf_counter()
         sim.run(FAST_TICKS, Sink(), speed=None, controls=controls)
         dt = time.perf_counter() - t

@@ -7,8 +7,8 @@ from __future__ import annotations
 import time
 
 from crslab.sim.api import make_config
+from crslab.sim.assemble import started
 from crslab.sim.inprocess import InProcessRun
-from crslab.sim.session import Simulation
 from crslab.sinks.sink import Sink
 
 REPEATS = 5
@@ -16,7 +16,7 @@ TICKS = 25_000
 
 
 def isolated_rate(config) -> float:
-    with Simulation(config) as sim:
+    with started(config) as sim:
         t = time.perf_counter()
         result = sim.run(TICKS, Sink(), speed=None)
         dt = time.perf_counter() - t

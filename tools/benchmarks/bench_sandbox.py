@@ -22,7 +22,7 @@ from pathlib import Path
 
 from crslab.lab.build import DEFAULT_LAB, build_lab
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.assemble import started
 from crslab.worker.board_ffi import board_ffi, shared_size
 
 REPEATS = 5
@@ -39,7 +39,7 @@ def _children_cpu_s() -> float:
 def rates(config) -> tuple[float, float]:
     """(ticks per worker CPU second, ticks per wall second) of ``TICKS`` ticks at full speed."""
     cpu0 = _children_cpu_s()
-    with Simulation(config) as sim:
+    with started(config) as sim:
         t = time.perf_counter()
         result = sim.run(TICKS, speed=None)
         wall = time.perf_counter() - t

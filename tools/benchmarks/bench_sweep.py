@@ -17,7 +17,7 @@ from crslab.lab.build import DEFAULT_LAB
 from crslab.lab.source import LabSource
 from crslab.sim.api import make_config
 from crslab.sweep import sampling, variations
-from crslab.sweep.job import SweepJob, SweepSpec
+from crslab.sweep.sample_job import SweepJob, SweepSpec
 
 RUNS = 64
 DURATION_TICKS = 2000

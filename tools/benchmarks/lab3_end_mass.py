@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.assemble import started
 from crslab.sinks.memory import MemorySink
 
 LAB = Path(__file__).resolve().parents[2] / "tests" / "labs" / "lab3_inverse_dynamics.c"
@@ -27,10 +27,10 @@ def hold(use_mass_p: bool) -> np.ndarray:
     RuntimeError when the run did not hold the arm (a cut-out, the envelope, still moving)."""
     config = make_config(LAB, "end_mass", log=True)
     memory = MemorySink()
-    with Simulation(config) as sim:
+    with started(config) as sim:
         sim.set("use_mass_p", 1.0 if use_mass_p else 0.0)
         result = sim.run(12100, memory)
-    if not result.ok or result.stats["motor_board_events"] or memory.log["safety"].any():
+    if not result.ok or result.stats.motor_board_events or memory.log["safety"].any():
         raise RuntimeError(f"the end-mass run did not hold the arm: {result.message or result.stats}")
     rows = np.array([[float(v) for v in d.split()] for _, d in memory.calls])
     if len(rows) != 80 or np.ptp(rows[-20:, :3], axis=0).max() >= 1e-4:  # at rest for its last 2 s

@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 from crslab.sim.api import make_config
-from crslab.sim.session import Simulation
+from crslab.sim.simulation import Simulation
 from crslab.sinks.sink import Sink
 
 

@@ -11,7 +11,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from serve_server import USERS, Client, ServeProcess, run_message, serial_of, write_roster
+from serve_server import (
+    USERS,
+    Client,
+    ServeProcess,
+    logged_in,
+    roster_server,
+    run_message,
+    serial_of,
+    write_roster,
+)
 
 from crslab.regress.transcript import read_golden
 from crslab.sim.api import simulate
@@ -23,17 +32,12 @@ LAB_A = starter_text("lab1", "A")
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("serve")
-    srv = ServeProcess(folder, "--users", str(write_roster(folder)), "--compiles-per-minute", "1000")
-    yield srv
-    srv.stop()
+    yield from roster_server(tmp_path_factory)
 
 
 @pytest.fixture(scope="module")
 def alice(server):
-    client = Client(server, server.login("alice"))
-    yield client
-    client.close()
+    yield from logged_in(server, "alice")
 
 
 def test_a_run_streams_the_bytes_crslab_sim_prints_at_their_ticks(server, alice, tmp_path):

@@ -41,7 +41,7 @@ from crslab.worker.debug_setup import DebugSetup
 
 if TYPE_CHECKING:
     from crslab.sim.running import RunningLab
-    from crslab.sim.session import Simulation
+    from crslab.sim.simulation import Simulation
 
 QUIT_TIMEOUT_S = 10.0
 GDBSERVER_CHATTER = re.compile(r"^(Remote debugging using stdio|Attached; pid = \d+|Process .* attached)$")
@@ -77,7 +77,7 @@ class DebugPlan:
 class DebugSession:
     """The debugger of one run: a :class:`~crslab.sim.running.RunDebugger` and a
     :class:`~crslab.sim.running.LiveControl` of ``Simulation.run``. Use as a context manager
-    around the :class:`~crslab.sim.session.Simulation`, created before it (the worker names the
+    around the :class:`~crslab.sim.simulation.Simulation`, created before it (the worker names the
     debugger's process as its tracer when it starts)."""
 
     def __init__(self, plan: DebugPlan, first_lab_tick: int, say: Callable[[str], None],
@@ -154,7 +154,7 @@ class DebugSession:
 
     def paused(self, lab: RunningLab, condition_held: bool) -> None:
         """The run reached the break (before ``lab.tick``'s ``lab()`` call): stop in ``lab()``."""
-        from crslab.sim.session import Simulation
+        from crslab.sim.simulation import Simulation
 
         assert isinstance(lab, Simulation)
         self._pending = None

@@ -10,6 +10,7 @@ import pytest
 
 from crslab.scenario.expect_events import Observation
 from crslab.worker import worker_messages
+from crslab.worker.run_stats import RunStats
 from crslab.worker.worker_messages import (
     Break,
     End,
@@ -41,16 +42,17 @@ REPLIES = [
     Failed(instance=0, message="Landlock is not available"),
     Trapped(instance=3, trap=TRAP),
     Ran(instance=0, code=0, tick=5000,
-        stats={"over_budget": 0, "first_over_tick": [4100, 4200], "cost_unit": "fuel", "strict": False},
+        stats=RunStats(over_budget=2, first_over_tick=(4100, 4200), cost_unit=1, native=True,
+                       motor_board="piccolo", motor_board_events=((4500, 2, True),)),
         log=None, motor_board_events=(MotorBoardEvent(4500, 2, True), MotorBoardEvent(4800, 0, False)),
         observations=(OBSERVATION,), trap=None),
-    Ran(instance=12, code=3, tick=5123, stats={}, log=None, motor_board_events=(), observations=(),
+    Ran(instance=12, code=3, tick=5123, stats=RunStats(), log=None, motor_board_events=(), observations=(),
         trap=TRAP),
     Value(value=1.5),
     Value(value=[1.0, 2.5]),
     Value(value=None),
     Error(message="no watched variable Kp"),
-    Stopped(instance=0, stats={"ticks": 5000}, log=None),
+    Stopped(instance=0, stats=RunStats(tick=5000, lab_calls=900), log=None),
 ]
 REQUESTS = [Run(0, 5000), RunMany([[0, 5000], [4, 4200]]), Get(0, "mycount"), Set(2, "Kp", None, 2.0),
             Set(0, "gains", 1, 0.5), Push(0, [[0.0] * 6, [1.0, 0, 0, 0, 0, 0]]), Break(0), Stop(7), End(),
@@ -71,7 +73,7 @@ def test_each_request_reads_back_as_itself(request_):
 
 def test_scope_rows_travel_as_numeric_arrays():
     log = {"tick": np.arange(3, dtype=np.int64).reshape(3, 1), "plot": np.zeros((3, 4), dtype=np.float32)}
-    back = read_reply(Stopped(instance=0, stats={}, log=log).wire(), Stopped)
+    back = read_reply(Stopped(instance=0, stats=RunStats(), log=log).wire(), Stopped)
     assert back.log is log
     with pytest.raises(UnreadableReply, match=r"log\['tick'\] is not a column of numbers"):
         read_reply(("stopped", 0, {}, {"tick": [1, 2, 3]}), Stopped)
@@ -80,6 +82,15 @@ def test_scope_rows_travel_as_numeric_arrays():
 def test_every_reply_has_a_reader_for_each_of_its_fields():
     for cls in (Ready, Failed, Trapped, Ran, Value, Error, Stopped):
         assert len(worker_messages._FIELDS[cls]) == len(dataclasses.fields(cls)), cls.KIND
+    assert set(worker_messages._STATS) == {f.name for f in dataclasses.fields(RunStats)}
+
+
+def test_run_statistics_read_back_typed_from_the_pipe():
+    stats = RunStats(lab_calls=900, first_over_tick=(4100, 4200), native=True, motor_board="piccolo",
+                     motor_board_events=((4600, 1, True), (6100, 1, False)))
+    back = read_reply(pickle.loads(pickle.dumps(Stopped(0, stats, None).wire())), Stopped).stats
+    assert back == stats and back.lab_calls == 900 and back.nan_first_tick == -1
+    assert back.motor_board_events[0] == (4600, 1, True) and back.motor_board_events[1][2] is False
 
 
 @pytest.mark.parametrize(("raw", "due", "words"), [
@@ -87,7 +98,10 @@ def test_every_reply_has_a_reader_for_each_of_its_fields():
     (("value", 1.5), Ran, "it sent a value reply where ran was due"),
     (("ran", 0, 0, 5000, {}), Ran, "its ran reply has 4 fields, not 8"),
     (("ran", 0, 0, True, {}, None, [], [], None), Ran, "tick = True, not a whole number"),
-    (("ran", 0, 0, 5000, {"x": object()}, None, [], [], None), Ran, r"stats\['x'\]"),
+    (("ran", 0, 0, 5000, {"x": object()}, None, [], [], None), Ran, "stats holds 'x', which crslab does not"),
+    (("ran", 0, 0, 5000, {"lab_calls": "9"}, None, [], [], None), Ran, r"\['lab_calls'\] = '9', not a whole"),
+    (("ran", 0, 0, 5000, {"native": 1}, None, [], [], None), Ran, r"stats\['native'\] = 1, not a flag"),
+    (("ran", 0, 0, 5000, {"first_over_tick": [1.5]}, None, [], [], None), Ran, r"first_over_tick'\]\[...\]"),
     (("ran", 0, 0, 5000, {}, None, [(1, 2)], [], None), Ran, r"not \(tick, joint, off\)"),
     (("ran", 0, 0, 5000, {}, None, [], [{"tick": 1}], None), Ran, "an observation crslab cannot read"),
     (("ran", 1, 0, 5000, {}, None, [], [], None), Ran, "its ran reply is about instance 1, not 0"),

@@ -13,11 +13,11 @@ from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.lab.source import LabSource
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.transcript import split_lines
-from crslab.sim.session import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, SimError, Simulation
-from crslab.sim.status import RunResult, RunStatus
-from crslab.sinks.memory import MemorySink
+from crslab.sim.assemble import run_kept
+from crslab.sim.simulation import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, SimError
+from crslab.sim.status import RunStatus
 from crslab.sweep import variations
-from crslab.sweep.metrics import METRIC_NAMES, run_metrics
+from crslab.sweep.run_metrics import METRIC_NAMES, run_metrics
 from crslab.sweep.variations import Vary
 from crslab.worker.config import SimConfig
 
@@ -117,25 +117,23 @@ class SweepJob:
                     seed=spec.seed,
                     sample=self.sample,
                 )
-                memory = MemorySink()
-                with Simulation(config, deadline_s=spec.deadline_s, limits=spec.limits) as sim:
-                    if not sim.defines_lab:
-                        return self.lost(RunStatus.NO_LAB, f"{spec.lab.name} defines no lab() function")
-                    result: RunResult = sim.run(spec.end_tick, memory)
+                result = run_kept(config, spec.end_tick, deadline_s=spec.deadline_s, limits=spec.limits)
         except LabForbidden as exc:
             return self.lost(RunStatus.FORBIDDEN, str(exc))
         except LabBuildError as exc:
             return self.lost(RunStatus.BUILD_ERROR, str(exc))
         except SimError as exc:
             return self.lost(exc.status, str(exc))
-        metrics = run_metrics(memory.log, result.stats, startup_ticks=config.startup_ticks)
+        if result.status is RunStatus.NO_LAB:
+            return self.lost(result.status, result.message)
+        metrics = run_metrics(result.log, result.stats, startup_ticks=config.startup_ticks)
         matched = None
         if spec.golden is not None:
             matched = (
                 result.ok
                 and compare(
                     split_lines(spec.golden),
-                    split_lines(memory.transcript, memory.calls),
+                    split_lines(result.transcript, result.calls),
                     abs_tol=spec.abs_tol,
                     rel_tol=spec.rel_tol,
                 ).ok

@@ -16,6 +16,7 @@ way out when a run ends is handed on last, marked with the tick the run ended at
 
 from __future__ import annotations
 
+import dataclasses
 import pathlib
 import signal
 import threading
@@ -39,6 +40,7 @@ from crslab.worker import worker_messages
 from crslab.worker.board_ffi import board_constants
 from crslab.worker.config import SimConfig
 from crslab.worker.debug_setup import DebugSetup
+from crslab.worker.run_stats import RunStats
 
 __all__ = ["DEFAULT_DEADLINE_S", "NO_LIMITS", "CtrlC", "Limits", "SimError", "Simulation"]
 
@@ -154,7 +156,7 @@ class Simulation:
         self.limits = limits
         self.lab_name = config.build.source.name
         self.tick = 0
-        self.stats: dict = {}
+        self.stats = RunStats()
         self.serial_dropped = 0
         """Bytes that left the board but never reached the sinks: more in one chunk than the shared
         block holds (``CRS_SERIAL_CAPACITY`` bytes, ``CRS_MARK_CAPACITY`` ticks). The serial line's
@@ -210,7 +212,7 @@ class Simulation:
         if self.board_worker.alive:
             stopped = self.board_worker.stop(self.board)
             if stopped is not None:
-                self.stats = stopped.stats or self.stats
+                self.stats = stopped.stats
         if self._own_worker:
             self.board_worker.close()
         self.block.close()
@@ -263,7 +265,7 @@ class Simulation:
         """Run to ``end_tick``, handing everything the run reports to ``sink`` (see
         :mod:`crslab.sinks.sink` for what and in which order); ``speed`` None is as fast as
         possible, else x real time. A run that reaches its end with a failed expectation ends
-        ``unmet``; the result's ``expectations`` say how each went, ``stats["motor_board_events"]``
+        ``unmet``; the result's ``expectations`` say how each went, ``stats.motor_board_events``
         lists the motor board's cut-outs.
 
         After every chunk of ticks, once ``sink`` took it, each of ``controls`` is served: the
@@ -289,7 +291,7 @@ class Simulation:
                 tick = self.block.tick
                 how = f"terminated ({exc.name})" if isinstance(exc, termination.Terminated) else "interrupted"
                 ending = Ending(RunStatus.INTERRUPTED, tick, f"{how} at t = {tick / 1000:.3f} s")
-            return run.ended(ending)
+            return run.ended(ending)  # (its sinks' on_end too: a Ctrl-C now waits for the report)
 
     def start(self, end_tick: int, sink: Sink | None, pacer: Pacer,
               controls: Sequence[LiveControl] = ()) -> ChunkedRun:
@@ -373,7 +375,7 @@ class Simulation:
         return dropped
 
     def _console_bytes(self) -> int:
-        return max(int(self.stats.get("console_bytes", 0)), self.worker.console_bytes)
+        return max(self.stats.console_bytes, self.worker.console_bytes)
 
     def _ended(self, ending: Ending, sink: Sink, printed: _Printed, pacer: Pacer) -> RunResult:
         """The run's result: the last bytes handed on (those still on the serial line marked with
@@ -383,8 +385,9 @@ class Simulation:
         line = self.block.take_line()
         if line:
             printed.serial(ending.tick, line)
-        stats = {**self.stats, "serial_dropped": self.serial_dropped, "lab_symbols": self.symbols,
-                 "motor_board_events": list(self.motor_board_events), "console_bytes": self._console_bytes()}
+        stats = dataclasses.replace(self.stats, serial_dropped=self.serial_dropped, lab_symbols=self.symbols,
+                                    motor_board_events=tuple(self.motor_board_events),
+                                    console_bytes=self._console_bytes())
         expectations = self.judge.results()
         failed = sum(bool(e.failures) for e in expectations)
         status, message = ending.status, ending.message
@@ -427,8 +430,11 @@ class ChunkedRun:
         return self.sim._took(reply, self, held)
 
     def ended(self, ending: Ending) -> RunResult:
-        """The run's result (the last bytes handed on first)."""
-        return self.sim._ended(ending, self.sink, self.printed, self.pacer)
+        """The run's result, the last bytes handed on first, then the result to the sinks
+        (``on_end``: the end-of-run report, among others)."""
+        result = self.sim._ended(ending, self.sink, self.printed, self.pacer)
+        self.sink.on_end(result)
+        return result
 
 
 def _trapped(trap: dict, lab_name: str, deadline_s: float | None, tick: int,

@@ -32,6 +32,7 @@ import math
 import numpy as np
 
 from crslab.framework_facts import CLAMP_UNITS
+from crslab.worker.run_stats import RunStats
 
 PLOT_VARS = 4
 ACTUAL_VS_DESIRED = (1, 2, 3)
@@ -54,11 +55,12 @@ def _maxabs(x: np.ndarray) -> float:
     return float(np.max(np.abs(x))) if x.size else math.nan
 
 
-def run_metrics(log: dict[str, np.ndarray] | None, stats: dict, *, startup_ticks: int) -> dict[str, float]:
+def run_metrics(log: dict[str, np.ndarray] | None, stats: RunStats, *,
+                startup_ticks: int) -> dict[str, float]:
     """Every metric of :data:`METRIC_NAMES` for one run (NaN where the run gave no signal: it
     ended before the lab's first call)."""
     out: dict[str, float] = {name: math.nan for name in METRIC_NAMES}
-    cutouts = [event[0] for event in stats.get("motor_board_events", []) if event[2]]
+    cutouts = [event[0] for event in stats.motor_board_events if event[2]]
     out["motor_board_cutouts"] = len(cutouts)
     early_cutouts = sum(1 for tick in cutouts if tick <= startup_ticks)
     if log is None or len(log["tick"]) == 0:

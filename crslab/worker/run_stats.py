@@ -1,0 +1,102 @@
+"""A run's statistics, typed: the board's counters the worker reads out of ``crs_sim``
+(csrc/board/sim.h) and what the crslab process counts beside them, as one frozen
+:class:`RunStats` (``RunResult.stats``), read by attribute.
+
+On the pipe they travel as a table of plain data (:meth:`RunStats.wire`); the crslab process reads
+that table back in :mod:`crslab.worker.worker_messages` (``_stats``), which checks every value,
+since a native lab may have written it.
+
+>>> stats = RunStats(lab_calls=900, first_over_tick=(4100,), motor_board_events=((4600, 1, True),))
+>>> stats.nan_first_tick, stats.wire()["first_over_tick"], stats.wire()["motor_board_events"]
+(-1, [4100], [[4600, 1, 1]])
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Any
+
+BOARD_COUNTERS = (
+    "lab_calls", "lab_cost_total", "lab_cost_max", "lab_max_tick", "over_budget", "cost_unit", "budget",
+    "nan_first_tick", "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag",
+    "leds", "estop_latched", "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars",
+    "overflow_phase", "console_bytes",
+)
+"""The ``crs_sim`` fields the worker reports as they are (whole numbers), by their C names."""
+
+
+@dataclass(frozen=True)
+class RunStats:
+    """What a run counted. The board's counters (``crs_sim``'s fields of the same names) first;
+    ``tick`` and below are the worker's view of the run; the last three are the crslab process's,
+    set once the run has ended."""
+
+    lab_calls: int = 0
+    """How many times lab() was called."""
+    lab_cost_total: int = 0
+    """lab()'s cost summed over its calls, in :attr:`cost_unit`."""
+    lab_cost_max: int = 0
+    """lab()'s largest cost of one call, in :attr:`cost_unit`."""
+    lab_max_tick: int = 0
+    """The tick of that call."""
+    over_budget: int = 0
+    """How many calls cost more than :attr:`budget`."""
+    cost_unit: int = 1
+    """``CRS_COST_INSTRUCTIONS`` (1: WebAssembly instructions) or ``CRS_COST_NS`` (0: native, ns)."""
+    budget: int = 0
+    """What one lab() call may cost (instructions)."""
+    nan_first_tick: int = -1
+    """The first tick lab() returned a NaN or Inf torque (-1: never)."""
+    nan_first_joint: int = 0
+    """Its joint (``tau1`` .. ``tau3``)."""
+    nan_count: int = 0
+    """How many such torques in all."""
+    printing_runs: int = 0
+    """How many times printing() ran."""
+    print_triggers: int = 0
+    """How many times the lab asked for printing()."""
+    safety_flag: int = 0
+    """The safety envelope's flag as the run ended."""
+    leds: int = 0
+    """The LEDs as the run ended (one bit each)."""
+    estop_latched: int = 0
+    """1 when the emergency stop latched."""
+    tx_dropped: int = 0
+    """Characters the transmit ring dropped (it was full)."""
+    tx_first_drop_tick: int = -1
+    """The tick of the first (-1: none)."""
+    overflow_tick: int = -1
+    """The tick a serial_printf overflowed the board's print buffer (-1: none)."""
+    overflow_chars: int = 0
+    """How many characters it tried to format."""
+    overflow_phase: int = 0
+    """Where it was (lab, printing: ``CRS_PHASE_*``)."""
+    console_bytes: int = 0
+    """Bytes the lab wrote with printf, puts or the like (counted, never shown)."""
+    tick: int = 0
+    """The next tick to run."""
+    first_over_tick: tuple[int, ...] = ()
+    """The ticks of the first (up to 8) calls over the budget."""
+    native: bool = False
+    """The firmware ran natively (its cost is in ns)."""
+    motor_board: str = ""
+    """The motor board's model (``none``, ``piccolo``)."""
+    motor_board_cutouts: int = 0
+    """How many times the motor board cut every output."""
+    serial_dropped: int = 0
+    """Bytes that left the board but never reached the sinks (the crslab process's count)."""
+    lab_symbols: int = 0
+    """The lab's ``CRS_LAB_HAS_*`` bits."""
+    motor_board_events: tuple[tuple[int, int, bool], ...] = ()
+    """The motor board's cut-outs and returns: ``(tick, joint, off)``."""
+
+    def wire(self) -> dict[str, Any]:
+        """The statistics as plain data (names to ints, a flag, a name, lists of ticks)."""
+        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
+
+
+def _plain(value: object) -> object:
+    if isinstance(value, tuple):  # a list of ticks, or of events whose flag travels as 0 or 1
+        return [int(v) if isinstance(v, bool) else _plain(v) for v in value]
+    return value
