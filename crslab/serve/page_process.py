@@ -42,6 +42,7 @@ from crslab.serve.stream import Stopped, message
 from crslab.sim.assemble import DEFAULT_REST_MOTOR_RAD, make_config
 from crslab.sim.simulation import Limits, SimError
 from crslab.sim.status import RunStatus
+from crslab.worker.config import SimConfig
 
 HOST_RUN = b"H"
 """For the server: a prepared run (a pickled :class:`~crslab.serve.run_host.HostedRun`) to hand to a
@@ -203,6 +204,7 @@ class Session:
         if end_tick > seconds_to_tick(self.limits.max_run_s):
             end_tick = seconds_to_tick(self.limits.max_run_s)
             notes.append(f"this server runs a lab for at most {self.limits.max_run_s:g} s of simulated time")
+        compile_module(config)
         self.hand_over(HostedRun(config, end_tick, msg["speed"], msg.get("phase", 0.0), tuple(notes),
                                  self.folder.resolve(), record_csv=record["csv"], record_rrd=record["rrd"],
                                  output_bytes=int(self.limits.output_mb * 1e6)))
@@ -274,6 +276,25 @@ class Session:
             f"{golden}: its scenario is neither a built-in scenario nor the scenario file uploaded into "
             "this page (Run with it first); the page runs no other"
         )
+
+
+def compile_module(config: SimConfig) -> None:
+    """Have wasmtime compile the run's firmware into the build cache now, unless it is there
+    already (a lab's first run): here, in this session's own worker, the 0.1 s it takes costs the
+    run host's other runs nothing; the host's worker then only loads it."""
+    from crslab.sim.simulation import Simulation
+    from crslab.worker.wasm_runtime import WasmImage
+
+    if config.build.native:
+        return
+    kept = WasmImage.read(config.build.image).compiled_path()
+    if kept is None or kept.exists():
+        return
+    try:
+        with Simulation(config):  # the board compiles the module and keeps it (sealed)
+            pass
+    except SimError:
+        pass  # the run host opens it again and says why
 
 
 def _terminated(signum: int, frame: object) -> None:
