@@ -24,6 +24,7 @@ import pickle
 import signal
 import socket
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from pathlib import Path
@@ -168,15 +169,23 @@ class HostedSession:
         self.due_s = self.chunked.pacer.due_s(self.sim.tick)  # a new speed paces from now
         return True
 
-    def took(self, reply: object) -> bool:
-        """Hand a chunk's reply on; False when the run ended."""
+    def take(self, reply: object) -> Ending | None:
+        """Hand a chunk's reply to the sinks (its controls wait for :meth:`after`: the worker may
+        still be running the host's other chunks); how the run ended, or None."""
         assert self.chunked is not None and self.sim is not None
-        ending = self.chunked.took(reply)  # type: ignore[arg-type]
+        ending = self.chunked.took(reply, serve=False)  # type: ignore[arg-type]
         if ending is None and self.chunked.done:
             ending = Ending(RunStatus.OK, self.sim.tick)
+        return ending
+
+    def after(self, ending: Ending | None) -> bool:
+        """After the worker's request: end the run (``ending``), or serve its control and say
+        when its next chunk is due; False when it ended."""
+        assert self.chunked is not None and self.sim is not None
         if ending is not None:
             self.finish(ending)
             return False
+        self.chunked.serve_controls()
         self.due_s = self.chunked.pacer.due_s(self.sim.tick)
         return True
 
@@ -275,19 +284,36 @@ class RunHost:
                 self._guarded(session, session.close)
 
     def step(self, due: list[HostedSession]) -> None:
-        """Run each due session's next chunk (one request per worker), then hand each on."""
+        """Run each due session's next chunk (one request per worker), handing each on to its
+        sinks as its reply comes (while the worker runs the next), then serve their controls."""
         targets = []
         for session in due:
             assert session.chunked is not None
             targets.append(session.chunked.next_chunk()[0])
-        replies = self.run_chunks([(s.sim, t) for s, t in zip(due, targets)])  # type: ignore[misc]
-        for session, reply in zip(due, replies):
-            if not self._guarded(session, lambda s=session, r=reply: s.took(r)):
+        taken: dict[int, Ending | None | Exception] = {}
+
+        def each(i: int, reply: object) -> None:
+            try:
+                taken[i] = due[i].take(reply)
+            except Exception as exc:  # noqa: BLE001 - handled below, once the worker is idle
+                taken[i] = exc
+
+        replies = self.run_chunks([(s.sim, t) for s, t in zip(due, targets)], each)  # type: ignore[misc]
+        for i, (session, reply) in enumerate(zip(due, replies)):
+            if i not in taken:  # the worker ended: no Ran came
+                taken[i] = self._guarded_value(session, lambda s=session, r=reply: s.take(r))
+            outcome = taken[i]
+            if isinstance(outcome, Exception):
+                self._failed(session, outcome)
+                self.sessions.pop(session.key, None)
+            elif not self._guarded(session, lambda s=session, e=outcome: s.after(e)):
                 self.sessions.pop(session.key, None)
 
-    def run_chunks(self, targets: list[tuple[Simulation, int]]) -> list[object]:
+    def run_chunks(self, targets: list[tuple[Simulation, int]],
+                   each: Callable[[int, object], None] | None = None) -> list[object]:
         """Each simulation run to its tick, one request per worker: the worker's reply for each
-        (the worker's :class:`~crslab.sim.diagnosis.Ending` for a run whose worker ended)."""
+        (the worker's :class:`~crslab.sim.diagnosis.Ending` for a run whose worker ended);
+        ``each(i, ran)`` as each target's reply comes."""
         replies: list[object] = [sim.board.ending for sim, _ in targets]
         by_worker: dict[int, list[int]] = {}
         for i, (sim, _) in enumerate(targets):
@@ -295,9 +321,20 @@ class RunHost:
                 by_worker.setdefault(id(sim.board_worker), []).append(i)
         for runs in by_worker.values():
             worker = targets[runs[0]][0].board_worker
-            for i, reply in zip(runs, worker.run([(targets[i][0].board, targets[i][1]) for i in runs])):
+            on_reply = None if each is None else (lambda k, ran, runs=runs: each(runs[k], ran))
+            pairs = [(targets[i][0].board, targets[i][1]) for i in runs]
+            for i, reply in zip(runs, worker.run(pairs, on_reply)):
                 replies[i] = reply
         return replies
+
+    def _guarded_value(self, session: HostedSession, step: Callable[[], object]) -> object:
+        """``step()``'s answer, or the exception it raised."""
+        try:
+            return step()
+        except (BrokenPipeError, EOFError):
+            raise
+        except Exception as exc:  # noqa: BLE001 - a crslab bug, reported by _failed
+            return exc
 
     def _guarded(self, session: HostedSession, step: object) -> bool:
         """``step()``'s answer; a crslab bug in it ends that session's run (one line for its page)
@@ -307,16 +344,19 @@ class RunHost:
         except (BrokenPipeError, EOFError):
             raise
         except Exception as exc:  # noqa: BLE001 - a crslab bug: one line for the page, the host goes on
-            import traceback
-
-            traceback.print_exc()
-            try:
-                session.close()
-            except Exception:  # noqa: BLE001
-                pass
-            session.send(message("ended", status="crashed", exit_status=3,
-                                 message=f"crslab failed: {type(exc).__name__}: {exc}"), RUN_ENDED)
+            self._failed(session, exc)
             return False
+
+    def _failed(self, session: HostedSession, exc: Exception) -> None:
+        import traceback
+
+        traceback.print_exception(exc)
+        try:
+            session.close()
+        except Exception:  # noqa: BLE001
+            pass
+        session.send(message("ended", status="crashed", exit_status=3,
+                             message=f"crslab failed: {type(exc).__name__}: {exc}"), RUN_ENDED)
 
 
 def _terminated(signum: int, frame: object) -> None:

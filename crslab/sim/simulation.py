@@ -325,9 +325,10 @@ class Simulation:
         return self.board_worker.run([(self.board, target)])[0]
 
     def _took(self, reply: worker_messages.Ran | Ending, run: ChunkedRun,
-              held: Callable[[], AbstractContextManager[None]]) -> Ending | None:
-        """Hand a chunk's reply to the run's sink and serve its controls: None, or how the run
-        ended (a trap, the output limit, a strict NaN, a printf overflow, the worker gone)."""
+              held: Callable[[], AbstractContextManager[None]], serve: bool = True) -> Ending | None:
+        """Hand a chunk's reply to the run's sink and serve its controls (unless ``serve`` is
+        False: the caller serves them later, :meth:`ChunkedRun.serve_controls`): None, or how the
+        run ended (a trap, the output limit, a strict NaN, a printf overflow, the worker gone)."""
         c = board_constants()
         sink, printed = run.sink, run.printed
         if isinstance(reply, Ending):
@@ -358,8 +359,8 @@ class Simulation:
                 sink.on_reached(self.tick)
         if printed.over:
             return diagnosis.output_limit(self.lab_name, self.tick, printed.cap)
-        for control in run.controls:
-            control.serve(self)
+        if serve:
+            run.serve_controls()
         if reply.code == c.CRS_RUN_NAN_STRICT:
             return diagnosis.nan_strict(self.lab_name, self.stats, self.tick)
         if reply.code == c.CRS_RUN_PRINTF_OVERFLOW:
@@ -424,10 +425,18 @@ class ChunkedRun:
         return self.pacer.next_chunk(self.sim.tick, self.end_tick, self.controls)
 
     def took(self, reply: worker_messages.Ran | Ending,
-             held: Callable[[], AbstractContextManager[None]] = nullcontext) -> Ending | None:
+             held: Callable[[], AbstractContextManager[None]] = nullcontext, *,
+             serve: bool = True) -> Ending | None:
         """Hand a chunk's reply (or the worker's end) on: None while the run goes on, else how it
-        ended. ``held`` holds a Ctrl-C back while the sinks take the chunk."""
-        return self.sim._took(reply, self, held)
+        ended. ``held`` holds a Ctrl-C back while the sinks take the chunk. ``serve`` False leaves
+        the controls to :meth:`serve_controls` (a caller still reading its worker's other
+        replies, whose controls must not ask the worker meanwhile)."""
+        return self.sim._took(reply, self, held, serve)
+
+    def serve_controls(self) -> None:
+        """Serve each control once (the worker is idle: they may ask it)."""
+        for control in self.controls:
+            control.serve(self.sim)
 
     def ended(self, ending: Ending) -> RunResult:
         """The run's result, the last bytes handed on first, then the result to the sinks
