@@ -110,3 +110,47 @@ def test_only_a_run_command_with_rrd_forks_the_writer():
     assert wants_writer(["sim", "lab.c", "--rrd", "run.rrd"]) and wants_writer(["debug", "--rrd=run.rrd"])
     assert not wants_writer(["sim", "--rerun"]) and not wants_writer(["sim", "--", "--rrd"])
     assert not wants_writer(["scope", "--rrd", "x.rrd"]) and not wants_writer(["--version"])
+
+
+SERVE_RECORDER = """
+import sys
+from pathlib import Path
+from crslab.sim.assemble import make_config, run_kept
+from crslab.sinks.rerun_writer import RecorderSink
+
+out = Path(sys.argv[1])
+config = make_config("csrc/labs/lab2_square_pid.c", log=True, world="contest")  # the world's columns too
+recorder = RecorderSink(out / "page.csv", out / "page.rrd", "lab2_square_pid.c", config.world)  # forked now
+from crslab.sinks.csv_file import CsvSink
+from crslab.sinks.rerun_scopes import RerunSink
+
+in_process = [CsvSink(out / "cli.csv", world=True),
+              RerunSink(rrd_path=out / "cli.rrd", name="lab2_square_pid.c", world=config.world)]
+assert run_kept(config, 5000, [recorder, *in_process]).status == "ok"
+for sink in [recorder, *in_process]:
+    sink.close()
+"""
+
+
+def test_serves_recorder_writes_the_csv_and_recording_that_csv_and_rrd_write(tmp_path):
+    """crslab serve's downloads (RecorderSink, a writer forked when the run starts) are --csv's and
+    --rrd's files of the same run: the CSV byte for byte, the recording entity by entity."""
+    r = crslab(SERVE_RECORDER, tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "page.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
+    assert (tmp_path / "cli.csv").read_bytes().count(b"\n") == 5001  # the header and a row per tick
+    written, expected = contents(tmp_path / "page.rrd"), contents(tmp_path / "cli.rrd")
+    assert "/scopes/scale" in expected and "/arm/forearm" in expected and "/serial" in expected
+    assert written == expected
+
+
+def test_a_recorder_whose_writer_died_names_its_files_when_closed(tmp_path):
+    from crslab.sinks.rerun_writer import RecorderSink
+    from crslab.sinks.sink import SinkError
+
+    recorder = RecorderSink(tmp_path / "run.csv", tmp_path / "run.rrd", "lab.c")
+    os.kill(recorder.writer.pid, 9)
+    with pytest.raises(SinkError) as caught:
+        recorder.close()
+    files = f"{tmp_path / 'run.csv'} and {tmp_path / 'run.rrd'}"
+    assert str(caught.value) == f"could not finish writing {files}: the rerun writer process ended early"

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.cli.introduction import WIDTH, pace_text
-from crslab.cli.lab_run import AtEnd, LabRun, end_tick_of, scope_rows_asked
+from crslab.cli.lab_run import LabRun, end_tick_of, scope_rows_asked
 from crslab.cli.live_options import add_live_options
 from crslab.cli.run_options import add_run_options, config_from_args, positive
 from crslab.cli.sink_options import add_sink_options
@@ -19,6 +19,7 @@ from crslab.debug.programs import DebuggerMissing, debugger_for
 from crslab.debug.tracer import TracerError
 from crslab.scenario.event import seconds_to_tick
 from crslab.sim.status import RunResult, RunStatus
+from crslab.sinks.at_end import AtEnd
 from crslab.sinks.narration import seconds
 
 PREFIX = "crslab debug: "

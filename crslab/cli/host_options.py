@@ -15,7 +15,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from crslab.cli import CliError
-from crslab.cli.live_options import OptionRun
+from crslab.cli.live_options import OptionRun, place_links
 from crslab.framework_facts import SERIAL_BAUD
 from crslab.host_tools.linker_map import write_map
 from crslab.host_tools.ports import HostPort, PortError, PtyPort, TcpPort
@@ -65,14 +65,7 @@ class HostRun(OptionRun):
                                "drop --pty / --pty-link")
             if d.exists() and not d.is_dir():
                 raise CliError(f"--serial-dir {d}: is not a directory")
-            try:
-                folder(d)
-            except OSError as exc:
-                raise CliError(f"--serial-dir {d}: cannot make this folder ({exc.strerror})") from None
-            for name in PORT_ROLES:
-                link = d / name
-                if link.exists() and not link.is_symlink():
-                    raise CliError(f"--serial-dir {d}: {link} exists and is not a symlink; not replacing it")
+            place_links("--serial-dir", d, [d / name for name in PORT_ROLES])
         if args.serial_tcp is not None and not 1 <= args.serial_tcp <= 65533:
             raise CliError(f"--serial-tcp {args.serial_tcp}: give a port from 1 to 65533 (it uses three)")
         if args.map is not None and args.map.is_dir():

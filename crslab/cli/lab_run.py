@@ -2,8 +2,9 @@
 the run options, every output as a sink of one fan-out (the narration on stderr, stdout as Tera
 Term shows it, the file outputs of :mod:`crslab.cli.sink_options`, the live windows, SerialA on
 the host ports), the live controls, the worker, and what is said once the run has ended: the
-end-of-run report is the last sink's (:class:`AtEnd`), said when the run ends (``on_end``), after
-what the sinks before it say then (the waypoint tracking's report, the C28x check's findings).
+end-of-run report is the last sink's (:class:`~crslab.sinks.at_end.AtEnd`), said when the run
+ends (``on_end``), after what the sinks before it say then (the waypoint tracking's report, the
+C28x check's findings).
 
 The commands differ only in what they pass: ``sim`` its host ports, waypoint tracking and pace,
 ``debug`` its debugger (the worker's setup, a control, and where chunks end) and introduction.
@@ -29,8 +30,9 @@ from crslab.sim.assemble import started
 from crslab.sim.running import LiveControl, RunDebugger
 from crslab.sim.simulation import SimError, Simulation
 from crslab.sim.status import RunResult
+from crslab.sinks.at_end import AtEnd
 from crslab.sinks.narration import NarrationSink
-from crslab.sinks.sink import Ended, FanOut, Sink, SinkError
+from crslab.sinks.sink import FanOut, Sink, SinkError
 from crslab.sinks.stdout import StdoutSink
 from crslab.untrusted_text import for_terminal
 from crslab.worker.config import SimConfig
@@ -45,16 +47,6 @@ def end_tick_of(args: argparse.Namespace, config: SimConfig) -> int:
 def scope_rows_asked(args: argparse.Namespace) -> bool:
     """Whether an output the options ask for reads the run's scope rows (the run then logs them)."""
     return live_needs_log(args) or sinks_need_scope_rows(args)
-
-
-class AtEnd(Sink):
-    """An output said when the run ends: ``say(result)`` (on stderr, after the sinks before it)."""
-
-    def __init__(self, say: Callable[[RunResult], None]) -> None:
-        self.say = say
-
-    def on_end(self, result: Ended) -> None:
-        self.say(result)  # type: ignore[arg-type]  # a Simulation's run ends with its RunResult
 
 
 class LabRun:

@@ -18,14 +18,14 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from crslab.cli import CliError
 from crslab.cli.sink_options import writable
 from crslab.framework_facts import SERIAL_BAUD
 from crslab.live.console import VarConsole
-from crslab.output_paths import with_parent
+from crslab.output_paths import folder
 from crslab.scopes.display import missing_display
 from crslab.sim.running import LiveControl
 from crslab.sinks.rerun_writer import WriterSink, discard_writer, take_writer
@@ -75,6 +75,31 @@ def stdin_commands_possible() -> bool:
     return True
 
 
+def place_links(option: str, value: Path, links: Sequence[Path]) -> None:
+    """Make the folder of the symlinks ``links`` that ``option value`` asks for (``value`` is the
+    one link, or the folder of several) and check that none would replace what is not a symlink
+    (a port replaces only a symlink of its own); a failure is one line naming the option.
+
+    >>> import tempfile
+    >>> d = Path(tempfile.mkdtemp()); (d / "SerialA").write_text("a file")
+    6
+    >>> place_links("--serial-dir", d, [d / "SerialA"])
+    Traceback (most recent call last):
+    crslab.cli.CliError: --serial-dir ...: .../SerialA exists and is not a symlink; not replacing it
+    >>> place_links("--pty-link", d / "new" / "pty", [d / "new" / "pty"]); (d / "new").is_dir()
+    True
+    """
+    for link in links:
+        if link.exists() and not link.is_symlink():
+            named = "" if link == value else f"{link} "
+            raise CliError(f"{option} {value}: {named}exists and is not a symlink; not replacing it")
+    place, which = (value.parent, "its folder") if value in links else (value, "this folder")
+    try:
+        folder(place)
+    except OSError as exc:
+        raise CliError(f"{option} {value}: cannot make {which} ({exc.strerror})") from None
+
+
 class OptionRun:
     """What one run's options ask for beyond its sinks (:class:`LiveRun`,
     :class:`crslab.cli.host_options.HostRun`): ``status`` says one line on stderr (with the
@@ -96,13 +121,7 @@ class LiveRun(OptionRun):
         if args.rrd is not None:
             writable(args.rrd, "the rerun recording")
         if args.pty_link is not None:
-            link = args.pty_link
-            if link.exists() and not link.is_symlink():
-                raise CliError(f"--pty-link {link}: exists and is not a symlink; not replacing it")
-            try:
-                with_parent(link)
-            except OSError as exc:
-                raise CliError(f"--pty-link {link}: cannot make its folder ({exc.strerror})") from None
+            place_links("--pty-link", args.pty_link, [args.pty_link])
         self._rrd_writer: WriterSink | None = None
         """--rrd's sink when the writer process forked at the command's start writes it: opened
         now, so that the recording is set up before the first tick."""

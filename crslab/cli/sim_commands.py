@@ -8,7 +8,7 @@ from pathlib import Path
 
 from crslab.cli.host_options import add_host_options
 from crslab.cli.introduction import introduction
-from crslab.cli.lab_run import AtEnd, LabRun, scope_rows_asked
+from crslab.cli.lab_run import LabRun, scope_rows_asked
 from crslab.cli.live_options import add_live_options
 from crslab.cli.run_options import add_c28x_option, add_run_options, config_from_args, positive
 from crslab.cli.sink_options import add_sink_options
@@ -16,6 +16,7 @@ from crslab.cli.tracking_options import TrackingRun, add_tracking_options
 from crslab.lab.c28x_check import C28xCheck, first_run_check, remember
 from crslab.live.console import VarConsole
 from crslab.sim.simulation import Simulation
+from crslab.sinks.at_end import AtEnd
 from crslab.worker.config import SimConfig
 
 

@@ -19,7 +19,7 @@ from collections.abc import Callable
 import numpy as np
 
 from crslab.sim.running import RunningLab
-from crslab.sinks.sink import Sink
+from crslab.sinks.latest_pose import LatestPose
 from crslab.world.layout import FREE_AIR, World
 from crslab.world.scene import flatten_egg, load_scene, set_arm_pose
 
@@ -44,19 +44,19 @@ def fit_camera(cam: object, model: object, data: object) -> None:
     cam.elevation = CAMERA_ELEVATION_DEG  # type: ignore[attr-defined]
 
 
-class MujocoViewer(Sink):
-    """MuJoCo's passive viewer following a run: a sink (the arm's pose from the scope rows) and a
-    live control (the mouse's push, :meth:`serve`); call :meth:`start` once the worker exists."""
+class MujocoViewer(LatestPose):
+    """MuJoCo's passive viewer following a run: a sink (what :class:`LatestPose` keeps of the scope
+    rows, drawn between chunks) and a live control (the mouse's push, :meth:`serve`); call
+    :meth:`start` once the worker exists."""
 
     def __init__(self, rest_dh_rad: np.ndarray, on_status: Callable[[str], None] | None = None,
                  world: World = FREE_AIR) -> None:
+        super().__init__()
         self.on_status = on_status or (lambda line: print(line, file=sys.stderr))
         self.world = world
         """What the run's arm can touch: its scene is the one shown (the fixtures with the arm)."""
-        self._egg_broken = False
         self.rest_dh_rad = np.asarray(rest_dh_rad, dtype=float)
         self.handle = None
-        self._qpos: np.ndarray | None = None
         self._sent = None
         self._threads: list[threading.Thread] = []
 
@@ -91,20 +91,14 @@ class MujocoViewer(Sink):
         self._threads = [t for t in threading.enumerate() if t not in before]  # the window's thread
         return True
 
-    def on_log(self, columns: dict[str, np.ndarray]) -> None:
-        if len(columns["qpos_dh_rad"]):
-            self._qpos = columns["qpos_dh_rad"][-1]
-        if "egg_broken" in columns and len(columns["egg_broken"]) and columns["egg_broken"][-1, 0] > 0:
-            self._egg_broken = True
-
     def serve(self, lab: RunningLab) -> None:
         """Show the latest pose and pass the mouse's push to the running lab (between chunks)."""
         if self.handle is None or not self.handle.is_running():
             return
         with self.handle.lock():
-            if self._qpos is not None:
-                set_arm_pose(self.model, self.data, self._qpos)
-            if self._egg_broken:
+            if self.qpos_dh_rad is not None:
+                set_arm_pose(self.model, self.data, self.qpos_dh_rad)
+            if self.egg_broken:
                 flatten_egg(self.model)
             self._forward(self.model, self.data)
         self.handle.sync()  # draws, and turns a mouse drag into data.xfrc_applied

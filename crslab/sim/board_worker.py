@@ -184,9 +184,10 @@ class BoardWorker:
             return [ending for _ in targets]
         results: list[worker_messages.Ran | Ending] = []
         deadline_s = max((h.deadline_s for h, _ in targets if h.deadline_s is not None), default=None)
+        blocks = [h.block for h, _ in targets]
         for i, (handle, until) in enumerate(targets):
             reply = self.process.reply(worker_messages.Ran, deadline_s=deadline_s, ticks=until - handle.tick,
-                                       instance=handle.id, blocks=[h.block for h, _ in targets[i:]])
+                                       instance=handle.id, blocks=blocks[i:])
             if isinstance(reply, Ending):
                 self._ended(reply)
                 results += [reply] * (len(targets) - i)

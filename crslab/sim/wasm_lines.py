@@ -20,7 +20,12 @@ DW_LNS = range(1, 13)
 """The standard opcodes of a line program."""
 
 
-def _uleb(data: bytes, i: int) -> tuple[int, int]:
+def _leb(data: bytes, i: int, signed: bool) -> tuple[int, int]:
+    """The LEB128 number at ``data[i]`` (``signed``: two's complement) and the index after it.
+
+    >>> _leb(bytes([0xE5, 0x8E, 0x26]), 0, False), _leb(bytes([0xC0, 0xBB, 0x78]), 0, True)
+    ((624485, 3), (-123456, 3))
+    """
     value = shift = 0
     while True:
         byte = data[i]
@@ -28,18 +33,15 @@ def _uleb(data: bytes, i: int) -> tuple[int, int]:
         value |= (byte & 0x7F) << shift
         shift += 7
         if byte < 0x80:
-            return value, i
+            return (value - (1 << shift) if signed and byte & 0x40 else value), i
+
+
+def _uleb(data: bytes, i: int) -> tuple[int, int]:
+    return _leb(data, i, False)
 
 
 def _sleb(data: bytes, i: int) -> tuple[int, int]:
-    value = shift = 0
-    while True:
-        byte = data[i]
-        i += 1
-        value |= (byte & 0x7F) << shift
-        shift += 7
-        if byte < 0x80:
-            return (value - (1 << shift) if byte & 0x40 else value), i
+    return _leb(data, i, True)
 
 
 def sections(module: bytes) -> tuple[int, dict[str, bytes]]:

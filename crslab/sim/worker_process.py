@@ -247,6 +247,9 @@ class WorkerProcess:
         polls = 0
         while True:
             try:
+                # a reply already there (the next of a RunMany's) is read at once
+                if self._console < 0 and self._conn.poll(0):
+                    return receive(self._conn, self.trusted)
                 ready = wait([self._conn, *([self._console] if self._console >= 0 else [])], POLL_S)
                 if self._console in ready and self._drain_console():
                     self.kill()

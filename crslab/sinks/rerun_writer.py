@@ -22,6 +22,12 @@ interrupt, as it does its other files). A writer no one uses (a usage error, ``-
 process. Without a writer (crslab used as a library, a test calling ``main(argv)``) the
 :class:`RerunSink` runs in-process, as before.
 
+``crslab serve`` records a run's downloads the same way, in a writer forked when the run starts
+(:class:`RecorderSink`: its run host or session process forks a new worker for every run and must
+stay single-threaded, so it never loads rerun or pyarrow's CSV writer, both of which start
+threads): the writer holds the same :class:`~crslab.sinks.rerun_scopes.RerunSink` as ``--rrd``
+and the same :class:`~crslab.sinks.csv_file.CsvSink` as ``--csv``.
+
 >>> wants_writer(["sim", "lab1.c", "--fast", "--rrd", "run.rrd"]), wants_writer(["sim", "--rrd=r.rrd"])
 (True, True)
 >>> wants_writer(["sim", "--csv", "run.csv"]), wants_writer(["plot", "--rrd", "x"]), wants_writer([])
@@ -33,14 +39,20 @@ from __future__ import annotations
 import gc
 import os
 import pickle
+import select
 import signal
 import threading
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import BinaryIO
+from typing import TYPE_CHECKING, BinaryIO
 
 from crslab.sinks.sink import Sink, SinkError, forwarding
 
+if TYPE_CHECKING:  # not imported at run time: the writer is forked before numpy is loaded
+    from crslab.world.layout import World
+
+CLOSE_TIMEOUT_S = 120.0
+"""How long :meth:`WriterSink.close` waits for the writer to finish its files before ending it."""
 INBOX_CHUNKS = 16
 """Chunks of ticks the writer holds unpickled before the crslab process waits for it (bounded memory)."""
 COMMANDS_WITH_RRD = ("sim", "debug")
@@ -86,6 +98,12 @@ def start_writer(argv: Sequence[str]) -> None:
     ``crslab`` process: before any thread starts and before anything heavy is imported."""
     if _writer or not wants_writer(argv) or threading.active_count() != 1:
         return
+    _writer.append(fork_writer(preload_rerun=True))
+
+
+def fork_writer(*, preload_rerun: bool) -> WriterProcess:
+    """Fork a writer process now (the caller runs no other thread); ``preload_rerun``: it imports
+    rerun at once, before the first chunk arrives."""
     from crslab import os_support
 
     down_r, down_w = os.pipe()
@@ -98,13 +116,13 @@ def start_writer(argv: Sequence[str]) -> None:
         try:
             os.close(down_w)
             os.close(up_r)
-            _serve(down_r, up_w, parent)
+            _serve(down_r, up_w, parent, preload_rerun)
             status = 0
         finally:
             os._exit(status)
     os.close(down_r)
     os.close(up_w)
-    _writer.append(WriterProcess(pid, os.fdopen(down_w, "wb"), os.fdopen(up_r, "rb")))
+    return WriterProcess(pid, os.fdopen(down_w, "wb"), os.fdopen(up_r, "rb"))
 
 
 def take_writer() -> WriterProcess | None:
@@ -119,7 +137,7 @@ def discard_writer() -> None:
 
 
 # -- the writer's side ------------------------------------------------------------------------
-def _serve(down_fd: int, up_fd: int, parent: int) -> None:
+def _serve(down_fd: int, up_fd: int, parent: int, preload_rerun: bool) -> None:
     from crslab import os_support
 
     os_support.die_with_parent()
@@ -144,13 +162,14 @@ def _serve(down_fd: int, up_fd: int, parent: int) -> None:
                     return
 
     threading.Thread(target=read, name="crslab-rrd-reader", daemon=True).start()
-    from crslab.sinks.rerun_scopes import RerunSink, preload, wait_preloaded
+    if preload_rerun:
+        from crslab.sinks.rerun_scopes import preload, wait_preloaded
 
-    gc.disable()  # no collection while importing: it finds nothing to free, and takes a tenth of the time
-    preload()  # import rerun now, while the crslab process starts the run
-    wait_preloaded()
-    gc.enable()
-    sink: RerunSink | None = None
+        gc.disable()  # no collection while importing: it finds nothing to free, and takes a tenth of the time
+        preload()  # import rerun now, while the crslab process starts the run
+        wait_preloaded()
+        gc.enable()
+    sinks: list[Sink] | None = None
     notes: list[str] = []
     error: BaseException | None = None
     while (message := inbox.get()) is not None:
@@ -159,19 +178,21 @@ def _serve(down_fd: int, up_fd: int, parent: int) -> None:
             break
         try:
             if kind == "open":
-                sink = RerunSink(**payload, on_status=notes.append)
-                sink.set_up()  # before the first chunk of ticks arrives
-            elif error is None and sink is not None:
+                sinks = []
+                _open(sinks, **payload, on_status=notes.append)
+            elif error is None and sinks is not None:
                 for name, args in payload:
-                    getattr(sink, name)(*args)
+                    for sink in sinks:
+                        getattr(sink, name)(*args)
         except Exception as exc:  # noqa: BLE001 - reported when the recording is closed
             error = error or exc
-    if sink is None:
+    if sinks is None:
         return
-    try:
-        sink.close()
-    except Exception as exc:  # noqa: BLE001 - the first error is the one to report
-        error = error or exc
+    for sink in sinks:
+        try:
+            sink.close()
+        except Exception as exc:  # noqa: BLE001 - the first error is the one to report
+            error = error or exc
     answer = {"notes": notes, "error": None}
     if isinstance(error, OSError):
         answer["error"] = ("os", error.errno, error.strerror or str(error), error.filename)
@@ -181,21 +202,41 @@ def _serve(down_fd: int, up_fd: int, parent: int) -> None:
         pickle.dump(answer, up)
 
 
+def _open(sinks: list[Sink], *, csv_path: Path | None, rrd_path: Path | None, name: str,
+          world: World | None, on_status: Callable[[str], None]) -> None:
+    """The writer's sinks, into ``sinks`` as each is made (so that those made are closed when the
+    next one fails): ``--csv``'s, then ``--rrd``'s, set up before the first chunk arrives."""
+    if csv_path is not None:
+        from crslab.sinks.csv_file import CsvSink
+
+        sinks.append(CsvSink(csv_path, world=world is not None and not world.is_free_air))
+    if rrd_path is not None:
+        from crslab.sinks.rerun_scopes import RerunSink
+
+        rerun = RerunSink(rrd_path=rrd_path, name=name, on_status=on_status, world=world)
+        sinks.append(rerun)
+        rerun.set_up()
+
+
 # -- the crslab process's side ------------------------------------------------------------------
 @forwarding
 class WriterSink(Sink):
-    """A :class:`~crslab.sinks.rerun_scopes.RerunSink` writing ``rrd_path`` in ``writer``: each
-    chunk's calls go down in one message after its :meth:`flush`."""
+    """What ``writer`` writes: a :class:`~crslab.sinks.rerun_scopes.RerunSink`'s ``rrd_path``
+    and/or a :class:`~crslab.sinks.csv_file.CsvSink`'s ``csv_path``; each chunk's calls go down in
+    one message after its :meth:`flush`."""
 
-    def __init__(self, writer: WriterProcess, *, rrd_path: Path, name: str = "crslab",
-                 on_status: Callable[[str], None] | None = None, world: object | None = None) -> None:
+    def __init__(self, writer: WriterProcess, *, rrd_path: Path | None, csv_path: Path | None = None,
+                 name: str = "crslab", on_status: Callable[[str], None] | None = None,
+                 world: World | None = None) -> None:
         self.writer = writer
-        self.rrd_path = rrd_path
+        self.files = " and ".join(str(p) for p in (csv_path, rrd_path) if p is not None)
+        """What it writes, as an error names it."""
+        self.process_name = "the rerun writer process" if rrd_path is not None else "the CSV writer process"
         self.on_status = on_status or (lambda line: None)
         self._calls: list[tuple[str, tuple]] = []
         self._broken = False
         self._closed = False
-        self._send(("open", {"rrd_path": rrd_path, "name": name, "world": world}))
+        self._send(("open", {"rrd_path": rrd_path, "csv_path": csv_path, "name": name, "world": world}))
 
     def _send(self, message: tuple) -> None:
         if self._broken:
@@ -233,17 +274,23 @@ class WriterSink(Sink):
             w.down.close()
         except OSError:
             self._broken = True
-        try:
-            answer = pickle.load(w.up)
-        except Exception:  # noqa: BLE001 - no answer: the writer died
-            answer = None
-        w.up.close()
-        try:
-            os.waitpid(w.pid, 0)
-        except ChildProcessError:
-            pass
+        answer = None
+        late = not select.select([w.up], [], [], CLOSE_TIMEOUT_S)[0]
+        if late:
+            w.end()
+        else:
+            try:
+                answer = pickle.load(w.up)
+            except Exception:  # noqa: BLE001 - no answer: the writer died
+                answer = None
+            w.up.close()
+            try:
+                os.waitpid(w.pid, 0)
+            except ChildProcessError:
+                pass
         if answer is None:
-            raise SinkError(f"could not finish writing {self.rrd_path}: the rerun writer process ended early")
+            why = "did not finish in time" if late else "ended early"
+            raise SinkError(f"could not finish writing {self.files}: {self.process_name} {why}")
         for line in answer["notes"]:
             self.on_status(line)
         error = answer["error"]
@@ -251,4 +298,14 @@ class WriterSink(Sink):
             return
         if error[0] == "os":
             raise OSError(error[1], error[2], error[3])
-        raise SinkError(f"could not finish writing {self.rrd_path}: {error[1]}")
+        raise SinkError(f"could not finish writing {self.files}: {error[1]}")
+
+
+class RecorderSink(WriterSink):
+    """``crslab serve``'s downloads of a run, ``csv_path`` and/or ``rrd_path``, written by a writer
+    process forked now (the caller runs no other thread); the notes of rerun are dropped."""
+
+    def __init__(self, csv_path: Path | None, rrd_path: Path | None, name: str,
+                 world: World | None = None) -> None:
+        super().__init__(fork_writer(preload_rerun=rrd_path is not None), rrd_path=rrd_path,
+                         csv_path=csv_path, name=name, world=world)

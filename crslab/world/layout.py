@@ -536,11 +536,42 @@ def _box(what: str, table: str, center: object, size: object) -> Box:
     return Box(what, table, tuple(map(float, c - s)), tuple(map(float, c + s)))
 
 
+@dataclass(frozen=True)
+class Stand:
+    """A block under a plate that stands higher than the table (the groove plate, the egg's
+    scale): half the plate's footprint, from the table (or the floor, z = 0) up to the plate."""
+
+    name: str
+    """Its body's name in the scene (``groove_stand``)."""
+    what: str
+    """What a message calls it."""
+    center_m: Triple
+    size_m: Triple
+    """Its full extents."""
+
+
+def stands(world: World) -> dict[str, Stand]:
+    """The stands of ``world``, by the table they belong to (``groove``, ``egg``)."""
+    floor = world.table.top_z_m if world.table is not None else 0.0
+    plates = {}  # table: (name, what, the plate's centre x y, the plate's bottom z, the plate's size)
+    if (g := world.groove) is not None:
+        plates["groove"] = ("groove_stand", "the groove plate's stand", g.plate_center_xy_m,
+                            g.top_z_m - g.plate_size_m[2], g.plate_size_m)
+    if (e := world.egg) is not None:
+        plates["egg"] = ("scale_stand", "the scale's stand", e.center_xy_m,
+                         e.scale_top_z_m - e.scale_size_m[2], e.scale_size_m)
+    return {
+        table: Stand(name, what, (*xy, (floor + bottom) / 2), (size[0] * 0.5, size[1] * 0.5, bottom - floor))
+        for table, (name, what, xy, bottom, size) in plates.items()
+        if bottom > floor
+    }
+
+
 def fixture_boxes(world: World) -> list[Box]:
     """Every fixture's solid parts as axis-aligned boxes (stands included; the table is left out:
     the arm stands on it). A box bounds the fixture; the egg's is its bounding box."""
     out = []
-    floor = world.table.top_z_m if world.table is not None else 0.0
+    under = stands(world)
     if (h := world.hole) is not None:
         out.append(
             _box(
@@ -552,16 +583,8 @@ def fixture_boxes(world: World) -> list[Box]:
     if (g := world.groove) is not None:
         top, size = g.top_z_m, g.plate_size_m
         out.append(_box("the groove plate", "groove", (*g.plate_center_xy_m, top - size[2] / 2), size))
-        bottom = top - size[2]
-        if bottom > floor:
-            out.append(
-                _box(
-                    "the groove plate's stand",
-                    "groove",
-                    (*g.plate_center_xy_m, (floor + bottom) / 2),
-                    (size[0] * 0.5, size[1] * 0.5, bottom - floor),
-                )
-            )
+        if (stand := under.get("groove")) is not None:
+            out.append(_box(stand.what, "groove", stand.center_m, stand.size_m))
     if (e := world.egg) is not None:
         out.append(
             _box(
@@ -573,16 +596,8 @@ def fixture_boxes(world: World) -> list[Box]:
         )
         scale = e.scale_size_m
         out.append(_box("the egg's scale", "egg", (*e.center_xy_m, e.scale_top_z_m - scale[2] / 2), scale))
-        bottom = e.scale_top_z_m - scale[2]
-        if bottom > floor:
-            out.append(
-                _box(
-                    "the scale's stand",
-                    "egg",
-                    (*e.center_xy_m, (floor + bottom) / 2),
-                    (scale[0] * 0.5, scale[1] * 0.5, bottom - floor),
-                )
-            )
+        if (stand := under.get("egg")) is not None:
+            out.append(_box(stand.what, "egg", stand.center_m, stand.size_m))
     return out
 
 

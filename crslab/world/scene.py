@@ -30,7 +30,7 @@ import numpy as np
 
 from crslab import crs
 from crslab.plant.model_files import ARM_XML, SCENE_XML
-from crslab.world.layout import World
+from crslab.world.layout import World, stands
 
 WRIST_JOINT = "peg_wrist"
 """The peg's wrist joint (world scenes only): kept at minus the forearm's absolute angle."""
@@ -255,28 +255,9 @@ def _egg_and_scale(parent: ET.Element, world: World, mat: _Materials) -> None:
 
 
 def _stands(parent: ET.Element, world: World, mat: _Materials) -> None:
-    floor = world.table.top_z_m if world.table is not None else 0.0
     body = _body(parent, "stands")
-    if (g := world.groove) is not None and (bottom := g.top_z_m - g.plate_size_m[2]) > floor:
-        sx, sy = g.plate_size_m[0] / 4, g.plate_size_m[1] / 4
-        _box(
-            body,
-            "groove_stand",
-            (*g.plate_center_xy_m, (floor + bottom) / 2),
-            (sx, sy, (bottom - floor) / 2),
-            mat.rigid,
-            WOOD,
-        )
-    if (e := world.egg) is not None and (bottom := e.scale_top_z_m - e.scale_size_m[2]) > floor:
-        sx, sy = e.scale_size_m[0] / 4, e.scale_size_m[1] / 4
-        _box(
-            body,
-            "scale_stand",
-            (*e.center_xy_m, (floor + bottom) / 2),
-            (sx, sy, (bottom - floor) / 2),
-            mat.rigid,
-            WOOD,
-        )
+    for stand in stands(world).values():
+        _box(body, stand.name, stand.center_m, np.asarray(stand.size_m) / 2, mat.rigid, WOOD)
 
 
 def _peg(forearm: ET.Element, world: World) -> None:

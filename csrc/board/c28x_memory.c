@@ -42,40 +42,37 @@ static uint64_t host_integer(const unsigned char *p, uint32_t bytes, int is_sign
     return v;
 }
 
+/* A host real of `bytes` bytes (float, double or long double) at p, widened exactly. */
+static long double host_real(const unsigned char *p, size_t bytes)
+{
+    if (bytes == sizeof(float)) {
+        float f;
+        memcpy(&f, p, sizeof f);
+        return f;
+    }
+    if (bytes == sizeof(double)) {
+        double d;
+        memcpy(&d, p, sizeof d);
+        return d;
+    }
+    long double ld;
+    memcpy(&ld, p, sizeof ld);
+    return ld;
+}
+
 static void element_words(const crs_mem_var *v, uint32_t index, uint16_t out[MAX_WORDS])
 {
     const unsigned char *p = (const unsigned char *)v->host + (size_t)index * v->host_bytes;
     uint64_t bits = 0;
     if (v->kind == CRS_MEM_FLOAT) {
+        long double value = host_real(p, v->host_bytes); /* exact: every host real widens to it */
         if (v->words == 2) { /* a C28x float (or double, 32 bits under the COFF ABI) */
-            float f;
-            if (v->host_bytes == sizeof(float)) {
-                memcpy(&f, p, sizeof f);
-            } else if (v->host_bytes == sizeof(double)) {
-                double d;
-                memcpy(&d, p, sizeof d);
-                f = (float)d;
-            } else {
-                long double d;
-                memcpy(&d, p, sizeof d);
-                f = (float)d;
-            }
+            float f = (float)value;
             uint32_t b;
             memcpy(&b, &f, sizeof b);
             bits = b;
         } else { /* a C28x long double: IEEE double */
-            double d;
-            if (v->host_bytes == sizeof(double)) {
-                memcpy(&d, p, sizeof d);
-            } else if (v->host_bytes == sizeof(float)) {
-                float f;
-                memcpy(&f, p, sizeof f);
-                d = f;
-            } else {
-                long double ld;
-                memcpy(&ld, p, sizeof ld);
-                d = (double)ld;
-            }
+            double d = (double)value;
             memcpy(&bits, &d, sizeof bits);
         }
     } else if (v->kind == CRS_MEM_BOOL) {
