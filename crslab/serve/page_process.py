@@ -14,9 +14,9 @@ the page was shown is the one that runs; the scenario loaded and checked against
 host (:mod:`crslab.serve.run_host`) runs it as an instance of its board worker with the same
 :class:`~crslab.sim.simulation.Simulation` steps, its transcript written by the same
 :class:`~crslab.sinks.transcript_file.TranscriptSink`, the CSV and the rerun recording by the same
-sinks as ``--csv`` and ``--rrd`` (in a recorder process, :mod:`crslab.serve.recorder`). Only the
-chunks are the page's (:data:`~crslab.sim.pacing.PAGE_CHUNKS`), so the bytes are the same at any
-speed.
+sinks as ``--csv`` and ``--rrd`` (in a recorder process,
+:class:`crslab.sinks.rerun_writer.RecorderSink`). Only the chunks are the page's
+(:data:`~crslab.sim.pacing.PAGE_CHUNKS`), so the bytes are the same at any speed.
 """
 
 from __future__ import annotations

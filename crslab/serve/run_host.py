@@ -135,7 +135,7 @@ class HostedSession:
         self.out.add(stream)
         self.out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
         if run.record_csv or run.record_rrd:  # forked now: the host runs no other thread
-            from crslab.serve.recorder import RecorderSink
+            from crslab.sinks.rerun_writer import RecorderSink
 
             self.out.add(RecorderSink(out_dir / DOWNLOADS["csv"] if run.record_csv else None,
                                       out_dir / DOWNLOADS["rrd"] if run.record_rrd else None, name,
