@@ -290,8 +290,6 @@ class CrsServer:
             await ws.send_text(json.dumps({"type": "error", "message": str(exc)}))
             await ws.close(code=4429)
             return
-        if len(self.sessions.hosts.hosts) < self.sessions.hosts.count:
-            asyncio.create_task(self.sessions.hosts.warm())  # noqa: RUF006 - the hosts keep themselves
         try:
             await self._relay(ws, session)
         finally:
@@ -374,6 +372,9 @@ class CrsServer:
                 except (ProtocolError, LimitError) as exc:
                     await ws.send_text(json.dumps({"type": "error", "message": str(exc)}))
                     continue
+                if msg["type"] in ("build", "run") and len(hosts.hosts) < hosts.count:
+                    # the run hosts start while the lab builds (not while a page loads)
+                    asyncio.create_task(hosts.warm())  # noqa: RUF006 - the hosts keep themselves
                 if msg["type"] in RUN_COMMANDS and hosts.hosts_run(session.id):
                     await hosts.command(session.id, msg)
                 elif msg["type"] in RUN_COMMANDS and session.running == "run":

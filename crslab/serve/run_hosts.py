@@ -1,6 +1,6 @@
 """The server's side of the run hosts: a few processes (about one per core) that run every page's
-lab (:mod:`crslab.serve.run_host`), started from the sessions' fork server when the first run
-comes, each spoken to over one pipe on the server's event loop.
+lab (:mod:`crslab.serve.run_host`), started from the sessions' fork server when a page first
+builds or runs (while its lab builds), each spoken to over one pipe on the server's event loop.
 
 A session process hands the server a prepared run; :meth:`RunHosts.hand` gives it to the host with
 the fewest runs, and from then on the page's commands for that run go to that host
