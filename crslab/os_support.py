@@ -46,6 +46,18 @@ def unsupported_platform(system: str | None = None) -> str | None:
 PR_SET_PDEATHSIG = 1
 
 
+PR_SET_NAME = 15
+
+
+def name_process(name: str) -> None:
+    """Give this process ``name`` (at most 15 bytes) where ``ps`` and ``/proc/PID/comm`` show it
+    (Linux; elsewhere nothing)."""
+    try:
+        ctypes.CDLL(None).prctl(PR_SET_NAME, ctypes.c_char_p(name.encode()[:15]), 0, 0, 0)
+    except (OSError, AttributeError):
+        pass
+
+
 def die_with_parent() -> None:
     """Ask the kernel to kill this process when its parent dies (best effort)."""
     try:

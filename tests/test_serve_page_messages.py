@@ -118,7 +118,7 @@ def test_writing_a_watched_variable_changes_what_the_lab_prints(alice):
 
 
 def test_stop_ends_a_real_time_run_within_a_chunk(alice):
-    from crslab.serve.stream import IDLE_CHUNK_TICKS
+    from crslab.sim.pacing import PAGE_CHUNKS
 
     alice.send(run_message(LAB_A, speed=1.0))
     first = alice.until("chunk")[-1]["tick"]
@@ -127,7 +127,7 @@ def test_stop_ends_a_real_time_run_within_a_chunk(alice):
     end = got[-1]["end_tick"]
     assert got[-1]["status"] == "interrupted"
     # the run was paced: stopped within a chunk of when the stop came (not run on to 25 s)
-    assert first <= end <= first + IDLE_CHUNK_TICKS
+    assert first <= end <= first + PAGE_CHUNKS.realtime_ticks
     assert max((m["tick"] for m in got if m["type"] == "chunk"), default=first) <= end
 
 
@@ -400,10 +400,9 @@ assert set(USERS) == {"alice", "bob", "ta"}
 def test_letting_go_takes_the_hands_force_away_once():
     """The page's control between two chunks: a hand pushes the grabbed link toward the mouse (a
     force on that body only, toward the target), a release pushes zero once, then nothing."""
-    from multiprocessing import Pipe
-
     from crslab.live.console import VarConsole
     from crslab.serve.stream import ArmPoses, BrowserStream, PageControl
+    from crslab.sim.pacing import PAGE_CHUNKS, Pacer
 
     class Lab:
         tick = 100
@@ -412,21 +411,22 @@ def test_letting_go_takes_the_hands_force_away_once():
         def push(self, forces):
             self.pushes.append(np.array(forces))
 
-    ours, page = Pipe()
     arm = ArmPoses()
     stream = BrowserStream(lambda data: None, arm)
     stream.last_qpos = np.array([0.0, -np.pi / 2, np.pi / 2])  # motor zero: the forearm level
-    control = PageControl(ours, lambda data: None, stream, VarConsole(()), None, lambda msg: None)
+    control = PageControl(lambda data: None, stream, VarConsole(()), Pacer(None, chunks=PAGE_CHUNKS),
+                          lambda msg: None)
     lab = Lab()
     # the forearm's tip is at x y z = 10 0 20 in (0.254 0 0.508 m); the mouse holds it 0.2 m higher
-    page.send({"type": "hand", "body": "forearm", "anchor": [0.254, 0.0, 0.0], "target": [0.254, 0.0, 0.708]})
+    control.command(lab, {"type": "hand", "body": "forearm", "anchor": [0.254, 0.0, 0.0],
+                          "target": [0.254, 0.0, 0.708]})
     control.serve(lab)
     forearm = arm.body_ids[arm.names.index("forearm")]
     pushed = lab.pushes[-1]
     # the spring: 400 N/m x 0.2 m straight up (the first push: no velocity yet to damp)
     assert np.allclose(pushed[forearm, :3], [0.0, 0.0, 80.0], atol=1e-6)
     assert np.all(np.delete(pushed, forearm, axis=0) == 0)
-    page.send({"type": "release"})
+    control.command(lab, {"type": "release"})
     control.serve(lab)
     control.serve(lab)
     assert len(lab.pushes) == 2 and np.all(lab.pushes[-1] == 0)

@@ -68,29 +68,39 @@ def test_sessions_starting_and_ending_in_threads_while_the_loop_admits_runs(monk
 def test_each_run_ends_its_chunks_at_its_own_phase_of_the_clock(monkeypatch):
     """A watching run's chunks end where the server's phase puts them in every 250 ms of the
     machine's clock (the first takes 125 to 375 ms to get there, the others 250), so runs started
-    together do not all wake at once; while the page acts, chunks are 20 ms."""
-    from multiprocessing import Pipe
-
+    together do not all wake at once; while the page acts, chunks are 20 ms; the one pacer (the
+    terminal's too) says when the next chunk is due."""
     from crslab.live.console import VarConsole
-    from crslab.serve import stream as stream_module
-    from crslab.serve.stream import IDLE_CHUNK_TICKS, INTERACTIVE_CHUNK_TICKS, PageControl
+    from crslab.serve.stream import INTERACTIVE_CHUNK_TICKS, BrowserStream, PageControl
+    from crslab.sim import pacing
+    from crslab.sim.pacing import PAGE_CHUNKS, Pacer
 
     clock = [1000.0375]  # the machine's monotonic clock, s
-    monkeypatch.setattr(stream_module.time, "monotonic", lambda: clock[0])
-    ours, _page = Pipe()
+    monkeypatch.setattr(pacing.time, "monotonic", lambda: clock[0])
+
+    class Lab:
+        tick = 0
+
     for phase in (0.0, 0.3, 0.618, 0.99):
-        control = PageControl(ours, lambda data: None, None, VarConsole(()), 1.0, lambda msg: None,  # type: ignore[arg-type]
-                              phase=phase)
-        control.start()  # tick 0 is due at 1000.0375 s
-        first = control.chunk_ticks(None)
+        pacer = Pacer(1.0, chunks=PAGE_CHUNKS, phase=phase)  # tick 0 is due at 1000.0375 s
+        stream = BrowserStream(lambda data: None, None)  # type: ignore[arg-type]
+        control = PageControl(lambda data: None, stream, VarConsole(()), pacer, lambda msg: None)
+        first, _ = pacer.next_chunk(0, 25_000, [control])
         assert 125 <= first <= 375
         end_due = 1000.0375 + first / 1000.0
+        assert pacer.due_s(first) == end_due
         # within half a tick of the phase (the chunk is whole ticks)
         assert abs((end_due - phase * 0.25 + 0.125) % 0.25 - 0.125) <= 0.0005
-        control._tick = first
-        assert control.chunk_ticks(None) == IDLE_CHUNK_TICKS
-        control._acted_until = first + 2000  # the page just wrote a variable
-        assert control.chunk_ticks(None) == INTERACTIVE_CHUNK_TICKS
+        assert pacer.next_chunk(first, 25_000, [control])[0] == first + PAGE_CHUNKS.realtime_ticks
+        lab = Lab()
+        lab.tick = first
+        control.command(lab, {"type": "speed", "speed": 2.0})
+        # the page just acted (a new speed, due from now): 20 ms x 2 of chunks, for 2 s of ticks
+        assert pacer.next_chunk(first, 25_000, [control])[0] == first + 2 * INTERACTIVE_CHUNK_TICKS
+        assert pacer.due_s(first + 1000) == clock[0] + 0.5
+        lab.tick = first + 2000  # 2 s of ticks later: the page only watches again
+        control.serve(lab)
+        assert control.chunk_ticks(2.0) is None
 
 
 def test_the_phases_of_many_runs_lie_evenly_over_the_period():

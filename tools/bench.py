@@ -4,7 +4,8 @@ Each benchmark module has ``run() -> list[str]`` returning the lines to print; e
 what it measures and, beside a ratio, the target an issue set. A benchmark that fails prints its
 error and the run exits non-zero after the others have run. Other modules in ``benchmarks/``
 (no ``bench_`` prefix) are helpers the benchmarks import. ``python tools/bench.py sim scopes``
-runs only those.
+runs only those; options after the names go to each benchmark named (its ``run(options)``):
+``python tools/bench.py serve --sessions 300``.
 """
 
 from __future__ import annotations
@@ -20,7 +21,13 @@ sys.path.insert(0, str(HERE / "benchmarks"))  # the benchmarks' helper modules
 
 
 def main() -> int:
-    only = sys.argv[1:]
+    args = sys.argv[1:]
+    first_option = next((i for i, a in enumerate(args) if a.startswith("-")), len(args))
+    only, options = args[:first_option], args[first_option:]
+    if options and not only:
+        print("bench: options go to the benchmarks named before them (tools/bench.py serve --sessions 300)",
+              file=sys.stderr)
+        return 2
     failed = 0
     for path in sorted((HERE / "benchmarks").glob("bench_*.py")):
         name = path.stem.removeprefix("bench_")
@@ -33,7 +40,7 @@ def main() -> int:
         start = time.perf_counter()
         try:
             spec.loader.exec_module(module)
-            for line in module.run():
+            for line in (module.run(options) if options else module.run()):
                 print(f"   {line}", flush=True)
         except Exception:  # noqa: BLE001 - report and go on with the other benchmarks
             traceback.print_exc()

@@ -72,7 +72,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         type=int,
         default=1024,
         metavar="MB",
-        help="memory limit of each run's lab process (default: %(default)s)",
+        help="memory limit of a check's lab process (default: %(default)s; a run's firmware has its "
+        "WebAssembly memory)",
     )
     p.add_argument(
         "--secret-file",

@@ -37,8 +37,9 @@ from starlette.websockets import WebSocket, WebSocketDisconnect, WebSocketDiscon
 from crslab.generations import GENERATIONS, NEWEST
 from crslab.serve.auth import Backoff, CookieSigner, User, verify_secret
 from crslab.serve.page_messages import ProtocolError, parse_message
-from crslab.serve.page_process import DOWNLOADS, RUN_ENDED, RUN_STARTED
+from crslab.serve.page_process import HOST_RUN
 from crslab.serve.page_sessions import LimitError, PageSession, Sessions
+from crslab.serve.run_host import DOWNLOADS, RUN_ENDED, RUN_STARTED
 from crslab.starters import LABS, starter_text
 
 STATIC = Path(__file__).parent / "static"
@@ -46,6 +47,8 @@ COOKIE = "crslab_session"
 USER_COOKIE = "crslab_user"
 """The user's name, not secret: a reverse proxy keeps each user on one replica by it."""
 LOCAL_USER = "you"
+RUN_COMMANDS = ("stop", "speed", "vars", "hand", "release")
+"""What the page says to its running lab: its run host gets them."""
 CSP = (
     "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
     "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'"
@@ -293,12 +296,29 @@ class CrsServer:
             await asyncio.to_thread(self.sessions.close, session)
 
     async def _relay(self, ws: WebSocket, session: PageSession) -> None:
-        """Hand the page's checked messages to the session process and its messages to the page,
-        over the session's pipe as asyncio streams (multiprocessing's framing: a 4-byte big-endian
-        length, then the bytes; the server's messages are pickled dicts, the session's JSON)."""
+        """Hand the page's checked messages to the session process (a running lab's commands to
+        its run host) and the messages of both to the page, over the session's pipe as asyncio
+        streams (multiprocessing's framing: a 4-byte big-endian length, then the bytes; the
+        server's messages are pickled dicts, the session's JSON) and the host's
+        (:mod:`crslab.serve.run_hosts`). Every message for the page goes through one outbox, in
+        order."""
         reader, writer = await asyncio.open_connection(sock=session.take_socket())
+        outbox: asyncio.Queue[tuple[bytes, bytes] | None] = asyncio.Queue()
+        hosts = self.sessions.hosts
 
-        async def to_page() -> None:
+        def post(tag: bytes, body: bytes) -> None:
+            outbox.put_nowait((tag, body))
+
+        def take_pending() -> list[dict]:
+            pending, session.pending = session.pending, []
+            return pending
+
+        async def to_session(msg: dict) -> None:
+            data = pickle.dumps(msg)
+            writer.write(struct.pack("!i", len(data)) + data)
+            await writer.drain()
+
+        async def from_session() -> None:
             try:
                 while True:
                     (size,) = struct.unpack("!i", await reader.readexactly(4))
@@ -306,21 +326,33 @@ class CrsServer:
                         (size,) = struct.unpack("!Q", await reader.readexactly(8))
                     data = await reader.readexactly(size)
                     tag, body = data[:1], data[1:]
+                    if tag == HOST_RUN:  # a prepared run: a host runs it from now on
+                        await hosts.hand(session.id, body, post, take_pending)
+                    else:
+                        post(tag, body)
+            except (asyncio.IncompleteReadError, ConnectionError):
+                outbox.put_nowait(None)
+
+        async def to_page() -> None:
+            try:
+                while (item := await outbox.get()) is not None:
+                    tag, body = item
                     if tag == RUN_ENDED:
                         session.running = None
+                        for msg in take_pending():  # for a run that never started: the session answers
+                            await to_session(msg)
                     elif tag == RUN_STARTED:
                         session.running = "run"
                     await ws.send_text(body.decode())
-            except (asyncio.IncompleteReadError, ConnectionError):
-                try:
-                    if session.running is not None:
-                        await ws.send_text(json.dumps({
-                            "type": "ended", "status": "crashed", "exit_status": 3,
-                            "message": "crslab's session process ended unexpectedly"}))
-                    await ws.close(code=1011)
-                except (WebSocketDisconnected, WebSocketDisconnect):
-                    pass  # the page had gone first: its going is what ended the session
+                if session.running is not None:
+                    await ws.send_text(json.dumps({
+                        "type": "ended", "status": "crashed", "exit_status": 3,
+                        "message": "crslab's session process ended unexpectedly"}))
+                await ws.close(code=1011)
+            except (WebSocketDisconnected, WebSocketDisconnect, ConnectionError):
+                pass  # the page had gone first: its going is what ended the session
 
+        reading = asyncio.create_task(from_session())
         pump = asyncio.create_task(to_page())
         await ws.send_text(json.dumps({"type": "hello", "session": session.id, "user": session.user}))
         try:
@@ -340,14 +372,22 @@ class CrsServer:
                 except (ProtocolError, LimitError) as exc:
                     await ws.send_text(json.dumps({"type": "error", "message": str(exc)}))
                     continue
-                data = pickle.dumps(msg)
-                writer.write(struct.pack("!i", len(data)) + data)
-                await writer.drain()
+                if msg["type"] in ("build", "run") and len(hosts.hosts) < hosts.count:
+                    # the run hosts start while the lab builds (not while a page loads)
+                    asyncio.create_task(hosts.warm())  # noqa: RUF006 - the hosts keep themselves
+                if msg["type"] in RUN_COMMANDS and hosts.hosts_run(session.id):
+                    await hosts.command(session.id, msg)
+                elif msg["type"] in RUN_COMMANDS and session.running == "run":
+                    session.pending.append(msg)  # the run is being prepared: its host gets it next
+                else:
+                    await to_session(msg)
         except (WebSocketDisconnect, ConnectionError):
             return
         finally:
+            reading.cancel()
             pump.cancel()
-            writer.close()  # the session process sees the pipe close: it ends its run and itself
+            await hosts.forget(session.id)  # its run (if any) ends now
+            writer.close()  # the session process sees the pipe close: it ends itself
 
 
 def _address(request: Request) -> str:

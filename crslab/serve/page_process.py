@@ -1,26 +1,29 @@
-"""One page's session: a process of its own that builds and runs the page's labs.
+"""One page's session: a process of its own that builds the page's labs, prepares its runs and
+checks its golden files.
 
 The server starts it from a single-threaded fork server with crslab already imported (as
-``crslab grade`` starts its jobs), so it may fork each run's sandboxed worker safely and run the
+``crslab grade`` starts its jobs), so it may fork a check's sandboxed worker safely and run the
 sandboxed compiler; a crash in it touches no other session. It speaks to the server over one
 pipe: the server's checked messages in (:mod:`crslab.serve.page_messages`), messages for the page out,
 each prefixed with one byte saying what the server should note (:data:`FORWARD`,
-:data:`RUN_STARTED`, :data:`RUN_ENDED`).
+:data:`RUN_STARTED`, :data:`RUN_ENDED`), or :data:`HOST_RUN`: a prepared run for a run host.
 
 Every run is ``crslab sim``'s, put together by :mod:`crslab.sim.assemble`: the same
-:func:`~crslab.sim.assemble.make_config` (the lab built in the compile sandbox, once: the build the
-page was shown is the one that runs; the scenario loaded and checked against it), the same
-:func:`~crslab.sim.assemble.started` run and worker in the run sandbox, its transcript written by
-the same :class:`~crslab.sinks.transcript_file.TranscriptSink`, the CSV and the rerun recording
-by the same sinks as ``--csv`` and ``--rrd`` (in a recorder process, :mod:`crslab.serve.recorder`:
-this process stays single-threaded, so it may fork the next run's worker safely). Only the pacing
-is the page's (:class:`~crslab.serve.stream.PageControl`), so the bytes are the same at any speed.
+:func:`~crslab.sim.assemble.make_config` here (the lab built in the compile sandbox, once: the build
+the page was shown is the one that runs; the scenario loaded and checked against it); then a run
+host (:mod:`crslab.serve.run_host`) runs it as an instance of its board worker with the same
+:class:`~crslab.sim.simulation.Simulation` steps, its transcript written by the same
+:class:`~crslab.sinks.transcript_file.TranscriptSink`, the CSV and the rerun recording by the same
+sinks as ``--csv`` and ``--rrd`` (in a recorder process,
+:class:`crslab.sinks.rerun_writer.RecorderSink`). Only the chunks are the page's
+(:data:`~crslab.sim.pacing.PAGE_CHUNKS`), so the bytes are the same at any speed.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import os
+import pickle
 import shutil
 import signal
 from multiprocessing.connection import Connection
@@ -29,31 +32,23 @@ from pathlib import Path
 from crslab import os_support
 from crslab.lab.build import LabBuild, LabBuildError, LabForbidden, build_lab
 from crslab.lab.firmware import is_zig_prepared, prepare_zig
-from crslab.live.console import VarConsole
 from crslab.plant.plant_params import PlantParamsError
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
 from crslab.serve.page_messages import compile_diagnostics, habit_diagnostics
 from crslab.serve.page_text import SESSION_SUBFOLDERS, PageText
-from crslab.serve.recorder import RecorderSink
-from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
-from crslab.sim.assemble import DEFAULT_REST_MOTOR_RAD, NoLab, make_config, started
-from crslab.sim.simulation import DEFAULT_DEADLINE_S, Limits, SimError
-from crslab.sim.status import RunResult, RunStatus
-from crslab.sinks.sink import FanOut, SinkError
-from crslab.sinks.transcript_file import TranscriptSink
-from crslab.world.layout import World
+from crslab.serve.run_host import DOWNLOADS, FORWARD, RUN_ENDED, HostedRun
+from crslab.serve.stream import Stopped, message
+from crslab.sim.assemble import DEFAULT_REST_MOTOR_RAD, make_config
+from crslab.sim.simulation import Limits, SimError
+from crslab.sim.status import RunStatus
+from crslab.worker.config import SimConfig
 
-FORWARD = b"F"
-"""The message is for the page only."""
-RUN_STARTED = b"R"
-"""For the page; the server notes that a run is going on."""
-RUN_ENDED = b"E"
-"""For the page; the server notes that the run is over."""
+HOST_RUN = b"H"
+"""For the server: a prepared run (a pickled :class:`~crslab.serve.run_host.HostedRun`) to hand to a
+run host."""
 BAD_INPUT = "bad-input"
 """An ``ended`` status beside the run statuses: the scenario (or another input) could not be used."""
-DOWNLOADS = {"transcript": "transcript.txt", "csv": "run.csv", "rrd": "run.rrd"}
-"""The files of the last run a page may download, by kind."""
 
 
 class PageProgress:
@@ -97,8 +92,6 @@ class Session:
         self.conn = conn
         self.folder = folder
         self.limits = limits
-        self._arm: ArmPoses | None = None
-        self._world_arms: dict[str, ArmPoses] = {}
         for sub in SESSION_SUBFOLDERS:
             (folder / sub).mkdir(parents=True, exist_ok=True)
         self.page_text = PageText(folder)
@@ -107,20 +100,6 @@ class Session:
         """A message for the page (``tag``: what the server should note), naming files as the page
         named them and no server path (:mod:`crslab.serve.page_text`)."""
         self.conn.send_bytes(tag + self.page_text.message(data))
-
-    @property
-    def arm(self) -> ArmPoses:
-        if self._arm is None:
-            self._arm = ArmPoses()
-        return self._arm
-
-    def arm_in(self, world: World) -> ArmPoses:
-        """The arm's poses in ``world``'s scene (the hand's forces go to that scene's bodies)."""
-        if world.is_free_air:
-            return self.arm
-        if world.name not in self._world_arms:
-            self._world_arms[world.name] = ArmPoses(world)
-        return self._world_arms[world.name]
 
     # -- files the page sent ----------------------------------------------------------------
     def _write(self, sub: str, file: dict) -> Path:
@@ -225,72 +204,15 @@ class Session:
         if end_tick > seconds_to_tick(self.limits.max_run_s):
             end_tick = seconds_to_tick(self.limits.max_run_s)
             notes.append(f"this server runs a lab for at most {self.limits.max_run_s:g} s of simulated time")
-        out_dir = self.folder / "out"
-        out = FanOut()
-        stream = BrowserStream(self.send, self.arm_in(config.world), world=not config.world.is_free_air)
-        out.add(stream)
-        out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
-        console = VarConsole(config.build.watched)
-        control = PageControl(self.conn, self.send, stream, console, msg["speed"], self._busy,
-                              phase=msg.get("phase", 0.0))
-        limits = Limits(
-            memory_mb=self.limits.memory_mb,
-            cpu_s=self.limits.cpu_s,
-            output_bytes=int(self.limits.output_mb * 1e6),
-        )
-        if record["csv"] or record["rrd"]:  # forked now, while this process runs no other thread
-            out.add(RecorderSink(out_dir / DOWNLOADS["csv"] if record["csv"] else None,
-                                 out_dir / DOWNLOADS["rrd"] if record["rrd"] else None, path.name,
-                                 config.world))
-        result: RunResult | None = None
-        try:
-            with started(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits) as sim:
-                events = [{"tick": e.tick, "text": e.describe()} for e in config.scenario.events]
-                control.start()
-                self.send(
-                    message(
-                        "started",
-                        end_tick=end_tick,
-                        scenario=config.scenario.name,
-                        speed=msg["speed"],
-                        events=events,
-                        notes=notes,
-                        due_monotonic=control.origin,
-                        watched=[v.name for v in config.build.watched],
-                    ),
-                    RUN_STARTED,
-                )
-                result = sim.run(
-                    end_tick,
-                    out,
-                    speed=None,
-                    controls=[control],
-                )
-        except NoLab as exc:
-            self._ended(exc.status, str(exc))
-            return
-        except SimError as exc:
-            result = RunResult(exc.status, 0, str(exc))
-        finally:
-            try:
-                out.close()
-            except SinkError as exc:
-                notes.append(str(exc))
-        if result.status is RunStatus.INTERRUPTED:
-            result = dataclasses.replace(result, message=f"stopped at t = {result.end_tick / 1000:.3f} s")
-        failed = [line for e in result.failed_expectations for line in e.lines()]
-        downloads = [kind for kind, name in DOWNLOADS.items() if (out_dir / name).exists()]
-        self._ended(
-            result.status,
-            result.message,
-            end_tick=result.end_tick,
-            failed_expectations=failed,
-            notes=notes,
-            downloads=downloads,
-        )
+        compile_module(config)
+        self.hand_over(HostedRun(config, end_tick, msg["speed"], msg.get("phase", 0.0), tuple(notes),
+                                 self.folder.resolve(), record_csv=record["csv"], record_rrd=record["rrd"],
+                                 output_bytes=int(self.limits.output_mb * 1e6)))
 
-    def _busy(self, msg: dict) -> None:
-        self.send(message("error", message=f"{msg.get('type')}: a run is going on; stop it first"))
+    def hand_over(self, run: HostedRun) -> None:
+        """The prepared run, for the server to hand to a run host (:mod:`crslab.serve.run_host`),
+        which opens it, streams it to the page and says ``ended``."""
+        self.conn.send_bytes(HOST_RUN + pickle.dumps(run))
 
     # -- check against a golden file --------------------------------------------------------
     def check(self, msg: dict) -> None:
@@ -356,6 +278,25 @@ class Session:
         )
 
 
+def compile_module(config: SimConfig) -> None:
+    """Have wasmtime compile the run's firmware into the build cache now, unless it is there
+    already (a lab's first run): here, in this session's own worker, the 0.1 s it takes costs the
+    run host's other runs nothing; the host's worker then only loads it."""
+    from crslab.sim.simulation import Simulation
+    from crslab.worker.wasm_runtime import WasmImage
+
+    if config.build.native:
+        return
+    kept = WasmImage.read(config.build.image).compiled_path()
+    if kept is None or kept.exists():
+        return
+    try:
+        with Simulation(config):  # the board compiles the module and keeps it (sealed)
+            pass
+    except SimError:
+        pass  # the run host opens it again and says why
+
+
 def _terminated(signum: int, frame: object) -> None:
     """SIGTERM (the server closing the session: the page went): unwind whatever runs, so a build's
     compiler group and a run's worker are ended on the way out."""
@@ -405,5 +346,6 @@ def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
                 else:
                     session.send(message("error", message=text))
     finally:
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # the server's SIGTERM may come now: finish
         shutil.rmtree(folder, ignore_errors=True)
         os._exit(0)

@@ -1,7 +1,8 @@
 """The server's side of the page sessions: one process each, the limits, and what the admin sees.
 
 A session process is started from a fork server that imported crslab once
-(:func:`session_context`), with a pipe to the server and a private folder. The server keeps, per
+(:func:`session_context`), with a pipe to the server and a private folder; it builds and prepares
+the page's runs, which the run hosts (:mod:`crslab.serve.run_hosts`) run. The server keeps, per
 session, who owns it, when it started and what it runs (from the tags of the messages it relays,
 :mod:`crslab.serve.page_process`), and enforces the per-user limits before it hands a message
 on: one build, run or check at a time, compiles per minute, and the number of sessions at once
@@ -25,9 +26,11 @@ from pathlib import Path
 from crslab import os_support
 from crslab.serve.auth import RateLimit
 from crslab.serve.page_process import SessionLimits, serve_session
+from crslab.serve.run_hosts import RunHosts
 
 PRELOAD = [
     "crslab.serve.page_process",
+    "crslab.serve.run_host",
     "crslab.worker.worker",
     "crslab.sandbox.run_sandbox",
     "crslab.executors.warmup",
@@ -89,6 +92,9 @@ class PageSession:
     """What runs now (``run`` or ``check``), None when idle."""
     scenario: str = ""
     runs: int = 0
+    pending: list[dict] = field(default_factory=list)
+    """The page's commands (stop, speed, ...) that came while its run was being prepared: handed
+    to the run's host after the run."""
 
     def take_socket(self) -> socket.socket:
         """The server's end of the pipe as a socket (for asyncio), no longer as a Connection."""
@@ -111,7 +117,7 @@ class PageSession:
 class Sessions:
     """Every session of this server, with the users' limits."""
 
-    def __init__(self, limits: UserLimits, run_limits: SessionLimits) -> None:
+    def __init__(self, limits: UserLimits, run_limits: SessionLimits, run_hosts: int | None = None) -> None:
         self.limits = limits
         self.run_limits = run_limits
         self.by_id: dict[str, PageSession] = {}
@@ -123,6 +129,16 @@ class Sessions:
         self._runs = 0
         self._compiles: dict[str, RateLimit] = {}
         self._ctx: mp.context.BaseContext | None = None
+        self._ctx_lock = threading.Lock()
+        self.hosts = RunHosts(self.context, run_hosts)
+        """The run hosts: every page's run is an instance of one of their workers."""
+
+    def context(self) -> mp.context.BaseContext:
+        """The fork server sessions and run hosts start from (started at the first call)."""
+        with self._ctx_lock:
+            if self._ctx is None:
+                self._ctx = session_context()
+            return self._ctx
 
     def all(self) -> list[PageSession]:
         """The sessions now (a copy)."""
@@ -143,8 +159,7 @@ class Sessions:
                     f"({self.limits.max_sessions_per_user}): close one to open this one"
                 )
             self._starting[user] = self._starting.get(user, 0) + 1  # its place is kept while it starts
-            if self._ctx is None:
-                self._ctx = session_context()
+            self.context()
         session = None
         try:
             session = self._start(user)

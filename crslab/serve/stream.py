@@ -25,28 +25,23 @@ import base64
 import json
 import time
 from collections.abc import Callable
-from multiprocessing.connection import Connection
 
 import numpy as np
 
 from crslab.live.console import Command as VarCommand
 from crslab.live.console import CommandError, VarConsole, format_value
 from crslab.scenario.expect_events import ExpectOutcome
+from crslab.sim.pacing import PAGE_CHUNKS, Pacer
 from crslab.sim.running import RunningLab
 from crslab.sinks.sink import Sink
 
 FRAME_HZ = 60
 """Poses of the arm per simulated second sent to the page (the 3D view)."""
-IDLE_CHUNK_TICKS = 250
-"""Ticks per chunk at real time (x speed) while the page only watches: each chunk reaches the page
-up to this much ahead of its ticks, and the page shows each tick at its time. Every chunk costs
-the server a fixed share of a core (docs/serve.md, Capacity), so watching uses long chunks..."""
 INTERACTIVE_CHUNK_TICKS = 20
-"""... and acting short ones, as ``crslab sim``'s: while the hand holds the arm, and for
-:data:`INTERACTIVE_HOLD_TICKS` after any command, a command acts within 20 ms of simulated time."""
+"""Ticks per chunk at real time (x speed) while the page acts, as ``crslab sim``'s: while the hand
+holds the arm, and for :data:`INTERACTIVE_HOLD_TICKS` after any command, a command acts within 20
+ms of simulated time. While it only watches, chunks are long (:data:`~crslab.sim.pacing.PAGE_CHUNKS`)."""
 INTERACTIVE_HOLD_TICKS = 2000
-FAST_CHUNK_TICKS = 1000
-"""Ticks per chunk as fast as possible: the page sees progress, and Stop acts, every 1000 ticks."""
 SCOPE_SIGNALS = (
     "Simulink_PlotVar1",
     "Simulink_PlotVar2",
@@ -146,16 +141,22 @@ class BrowserStream(Sink):
     def flush(self) -> None:
         if not self.blocks and not self.serial:
             return
-        fields: dict[str, object] = {"serial": self.serial}
+        fields: dict[str, object] = {"type": "chunk", "serial": self.serial}
+        scope = b""
         if self.blocks:
-            log = {k: np.concatenate([b[k] for b in self.blocks]) for k in self.blocks[0]}
+            blocks = self.blocks  # (one per chunk as a rule: nothing to join then)
+            log = blocks[0] if len(blocks) == 1 else {k: np.concatenate([b[k] for b in blocks])
+                                                      for k in blocks[0]}
             fields.update(self._frames(log))
-            fields["scope"] = self._scope(log)
+            scope = b', "scope": ' + self._scope(log)
             self.last_tick = int(log["tick"][-1, 0]) + 1
-        fields["first"], fields["tick"] = self.first_tick, self.last_tick
-        fields["sent"] = round(time.monotonic(), 4)  # the machine's monotonic clock: where lag arises
+        sent = round(time.monotonic(), 4)  # the machine's monotonic clock: where lag arises
+        # the message as message("chunk", ...) writes it, its scope's base64 put in as it is (JSON
+        # would copy and scan its some 17 kB for characters to escape, of which base64 has none)
+        self.send(json.dumps(fields).encode()[:-1] + scope
+                  + b', "first": %d, "tick": %d, "sent": %s}' % (self.first_tick, self.last_tick,
+                                                                  json.dumps(sent).encode()))
         self.first_tick = self.last_tick
-        self.send(message("chunk", **fields))
         self.serial, self.blocks = [], []
 
     def _frames(self, log: dict[str, np.ndarray]) -> dict[str, object]:
@@ -175,10 +176,11 @@ class BrowserStream(Sink):
         return {"frames": [[f[0], *a, f[1], f[2]] for f, a in zip(flags.tolist(), frames.tolist())]}
 
     @staticmethod
-    def _scope(log: dict[str, np.ndarray]) -> dict[str, object]:
+    def _scope(log: dict[str, np.ndarray]) -> bytes:
+        """The chunk's ``scope`` field, as JSON: ``{"tick0": ..., "rows": ..., "data": "<base64>"}``."""
         rows = np.concatenate([log["plot"], log["enc_rad"], log["tau_lab"], log["tau_applied"]], axis=1)
-        data = rows.astype("<f4").tobytes()
-        return {"tick0": int(log["tick"][0, 0]), "rows": len(rows), "data": base64.b64encode(data).decode()}
+        data = base64.b64encode(rows.astype("<f4").tobytes())
+        return b'{"tick0": %d, "rows": %d, "data": "%s"}' % (int(log["tick"][0, 0]), len(rows), data)
 
 
 class Stopped(KeyboardInterrupt):
@@ -186,89 +188,60 @@ class Stopped(KeyboardInterrupt):
 
 
 class PageControl:
-    """Paces the run and carries out the page's commands between chunks of ticks."""
+    """The page's say in its run, a :class:`~crslab.sim.running.PacedControl`: the run's host hands
+    it each command the page sends (:meth:`command`: stop, a new speed, the watched variables, the
+    hand) as it arrives, while the lab is idle between two chunks; after every chunk it pushes the
+    arm (:meth:`serve`). While the page acts (the hand holds the arm, or for
+    :data:`INTERACTIVE_HOLD_TICKS` after any command) it asks for chunks of
+    :data:`INTERACTIVE_CHUNK_TICKS` x speed; otherwise the run's pacer's (the page's chunks:
+    :data:`~crslab.sim.pacing.PAGE_CHUNKS`)."""
 
-    def __init__(
-        self,
-        conn: Connection,
-        send: Send,
-        stream: BrowserStream,
-        console: VarConsole,
-        speed: float | None,
-        on_other: Callable[[dict], None],
-        phase: float = 0.0,
-    ) -> None:
-        self.conn = conn
-        self.phase = phase
-        """Where in every 250 ms of the machine's clock this run's watching chunks end (a fraction
-        of the period): the server gives each run its own (:meth:`Sessions.admit
-        <crslab.serve.page_sessions.Sessions.admit>`), so a class's runs wake one after another, not
-        all at once."""
+    def __init__(self, send: Send, stream: BrowserStream, console: VarConsole, pacer: Pacer,
+                 on_other: Callable[[dict], None]) -> None:
         self.send = send
         self.stream = stream
         self.console = console
-        self.speed = speed
+        self.pacer = pacer
+        """The run's pacer: a ``speed`` command changes its speed."""
         self.on_other = on_other
         self.hand: dict | None = None
         self._pushing = False
         self._anchor_prev: np.ndarray | None = None
-        self._pace: tuple[float, int] | None = None  # (wall, tick) pacing counts from
         self._tick = 0
         self._acted_until = -1
 
-    def start(self) -> None:
-        """The run starts now: tick 0 is due now (pacing counts from here)."""
-        self._pace = (time.monotonic(), 0)
-
     @property
-    def origin(self) -> float:
-        """When tick 0 was due (``time.monotonic()``, the machine's monotonic clock)."""
-        return self._pace[0] if self._pace is not None else 0.0
+    def speed(self) -> float | None:
+        """The run's speed (x real time; None: as fast as possible)."""
+        return self.pacer.speed
 
-    def chunk_ticks(self, speed: float | None) -> int:
-        """Chunks of 250 ms x speed ending at :attr:`phase` of the period, 20 ms x speed while the
-        page acts (the run itself is asked to go as fast as possible: this control paces it)."""
-        if self.speed is None:
-            return FAST_CHUNK_TICKS
-        if self.hand is not None or self._tick < self._acted_until:
-            return max(1, min(FAST_CHUNK_TICKS, round(INTERACTIVE_CHUNK_TICKS * self.speed)))
-        period_s = IDLE_CHUNK_TICKS / 1000.0
-        wall, tick = self._pace if self._pace is not None else (time.monotonic(), self._tick)
-        due_s = wall + (self._tick - tick) / 1000.0 / self.speed  # when this chunk's first tick is due
-        ahead_s = (self.phase * period_s - due_s) % period_s
-        if ahead_s < period_s / 2:  # the first chunk takes 125 to 375 ms to reach the phase, never a sliver
-            ahead_s += period_s
-        return max(1, min(FAST_CHUNK_TICKS, round(ahead_s * 1000.0 * self.speed)))
+    def chunk_ticks(self, speed: float | None) -> int | None:
+        """20 ms x ``speed`` while the page acts; None otherwise (the pacer's chunks), and as
+        fast as possible (its chunks are short enough for Stop)."""
+        if speed is None or (self.hand is None and self._tick >= self._acted_until):
+            return None
+        return max(1, round(INTERACTIVE_CHUNK_TICKS * speed))
 
     def serve(self, lab: RunningLab) -> None:
-        """Carry out what the page sent, push the arm, then wait until the wall clock reaches
-        ``lab.tick`` (at the current speed), still carrying out commands while waiting."""
-        if self._pace is None:
-            self._pace = (time.monotonic(), lab.tick)
+        """After a chunk, and after commands: push the arm while a hand holds it (once more, with
+        no force, when it let go)."""
         self._tick = lab.tick
-        while True:
-            while self.conn.poll(0):  # (the pipe closing, when the page went away, ends the session)
-                self._acted_until = lab.tick + INTERACTIVE_HOLD_TICKS
-                self._command(lab, self.conn.recv())
-            self._push(lab)
-            if self.speed is None:
-                return
-            wall, tick = self._pace
-            wait = wall + (lab.tick - tick) / 1000.0 / self.speed - time.monotonic()
-            if wait <= 0 or not self.conn.poll(wait):
-                return
+        self._push(lab)
 
-    def _command(self, lab: RunningLab, msg: dict) -> None:
+    def command(self, lab: RunningLab, msg: dict) -> None:
+        """Carry out one of the page's commands now (the lab is idle); raises :class:`Stopped`
+        for ``stop``."""
+        self._tick = lab.tick
+        self._acted_until = lab.tick + INTERACTIVE_HOLD_TICKS
         kind = msg.get("type")
         if kind == "stop":
             raise Stopped
         if kind == "speed":
-            self.speed = msg["speed"]
-            self._pace = (time.monotonic(), lab.tick)
+            self.pacer.set_speed(msg["speed"], lab.tick)
         elif kind == "vars":
             self.send(message("vars", **self.vars(lab, msg)))
         elif kind == "hand":
-            self.hand = msg
+            self.hand = msg  # pushed from the next serve() on: the host serves it after commands
         elif kind == "release":
             self.hand = None
         else:
@@ -303,7 +276,7 @@ class PageControl:
         anchor = pos[i] + _rotate_xyzw(quat[i], self.hand["anchor"])
         com = pos[i] + _rotate_xyzw(quat[i], arm.com_local[i])
         velocity = np.zeros(3)
-        dt = self.chunk_ticks(self.speed) / 1000.0
+        dt = (self.chunk_ticks(self.speed) or PAGE_CHUNKS.fast_ticks) / 1000.0
         if self._anchor_prev is not None:
             velocity = (anchor - self._anchor_prev) / dt
         self._anchor_prev = anchor

@@ -158,11 +158,15 @@ class BoardWorker:
         self._opened(handle, reply)
         return handle
 
-    def run(self, targets: Sequence[tuple[BoardHandle, int]]) -> list[worker_messages.Ran | Ending]:
+    def run(self, targets: Sequence[tuple[BoardHandle, int]],
+            each: Callable[[int, worker_messages.Ran], None] | None = None,
+            ) -> list[worker_messages.Ran | Ending]:
         """Run each handle of ``targets`` to its tick, in one request: one result per target, in
         order: its :class:`~crslab.worker.worker_messages.Ran` (a faulted firmware's says how it
         stopped), or the :class:`~crslab.sim.diagnosis.Ending` of the worker process when it
-        ended meanwhile (then of every handle of it)."""
+        ended meanwhile (then of every handle of it). ``each(i, ran)`` is called with each
+        target's ``Ran`` as it comes, while the worker runs the next ones (it must not ask this
+        worker anything)."""
         if not targets:
             return []
         for handle, _ in targets:
@@ -190,6 +194,8 @@ class BoardWorker:
                 return results
             handle.tick, handle.stats = reply.tick, reply.stats
             results.append(reply)
+            if each is not None:
+                each(i, reply)
         return results
 
     def ask(self, handle: BoardHandle, request: worker_messages.Request) -> worker_messages.Value | \

@@ -21,7 +21,7 @@ import pathlib
 import signal
 import threading
 from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import AbstractContextManager, contextmanager, nullcontext
 
 import numpy as np
 
@@ -143,12 +143,13 @@ class Simulation:
     trace it. ``deadline_s`` None never calls the lab hung (a debugger holds it as long as it
     likes). ``on_started()`` is called once the worker process exists, while it loads the plant
     and the lab: what it starts overlaps the worker's start-up (threads may start then: the fork
-    is done).
+    is done). ``worker``: open the run as an instance of that worker (a WebAssembly one other runs
+    share: a server's) instead of starting a worker of its own.
     """
 
     def __init__(self, config: SimConfig, *, deadline_s: float | None = DEFAULT_DEADLINE_S,
                  limits: Limits = NO_LIMITS, debug: DebugSetup | None = None,
-                 on_started: Callable[[], None] | None = None) -> None:
+                 on_started: Callable[[], None] | None = None, worker: BoardWorker | None = None) -> None:
         self.config = config
         self.deadline_s = deadline_s
         self.debug = debug
@@ -165,9 +166,16 @@ class Simulation:
         self.judge = Judge(config.scenario.events, config.scenario.source)
         """The scenario's expectations, judged as the worker's observations arrive."""
         self.symbols = 0
+        self._own_worker = worker is None
         try:
-            self.board_worker = BoardWorker(config, deadline_s=deadline_s, limits=limits, debug=debug,
-                                            on_started=on_started)
+            if worker is None:
+                self.board_worker = BoardWorker(config, deadline_s=deadline_s, limits=limits, debug=debug,
+                                                on_started=on_started)
+                assert self.board_worker.first is not None
+                self.board: BoardHandle = self.board_worker.first
+            else:
+                self.board_worker = worker
+                self.board = worker.open(config, deadline_s=deadline_s)
         except InstanceNotOpened as exc:
             reply = exc.reply
             if isinstance(reply, worker_messages.Trapped):
@@ -176,9 +184,6 @@ class Simulation:
                 reply = Ending(RunStatus.CRASHED, 0, f"{self.lab_name}: {reply.message}")
             assert isinstance(reply, Ending)
             raise SimError(reply.message, reply.status) from None
-        assert self.board_worker.first is not None
-        self.board: BoardHandle = self.board_worker.first
-        """This run's board instance (the one instance of its worker)."""
         self.block = self.board.block
         self.worker = self.board_worker.process
         self.sanitizer_dir = self.worker.sanitizer_dir
@@ -202,12 +207,14 @@ class Simulation:
         self.close()
 
     def close(self) -> None:
-        """Stop the worker (it leaves no process behind) and free the shared block."""
+        """Stop the instance and its worker, unless the worker is shared (it leaves no process
+        behind), and free the shared block."""
         if self.board_worker.alive:
             stopped = self.board_worker.stop(self.board)
             if stopped is not None:
                 self.stats = stopped.stats
-        self.board_worker.close()
+        if self._own_worker:
+            self.board_worker.close()
         self.block.close()
 
     # -- the running lab (crslab.sim.running.RunningLab) ---------------------------------------
@@ -272,13 +279,11 @@ class Simulation:
         where it is called; time spent stopped in the debugger is not made up for: pacing starts
         again from where the lab resumed.
         """
-        sink = FanOut([sink or Sink()])
-        pacer = Pacer(speed, self.tick, debugger)
-        printed = _Printed(sink, self.limits.output_bytes)
+        run = self.start(end_tick, sink, Pacer(speed, self.tick, debugger), controls)
         with CtrlC() as ctrl_c:
             try:
                 try:
-                    ending = self._chunks(end_tick, sink, printed, pacer, controls, ctrl_c)
+                    ending = self._chunks(run, ctrl_c)
                 finally:
                     ctrl_c.holding = True  # the run ends: a Ctrl-C now lets the last bytes out
             except KeyboardInterrupt as exc:
@@ -286,63 +291,82 @@ class Simulation:
                 tick = self.block.tick
                 how = f"terminated ({exc.name})" if isinstance(exc, termination.Terminated) else "interrupted"
                 ending = Ending(RunStatus.INTERRUPTED, tick, f"{how} at t = {tick / 1000:.3f} s")
-            result = self._ended(ending, sink, printed, pacer)
-            sink.on_end(result)  # the end-of-run report, among others: a Ctrl-C now waits for it
-            return result
+            return run.ended(ending)  # (its sinks' on_end too: a Ctrl-C now waits for the report)
 
-    def _chunks(self, end_tick: int, sink: Sink, printed: _Printed, pacer: Pacer,
-                controls: Sequence[LiveControl], ctrl_c: CtrlC) -> Ending:
-        """Run chunk after chunk to ``end_tick``; how the run ended."""
-        c = board_constants()
-        while self.tick < end_tick:
-            target, pause = pacer.next_chunk(self.tick, end_tick, controls)
-            reply = self.board_worker.run([(self.board, target)])[0]
-            if isinstance(reply, Ending):
-                return reply
-            self.tick, self.stats = reply.tick, reply.stats
-            if reply.code == c.CRS_RUN_TRAPPED:
-                return _trapped(reply.trap or {}, self.lab_name, self.deadline_s, self.tick,
-                                self.config.build.image)
-            try:
-                judged = [self.judge.observed(seen) for seen in reply.observations]
-            except ValueError as exc:
-                return self.worker.tampered(f"it sent an observation crslab cannot read: {exc}")
-            for event in reply.motor_board_events:
-                self.motor_board_events.append(event)
-                sink.on_motor_board(*event)
-            for outcome in judged:
-                if outcome is not None:
-                    sink.on_expectation(outcome)
-            with ctrl_c.held():  # every sink gets all of the chunk, or none of it
-                lost = self._drain(sink, printed)
-                printed.bytes += lost  # what was lost counts toward the limit too
-                # printf: counted, never shown (the board's count, or what a native lab wrote)
-                printed.console(self._console_bytes())
-                if not printed.over:
-                    if reply.log is not None:
-                        sink.on_log(reply.log)
-                    sink.flush()
-                    sink.on_reached(self.tick)
-            if printed.over:
-                return diagnosis.output_limit(self.lab_name, self.tick, printed.cap)
-            for control in controls:
-                control.serve(self)
-            if reply.code == c.CRS_RUN_NAN_STRICT:
-                return diagnosis.nan_strict(self.lab_name, self.stats, self.tick)
-            if reply.code == c.CRS_RUN_PRINTF_OVERFLOW:
-                return diagnosis.print_overflow(self.lab_name, self.stats, self.tick,
-                                                self.config.build.printf_buffer_chars)
-            broke = reply.code == c.CRS_RUN_BREAK
+    def start(self, end_tick: int, sink: Sink | None, pacer: Pacer,
+              controls: Sequence[LiveControl] = ()) -> ChunkedRun:
+        """A run to ``end_tick`` taken chunk by chunk by its caller (:meth:`run` is one such caller,
+        a server that runs many labs in one worker another: crslab/serve/run_host.py)."""
+        return ChunkedRun(self, end_tick, FanOut([sink or Sink()]), pacer, controls)
+
+    def _chunks(self, run: ChunkedRun, ctrl_c: CtrlC) -> Ending:
+        """Run chunk after chunk to the run's end; how the run ended."""
+        pacer = run.pacer
+        while not run.done:
+            target, pause = run.next_chunk()
+            reply = self.run_chunk(target)
+            ending = run.took(reply, ctrl_c.held)
+            if ending is not None:
+                return ending
+            broke = reply.code == board_constants().CRS_RUN_BREAK  # (took returned: reply is a Ran)
             if pacer.debugger is not None and (broke or self.tick == pause):
                 pacer.debugger.paused(self, broke)
             waited = pacer.wait(self.tick)
             if waited.slept:
-                for control in controls:  # what a host sent while we slept: this tick
+                for control in run.controls:  # what a host sent while we slept: this tick
                     if isinstance(control, PacedControl):
                         control.serve(self)
             if waited.behind is not None:
-                sink.on_behind(waited.behind)
+                run.sink.on_behind(waited.behind)
         return Ending(RunStatus.OK, self.tick)
+
+    def run_chunk(self, target: int) -> worker_messages.Ran | Ending:
+        """Have the worker run the lab to ``target``: its reply, or how the worker ended."""
+        return self.board_worker.run([(self.board, target)])[0]
+
+    def _took(self, reply: worker_messages.Ran | Ending, run: ChunkedRun,
+              held: Callable[[], AbstractContextManager[None]], serve: bool = True) -> Ending | None:
+        """Hand a chunk's reply to the run's sink and serve its controls (unless ``serve`` is
+        False: the caller serves them later, :meth:`ChunkedRun.serve_controls`): None, or how the
+        run ended (a trap, the output limit, a strict NaN, a printf overflow, the worker gone)."""
+        c = board_constants()
+        sink, printed = run.sink, run.printed
+        if isinstance(reply, Ending):
+            return reply
+        self.tick, self.stats = reply.tick, reply.stats
+        if reply.code == c.CRS_RUN_TRAPPED:
+            return _trapped(reply.trap or {}, self.lab_name, self.deadline_s, self.tick,
+                            self.config.build.image)
+        try:
+            judged = [self.judge.observed(seen) for seen in reply.observations]
+        except ValueError as exc:
+            return self.worker.tampered(f"it sent an observation crslab cannot read: {exc}")
+        for event in reply.motor_board_events:
+            self.motor_board_events.append(event)
+            sink.on_motor_board(*event)
+        for outcome in judged:
+            if outcome is not None:
+                sink.on_expectation(outcome)
+        with held():  # every sink gets all of the chunk, or none of it
+            lost = self._drain(sink, printed)
+            printed.bytes += lost  # what was lost counts toward the limit too
+            # printf: counted, never shown (the board's count, or what a native lab wrote)
+            printed.console(self._console_bytes())
+            if not printed.over:
+                if reply.log is not None:
+                    sink.on_log(reply.log)
+                sink.flush()
+                sink.on_reached(self.tick)
+        if printed.over:
+            return diagnosis.output_limit(self.lab_name, self.tick, printed.cap)
+        if serve:
+            run.serve_controls()
+        if reply.code == c.CRS_RUN_NAN_STRICT:
+            return diagnosis.nan_strict(self.lab_name, self.stats, self.tick)
+        if reply.code == c.CRS_RUN_PRINTF_OVERFLOW:
+            return diagnosis.print_overflow(self.lab_name, self.stats, self.tick,
+                                            self.config.build.printf_buffer_chars)
+        return None
 
     def _drain(self, sink: Sink, printed: _Printed) -> int:
         """Hand what the board printed since the last drain to ``sink`` (through the output
@@ -374,6 +398,52 @@ class Simulation:
             message = f"{failed} of {len(expectations)} expectations of scenario {scenario} failed"
         return RunResult(status, ending.tick, message, stats, lab_file=self.config.build.source,
                          wall_s=pacer.elapsed_s(), expectations=expectations)
+
+
+class ChunkedRun:
+    """One run of a :class:`Simulation`, taken chunk by chunk: where the next chunk ends
+    (:meth:`next_chunk`), what a chunk's reply hands to the sink and the controls (:meth:`took`),
+    and the result once it ended (:meth:`ended`). The worker is asked by the caller, so a server
+    may run many labs of one worker forward in one request (crslab/serve/run_host.py)."""
+
+    def __init__(self, sim: Simulation, end_tick: int, sink: Sink, pacer: Pacer,
+                 controls: Sequence[LiveControl]) -> None:
+        self.sim = sim
+        self.end_tick = end_tick
+        self.sink = sink
+        self.pacer = pacer
+        self.controls = controls
+        self.printed = _Printed(sink, sim.limits.output_bytes)
+
+    @property
+    def done(self) -> bool:
+        """Whether the run reached its end tick."""
+        return self.sim.tick >= self.end_tick
+
+    def next_chunk(self) -> tuple[int, int | None]:
+        """Where the next chunk ends, and the tick a debugger asks to stop before (None)."""
+        return self.pacer.next_chunk(self.sim.tick, self.end_tick, self.controls)
+
+    def took(self, reply: worker_messages.Ran | Ending,
+             held: Callable[[], AbstractContextManager[None]] = nullcontext, *,
+             serve: bool = True) -> Ending | None:
+        """Hand a chunk's reply (or the worker's end) on: None while the run goes on, else how it
+        ended. ``held`` holds a Ctrl-C back while the sinks take the chunk. ``serve`` False leaves
+        the controls to :meth:`serve_controls` (a caller still reading its worker's other
+        replies, whose controls must not ask the worker meanwhile)."""
+        return self.sim._took(reply, self, held, serve)
+
+    def serve_controls(self) -> None:
+        """Serve each control once (the worker is idle: they may ask it)."""
+        for control in self.controls:
+            control.serve(self.sim)
+
+    def ended(self, ending: Ending) -> RunResult:
+        """The run's result, the last bytes handed on first, then the result to the sinks
+        (``on_end``: the end-of-run report, among others)."""
+        result = self.sim._ended(ending, self.sink, self.printed, self.pacer)
+        self.sink.on_end(result)
+        return result
 
 
 def _trapped(trap: dict, lab_name: str, deadline_s: float | None, tick: int,

@@ -1,17 +1,22 @@
-"""Issue 24: what one ``crslab serve`` holds on this machine, and how fast its page answers.
+"""Issues 24 and 32: what one ``crslab serve`` holds on this machine, and how fast its page answers.
 
 Capacity: a load generator (this process, asyncio) opens N page sessions over WebSockets to a real
 ``crslab serve`` (started as a user starts it), each running crslab's Lab 1 on the tour at real
-time, the sessions starting 50 ms apart as a class would. For every chunk a session streams, its
-lag is when the chunk arrived minus when its first tick was due (the moment the server's pacing
-made tick 0 due, on this machine's monotonic clock, plus the tick's simulated time): how late the
-page gets what it must show.
+time, the sessions starting 50 ms apart as a class would (each run lasts until the measurement is
+over). For every chunk a session streams, its lag is when the chunk arrived minus when its first
+tick was due (the moment the server's pacing made tick 0 due, on this machine's monotonic clock,
+plus the tick's simulated time): how late the page gets what it must show.
 The largest N whose worst session stays within 50 ms at the 99th percentile is reported (target:
->= 100), with where the CPU time went (server, session processes, lab workers, this generator).
+300, issue 32), with where the CPU time went (the server, the session processes, the run hosts,
+their board workers, this generator).
 
 Page: the time from navigating to the page to the editor holding the lab (target <= 1 s), and
 from clicking Run on a lab already built to the first Tera Term line (target <= 1 s), in Debian's
 Chromium (skipped, and said, without it).
+
+``tools/bench.py serve`` runs the page's timings and the ladder (:data:`LADDER`);
+``tools/bench.py serve --sessions 300`` (or ``--sessions 100,200,300``) only those N, ``--page``
+the page's timings too.
 """
 
 from __future__ import annotations
@@ -31,12 +36,15 @@ from pathlib import Path
 from crslab.starters import starter_text
 
 LAB = starter_text("lab1", "A")  # what the page starts from
-LADDER = (50, 100, 125, 150)
+LADDER = (100, 200, 300)
 """Session counts tried, in order, until one fails."""
+TARGET_SESSIONS = 300
 TARGET_LAG_S = 0.050
 START_GAP_S = 0.05
 SETTLE_S = 5.0
 """After the last session started, the time given to catch up with the clock before lags count."""
+MEASURE_S = 10.0
+"""How long lags count, once every session runs."""
 NICE: list[str] = []
 CHUNK = re.compile(r'^\{"type": "chunk", .*"first": (\d+), "tick": \d+, "sent": ([\d.]+)\}$', re.DOTALL)
 CHROMIUM = "/usr/bin/chromium"
@@ -79,6 +87,8 @@ class Server:
         if not match:
             raise RuntimeError(f"crslab serve did not start: {Path(self.log.name).read_text()}")
         self.url = match.group(0)
+        if NICE:  # the kernel schedules each session (autogroup) as one: nice -10 for the server's
+            autogroup_nice(self.proc.pid, -10)
         self.host = self.url.split("/")[2]
         self.cookie = self.cookie_of(self.url.split(self.host)[1]) if not users else ""
 
@@ -109,33 +119,57 @@ class Server:
             raise RuntimeError("crslab serve wrote to stderr: " + " | ".join(errors[-12:]))
 
 
+def autogroup_nice(pid: int, nice: int) -> int | None:
+    """Set the nice value of ``pid``'s scheduling autogroup (Linux with autogroups: a process's
+    own nice counts only against its session's other processes; between sessions the kernel shares
+    the CPU by the autogroup's nice). Returns the old one, None where there is none to set."""
+    path = Path(f"/proc/{pid}/autogroup")
+    try:
+        old = int(path.read_text().split("nice")[1])
+        path.write_text(str(nice))
+    except (OSError, IndexError, ValueError):
+        return None
+    return old
+
+
 def cpu_by_role(root: int) -> dict[str, float]:
-    """CPU seconds so far of the server's process tree, by role: the server, the fork server,
-    the session processes, the lab workers (by depth below the server)."""
+    """CPU seconds so far of the server's process tree, by role: the server, the fork server, the
+    session processes (with their compilers), the run hosts and their board workers (a run host is
+    named ``crslab-host``: crslab/serve/run_host.py)."""
     tck = os.sysconf("SC_CLK_TCK")
-    parent, cpu = {}, {}
+    parent, cpu, name = {}, {}, {}
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
             continue
         try:
-            fields = open(f"/proc/{entry}/stat").read().rsplit(")", 1)[1].split()
+            head, fields = open(f"/proc/{entry}/stat").read().rsplit(")", 1)
         except OSError:
             continue
+        fields = fields.split()
         parent[int(entry)] = int(fields[1])
         cpu[int(entry)] = (int(fields[11]) + int(fields[12])) / tck
-    roles = ["server", "fork server", "sessions", "lab workers"]
-    out = dict.fromkeys(roles, 0.0)
+        name[int(entry)] = head.split("(", 1)[1]
+    out = dict.fromkeys(["server", "fork server", "sessions", "run hosts", "board workers"], 0.0)
     for pid in cpu:
-        depth, p = 0, pid
-        while p != root and p in parent and depth < 6:
-            p, depth = parent[p], depth + 1
-        if p == root and depth < len(roles):
-            out[roles[depth]] += cpu[pid]
+        chain, p = [pid], pid
+        while p != root and p in parent and len(chain) < 8:
+            p = parent[p]
+            chain.append(p)
+        if p != root:
+            continue
+        depth = len(chain) - 1  # the server is depth 0, its fork server 1, sessions and hosts 2
+        if depth <= 1:
+            out[["server", "fork server"][depth]] += cpu[pid]
+        elif name.get(chain[-3]) == "crslab-host":
+            out["run hosts" if depth == 2 else "board workers"] += cpu[pid]
+        else:
+            out["sessions"] += cpu[pid]
     return out
 
 
 async def one_session(
-    server: Server, delay_s: float, lags: list[tuple[float, float, float]], done: list[int], user: int = 0
+    server: Server, delay_s: float, lags: list[tuple[float, float, float]], done: list[int], user: int = 0,
+    duration_s: float | None = None,
 ) -> None:
     import websockets
 
@@ -156,6 +190,7 @@ async def one_session(
                     "lab": {"name": "lab1.c", "text": LAB},
                     "scenario": {"name": "tour"},
                     "speed": 1,
+                    "duration": duration_s,
                 }
             )
         )
@@ -193,7 +228,7 @@ class Trial:
         self.ramp = ramp
         """The lags of the chunks that arrived while sessions were still starting."""
         self.cores = cores
-        """CPU (cores) by role over the steady part's first 10 s."""
+        """CPU (cores) by role over the steady part (:data:`MEASURE_S`)."""
         self.sent = sent
         """The steady part's lags at the moment the session process sent each chunk (sorted): the
         rest of a lag is the relay (server, WebSocket, this generator)."""
@@ -212,13 +247,16 @@ async def load(server: Server, n: int) -> Trial:
     lags: list[list[tuple[float, float, float]]] = [[] for _ in range(n)]
     done: list[int] = []
     root = server.proc.pid
-    tasks = [asyncio.create_task(one_session(server, i * START_GAP_S, lags[i], done, i)) for i in range(n)]
+    # every run lasts until the measurement is over (the tour is 25 s; a class of 300 takes 15 s to join)
+    tasks = [asyncio.create_task(one_session(server, i * START_GAP_S, lags[i], done, i,
+                                             (n - i) * START_GAP_S + SETTLE_S + MEASURE_S + 3.0))
+             for i in range(n)]
     await asyncio.sleep(n * START_GAP_S + SETTLE_S)  # every session started and caught up with the clock
     steady_from = time.monotonic()
     # /proc of some 300 processes read in a thread: this loop goes on taking chunks meanwhile (read
     # in the loop, the scan held every session's chunks back for its length, counted as their lag)
     cpu0, own0 = await asyncio.to_thread(cpu_by_role, root), time.process_time()
-    await asyncio.sleep(10.0)
+    await asyncio.sleep(MEASURE_S)
     cpu1, own1 = await asyncio.to_thread(cpu_by_role, root), time.process_time()
     span = time.monotonic() - steady_from
     await asyncio.gather(*tasks)
@@ -247,21 +285,25 @@ def trial_line(n: int, trial: Trial, how: str) -> str:
     )
 
 
-def capacity_lines() -> list[str]:
+def capacity_lines(ladder: tuple[int, ...] = LADDER, default_priority: bool = True) -> list[str]:
     """The ladder with the server and this generator at nice -10 when root can (a dedicated server's
-    share of a machine that other work shares), then 100 sessions at the default priority."""
+    share of a machine that other work shares), then (``default_priority``) its largest N at the
+    default priority."""
     lines, best = [], 0
     own = os.getpriority(os.PRIO_PROCESS, 0)
+    own_group = None
     try:
         os.nice(-10)
         NICE[:] = ["nice", "-n", "-10"]
+        own_group = autogroup_nice(os.getpid(), -10)
         how = "server and generator at nice -10"
     except PermissionError:
         how = "default priority (not root: no nice -10)"
-    server = Server("--max-sessions", "1000", users=max(LADDER))
+    started = time.strftime("%H:%M UTC", time.gmtime())
+    server = Server("--max-sessions", "1000", users=max(ladder))
     try:
         asyncio.run(load(server, 2))  # builds the lab once (cached) and warms the fork server
-        for n in LADDER:
+        for n in ladder:
             trial = asyncio.run(load(server, n))
             lines.append(trial_line(n, trial, how))
             if trial.worst_p99() > TARGET_LAG_S:
@@ -270,19 +312,23 @@ def capacity_lines() -> list[str]:
     finally:
         server.stop()
         os.setpriority(os.PRIO_PROCESS, 0, own)
+        if own_group is not None:
+            autogroup_nice(os.getpid(), own_group)
         NICE.clear()
-    verdict = "meets" if best >= 100 else "misses"
+    verdict = "meets" if best >= TARGET_SESSIONS else "misses"
     lines.append(
-        f"largest N within 50 ms at p99 ({how}; of {', '.join(map(str, LADDER))}): {best} "
-        f"(issue 24: >= 100; {verdict} it)"
+        f"largest N within 50 ms at p99 ({how}; of {', '.join(map(str, ladder))}; from {started}): {best} "
+        f"(issue 32: {TARGET_SESSIONS}; {verdict} it)"
     )
-    server = Server("--max-sessions", "1000", users=100)
-    try:
-        lines.append(
-            trial_line(100, asyncio.run(load(server, 100)), "default priority, beside whatever else runs")
-        )
-    finally:
-        server.stop()
+    if default_priority:
+        n = max(ladder)
+        server = Server("--max-sessions", "1000", users=n)
+        try:
+            lines.append(
+                trial_line(n, asyncio.run(load(server, n)), "default priority, beside whatever else runs")
+            )
+        finally:
+            server.stop()
     return lines
 
 
@@ -327,8 +373,22 @@ def page_lines() -> list[str]:
     ]
 
 
-def run() -> list[str]:
-    return page_lines() + capacity_lines()
+def run(options: list[str] | None = None) -> list[str]:
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="tools/bench.py serve")
+    parser.add_argument("--sessions", help="N, or N,N,... (a ladder): page sessions at real time")
+    parser.add_argument("--page", action="store_true", help="the page's timings too (with --sessions)")
+    args = parser.parse_args(options or [])
+    if args.sessions is None:
+        return page_lines() + capacity_lines()
+    try:
+        ladder = tuple(int(n) for n in args.sessions.split(","))
+    except ValueError:
+        parser.error(f"--sessions: {args.sessions!r} is not N or N,N,...")
+    if not ladder or min(ladder) < 1:
+        parser.error("--sessions: at least one session")
+    return (page_lines() if args.page else []) + capacity_lines(ladder, default_priority=False)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,382 @@
+"""A run host: the process that runs many pages' labs, each an instance of one board worker, and
+produces their pages' messages itself.
+
+``crslab serve`` starts a few of them (about one per core: :mod:`crslab.serve.run_hosts`). A page's
+session process builds its lab and prepares the run (:class:`HostedRun`); the server hands it to a
+host, which opens it as an instance of its worker (:class:`crslab.sim.simulation.Simulation` on a
+shared :class:`~crslab.sim.board_worker.BoardWorker`), paces it with the one pacer
+(:class:`~crslab.sim.pacing.Pacer`, the page's chunks), and after each chunk hands it to the run's
+sinks (the page's stream, the transcript, the recorder) as ``crslab sim`` does
+(:class:`~crslab.sim.simulation.ChunkedRun`). One wake-up runs every run of the worker that is due
+(within :data:`BATCH_S`) in one request. The page's commands (stop, speed, vars, hand, release)
+reach the run between two chunks, as they arrive.
+
+The pipe to the server: in, pickled tuples (:data:`RUN`, key, a pickled :class:`HostedRun`), (:data:`PAGE`,
+key, message) and (:data:`CLOSE`, key); out, one frame per page message: the key's length (one
+byte), the key, the tag (:data:`~crslab.serve.page_process.FORWARD`, ``RUN_STARTED``,
+``RUN_ENDED``), the message's JSON (:func:`frame`).
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+import signal
+import socket
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from multiprocessing.connection import Connection
+from pathlib import Path
+
+from crslab import os_support
+from crslab.live.console import VarConsole
+from crslab.serve.page_text import PageText
+from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
+from crslab.sim.assemble import NoLab
+from crslab.sim.board_worker import BoardWorker
+from crslab.sim.diagnosis import Ending
+from crslab.sim.pacing import PAGE_CHUNKS, Pacer
+from crslab.sim.simulation import DEFAULT_DEADLINE_S, ChunkedRun, Limits, SimError, Simulation
+from crslab.sim.status import RunResult, RunStatus
+from crslab.sinks.sink import FanOut, SinkError
+from crslab.sinks.transcript_file import TranscriptSink
+from crslab.worker.config import SimConfig
+from crslab.world.layout import World
+
+RUN = "run"
+PAGE = "page"
+CLOSE = "close"
+FORWARD = b"F"
+RUN_STARTED = b"R"
+RUN_ENDED = b"E"
+"""The tags of a page message (as :mod:`crslab.serve.page_process`'s)."""
+SEND_BUFFER_BYTES = 4 << 20
+"""The host's side of its pipe to the server buffers this much (as far as the system allows)."""
+BATCH_S = 0.005
+"""A wake-up runs every run due within this much of now (s), in one request to the worker."""
+PROCESS_NAME = "crslab-host"
+"""What ``ps`` calls a run host (its board worker is its child)."""
+DOWNLOADS = {"transcript": "transcript.txt", "csv": "run.csv", "rrd": "run.rrd"}
+"""The files of the last run a page may download, by kind."""
+
+
+@dataclass(frozen=True)
+class HostedRun:
+    """A run a session process prepared for a host: the configuration (the lab built), the end
+    tick, the speed and the run's phase, the notes for ``started``, the session's folder (its
+    outputs go to ``out/``), what to record, and the run's limits."""
+
+    config: SimConfig
+    end_tick: int
+    speed: float | None
+    phase: float
+    notes: tuple[str, ...]
+    folder: Path
+    record_csv: bool = False
+    record_rrd: bool = False
+    output_bytes: int = 16 * 1024 * 1024
+
+
+def frame(key: str, tag: bytes, data: bytes) -> bytes:
+    """One page message on the host's pipe, for the page of session ``key``.
+
+    >>> frame("ab", b"F", b'{"type": "x"}')
+    b'\\x02abF{"type": "x"}'
+    >>> unframe(frame("ab", b"F", b'{"type": "x"}'))
+    ('ab', b'F', b'{"type": "x"}')
+    """
+    key_bytes = key.encode()
+    return bytes([len(key_bytes)]) + key_bytes + tag + data
+
+
+def unframe(data: bytes) -> tuple[str, bytes, bytes]:
+    """The key, the tag and the message of a frame (:func:`frame`)."""
+    n = data[0]
+    return data[1:1 + n].decode(), data[1 + n:2 + n], data[2 + n:]
+
+
+class HostedSession:
+    """One page's run in the host: its lab (a board instance), its sinks, its pacer and control."""
+
+    def __init__(self, host: RunHost, key: str, run: HostedRun) -> None:
+        self.host = host
+        self.key = key
+        self.run = run
+        self.page_text = PageText(run.folder)
+        self.sim: Simulation | None = None
+        self.chunked: ChunkedRun | None = None
+        self.control: PageControl | None = None
+        self.out = FanOut()
+        self.notes = list(run.notes)
+        self.due_s = 0.0
+
+    def send(self, data: bytes, tag: bytes = FORWARD) -> None:
+        """A message for the page (no server path in it: :mod:`crslab.serve.page_text`)."""
+        self.host.conn.send_bytes(frame(self.key, tag, self.page_text.message(data)))
+
+    def open(self) -> bool:
+        """Open the lab as an instance, start the sinks and say ``started``; False when the run
+        ended at once (its ``ended`` sent)."""
+        run, config = self.run, self.run.config
+        try:
+            self.sim = self.host.simulation(config, Limits(output_bytes=run.output_bytes))
+        except SimError as exc:
+            self.ended(RunResult(exc.status, 0, str(exc)))
+            return False
+        name = config.build.source.name
+        if not self.sim.defines_lab:  # refused before any tick, as crslab sim refuses it
+            refused = NoLab(name)
+            self.close()
+            self.ended(RunResult(refused.status, 0, str(refused)))
+            return False
+        out_dir = run.folder / "out"
+        stream = BrowserStream(self.send, self.host.arm_in(config.world), world=not config.world.is_free_air)
+        self.out.add(stream)
+        self.out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
+        if run.record_csv or run.record_rrd:  # forked now: the host runs no other thread
+            from crslab.sinks.rerun_writer import RecorderSink
+
+            self.out.add(RecorderSink(out_dir / DOWNLOADS["csv"] if run.record_csv else None,
+                                      out_dir / DOWNLOADS["rrd"] if run.record_rrd else None, name,
+                                      config.world))
+        pacer = Pacer(run.speed, 0, chunks=PAGE_CHUNKS, phase=run.phase)
+        self.control = PageControl(self.send, stream, VarConsole(config.build.watched), pacer, self._busy)
+        self.chunked = self.sim.start(run.end_tick, self.out, pacer, [self.control])
+        events = [{"tick": e.tick, "text": e.describe()} for e in config.scenario.events]
+        self.send(message("started", end_tick=run.end_tick, scenario=config.scenario.name, speed=run.speed,
+                          events=events, notes=self.notes, due_monotonic=pacer.wall0,
+                          watched=[v.name for v in config.build.watched]), RUN_STARTED)
+        self.due_s = pacer.due_s(0)
+        return True
+
+    def _busy(self, msg: dict) -> None:
+        self.send(message("error", message=f"{msg.get('type')}: a run is going on; stop it first"))
+
+    def command(self, msg: dict) -> bool:
+        """Carry out a command of the page now; False when it ended the run."""
+        assert self.sim is not None and self.control is not None and self.chunked is not None
+        try:
+            self.control.command(self.sim, msg)
+            self.control.serve(self.sim)  # the hand's push, at once
+        except Stopped:
+            tick = self.sim.tick
+            self.finish(Ending(RunStatus.INTERRUPTED, tick, f"stopped at t = {tick / 1000:.3f} s"))
+            return False
+        except SimError as exc:
+            self.finish(Ending(RunStatus.CRASHED, self.sim.tick, str(exc)))
+            return False
+        self.due_s = self.chunked.pacer.due_s(self.sim.tick)  # a new speed paces from now
+        return True
+
+    def take(self, reply: object) -> Ending | None:
+        """Hand a chunk's reply to the sinks (its controls wait for :meth:`after`: the worker may
+        still be running the host's other chunks); how the run ended, or None."""
+        assert self.chunked is not None and self.sim is not None
+        ending = self.chunked.took(reply, serve=False)  # type: ignore[arg-type]
+        if ending is None and self.chunked.done:
+            ending = Ending(RunStatus.OK, self.sim.tick)
+        return ending
+
+    def after(self, ending: Ending | None) -> bool:
+        """After the worker's request: end the run (``ending``), or serve its control and say
+        when its next chunk is due; False when it ended."""
+        assert self.chunked is not None and self.sim is not None
+        if ending is not None:
+            self.finish(ending)
+            return False
+        self.chunked.serve_controls()
+        self.due_s = self.chunked.pacer.due_s(self.sim.tick)
+        return True
+
+    def finish(self, ending: Ending) -> None:
+        """The run ended: its last bytes to the sinks, the instance closed, ``ended`` sent."""
+        assert self.chunked is not None
+        result = self.chunked.ended(ending)
+        self.out.flush()  # the bytes still on the serial line as it ended: the page shows them too
+        self.close()
+        self.ended(result)
+
+    def close(self) -> None:
+        """Close the instance and the sinks (a sink's failure becomes a note)."""
+        if self.sim is not None:
+            self.sim.close()
+            self.sim = None
+        try:
+            self.out.close()
+        except SinkError as exc:
+            self.notes.append(str(exc))
+
+    def ended(self, result: RunResult) -> None:
+        failed = [line for e in result.failed_expectations for line in e.lines()]
+        out_dir = self.run.folder / "out"
+        downloads = [kind for kind, name in DOWNLOADS.items() if (out_dir / name).exists()]
+        self.send(message("ended", status=result.status.value, exit_status=result.status.exit_status,
+                          message=result.message, end_tick=result.end_tick, failed_expectations=failed,
+                          notes=self.notes, downloads=downloads), RUN_ENDED)
+
+
+class RunHost:
+    """The host's runs by session key, and the loop that paces them (:meth:`serve`)."""
+
+    def __init__(self, conn: Connection) -> None:
+        self.conn = conn
+        self.sessions: dict[str, HostedSession] = {}
+        self.worker: BoardWorker | None = None
+        """The board worker every run of this host is an instance of."""
+        self._arms: dict[str, ArmPoses] = {}
+
+    def simulation(self, config: SimConfig, limits: Limits) -> Simulation:
+        """A run's lab, opened as an instance of the host's worker (started now if there is none,
+        or it ended); raises ``SimError`` when it cannot start."""
+        if self.worker is None or not self.worker.alive:
+            self.worker = BoardWorker()
+        return Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits, worker=self.worker)
+
+    def arm_in(self, world: World) -> ArmPoses:
+        """The arm's poses in ``world``'s scene (one per world, shared by the host's runs)."""
+        key = "" if world.is_free_air else world.name
+        if key not in self._arms:
+            self._arms[key] = ArmPoses(None if world.is_free_air else world)
+        return self._arms[key]
+
+    def serve(self) -> None:
+        """Pace the runs and carry out the server's messages until it closes the pipe."""
+        try:
+            while True:
+                wait = None
+                if self.sessions:
+                    wait = max(0.0, min(s.due_s for s in self.sessions.values()) - time.monotonic())
+                if self.conn.poll(wait):
+                    while self.conn.poll(0):
+                        self.handle(self.conn.recv())
+                now = time.monotonic()
+                due = [s for s in self.sessions.values() if s.due_s <= now + BATCH_S]
+                if due:
+                    self.step(due)
+        except (EOFError, OSError):
+            pass
+        finally:
+            for session in list(self.sessions.values()):
+                self._guarded(session, session.close)
+            self.sessions.clear()
+            if self.worker is not None:
+                self.worker.close()
+
+    def handle(self, msg: tuple) -> None:
+        """One message of the server's."""
+        kind, key = msg[0], msg[1]
+        if kind == RUN:
+            session = HostedSession(self, key, pickle.loads(msg[2]))  # from crslab's own session process
+            if self._guarded(session, session.open):
+                self.sessions[key] = session
+        elif kind == PAGE:
+            session = self.sessions.get(key)
+            if session is None:  # the run ended as the command came
+                if msg[2].get("type") == "vars":
+                    self.conn.send_bytes(frame(key, FORWARD, message(
+                        "vars", ok=False, cmd=msg[2]["cmd"], reply="no run is going on: Run first")))
+            elif not self._guarded(session, lambda: session.command(msg[2])):
+                self.sessions.pop(key, None)
+        elif kind == CLOSE:
+            session = self.sessions.pop(key, None)
+            if session is not None:
+                self._guarded(session, session.close)
+
+    def step(self, due: list[HostedSession]) -> None:
+        """Run each due session's next chunk (one request per worker), handing each on to its
+        sinks as its reply comes (while the worker runs the next), then serve their controls."""
+        targets = []
+        for session in due:
+            assert session.chunked is not None
+            targets.append(session.chunked.next_chunk()[0])
+        taken: dict[int, Ending | None | Exception] = {}
+
+        def each(i: int, reply: object) -> None:
+            try:
+                taken[i] = due[i].take(reply)
+            except Exception as exc:  # noqa: BLE001 - handled below, once the worker is idle
+                taken[i] = exc
+
+        replies = self.run_chunks([(s.sim, t) for s, t in zip(due, targets)], each)  # type: ignore[misc]
+        for i, (session, reply) in enumerate(zip(due, replies)):
+            if i not in taken:  # the worker ended: no Ran came
+                taken[i] = self._guarded_value(session, lambda s=session, r=reply: s.take(r))
+            outcome = taken[i]
+            if isinstance(outcome, Exception):
+                self._failed(session, outcome)
+                self.sessions.pop(session.key, None)
+            elif not self._guarded(session, lambda s=session, e=outcome: s.after(e)):
+                self.sessions.pop(session.key, None)
+
+    def run_chunks(self, targets: list[tuple[Simulation, int]],
+                   each: Callable[[int, object], None] | None = None) -> list[object]:
+        """Each simulation run to its tick, one request per worker: the worker's reply for each
+        (the worker's :class:`~crslab.sim.diagnosis.Ending` for a run whose worker ended);
+        ``each(i, ran)`` as each target's reply comes."""
+        replies: list[object] = [sim.board.ending for sim, _ in targets]
+        by_worker: dict[int, list[int]] = {}
+        for i, (sim, _) in enumerate(targets):
+            if replies[i] is None:
+                by_worker.setdefault(id(sim.board_worker), []).append(i)
+        for runs in by_worker.values():
+            worker = targets[runs[0]][0].board_worker
+            on_reply = None if each is None else (lambda k, ran, runs=runs: each(runs[k], ran))
+            pairs = [(targets[i][0].board, targets[i][1]) for i in runs]
+            for i, reply in zip(runs, worker.run(pairs, on_reply)):
+                replies[i] = reply
+        return replies
+
+    def _guarded_value(self, session: HostedSession, step: Callable[[], object]) -> object:
+        """``step()``'s answer, or the exception it raised."""
+        try:
+            return step()
+        except (BrokenPipeError, EOFError):
+            raise
+        except Exception as exc:  # noqa: BLE001 - a crslab bug, reported by _failed
+            return exc
+
+    def _guarded(self, session: HostedSession, step: object) -> bool:
+        """``step()``'s answer; a crslab bug in it ends that session's run (one line for its page)
+        and never the host's other runs."""
+        try:
+            return bool(step())  # type: ignore[operator]
+        except (BrokenPipeError, EOFError):
+            raise
+        except Exception as exc:  # noqa: BLE001 - a crslab bug: one line for the page, the host goes on
+            self._failed(session, exc)
+            return False
+
+    def _failed(self, session: HostedSession, exc: Exception) -> None:
+        import traceback
+
+        traceback.print_exception(exc)
+        try:
+            session.close()
+        except Exception:  # noqa: BLE001
+            pass
+        session.send(message("ended", status="crashed", exit_status=3,
+                             message=f"crslab failed: {type(exc).__name__}: {exc}"), RUN_ENDED)
+
+
+def _terminated(signum: int, frame: object) -> None:
+    """SIGTERM (the server ending): unwind, so every run's instance and sinks are closed."""
+    raise SystemExit(0)
+
+
+def serve_host(conn: Connection) -> None:
+    """The host process's body."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the server's to handle
+    signal.signal(signal.SIGTERM, _terminated)
+    os_support.die_with_parent()
+    os_support.name_process(PROCESS_NAME)
+    out = socket.socket(fileno=os.dup(conn.fileno()))
+    try:  # room for a few hundred chunks: a busy server never holds every run of this host back
+        out.setsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF, SEND_BUFFER_BYTES)
+    finally:
+        out.close()
+    host = RunHost(conn)
+    host.worker = BoardWorker()  # ready before the first run comes
+    host.serve()
+
+
