@@ -250,10 +250,11 @@ def test_bt_shows_the_lab_and_the_framework_only_and_gdb_keeps_its_chatter_off_s
     frames = re.findall(r"^#(\d+)\s+(?:0x[0-9a-f]+ in )?(\w+) ", filtered, re.MULTILINE)
     # the lab, the framework's call of it as the lab defines it (compiled after the lab, in its
     # unit: crslab/lab/entry_points.py), the firmware's entry (csrc/firmware/firmware.c), the
-    # board's port to it (csrc/board/firmware_native.c) and the framework's tick (csrc/board/sim.c)
+    # board's port to it (csrc/board/firmware_native.c), the framework's tick and the chunk's loop of
+    # ticks (csrc/board/sim.c)
     assert [name for _, name in frames] == ["lab", "crs_lab_call_lab", "crs_fw_lab", "crs_fw_call_lab",
-                                            "lab_tick", "framework_tick", "crs_sim_run"]
-    assert frames[-1][0] == "6"
+                                            "lab_tick", "framework_tick", "run_ticks", "crs_sim_run"]
+    assert frames[-1][0] == "7"
     unfiltered = re.findall(r"^#\d+\s+(?:0x[0-9a-f]+ in )?(\w+) ", everything, re.MULTILINE)
     assert len(unfiltered) > 20 and any(name.startswith("_PyEval") for name in unfiltered)
     assert "libthread_db" not in r.stdout and "Thread debugging" not in r.stdout

@@ -151,7 +151,7 @@ class Simulation:
                  limits: Limits = NO_LIMITS, debug: DebugSetup | None = None,
                  on_started: Callable[[], None] | None = None, worker: BoardWorker | None = None) -> None:
         self.config = config
-        self.deadline_s = deadline_s
+        self._deadline_s = deadline_s
         self.debug = debug
         self.limits = limits
         self.lab_name = config.build.source.name
@@ -188,6 +188,19 @@ class Simulation:
         self.worker = self.board_worker.process
         self.sanitizer_dir = self.worker.sanitizer_dir
         self.symbols = self.board.symbols
+
+    @property
+    def deadline_s(self) -> float | None:
+        """How long one lab() or printing() call may take before the run ends hung (s); None: as
+        long as it likes (a debugger holding the lab)."""
+        return self._deadline_s
+
+    @deadline_s.setter
+    def deadline_s(self, value: float | None) -> None:
+        self._deadline_s = value
+        board = getattr(self, "board", None)
+        if board is not None:  # the instance's runs are watched with it from the next one on
+            board.deadline_s = value
 
     @property
     def worker_pid(self) -> int:

@@ -18,10 +18,12 @@ Signals are taken from the tick the startup gate opens (the lab's first call) to
 ...        "tau_lab": np.array([[0, 0, 0], [5, 0, 0], [0, -6, 0], [1, 1, 1]], float),
 ...        "plot": np.array([[1, 0, 0, 1], [3, 0, 0, 1], [1, 0, 0, 1], [3, 0, 0, 1]], float),
 ...        "enc_rad": np.zeros((4, 3))}
->>> m = run_metrics(log, {"motor_board_events": [(2, 1, 1), (9, 1, 0)]}, startup_ticks=0)
+>>> from crslab.worker.run_stats import RunStats
+>>> stats = RunStats(motor_board_events=((2, 1, True), (9, 1, False)))
+>>> m = run_metrics(log, stats, startup_ticks=0)
 >>> m["safety_trips"], m["motor_board_cutouts"], m["clamp_share"], m["plotvar1_rms"], m["plotvar1_err_maxabs"]
 (2, 1, 0.5, 2.23606797749979, 2.0)
->>> run_metrics(log, {"motor_board_events": [(2, 1, 1), (9, 1, 0)]}, startup_ticks=3)["trips_before_lab"]
+>>> run_metrics(log, stats, startup_ticks=3)["trips_before_lab"]
 3
 """
 
