@@ -32,6 +32,7 @@ crslab.worker.worker_reply.UnreadableReply: its ran reply holds tick = '5000', n
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple, dataclass_transform
 
@@ -240,22 +241,31 @@ class _Bad(Exception):
     """A field that is not what the reply says it is (its name and why)."""
 
 
-def _whole(value: Any, what: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, int):
-        raise _Bad(f"{what} = {value!r:.40}, not a whole number")
-    return value
+def _checker(kind: type | tuple[type, ...], said: str) -> Callable[[Any, str], Any]:
+    """A check that a reply's field holds a value of ``kind`` (a bool is never a whole number).
+
+    >>> _checker(int, "a whole number")(True, "tick")
+    Traceback (most recent call last):
+    ...
+    crslab.worker.worker_messages._Bad: tick = True, not a whole number
+    """
+
+    def check(value: Any, what: str) -> Any:
+        if not isinstance(value, kind) or (isinstance(value, bool) and bool not in _types(kind)):
+            raise _Bad(f"{what} = {value!r:.40}, not {said}")
+        return value
+
+    return check
 
 
-def _text(value: Any, what: str) -> str:
-    if not isinstance(value, str):
-        raise _Bad(f"{what} = {value!r:.40}, not text")
-    return value
+def _types(kind: type | tuple[type, ...]) -> tuple[type, ...]:
+    return kind if isinstance(kind, tuple) else (kind,)
 
 
-def _number(value: Any, what: str) -> float:
-    if not isinstance(value, float):
-        raise _Bad(f"{what} = {value!r:.40}, not a number")
-    return value
+_whole = _checker(int, "a whole number")
+_text = _checker(str, "text")
+_number = _checker(float, "a number")
+_flag = _checker(bool, "a flag")
 
 
 def _items(value: Any, what: str) -> list | tuple:
@@ -264,10 +274,6 @@ def _items(value: Any, what: str) -> list | tuple:
     return value
 
 
-def _flag(value: Any, what: str) -> bool:
-    if not isinstance(value, bool):
-        raise _Bad(f"{what} = {value!r:.40}, not a flag")
-    return value
 
 
 def _stats(value: Any) -> RunStats:
