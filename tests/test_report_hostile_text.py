@@ -19,6 +19,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
+from json_strings import json_strings
 
 from crslab.regress import autograder as ag
 from crslab.regress.grade import Grade, grade_result, summary_table, write_csv, write_junit_grades
@@ -129,18 +130,10 @@ def test_an_autograders_results_hold_no_control_for_the_student_to_see(grades, p
                    else ag.prairielearn_results(outcomes))
         ag.write_results(tmp_path / "results.json", results)
         parsed = json.loads((tmp_path / "results.json").read_text())
-        strings = _strings(parsed)
+        strings = json_strings(parsed)
         assert [s for s in strings if unsafe(s, newlines=True)] == [], g.path.name
     missing = ag.not_one_submission(platform, [Path("class") / n for n in NAMES[:3]], Path("class"))
-    assert [s for s in _strings(missing) if unsafe(s, newlines=True)] == []
+    assert [s for s in json_strings(missing) if unsafe(s, newlines=True)] == []
     assert "\\x1b[2K" in json.dumps(missing)  # the name is there, escaped
 
 
-def _strings(value: object) -> list[str]:
-    if isinstance(value, str):
-        return [value]
-    if isinstance(value, dict):
-        return [s for v in value.values() for s in _strings(v)]
-    if isinstance(value, list):
-        return [s for v in value for s in _strings(v)]
-    return []

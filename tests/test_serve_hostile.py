@@ -25,6 +25,7 @@ import threading
 from pathlib import Path
 
 import pytest
+from json_strings import json_strings
 from serve_server import USERS, Client, ServeProcess, logged_in, roster_server, run_message, write_roster
 from serve_tables import start_without_processes, table_session
 from waiting import wait_gone, wait_until
@@ -300,16 +301,6 @@ SERVER_PATHS = [p for p in {str(Path.home()), tempfile.gettempdir(), sys.prefix,
                             str(Path(crslab.__file__).parent)} if len(p) > 1]
 
 
-def _strings(value: object) -> list[str]:
-    if isinstance(value, str):
-        return [value]
-    if isinstance(value, dict):
-        return [s for v in value.values() for s in _strings(v)]
-    if isinstance(value, list):
-        return [s for v in value for s in _strings(v)]
-    return []
-
-
 def test_messages_name_the_users_files_never_a_server_path(server, alice):
     """Finding 8: a compile error inside a system header and one inside crslab's, a malformed
     uploaded scenario: the page reads the names it gave (and the headers' own names), no folder."""
@@ -322,7 +313,7 @@ def test_messages_name_the_users_files_never_a_server_path(server, alice):
     got += alice.until("built")
     alice.send(run_message(LAB_A, scenario={"file": {"name": "bad.toml", "text": "end = \"soon\"\n"}}))
     got += alice.until("ended")
-    texts = [s for m in got for s in _strings(m)]
+    texts = [s for m in got for s in json_strings(m)]
     leaks = [(p, t) for t in texts for p in [*SERVER_PATHS, str(cache_dir()), "crslab-serve-"] if p in t]
     assert not leaks
     # nor any other absolute path: a header's name is its own (stdio.h), never a folder's
