@@ -277,3 +277,27 @@ def test_the_board_applies_a_scenarios_event_itself(configured):
     apply(JointFault(tick=7000, fault="dead_motor", joints=(3,), on=False))
     assert list(sim.faults.dead_motor) == [1, 0, 0]
     assert lib.crs_board_apply_event(sim, ffi.new("crs_board_event *", {"kind": 99})) == -1
+
+
+def test_a_board_logging_every_5th_tick_logs_those_rows_of_the_every_tick_log():
+    """``log_every_ticks`` (crs_board_configure): the scope log keeps the ticks divisible by it,
+    each row the same as a board logging every tick has for that tick (crslab serve's page: a row
+    every 5 ms, as Simulink samples); a world's columns too."""
+    full = make_config(ROOT / "csrc" / "labs" / "lab2_square_pid.c", "tour", log=True, world="contest")
+    fifth = dataclasses.replace(full, log_every_ticks=5)
+    worker = BoardWorker()
+    try:
+        every, sparse = worker.open(full), worker.open(fifth)
+        logs: dict[int, list] = {every.id: [], sparse.id: []}
+        for until in (3, 250, 251, 503, 1000, 1012):  # chunks that start and end off the 5 ms grid
+            for ran in worker.run([(every, until), (sparse, until)]):
+                logs[ran.instance].append(ran.log)
+    finally:
+        worker.close()
+    full_log = {k: np.concatenate([b[k] for b in logs[every.id]]) for k in logs[every.id][0]}
+    sparse_log = {k: np.concatenate([b[k] for b in logs[sparse.id]]) for k in logs[sparse.id][0]}
+    assert full_log["tick"][:, 0].tolist() == list(range(1012))
+    assert sparse_log["tick"][:, 0].tolist() == list(range(0, 1012, 5))
+    assert "egg_force" in sparse_log and set(sparse_log) == set(full_log)
+    for name, column in full_log.items():
+        assert np.array_equal(sparse_log[name], column[::5]), name

@@ -73,17 +73,22 @@ def test_the_run_options_are_crslab_sims(alice, tmp_path):
     assert serial_of(got)[0][0] == 0
 
 
-def test_a_chunk_carries_the_arm_at_60_hz_and_every_tick_of_the_scopes(alice):
+def test_a_chunk_carries_the_arm_at_60_hz_and_the_scopes_every_5_ms(alice):
+    """The scopes have a row every 5 ms (what the course's Simulink model samples); the arm's
+    frames are rows too, the first of each 1/60 s of simulated time."""
     alice.send(run_message(LAB_A, duration=2.0, scenario={"name": "hands_off"}))
     got = alice.until("ended")
     chunks = [m for m in got if m["type"] == "chunk"]
     frames = [f for c in chunks for f in c["frames"]]
     ticks = sorted({f[0] for f in frames})
-    # a frame starts every 1/60 s of simulated time: ticks 0, 17, 34, 50, 67, ... (and each chunk's last)
-    sixty = [t for t in range(2000) if (t * 60) // 1000 != ((t - 1) * 60) // 1000]
-    assert set(sixty) <= set(ticks)
+    # a frame starts every 1/60 s of simulated time: ticks 0, 20, 35, 50, 70, 85, ... (and each chunk's last)
+    sixty = [t for t in range(0, 2000, 5) if (t * 60) // 1000 != ((t - 5) * 60) // 1000]
+    assert len(sixty) == 120 and set(sixty) <= set(ticks) and all(t % 5 == 0 for t in ticks)
+    assert len(ticks) <= len(sixty) + len(chunks)
     rows = sum(c["scope"]["rows"] for c in chunks)
-    assert rows == 2000 and [c["scope"]["tick0"] for c in chunks][:2] == [0, chunks[0]["tick"]]
+    assert rows == 400 and all(c["scope"]["every"] == 5 for c in chunks)
+    assert [c["scope"]["tick0"] for c in chunks][:2] == [0, -(-chunks[0]["tick"] // 5) * 5]
+    assert chunks[-1]["tick"] == 2000 and all(a["tick"] == b["first"] for a, b in zip(chunks, chunks[1:]))
     # the scope's motor angles are the frames' motor angles at the same tick
     import base64
 
@@ -413,7 +418,7 @@ def test_letting_go_takes_the_hands_force_away_once():
 
     arm = ArmPoses()
     stream = BrowserStream(lambda data: None, arm)
-    stream.last_qpos = np.array([0.0, -np.pi / 2, np.pi / 2])  # motor zero: the forearm level
+    stream.pose.qpos_dh_rad = np.array([0.0, -np.pi / 2, np.pi / 2])  # motor zero: the forearm level
     control = PageControl(lambda data: None, stream, VarConsole(()), Pacer(None, chunks=PAGE_CHUNKS),
                           lambda msg: None)
     lab = Lab()

@@ -19,6 +19,7 @@ byte), the key, the tag (:data:`~crslab.serve.page_process.FORWARD`, ``RUN_START
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import pickle
 import signal
@@ -32,7 +33,7 @@ from pathlib import Path
 from crslab import os_support
 from crslab.live.console import VarConsole
 from crslab.serve.page_text import PageText
-from crslab.serve.stream import ArmPoses, BrowserStream, PageControl, Stopped, message
+from crslab.serve.stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream, PageControl, Stopped, message
 from crslab.sim.assemble import NoLab
 from crslab.sim.board_worker import BoardWorker
 from crslab.sim.diagnosis import Ending
@@ -119,6 +120,8 @@ class HostedSession:
         """Open the lab as an instance, start the sinks and say ``started``; False when the run
         ended at once (its ``ended`` sent)."""
         run, config = self.run, self.run.config
+        if not (run.record_csv or run.record_rrd):  # the page's scopes need every 5th tick only
+            config = dataclasses.replace(config, log_every_ticks=SCOPE_EVERY_TICKS)
         try:
             self.sim = self.host.simulation(config, Limits(output_bytes=run.output_bytes))
         except SimError as exc:

@@ -5,8 +5,9 @@ one ``chunk`` message holding the serial bytes with the tick each left the board
 shows, at the time the board sends it), the arm's pose at 60 Hz of simulated time (DH and motor
 angles, the safety flag, whether the motor board cut the outputs: the page poses its model of the
 arm from the DH angles), and
-the scope rows of every tick (``Simulink_PlotVar1..4``, motor angles, commanded and applied
-torques: :data:`SCOPE_SIGNALS`), packed as little-endian float32.
+the scope rows of every 5th tick (``Simulink_PlotVar1..4``, motor angles, commanded and applied
+torques: :data:`SCOPE_SIGNALS`; one row each 5 ms, as the course's Simulink model samples them:
+:data:`SCOPE_EVERY_TICKS`), packed as little-endian float32.
 
 :class:`PageControl` is a :class:`~crslab.sim.running.PacedControl`: the server paces the run
 (the worker runs a chunk, then the control waits until the wall clock reaches the chunk's end),
@@ -33,7 +34,8 @@ from crslab.live.console import CommandError, VarConsole, format_value
 from crslab.scenario.expect_events import ExpectOutcome
 from crslab.sim.pacing import PAGE_CHUNKS, Pacer
 from crslab.sim.running import RunningLab
-from crslab.sinks.sink import Sink
+from crslab.sinks.latest_pose import LatestPose
+from crslab.sinks.sink import Ended, Sink
 
 FRAME_HZ = 60
 """Poses of the arm per simulated second sent to the page (the 3D view)."""
@@ -42,6 +44,10 @@ INTERACTIVE_CHUNK_TICKS = 20
 holds the arm, and for :data:`INTERACTIVE_HOLD_TICKS` after any command, a command acts within 20
 ms of simulated time. While it only watches, chunks are long (:data:`~crslab.sim.pacing.PAGE_CHUNKS`)."""
 INTERACTIVE_HOLD_TICKS = 2000
+SCOPE_EVERY_TICKS = 5
+"""The page's scopes show the ticks divisible by this: one sample every 5 ms, as the course's
+Simulink model (``simulink5ms_plotAndGains``) asks the board for its four ``Simulink_PlotVar`` every
+5 ms; the board logs only those unless the run records its CSV or rrd (every tick)."""
 SCOPE_SIGNALS = (
     "Simulink_PlotVar1",
     "Simulink_PlotVar2",
@@ -57,7 +63,7 @@ SCOPE_SIGNALS = (
     "tau2_applied",
     "tau3_applied",
 )
-"""The scope columns of a chunk, in order (float32 each, one row per tick)."""
+"""The scope columns of a chunk, in order (float32 each, one row per :data:`SCOPE_EVERY_TICKS`)."""
 HAND_STIFFNESS_N_M = 400.0
 """The hand's spring from the grabbed point to the mouse (N/m)."""
 HAND_DAMPING_N_S_M = 40.0
@@ -110,7 +116,8 @@ def _rotate_xyzw(q: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 class BrowserStream(Sink):
-    """Sends each chunk of a run to the page through ``send`` (one message per chunk)."""
+    """Sends each chunk of a run to the page through ``send`` (one message per chunk, once the run
+    reached its end: :meth:`on_reached`; the last bytes of a run at its end: :meth:`on_end`)."""
 
     def __init__(self, send: Send, arm: ArmPoses, *, world: bool = False) -> None:
         self.send = send
@@ -120,10 +127,15 @@ class BrowserStream(Sink):
         grams and whether the egg broke."""
         self.serial: list[tuple[int, str]] = []
         self.blocks: list[dict[str, np.ndarray]] = []
-        self.last_qpos: np.ndarray | None = None
-        """The arm's latest DH angles (for the hand)."""
-        self.last_tick = 0
+        self.pose = LatestPose()
+        """The arm's latest pose (its DH angles: the hand pulls from there)."""
         self.first_tick = 0
+        self._frame = -1  # the 1/60 s frame of simulated time the last frame sent was in
+
+    @property
+    def last_qpos(self) -> np.ndarray | None:
+        """The arm's latest DH angles (for the hand)."""
+        return self.pose.qpos_dh_rad
 
     def on_motor_board(self, tick: int, joint: int, off: bool) -> None:
         self.send(message("motor_board", tick=tick, joint=joint, off=off))
@@ -138,32 +150,42 @@ class BrowserStream(Sink):
     def on_log(self, columns: dict[str, np.ndarray]) -> None:
         self.blocks.append(columns)
 
-    def flush(self) -> None:
+    def on_reached(self, tick: int) -> None:
+        self._send(tick)
+
+    def on_end(self, result: Ended) -> None:
+        self._send(result.end_tick)  # the bytes still on the serial line as the run ended
+
+    def _send(self, tick: int) -> None:
+        """The chunk up to ``tick`` (what came since the last), as one ``chunk`` message."""
         if not self.blocks and not self.serial:
             return
         fields: dict[str, object] = {"type": "chunk", "serial": self.serial}
         scope = b""
-        if self.blocks:
-            blocks = self.blocks  # (one per chunk as a rule: nothing to join then)
-            log = blocks[0] if len(blocks) == 1 else {k: np.concatenate([b[k] for b in blocks])
-                                                      for k in blocks[0]}
+        log = _scope_rows(self.blocks) if self.blocks else None
+        if log is not None:
+            self.pose.on_log(log)
             fields.update(self._frames(log))
             scope = b', "scope": ' + self._scope(log)
-            self.last_tick = int(log["tick"][-1, 0]) + 1
         sent = round(time.monotonic(), 4)  # the machine's monotonic clock: where lag arises
         # the message as message("chunk", ...) writes it, its scope's base64 put in as it is (JSON
-        # would copy and scan its some 17 kB for characters to escape, of which base64 has none)
+        # would copy and scan it for characters to escape, of which base64 has none)
         self.send(json.dumps(fields).encode()[:-1] + scope
-                  + b', "first": %d, "tick": %d, "sent": %s}' % (self.first_tick, self.last_tick,
+                  + b', "first": %d, "tick": %d, "sent": %s}' % (self.first_tick, tick,
                                                                   json.dumps(sent).encode()))
-        self.first_tick = self.last_tick
+        self.first_tick = tick
         self.serial, self.blocks = [], []
 
     def _frames(self, log: dict[str, np.ndarray]) -> dict[str, object]:
+        """The rows that start a new 1/60 s frame of simulated time, and the chunk's last (a
+        stopped run shows the latest pose)."""
         ticks = log["tick"][:, 0]
-        keep = (ticks * FRAME_HZ) // 1000 != ((ticks - 1) * FRAME_HZ) // 1000  # frame_ticks, as a mask
-        keep[-1] = True  # the chunk's last pose too: a stopped run shows the latest
-        self.last_qpos = log["qpos_dh_rad"][-1].copy()
+        frame = (ticks * FRAME_HZ) // 1000
+        keep = np.empty(len(ticks), dtype=bool)
+        keep[0] = frame[0] != self._frame
+        keep[1:] = frame[1:] != frame[:-1]
+        keep[-1] = True
+        self._frame = int(frame[-1])
         frames = np.concatenate(
             [np.round(log["qpos_dh_rad"][keep], 5), np.round(log["enc_rad"][keep], 5)], axis=1
         )
@@ -177,10 +199,28 @@ class BrowserStream(Sink):
 
     @staticmethod
     def _scope(log: dict[str, np.ndarray]) -> bytes:
-        """The chunk's ``scope`` field, as JSON: ``{"tick0": ..., "rows": ..., "data": "<base64>"}``."""
+        """The chunk's ``scope`` field, as JSON: ``{"tick0": ..., "every": ..., "rows": ...,
+        "data": "<base64>"}`` (row ``i`` is tick ``tick0 + i * every``)."""
         rows = np.concatenate([log["plot"], log["enc_rad"], log["tau_lab"], log["tau_applied"]], axis=1)
         data = base64.b64encode(rows.astype("<f4").tobytes())
-        return b'{"tick0": %d, "rows": %d, "data": "%s"}' % (int(log["tick"][0, 0]), len(rows), data)
+        return b'{"tick0": %d, "every": %d, "rows": %d, "data": "%s"}' % (
+            int(log["tick"][0, 0]), SCOPE_EVERY_TICKS, len(rows), data)
+
+
+def _scope_rows(blocks: list[dict[str, np.ndarray]]) -> dict[str, np.ndarray] | None:
+    """The page's rows of a chunk's scope log: one per tick divisible by :data:`SCOPE_EVERY_TICKS`
+    (all of the log's rows when the board logged only those); None when there are none.
+
+    >>> rows = _scope_rows([{"tick": np.arange(3, 14).reshape(-1, 1)}])
+    >>> rows["tick"][:, 0].tolist(), _scope_rows([{"tick": np.arange(1, 5).reshape(-1, 1)}])
+    ([5, 10], None)
+    """
+    log = blocks[0] if len(blocks) == 1 else {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}
+    ticks = log["tick"][:, 0]
+    every = ticks % SCOPE_EVERY_TICKS == 0
+    if not every.all():
+        log = {k: v[every] for k, v in log.items()}
+    return log if len(log["tick"]) else None
 
 
 class Stopped(KeyboardInterrupt):

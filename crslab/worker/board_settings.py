@@ -53,7 +53,7 @@ def board_settings(config: SimConfig, *, trap_fp: bool = False, time_lab: bool =
         "hand_kp_nm_per_rad": config.hand.kp, "hand_ki_nm_per_rad_s": config.hand.ki,
         "hand_kd_nm_s_per_rad": config.hand.kd, "hand_max_nm": config.hand.max_nm,
         "break_when": int(config.build.break_when is not None), "trap_fp": int(trap_fp),
-        "time_lab": int(time_lab),
+        "time_lab": int(time_lab), "log_every_ticks": config.log_every_ticks,
     }
 
 

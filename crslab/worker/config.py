@@ -39,6 +39,9 @@ class SimConfig:
     """What one lab() call may cost before it is counted over budget: WebAssembly instructions (a
     time a native firmware's lab() takes is compared at one instruction per cycle of the 150 MHz F28335)."""
     log_signals: bool = False
+    log_every_ticks: int = 1
+    """The scope log keeps one row per tick divisible by this (1: every tick; crslab serve's page:
+    every 5th, what the course's Simulink model samples, unless the run records a CSV or rrd)."""
     hand: HandGains = HandGains()
     sandboxed: bool = True  # compiled and run in crslab.sandbox (it never changes the transcript)
     motor_board: str | None = None

@@ -23,6 +23,7 @@ void crs_board_configure(crs_sim *sim, const crs_board_config *c)
                       ? c->budget_instructions
                       : c->budget_instructions * 1000000 / CRS_CPU_CYCLES_PER_TICK;
     sim->time_lab = c->time_lab != 0;
+    sim->log_every_ticks = c->log_every_ticks > 1 ? c->log_every_ticks : 1;
     sim->motor_board.model = c->motor_board;
     for (int j = 0; j < 3; ++j) {
         sim->rest_motor_rad[j] = c->rest_motor_rad[j];

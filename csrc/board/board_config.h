@@ -26,7 +26,8 @@ typedef struct {
     int32_t break_when;                /* crslab debug --break-when (a native firmware) */
     int32_t trap_fp;                   /* crslab debug: a NaN or Inf in lab() raises SIGFPE */
     int32_t time_lab;                  /* 1: count each lab() call's cost (0: measuring only) */
-    int32_t pad;
+    int32_t log_every_ticks;           /* the scope log keeps the ticks divisible by this (0, 1:
+                                          every tick; 5: what Simulink samples, crslab serve's page) */
 } crs_board_config;
 
 /* The MuJoCo model and data a board steps, and the arrays of the data it reads and writes. */

@@ -25,6 +25,7 @@ void crs_sim_init(crs_sim *sim)
     sim->startup_ticks = CRS_STARTUP_TICKS;
     sim->budget = INT64_MAX;
     sim->time_lab = 1;
+    sim->log_every_ticks = 1;
     sim->leds = CRS_LEDS_AT_START;
     sim->nan_first_tick = -1;
     sim->tx_first_drop_tick = -1;
@@ -143,6 +144,7 @@ static int run_ticks(crs_sim *sim, int64_t until_tick)
     const double drive_follow = crs_drive_follow(&sim->drive);
     crs_hand_path hand_path;
     crs_hand_plan(&sim->hand, &hand_path);
+    const int64_t log_every = sim->log.capacity > 0 ? sim->log_every_ticks : 0; /* 0: no log */
     while (sim->tick < until_tick) {
         sh->tick = sim->tick;
         if (crs_fw_tick_begins(sim)) return CRS_RUN_BREAK;
@@ -156,7 +158,8 @@ static int run_ticks(crs_sim *sim, int64_t until_tick)
         crs_hand_step_along(sim, &hand_path);
         for (int j = 0; j < 3; ++j) sim->qfrc_applied[j] = sim->hand.force_nm[j];
         crs_push_apply(&sim->push, sim->tick, sim->qpos, sim->qfrc_applied);
-        if (sim->log.capacity > 0) log_tick(sim, plots);
+        const int logged = log_every == 1 || (log_every > 1 && sim->tick % log_every == 0);
+        if (logged) log_tick(sim, plots);
         crs_line_send(sh, sim->tick);
         crs_host_ports_tick(sim, sim->tick); /* after lab(): what the host sent, the replies */
 
@@ -165,7 +168,7 @@ static int run_ticks(crs_sim *sim, int64_t until_tick)
         if (sim->world.enabled) {
             /* the contact forces of the step just taken, logged with the state it started from */
             crs_world_update(&sim->world, sim->tick);
-            if (sim->log.capacity > 0 && sim->log.world != NULL) {
+            if (logged && sim->log.world != NULL) {
                 memcpy(&sim->log.world[CRS_WORLD_ROW * (sim->log.count - 1)], sim->world.row,
                        sizeof sim->world.row);
             }

@@ -121,7 +121,8 @@ typedef struct {
     double now_n[3];             /* this tick's force, world frame, N (0 when inactive) */
 } crs_push;
 
-/* Per-tick signals for scopes (rerun, CSV): filled when capacity > 0 (rows the arrays hold). */
+/* Per-tick signals for scopes (rerun, CSV): filled when capacity > 0 (rows the arrays hold), one
+ * row per tick, or per tick divisible by crs_sim.log_every_ticks (crs_board_config). */
 typedef struct {
     int64_t capacity, count;     /* rows */
     int64_t *tick;
@@ -351,6 +352,7 @@ typedef struct {
     crs_drive drive;
     crs_friction friction;
     crs_log log;
+    int64_t log_every_ticks;     /* the log keeps the ticks divisible by this (1: every tick) */
     crs_debug debug;
     crs_world world;             /* what the world's fixtures feel (csrc/plant/world.h) */
 

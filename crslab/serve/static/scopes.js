@@ -14,7 +14,7 @@ window.CrsScopes = (function () {
       names: ["tau1 applied", "tau2 applied", "tau3 applied"] },
   ];
   const COLORS = ["#0b63b6", "#d0531f", "#1e7a34", "#7b3fa0"];
-  const MAX_ROWS = 120000; // two minutes of simulated time at 1 kHz
+  const MAX_ROWS = 120000; // ten minutes of simulated time at a row every 5 ms
   const TITLE_H = 16; // px: the title's band; the traces are drawn below it
   const BOTTOM_H = 14; // px: the time labels' band
 
@@ -53,21 +53,22 @@ window.CrsScopes = (function () {
   Scopes.prototype.clear = function () {
     this.data = new Float32Array(MAX_ROWS * COLUMNS);
     this.tick0 = 0; // tick of row 0
+    this.every = 1; // ticks from one row to the next (the server sends a row every 5 ms)
     this.rows = 0;
     this.endTick = 0;
     this.dirty = true;
   };
 
-  // One chunk's rows (consecutive ticks from tick0), from the server's base64 float32 block.
+  // One chunk's rows (row i is tick tick0 + i * every), from the server's base64 float32 block.
   Scopes.prototype.add = function (scope) {
     const bytes = Uint8Array.from(atob(scope.data), (c) => c.charCodeAt(0));
     const rows = new Float32Array(bytes.buffer);
     const n = scope.rows;
-    if (this.rows === 0) this.tick0 = scope.tick0;
+    if (this.rows === 0) { this.tick0 = scope.tick0; this.every = scope.every || 1; }
     if (this.rows + n > MAX_ROWS) { // drop the oldest half
       const keep = Math.floor(MAX_ROWS / 2);
       this.data.copyWithin(0, (this.rows - keep) * COLUMNS, this.rows * COLUMNS);
-      this.tick0 += this.rows - keep;
+      this.tick0 += (this.rows - keep) * this.every;
       this.rows = keep;
     }
     this.data.set(rows.subarray(0, n * COLUMNS), this.rows * COLUMNS);
@@ -105,7 +106,9 @@ window.CrsScopes = (function () {
     if (canvas.height !== h) canvas.height = h;
     const g = canvas.getContext("2d");
     g.clearRect(0, 0, w, h);
-    const first = Math.max(0, start - this.tick0), last = Math.min(this.rows, end - this.tick0);
+    const e = this.every;
+    const first = Math.max(0, Math.ceil((start - this.tick0) / e));
+    const last = Math.min(this.rows, Math.ceil((end - this.tick0) / e));
     let lo = Infinity, hi = -Infinity;
     for (let r = first; r < last; r++) {
       for (const c of panel.cols) {
@@ -141,7 +144,7 @@ window.CrsScopes = (function () {
           if (v < mn) mn = v;
           if (v > mx) mx = v;
         }
-        const px = x(this.tick0 + r);
+        const px = x(this.tick0 + r * e);
         if (r === first) g.moveTo(px, y(mn)); else g.lineTo(px, y(mn));
         if (mx !== mn) g.lineTo(px, y(mx));
       }
