@@ -72,11 +72,26 @@ def test_each_request_reads_back_as_itself(request_):
 
 
 def test_scope_rows_travel_as_numeric_arrays():
-    log = {"tick": np.arange(3, dtype=np.int64).reshape(3, 1), "plot": np.zeros((3, 4), dtype=np.float32)}
-    back = read_reply(Stopped(instance=0, stats=RunStats(), log=log).wire(), Stopped)
-    assert back.log is log
-    with pytest.raises(UnreadableReply, match=r"log\['tick'\] is not a column of numbers"):
+    """Packed in one buffer (one object on the pipe, not one array per column), read back as the
+    same columns, also when the reply is not trusted; a packing that lies about its columns is refused."""
+    log = {"tick": np.arange(3, dtype=np.int64).reshape(3, 1),
+           "plot": np.arange(12, dtype=np.float32).reshape(3, 4) / 7, "safety": np.array([[0], [1], [-1]], np.int32)}
+    for trusted in (False, True):
+        wire = pickle.loads(pickle.dumps(Stopped(instance=0, stats=RunStats(), log=log).wire()))
+        assert isinstance(wire[3][2], bytes)
+        back = read_reply(wire, Stopped, trusted=trusted).log
+        assert list(back) == list(log)
+        for name, column in log.items():
+            assert back[name].dtype == column.dtype and np.array_equal(back[name], column)
+        back["tick"][0, 0] = 5  # writable, as the worker's arrays were
+    with pytest.raises(UnreadableReply, match="log is not packed scope rows"):
         read_reply(("stopped", 0, {}, {"tick": [1, 2, 3]}), Stopped)
+    with pytest.raises(UnreadableReply, match=r"log\['tick'\] is not a column of numbers"):
+        read_reply(("stopped", 0, {}, (3, (("tick", "|O", 1),), b"")), Stopped)
+    with pytest.raises(UnreadableReply, match=r"log\['tick'\] is not a column of numbers"):
+        read_reply(("stopped", 0, {}, (4, (("tick", "<i8", 1),), bytes(24))), Stopped)
+    with pytest.raises(UnreadableReply, match="log's bytes are not its columns'"):
+        read_reply(("stopped", 0, {}, (2, (("tick", "<i8", 1),), bytes(24))), Stopped)
 
 
 def test_every_reply_has_a_reader_for_each_of_its_fields():

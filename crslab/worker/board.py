@@ -455,4 +455,6 @@ class Board:
             if "world" in empty:
                 empty.update(split_world_row(empty.pop("world")))
             return empty
+        if len(blocks) == 1:  # a chunk's rows, as a rule
+            return blocks[0]
         return {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}

@@ -93,7 +93,14 @@ class RunStats:
 
     def wire(self) -> dict[str, Any]:
         """The statistics as plain data (names to ints, a flag, a name, lists of ticks)."""
-        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
+        plain = dict(self.__dict__)
+        for name in _TUPLES:
+            plain[name] = _plain(plain[name])
+        return plain
+
+
+_TUPLES = ("first_over_tick", "motor_board_events")
+"""The fields that travel as lists (the rest as they are)."""
 
 
 def _plain(value: object) -> object:

@@ -62,8 +62,10 @@ class Message:
         cls.NAMES = tuple(f.name for f in dataclasses.fields(cls))  # type: ignore[arg-type]
 
     def wire(self) -> tuple:
-        """The message as it travels: ``(KIND, field, ...)``, plain data only."""
-        return (self.KIND, *[_plain(getattr(self, name)) for name in self.NAMES])
+        """The message as it travels: ``(KIND, field, ...)``, plain data only (a ``log``, the
+        scope rows, packed: :func:`pack_log`)."""
+        return (self.KIND, *[pack_log(getattr(self, name)) if name == "log" else _plain(getattr(self, name))
+                             for name in self.NAMES])
 
 
 _AS_IS = (int, float, str, bool, type(None), dict)
@@ -84,6 +86,61 @@ def _plain(value: object) -> object:
     if isinstance(value, tuple | list):
         return [_plain(v) for v in value]
     return value
+
+
+_LOG_DTYPES = {name: np.dtype(name) for name in ("<i8", "<i4", "<u4", "<f8", "<f4")}
+"""The scope log's column types as they travel (little-endian whole numbers and floats)."""
+
+
+def pack_log(log: dict[str, np.ndarray] | None) -> tuple | None:
+    """Scope rows as they travel: ``(rows, ((name, dtype, width), ...), bytes)``, every column's
+    rows one after the other in one buffer (one object to pickle, not one array per column:
+    a chunk's some dozen arrays cost the pipe more than their bytes).
+
+    >>> log = {"tick": np.arange(3).reshape(3, 1), "plot": np.ones((3, 4))}
+    >>> packed = pack_log(log)
+    >>> packed[:2]
+    (3, (('tick', '<i8', 1), ('plot', '<f8', 4)))
+    >>> {k: v.tolist() for k, v in unpack_log(packed).items()}["tick"]
+    [[0], [1], [2]]
+    """
+    if log is None:
+        return None
+    rows = len(next(iter(log.values()))) if log else 0
+    # (a little-endian machine's arrays: crslab's, x86 and ARM alike)
+    columns = tuple((name, a.dtype.str, a.size // rows if rows else 1) for name, a in log.items())
+    return rows, columns, b"".join([a.tobytes() for a in log.values()])
+
+
+def unpack_log(packed: object) -> dict[str, np.ndarray] | None:
+    """The scope rows :func:`pack_log` packed, each column a ``(rows, width)`` array (writable);
+    raises :class:`_Bad` for anything that is not such a packing."""
+    if packed is None:
+        return None
+    if not isinstance(packed, tuple | list) or len(packed) != 3:
+        raise _Bad("log is not packed scope rows")
+    rows, columns, data = packed
+    if isinstance(rows, bool) or not isinstance(rows, int) or rows < 0 or not isinstance(data, bytes | bytearray):
+        raise _Bad("log is not packed scope rows")
+    if not isinstance(columns, tuple | list):
+        raise _Bad("log's columns are not a list")
+    buffer = bytearray(data)
+    log, offset = {}, 0
+    for column in columns:
+        if not isinstance(column, tuple | list) or len(column) != 3:
+            raise _Bad("log's column is not (name, type, width)")
+        name, dtype, width = column
+        if not isinstance(name, str) or dtype not in _LOG_DTYPES or type(width) is not int or width < 1:
+            raise _Bad(f"log[{name!r:.40}] is not a column of numbers")
+        dt = _LOG_DTYPES[dtype]
+        size = rows * width * dt.itemsize
+        if offset + size > len(buffer):
+            raise _Bad(f"log[{name!r:.40}] is not a column of numbers")
+        log[name] = np.ndarray((rows, width), dt, buffer, offset)
+        offset += size
+    if offset != len(buffer):
+        raise _Bad("log's bytes are not its columns'")
+    return log
 
 
 # -- the crslab process asks --------------------------------------------------------------------
@@ -291,15 +348,8 @@ def _stats(value: Any) -> RunStats:
 
 
 def _log(value: Any) -> dict | None:
-    """Scope rows: None, or names to numeric arrays (the unpickler allowed no other array)."""
-    if value is None:
-        return None
-    if not isinstance(value, dict):
-        raise _Bad(f"log is {type(value).__name__}, not a table")
-    for key, v in value.items():
-        if not isinstance(key, str) or not isinstance(v, np.ndarray):
-            raise _Bad(f"log[{key!r:.40}] is not a column of numbers")
-    return value
+    """Scope rows: None, or packed columns of numbers (:func:`unpack_log`)."""
+    return unpack_log(value)
 
 
 def _trap(value: Any) -> dict:
@@ -410,9 +460,9 @@ def _trusted_stats(value: dict) -> RunStats:
 
 
 _TYPED: dict[type[Message], dict[int, Any]] = {
-    Ran: {3: _trusted_stats, 5: lambda v: tuple(MotorBoardEvent(e[0], e[1], bool(e[2])) for e in v),
+    Ran: {3: _trusted_stats, 4: unpack_log, 5: lambda v: tuple(MotorBoardEvent(e[0], e[1], bool(e[2])) for e in v),
           6: lambda v: tuple(observation(o) for o in v)},
-    Stopped: {1: _trusted_stats},
+    Stopped: {1: _trusted_stats, 2: unpack_log},
 }
 """A trusted reply's fields that travel as plain data but are read back typed (by position)."""
 

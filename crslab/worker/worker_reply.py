@@ -5,7 +5,7 @@ A native worker runs the lab's code, and the lab can write anything to the pipe 
 crslab process. A plain ``Connection.recv()`` unpickles, and unpickling can call any function:
 a lab could run code in the crslab process, outside the sandbox. So replies are read as bytes
 (bounded in size) and unpickled with only the globals a reply holds: numpy arrays of numbers
-(the scope log) and their dtypes. Everything else in a reply (tuples, lists, dicts, strings,
+(allowed; the scope log itself travels as one buffer of bytes) and their dtypes. Everything else in a reply (tuples, lists, dicts, strings,
 numbers) needs no global at all.
 
 >>> import pickle, numpy as np
