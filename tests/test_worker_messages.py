@@ -75,7 +75,8 @@ def test_scope_rows_travel_as_numeric_arrays():
     """Packed in one buffer (one object on the pipe, not one array per column), read back as the
     same columns, also when the reply is not trusted; a packing that lies about its columns is refused."""
     log = {"tick": np.arange(3, dtype=np.int64).reshape(3, 1),
-           "plot": np.arange(12, dtype=np.float32).reshape(3, 4) / 7, "safety": np.array([[0], [1], [-1]], np.int32)}
+           "plot": np.arange(12, dtype=np.float32).reshape(3, 4) / 7,
+           "safety": np.array([[0], [1], [-1]], np.int32)}
     for trusted in (False, True):
         wire = pickle.loads(pickle.dumps(Stopped(instance=0, stats=RunStats(), log=log).wire()))
         assert isinstance(wire[3][2], bytes)

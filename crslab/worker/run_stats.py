@@ -13,7 +13,6 @@ since a native lab may have written it.
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import Any
 

@@ -120,7 +120,7 @@ def unpack_log(packed: object) -> dict[str, np.ndarray] | None:
     if not isinstance(packed, tuple | list) or len(packed) != 3:
         raise _Bad("log is not packed scope rows")
     rows, columns, data = packed
-    if isinstance(rows, bool) or not isinstance(rows, int) or rows < 0 or not isinstance(data, bytes | bytearray):
+    if type(rows) is not int or rows < 0 or not isinstance(data, bytes | bytearray):
         raise _Bad("log is not packed scope rows")
     if not isinstance(columns, tuple | list):
         raise _Bad("log's columns are not a list")
@@ -460,7 +460,8 @@ def _trusted_stats(value: dict) -> RunStats:
 
 
 _TYPED: dict[type[Message], dict[int, Any]] = {
-    Ran: {3: _trusted_stats, 4: unpack_log, 5: lambda v: tuple(MotorBoardEvent(e[0], e[1], bool(e[2])) for e in v),
+    Ran: {3: _trusted_stats, 4: unpack_log,
+          5: lambda v: tuple(MotorBoardEvent(e[0], e[1], bool(e[2])) for e in v),
           6: lambda v: tuple(observation(o) for o in v)},
     Stopped: {1: _trusted_stats, 2: unpack_log},
 }

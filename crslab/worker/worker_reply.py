@@ -4,9 +4,9 @@ runs no lab code in its address space, and its replies are read as they are).
 A native worker runs the lab's code, and the lab can write anything to the pipe it shares with the
 crslab process. A plain ``Connection.recv()`` unpickles, and unpickling can call any function:
 a lab could run code in the crslab process, outside the sandbox. So replies are read as bytes
-(bounded in size) and unpickled with only the globals a reply holds: numpy arrays of numbers
-(allowed; the scope log itself travels as one buffer of bytes) and their dtypes. Everything else in a reply (tuples, lists, dicts, strings,
-numbers) needs no global at all.
+(bounded in size) and unpickled with only the globals a reply may hold: numpy arrays of numbers
+and their dtypes (the scope log itself travels as one buffer of bytes). Everything else in a
+reply (tuples, lists, dicts, strings, numbers) needs no global at all.
 
 >>> import pickle, numpy as np
 >>> decode(pickle.dumps(("ran", 0, 5, {"tick": [5]}, {"tick": np.arange(3)})))[4]["tick"]
