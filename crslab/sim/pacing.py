@@ -62,6 +62,18 @@ possible (the page sees progress, and Stop acts, every 1000 ticks). While the pa
 control asks for short chunks (crslab/serve/stream.py)."""
 
 
+_PACED: dict[type, bool] = {}
+
+
+def _paced(control: LiveControl) -> bool:
+    """Whether ``control`` is a :class:`~crslab.sim.running.PacedControl` (asked once per class:
+    a protocol's ``isinstance`` inspects the class every time)."""
+    paced = _PACED.get(type(control))
+    if paced is None:
+        paced = _PACED[type(control)] = isinstance(control, PacedControl)
+    return paced
+
+
 class Waited(NamedTuple):
     """What :meth:`Pacer.wait` did: ``slept`` until due; ``behind``, the rate the run achieved,
     the first time it fell behind (else None)."""
@@ -119,7 +131,7 @@ class Pacer:
 
     def next_chunk(self, tick: int, end_tick: int, controls: Sequence[LiveControl]) -> tuple[int, int | None]:
         """Where the chunk from ``tick`` ends, and the tick the debugger asks to stop before (None)."""
-        step = min([self._step(tick)] + [t for c in controls if isinstance(c, PacedControl)
+        step = min([self._step(tick)] + [t for c in controls if _paced(c)
                                          and (t := c.chunk_ticks(self.speed)) is not None])
         target = min(end_tick, tick + max(1, step))
         pause = self.debugger.pause_tick() if self.debugger is not None else None
