@@ -20,8 +20,10 @@ byte), the key, the tag (:data:`~crslab.serve.page_process.FORWARD`, ``RUN_START
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 import pickle
+import select
 import signal
 import socket
 import time
@@ -245,14 +247,19 @@ class RunHost:
 
     def serve(self) -> None:
         """Pace the runs and carry out the server's messages until it closes the pipe."""
+        pipe = select.poll()  # one for the host's life (Connection.poll makes a selector every call)
+        pipe.register(self.conn.fileno(), select.POLLIN)
         try:
             while True:
-                wait = None
+                wait_ms = -1
                 if self.sessions:
-                    wait = max(0.0, min(s.due_s for s in self.sessions.values()) - time.monotonic())
-                if self.conn.poll(wait):
-                    while self.conn.poll(0):
+                    wait_s = min(s.due_s for s in self.sessions.values()) - time.monotonic()
+                    wait_ms = max(0, math.ceil(wait_s * 1000))
+                if pipe.poll(wait_ms):
+                    while True:
                         self.handle(self.conn.recv())
+                        if not pipe.poll(0):
+                            break
                 now = time.monotonic()
                 due = [s for s in self.sessions.values() if s.due_s <= now + BATCH_S]
                 if due:

@@ -19,12 +19,13 @@ import faulthandler
 import multiprocessing as mp
 import os
 import resource
+import select
 import signal
 import sys
 import tempfile
 import time
 from dataclasses import dataclass
-from multiprocessing.connection import Connection, wait
+from multiprocessing.connection import Connection
 from multiprocessing.reduction import DupFd as _spawn_dup
 from multiprocessing.reduction import send_handle
 from pathlib import Path
@@ -171,6 +172,7 @@ class WorkerProcess:
         # the crslab process drains, counts toward the output limit and never shows (a debugged one
         # keeps the terminal); a WebAssembly firmware has no descriptor at all (the board counts)
         self._console = -1
+        self._poller: Any = None  # select.poll of the pipe and the console, made once (_ready)
         self.console_bytes = 0
         console = None
         if self.native and debug is None:
@@ -248,13 +250,13 @@ class WorkerProcess:
         while True:
             try:
                 # a reply already there (the next of a RunMany's) is read at once
-                if self._console < 0 and self._conn.poll(0):
+                if self._console < 0 and self._ready(0.0):
                     return receive(self._conn, self.trusted)
-                ready = wait([self._conn, *([self._console] if self._console >= 0 else [])], POLL_S)
+                ready = self._ready(POLL_S)
                 if self._console in ready and self._drain_console():
                     self.kill()
                     return diagnosis.output_limit(self.lab_name, self.block.tick, self.limits.output_bytes)
-                if self._conn in ready and self._conn.poll(0):
+                if self._conn.fileno() in ready:
                     return receive(self._conn, self.trusted)
             except (EOFError, ConnectionResetError):
                 pass
@@ -321,6 +323,17 @@ class WorkerProcess:
         except (OSError, IndexError, ValueError):
             return 0.0
         return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+    def _ready(self, timeout_s: float) -> set[int]:
+        """The descriptors (the pipe's, the console's) with something to read within ``timeout_s``
+        (one ``poll`` object for the worker's life: ``multiprocessing``'s ``wait`` makes a selector
+        on every call, a cost on every reply of a server's many)."""
+        if self._poller is None:
+            self._poller = select.poll()
+            self._poller.register(self._conn.fileno(), select.POLLIN)
+            if self._console >= 0:
+                self._poller.register(self._console, select.POLLIN)
+        return {fd for fd, _ in self._poller.poll(round(timeout_s * 1000))}
 
     def _drain_console(self) -> bool:
         """Read (and drop) what a native lab wrote to its standard streams; True once it is more
