@@ -7,9 +7,10 @@ host, which opens it as an instance of its worker (:class:`crslab.sim.simulation
 shared :class:`~crslab.sim.board_worker.BoardWorker`), paces it with the one pacer
 (:class:`~crslab.sim.pacing.Pacer`, the page's chunks), and after each chunk hands it to the run's
 sinks (the page's stream, the transcript, the recorder) as ``crslab sim`` does
-(:class:`~crslab.sim.simulation.ChunkedRun`). One wake-up runs every run of the worker that is due
-(within :data:`BATCH_S`) in one request. The page's commands (stop, speed, vars, hand, release)
-reach the run between two chunks, as they arrive.
+(:class:`~crslab.sim.simulation.ChunkedRun`). A chunk is due :data:`LEAD_S` before the wall clock
+reaches its first tick (the page plays it from then on), and one wake-up runs every run of the
+worker that is due (within :data:`BATCH_S`) in one request. The page's commands (stop, speed,
+vars, hand, release) reach the run between two chunks, as they arrive.
 
 The pipe to the server: in, pickled tuples (:data:`RUN`, key, a pickled :class:`HostedRun`), (:data:`PAGE`,
 key, message) and (:data:`CLOSE`, key); out, one frame per page message: the key's length (one
@@ -58,6 +59,9 @@ SEND_BUFFER_BYTES = 4 << 20
 """The host's side of its pipe to the server buffers this much (as far as the system allows)."""
 BATCH_S = 0.005
 """A wake-up runs every run due within this much of now (s), in one request to the worker."""
+LEAD_S = 0.03
+"""A run's chunk is due this long before the wall clock reaches its first tick (s): the page gets
+it ahead of its time, as its playout needs, though the host runs its other runs' chunks first."""
 PROCESS_NAME = "crslab-host"
 """What ``ps`` calls a run host (its board worker is its child)."""
 DOWNLOADS = {"transcript": "transcript.txt", "csv": "run.csv", "rrd": "run.rrd"}
@@ -152,7 +156,7 @@ class HostedSession:
         self.send(message("started", end_tick=run.end_tick, scenario=config.scenario.name, speed=run.speed,
                           events=events, notes=self.notes, due_monotonic=pacer.wall0,
                           watched=[v.name for v in config.build.watched]), RUN_STARTED)
-        self.due_s = pacer.due_s(0)
+        self.due_s = pacer.due_s(0) - LEAD_S
         return True
 
     def _busy(self, msg: dict) -> None:
@@ -171,7 +175,7 @@ class HostedSession:
         except SimError as exc:
             self.finish(Ending(RunStatus.CRASHED, self.sim.tick, str(exc)))
             return False
-        self.due_s = self.chunked.pacer.due_s(self.sim.tick)  # a new speed paces from now
+        self.due_s = self.chunked.pacer.due_s(self.sim.tick) - LEAD_S  # a new speed paces from now
         return True
 
     def take(self, reply: object) -> Ending | None:
@@ -191,7 +195,7 @@ class HostedSession:
             self.finish(ending)
             return False
         self.chunked.serve_controls()
-        self.due_s = self.chunked.pacer.due_s(self.sim.tick)
+        self.due_s = self.chunked.pacer.due_s(self.sim.tick) - LEAD_S
         return True
 
     def finish(self, ending: Ending) -> None:
