@@ -406,8 +406,9 @@ def test_letting_go_takes_the_hands_force_away_once():
     """The page's control between two chunks: a hand pushes the grabbed link toward the mouse (a
     force on that body only, toward the target), a release pushes zero once, then nothing."""
     from crslab.live.console import VarConsole
-    from crslab.serve.stream import ArmPoses, BrowserStream, PageControl
+    from crslab.serve.stream import PageControl
     from crslab.sim.pacing import PAGE_CHUNKS, Pacer
+    from crslab.sinks.page_stream import ArmPoses, BrowserStream
 
     class Lab:
         tick = 100

@@ -38,10 +38,11 @@ from crslab.scenario.load import ScenarioError
 from crslab.serve.page_messages import compile_diagnostics, habit_diagnostics
 from crslab.serve.page_text import SESSION_SUBFOLDERS, PageText
 from crslab.serve.run_host import DOWNLOADS, FORWARD, RUN_ENDED, HostedRun
-from crslab.serve.stream import Stopped, message
+from crslab.serve.stream import Stopped
 from crslab.sim.assemble import DEFAULT_REST_MOTOR_RAD, make_config
 from crslab.sim.simulation import Limits, SimError
 from crslab.sim.status import RunStatus
+from crslab.sinks.page_stream import message
 from crslab.worker.config import SimConfig
 
 HOST_RUN = b"H"

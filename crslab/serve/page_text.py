@@ -32,7 +32,7 @@ from pathlib import Path
 SESSION_SUBFOLDERS = ("lab", "scenario", "golden", "out")
 """The session folder's parts that hold the page's own files (:mod:`crslab.serve.page_process`)."""
 CHUNK = b'{"type": "chunk"'
-"""How a chunk's message starts (:func:`crslab.serve.stream.message`): passed untouched."""
+"""How a chunk's message starts (:func:`crslab.sinks.page_stream.message`): passed untouched."""
 _PATH = re.compile(r"""(?<![\w.~/-])~?/(?:[^\s/'"`()<>,;:\[\]{}]+/)*([^\s/'"`()<>,;:\[\]{}]+)""")
 """An absolute path (or ``~/...``), its last part in group 1: stops at a space, a quote, a colon
 (``file.c:9:3``) or a bracket; a slash inside a word (``N/m``, ``1/2``) does not start one."""

@@ -36,13 +36,14 @@ from pathlib import Path
 from crslab import os_support
 from crslab.live.console import VarConsole
 from crslab.serve.page_text import PageText
-from crslab.serve.stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream, PageControl, Stopped, message
+from crslab.serve.stream import PageControl, Stopped
 from crslab.sim.assemble import NoLab
 from crslab.sim.board_worker import BoardWorker
 from crslab.sim.diagnosis import Ending
 from crslab.sim.pacing import PAGE_CHUNKS, Pacer
 from crslab.sim.simulation import DEFAULT_DEADLINE_S, ChunkedRun, Limits, SimError, Simulation
 from crslab.sim.status import RunResult, RunStatus
+from crslab.sinks.page_stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream, message
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
 from crslab.worker.config import SimConfig

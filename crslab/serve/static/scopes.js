@@ -4,7 +4,7 @@
 "use strict";
 
 window.CrsScopes = (function () {
-  const COLUMNS = 13; // the order of crslab/serve/stream.py's SCOPE_SIGNALS
+  const COLUMNS = 13; // the order of crslab/sinks/page_stream.py's SCOPE_SIGNALS
   const PANELS = [
     { title: "Simulink_PlotVar1..4", unit: "lab units", cols: [0, 1, 2, 3],
       names: ["PlotVar1", "PlotVar2", "PlotVar3", "PlotVar4"] },
