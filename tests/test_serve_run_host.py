@@ -77,3 +77,49 @@ def test_a_host_runs_many_pages_labs_in_one_worker_as_crslab_sim_runs_them(tmp_p
     first_chunk = next(m for m in messages["stopped"] if m["type"] == "chunk")
     assert stopped["status"] == "interrupted" and stopped["end_tick"] == first_chunk["tick"]
     assert stopped["message"] == f"stopped at t = {first_chunk['tick'] / 1000:.3f} s"
+
+
+def test_a_recorder_writing_its_files_holds_no_other_run_back(tmp_path, monkeypatch):
+    """A recording run's sinks close in a thread of the host's: while its recorder writes (made
+    slow here: 1.5 s), a run at real time beside it goes on getting its chunks, and the
+    recording's ``ended`` comes once its files are written, naming them."""
+    import time
+
+    from crslab.sinks import rerun_writer
+
+    slow = rerun_writer.RecorderSink.close
+
+    def close(self):  # noqa: ANN001, ANN202
+        time.sleep(1.5)
+        slow(self)
+
+    monkeypatch.setattr(rerun_writer.RecorderSink, "close", close)
+    template = tmp_path / "lab1.c"
+    template.write_text(starter_text("lab1", "A"))
+    config = make_config(template, "tour", log=True, startup_delay=False)
+    worker = BoardWorker()  # (forked before the pipe exists: it holds no end of it, as in a server)
+    ours, theirs = Pipe()
+    host = RunHost(theirs)
+    host.worker = worker
+    for key, speed, ticks, record in (("live", 1.0, 4000, False), ("rec", None, 500, True)):
+        folder = tmp_path / key
+        (folder / "out").mkdir(parents=True)
+        run = HostedRun(config, ticks, speed, 0.5, (), folder, record_csv=record)
+        ours.send((RUN, key, pickle.dumps(run)))
+    serving = threading.Thread(target=host.serve)
+    serving.start()
+    seen: list[tuple[str, dict, float]] = []
+    while not any(key == "live" and m["type"] == "ended" for key, m, _ in seen):
+        key, _tag, body = unframe(ours.recv_bytes())
+        seen.append((key, json.loads(body), time.monotonic()))
+    ours.close()
+    serving.join(30)
+    assert not serving.is_alive()
+    rec_ended = next(i for i, (k, m, _) in enumerate(seen) if k == "rec" and m["type"] == "ended")
+    rec_last_chunk = max(i for i, (k, m, _) in enumerate(seen) if k == "rec" and m["type"] == "chunk")
+    live_meanwhile = [t for k, m, t in seen[rec_last_chunk:rec_ended] if k == "live" and m["type"] == "chunk"]
+    assert seen[rec_ended][2] - seen[rec_last_chunk][2] >= 1.5  # the recorder took its time
+    assert len(live_meanwhile) >= 4  # 250 ms chunks at real time went on meanwhile
+    assert seen[rec_ended][1]["status"] == "ok" and seen[rec_ended][1]["downloads"] == ["transcript", "csv"]
+    rows = (tmp_path / "rec" / "out" / "run.csv").read_text().splitlines()
+    assert len(rows) == 1 + 500  # every tick: a recording run's board logs them all

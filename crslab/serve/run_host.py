@@ -27,6 +27,7 @@ import pickle
 import select
 import signal
 import socket
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -121,7 +122,7 @@ class HostedSession:
 
     def send(self, data: bytes, tag: bytes = FORWARD) -> None:
         """A message for the page (no server path in it: :mod:`crslab.serve.page_text`)."""
-        self.host.conn.send_bytes(frame(self.key, tag, self.page_text.message(data)))
+        self.host.send_frame(frame(self.key, tag, self.page_text.message(data)))
 
     def open(self) -> bool:
         """Open the lab as an instance, start the sinks and say ``started``; False when the run
@@ -144,9 +145,10 @@ class HostedSession:
         stream = BrowserStream(self.send, self.host.arm_in(config.world), world=not config.world.is_free_air)
         self.out.add(stream)
         self.out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
-        if run.record_csv or run.record_rrd:  # forked now: the host runs no other thread
+        if run.record_csv or run.record_rrd:
             from crslab.sinks.rerun_writer import RecorderSink
 
+            self.host.closed()  # forked now: no other thread of the host runs (a recorder closing)
             self.out.add(RecorderSink(out_dir / DOWNLOADS["csv"] if run.record_csv else None,
                                       out_dir / DOWNLOADS["rrd"] if run.record_rrd else None, name,
                                       config.world))
@@ -200,22 +202,34 @@ class HostedSession:
         return True
 
     def finish(self, ending: Ending) -> None:
-        """The run ended: its last bytes to the sinks, the instance closed, ``ended`` sent."""
+        """The run ended: its last bytes to the sinks, the instance closed, ``ended`` sent once
+        the sinks are closed (a recorder's files written: in a thread of the host's, so that
+        writing them holds none of its other runs back)."""
         assert self.chunked is not None
         result = self.chunked.ended(ending)
         self.out.flush()  # the bytes still on the serial line as it ended: the page shows them too
-        self.close()
-        self.ended(result)
+        self.close(then=lambda: self.ended(result))
 
-    def close(self) -> None:
-        """Close the instance and the sinks (a sink's failure becomes a note)."""
+    def close(self, then: Callable[[], None] | None = None) -> None:
+        """Close the instance and the sinks (a sink's failure becomes a note), then call
+        ``then()``; a recording run's sinks close in a thread of the host's (:meth:`RunHost.aside`)."""
         if self.sim is not None:
             self.sim.close()
             self.sim = None
-        try:
-            self.out.close()
-        except SinkError as exc:
-            self.notes.append(str(exc))
+        out, self.out = self.out, FanOut()
+
+        def close_sinks() -> None:
+            try:
+                out.close()
+            except SinkError as exc:
+                self.notes.append(str(exc))
+            if then is not None:
+                then()
+
+        if self.run.record_csv or self.run.record_rrd:
+            self.host.aside(close_sinks)
+        else:
+            close_sinks()
 
     def ended(self, result: RunResult) -> None:
         failed = [line for e in result.failed_expectations for line in e.lines()]
@@ -235,11 +249,44 @@ class RunHost:
         self.worker: BoardWorker | None = None
         """The board worker every run of this host is an instance of."""
         self._arms: dict[str, ArmPoses] = {}
+        self._send_lock = threading.Lock()
+        self._aside: list[threading.Thread] = []
+
+    def send_frame(self, data: bytes) -> None:
+        """One frame to the server (whole, also from a thread closing a recorder)."""
+        with self._send_lock:
+            self.conn.send_bytes(data)
+
+    def aside(self, work: Callable[[], None]) -> None:
+        """Do ``work`` in a thread of its own (a recorder closing: writing its files): the host's
+        runs go on meanwhile. A crslab bug in it is printed, as the host's own are."""
+
+        def guarded() -> None:
+            try:
+                work()
+            except (BrokenPipeError, EOFError, OSError):
+                pass  # the server went
+            except Exception as exc:  # noqa: BLE001 - a crslab bug: printed, the host goes on
+                import traceback
+
+                traceback.print_exception(exc)
+
+        self._aside = [t for t in self._aside if t.is_alive()]
+        thread = threading.Thread(target=guarded, name="crslab-host-close")
+        thread.start()
+        self._aside.append(thread)
+
+    def closed(self) -> None:
+        """Wait for the work done aside (before the host forks: no other thread may run then)."""
+        for thread in self._aside:
+            thread.join()
+        self._aside.clear()
 
     def simulation(self, config: SimConfig, limits: Limits) -> Simulation:
         """A run's lab, opened as an instance of the host's worker (started now if there is none,
         or it ended); raises ``SimError`` when it cannot start."""
         if self.worker is None or not self.worker.alive:
+            self.closed()  # forked now: no other thread of the host runs
             self.worker = BoardWorker()
         return Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits, worker=self.worker)
 
@@ -275,6 +322,7 @@ class RunHost:
             for session in list(self.sessions.values()):
                 self._guarded(session, session.close)
             self.sessions.clear()
+            self.closed()
             if self.worker is not None:
                 self.worker.close()
 
@@ -289,7 +337,7 @@ class RunHost:
             session = self.sessions.get(key)
             if session is None:  # the run ended as the command came
                 if msg[2].get("type") == "vars":
-                    self.conn.send_bytes(frame(key, FORWARD, message(
+                    self.send_frame(frame(key, FORWARD, message(
                         "vars", ok=False, cmd=msg[2]["cmd"], reply="no run is going on: Run first")))
             elif not self._guarded(session, lambda: session.command(msg[2])):
                 self.sessions.pop(key, None)
