@@ -23,10 +23,22 @@ from crslab.sim.board_worker import BoardWorker
 
 CHUNK_TICKS = 250
 """serve's chunk at real time (crslab.sim.pacing.PAGE_CHUNKS)."""
-TICKS = 2000
-"""Ticks each instance runs, the first chunk included: lab() runs from tick 4100 (the startup
-delay), so the run starts there, where the tour's lab is running."""
 START_TICK = 4000
+"""Where the timed run starts: lab() runs from tick 4100 (the startup delay) on."""
+INSTANCE_TICKS = 150_000
+"""Ticks to time over all instances (a tenth of a second of CPU and more, whatever N): each
+instance runs this many over N, at least 2000 and at most to the tour's end."""
+
+
+def ticks_for(instances: int) -> int:
+    """Ticks each of ``instances`` instances runs, the first chunk included, a whole number of
+    chunks.
+
+    >>> ticks_for(1), ticks_for(50), ticks_for(150)
+    (21000, 3000, 2000)
+    """
+    ticks = min(25_000 - START_TICK, max(2000, INSTANCE_TICKS // instances))
+    return ticks - ticks % CHUNK_TICKS
 
 
 def worker_cpu_s(pid: int) -> float:
@@ -35,9 +47,11 @@ def worker_cpu_s(pid: int) -> float:
     return sum(int((task / "schedstat").read_text().split()[0]) for task in tasks) / 1e9
 
 
-def us_per_tick(instances: int, ticks: int = TICKS, chunk: int = CHUNK_TICKS) -> float:
+def us_per_tick(instances: int, ticks: int | None = None, chunk: int = CHUNK_TICKS) -> float:
     """CPU microseconds per tick per instance of a worker running ``instances`` instances of Lab 1
-    on the tour for ``ticks`` ticks each from :data:`START_TICK`, in chunks of ``chunk`` ticks."""
+    on the tour for ``ticks`` ticks each (default :func:`ticks_for`) from :data:`START_TICK`, in
+    chunks of ``chunk`` ticks."""
+    ticks = ticks_for(instances) if ticks is None else ticks
     config = make_config()
     worker = BoardWorker()
     try:
@@ -60,7 +74,7 @@ def us_per_tick(instances: int, ticks: int = TICKS, chunk: int = CHUNK_TICKS) ->
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("instances", nargs="+", type=int)
-    p.add_argument("--ticks", type=int, default=TICKS)
+    p.add_argument("--ticks", type=int, default=None)
     p.add_argument("--chunk", type=int, default=CHUNK_TICKS)
     a = p.parse_args()
     print(json.dumps({str(n): round(us_per_tick(n, a.ticks, a.chunk), 3) for n in a.instances}))
