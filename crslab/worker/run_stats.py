@@ -93,7 +93,11 @@ class RunStats:
 
     def wire(self) -> dict[str, Any]:
         """The statistics as plain data (names to ints, a flag, a name, lists of ticks)."""
-        return {f.name: _plain(getattr(self, f.name)) for f in dataclasses.fields(self)}
+        return {name: _plain(getattr(self, name)) for name in _NAMES}
+
+
+_NAMES = tuple(f.name for f in dataclasses.fields(RunStats))
+"""RunStats's fields in order (read once: every chunk's reply sends them)."""
 
 
 def _plain(value: object) -> object:
