@@ -124,8 +124,7 @@ class BoardOff(Condition):
     def failure(self, seen: Observation, earlier: Mapping[int, Observation]) -> str | None:
         if seen.motor_board_off == self.off:
             return None
-        was = "off" if seen.motor_board_off else "on"
-        why = f"expected the motor board {'off' if self.off else 'on'}, it was {was}"
+        why = f"expected {self.describe()}, it was {'off' if seen.motor_board_off else 'on'}"
         if seen.motor_board == "none":
             why += " (this run has no motor board: --motor-board none)"
         return why

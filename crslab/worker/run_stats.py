@@ -14,23 +14,16 @@ since a native lab may have written it.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from dataclasses import dataclass
 from typing import Any
-
-BOARD_COUNTERS = (
-    "lab_calls", "lab_cost_total", "lab_cost_max", "lab_max_tick", "over_budget", "cost_unit", "budget",
-    "nan_first_tick", "nan_first_joint", "nan_count", "printing_runs", "print_triggers", "safety_flag",
-    "leds", "estop_latched", "tx_dropped", "tx_first_drop_tick", "overflow_tick", "overflow_chars",
-    "overflow_phase", "console_bytes",
-)
-"""The ``crs_sim`` fields the worker reports as they are (whole numbers), by their C names."""
 
 
 @dataclass(frozen=True)
 class RunStats:
-    """What a run counted. The board's counters (``crs_sim``'s fields of the same names) first;
-    ``tick`` and below are the worker's view of the run; the last three are the crslab process's,
-    set once the run has ended."""
+    """What a run counted. The board's counters (``crs_sim``'s fields of the same names,
+    :data:`BOARD_COUNTERS`) first; ``tick`` and below are the worker's view of the run; the last
+    three are the crslab process's, set once the run has ended."""
 
     lab_calls: int = 0
     """How many times lab() was called."""
@@ -98,6 +91,13 @@ class RunStats:
 
 _NAMES = tuple(f.name for f in dataclasses.fields(RunStats))
 """RunStats's fields in order (read once: every chunk's reply sends them)."""
+
+
+BOARD_COUNTERS: tuple[str, ...] = tuple(
+    itertools.takewhile(lambda name: name != "tick", (f.name for f in dataclasses.fields(RunStats)))
+)
+"""The ``crs_sim`` fields the worker reports as they are (whole numbers), by their C names:
+:class:`RunStats`'s fields before ``tick``."""
 
 
 def _plain(value: object) -> object:

@@ -34,6 +34,17 @@ static size_t finish(text_out *t)
     return t->n;
 }
 
+/* A width or precision written in digits at *p (no digit: 0), clamped to MAX_FIELD; *p is left
+ * past the digits. */
+static int field_number(const char **p)
+{
+    int value = 0;
+    for (; **p >= '0' && **p <= '9'; ++*p) {
+        if (value < MAX_FIELD) value = 10 * value + (**p - '0');
+    }
+    return value < MAX_FIELD ? value : MAX_FIELD;
+}
+
 /* ---- CRS_FORMATTER_SMALL (Gen A): the course's small printf ------------------------------- */
 
 /* The C28x's float-to-long conversion saturates; NaN gives 0 (no undefined behaviour here). */
@@ -126,17 +137,11 @@ size_t crs_format_small(char *out, size_t cap, const char *fmt, va_list ap)
                 break;
             }
         }
-        for (; *p >= '0' && *p <= '9'; ++p) {
-            if (s.width < MAX_FIELD) s.width = 10 * s.width + (*p - '0');
-        }
+        s.width = field_number(&p);
         if (*p == '.') {
-            s.precision = 0;
-            for (++p; *p >= '0' && *p <= '9'; ++p) {
-                if (s.precision < MAX_FIELD) s.precision = 10 * s.precision + (*p - '0');
-            }
+            ++p;
+            s.precision = field_number(&p);
         }
-        if (s.width > MAX_FIELD) s.width = MAX_FIELD;
-        if (s.precision > MAX_FIELD) s.precision = MAX_FIELD;
         if (*p == 'l') {
             s.is_long = 1;
             ++p;
@@ -216,22 +221,19 @@ size_t crs_format_ti(char *out, size_t cap, const char *fmt, va_list ap)
             width = va_arg(ap, int);
             ++p;
         } else {
-            for (; *p >= '0' && *p <= '9'; ++p) {
-                has_width = 1;
-                if (width < MAX_FIELD) width = 10 * width + (*p - '0');
-            }
+            const char *digits = p;
+            width = field_number(&p);
+            has_width = p != digits;
         }
         if (*p == '.') {
-            precision = 0;
             if (*++p == '*') {
                 precision = va_arg(ap, int);
                 ++p;
             } else {
-                for (; *p >= '0' && *p <= '9'; ++p) {
-                    if (precision < MAX_FIELD) precision = 10 * precision + (*p - '0');
-                }
+                precision = field_number(&p);
             }
         }
+        /* a '*' width or precision: clamped as the digits are */
         if (width < -MAX_FIELD) width = -MAX_FIELD;
         if (width > MAX_FIELD) width = MAX_FIELD;
         if (precision > MAX_FIELD) precision = MAX_FIELD;

@@ -129,6 +129,36 @@ static void output_is_counted_beyond_the_buffer(void)
     }
 }
 
+static void expect_count(int gen_b, size_t want, const char *fmt, ...)
+{
+    char out[8];
+    va_list ap;
+    va_start(ap, fmt);
+    const size_t n = gen_b ? crs_format_ti(out, sizeof out, fmt, ap) : crs_format_small(out, sizeof out, fmt, ap);
+    va_end(ap);
+    if (n != want) {
+        printf("FAIL gen %c \"%s\": %zu characters, want %zu\n", gen_b ? 'B' : 'A', fmt, n, want);
+        ++failures;
+    }
+}
+
+/* A width or precision beyond 4096 (MAX_FIELD) is taken as 4096, written in digits or (Gen B) as
+ * a '*' argument: "%99999d" is 4096 characters wide; "%.99999f" of 1.0 is "1." and 4096 zeros. */
+static void widths_and_precisions_beyond_4096_are_4096(void)
+{
+    for (int gen_b = 0; gen_b < 2; ++gen_b) {
+        expect_count(gen_b, 4096, "%99999d", 7);
+        expect_count(gen_b, 4096, "%-99999d", 7);
+        expect_count(gen_b, 4098, "%.99999f", 1.0);
+        expect_count(gen_b, 4098 + 4096 + 1, "%.99999f|%4096d", 1.0, 7);
+    }
+    expect_count(1, 4096, "%*d", 99999, 7);
+    expect_count(1, 4096, "%*d", -99999, 7);
+    expect_count(1, 4098, "%.*f", 99999, 1.0);
+    GEN_A("2|  42", "%.f|%4d", 2.5f, 42); /* a point without digits: precision 0 */
+    GEN_B("2|  42", "%.f|%4d", 2.5f, 42);
+}
+
 int main(void)
 {
     gen_a_floats_truncate_digit_by_digit();
@@ -136,5 +166,6 @@ int main(void)
     gen_a_text_and_unknown_conversions();
     gen_b_rounds_with_the_boards_argument_sizes();
     output_is_counted_beyond_the_buffer();
+    widths_and_precisions_beyond_4096_are_4096();
     return checks_report();
 }
