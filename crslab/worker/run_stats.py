@@ -94,7 +94,7 @@ _NAMES = tuple(f.name for f in dataclasses.fields(RunStats))
 
 
 BOARD_COUNTERS: tuple[str, ...] = tuple(
-    itertools.takewhile(lambda name: name != "tick", (f.name for f in dataclasses.fields(RunStats)))
+    itertools.takewhile(lambda name: name != "tick", _NAMES)
 )
 """The ``crs_sim`` fields the worker reports as they are (whole numbers), by their C names:
 :class:`RunStats`'s fields before ``tick``."""
