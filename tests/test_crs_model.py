@@ -339,3 +339,117 @@ def test_generator_reproduces_the_committed_files():
     assert {p.name for p in files} == {"crs_arm.xml", "scene.xml"}
     for file, text in files.items():
         assert file.read_text() == text, f"{file.name} is stale: run python tools/gen_crs_model.py"
+
+
+# --- the MuJoCo stages the arm skips (params.toml [solver] disable) ---------------------------------
+
+CONTACT, ISLAND = mujoco.mjtDisableBit.mjDSBL_CONTACT, mujoco.mjtDisableBit.mjDSBL_ISLAND
+
+
+def collidable_pairs(m):
+    """The geom pairs MuJoCo's collision stage could make a contact of: an explicit <pair>, or two
+    geoms of different bodies whose contype of one meets the conaffinity of the other."""
+    pairs = [(int(m.pair_geom1[i]), int(m.pair_geom2[i])) for i in range(m.npair)]
+    for i in range(m.ngeom):
+        for j in range(i + 1, m.ngeom):
+            if m.geom_bodyid[i] != m.geom_bodyid[j] and (
+                m.geom_contype[i] & m.geom_conaffinity[j] or m.geom_contype[j] & m.geom_conaffinity[i]
+            ):
+                pairs.append((i, j))
+    return pairs
+
+
+def every_scene():
+    from crslab.world.layout import WORLD_NAMES, load_world
+    from crslab.world.scene import load_scene
+
+    return {name: load_scene(load_world(name)) for name in WORLD_NAMES}
+
+
+def test_params_toml_names_the_stages_the_scene_skips():
+    assert PARAMS["solver"]["disable"] == ["contact", "island"]
+    option = __import__("xml.etree.ElementTree").etree.ElementTree.parse(SCENE_XML).find("option")
+    assert option.find("flag").attrib == {"contact": "disable", "island": "disable"}
+
+
+def test_contacts_are_skipped_exactly_when_a_scene_has_no_collidable_pair():
+    scenes = every_scene()
+    assert set(scenes) >= {"none", "contest"}
+    for name, m in scenes.items():
+        skipped = bool(m.opt.disableflags & CONTACT)
+        assert skipped == (not collidable_pairs(m)), name
+    assert scenes["none"].opt.disableflags & CONTACT  # the arm alone: nothing to touch
+    assert not scenes["contest"].opt.disableflags & CONTACT
+
+
+def test_islands_are_skipped_in_every_scene_each_one_kinematic_tree():
+    # the reason skipping them changes nothing: one tree's constraints make at most one island
+    for name, m in every_scene().items():
+        assert m.opt.disableflags & ISLAND, name
+        assert m.ntree == 1, name
+
+
+def steps_with_and_without_skipping(m, drive, steps):
+    """Per run (``m`` as compiled, then a copy skipping no stage): qpos, qvel and qacc after each
+    step, the contacts seen and the steps a joint limit was active, ``drive(k, data)`` setting each
+    step's inputs; both from the model's first keyframe."""
+    runs = []
+    for flags in (m.opt.disableflags, m.opt.disableflags & ~(CONTACT | ISLAND)):
+        mm = __import__("copy").copy(m)
+        mm.opt.disableflags = flags
+        d = mujoco.MjData(mm)
+        if mm.nkey:
+            mujoco.mj_resetDataKeyframe(mm, d, 0)
+        states, contacts, at_limit = [], 0, 0
+        for k in range(steps):
+            drive(k, d)
+            mujoco.mj_step(mm, d)
+            states.append(np.concatenate([d.qpos, d.qvel, d.qacc]))
+            contacts += d.ncon
+            at_limit += d.nl > 0
+        runs.append((np.array(states), contacts, at_limit))
+    return runs
+
+
+def test_the_free_air_arm_steps_bit_for_bit_as_without_skipping_through_limits_and_stiction():
+    m = load_model()
+    rng = np.random.default_rng(3)
+    # held still (dry friction holds), then torques large enough to slide and to reach joint limits
+    ctrl = np.concatenate([np.zeros((500, 3)), rng.uniform(-6, 6, (2500, 3)), np.zeros((500, 3))])
+    kicks = rng.normal(0.0, 20.0, (3500, 3))
+
+    def drive(k, d):
+        d.ctrl[:] = ctrl[k]
+        d.qfrc_applied[:3] = kicks[k] if 1000 <= k < 1200 else 0.0
+
+    (skipping, _, at_limit), (full, contacts, _) = steps_with_and_without_skipping(m, drive, len(ctrl))
+    assert contacts == 0
+    assert np.array_equal(skipping, full)  # bit for bit, every step
+    assert np.ptp(skipping[:, :3], axis=0).min() > 0.3  # every joint really moved
+    assert at_limit > 100  # and ran into its range's end
+    assert np.abs(skipping[499, :3] - skipping[0, :3]).max() < 1e-6  # first held by dry friction
+
+
+def test_a_world_with_contacts_steps_bit_for_bit_as_without_skipping_islands():
+    from crslab.world.layout import load_world
+    from crslab.world.scene import PEG_BODY, PEG_TIP_SITE, load_scene, set_arm_pose
+
+    world = load_world("contest")
+    m = load_scene(world)
+    assert not m.opt.disableflags & CONTACT
+    h = world.hole
+    above_block = np.array((h.center_xy_m[0] + 0.025, h.center_xy_m[1], h.top_z_m + 0.003))
+    start = crs.ik_dh(above_block / crs.M_PER_IN)
+    peg, tip = m.body(PEG_BODY).id, m.site(PEG_TIP_SITE).id
+
+    def drive(k, d):
+        if k == 0:
+            set_arm_pose(m, d, start)
+            mujoco.mj_forward(m, d)
+        d.qfrc_applied[:] = 0.0
+        force = (0.0, 0.0, -30.0) if k < 1500 else (8.0, 3.0, -20.0)  # press on the block, then slide
+        mujoco.mj_applyFT(m, d, np.array(force), np.zeros(3), d.site_xpos[tip].copy(), peg, d.qfrc_applied)
+
+    (skipping, touched, _), (full, touched_full, _) = steps_with_and_without_skipping(m, drive, 3000)
+    assert touched > 1000 and touched == touched_full  # the peg touched the block most steps
+    assert np.array_equal(skipping, full)

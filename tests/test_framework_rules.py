@@ -384,7 +384,7 @@ def test_the_hand_moves_along_a_minimum_jerk_path_for_the_scenarios_duration(boa
     assert (move.tick, move.duration_ticks) == (500, 400)
     sim = board.ffi.new("crs_sim *")
     q, qd = board.ffi.new("double[3]"), board.ffi.new("double[3]")
-    sim.qpos, sim.qvel = q, qd
+    sim.plant.qpos, sim.plant.qvel = q, qd
     h = sim.hand
     h.active, h.start_tick, h.duration_ticks = 1, 500, 400
     target = np.radians([20.0, -40.0, 60.0])

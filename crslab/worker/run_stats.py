@@ -86,18 +86,15 @@ class RunStats:
 
     def wire(self) -> dict[str, Any]:
         """The statistics as plain data (names to ints, a flag, a name, lists of ticks)."""
-        plain = dict(self.__dict__)
-        for name in _TUPLES:
-            plain[name] = _plain(plain[name])
-        return plain
+        return {name: _plain(getattr(self, name)) for name in _NAMES}
 
 
-_TUPLES = ("first_over_tick", "motor_board_events")
-"""The fields that travel as lists (the rest as they are)."""
+_NAMES = tuple(f.name for f in dataclasses.fields(RunStats))
+"""RunStats's fields in order (read once: every chunk's reply sends them)."""
 
 
 BOARD_COUNTERS: tuple[str, ...] = tuple(
-    itertools.takewhile(lambda name: name != "tick", (f.name for f in dataclasses.fields(RunStats)))
+    itertools.takewhile(lambda name: name != "tick", _NAMES)
 )
 """The ``crs_sim`` fields the worker reports as they are (whole numbers), by their C names:
 :class:`RunStats`'s fields before ``tick``."""

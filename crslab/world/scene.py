@@ -347,6 +347,8 @@ def _world_root(world: World, egg_solref: tuple[float, float]) -> ET.Element:
         elif child.tag == "option":
             option = copy.deepcopy(child)
             option.set("cone", "elliptic")  # a contact's normal force is one row of its own
+            for flag in option.iter("flag"):  # the arm alone skips collisions: its fixtures need them
+                flag.attrib.pop("contact", None)
             root.append(option)
         else:
             root.append(copy.deepcopy(child))

@@ -44,13 +44,7 @@ void crs_board_configure(crs_sim *sim, const crs_board_config *c)
 
 void crs_board_attach_plant(crs_sim *sim, const crs_board_plant *p)
 {
-    sim->mj_model = p->model;
-    sim->mj_data = p->data;
-    sim->mj_step = p->step;
-    sim->qpos = p->qpos;
-    sim->qvel = p->qvel;
-    sim->ctrl = p->ctrl;
-    sim->qfrc_applied = p->qfrc_applied;
+    sim->plant = *p;
 }
 
 void crs_board_attach_log(crs_sim *sim, const crs_log *log)
@@ -138,7 +132,7 @@ int crs_board_apply_event(crs_sim *sim, const crs_board_event *e)
         sim->hand.start_tick = sim->tick;
         sim->hand.duration_ticks = e->duration_ticks;
         for (int j = 0; j < 3; ++j) {
-            sim->hand.start_dh_rad[j] = sim->qpos[j];
+            sim->hand.start_dh_rad[j] = sim->plant.qpos[j];
             sim->hand.target_dh_rad[j] = e->values[j];
         }
         return 0;

@@ -30,17 +30,6 @@ typedef struct {
                                           every tick; 5: what Simulink samples, crslab serve's page) */
 } crs_board_config;
 
-/* The MuJoCo model and data a board steps, and the arrays of the data it reads and writes. */
-typedef struct {
-    const void *model;
-    void *data;
-    crs_mj_step_fn step;
-    const double *qpos;                /* j1..j3 DH angles, rad */
-    const double *qvel;                /* rad/s */
-    double *ctrl;                      /* motor1..3, command units */
-    double *qfrc_applied;              /* j1..j3, N.m */
-} crs_board_plant;
-
 /* A scenario's event (crslab/scenario), applied before the tick it is at. */
 enum {
     CRS_EVENT_HAND_MOVE = 1,       /* from where the arm is to values[] (DH rad) over duration_ticks */

@@ -90,7 +90,7 @@ static int lab_tick(crs_sim *sim)
 static int framework_tick(crs_sim *sim)
 {
     double motor[3];
-    const double dh[3] = {sim->qpos[0], sim->qpos[1], sim->qpos[2]};
+    const double dh[3] = {sim->plant.qpos[0], sim->plant.qpos[1], sim->plant.qpos[2]};
     crs_dh_to_motor(dh, motor);
     crs_read_encoders(sim, motor, sim->enc_rad);
     crs_hold_update(&sim->hold, sim->enc_rad);
@@ -123,11 +123,11 @@ static void log_tick(crs_sim *sim, int plots)
         lg->enc_rad[3 * i + j] = sim->enc_rad[j];
         lg->tau_lab[3 * i + j] = sim->tau[j];
         lg->tau_applied[3 * i + j] = sim->applied[j];
-        lg->qpos_dh_rad[3 * i + j] = sim->qpos[j];
+        lg->qpos_dh_rad[3 * i + j] = sim->plant.qpos[j];
         lg->push_force[3 * i + j] = sim->push.now_n[j];
     }
     double ee_in[3];
-    crs_fk_dh(sim->qpos, ee_in);
+    crs_fk_dh(sim->plant.qpos, ee_in);
     for (int k = 0; k < 3; ++k) lg->ee[3 * i + k] = CRS_M_PER_IN * ee_in[k];
     for (int k = 0; k < 4; ++k) lg->plot[4 * i + k] = plots ? plot_var(sim->fw.plot[k]) : 0.0;
     lg->safety[i] = sim->safety_flag;
@@ -152,19 +152,19 @@ static int run_ticks(crs_sim *sim, int64_t until_tick)
         /* the board's memory is corrupt, or the firmware stopped: the tick goes no further */
         if (stop == CRS_RUN_PRINTF_OVERFLOW || stop == CRS_RUN_TRAPPED) return stop;
         /* motor speeds: motor 3 turns with the forearm's absolute angle, j2 + j3 */
-        const double speed[3] = {sim->qvel[0], sim->qvel[1], sim->qvel[1] + sim->qvel[2]};
-        crs_drive_step(&sim->drive, drive_follow, sim->applied, speed, sim->faults.dead_motor, sim->ctrl);
-        crs_friction_add(&sim->friction, speed, sim->ctrl);
+        const double speed[3] = {sim->plant.qvel[0], sim->plant.qvel[1], sim->plant.qvel[1] + sim->plant.qvel[2]};
+        crs_drive_step(&sim->drive, drive_follow, sim->applied, speed, sim->faults.dead_motor, sim->plant.ctrl);
+        crs_friction_add(&sim->friction, speed, sim->plant.ctrl);
         crs_hand_step_along(sim, &hand_path);
-        for (int j = 0; j < 3; ++j) sim->qfrc_applied[j] = sim->hand.force_nm[j];
-        crs_push_apply(&sim->push, sim->tick, sim->qpos, sim->qfrc_applied);
+        for (int j = 0; j < 3; ++j) sim->plant.qfrc_applied[j] = sim->hand.force_nm[j];
+        crs_push_apply(&sim->push, sim->tick, sim->plant.qpos, sim->plant.qfrc_applied);
         const int logged = log_every == 1 || (log_every > 1 && sim->tick % log_every == 0);
         if (logged) log_tick(sim, plots);
         crs_line_send(sh, sim->tick);
         crs_host_ports_tick(sim, sim->tick); /* after lab(): what the host sent, the replies */
 
         sh->phase = CRS_PHASE_PHYSICS;
-        sim->mj_step(sim->mj_model, sim->mj_data);
+        sim->plant.step(sim->plant.model, sim->plant.data);
         if (sim->world.enabled) {
             /* the contact forces of the step just taken, logged with the state it started from */
             crs_world_update(&sim->world, sim->tick);

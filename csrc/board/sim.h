@@ -288,16 +288,20 @@ typedef struct {
 
 typedef void (*crs_mj_step_fn)(const void *model, void *data);
 
+/* The MuJoCo model and data a board steps, and the arrays of the data it reads and writes. */
 typedef struct {
-    /* plant: MuJoCo model and data and views of their arrays (owned by Python) */
-    const void *mj_model;
-    void *mj_data;
-    crs_mj_step_fn mj_step;
-    const double *qpos;          /* j1..j3 DH angles, rad */
-    const double *qvel;          /* rad/s */
-    double *ctrl;                /* motor1..3 torques the drive delivers, with the sliding friction
-                                    on each motor, command units (actuator gear: N.m/unit) */
-    double *qfrc_applied;        /* the hand's and the push's generalized forces on j1..j3, N.m */
+    const void *model;
+    void *data;
+    crs_mj_step_fn step;
+    const double *qpos;                /* j1..j3 DH angles, rad */
+    const double *qvel;                /* rad/s */
+    double *ctrl;                      /* motor1..3 torques the drive delivers, with the sliding
+                                          friction on each motor, command units (gear: N.m/unit) */
+    double *qfrc_applied;              /* the hand's and the push's forces on j1..j3, N.m */
+} crs_board_plant;
+
+typedef struct {
+    crs_board_plant plant;       /* MuJoCo's model and data, views of their arrays (owned by Python) */
 
     /* configuration */
     int32_t generation;          /* the id of a row of generations.c (0 until set: no row) */

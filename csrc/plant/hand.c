@@ -27,8 +27,8 @@ void crs_hand_step_along(crs_sim *sim, const crs_hand_path *hand_path)
     for (int j = 0; j < 3; ++j) {
         traj_sample path = {h->target_dh_rad[j], 0.0, 0.0, 0.0}; /* no duration: the target at once */
         if (hand_path->planned) path = traj_eval(&hand_path->move[j], t_s);
-        const double err = path.q_rad - sim->qpos[j];
-        const double derr = path.qd_rad_s - sim->qvel[j];
+        const double err = path.q_rad - sim->plant.qpos[j];
+        const double derr = path.qd_rad_s - sim->plant.qvel[j];
         double f = h->kp_nm_per_rad * err + h->ki_nm_per_rad_s * h->integral_rad_s[j]
                  + h->kd_nm_s_per_rad * derr;
         if (f > h->max_nm) {

@@ -47,11 +47,8 @@ static inline crs_sim *test_board(int generation, int64_t startup_ticks, const t
     sim->time_lab = 0;
     memcpy(sim->rest_motor_rad, TEST_REST_MOTOR_RAD, sizeof TEST_REST_MOTOR_RAD);
     crs_motor_to_dh(TEST_REST_MOTOR_RAD, plant->qpos);
-    sim->qpos = plant->qpos;
-    sim->qvel = plant->qvel;
-    sim->ctrl = plant->ctrl;
-    sim->qfrc_applied = plant->qfrc;
-    sim->mj_step = plant->step;
+    sim->plant = (crs_board_plant){.step = plant->step, .qpos = plant->qpos, .qvel = plant->qvel,
+                                   .ctrl = plant->ctrl, .qfrc_applied = plant->qfrc};
     return sim;
 }
 

@@ -34,6 +34,11 @@ Everything runs crslab's default lab (Lab 1) on the default scenario (the tour, 
   an upper bound on the time from command start to the first ``lab()`` call. Target (issue 3):
   < 1 s. crslab's modules are compiled to bytecode first, as pip's install does: in a checkout run
   with ``PYTHONDONTWRITEBYTECODE=1`` every command would compile them again (about 0.25 s of CPU).
+* **many instances in one worker** (``instances.py``, issue 32): the worker's CPU per tick per
+  instance with 1, 50 and 150 instances of the same lab on the tour in 250-tick chunks (serve's),
+  from tick 4250 on (the hand moving the arm, lab() running: those ticks cost more than the
+  tour's average, so the figure is not the bare loop's to compare with); best of 3 processes (a
+  loaded machine moves a single figure by half).
 * **paired ratios**: each repeat's crslab (best of its two processes) against the bare loop's
   passes of the same repeat (best of two), by CPU time and by wall time; the median over the
   repeats. On a loaded machine, a virtual one above all, even CPU time varies by up to 2x from one
@@ -71,6 +76,16 @@ def rates_in_a_new_process() -> dict[str, tuple[float, float | None]]:
     if r.returncode != 0:
         raise RuntimeError(f"sim_rates.py failed: {r.stderr.strip()}")
     return {k: tuple(v) for k, v in json.loads(r.stdout.splitlines()[-1]).items()}
+
+
+def instances_in_a_new_process(counts: tuple[int, ...] = (1, 50, 150)) -> dict[int, float]:
+    """The worker's CPU microseconds per tick per instance with each count of instances
+    (``instances.py``), measured in a new process."""
+    r = subprocess.run([sys.executable, str(Path(__file__).with_name("instances.py")), *map(str, counts)],
+                       capture_output=True, text=True)
+    if r.returncode != 0:
+        raise RuntimeError(f"instances.py failed: {r.stderr.strip()}")
+    return {int(k): v for k, v in json.loads(r.stdout.splitlines()[-1]).items()}
 
 
 def command_s(args: list[str], out_dir: Path) -> float:
@@ -127,6 +142,8 @@ def run() -> list[str]:
             rolls.append(ticks / seconds)
             commands.append(command_s(fast, tmp))
             starts.append(command_s(first_call, tmp))
+    tries = [instances_in_a_new_process() for _ in range(3)]
+    per_instance = {n: min(t[n] for t in tries) for n in tries[0]}
     sim, c_loop, roll, nat = max(sims), max(bare), max(rolls), max(natives)
     paired_cpu = (statistics.median(w / n for w, n in zip(sims_cpu, natives_cpu))
                   if natives_cpu and len(natives_cpu) == len(sims_cpu) else None)
@@ -151,6 +168,11 @@ def run() -> list[str]:
         f"  ratio crslab API (WebAssembly) / bare C loop, wall time: {sim / c_loop:.2f} (target >= 0.9, "
         f"issue 19; >= 0.88, issue 22); native / bare C loop: {nat / c_loop:.2f}",
         cpu_line,
+        f"  absolute, by CPU time: crslab's worker {1e6 / max(sims_cpu):.2f} us per tick, the bare C loop "
+        f"{1e6 / max(bare_cpu):.2f} us per mj_step" if sims_cpu else "  (CPU time not readable here)",
+        "many instances in one worker (Lab 1 on the tour from tick 4250, 250-tick chunks, serve's; no scope "
+        "rows), the worker's CPU per tick per instance, best of 3: "
+        + ", ".join(f"N={n}: {us:.2f} us" for n, us in per_instance.items()),
         f"  paired, each repeat's crslab against the bare loop's passes of the same repeat, the median of "
         f"{REPEATS}: by CPU time "
         + (f"{statistics.median(paired):.2f}" if paired else "(not readable here)")
