@@ -9,6 +9,8 @@ import threading
 from multiprocessing import Pipe
 from pathlib import Path
 
+from waiting import GUARD_S
+
 from crslab.serve.run_host import CLOSE, PAGE, RUN, HostedRun, RunHost, unframe
 from crslab.sim.api import make_config, simulate
 from crslab.sim.board_worker import BoardWorker
@@ -80,18 +82,20 @@ def test_a_host_runs_many_pages_labs_in_one_worker_as_crslab_sim_runs_them(tmp_p
 
 
 def test_a_recorder_writing_its_files_holds_no_other_run_back(tmp_path, monkeypatch):
-    """A recording run's sinks close in a thread of the host's: while its recorder writes (made
-    slow here: 1.5 s), a run at real time beside it goes on getting its chunks, and the
-    recording's ``ended`` comes once its files are written, naming them."""
-    import time
-
+    """A recording run's sinks close in a thread of the host's: while its recorder is held in its
+    close (until the run beside it has had four more chunks), a run at real time beside it goes on
+    getting its chunks, and the recording's ``ended`` comes once its files are written, naming
+    them. (Were the close done by the host itself, no chunk would come while it is held: the test
+    would fail at the guard.)"""
     from crslab.sinks import rerun_writer
 
-    slow = rerun_writer.RecorderSink.close
+    closing, release = threading.Event(), threading.Event()
+    close_files = rerun_writer.RecorderSink.close
 
     def close(self):  # noqa: ANN001, ANN202
-        time.sleep(1.5)
-        slow(self)
+        closing.set()
+        assert release.wait(GUARD_S), "the test never let the recorder go on"
+        close_files(self)
 
     monkeypatch.setattr(rerun_writer.RecorderSink, "close", close)
     template = tmp_path / "lab1.c"
@@ -108,18 +112,24 @@ def test_a_recorder_writing_its_files_holds_no_other_run_back(tmp_path, monkeypa
         ours.send((RUN, key, pickle.dumps(run)))
     serving = threading.Thread(target=host.serve)
     serving.start()
-    seen: list[tuple[str, dict, float]] = []
-    while not any(key == "live" and m["type"] == "ended" for key, m, _ in seen):
-        key, _tag, body = unframe(ours.recv_bytes())
-        seen.append((key, json.loads(body), time.monotonic()))
-    ours.close()
-    serving.join(30)
+    seen: list[tuple[str, dict, bool]] = []  # (page, message, whether the recorder was held then)
+    try:
+        while not any(key == "live" and m["type"] == "ended" for key, m, _ in seen):
+            sent = [(k, m["type"]) for k, m, _ in seen]
+            assert ours.poll(GUARD_S), f"no message from the host; it had sent {sent}"
+            key, _tag, body = unframe(ours.recv_bytes())
+            held = closing.is_set() and not release.is_set()
+            seen.append((key, json.loads(body), held))
+            if held and sum(1 for k, m, h in seen if h and k == "live" and m["type"] == "chunk") >= 4:
+                release.set()
+    finally:
+        release.set()
+        ours.close()
+        serving.join(30)
     assert not serving.is_alive()
     rec_ended = next(i for i, (k, m, _) in enumerate(seen) if k == "rec" and m["type"] == "ended")
-    rec_last_chunk = max(i for i, (k, m, _) in enumerate(seen) if k == "rec" and m["type"] == "chunk")
-    live_meanwhile = [t for k, m, t in seen[rec_last_chunk:rec_ended] if k == "live" and m["type"] == "chunk"]
-    assert seen[rec_ended][2] - seen[rec_last_chunk][2] >= 1.5  # the recorder took its time
-    assert len(live_meanwhile) >= 4  # 250 ms chunks at real time went on meanwhile
+    live_while_held = [i for i, (k, m, h) in enumerate(seen) if h and k == "live" and m["type"] == "chunk"]
+    assert len(live_while_held) == 4 and max(live_while_held) < rec_ended  # before the recording ended
     assert seen[rec_ended][1]["status"] == "ok" and seen[rec_ended][1]["downloads"] == ["transcript", "csv"]
     rows = (tmp_path / "rec" / "out" / "run.csv").read_text().splitlines()
     assert len(rows) == 1 + 500  # every tick: a recording run's board logs them all

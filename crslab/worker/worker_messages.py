@@ -113,7 +113,9 @@ def pack_log(log: dict[str, np.ndarray] | None) -> tuple | None:
 
 
 def unpack_log(packed: object) -> dict[str, np.ndarray] | None:
-    """The scope rows :func:`pack_log` packed, each column a ``(rows, width)`` array (writable);
+    """The scope rows :func:`pack_log` packed, each column a ``(rows, width)`` array of its own
+    (writable, aligned: a view at a column's offset in the buffer may be misaligned, and numpy then
+    sums it in another order, so the same run's statistics would differ in their last bits);
     raises :class:`_Bad` for anything that is not such a packing."""
     if packed is None:
         return None
@@ -124,7 +126,7 @@ def unpack_log(packed: object) -> dict[str, np.ndarray] | None:
         raise _Bad("log is not packed scope rows")
     if not isinstance(columns, tuple | list):
         raise _Bad("log's columns are not a list")
-    buffer = bytearray(data)
+    buffer = bytes(data)
     log, offset = {}, 0
     for column in columns:
         if not isinstance(column, tuple | list) or len(column) != 3:
@@ -136,7 +138,7 @@ def unpack_log(packed: object) -> dict[str, np.ndarray] | None:
         size = rows * width * dt.itemsize
         if offset + size > len(buffer):
             raise _Bad(f"log[{name!r:.40}] is not a column of numbers")
-        log[name] = np.ndarray((rows, width), dt, buffer, offset)
+        log[name] = np.frombuffer(buffer, dt, rows * width, offset).reshape(rows, width).copy()
         offset += size
     if offset != len(buffer):
         raise _Bad("log's bytes are not its columns'")

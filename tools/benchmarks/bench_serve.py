@@ -285,6 +285,46 @@ def trial_line(n: int, trial: Trial, how: str) -> str:
     )
 
 
+class PhysicsFloor:
+    """MuJoCo's step alone on this machine, now: the bare C loop (``bare_mj_step.c``, see
+    ``baselines.py``) over the controls and forces of crslab's default lab on the tour, recorded
+    once. What N sessions' physics alone asks of the cores at real time, whatever crslab adds: this
+    machine's speed varies from one minute to the next (the same loop's passes differ by up to 2x),
+    so it is measured beside the trials it explains."""
+
+    PASSES = 6
+
+    def __init__(self, folder: Path) -> None:
+        from baselines import build_bare_loop, record_run
+
+        from crslab.sim.api import make_config
+
+        config = make_config(native=True)  # the same physics as the WebAssembly lab's (bench_sim.py)
+        self.exe = build_bare_loop(folder)
+        self.controls = record_run(config, config.scenario.end_tick).save(folder / "controls.bin")
+
+    def us_per_step(self) -> tuple[float, float]:
+        """(median, fastest) CPU microseconds per ``mj_step`` over :data:`PASSES` passes."""
+        from baselines import run_bare_loop
+
+        loop = run_bare_loop(self.exe, self.controls, passes=self.PASSES)
+        per_step = sorted(cpu / loop.ticks * 1e6 for cpu in loop.cpu_s)
+        return statistics.median(per_step), per_step[0]
+
+
+def floor_line(n: int, before: tuple[float, float], after: tuple[float, float]) -> str:
+    """What MuJoCo's step alone costs ``n`` sessions at real time, measured before and after.
+
+    >>> floor_line(300, (4.0, 3.5), (5.0, 3.9)).split(" take ")[1].rsplit(" of ", 1)[0]
+    '1.20 / 1.50 cores'
+    """
+    cores = os.cpu_count()
+    return (f"MuJoCo's step alone (the bare C loop over the tour, median of {PhysicsFloor.PASSES} passes "
+            f"by CPU, fastest in brackets) before / after the trials: {before[0]:.2f} ({before[1]:.2f}) / "
+            f"{after[0]:.2f} ({after[1]:.2f}) us per step: {n} sessions' physics alone at real time take "
+            f"{n * 1000 * before[0] / 1e6:.2f} / {n * 1000 * after[0] / 1e6:.2f} cores of {cores}")
+
+
 def capacity_lines(ladder: tuple[int, ...] = LADDER, default_priority: bool = True) -> list[str]:
     """The ladder with the server and this generator at nice -10 when root can (a dedicated server's
     share of a machine that other work shares), then (``default_priority``) its largest N at the
@@ -300,6 +340,9 @@ def capacity_lines(ladder: tuple[int, ...] = LADDER, default_priority: bool = Tr
     except PermissionError:
         how = "default priority (not root: no nice -10)"
     started = time.strftime("%H:%M UTC", time.gmtime())
+    floor_dir = tempfile.TemporaryDirectory(prefix="crslab-bench-floor-")
+    floor = PhysicsFloor(Path(floor_dir.name))
+    floor_before = floor.us_per_step()
     server = Server("--max-sessions", "1000", users=max(ladder))
     try:
         asyncio.run(load(server, 2))  # builds the lab once (cached) and warms the fork server
@@ -315,6 +358,8 @@ def capacity_lines(ladder: tuple[int, ...] = LADDER, default_priority: bool = Tr
         if own_group is not None:
             autogroup_nice(os.getpid(), own_group)
         NICE.clear()
+    lines.append(floor_line(max(ladder), floor_before, floor.us_per_step()))
+    floor_dir.cleanup()
     verdict = "meets" if best >= TARGET_SESSIONS else "misses"
     lines.append(
         f"largest N within 50 ms at p99 ({how}; of {', '.join(map(str, ladder))}; from {started}): {best} "
