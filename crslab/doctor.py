@@ -153,16 +153,16 @@ def _mujoco() -> Check:
 def _simulation(build: object, sandboxed: bool) -> Check:
     if build is None:
         return Check("simulation", False, "needs the lab build", "see the lab build (above)", skipped=True)
+    from crslab.run.assemble import run_kept
+    from crslab.run.board_run import RunError
     from crslab.scenario.load import load_scenario
-    from crslab.sim.assemble import run_kept
-    from crslab.sim.simulation import SimError
-    from crslab.worker.config import SimConfig
+    from crslab.worker.config import RunConfig
 
-    config = SimConfig(build=build, scenario=load_scenario("hands_off"), startup_ticks=0,  # type: ignore[arg-type]
+    config = RunConfig(build=build, scenario=load_scenario("hands_off"), startup_ticks=0,  # type: ignore[arg-type]
                        sandboxed=sandboxed)
     try:
         result = run_kept(config, 600)
-    except SimError as exc:
+    except RunError as exc:
         return Check("simulation", False, str(exc), "run 'crslab sim' to see the whole message")
     lines = result.transcript.count(b"\n")
     if not result.ok or lines < 3:

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 from crslab._core import lib
 
+TICKS_PER_S: int = lib.CRS_TICKS_PER_S
+"""The framework's tick: one a millisecond (tick k is at t = k / TICKS_PER_S s)."""
 STARTUP_TICKS: int = lib.CRS_STARTUP_TICKS
 """The first lab() call is at 4.1 s (the brake releases at 4.0 s)."""
 CLAMP_UNITS: float = lib.CRS_CLAMP_UNITS
@@ -37,7 +39,7 @@ MOTOR_BOARDS: dict[str, int] = {"none": lib.CRS_MOTOR_BOARD_NONE, "piccolo": lib
 """The motor-board models by name (``--motor-board``)."""
 
 SERIAL_BAUD: int = lib.CRS_SERIAL_BAUD
-SERIAL_CHARS_PER_MS: float = lib.CRS_SERIAL_BAUD / lib.CRS_SERIAL_BITS_PER_CHAR / 1000
+SERIAL_CHARS_PER_MS: float = lib.CRS_SERIAL_BAUD / lib.CRS_SERIAL_BITS_PER_CHAR / lib.CRS_TICKS_PER_S
 SCI_TX_FIFO_CHARS: int = lib.CRS_SCI_TX_FIFO
 SCI_TX_SHIFT_CHARS: int = lib.CRS_SCI_TX_SHIFT
 LEDS_AT_START: int = lib.CRS_LEDS_AT_START

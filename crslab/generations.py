@@ -34,7 +34,7 @@ class Generation:
     """One row of ``csrc/port/generations.c`` (the fields of ``crs_generation``, generations.h)."""
 
     id: int
-    """What the board's ``crs_sim.generation`` holds."""
+    """What the board's ``crs_board.generation`` holds."""
     name: str
     """``A``, ``B``: ``crslab new --gen``, messages."""
     title: str

@@ -61,9 +61,9 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
         split_lines,
         write_golden,
     )
+    from crslab.run.api import make_config
+    from crslab.run.board_run import DEFAULT_DEADLINE_S
     from crslab.scenario.event import seconds_to_tick
-    from crslab.sim.api import make_config
-    from crslab.sim.simulation import DEFAULT_DEADLINE_S
 
     base = base or Path.cwd()
     lab_path = base / lab

@@ -12,7 +12,7 @@ Six folders travel with the package:
 
 ``csrc`` and ``models`` live at the top of the repository. The build (``setup.py``) copies them
 into the wheel as ``crslab/_data/csrc`` and ``crslab/_data/models``; an editable install in a
-checkout has no ``_data`` and uses the checkout's own folders, so an edit to ``csrc/board/board.c``
+checkout has no ``_data`` and uses the checkout's own folders, so an edit to ``csrc/board/board_io.c``
 counts at the next run. ``scenarios``, ``robots`` and ``octave`` are ordinary package data.
 
 A compiler and MuJoCo need real file-system paths. When the package is a plain folder (any
@@ -22,7 +22,7 @@ that changes with its content. (``importlib.resources.as_file`` would give a cop
 removed when its ``with`` block ends; a compiled lab and the MuJoCo model need theirs for the
 whole run, and again at the next one.)
 
->>> (path("csrc", "board") / "sim.h").is_file()
+>>> (path("csrc", "board") / "board.h").is_file()
 True
 >>> sorted(p.name for p in path("models", "crs_arm").glob("*.xml"))
 ['crs_arm.xml', 'scene.xml']

@@ -26,10 +26,14 @@ KIN = HERE / "kin"
 BOARD = HERE / "board"
 PLANT = HERE / "plant"
 PORT = HERE / "port"
+# The plant's headers, whose types the board's struct holds (board.h includes them; cffi reads no
+# #include, so they come before it).
+PLANT_TYPES = [PLANT / "drive.h", PLANT / "friction.h", PLANT / "hand.h", PLANT / "plant_faults.h", PLANT / "push.h",
+               PLANT / "world.h"]
 # vector_math.h is internal (attributes, no API); every other header is the Python-visible API.
 HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [
-    PORT / "framework_facts.h", PORT / "generations.h", PORT / "firmware_board.h", PLANT / "world.h",
-    BOARD / "sim.h", BOARD / "board_config.h", BOARD / "firmware_wasm.h", PLANT / "push.h"]
+    PORT / "framework_facts.h", PORT / "generations.h", PORT / "firmware_board.h", *PLANT_TYPES,
+    BOARD / "board.h", BOARD / "board_config.h", BOARD / "firmware_wasm.h"]
 NATIVE_ONLY = {"firmware_native.c", "debug.c"}
 """Board sources linked only with a native lab (crslab/lab/build.py), never into the core: the
 native port and what a debugger reads (a second ``crs_tick`` here would be the one gdb finds)."""

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from crslab.sim.api import make_config
+from crslab.run.api import make_config
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools" / "benchmarks"))
 import baselines  # noqa: E402

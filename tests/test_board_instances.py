@@ -1,4 +1,4 @@
-"""Board instances (crslab/sim/board_worker.py, crslab/worker/worker.py, csrc/board/firmware_wasm.c):
+"""Board instances (crslab/run/board_client.py, crslab/worker/main.py, csrc/board/firmware_wasm.c):
 many labs in one worker process share one wasmtime engine and one compiled module per distinct
 firmware, each in a store of its own with its own deadline; a hostile lab among 20 ends its own run
 and no other's, and every well-behaved lab prints what it prints alone. The board takes a run's
@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 
 from crslab.plant.plant_params import PlantParams
-from crslab.sim.api import simulate
-from crslab.sim.assemble import make_config
-from crslab.sim.board_worker import BoardWorker, InstanceNotOpened
-from crslab.sim.diagnosis import Ending
+from crslab.run.api import simulate
+from crslab.run.assemble import make_config
+from crslab.run.board_client import BoardClient, InstanceNotOpened
+from crslab.run.diagnosis import Ending
 from crslab.worker.board_ffi import board_constants
 from crslab.worker.board_settings import board_settings, event_struct
 
@@ -86,7 +86,7 @@ def twenty_in_one_worker(hostile_labs):
     run that stopped early ended (its code and trap, or why it never ran), and whether the worker
     was still alive at the end."""
     configs = {lab: make_config(lab, "tour") for lab in [*WELL_BEHAVED, *hostile_labs.values()]}
-    worker = BoardWorker()
+    worker = BoardClient()
     printed: dict[Path, bytearray] = {lab: bytearray() for lab in configs}
     ended: dict[Path, tuple] = {}
     try:
@@ -150,15 +150,15 @@ SHARING = """
 import json, sys
 from crslab._core import lib
 from crslab.scenario.load import load_scenario
-from crslab.sim.assemble import make_config
-from crslab.sim.shared_block import SharedBlock
+from crslab.run.assemble import make_config
+from crslab.run.shared_block import SharedBlock
 from crslab.worker import worker_messages
-from crslab.worker.worker import Worker
+from crslab.worker.main import BoardInstances
 
 a, b = sys.argv[1], sys.argv[2]
 configs = [make_config(a, "tour"), make_config(a, "tour"), make_config(b, "tour"),
            make_config(a, "end_mass")]
-worker = Worker()
+worker = BoardInstances()
 blocks = [SharedBlock.new() for _ in configs]
 for i, (config, block) in enumerate(zip(configs, blocks)):
     assert isinstance(worker.open(i, config, block.memory, 2.0, []), worker_messages.Ready)
@@ -207,7 +207,7 @@ def configured():
     config = make_config(ROOT / "csrc" / "labs" / "lab1_kinematics.c", "tour", strict=True,
                          budget=30000, motor_board="piccolo", plant=plant, startup_delay=False,
                          rest_motor_rad=(0.1, -0.4, 0.3))
-    sim = ffi.new("crs_sim *")
+    sim = ffi.new("crs_board *")
     lib.crs_board_init(sim, config.build.generation.id, ffi.NULL)
     lib.crs_board_configure(sim, ffi.new("crs_board_config *", board_settings(config)))
     qpos = np.array([0.25, -0.5, 0.75])
@@ -285,7 +285,7 @@ def test_a_board_logging_every_5th_tick_logs_those_rows_of_the_every_tick_log():
     every 5 ms, as Simulink samples); a world's columns too."""
     full = make_config(ROOT / "csrc" / "labs" / "lab2_square_pid.c", "tour", log=True, world="contest")
     fifth = dataclasses.replace(full, log_every_ticks=5)
-    worker = BoardWorker()
+    worker = BoardClient()
     try:
         every, sparse = worker.open(full), worker.open(fifth)
         logs: dict[int, list] = {every.id: [], sparse.id: []}

@@ -1,7 +1,7 @@
 """The C-level tests: each csrc/tests/test_*.c is built against every csrc/kin/*.c with
 -Wall -Wextra -Werror, once plainly and once under AddressSanitizer and UBSan, and run; with gcc,
 and with clang when it is installed (CI installs it). Tests of the emulated board
-(``test_sim_*.c``) also get the native board (every csrc/board/*.c but the WebAssembly port, with
+(``test_board_*.c``) also get the native board (every csrc/board/*.c but the WebAssembly port, with
 csrc/plant and csrc/port), the framework's stand-ins (csrc/firmware) and shim headers: they drive
 the framework's tick alone, with a stub plant and a test lab of their own as the board's native
 firmware.
@@ -74,7 +74,7 @@ def libraries(tmp_path_factory):
 def test_c_core(source, sanitize, cc, tmp_path, libraries):
     exe = tmp_path / source.stem
     libsim, libkin = libraries(cc, sanitize)
-    libs = [str(libsim), str(libkin)] if source.stem.startswith("test_sim_") else [str(libkin)]
+    libs = [str(libsim), str(libkin)] if source.stem.startswith("test_board_") else [str(libkin)]
     build = subprocess.run([cc, *flags(sanitize), str(source), *libs, "-o", str(exe), *MATH_LIBS],
                            capture_output=True, text=True)
     assert build.returncode == 0, build.stderr

@@ -240,7 +240,7 @@ def test_the_hang_watchdog_never_fires_while_gdb_holds_the_lab(tmp_path):
 
 @pytest.mark.requires("gdb")
 def test_bt_shows_the_lab_and_the_framework_only_and_gdb_keeps_its_chatter_off_stdout():
-    """``bt`` stops at the framework's loop (crs_sim_run), not ~180 frames of CPython and cffi
+    """``bt`` stops at the framework's loop (crs_board_run), not ~180 frames of CPython and cffi
     below it (``bt -no-filters`` still shows them); stdout carries what the lab printed and the
     user's commands' output, not gdb's thread-library notices."""
     r = crslab("debug", *RUN, "--break-tick", "5000", "--batch", "--ex", "bt", "--ex", "echo --all--\\n",
@@ -251,9 +251,9 @@ def test_bt_shows_the_lab_and_the_framework_only_and_gdb_keeps_its_chatter_off_s
     # the lab, the framework's call of it as the lab defines it (compiled after the lab, in its
     # unit: crslab/lab/entry_points.py), the firmware's entry (csrc/firmware/firmware.c), the
     # board's port to it (csrc/board/firmware_native.c), the framework's tick and the chunk's loop of
-    # ticks (csrc/board/sim.c)
+    # ticks (csrc/board/tick.c)
     assert [name for _, name in frames] == ["lab", "crs_lab_call_lab", "crs_fw_lab", "crs_fw_call_lab",
-                                            "lab_tick", "framework_tick", "run_ticks", "crs_sim_run"]
+                                            "lab_tick", "framework_tick", "run_ticks", "crs_board_run"]
     assert frames[-1][0] == "7"
     unfiltered = re.findall(r"^#\d+\s+(?:0x[0-9a-f]+ in )?(\w+) ", everything, re.MULTILINE)
     assert len(unfiltered) > 20 and any(name.startswith("_PyEval") for name in unfiltered)

@@ -35,7 +35,7 @@ def test_an_editable_install_is_a_plain_path_entry():
     package_dir = config["package-dir"]
     assert set(package_dir) == {""}  # the condition beside _simple_layout in setuptools' choice
     packages = find_packages(str(ROOT / package_dir[""]), include=config["packages"]["find"]["include"])
-    assert "crslab" in packages and "crslab.sim" in packages
+    assert "crslab" in packages and "crslab.run" in packages
     assert _simple_layout(packages, package_dir, ROOT)
 
 

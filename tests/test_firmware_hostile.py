@@ -208,10 +208,10 @@ def test_grade_passes_only_what_matches_and_every_report_is_safe(place, tmp_path
 def test_the_shared_block_has_no_name_in_any_file_system(place):
     """What a run shares with its worker is a memfd: nothing in /dev/shm or the temporary folder to
     leave behind when a grader's time limit kills the run."""
-    from crslab.sim.api import make_config
-    from crslab.sim.simulation import Simulation
+    from crslab.run.api import make_config
+    from crslab.run.board_run import BoardRun
 
-    with Simulation(make_config(HONEST, "hands_off")) as sim:
+    with BoardRun(make_config(HONEST, "hands_off")) as sim:
         maps = Path(f"/proc/{sim.worker_pid}/maps").read_text()
         ours = Path("/proc/self/maps").read_text()  # what a forked worker inherits is not the run's
         shared = [line for line in maps.splitlines() if "crslab-shared" in line]

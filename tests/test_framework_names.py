@@ -13,7 +13,7 @@ import pytest
 
 from crslab.lab.build import SHIM_INCLUDE
 from crslab.lab.compiler import find_compiler
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 
 NAMES = Path(__file__).parent / "data" / "framework_names.toml"
 LAB_INCLUDES = {"A": "#include <tistdtypes.h>\n#include <coecsl.h>\n#include \"user_includes.h\"\n",

@@ -22,10 +22,10 @@ from cffi import FFI
 
 from crslab import crs, framework_facts, resources
 from crslab.cheaders import cdef_from_header
+from crslab.run.api import make_config
+from crslab.run.inprocess import InProcessRun
 from crslab.scenario.fault_events import WristEstop
 from crslab.scenario.load import load_scenario
-from crslab.sim.api import make_config
-from crslab.sim.inprocess import InProcessRun
 from crslab.worker.board_ffi import BOARD_HEADERS
 
 LAB = Path(__file__).parent / "labs" / "framework_rules.c"
@@ -68,17 +68,16 @@ class Board:
         self.worker = self.run.worker
         self.sim = self.worker.sim
         self.ffi = FFI()
-        for header in (*BOARD_HEADERS, "board/debug.h", "kin/traj_profiles.h", "board/framework.h",
-                       "plant/hand.h"):
+        for header in (*BOARD_HEADERS, "board/debug.h", "board/framework.h"):
             self.ffi.cdef(cdef_from_header(resources.path("csrc", *header.split("/")).read_text()))
         self.ffi.cdef(BOARD_FUNCTIONS + LAB_VARIABLES[lab])
         # the library the worker loaded (found among those loaded, not opened again)
         self.lib = self.ffi.dlopen(str(self.worker.config.build.shared_object))
 
     def new_sim(self) -> object:
-        """A fresh board (``crs_sim_init``) that sees the worker's firmware (its variables)."""
-        sim = self.ffi.new("crs_sim *")
-        self.lib.crs_sim_init(sim)
+        """A fresh board (``crs_board_defaults``) that sees the worker's firmware (its variables)."""
+        sim = self.ffi.new("crs_board *")
+        self.lib.crs_board_defaults(sim)
         worker_fw = int(self.worker.ffi.cast("uintptr_t", self.worker.ffi.addressof(self.sim, "fw")))
         self.ffi.memmove(self.ffi.addressof(sim, "fw"), self.ffi.cast("void *", worker_fw),
                          self.ffi.sizeof("crs_fw_view"))
@@ -382,10 +381,9 @@ def test_the_hand_moves_along_a_minimum_jerk_path_for_the_scenarios_duration(boa
                         'duration = 0.4\n')
     (move,) = load_scenario(str(scenario)).events
     assert (move.tick, move.duration_ticks) == (500, 400)
-    sim = board.ffi.new("crs_sim *")
+    hand = board.ffi.new("crs_hand *")
     q, qd = board.ffi.new("double[3]"), board.ffi.new("double[3]")
-    sim.plant.qpos, sim.plant.qvel = q, qd
-    h = sim.hand
+    h = hand[0]
     h.active, h.start_tick, h.duration_ticks = 1, 500, 400
     target = np.radians([20.0, -40.0, 60.0])
     for j in range(3):
@@ -393,11 +391,11 @@ def test_the_hand_moves_along_a_minimum_jerk_path_for_the_scenarios_duration(boa
     h.max_nm = 1e9
 
     path = board.ffi.new("crs_hand_path *")
-    board.lib.crs_hand_plan(board.ffi.addressof(sim, "hand"), path)  # as the tick loop does per chunk
+    board.lib.crs_hand_plan(hand, path)  # as the tick loop does per chunk
 
     def force(tick: int, kp: float, kd: float) -> np.ndarray:
-        sim.tick, h.kp_nm_per_rad, h.kd_nm_s_per_rad = tick, kp, kd
-        board.lib.crs_hand_step_along(sim, path)
+        h.kp_nm_per_rad, h.kd_nm_s_per_rad = kp, kd
+        board.lib.crs_hand_step_along(hand, path, tick, q, qd)
         return np.array(list(h.force_nm))
 
     # with the arm at 0, a force of kp * error is the path itself: L (10 s^3 - 15 s^4 + 6 s^5)

@@ -13,8 +13,8 @@ from crslab.identify.friction_lab import run_friction_lab
 from crslab.plant.model import holding_torques_nm
 from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
-from crslab.sim.api import make_config
-from crslab.sim.simulation import Simulation
+from crslab.run.api import make_config
+from crslab.run.board_run import BoardRun
 from crslab.sinks.memory import MemorySink
 
 LABS = Path(__file__).parent / "labs"
@@ -26,7 +26,7 @@ def moved(plant: PlantParams, tau_units, seconds: float) -> np.ndarray:
     tick, starting at rest in the resting pose."""
     config = make_config(LABS / "constant_torque.c", "hands_off", startup_delay=False, log=True, plant=plant)
     memory = MemorySink()
-    with Simulation(config) as sim:
+    with BoardRun(config) as sim:
         for j, u in enumerate(tau_units):
             sim.set("tau_units", float(u), index=j)
         sim.run(int(seconds * 1000), memory)

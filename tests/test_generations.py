@@ -16,8 +16,8 @@ import pytest
 from crslab._core import ffi, lib
 
 from crslab.generations import GEN_A, GEN_B, GENERATIONS, NEWEST, UnknownGeneration, detect, named, of
-from crslab.sim.api import make_config
-from crslab.sim.simulation import SimError, Simulation
+from crslab.run.api import make_config
+from crslab.run.board_run import BoardRun, RunError
 from crslab.sinks.memory import MemorySink
 from crslab.sinks.sink import FanOut
 from crslab.starters import starter_text
@@ -68,8 +68,8 @@ def test_the_board_refuses_a_generation_no_row_has(native):
     build = config.build
     unknown = dataclasses.replace(config, build=dataclasses.replace(build, generation=dataclasses.replace(
         build.generation, id=9)))
-    with pytest.raises(SimError, match=r"knows no framework generation 9 \(it knows A \(1\), B \(2\)\)"):
-        with Simulation(unknown) as s:
+    with pytest.raises(RunError, match=r"knows no framework generation 9 \(it knows A \(1\), B \(2\)\)"):
+        with BoardRun(unknown) as s:
             s.run(100, FanOut([MemorySink()]))
 
 

@@ -18,8 +18,8 @@ import numpy as np
 from waiting import LineWatcher, wait_exit
 
 from crslab.host_tools.serial_protocols import plot_values, simulink_packet
-from crslab.sim.api import make_config
-from crslab.sim.simulation import Simulation
+from crslab.run.api import make_config
+from crslab.run.board_run import BoardRun
 from crslab.sinks.memory import MemorySink
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -34,7 +34,7 @@ def sent_as(value: float) -> int:
 def test_a_simulink_host_every_5_ms_gets_each_answer_and_its_values_reach_the_lab():
     config = make_config(GEN_B_LAB, "hands_off", startup_delay=False)
     replies, out = [], MemorySink()
-    with Simulation(config) as sim:
+    with BoardRun(config) as sim:
         for k in range(120):  # a packet at ticks 0, 5, ..., 595 carrying V1 = k, V2 = -k
             assert sim.exchange("SerialB", simulink_packet([k, -k, 0, 0, 0, 0, 0])).taken == 16
             sim.run(sim.tick + 5, out)

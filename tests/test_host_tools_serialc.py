@@ -2,7 +2,7 @@
 return the current value of the lab's globals as the C28x holds them, writes take effect between
 ticks, replies leave at the baud rate through the port's transmit ring (docs/host-tools.md,
 "SerialC: a MATLAB message"). Requests are handed to the board as the bridge does
-(``Simulation.exchange``) between chunks; the expected bytes are the doc's worked vectors, or
+(``BoardRun.exchange``) between chunks; the expected bytes are the doc's worked vectors, or
 struct packing of values the lab itself printed or stored."""
 
 import struct
@@ -12,8 +12,8 @@ import pytest
 
 from crslab.host_tools.serial_protocols import read_request, write_request
 from crslab.live.bridge import SerialBridge
-from crslab.sim.api import make_config
-from crslab.sim.simulation import Simulation
+from crslab.run.api import make_config
+from crslab.run.board_run import BoardRun
 from crslab.sinks.memory import MemorySink
 
 LABS = Path(__file__).parent / "labs"
@@ -40,7 +40,7 @@ def ask(sim, request: bytes, ticks: int = 10) -> bytes:
 def test_gen_a_answers_the_worked_vectors_and_writes_reach_the_next_print(gen_a_config):
     mem = gen_a_config.build.memory
     out = MemorySink()
-    with Simulation(gen_a_config) as sim:
+    with BoardRun(gen_a_config) as sim:
         sim.run(100, out)
         # whattoprint = 1.25 at 0xc816: docs/host-tools.md's first worked vector
         assert ask(sim, bytes.fromhex("2a 09 32 00 00 c8 16 00 01")) == bytes.fromhex("2a 04 33 00 00 a0 3f")
@@ -72,7 +72,7 @@ def test_gen_a_answers_the_worked_vectors_and_writes_reach_the_next_print(gen_a_
 
 def test_gen_b_reads_run_into_the_next_variables_and_its_ring_cuts_long_replies(gen_b_config):
     mem = gen_b_config.build.memory
-    with Simulation(gen_b_config) as sim:
+    with BoardRun(gen_b_config) as sim:
         sim.run(50)
         # four floats from whattoprint on: whattoprint, Kp1, samples (2: the request arrives during
         # tick 50 and is answered after its lab(), which took the second sample), then mode (int -2:
@@ -103,7 +103,7 @@ def test_gen_b_reads_run_into_the_next_variables_and_its_ring_cuts_long_replies(
 def test_a_length_byte_of_0_wedges_serialc_and_the_bridge_says_so_once(gen_b_config):
     said = []
     bridge = SerialBridge({}, said.append)
-    with Simulation(gen_b_config) as sim:
+    with BoardRun(gen_b_config) as sim:
         sim.run(20)
         assert ask(sim, b"*\x00") == b""
         assert ask(sim, read_request(0xD000, 1)) == b""  # nothing is answered any more
@@ -121,7 +121,7 @@ def test_a_host_never_reaches_past_the_object_the_compiler_laid_out():
     mem = config.build.memory
     samples, guard = mem.find("samples"), mem.find("guard")
     assert samples.count == 400  # the text's reading
-    with Simulation(config) as sim:
+    with BoardRun(config) as sim:
         sim.run(10)
         assert ask(sim, write_request(samples.address + 2 * 300, 99.0)) == b""
         reply = ask(sim, read_request(samples.address, 4), ticks=20)

@@ -11,7 +11,7 @@ from crslab.identify.friction_table import FrictionTable, load_table, predict
 from crslab.identify.recording import read_recording
 from crslab.identify.runs import Runner, lab_offsets
 from crslab.plant.plant_params import PlantParams
-from crslab.sim.api import make_config
+from crslab.run.api import make_config
 
 SHIPPED = PlantParams.defaults()
 OTHER = {"stall_nm1": 18.0, "coulomb_pos1": 1.25 * SHIPPED.value("coulomb_pos1"),

@@ -35,10 +35,10 @@ def test_a_deferred_or_type_only_import_still_closes_a_module_cycle(tmp_path):
         "crslab/scenario/__init__.py": "",
         "crslab/scenario/event.py": "def kinds():\n    import crslab.scenario.kinds\n",
         "crslab/scenario/kinds.py": "from crslab.scenario.event import kinds\n",
-        "crslab/sim/__init__.py": "",
-        "crslab/sim/effects.py": ("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n"
-                                  "    from crslab.sim.worker import Worker\n"),
-        "crslab/sim/worker.py": "from . import effects\n",
+        "crslab/run/__init__.py": "",
+        "crslab/run/effects.py": ("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n"
+                                  "    from crslab.run.worker import BoardInstances\n"),
+        "crslab/run/worker.py": "from . import effects\n",
     })
     r = run(tmp_path)
     assert r.returncode == 1
@@ -46,27 +46,27 @@ def test_a_deferred_or_type_only_import_still_closes_a_module_cycle(tmp_path):
     assert ("python module cycle: crslab.scenario.event -> crslab.scenario.kinds -> crslab.scenario.event"
             in lines)
     assert "    crslab/scenario/event.py:2: imports crslab.scenario.kinds" in lines
-    assert "python module cycle: crslab.sim.effects -> crslab.sim.worker -> crslab.sim.effects" in lines
-    assert "    crslab/sim/worker.py:1: imports crslab.sim.effects" in lines
+    assert "python module cycle: crslab.run.effects -> crslab.run.worker -> crslab.run.effects" in lines
+    assert "    crslab/run/worker.py:1: imports crslab.run.effects" in lines
     assert not any("package cycle" in line for line in lines)
 
 
 def test_packages_that_import_each_other_are_a_cycle_though_no_module_is(tmp_path):
     tree(tmp_path, {
         "crslab/__init__.py": "",
-        "crslab/sim/__init__.py": "",
-        "crslab/sim/status.py": "from crslab.regress.transcript import split\n",
+        "crslab/run/__init__.py": "",
+        "crslab/run/status.py": "from crslab.regress.transcript import split\n",
         "crslab/regress/__init__.py": "",
         "crslab/regress/transcript.py": "split = str.split\n",
-        "crslab/regress/grade.py": "from crslab.sim import status\n",
-        "crslab/cache.py": "import crslab.sim.status\n",  # one way only: no cycle
+        "crslab/regress/grade.py": "from crslab.run import status\n",
+        "crslab/cache.py": "import crslab.run.status\n",  # one way only: no cycle
     })
     r = run(tmp_path)
     assert r.returncode == 1
     assert r.stdout.splitlines() == [
-        "python package cycle: crslab.regress -> crslab.sim -> crslab.regress",
-        "    crslab/regress/grade.py:1: imports crslab.sim.status",
-        "    crslab/sim/status.py:1: imports crslab.regress.transcript",
+        "python package cycle: crslab.regress -> crslab.run -> crslab.regress",
+        "    crslab/regress/grade.py:1: imports crslab.run.status",
+        "    crslab/run/status.py:1: imports crslab.regress.transcript",
     ]
 
 

@@ -80,11 +80,11 @@ def test_the_c28x_checks_headers_include_nothing_of_the_boards():
 
 def test_a_firmware_file_that_includes_the_boards_header_is_found(tmp_path):
     source = tmp_path / "stand_in.c"
-    source.write_text('#include "firmware.h"\n#include <stdint.h>\n#include "sim.h"\n#include "hand.h"\n'
+    source.write_text('#include "firmware.h"\n#include <stdint.h>\n#include "board.h"\n#include "hand.h"\n'
                       '#include "no_such.h"\n')
     search = [CSRC / "firmware", *BUILDS["native"]]
-    assert board_includes(source, search) == [(3, "sim.h", "board/sim.h"), (4, "hand.h", "plant/hand.h"),
+    assert board_includes(source, search) == [(3, "board.h", "board/board.h"), (4, "hand.h", "plant/hand.h"),
                                               (5, "no_such.h", "not found")]
     # the WebAssembly firmware's build cannot find the board's headers at all
     assert board_includes(source, [CSRC / "firmware", *BUILDS["wasm"]]) == [
-        (3, "sim.h", "not found"), (4, "hand.h", "not found"), (5, "no_such.h", "not found")]
+        (3, "board.h", "not found"), (4, "hand.h", "not found"), (5, "no_such.h", "not found")]

@@ -8,7 +8,7 @@ import sys
 import pytest
 
 from crslab.generations import detect
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 from crslab.starters import LABS, starter_text
 
 GEN = {"A": 1, "B": 2}

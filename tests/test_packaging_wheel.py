@@ -35,11 +35,11 @@ def installed(installed_wheel):
 def test_the_sdist_and_the_wheel_carry_the_c_sources_and_the_models(installed):
     with tarfile.open(installed.sdist) as tar:
         in_sdist = {Path(*Path(n).parts[1:]).as_posix() for n in tar.getnames()}
-    assert {"setup.py", "csrc/cffi_build.py", "csrc/board/sim.h", "csrc/firmware/include/coecsl.h",
+    assert {"setup.py", "csrc/cffi_build.py", "csrc/board/board.h", "csrc/firmware/include/coecsl.h",
             "csrc/labs/lab1_kinematics.c", "models/crs_arm/scene.xml", "crslab/cheaders.py"} <= in_sdist
     with zipfile.ZipFile(installed.wheel) as whl:
         in_wheel = set(whl.namelist())
-    assert {"crslab/_data/csrc/board/sim.c", "crslab/_data/csrc/kin/crs_arm.h",
+    assert {"crslab/_data/csrc/board/tick.c", "crslab/_data/csrc/kin/crs_arm.h",
             "crslab/_data/csrc/firmware/include/coecsl.h", "crslab/_data/csrc/labs/lab2_tracking.c",
             "crslab/_data/models/crs_arm/scene.xml", "crslab/_data/models/crs_arm/params.toml",
             "crslab/scenario/builtin/tour.toml", "crslab/robots/crs.toml", "crslab/worlds/contest.toml",

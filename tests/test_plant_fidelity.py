@@ -14,7 +14,7 @@ from crslab.identify.recording import read_recording
 from crslab.identify.runs import lab_offsets
 from crslab.plant.model_files import PARAMS
 from crslab.resources import path as resource_path
-from crslab.sim.api import make_config, simulate
+from crslab.run.api import make_config, simulate
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tools" / "benchmarks"))
 from real_recording import (  # noqa: E402

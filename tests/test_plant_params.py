@@ -11,7 +11,7 @@ import pytest
 from crslab.plant.model import apply_plant, holding_torques_nm, load_model, motor_to_qpos
 from crslab.plant.model_files import PARAMS, REST_MOTOR_RAD
 from crslab.plant.plant_params import NAMES, PlantParams, PlantParamsError
-from crslab.sim.api import make_config, simulate
+from crslab.run.api import make_config, simulate
 
 ROOT_FRICTION = PARAMS["friction"]
 LAB_TAU1 = Path(__file__).parent / "labs" / "open_loop_tau1.c"

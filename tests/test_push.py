@@ -28,10 +28,10 @@ from crslab._core import ffi, lib
 
 from crslab import crs
 from crslab.plant.model import load_model
+from crslab.run.api import simulate
 from crslab.scenario.lab_events import SetVariable
 from crslab.scenario.load import ScenarioError, load_scenario, parse_scenario
 from crslab.scenario.push_events import Push, lab4_frame_matrix
-from crslab.sim.api import simulate
 
 LABS = Path(__file__).parent / "labs"
 LAB = LABS / "lab4_impedance.c"

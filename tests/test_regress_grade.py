@@ -101,7 +101,7 @@ def test_grade_bad_input(tmp_path):
 
 def test_a_submission_over_its_total_time_is_stopped_and_counts_as_hung(tmp_path):
     from crslab.regress.grade import run_many
-    from crslab.sim.api import make_config
+    from crslab.run.api import make_config
 
     config = make_config(REFERENCE, "tour")
     [result] = run_many([LABS / "hang_after_5s.c"], config, 8000, jobs=1, deadline_s=60.0, timeout_s=1.5)

@@ -23,7 +23,7 @@ from json_strings import json_strings
 
 from crslab.regress import autograder as ag
 from crslab.regress.grade import Grade, grade_result, summary_table, write_csv, write_junit_grades
-from crslab.sim.status import GradeClass, RunResult, RunStatus
+from crslab.run.status import GradeClass, RunResult, RunStatus
 
 HOSTILE = ["\x1b[2K\r\x1b[32mpass\x1b[0m", "evil\u202egnp.c", "non\ufffechar", "zero\u200bwidth",
            "nul\x00byte", "bell\x07", "\x9b31m", "two\nlines", "=HYPERLINK(\"http://x.example\",\"pass\")",

@@ -115,7 +115,7 @@ def test_only_a_run_command_with_rrd_forks_the_writer():
 SERVE_RECORDER = """
 import sys
 from pathlib import Path
-from crslab.sim.assemble import make_config, run_kept
+from crslab.run.assemble import make_config, run_kept
 from crslab.sinks.rerun_writer import RecorderSink
 
 out = Path(sys.argv[1])

@@ -86,7 +86,7 @@ def test_from_a_zip_the_files_are_extracted_into_the_cache_and_a_lab_builds(tmp_
     assert r.returncode == 0, r.stderr
     csrc, built, nq, scene = r.stdout.split()
     assert Path(csrc).parent == cache / "resources" and Path(scene).is_relative_to(cache)
-    assert (Path(csrc) / "board" / "sim.c").read_bytes() == (ROOT / "csrc" / "board" / "sim.c").read_bytes()
+    assert (Path(csrc) / "board" / "tick.c").read_bytes() == (ROOT / "csrc" / "board" / "tick.c").read_bytes()
     assert built == "True" and nq == "3"
     # a second run reuses the extraction: still one copy of csrc
     r = subprocess.run([sys.executable, "-c", PROBE, str(archive), str(core)], capture_output=True, text=True,

@@ -15,7 +15,7 @@ from crslab import crs
 from crslab.cli import main
 from crslab.generations import GEN_A
 from crslab.regress.transcript import read_golden, write_golden
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 
 LABS = Path(__file__).parent / "labs"
 ANGLES = LABS / "motor_angles_rad.c"

@@ -11,10 +11,10 @@ from pathlib import Path
 import pytest
 
 from crslab.lab.build import SHIM_INCLUDE
+from crslab.run.api import simulate
 from crslab.sandbox import landlock, seccomp, support
 from crslab.sandbox.compile_sandbox import compiler_sandbox, forbidden_read
 from crslab.sandbox.syscalls import PATH_ARGUMENT, path_argument_table
-from crslab.sim.api import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 HONEST = ROOT / "csrc" / "labs" / "lab1_kinematics.c"

@@ -8,8 +8,8 @@ import pytest
 from crslab.plant.model import holding_torques_nm
 from crslab.plant.model_files import COURSE_END_MASS_KG
 from crslab.plant.plant_params import PlantParams
+from crslab.run.api import simulate
 from crslab.scenario.load import ScenarioError
-from crslab.sim.api import simulate
 
 LABS = Path(__file__).parent / "labs"
 

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from crslab import crs
+from crslab.run.api import simulate
 from crslab.scenario.load import ScenarioError
-from crslab.sim.api import simulate
 
 LABS = Path(__file__).parent / "labs"
 RAD_PER_COUNT = np.pi / 144000

@@ -18,10 +18,10 @@ import pytest
 from crslab.lab.build import build_lab
 from crslab.pytest_plugin import CrslabCheckFailed, check_against_golden
 from crslab.regress.grade import grade_result
+from crslab.run.api import simulate
+from crslab.run.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.scenario.expect_events import Angles, BoardOff, Expect, Judge, Observation
 from crslab.scenario.load import BUILTIN_DIR, ScenarioError, check_lab, load_scenario, parse_scenario
-from crslab.sim.api import simulate
-from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 
 LABS = Path(__file__).parent / "labs"
 SATURATING = LABS / "saturating_gen_b.c"  # +-4.5 on joint 1 from 4.1 s: the board cuts out at tick 4600

@@ -245,7 +245,7 @@ def test_builtin_files_load_by_path_too():
 def test_scenarios_are_data_that_never_import_the_simulator():
     code = ("import sys\nfrom crslab.scenario.load import load_scenario\n"
             "import crslab.scenario.kinds\ns = load_scenario('tour')\n"
-            "print(sorted(m for m in sys.modules if m.startswith(('crslab.sim', 'mujoco'))))")
+            "print(sorted(m for m in sys.modules if m.startswith(('crslab.run', 'mujoco'))))")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip() == "[]"

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from crslab.cli import main
+from crslab.run.api import simulate
 from crslab.scopes.plot import read_scope_csv, scope_figure
 from crslab.scopes.signals import GROUPS, PUSH, SIGNALS
-from crslab.sim.api import simulate
 from crslab.sinks.csv_file import CsvSink
 
 

@@ -32,12 +32,12 @@ DRAG = """
 import mujoco, numpy as np
 from crslab import crs
 from crslab.live.viewer import MujocoViewer
-from crslab.sim.api import make_config
-from crslab.sim.simulation import Simulation
+from crslab.run.api import make_config
+from crslab.run.board_run import BoardRun
 from crslab.sinks.sink import FanOut, Sink
 
 config = make_config(scenario="hands_off", log=True)
-with Simulation(config) as sim:
+with BoardRun(config) as sim:
     viewer = MujocoViewer(crs.motor_to_dh(config.rest_motor_rad))
     assert viewer.start()
     rows = []

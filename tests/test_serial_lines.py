@@ -6,8 +6,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from crslab.regress.transcript import split_lines
+from crslab.run.status import RunResult, RunStatus
 from crslab.serial_lines import SerialLines, split
-from crslab.sim.status import RunResult, RunStatus
 
 ENDS = [b"\n\r", b"\r\n", b"\n", b"\r"]
 

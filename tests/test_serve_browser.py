@@ -14,7 +14,7 @@ import pytest
 from serve_server import USERS, roster_server
 
 from crslab.regress.transcript import read_golden
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 from crslab.sinks.stdout import tera_term_view
 from crslab.starters import starter_text
 

@@ -23,7 +23,7 @@ from serve_server import (
 )
 
 from crslab.regress.transcript import read_golden
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 from crslab.starters import starter_text
 
 LABS = Path(__file__).parent / "labs"
@@ -123,7 +123,7 @@ def test_writing_a_watched_variable_changes_what_the_lab_prints(alice):
 
 
 def test_stop_ends_a_real_time_run_within_a_chunk(alice):
-    from crslab.sim.pacing import PAGE_CHUNKS
+    from crslab.run.pacing import PAGE_CHUNKS
 
     alice.send(run_message(LAB_A, speed=1.0))
     first = alice.until("chunk")[-1]["tick"]
@@ -406,8 +406,8 @@ def test_letting_go_takes_the_hands_force_away_once():
     """The page's control between two chunks: a hand pushes the grabbed link toward the mouse (a
     force on that body only, toward the target), a release pushes zero once, then nothing."""
     from crslab.live.console import VarConsole
+    from crslab.run.pacing import PAGE_CHUNKS, Pacer
     from crslab.serve.stream import PageControl
-    from crslab.sim.pacing import PAGE_CHUNKS, Pacer
     from crslab.sinks.page_stream import ArmPoses, BrowserStream
 
     class Lab:

@@ -11,9 +11,9 @@ from pathlib import Path
 
 from waiting import GUARD_S
 
+from crslab.run.api import make_config, simulate
+from crslab.run.board_client import BoardClient
 from crslab.serve.run_host import CLOSE, PAGE, RUN, HostedRun, RunHost, unframe
-from crslab.sim.api import make_config, simulate
-from crslab.sim.board_worker import BoardWorker
 from crslab.starters import starter_text
 
 LABS = Path(__file__).parent / "labs"
@@ -29,7 +29,7 @@ class Recorded(RunHost):
 
     def simulation(self, config, limits):  # noqa: ANN001, ANN201
         sim = super().simulation(config, limits)
-        self.workers.append(sim.board_worker.pid)
+        self.workers.append(sim.board_client.pid)
         return sim
 
 
@@ -38,7 +38,7 @@ def test_a_host_runs_many_pages_labs_in_one_worker_as_crslab_sim_runs_them(tmp_p
     template.write_text(starter_text("lab1", "A"))
     labs = {"a": template, "b": template, "trap": LABS / "faulty" / "stack_overflow_in_lab.c",
             "stopped": template}
-    worker = BoardWorker()  # (forked before the pipe exists: it holds no end of it, as in a server)
+    worker = BoardClient()  # (forked before the pipe exists: it holds no end of it, as in a server)
     ours, theirs = Pipe()
     host = Recorded(theirs)
     host.worker = worker
@@ -101,7 +101,7 @@ def test_a_recorder_writing_its_files_holds_no_other_run_back(tmp_path, monkeypa
     template = tmp_path / "lab1.c"
     template.write_text(starter_text("lab1", "A"))
     config = make_config(template, "tour", log=True, startup_delay=False)
-    worker = BoardWorker()  # (forked before the pipe exists: it holds no end of it, as in a server)
+    worker = BoardClient()  # (forked before the pipe exists: it holds no end of it, as in a server)
     ours, theirs = Pipe()
     host = RunHost(theirs)
     host.worker = worker

@@ -71,9 +71,9 @@ def test_each_run_ends_its_chunks_at_its_own_phase_of_the_clock(monkeypatch):
     together do not all wake at once; while the page acts, chunks are 20 ms; the one pacer (the
     terminal's too) says when the next chunk is due."""
     from crslab.live.console import VarConsole
+    from crslab.run import pacing
+    from crslab.run.pacing import PAGE_CHUNKS, Pacer
     from crslab.serve.stream import INTERACTIVE_CHUNK_TICKS, PageControl
-    from crslab.sim import pacing
-    from crslab.sim.pacing import PAGE_CHUNKS, Pacer
     from crslab.sinks.page_stream import BrowserStream
 
     clock = [1000.0375]  # the machine's monotonic clock, s

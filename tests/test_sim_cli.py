@@ -78,10 +78,10 @@ def test_ctrl_c_stops_cleanly_and_keeps_what_was_printed(tmp_path):
 
 
 def test_a_ctrl_c_while_a_chunk_goes_to_the_sinks_waits_until_every_sink_has_it():
-    from crslab.sim.api import make_config
-    from crslab.sim.pacing import FAST_SLICE_TICKS
-    from crslab.sim.simulation import Simulation
-    from crslab.sim.status import RunStatus
+    from crslab.run.api import make_config
+    from crslab.run.board_run import BoardRun
+    from crslab.run.pacing import FAST_SLICE_TICKS
+    from crslab.run.status import RunStatus
     from crslab.sinks.memory import MemorySink
     from crslab.sinks.sink import FanOut
 
@@ -92,7 +92,7 @@ def test_a_ctrl_c_while_a_chunk_goes_to_the_sinks_waits_until_every_sink_has_it(
                 signal.raise_signal(signal.SIGINT)
 
     first, second = CtrlCAtSecondLine(), MemorySink()
-    with Simulation(make_config(startup_delay=False)) as sim:
+    with BoardRun(make_config(startup_delay=False)) as sim:
         result = sim.run(2 * FAST_SLICE_TICKS, FanOut([first, second]))
     assert result.status is RunStatus.INTERRUPTED
     # the whole first chunk reached both sinks, once: a print (three lines) every 500 ticks

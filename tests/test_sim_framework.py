@@ -7,7 +7,7 @@ import pytest
 
 from crslab import crs
 from crslab.plant.plant_params import PlantParams
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 
 LABS = Path(__file__).parent / "labs"
 

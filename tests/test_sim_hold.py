@@ -12,7 +12,7 @@ import pytest
 
 from crslab import crs
 from crslab.framework_facts import CLAMP_UNITS, STARTUP_TICKS
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 
 LABS = Path(__file__).parent / "labs"
 F = np.float32

@@ -8,7 +8,7 @@ import pytest
 
 from crslab.generations import GEN_A, GEN_B
 from crslab.lab.build import build_lab
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 
 LABS = Path(__file__).parent / "labs"
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 
 LABS = Path(__file__).parent / "labs"
 SATURATING = LABS / "saturating_gen_b.c"  # +-4.5 for 2 s from 4.1 s, then 0 for 0.5 s, then 1

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 
 LABS = Path(__file__).parent / "labs"
 VALUES = [1.41, 87.06, -1.99, 29.82, 0.1, 123.456, -0.004, 2.5, 0.001]

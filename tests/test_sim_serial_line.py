@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 
 LABS = Path(__file__).parent / "labs"
 BURSTS = LABS / "bursts_gen_b.c"

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from crslab.regress.grade import Grade, counts_line
-from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
+from crslab.run.status import ExitStatus, GradeClass, RunResult, RunStatus
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from crslab import crs
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 
 
 @pytest.fixture(scope="module")

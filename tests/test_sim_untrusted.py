@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from crslab.sim.api import make_config, simulate
-from crslab.sim.inprocess import run_in_process
+from crslab.run.api import make_config, simulate
+from crslab.run.inprocess import run_in_process
 
 FAULTY = Path(__file__).parent / "labs" / "faulty"
 BEFORE_FAULT = b"count 1 theta1 0.00\n\rcount 501 theta1 0.00\n\rcount 1001 theta1 0.00\n\r"

@@ -3,8 +3,8 @@
 import pytest
 
 from crslab.lab.watched import find_watched
-from crslab.sim.api import make_config
-from crslab.sim.simulation import Simulation
+from crslab.run.api import make_config
+from crslab.run.board_run import BoardRun
 from crslab.sinks.memory import MemorySink
 
 
@@ -25,7 +25,7 @@ def test_find_watched_handles_types_arrays_and_comments():
 
 
 def test_set_whattoprint_changes_the_next_print_and_get_reads_arrays():
-    with Simulation(make_config()) as sim:
+    with BoardRun(make_config()) as sim:
         sim.run(4700)
         arr = sim.get("theta2array")
         # the lab saves theta2motor every 50 calls: calls 0, 50, ..., 550 by tick 4700

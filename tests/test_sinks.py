@@ -123,7 +123,7 @@ class EndWatcher(Sink):
 
 
 def test_a_run_ends_with_on_end_once_after_every_byte_with_its_result():
-    from crslab.sim.api import simulate
+    from crslab.run.api import simulate
 
     watcher, inner = EndWatcher(), EndWatcher()
     threaded = ThreadedSink(inner)

@@ -13,7 +13,7 @@ import pytest
 
 from crslab.cli import main
 from crslab.framework_facts import CLAMP_UNITS
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 from crslab.sweep.run_metrics import METRIC_NAMES
 from crslab.sweep.table import shown_metrics
 from tests.waiting import LineWatcher, wait_exit

@@ -8,9 +8,9 @@ from pathlib import Path
 import pytest
 
 from crslab.lab.source import LabSource
+from crslab.run.api import make_config
+from crslab.run.board_run import BoardRun
 from crslab.scenario.load import parse_scenario
-from crslab.sim.api import make_config
-from crslab.sim.simulation import Simulation
 from crslab.sinks.memory import MemorySink
 from crslab.sweep import variations
 from crslab.sweep.run_metrics import run_metrics
@@ -38,9 +38,9 @@ def swept(base, **values):
 
 
 def direct(config):
-    """The final motor angles of ``config`` run straight through a Simulation (no sweep)."""
+    """The final motor angles of ``config`` run straight through a BoardRun (no sweep)."""
     memory = MemorySink()
-    with Simulation(dataclasses.replace(config, log_signals=True)) as sim:
+    with BoardRun(dataclasses.replace(config, log_signals=True)) as sim:
         result = sim.run(END_TICK, memory)
     m = run_metrics(memory.log, result.stats, startup_ticks=0)
     return tuple(m[k] for k in FINAL)

@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from crslab.sim.api import make_config
-from crslab.sim.simulation import Simulation
+from crslab.run.api import make_config
+from crslab.run.board_run import BoardRun
 from crslab.sinks.memory import MemorySink
 from crslab.traj.tracking import TRACKING_LAB, tracking_report, write_plan
 from crslab.traj.waypoints import plan_waypoints, read_waypoints
@@ -28,7 +28,7 @@ def follow(csv=FIGURE):
     plan = plan_waypoints(read_waypoints(csv), "crs", profile="li", vmax_rad_s=1.0)
     config = make_config(TRACKING_LAB, "hands_off", log=True)
     memory = MemorySink()
-    with Simulation(config) as sim:
+    with BoardRun(config) as sim:
         start_s = write_plan(sim, plan, 1.0)
         path_start = config.startup_ticks + int(round(start_s * 1000))
         result = sim.run(path_start + int(plan.trajectory.end_s * 1000) + 500, memory)

@@ -14,8 +14,8 @@ from waiting import LineWatcher, join, wait_exit
 
 from crslab.cli import main
 from crslab.live.console import CommandError, VarConsole, parse_command
-from crslab.sim.api import make_config
-from crslab.sim.simulation import Simulation
+from crslab.run.api import make_config
+from crslab.run.board_run import BoardRun
 from crslab.sinks.memory import MemorySink
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -78,7 +78,7 @@ def test_console_reads_and_writes_a_running_lab_between_ticks():
     console.start()
     join(console._thread, "the console reading its typed lines")  # every command is queued
     out = MemorySink()
-    with Simulation(config) as sim:
+    with BoardRun(config) as sim:
         sim.run(150, out, controls=[console])
         sim.run(250, out)
     assert replies[0] == "call_log = [0 0.5 1 1.5 2 2.5 3 3.5]   (t = 0.150 s)"  # what the lab wrote
@@ -131,7 +131,7 @@ def test_set_whattoprint_typed_during_a_run_changes_the_next_print_and_get_reads
 def test_the_worker_refuses_a_value_the_firmwares_type_cannot_hold_in_the_same_words():
     # a long is 32 bits in the firmware (as on the C28x), whatever the host's long is
     config = make_config(TYPES_LAB, "hands_off", startup_delay=False)
-    with Simulation(config) as sim:
+    with BoardRun(config) as sim:
         sim.run(1, MemorySink())
         with pytest.raises(KeyError, match=r"^'3e\+09 does not fit limits, long in watched_types.c "
                                            r"\(-2147483648 to 2147483647\)'$"):

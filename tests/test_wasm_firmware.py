@@ -12,7 +12,7 @@ import pytest
 
 from crslab.lab.build import build_lab
 from crslab.lab.firmware import MEMORY_BYTES, STACK_BYTES
-from crslab.sim.api import simulate
+from crslab.run.api import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 LABS = ROOT / "tests" / "labs"

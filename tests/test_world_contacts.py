@@ -166,7 +166,7 @@ def test_the_scale_reads_the_eggs_force_as_the_motors_torques_give_it_through_th
 
 
 def test_past_the_breaking_force_the_egg_is_broken_for_the_rest_of_the_run_and_the_scale_says_so(tmp_path):
-    from crslab.sim.api import simulate
+    from crslab.run.api import simulate
 
     e = CONTEST.egg
     x, y = (v / crs.M_PER_IN for v in e.center_xy_m)

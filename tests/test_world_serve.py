@@ -10,9 +10,9 @@ import json
 import pytest
 from serve_server import logged_in, roster_server, run_message, serial_of
 
+from crslab.run.api import simulate
 from crslab.serve.app import arm_shapes
 from crslab.serve.page_messages import ProtocolError, parse_message
-from crslab.sim.api import simulate
 from crslab.starters import starter_text
 
 LAB_A = starter_text("lab1", "A")

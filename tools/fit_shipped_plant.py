@@ -35,7 +35,7 @@ from crslab.identify.recording import read_recording  # noqa: E402
 from crslab.identify.runs import lab_offsets  # noqa: E402
 from crslab.plant.plant_params import PlantParams  # noqa: E402
 from crslab.resources import path as resource_path  # noqa: E402
-from crslab.sim.api import make_config  # noqa: E402
+from crslab.run.api import make_config  # noqa: E402
 
 COURSE_TABLE = ROOT / "models" / "crs_arm" / "recordings" / "lab3_friction_table_course.toml"
 NAMES = ("drive", "friction", "static", "inertia")

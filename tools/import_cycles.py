@@ -7,8 +7,8 @@ runs nothing:
 - **Python** (``crslab/``, from each file's syntax tree): every ``import`` and ``from ... import``
   of a crslab module counts, wherever it stands (inside a function or under ``TYPE_CHECKING``
   too: a deferred import hides a cycle, it does not remove it). A module depends on the module
-  it names (``from crslab.sim import simulation`` names ``crslab.sim.simulation``). The same edges are
-  also taken between packages (``crslab.sim`` depends on ``crslab.regress`` when one of its
+  it names (``from crslab.run import simulation`` names ``crslab.run.board_run``). The same edges are
+  also taken between packages (``crslab.run`` depends on ``crslab.regress`` when one of its
   modules imports one of the other's), and a cycle there is listed too.
 - **C** (``csrc/``, but the lab files in ``csrc/labs`` and the test programs in ``csrc/tests``,
   which nothing includes or calls): a file depends on each header it includes (``#include
@@ -109,8 +109,8 @@ def python_edges(root: Path) -> list[Edge]:
 def package_of(module: str) -> str:
     """The top-level package (or module) of crslab a module belongs to.
 
-    >>> package_of("crslab.sim.simulation"), package_of("crslab.cache"), package_of("crslab")
-    ('crslab.sim', 'crslab.cache', 'crslab')
+    >>> package_of("crslab.run.board_run"), package_of("crslab.cache"), package_of("crslab")
+    ('crslab.run', 'crslab.cache', 'crslab')
     """
     return ".".join(module.split(".")[:2])
 

@@ -187,7 +187,7 @@ def _unknown_command(parser: CommandsParser, argv: Sequence[str]) -> str | None:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``crslab`` console script; returns the exit status."""
     from crslab.resources import ResourceError
-    from crslab.sim import termination
+    from crslab.run import termination
 
     if argv is None:  # the crslab command itself: --rrd's writer starts now (see rerun_writer)
         from crslab.sinks.rerun_writer import start_writer

@@ -14,9 +14,9 @@ from crslab.cli.executor_options import executor_from_args
 from crslab.cli.run_options import config_from_args, limits_from_args
 from crslab.regress import autograder as ag
 from crslab.regress import grade as g
+from crslab.run.status import ExitStatus
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import DEFAULT_SCENARIO
-from crslab.sim.status import ExitStatus
 from crslab.untrusted_text import for_terminal
 
 

@@ -16,10 +16,10 @@ from pathlib import Path
 from crslab.cli import CliError
 from crslab.cli.run_options import add_run_options, config_from_args, run_to_end
 from crslab.contest.scorecard import Scorecard, ScorecardError, score
+from crslab.run.status import ExitStatus, RunStatus
 from crslab.scenario.event import seconds_to_tick
-from crslab.sim.status import ExitStatus, RunStatus
 from crslab.untrusted_text import for_terminal
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 from crslab.world.layout import World, WorldError, load_world
 
 CONTEST_WORLD = "contest"
@@ -73,7 +73,7 @@ def load_contest_world(name: str) -> World:
         raise CliError(f"{name}: cannot read the world file ({exc.strerror})") from None
 
 
-def contest_config(args: argparse.Namespace, world: World) -> SimConfig:
+def contest_config(args: argparse.Namespace, world: World) -> RunConfig:
     """The run options' configuration, logging the scope rows, in ``world``."""
     return dataclasses.replace(config_from_args(args, log=True), world=world)
 

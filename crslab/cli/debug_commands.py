@@ -17,8 +17,8 @@ from crslab.debug.debugged_run import DebugPlan, DebugSession
 from crslab.debug.local_port import PortError
 from crslab.debug.programs import DebuggerMissing, debugger_for
 from crslab.debug.tracer import TracerError
+from crslab.run.status import RunResult, RunStatus
 from crslab.scenario.event import seconds_to_tick
-from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.at_end import AtEnd
 from crslab.sinks.narration import seconds
 

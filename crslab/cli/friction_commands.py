@@ -80,7 +80,7 @@ def run_friction(args: argparse.Namespace) -> int:
     from crslab.identify.friction_table import FrictionTableError, fit_lines, load_table, parse_points
     from crslab.lab.build import LabBuildError, LabForbidden
     from crslab.plant.plant_params import PlantParams, PlantParamsError
-    from crslab.sim.status import RunStatus
+    from crslab.run.status import RunStatus
 
     try:
         reference = load_table(args.reference)

@@ -23,7 +23,7 @@ from crslab.live.bridge import SerialBridge
 from crslab.output_paths import folder, with_parent
 from crslab.sinks.serial_pty import PortSink
 from crslab.sinks.sink import FanOut
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 PORT_ROLES = {"SerialA": "Tera Term", "SerialB": "Simulink", "SerialC": "MATLAB"}
 """The board's three serial ports and the host program of each."""
@@ -52,7 +52,7 @@ def host_tools_asked(args: argparse.Namespace) -> bool:
 class HostRun(OptionRun):
     """The host ports and map one ``crslab sim`` run asked for; its control is the bridge."""
 
-    def __init__(self, args: argparse.Namespace, config: SimConfig, status: Callable[[str], None]) -> None:
+    def __init__(self, args: argparse.Namespace, config: RunConfig, status: Callable[[str], None]) -> None:
         super().__init__(args, config, status)
         self.serial_a: PortSink | None = None
         """SerialA on ``DIR/SerialA`` (``--pty-wait`` waits for a terminal there)."""

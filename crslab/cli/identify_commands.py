@@ -14,7 +14,7 @@ from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.output_paths import ready_to_write, with_parent
 from crslab.plant.plant_params import PlantParams, PlantParamsError
 from crslab.resources import path as resource_path
-from crslab.sim.status import RunStatus
+from crslab.run.status import RunStatus
 
 CALIBRATION_LAB = resource_path("csrc", "labs", "lab2_square_pid.c")
 """crslab's calibration lab: the controller of the real recording the default arm was fitted to."""
@@ -138,7 +138,7 @@ def run_identify(args: argparse.Namespace) -> int:
     from crslab.identify.recording import PlotVarMap, RecordingError, read_recording
     from crslab.identify.runs import RunFailed, lab_offsets
     from crslab.regress.grade import default_jobs
-    from crslab.sim.api import make_config
+    from crslab.run.api import make_config
 
     table_paths = [r for r in args.recordings if r.suffix.lower() == ".toml"]
     recording_paths = [r for r in args.recordings if r.suffix.lower() != ".toml"]

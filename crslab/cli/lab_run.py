@@ -25,21 +25,21 @@ from crslab.cli.run_options import limits_from_args
 from crslab.cli.run_report import near_budget_warning, print_run_notes, summary, summary_line
 from crslab.cli.sink_options import check_sinks, open_sinks, preload_sinks, sinks_need_scope_rows
 from crslab.lab.compiler import native_widths_note
+from crslab.run.assemble import started
+from crslab.run.board_run import BoardRun, RunError
+from crslab.run.running import LiveControl, RunDebugger
+from crslab.run.status import RunResult
 from crslab.scenario.event import seconds_to_tick
-from crslab.sim.assemble import started
-from crslab.sim.running import LiveControl, RunDebugger
-from crslab.sim.simulation import SimError, Simulation
-from crslab.sim.status import RunResult
 from crslab.sinks.at_end import AtEnd
 from crslab.sinks.narration import NarrationSink
 from crslab.sinks.sink import FanOut, Sink, SinkError
 from crslab.sinks.stdout import StdoutSink
 from crslab.untrusted_text import for_terminal
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 
 
-def end_tick_of(args: argparse.Namespace, config: SimConfig) -> int:
+def end_tick_of(args: argparse.Namespace, config: RunConfig) -> int:
     """The tick the run ends at: ``--duration``, else the scenario's end."""
     return seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
 
@@ -54,7 +54,7 @@ class LabRun:
     ``crslab COMMAND: `` before each line. Bad options are one-line errors here, before the worker
     starts; :meth:`run` runs it and says how it went (:meth:`report`, when it ends)."""
 
-    def __init__(self, args: argparse.Namespace, config: SimConfig, command: str, *,
+    def __init__(self, args: argparse.Namespace, config: RunConfig, command: str, *,
                  host_ports: bool = False) -> None:
         self.args = args
         self.config = config
@@ -97,8 +97,8 @@ class LabRun:
     def run(self, introduction: Callable[[int], str], *, speed: float | None,
             extra_sinks: Sequence[Sink] = (), controls: Sequence[LiveControl] = (),
             debug: DebugSetup | None = None, debugger: RunDebugger | None = None,
-            prepare: Callable[[Simulation], None] | None = None,
-            ready: Callable[[Simulation], None] | None = None, lab_cost: bool = True) -> RunResult:
+            prepare: Callable[[BoardRun], None] | None = None,
+            ready: Callable[[BoardRun], None] | None = None, lab_cost: bool = True) -> RunResult:
         """Start the worker, open every output, say ``introduction(end_tick)``, run to the end,
         say how it went (:meth:`report`, the last sink's: ``extra_sinks`` say theirs before it) and
         close the outputs (a failure to finish a file is a one-line error). ``prepare(sim)`` comes
@@ -126,7 +126,7 @@ class LabRun:
                 host_controls = self.host.controls if self.host is not None else []
                 result = sim.run(self.end_tick, self.out, speed=speed,
                                  controls=[*controls, *self.live.controls, *host_controls], debugger=debugger)
-        except SimError as exc:
+        except RunError as exc:
             raise CliError(str(exc), status=exc.status.exit_status) from None
         finally:
             if self.host is not None:

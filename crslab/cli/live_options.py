@@ -26,12 +26,12 @@ from crslab.cli.sink_options import writable
 from crslab.framework_facts import SERIAL_BAUD
 from crslab.live.console import VarConsole
 from crslab.output_paths import folder
+from crslab.run.running import LiveControl
 from crslab.scopes.display import missing_display
-from crslab.sim.running import LiveControl
 from crslab.sinks.rerun_writer import WriterSink, discard_writer, take_writer
 from crslab.sinks.sink import FanOut
 from crslab.sinks.threaded import ThreadedSink
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 
 def add_live_options(p: argparse.ArgumentParser) -> None:
@@ -105,7 +105,7 @@ class OptionRun:
     :class:`crslab.cli.host_options.HostRun`): ``status`` says one line on stderr (with the
     command's prefix); :attr:`controls` are served between chunks of ticks once started."""
 
-    def __init__(self, args: argparse.Namespace, config: SimConfig, status: Callable[[str], None]) -> None:
+    def __init__(self, args: argparse.Namespace, config: RunConfig, status: Callable[[str], None]) -> None:
         self.args = args
         self.config = config
         self.status = status
@@ -116,7 +116,7 @@ class LiveRun(OptionRun):
     """The live windows one ``crslab sim`` or ``crslab debug`` run asked for; its controls are the
     typed commands and the viewer."""
 
-    def __init__(self, args: argparse.Namespace, config: SimConfig, status: Callable[[str], None]) -> None:
+    def __init__(self, args: argparse.Namespace, config: RunConfig, status: Callable[[str], None]) -> None:
         super().__init__(args, config, status)
         if args.rrd is not None:
             writable(args.rrd, "the rerun recording")

@@ -33,6 +33,7 @@ from crslab.cli.run_options import (
 )
 from crslab.cli.run_report import notices
 from crslab.executors.job import Executor
+from crslab.framework_facts import TICKS_PER_S
 from crslab.lab.c28x_check import C28xReport, check_lab
 from crslab.lab.compile_process import LabBuildError
 from crslab.output_paths import folder as made_folder
@@ -47,11 +48,11 @@ from crslab.regress.transcript import (
     split_lines,
     write_golden,
 )
+from crslab.run.api import DEFAULT_REST_MOTOR_RAD
+from crslab.run.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.scenario.event import seconds_to_tick
-from crslab.sim.api import DEFAULT_REST_MOTOR_RAD
-from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.untrusted_text import for_terminal, for_text
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 if TYPE_CHECKING:
     from crslab.regress.grade import Found
@@ -150,11 +151,11 @@ GRADE_MEM_LIMIT_MB = 2048
 GRADE_CPU_LIMIT_S = 120.0
 
 
-def _end_tick(args: argparse.Namespace, config: SimConfig) -> int:
+def _end_tick(args: argparse.Namespace, config: RunConfig) -> int:
     return seconds_to_tick(args.duration) if args.duration else config.scenario.end_tick
 
 
-def _run(config: SimConfig, args: argparse.Namespace, end_tick: int) -> RunResult:
+def _run(config: RunConfig, args: argparse.Namespace, end_tick: int) -> RunResult:
     result = run_to_end(config, end_tick, args)
     for line in notices(config.build.source.name, result.stats, config.build.generation, config.build.source):
         print(f"crslab {args.command}: {line}", file=sys.stderr)
@@ -179,7 +180,7 @@ def run_record(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise CliError(f"{args.output}: cannot write the golden file ({exc.strerror})") from None
     lines = len(split_lines(result.transcript))
-    print(f"crslab record: {lines} lines ({end_tick / 1000:.3f} s simulated) written to {args.output}",
+    print(f"crslab record: {lines} lines ({end_tick / TICKS_PER_S:.3f} s simulated) written to {args.output}",
           file=sys.stderr)
     return ExitStatus.OK
 
@@ -289,7 +290,7 @@ def run_grade(args: argparse.Namespace) -> int:
     return _write_grades(args, subs, grades, reference, config)
 
 
-def _grade_all(args: argparse.Namespace, found: Found, config: SimConfig, end_tick: int,
+def _grade_all(args: argparse.Namespace, found: Found, config: RunConfig, end_tick: int,
                reference: RunResult, executor: Executor) -> dict:
     """Run and grade every submission on ``executor``; their grades by path."""
     from crslab.regress import grade as g
@@ -297,7 +298,7 @@ def _grade_all(args: argparse.Namespace, found: Found, config: SimConfig, end_ti
     subs = found.labs
     print(f"crslab grade: {found.summary()}", file=sys.stderr)
     print(f"crslab grade: {len(subs)} submissions against {args.reference.name} on {config.scenario.name} "
-          f"({end_tick / 1000:.3f} s), {executor.description}", file=sys.stderr)
+          f"({end_tick / TICKS_PER_S:.3f} s), {executor.description}", file=sys.stderr)
 
     progress = g.Progress(len(subs))
     grades: dict[Path, g.Grade] = {}
@@ -314,7 +315,7 @@ def _grade_all(args: argparse.Namespace, found: Found, config: SimConfig, end_ti
 
 
 def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, reference: RunResult,
-                  config: SimConfig) -> int:
+                  config: RunConfig) -> int:
     """Write the reports into ``--out`` and the summary on stdout; the exit status."""
     from crslab.regress import grade as g
 
@@ -402,7 +403,8 @@ def run_grade_contest(args: argparse.Namespace) -> int:
         raise CliError(f"{args.out}: cannot write the reports there ({exc.strerror})") from None
     executor = executor_from_args(args)
     print(f"crslab grade: {len(subs)} submissions in the {args.world} world on {config.scenario.name} "
-          f"({end_tick / 1000:.3f} s), by the contest's scorecard, {executor.description}", file=sys.stderr)
+          f"({end_tick / TICKS_PER_S:.3f} s), by the contest's scorecard, {executor.description}",
+          file=sys.stderr)
     progress = g.Progress(len(subs))
     grades: dict[Path, cg.ContestGrade] = {}
 

@@ -19,13 +19,13 @@ from crslab.framework_facts import (
 )
 from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.plant.plant_params import PlantParamsError
+from crslab.run.api import DEFAULT_REST_MOTOR_RAD, make_config
+from crslab.run.board_run import DEFAULT_DEADLINE_S, Limits, RunError
+from crslab.run.status import RunResult, RunStatus
 from crslab.sandbox import missing as sandbox_missing
 from crslab.scenario.load import ScenarioError
-from crslab.sim.api import DEFAULT_REST_MOTOR_RAD, make_config
-from crslab.sim.simulation import DEFAULT_DEADLINE_S, Limits, SimError
-from crslab.sim.status import RunResult, RunStatus
 from crslab.untrusted_text import for_text
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 from crslab.world.layout import WorldError
 
 
@@ -134,7 +134,7 @@ def sandbox_from_args(args: argparse.Namespace) -> bool:
 
 def config_from_args(args: argparse.Namespace, *, log: bool = False,
                      rest_motor_rad: tuple[float, float, float] | None = None, debug: bool = False,
-                     break_when: str | None = None) -> SimConfig:
+                     break_when: str | None = None) -> RunConfig:
     """Build the lab and load the scenario, turning bad input into one-line errors. The resting
     pose is ``rest_motor_rad`` when given, else ``--offsets``', else the scenario's; ``debug`` and
     ``break_when`` build the lab for a debugger (``crslab debug``)."""
@@ -155,7 +155,7 @@ def config_from_args(args: argparse.Namespace, *, log: bool = False,
         raise CliError(str(exc)) from None
 
 
-def run_to_end(config: SimConfig, end_tick: int, args: argparse.Namespace) -> RunResult:
+def run_to_end(config: RunConfig, end_tick: int, args: argparse.Namespace) -> RunResult:
     """``config`` run to ``end_tick`` at full speed, with the deadline and limits of ``args``, every
     serial call and the scope log kept (``record``, ``check``, ``contest``): a worker that cannot
     start, or a lab without ``lab()``, is a one-line error with its exit status."""
@@ -163,7 +163,7 @@ def run_to_end(config: SimConfig, end_tick: int, args: argparse.Namespace) -> Ru
 
     try:
         result = run_lab(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
-    except SimError as exc:
+    except RunError as exc:
         raise CliError(str(exc), status=exc.status.exit_status) from None
     if result.status is RunStatus.NO_LAB:
         raise CliError(result.message, status=result.exit_status)

@@ -9,11 +9,11 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from crslab.framework_facts import CPU_CYCLES_PER_TICK, SCI_TX_FIFO_CHARS, SERIAL_CHARS_PER_MS
+from crslab.framework_facts import CPU_CYCLES_PER_TICK, SCI_TX_FIFO_CHARS, SERIAL_CHARS_PER_MS, TICKS_PER_S
 from crslab.generations import Generation
 from crslab.lab.print_trigger import missing_printing_notice
+from crslab.run.status import RunResult, RunStatus
 from crslab.scenario.expect_events import summary_text
-from crslab.sim.status import RunResult, RunStatus
 from crslab.untrusted_text import for_terminal
 from crslab.worker.board_ffi import board_constants
 from crslab.worker.run_stats import RunStats
@@ -45,7 +45,7 @@ def summary(result: RunResult, wall_s: float, budget: int) -> dict:
     return {
         "status": result.status,
         "message": result.message,
-        "simulated_s": result.end_tick / 1000.0,
+        "simulated_s": result.end_tick / TICKS_PER_S,
         # a lab() call that hung was never measured: the summary says so, not "0 over the budget"
         **({"hung_tick": result.end_tick} if result.status is RunStatus.HUNG
            and "hung: lab() did not return" in result.message else {}),

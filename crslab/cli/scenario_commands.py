@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from crslab.cli import CliError
+from crslab.framework_facts import TICKS_PER_S
 from crslab.scenario.load import DEFAULT_SCENARIO, ScenarioError, describe_builtins, load_scenario
 
 
@@ -30,8 +31,9 @@ def timeline(name_or_path: str) -> list[str]:
     if s.rest_motor_rad is not None:
         out.append(f"   resting pose (motor, rad): {' '.join(f'{v:g}' for v in s.rest_motor_rad)}")
     for e in s.events:
-        out.append(f"{e.tick / 1000:8.3f} s  {e.describe()}" + (f"  (line {e.line})" if e.line else ""))
-    out.append(f"{s.end_tick / 1000:8.3f} s  end (seed {s.seed})")
+        line = f"  (line {e.line})" if e.line else ""
+        out.append(f"{e.tick / TICKS_PER_S:8.3f} s  {e.describe()}{line}")
+    out.append(f"{s.end_tick / TICKS_PER_S:8.3f} s  end (seed {s.seed})")
     return out
 
 

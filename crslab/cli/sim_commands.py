@@ -15,9 +15,9 @@ from crslab.cli.sink_options import add_sink_options
 from crslab.cli.tracking_options import TrackingRun, add_tracking_options
 from crslab.lab.c28x_check import C28xCheck, first_run_check, remember
 from crslab.live.console import VarConsole
-from crslab.sim.simulation import Simulation
+from crslab.run.board_run import BoardRun
 from crslab.sinks.at_end import AtEnd
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -70,12 +70,12 @@ def say_c28x_report(check: C28xCheck | None, lab: Path) -> None:
     remember(lab, report)
 
 
-def _run_sim(args: argparse.Namespace, config: SimConfig, tracking: TrackingRun,
+def _run_sim(args: argparse.Namespace, config: RunConfig, tracking: TrackingRun,
              c28x: C28xCheck | None) -> int:
     run = LabRun(args, config, "sim", host_ports=True)
     speed = None if args.fast else args.speed
 
-    def follow_waypoints(sim: Simulation) -> None:
+    def follow_waypoints(sim: BoardRun) -> None:
         run.end_tick = tracking.start(sim, run.end_tick, duration_given=bool(args.duration))
 
     def intro(end_tick: int) -> str:

@@ -23,7 +23,7 @@ from crslab.cli import CliError
 from crslab.output_paths import with_parent
 from crslab.sinks.sink import FanOut, Sink
 from crslab.sinks.threaded import ThreadedSink
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 
 @dataclass(frozen=True)
@@ -33,7 +33,7 @@ class SinkOption:
     flag: str
     """The long option, e.g. ``--csv``."""
     help: str
-    make: Callable[[Any, SimConfig], Sink]
+    make: Callable[[Any, RunConfig], Sink]
     metavar: str | None = "FILE"
     """None: a switch (its value is True)."""
     short: str | None = None
@@ -51,13 +51,13 @@ class SinkOption:
         return self.flag.removeprefix("--").replace("-", "_")
 
 
-def _transcript(path: Path, config: SimConfig) -> Sink:
+def _transcript(path: Path, config: RunConfig) -> Sink:
     from crslab.sinks.transcript_file import TranscriptSink
 
     return TranscriptSink(path)
 
 
-def _csv(path: Path, config: SimConfig) -> Sink:
+def _csv(path: Path, config: RunConfig) -> Sink:
     from crslab.sinks.csv_file import CsvSink
 
     return CsvSink(path, world=not config.world.is_free_air)
@@ -124,7 +124,7 @@ def preload_sinks(args: argparse.Namespace) -> None:
             row.preload()
 
 
-def open_sinks(args: argparse.Namespace, config: SimConfig, out: FanOut) -> None:
+def open_sinks(args: argparse.Namespace, config: RunConfig, out: FanOut) -> None:
     """Open the sinks the options ask for (after the worker was forked): each joins ``out``,
     which closes them."""
     for row, value in asked(args):

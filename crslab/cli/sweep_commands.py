@@ -14,12 +14,13 @@ from crslab.cli import CliError, did_you_mean
 from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.regress_commands import add_tolerance_options
 from crslab.cli.run_options import add_run_options, config_from_args, limits_from_args
+from crslab.framework_facts import TICKS_PER_S
 from crslab.lab.build import DEFAULT_LAB, LabBuildError
 from crslab.lab.source import LabSource
 from crslab.output_paths import with_parent
+from crslab.run.api import DEFAULT_REST_MOTOR_RAD
+from crslab.run.status import ExitStatus
 from crslab.scenario.event import seconds_to_tick
-from crslab.sim.api import DEFAULT_REST_MOTOR_RAD
-from crslab.sim.status import ExitStatus
 from crslab.sweep import sampling, variations
 from crslab.sweep import table as tbl
 from crslab.sweep.run_metrics import METRIC_NAMES
@@ -209,7 +210,7 @@ def run_sweep(args: argparse.Namespace) -> int:
         )
         print(
             f"crslab sweep: {len(jobs)} runs of {source.name} on {config.scenario.name} "
-            f"({end_tick / 1000:.3f} s each; {how}), {executor.description}",
+            f"({end_tick / TICKS_PER_S:.3f} s each; {how}), {executor.description}",
             file=sys.stderr,
         )
         from crslab.regress.grade import Progress

@@ -8,7 +8,8 @@ import sys
 from pathlib import Path
 
 from crslab.cli import CliError
-from crslab.sim.running import RunningLab
+from crslab.framework_facts import TICKS_PER_S
+from crslab.run.running import RunningLab
 from crslab.sinks.memory import MemorySink
 from crslab.traj.profiles import PROFILES
 from crslab.traj.tracking import TRACKING_LAB, TrackingError, plot_tracking, tracking_report, write_plan
@@ -66,7 +67,7 @@ class TrackingRun:
             path_start_s = write_plan(sim, self.plan, self.args.vmax or None)
         except TrackingError as exc:
             raise CliError(str(exc)) from None
-        self.path_start_tick = sim.config.startup_ticks + int(round(path_start_s * 1000))
+        self.path_start_tick = sim.config.startup_ticks + int(round(path_start_s * TICKS_PER_S))
         if duration_given:
             return end_tick
         return self.path_start_tick + int(round((self.plan.trajectory.end_s + END_MARGIN_S) * 1000))

@@ -14,12 +14,13 @@ from pathlib import Path
 import numpy as np
 
 from crslab.cli import CliError
+from crslab.framework_facts import TICKS_PER_S
 from crslab.output_paths import with_parent
 from crslab.traj.joint_space import ARMS
 from crslab.traj.profiles import PROFILES
 from crslab.traj.waypoints import WaypointError, plan_waypoints, read_waypoints
 
-RATE_HZ = 1000
+RATE_HZ = TICKS_PER_S
 """The lab's tick rate: one output row per tick."""
 DEFAULT_VMAX_RAD_S = 1.0
 """A gentle default joint speed limit (the CRS arm itself is rated up to 210 deg/s)."""

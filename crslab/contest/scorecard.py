@@ -40,6 +40,8 @@ from typing import Any
 
 import numpy as np
 
+from crslab.framework_facts import TICKS_PER_S
+
 TOUCH_N = 0.05
 """A contact force above this (N) counts as a touch: MuJoCo reports exactly 0 without contact."""
 MOTION_M = 0.005
@@ -269,7 +271,7 @@ def score(log: Mapping[str, np.ndarray], world: Any) -> Scorecard:
     tick = column(log, "tick")
     if len(tick) == 0:
         raise ScorecardError("the run's scope log has no rows")
-    t = tick / 1000.0
+    t = tick / TICKS_PER_S
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.001
     tip = column(log, "peg_tip", 3)
     rules = Rules.of(world)

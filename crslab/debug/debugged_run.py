@@ -37,11 +37,12 @@ from crslab.debug.gdb_commands import csrc_dir, gdb_argv, gdbserver_argv, setup_
 from crslab.debug.local_port import LocalPort
 from crslab.debug.programs import debugger_for
 from crslab.debug.tracer import GatedTracer, TracerError
+from crslab.framework_facts import TICKS_PER_S
 from crslab.worker.debug_setup import DebugSetup
 
 if TYPE_CHECKING:
-    from crslab.sim.running import RunningLab
-    from crslab.sim.simulation import Simulation
+    from crslab.run.board_run import BoardRun
+    from crslab.run.running import RunningLab
 
 QUIT_TIMEOUT_S = 10.0
 GDBSERVER_CHATTER = re.compile(r"^(Remote debugging using stdio|Attached; pid = \d+|Process .* attached)$")
@@ -75,9 +76,9 @@ class DebugPlan:
 
 
 class DebugSession:
-    """The debugger of one run: a :class:`~crslab.sim.running.RunDebugger` and a
-    :class:`~crslab.sim.running.LiveControl` of ``Simulation.run``. Use as a context manager
-    around the :class:`~crslab.sim.simulation.Simulation`, created before it (the worker names the
+    """The debugger of one run: a :class:`~crslab.run.running.RunDebugger` and a
+    :class:`~crslab.run.running.LiveControl` of ``BoardRun.run``. Use as a context manager
+    around the :class:`~crslab.run.board_run.BoardRun`, created before it (the worker names the
     debugger's process as its tracer when it starts)."""
 
     def __init__(self, plan: DebugPlan, first_lab_tick: int, say: Callable[[str], None],
@@ -124,7 +125,7 @@ class DebugSession:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def start(self, sim: Simulation) -> None:
+    def start(self, sim: BoardRun) -> None:
         """The worker is ready, before its first tick: gdb on the terminal attaches now."""
         if self.plan.console:
             self._attach(sim)
@@ -154,14 +155,15 @@ class DebugSession:
 
     def paused(self, lab: RunningLab, condition_held: bool) -> None:
         """The run reached the break (before ``lab.tick``'s ``lab()`` call): stop in ``lab()``."""
-        from crslab.sim.simulation import Simulation
+        from crslab.run.board_run import BoardRun
 
-        assert isinstance(lab, Simulation)
+        assert isinstance(lab, BoardRun)
         self._pending = None
         self.broke = True
         tick = lab.tick
         if condition_held:
-            self.say(f"--break-when {self.plan.break_when!r} holds at tick {tick} (t = {tick / 1000:.3f} s)")
+            self.say(f"--break-when {self.plan.break_when!r} holds at tick {tick} "
+                     f"(t = {tick / TICKS_PER_S:.3f} s)")
         if not self.attached:
             self._attach(lab)
         if self.plan.console:
@@ -169,8 +171,9 @@ class DebugSession:
                 lab.debug_break()
         else:
             program = os.path.realpath(sys.executable)
-            self.say(f"lab() is held before tick {tick} (t = {tick / 1000:.3f} s); gdbserver listens on "
-                     f"localhost:{self.port}: attach your IDE (docs/debugging.md; its program is {program}) "
+            self.say(f"lab() is held before tick {tick} (t = {tick / TICKS_PER_S:.3f} s); "
+                     f"gdbserver listens on localhost:{self.port}: attach your IDE (docs/debugging.md; "
+                     f"its program is {program}) "
                      f"or run gdb -ex 'target remote localhost:{self.port}'")
 
     def unreached(self) -> str | None:
@@ -194,7 +197,7 @@ class DebugSession:
                      + ("" if self.plan.batch else " (Ctrl-C ends it)"))
 
     # -- attaching --------------------------------------------------------------------------------
-    def _attach(self, sim: Simulation) -> None:
+    def _attach(self, sim: BoardRun) -> None:
         report = Path(sim.sanitizer_dir) / "report.txt" if sim.sanitizer_dir else None
         self.script.write_text(setup_script(csrc_dir(), lab_file=sim.config.build.source.absolute(),
                                             sanitizer_report=report, batch=self.plan.batch))

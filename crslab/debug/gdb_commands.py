@@ -21,6 +21,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from crslab import resources
+from crslab.framework_facts import TICKS_PER_S
 from crslab.lab.firmware import DEBUG_INFO_CSRC
 
 IN_GDB = Path(__file__).with_name("in_gdb.py")
@@ -67,17 +68,17 @@ def setup_script(csrc: Path, *, lab_file: Path | None = None, sanitizer_report: 
         f"set $crs_sanitizer_report = {_quote(str(sanitizer_report) if sanitizer_report else '')}",
         "set $crs_shown_tick = -1",
         "set $tick = crs_tick",
-        "set $t = crs_tick / 1000.0",
+        f"set $t = crs_tick / {TICKS_PER_S:.1f}",
         "define hook-stop",
         "  set $tick = crs_tick",
-        "  set $t = $tick / 1000.0",
+        f"  set $t = $tick / {TICKS_PER_S:.1f}",
         "  if $tick >= 0 && $tick != $crs_shown_tick",
         "    set $crs_shown_tick = $tick",
         '    printf "crslab: tick %lld (t = %.3f s)\\n", $tick, $t',
         "  end",
         "end",
         "define tick",
-        '  printf "tick %lld (t = %.3f s)\\n", crs_tick, crs_tick / 1000.0',
+        f'  printf "tick %lld (t = %.3f s)\\n", crs_tick, crs_tick / {TICKS_PER_S:.1f}',
         "end",
         "document tick",
         "Print the tick lab() is at (t = tick ms). Simulated time stands still while gdb holds the lab.",

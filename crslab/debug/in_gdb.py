@@ -7,7 +7,7 @@ terminal. It reads the settings of crslab's setup script (``$crs_csrc``, ``$crs_
   it arms a temporary breakpoint on ``lab()`` and goes on, so gdb stops inside ``lab()`` at that
   very tick (:func:`crslab_stop_in_lab`, also behind the ``next-tick`` command);
 - quits when the lab's process has ended (the run is over), unless in ``-batch``;
-- shows, in ``bt``, the lab's frames and the framework's down to its loop (``crs_sim_run``), not
+- shows, in ``bt``, the lab's frames and the framework's down to its loop (``crs_board_run``), not
   the hundred-odd frames of CPython and cffi below it (:class:`LabFrames`, a gdb frame filter;
   ``bt -no-filters`` shows them all);
 - when the lab crashes, stops at the lab's own line: a segfault stops in the lab's code
@@ -27,13 +27,15 @@ functions.
 >>> class Frame:
 ...     def __init__(self, name): self.name = name
 ...     def function(self): return self.name
->>> [f.name for f in LabFrames().filter(iter(map(Frame, ["lab", "lab_tick", "crs_sim_run", "ffi_call"])))]
-['lab', 'lab_tick', 'crs_sim_run']
+>>> [f.name for f in LabFrames().filter(iter(map(Frame, ["lab", "lab_tick", "crs_board_run", "ffi_call"])))]
+['lab', 'lab_tick', 'crs_board_run']
 """
 
 from __future__ import annotations
 
 import os
+
+from crslab.framework_facts import TICKS_PER_S
 
 try:
     import gdb  # type: ignore[import-not-found]
@@ -127,14 +129,14 @@ def _on_stop(event: object) -> None:
     frames = _frames()
     index = lab_frame_index([f for _, f in frames], _setting("crs_lab_file"))
     tick = int(gdb.parse_and_eval("crs_tick"))
-    print(f"crslab: the lab stopped at tick {tick} (t = {tick / 1000:.3f} s): {what}; 'bt' shows the "
+    print(f"crslab: the lab stopped at tick {tick} (t = {tick / TICKS_PER_S:.3f} s): {what}; 'bt' shows the "
           "calls that led there, 'continue' ends the run as crslab sim would")
     if index is not None:
         frames[index][0].select()
         gdb.execute("frame")
 
 
-FRAMEWORK_LOOP = "crs_sim_run"
+FRAMEWORK_LOOP = "crs_board_run"
 """The framework's loop: the outermost frame ``bt`` shows (below it: cffi and CPython)."""
 
 

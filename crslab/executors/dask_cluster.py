@@ -22,7 +22,7 @@ from typing import Any
 
 from crslab.executors.job import Job, OnDone
 from crslab.executors.local import DEFAULT_TIMEOUT_S, default_workers, run_alone
-from crslab.sim.status import RunStatus
+from crslab.run.status import RunStatus
 
 CONNECT_TIMEOUT_S = 10.0
 """How long to wait for a scheduler to answer, by default."""

@@ -6,7 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any, Protocol, TypeVar
 
-from crslab.sim.status import RunStatus
+from crslab.run.status import RunStatus
 
 R = TypeVar("R")
 OnDone = Callable[[int, Any], None]

@@ -23,12 +23,12 @@ from typing import Any
 
 from crslab import os_support
 from crslab.executors.job import Job, OnDone
-from crslab.sim.status import RunStatus
+from crslab.run.status import RunStatus
 
 DEFAULT_TIMEOUT_S = 300.0
 """Wall-clock time one job may take in all (building included), by default."""
 PRELOAD = ["crslab.executors.local", "crslab.regress.grade", "crslab.regress.runner", "crslab.lab.build",
-           "crslab.sweep.sample_job", "crslab.worker.worker", "crslab.sandbox.run_sandbox",
+           "crslab.sweep.sample_job", "crslab.worker.main", "crslab.sandbox.run_sandbox",
            "crslab.executors.warmup"]
 """Modules the fork server imports once, so that no job process, and no lab worker it forks,
 imports them again (MuJoCo's import alone costs more than a short run)."""

@@ -41,13 +41,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from crslab.framework_facts import TICKS_PER_S
 from crslab.identify import align as al
 from crslab.identify.friction_table import KEYS, FrictionTable, predict
 from crslab.identify.recording import Recording
 from crslab.identify.runs import IdentifyRun, Runner
 from crslab.plant.model import holding_torques_nm
 from crslab.plant.plant_params import NAMES, PlantParams, PlantParamsError
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 # name stem -> (low, high, finite-difference step): what is physically plausible for the CRS arm
 BOUNDS: dict[str, tuple[float, float, float]] = {
@@ -125,7 +126,7 @@ class Source:
     """One recording with the prepared lab run that produced it, and its uncertainty."""
 
     recording: Recording
-    config: SimConfig
+    config: RunConfig
     lab_offsets: tuple[float, float, float]
     """The resting pose the lab's offsets describe (motor angles, rad): the run's default."""
     sigma_rad: float = RECORDING_SIGMA_RAD
@@ -333,7 +334,7 @@ class Problem:
         for src, plot, run in zip(self.sources, plots, runs):
             rec = src.recording
             latest = run.end_tick - int(rec.duration_s * 1000 * (1 + al.MAX_DRIFT)) - 15
-            start = al.coarse_start(plot, rec.plotvars, rec.t_s, int(WARMUP_S * 1000), latest)
+            start = al.coarse_start(plot, rec.plotvars, rec.t_s, int(WARMUP_S * TICKS_PER_S), latest)
             alignment = al.fine_bounds(plot, rec.plotvars, rec.t_s, start, rec.map.motor_columns,
                                        rec.period_s * 1000.0)
             self.alignments.append(alignment)

@@ -12,6 +12,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from crslab.framework_facts import TICKS_PER_S
 from crslab.identify.friction_table import LAB_SPEEDS_RAD_S, Point, parse_points
 from crslab.plant.plant_params import PlantParams
 from crslab.resources import path as resource_path
@@ -65,8 +66,8 @@ def run_friction_lab(plant: PlantParams | None = None, *, joints: Sequence[int] 
     ``speeds_rad_s``; ``on_progress(simulated_s, bound_s)`` after every slice. Raises
     :class:`FrictionRunError` when the run fails or the lab never says ``done``,
     :class:`NotAFrictionLab` for a lab without the variables crslab sets."""
-    from crslab.sim.assemble import make_config, started
-    from crslab.sim.simulation import SimError
+    from crslab.run.assemble import make_config, started
+    from crslab.run.board_run import RunError
     from crslab.sinks.memory import MemorySink
 
     speeds = [float(s) for s in speeds_rad_s]
@@ -82,7 +83,7 @@ def run_friction_lab(plant: PlantParams | None = None, *, joints: Sequence[int] 
                               f"not a Lab 3 friction lab crslab can drive")
     bound = lab_duration_s(speeds, joints)
     memory = MemorySink()
-    tick, end = 0, int(bound * 1000)
+    tick, end = 0, int(bound * TICKS_PER_S)
     try:
         with started(config) as sim:
             sim.set("n_speeds", float(len(speeds)))
@@ -91,18 +92,18 @@ def run_friction_lab(plant: PlantParams | None = None, *, joints: Sequence[int] 
             for j in (1, 2, 3):
                 sim.set("measure_joint", 1.0 if j in joints else 0.0, index=j - 1)
             while tick < end:
-                tick = min(end, tick + int(SLICE_S * 1000))
+                tick = min(end, tick + int(SLICE_S * TICKS_PER_S))
                 result = sim.run(tick, memory)
                 if not result.ok:
                     raise FrictionRunError(result.message or str(result.status))
                 if on_progress is not None:
-                    on_progress(tick / 1000.0, bound)
+                    on_progress(tick / TICKS_PER_S, bound)
                 if b"done" in memory.transcript:
                     break
-    except SimError as exc:
+    except RunError as exc:
         raise FrictionRunError(str(exc)) from None
     text = memory.transcript.decode("ascii", "replace")
     done = [t for t, data in memory.calls if b"done" in data]
     if not done:
         raise FrictionRunError(f"{Path(lab).name} did not finish within {bound:.0f} s (no 'done')")
-    return FrictionRun(parse_points(text), text, done[0] / 1000.0)
+    return FrictionRun(parse_points(text), text, done[0] / TICKS_PER_S)

@@ -16,7 +16,7 @@ import numpy as np
 
 from crslab import os_support
 from crslab.plant.plant_params import PlantParams
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 
 class RunFailed(RuntimeError):
@@ -27,7 +27,7 @@ class RunFailed(RuntimeError):
 class IdentifyRun:
     """What one run needs: the prepared configuration, its plant and resting pose, and its length."""
 
-    config: SimConfig
+    config: RunConfig
     plant: PlantParams
     rest_motor_rad: tuple[float, float, float]
     end_tick: int
@@ -35,14 +35,14 @@ class IdentifyRun:
 
 def run_plotvars(run: IdentifyRun) -> np.ndarray:
     """The lab's PlotVar1..4 after every tick, shape ``(end_tick, 4)``. Raises :class:`RunFailed`."""
-    from crslab.sim.assemble import run_kept
-    from crslab.sim.simulation import SimError
+    from crslab.run.assemble import run_kept
+    from crslab.run.board_run import RunError
 
     config = dataclasses.replace(run.config, plant=run.plant, rest_motor_rad=run.rest_motor_rad,
                                  log_signals=True)
     try:
         result = run_kept(config, run.end_tick)
-    except SimError as exc:
+    except RunError as exc:
         raise RunFailed(str(exc)) from None
     if not result.ok:
         raise RunFailed(result.message or str(result.status))
@@ -65,7 +65,7 @@ class Runner:
 
     def __enter__(self) -> Runner:
         if self.jobs > 1:
-            ctx = os_support.fork_server(["crslab.identify.runs", "crslab.sim.simulation"])
+            ctx = os_support.fork_server(["crslab.identify.runs", "crslab.run.board_run"])
             self._pool = ProcessPoolExecutor(self.jobs, mp_context=ctx)
         return self
 
@@ -94,18 +94,18 @@ class Runner:
             self.on_run()
 
 
-def lab_offsets(config: SimConfig) -> tuple[float, float, float]:
+def lab_offsets(config: RunConfig) -> tuple[float, float, float]:
     """The motor angles the lab's encoders read at its resting pose: ``(0, offset_Enc2_rad,
     offset_Enc3_rad)`` as the lab file sets them (what the lab believes the resting pose is).
     Read from one tick of the lab, so whatever the file computes, it is the board's float value.
     Raises :class:`RunFailed` when that tick does not run."""
-    from crslab.sim.assemble import run_kept
-    from crslab.sim.simulation import SimError
+    from crslab.run.assemble import run_kept
+    from crslab.run.board_run import RunError
 
     config = dataclasses.replace(config, log_signals=True, startup_ticks=10**9)
     try:
         result = run_kept(config, 1)
-    except SimError as exc:
+    except RunError as exc:
         raise RunFailed(str(exc)) from None
     log = result.log
     if log is None:

@@ -92,7 +92,7 @@ NATIVE_RECIPE = b"unit named as the lab"
 crslab's) is not this one."""
 TRAP_SOURCE = CSRC / "sandbox" / "trap.c"
 TRAP_HEADERS = [CSRC / "sandbox" / "trap.h", *sorted(BOARD.glob("*.h")), *sorted(PLANT.glob("*.h")),
-                *sorted(PORT.glob("*.h"))]
+                *sorted(PORT.glob("*.h")), KIN / "traj_profiles.h"]
 TRAP_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-shared"]
 
 
@@ -243,7 +243,7 @@ def trap_library(cc: Compiler, cache: Path) -> Path:
     out_dir = _own_c_dir(cache, "sandbox", cc, TRAP_FLAGS, [TRAP_SOURCE, *TRAP_HEADERS])
     return _compiled(out_dir / "trap.so",
                      [*cc.argv, *TRAP_FLAGS, "-I", str(BOARD), "-I", str(PLANT), "-I", str(PORT),
-                      str(TRAP_SOURCE)],
+                      "-I", str(KIN), str(TRAP_SOURCE)],
                      "crslab's sandbox trap")
 
 

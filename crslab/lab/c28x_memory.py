@@ -50,7 +50,7 @@ _C28X = {  # C type -> (words per element, kind)
     "double": (2, "float"), "long double": (4, "float"), "_Bool": (1, "bool"), "bool": (1, "bool"),
 }
 KINDS = ("signed", "unsigned", "float", "bool", "opaque")
-"""How a variable's words are made from its value (csrc/board/sim.h: ``CRS_MEM_*``, same order)."""
+"""How a variable's words are made from its value (csrc/board/board.h: ``CRS_MEM_*``, same order)."""
 
 SIMULINK_INPUT_NAMES = tuple(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, SIMULINK_INPUTS + 1))
 """The framework's globals that hold what Simulink sent (int: one word each)."""

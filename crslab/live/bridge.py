@@ -17,9 +17,10 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+from crslab.framework_facts import TICKS_PER_S
 from crslab.host_tools.ports import HostPort
-from crslab.sim.host_ports import HOST_PORTS
-from crslab.sim.running import RunningLab
+from crslab.run.host_ports import HOST_PORTS
+from crslab.run.running import RunningLab
 
 HOST_CHUNK_MS = 1
 """Wall-clock milliseconds a chunk may last while a host program is attached (x ``--speed``)."""
@@ -79,8 +80,9 @@ class SerialBridge:
         if wedged_tick is not None and not self._wedged_told:
             self._wedged_told = True
             self.status(f"warning: {name}'s MATLAB receiver took a length byte of 0 or 1 at tick "
-                        f"{wedged_tick} (t = {wedged_tick / 1000:.3f} s): the board's count never matches it,"
-                        f" so {name} answers nothing more until the run is restarted, as on the real board")
+                        f"{wedged_tick} (t = {wedged_tick / TICKS_PER_S:.3f} s): the board's count never "
+                        f"matches it, so {name} answers nothing more until the run is restarted, as on the "
+                        f"real board")
         if dropped > self._dropped_told[name]:
             if self._dropped_told[name] == 0:
                 self.status(f"warning: {name}'s reply did not fit the board's transmit ring: {dropped} bytes "

@@ -33,8 +33,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TextIO
 
+from crslab.framework_facts import TICKS_PER_S
 from crslab.lab.watched import WatchedError, WatchedVar, watched_var
-from crslab.sim.running import RunningLab
+from crslab.run.running import RunningLab
 
 HELP = "commands: list, get NAME, get NAME[i], set NAME VALUE, set NAME[i] VALUE, help"
 _TARGET = re.compile(r"^([A-Za-z_]\w*)(?:\[\s*(\d+)\s*\])?$")
@@ -159,7 +160,7 @@ class VarConsole:
 
     def execute(self, lab: RunningLab, cmd: Command) -> str:
         """Run one command on the running ``lab`` and return its reply line."""
-        at = f"t = {lab.tick / 1000:.3f} s"
+        at = f"t = {lab.tick / TICKS_PER_S:.3f} s"
         if cmd.verb == "help":
             return f"vars: {HELP}"
         if cmd.verb == "list":

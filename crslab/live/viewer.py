@@ -18,7 +18,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from crslab.sim.running import RunningLab
+from crslab.run.running import RunningLab
 from crslab.sinks.latest_pose import LatestPose
 from crslab.world.layout import FREE_AIR, World
 from crslab.world.scene import flatten_egg, load_scene, set_arm_pose

@@ -1,7 +1,7 @@
 """MuJoCo's C library as crslab's C tick calls it: the address of ``mj_step`` and the library's
 global stage timer.
 
-The tick (``csrc/board/sim.c``) calls ``mj_step`` of the very ``libmujoco`` the ``mujoco`` Python
+The tick (``csrc/board/tick.c``) calls ``mj_step`` of the very ``libmujoco`` the ``mujoco`` Python
 package loaded, through a function pointer. Importing ``mujoco`` sets that library's ``mjcb_time``
 callback (the Python bindings fill ``mjData.timer`` for their profiler), and with it set every
 ``mj_step`` reads the clock at the start and end of each of its stages, about a fifth of a step

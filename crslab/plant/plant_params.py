@@ -17,7 +17,7 @@ sweeps and the fit address them:
 (1.5, 1.0)
 
 The worker applies them to the MuJoCo model (:func:`crslab.plant.model.apply_plant`) and to the C
-drive (``crs_drive`` of ``csrc/board/sim.h``) before the first tick.
+drive (``crs_drive`` of ``csrc/board/board.h``) before the first tick.
 """
 
 from __future__ import annotations
@@ -234,7 +234,7 @@ class PlantParams:
         return tuple(b / self.motor_gain for b in self.friction_bias_nm())
 
     def sliding_units(self) -> dict[str, tuple[float, ...]]:
-        """What the C board's sliding friction (``crs_friction`` of ``csrc/board/sim.h``) is given, in
+        """What the C board's sliding friction (``crs_friction`` of ``csrc/board/board.h``) is given, in
         command units (N.m over the motor gain), scaled: how far each line's intercept lies beyond
         the static band's edge (``Cpos - Spos``, ``Cneg - Sneg``) and the two slopes."""
         def per_motor(values: Triple) -> tuple[float, ...]:

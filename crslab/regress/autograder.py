@@ -32,9 +32,9 @@ from pathlib import Path
 
 from crslab.output_paths import with_parent
 from crslab.regress.grade import Grade
+from crslab.run.status import GradeClass
 from crslab.scenario.file_table import ScenarioError, TableReader
 from crslab.scenario.load import resolve
-from crslab.sim.status import GradeClass
 from crslab.untrusted_text import for_terminal, for_text
 
 PLATFORMS = ("gradescope", "prairielearn")

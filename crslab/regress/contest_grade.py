@@ -15,7 +15,7 @@ from typing import Any, TextIO
 
 from crslab.contest.scorecard import Scorecard, ScorecardError, score
 from crslab.regress.junit import Case, write_junit
-from crslab.sim.status import RunResult, RunStatus
+from crslab.run.status import RunResult, RunStatus
 from crslab.untrusted_text import for_csv, for_terminal
 
 TASKS = Scorecard.TASKS

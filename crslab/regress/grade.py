@@ -8,7 +8,7 @@ the outcome classed as pass, mismatch, unmet (an expectation of the scenario fai
 compile, crashed, forbidden or hung. One broken
 submission never stops the others: its process may crash, hang or be killed, and grading goes on.
 
-Each status's grade class is attached to it (:class:`crslab.sim.status.RunStatus`).
+Each status's grade class is attached to it (:class:`crslab.run.status.RunStatus`).
 """
 
 from __future__ import annotations
@@ -27,13 +27,14 @@ from typing import TextIO
 
 from crslab.executors.job import Executor
 from crslab.executors.local import DEFAULT_TIMEOUT_S
+from crslab.framework_facts import TICKS_PER_S
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, Comparison, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.transcript import split_lines
-from crslab.sim.simulation import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
-from crslab.sim.status import ExitStatus, GradeClass, RunResult, RunStatus
+from crslab.run.board_run import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
+from crslab.run.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.untrusted_text import for_csv, for_terminal
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 SHOWN_ALWAYS = (GradeClass.PASS, GradeClass.MISMATCH, GradeClass.DOES_NOT_COMPILE, GradeClass.CRASHED,
                 GradeClass.HUNG)
@@ -231,7 +232,7 @@ def read_submission(path: Path) -> bytes:
     return path.read_bytes()
 
 
-def run_one(path: Path, config: SimConfig, end_tick: int, deadline_s: float, limits: Limits,
+def run_one(path: Path, config: RunConfig, end_tick: int, deadline_s: float, limits: Limits,
             source: bytes | None = None, files: tuple[tuple[str, bytes], ...] = (),
             where: str = "") -> RunResult:
     """Build the lab and run it on ``config``'s scenario with ``config``'s flags (in this process;
@@ -266,12 +267,12 @@ def _alone_note(path: Path, diagnostics: str) -> str:
     return ""
 
 
-def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, deadline_s: float,
+def _build_and_run(path: Path, source: Path, config: RunConfig, end_tick: int, deadline_s: float,
                    limits: Limits, start: float, alone: bool = False, root: Path | None = None) -> RunResult:
     from crslab.lab.build import LabBuildError, LabForbidden, build_lab
     from crslab.regress.runner import run_lab
+    from crslab.run.board_run import RunError
     from crslab.scenario.load import ScenarioError, check_lab
-    from crslab.sim.simulation import SimError
 
     habits: tuple[str, ...] = ()  # the C89 habits it built with, once it built
 
@@ -299,7 +300,7 @@ def _build_and_run(path: Path, source: Path, config: SimConfig, end_tick: int, d
     try:
         result = run_lab(dataclasses.replace(config, build=build), end_tick, deadline_s=deadline_s,
                          limits=limits)
-    except SimError as exc:
+    except RunError as exc:
         return ended(exc.status, str(exc))
     return dataclasses.replace(result, lab_file=path, wall_s=time.monotonic() - start, habits=habits)
 
@@ -310,7 +311,7 @@ class GradeJob:
     submission's text (``source``), so it runs anywhere, a Dask worker included."""
 
     path: Path
-    config: SimConfig
+    config: RunConfig
     end_tick: int
     deadline_s: float
     limits: Limits
@@ -333,7 +334,7 @@ class GradeJob:
         return RunResult(status, message=message, lab_file=self.path)
 
 
-def run_many(paths: Sequence[Path], config: SimConfig, end_tick: int, *, jobs: int = 1,
+def run_many(paths: Sequence[Path], config: RunConfig, end_tick: int, *, jobs: int = 1,
              deadline_s: float = DEFAULT_DEADLINE_S, limits: Limits = NO_LIMITS,
              timeout_s: float = DEFAULT_TIMEOUT_S, private: bool = True,
              on_done: Callable[[RunResult], None] | None = None,
@@ -441,7 +442,7 @@ def write_csv(path: Path, grades: Sequence[Grade]) -> None:
                 d = g.comparison.diffs[0]
                 first_line = str(d.number)
                 if d.got is not None and d.got.tick is not None:
-                    first_t = f"{d.got.tick / 1000:.3f}"
+                    first_t = f"{d.got.tick / TICKS_PER_S:.3f}"
             w.writerow([for_csv(g.label), g.grade, for_csv(g.detail), lines, first_line, first_t,
                         f"{g.result.wall_s:.2f}", len(g.result.failed_expectations), g.result.status,
                         int(g.exit_status)])

@@ -6,23 +6,24 @@ from __future__ import annotations
 from pathlib import Path
 
 from crslab import __version__
+from crslab.framework_facts import TICKS_PER_S
 from crslab.regress.transcript import DEFAULT_PLANT, DEFAULT_WORLD, sha256_of
-from crslab.sim.assemble import run_kept
-from crslab.sim.simulation import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
-from crslab.sim.status import RunResult
-from crslab.worker.config import SimConfig
+from crslab.run.assemble import run_kept
+from crslab.run.board_run import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
+from crslab.run.status import RunResult
+from crslab.worker.config import RunConfig
 from crslab.world.layout import WORLD_NAMES
 
 
-def run_lab(config: SimConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEADLINE_S,
+def run_lab(config: RunConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEADLINE_S,
             limits: Limits = NO_LIMITS) -> RunResult:
     """Run ``config`` to ``end_tick`` at full speed, keeping every serial call (and the scope log
-    when ``config.log_signals``). Raises ``SimError`` when the worker cannot start; a lab without
+    when ``config.log_signals``). Raises ``RunError`` when the worker cannot start; a lab without
     ``lab()`` ends as ``no-lab`` before any tick."""
     return run_kept(config, end_tick, deadline_s=deadline_s, limits=limits)
 
 
-def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None,
+def run_header(config: RunConfig, end_tick: int, scenario_arg: str | None,
                plant_arg: str | Path | None = None, world_arg: str | Path | None = None) -> dict[str, str]:
     """The golden-file header fields that say what produced a transcript: crslab's version, the
     lab and scenario (names and content hashes) and the options that change what is printed,
@@ -39,7 +40,7 @@ def run_header(config: SimConfig, end_tick: int, scenario_arg: str | None,
         "lab_sha256": sha256_of(config.build.source.read_bytes()),
         "scenario": scenario_arg or config.scenario.name,
         "scenario_sha256": scenario_hash,
-        "end_s": f"{end_tick / 1000:.3f}",
+        "end_s": f"{end_tick / TICKS_PER_S:.3f}",
         "rest_motor_rad": " ".join(repr(float(v)) for v in config.rest_motor_rad),
         "startup_delay": "yes" if config.startup_ticks else "no",
         "motor_board": config.motor_board_model,

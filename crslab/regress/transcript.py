@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from crslab import serial_lines
-from crslab.framework_facts import MOTOR_BOARDS
+from crslab.framework_facts import MOTOR_BOARDS, TICKS_PER_S
 from crslab.output_paths import with_parent
 
 MAGIC = b"# crslab transcript"
@@ -67,7 +67,7 @@ class Line:
         >>> Line(3, "0.00", 4100).time
         't = 4.100 s'
         """
-        return "t = ?" if self.tick is None else f"t = {self.tick / 1000:.3f} s"
+        return "t = ?" if self.tick is None else f"t = {self.tick / TICKS_PER_S:.3f} s"
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,5 @@
 """What a lab tried, in words, from the record the sandbox's trap left (``crs_refusal`` in
-csrc/board/sim.h): "open /etc/hostname for reading", "start a new process", ...
+csrc/board/board.h): "open /etc/hostname for reading", "start a new process", ...
 
 >>> describe("openat", [0xFFFFFF9C, 0, os.O_WRONLY | os.O_CREAT, 0o644, 0, 0], "/tmp/x")
 'open /tmp/x for writing'

@@ -20,7 +20,7 @@ from crslab.cheaders import cdef_from_header
 
 @cache
 def trap_ffi() -> FFI:
-    """The declarations of trap.h; the shared block (``crs_shared``, sim.h) it writes refusals into
+    """The declarations of trap.h; the shared block (``crs_shared``, board.h) it writes refusals into
     is opaque here: the handler is C, and Python only hands it the block's address."""
     ffi = FFI()
     ffi.cdef("typedef struct crs_shared crs_shared;")

@@ -17,6 +17,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
+from crslab.framework_facts import TICKS_PER_S
+
 if TYPE_CHECKING:
     from crslab.scenario.file_table import TableReader
 
@@ -29,7 +31,7 @@ def seconds_to_tick(seconds: float) -> int:
     >>> seconds_to_tick(4.1)
     4100
     """
-    return int(round(seconds * 1000.0))
+    return int(round(seconds * TICKS_PER_S))
 
 
 def until_tick(r: TableReader, at: int) -> int | None:

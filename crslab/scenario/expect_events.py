@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab import crs
+from crslab.framework_facts import TICKS_PER_S
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
 from crslab.scenario.file_table import TableReader, joint_numbers
 
@@ -68,7 +69,7 @@ class Observation:
     """The watched variable the expectation names (None when it names none)."""
     world: Mapping[str, float] | None = None
     """The world's quantities of the last step (``egg_force``, ``scale_g``, ``egg_broken``,
-    ``peg_depth``, ``hole_force``...; crslab.worker.worker.WORLD_COLUMNS); None in free air."""
+    ``peg_depth``, ``hole_force``...; crslab.worker.main.WORLD_COLUMNS); None in free air."""
 
 
 def _joints_text(joints: tuple[int, ...], what: str) -> str:
@@ -215,12 +216,13 @@ class Moved(Condition):
         way = "up" if self.by_rad > 0 else "down"
         what = _joints_text(self.joints, "motor angle")
         by = math.degrees(abs(self.by_rad))
-        return f"{what} {way} by at least {by:g} deg since {self.since_tick / 1000:g} s"
+        return f"{what} {way} by at least {by:g} deg since {self.since_tick / TICKS_PER_S:g} s"
 
     def failure(self, seen: Observation, earlier: Mapping[int, Observation]) -> str | None:
         before = earlier.get(self.since_tick)
         if before is None:  # pragma: no cover - the parser notes the angles at since_tick
-            return f"expected {self.describe()}: the angles at {self.since_tick / 1000:g} s were not noted"
+            since_s = self.since_tick / TICKS_PER_S
+            return f"expected {self.describe()}: the angles at {since_s:g} s were not noted"
         moved = [seen.motor_rad[j - 1] - before.motor_rad[j - 1] for j in self.joints]
         if all(m * math.copysign(1.0, self.by_rad) >= abs(self.by_rad) for m in moved):
             return None
@@ -506,11 +508,11 @@ class ExpectOutcome:
         ['t = 6.000 s: expected the motor board off, it was on (cut.toml:9): joint 1 saturates']
         """
         tail = f": {self.message}" if self.message else ""
-        return [f"t = {self.tick / 1000:.3f} s: {why} ({self.where}){tail}" for why in self.failures]
+        return [f"t = {self.tick / TICKS_PER_S:.3f} s: {why} ({self.where}){tail}" for why in self.failures]
 
     def as_dict(self) -> dict:
         """For ``--json``: when, where, what, met (None: not reached), the failures, the message."""
-        return {"t_s": self.tick / 1000, "where": self.where, "expect": self.what,
+        return {"t_s": self.tick / TICKS_PER_S, "where": self.where, "expect": self.what,
                 "met": self.met if self.reached else None, "failures": list(self.failures),
                 "message": self.message}
 

@@ -1,6 +1,6 @@
 """Faults of the encoders, the amplifiers and the wrist e-stop: ``noise``, ``glitch`` (and random
 ``glitches``), ``stuck_encoder`` and ``dead_motor`` (one class), ``estop``. They act in the C framework
-(``crs_faults`` and ``estop_latched`` of csrc/board/sim.h)."""
+(``crs_faults`` and ``estop_latched`` of csrc/board/board.h)."""
 
 from __future__ import annotations
 
@@ -105,7 +105,7 @@ class EncoderGlitch(Event):
 
 
 JOINT_FAULTS = {"stuck_encoder": ("stuck", "freed"), "dead_motor": ("dead", "back")}
-"""The faults of one joint's hardware, each named as its ``crs_faults`` field (csrc/board/sim.h) and
+"""The faults of one joint's hardware, each named as its ``crs_faults`` field (csrc/board/board.h) and
 its scenario kind, with the words for on and off: an encoder that freezes at its last reading, an
 amplifier that outputs nothing."""
 

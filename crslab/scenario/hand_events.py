@@ -6,6 +6,7 @@ import math
 from dataclasses import dataclass
 
 from crslab import crs
+from crslab.framework_facts import TICKS_PER_S
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
 from crslab.scenario.file_table import TableReader, hand_target
 
@@ -44,8 +45,8 @@ class HandMove(Event):
         if self.target_dh_rad is not None:
             motor = crs.dh_to_motor(self.target_dh_rad)
             to = f"motor {_degrees(motor)} = DH {_degrees(self.target_dh_rad)} deg"
-        there = (self.tick + self.duration_ticks) / 1000
-        return f"hand to {to} over {self.duration_ticks / 1000:g} s (there at t = {there:.1f} s)"
+        there = (self.tick + self.duration_ticks) / TICKS_PER_S
+        return f"hand to {to} over {self.duration_ticks / TICKS_PER_S:g} s (there at t = {there:.1f} s)"
 
 
 def _degrees(angles_rad: object) -> str:

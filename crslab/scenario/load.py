@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from crslab import resources
+from crslab.framework_facts import TICKS_PER_S
 from crslab.lab.build import LabBuild
 from crslab.lab.watched import WatchedError, watched_var
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
@@ -114,7 +115,8 @@ def parse_scenario(text: str, path: Path) -> Scenario:
         r = TableReader(path, table, lines, headers[i] if i < len(headers) else None)
         parsed = parse_event(r, faults)
         if parsed and parsed[0].tick > end_tick:
-            raise r.fail("at", f"{parsed[0].tick / 1000:g} s is after the end ({end_tick / 1000:g} s)")
+            at_s, end_s = parsed[0].tick / TICKS_PER_S, end_tick / TICKS_PER_S
+            raise r.fail("at", f"{at_s:g} s is after the end ({end_s:g} s)")
         events.extend(parsed)
     events.sort(key=lambda e: e.tick)  # stable: events at the same tick keep their file order
     return Scenario(

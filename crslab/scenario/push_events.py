@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from crslab.framework_facts import TICKS_PER_S
 from crslab.scenario.event import Event, RandomFaults, until_tick
 from crslab.scenario.file_table import TableReader
 
@@ -99,7 +100,7 @@ class Push(Event):
             where = (f"{_vector(self.given_n)} N in frame N ({angles} deg) = {_vector(self.force_n)} N world"
                      " at the end effector")
         if self.half_period_ticks:
-            where += f", square wave: sign flips every {self.half_period_ticks / 1000:g} s"
+            where += f", square wave: sign flips every {self.half_period_ticks / TICKS_PER_S:g} s"
         return "push " + where
 
 

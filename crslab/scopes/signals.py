@@ -1,6 +1,6 @@
 """The signals a scope shows, named once: CSV columns, plot panels and rerun entities read them here.
 
-A run's scope log (``SimConfig.log_signals``) has one row per tick (per ``log_every_ticks``: crslab
+A run's scope log (``RunConfig.log_signals``) has one row per tick (per ``log_every_ticks``: crslab
 serve's page logs every 5th tick unless it records). Each :class:`Signal` is one
 column of that table with its name, unit and the panel (:class:`Group`) it is drawn in.
 

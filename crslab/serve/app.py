@@ -34,6 +34,7 @@ from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.staticfiles import StaticFiles
 from starlette.websockets import WebSocket, WebSocketDisconnect, WebSocketDisconnected
 
+from crslab.framework_facts import TICKS_PER_S
 from crslab.generations import GENERATIONS, NEWEST
 from crslab.serve.auth import Backoff, CookieSigner, User, verify_secret
 from crslab.serve.page_messages import ProtocolError, parse_message
@@ -219,7 +220,7 @@ class CrsServer:
 
             names = [DEFAULT_SCENARIO, *(n for n in builtin_names() if n != DEFAULT_SCENARIO)]
             self._scenarios = [
-                {"name": s.name, "description": s.description, "end_s": s.end_tick / 1000}
+                {"name": s.name, "description": s.description, "end_s": s.end_tick / TICKS_PER_S}
                 for s in map(load_scenario, names)
             ]
         return JSONResponse(self._scenarios)

@@ -8,15 +8,15 @@ pipe: the server's checked messages in (:mod:`crslab.serve.page_messages`), mess
 each prefixed with one byte saying what the server should note (:data:`FORWARD`,
 :data:`RUN_STARTED`, :data:`RUN_ENDED`), or :data:`HOST_RUN`: a prepared run for a run host.
 
-Every run is ``crslab sim``'s, put together by :mod:`crslab.sim.assemble`: the same
-:func:`~crslab.sim.assemble.make_config` here (the lab built in the compile sandbox, once: the build
+Every run is ``crslab sim``'s, put together by :mod:`crslab.run.assemble`: the same
+:func:`~crslab.run.assemble.make_config` here (the lab built in the compile sandbox, once: the build
 the page was shown is the one that runs; the scenario loaded and checked against it); then a run
 host (:mod:`crslab.serve.run_host`) runs it as an instance of its board worker with the same
-:class:`~crslab.sim.simulation.Simulation` steps, its transcript written by the same
+:class:`~crslab.run.board_run.BoardRun` steps, its transcript written by the same
 :class:`~crslab.sinks.transcript_file.TranscriptSink`, the CSV and the rerun recording by the same
 sinks as ``--csv`` and ``--rrd`` (in a recorder process,
 :class:`crslab.sinks.rerun_writer.RecorderSink`). Only the chunks are the page's
-(:data:`~crslab.sim.pacing.PAGE_CHUNKS`), so the bytes are the same at any speed.
+(:data:`~crslab.run.pacing.PAGE_CHUNKS`), so the bytes are the same at any speed.
 """
 
 from __future__ import annotations
@@ -33,17 +33,17 @@ from crslab import os_support
 from crslab.lab.build import LabBuild, LabBuildError, LabForbidden, build_lab
 from crslab.lab.firmware import is_zig_prepared, prepare_zig
 from crslab.plant.plant_params import PlantParamsError
+from crslab.run.assemble import DEFAULT_REST_MOTOR_RAD, make_config
+from crslab.run.board_run import Limits, RunError
+from crslab.run.status import RunStatus
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
 from crslab.serve.page_messages import compile_diagnostics, habit_diagnostics
 from crslab.serve.page_text import SESSION_SUBFOLDERS, PageText
 from crslab.serve.run_host import DOWNLOADS, FORWARD, RUN_ENDED, HostedRun
 from crslab.serve.stream import Stopped
-from crslab.sim.assemble import DEFAULT_REST_MOTOR_RAD, make_config
-from crslab.sim.simulation import Limits, SimError
-from crslab.sim.status import RunStatus
 from crslab.sinks.page_stream import message
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 HOST_RUN = b"H"
 """For the server: a prepared run (a pickled :class:`~crslab.serve.run_host.HostedRun`) to hand to a
@@ -251,7 +251,7 @@ class Session:
             end_tick = seconds_to_tick(run.duration_s) if run.duration_s else config.scenario.end_tick
             end_tick = min(end_tick, seconds_to_tick(self.limits.max_run_s))
             result = run_lab(config, end_tick, limits=Limits(memory_mb=self.limits.memory_mb))
-        except (GoldenError, LabBuildError, ScenarioError, ValueError, SimError) as exc:
+        except (GoldenError, LabBuildError, ScenarioError, ValueError, RunError) as exc:
             self.send(message("checked", ok=False, report=str(exc)), RUN_ENDED)
             return
         comparison = compare(split_lines(golden.body), split_lines(result.transcript, result.calls))
@@ -279,11 +279,11 @@ class Session:
         )
 
 
-def compile_module(config: SimConfig) -> None:
+def compile_module(config: RunConfig) -> None:
     """Have wasmtime compile the run's firmware into the build cache now, unless it is there
     already (a lab's first run): here, in this session's own worker, the 0.1 s it takes costs the
     run host's other runs nothing; the host's worker then only loads it."""
-    from crslab.sim.simulation import Simulation
+    from crslab.run.board_run import BoardRun
     from crslab.worker.wasm_runtime import WasmImage
 
     if config.build.native:
@@ -292,9 +292,9 @@ def compile_module(config: SimConfig) -> None:
     if kept is None or kept.exists():
         return
     try:
-        with Simulation(config):  # the board compiles the module and keeps it (sealed)
+        with BoardRun(config):  # the board compiles the module and keeps it (sealed)
             pass
-    except SimError:
+    except RunError:
         pass  # the run host opens it again and says why
 
 

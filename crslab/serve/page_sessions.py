@@ -31,7 +31,7 @@ from crslab.serve.run_hosts import RunHosts
 PRELOAD = [
     "crslab.serve.page_process",
     "crslab.serve.run_host",
-    "crslab.worker.worker",
+    "crslab.worker.main",
     "crslab.sandbox.run_sandbox",
     "crslab.executors.warmup",
     "crslab.scopes.arm3d",

@@ -3,11 +3,11 @@ produces their pages' messages itself.
 
 ``crslab serve`` starts a few of them (about one per core: :mod:`crslab.serve.run_hosts`). A page's
 session process builds its lab and prepares the run (:class:`HostedRun`); the server hands it to a
-host, which opens it as an instance of its worker (:class:`crslab.sim.simulation.Simulation` on a
-shared :class:`~crslab.sim.board_worker.BoardWorker`), paces it with the one pacer
-(:class:`~crslab.sim.pacing.Pacer`, the page's chunks), and after each chunk hands it to the run's
+host, which opens it as an instance of its worker (:class:`crslab.run.board_run.BoardRun` on a
+shared :class:`~crslab.run.board_client.BoardClient`), paces it with the one pacer
+(:class:`~crslab.run.pacing.Pacer`, the page's chunks), and after each chunk hands it to the run's
 sinks (the page's stream, the transcript, the recorder) as ``crslab sim`` does
-(:class:`~crslab.sim.simulation.ChunkedRun`). A chunk is due :data:`LEAD_S` before the wall clock
+(:class:`~crslab.run.board_run.ChunkedRun`). A chunk is due :data:`LEAD_S` before the wall clock
 reaches its first tick (the page plays it from then on), and one wake-up runs every run of the
 worker that is due (within :data:`BATCH_S`) in one request. The page's commands (stop, speed,
 vars, hand, release) reach the run between two chunks, as they arrive.
@@ -35,19 +35,20 @@ from multiprocessing.connection import Connection
 from pathlib import Path
 
 from crslab import os_support
+from crslab.framework_facts import TICKS_PER_S
 from crslab.live.console import VarConsole
+from crslab.run.assemble import NoLab
+from crslab.run.board_client import BoardClient
+from crslab.run.board_run import DEFAULT_DEADLINE_S, BoardRun, ChunkedRun, Limits, RunError
+from crslab.run.diagnosis import Ending
+from crslab.run.pacing import PAGE_CHUNKS, Pacer
+from crslab.run.status import RunResult, RunStatus
 from crslab.serve.page_text import PageText
 from crslab.serve.stream import PageControl, Stopped
-from crslab.sim.assemble import NoLab
-from crslab.sim.board_worker import BoardWorker
-from crslab.sim.diagnosis import Ending
-from crslab.sim.pacing import PAGE_CHUNKS, Pacer
-from crslab.sim.simulation import DEFAULT_DEADLINE_S, ChunkedRun, Limits, SimError, Simulation
-from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.page_stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream, message
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 from crslab.world.layout import World
 
 RUN = "run"
@@ -76,7 +77,7 @@ class HostedRun:
     tick, the speed and the run's phase, the notes for ``started``, the session's folder (its
     outputs go to ``out/``), what to record, and the run's limits."""
 
-    config: SimConfig
+    config: RunConfig
     end_tick: int
     speed: float | None
     phase: float
@@ -113,7 +114,7 @@ class HostedSession:
         self.key = key
         self.run = run
         self.page_text = PageText(run.folder)
-        self.sim: Simulation | None = None
+        self.sim: BoardRun | None = None
         self.chunked: ChunkedRun | None = None
         self.control: PageControl | None = None
         self.out = FanOut()
@@ -132,7 +133,7 @@ class HostedSession:
             config = dataclasses.replace(config, log_every_ticks=SCOPE_EVERY_TICKS)
         try:
             self.sim = self.host.simulation(config, Limits(output_bytes=run.output_bytes))
-        except SimError as exc:
+        except RunError as exc:
             self.ended(RunResult(exc.status, 0, str(exc)))
             return False
         name = config.build.source.name
@@ -173,9 +174,9 @@ class HostedSession:
             self.control.serve(self.sim)  # the hand's push, at once
         except Stopped:
             tick = self.sim.tick
-            self.finish(Ending(RunStatus.INTERRUPTED, tick, f"stopped at t = {tick / 1000:.3f} s"))
+            self.finish(Ending(RunStatus.INTERRUPTED, tick, f"stopped at t = {tick / TICKS_PER_S:.3f} s"))
             return False
-        except SimError as exc:
+        except RunError as exc:
             self.finish(Ending(RunStatus.CRASHED, self.sim.tick, str(exc)))
             return False
         self.due_s = self.chunked.pacer.due_s(self.sim.tick) - LEAD_S  # a new speed paces from now
@@ -246,7 +247,7 @@ class RunHost:
     def __init__(self, conn: Connection) -> None:
         self.conn = conn
         self.sessions: dict[str, HostedSession] = {}
-        self.worker: BoardWorker | None = None
+        self.worker: BoardClient | None = None
         """The board worker every run of this host is an instance of."""
         self._arms: dict[str, ArmPoses] = {}
         self._send_lock = threading.Lock()
@@ -282,13 +283,13 @@ class RunHost:
             thread.join()
         self._aside.clear()
 
-    def simulation(self, config: SimConfig, limits: Limits) -> Simulation:
+    def simulation(self, config: RunConfig, limits: Limits) -> BoardRun:
         """A run's lab, opened as an instance of the host's worker (started now if there is none,
-        or it ended); raises ``SimError`` when it cannot start."""
+        or it ended); raises ``RunError`` when it cannot start."""
         if self.worker is None or not self.worker.alive:
             self.closed()  # forked now: no other thread of the host runs
-            self.worker = BoardWorker()
-        return Simulation(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits, worker=self.worker)
+            self.worker = BoardClient()
+        return BoardRun(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits, worker=self.worker)
 
     def arm_in(self, world: World) -> ArmPoses:
         """The arm's poses in ``world``'s scene (one per world, shared by the host's runs)."""
@@ -372,18 +373,18 @@ class RunHost:
             elif not self._guarded(session, lambda s=session, e=outcome: s.after(e)):
                 self.sessions.pop(session.key, None)
 
-    def run_chunks(self, targets: list[tuple[Simulation, int]],
+    def run_chunks(self, targets: list[tuple[BoardRun, int]],
                    each: Callable[[int, object], None] | None = None) -> list[object]:
         """Each simulation run to its tick, one request per worker: the worker's reply for each
-        (the worker's :class:`~crslab.sim.diagnosis.Ending` for a run whose worker ended);
+        (the worker's :class:`~crslab.run.diagnosis.Ending` for a run whose worker ended);
         ``each(i, ran)`` as each target's reply comes."""
         replies: list[object] = [sim.board.ending for sim, _ in targets]
         by_worker: dict[int, list[int]] = {}
         for i, (sim, _) in enumerate(targets):
             if replies[i] is None:
-                by_worker.setdefault(id(sim.board_worker), []).append(i)
+                by_worker.setdefault(id(sim.board_client), []).append(i)
         for runs in by_worker.values():
-            worker = targets[runs[0]][0].board_worker
+            worker = targets[runs[0]][0].board_client
             on_reply = None if each is None else (lambda k, ran, runs=runs: each(runs[k], ran))
             pairs = [(targets[i][0].board, targets[i][1]) for i in runs]
             for i, reply in zip(runs, worker.run(pairs, on_reply)):
@@ -439,7 +440,7 @@ def serve_host(conn: Connection) -> None:
     finally:
         out.close()
     host = RunHost(conn)
-    host.worker = BoardWorker()  # ready before the first run comes
+    host.worker = BoardClient()  # ready before the first run comes
     host.serve()
 
 

@@ -1,7 +1,7 @@
 """What the page does to its run in ``crslab serve``: a live control. (What the run sends to the
 page is a sink's: :class:`crslab.sinks.page_stream.BrowserStream`.)
 
-:class:`PageControl` is a :class:`~crslab.sim.running.PacedControl`: the server paces the run
+:class:`PageControl` is a :class:`~crslab.run.running.PacedControl`: the server paces the run
 (the worker runs a chunk, then the control waits until the wall clock reaches the chunk's end),
 and while it waits it carries out what the page sent: stop, a new speed, the watched variables
 (read and written between two ticks, as ``crslab sim``'s typed commands are), and the hand (a
@@ -14,16 +14,17 @@ from collections.abc import Callable
 
 import numpy as np
 
+from crslab.framework_facts import TICKS_PER_S
 from crslab.live.console import Command as VarCommand
 from crslab.live.console import CommandError, VarConsole, format_value
-from crslab.sim.pacing import PAGE_CHUNKS, Pacer
-from crslab.sim.running import RunningLab
+from crslab.run.pacing import PAGE_CHUNKS, Pacer
+from crslab.run.running import RunningLab
 from crslab.sinks.page_stream import BrowserStream, Send, message
 
 INTERACTIVE_CHUNK_TICKS = 20
 """Ticks per chunk at real time (x speed) while the page acts, as ``crslab sim``'s: while the hand
 holds the arm, and for :data:`INTERACTIVE_HOLD_TICKS` after any command, a command acts within 20
-ms of simulated time. While it only watches, chunks are long (:data:`~crslab.sim.pacing.PAGE_CHUNKS`)."""
+ms of simulated time. While it only watches, chunks are long (:data:`~crslab.run.pacing.PAGE_CHUNKS`)."""
 INTERACTIVE_HOLD_TICKS = 2000
 HAND_STIFFNESS_N_M = 400.0
 """The hand's spring from the grabbed point to the mouse (N/m)."""
@@ -41,17 +42,17 @@ def _rotate_xyzw(q: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 class Stopped(KeyboardInterrupt):
-    """The page asked the run to stop (ends ``Simulation.run`` as its Ctrl-C does)."""
+    """The page asked the run to stop (ends ``BoardRun.run`` as its Ctrl-C does)."""
 
 
 class PageControl:
-    """The page's say in its run, a :class:`~crslab.sim.running.PacedControl`: the run's host hands
+    """The page's say in its run, a :class:`~crslab.run.running.PacedControl`: the run's host hands
     it each command the page sends (:meth:`command`: stop, a new speed, the watched variables, the
     hand) as it arrives, while the lab is idle between two chunks; after every chunk it pushes the
     arm (:meth:`serve`). While the page acts (the hand holds the arm, or for
     :data:`INTERACTIVE_HOLD_TICKS` after any command) it asks for chunks of
     :data:`INTERACTIVE_CHUNK_TICKS` x speed; otherwise the run's pacer's (the page's chunks:
-    :data:`~crslab.sim.pacing.PAGE_CHUNKS`)."""
+    :data:`~crslab.run.pacing.PAGE_CHUNKS`)."""
 
     def __init__(self, send: Send, stream: BrowserStream, console: VarConsole, pacer: Pacer,
                  on_other: Callable[[dict], None]) -> None:
@@ -133,7 +134,7 @@ class PageControl:
         anchor = pos[i] + _rotate_xyzw(quat[i], self.hand["anchor"])
         com = pos[i] + _rotate_xyzw(quat[i], arm.com_local[i])
         velocity = np.zeros(3)
-        dt = (self.chunk_ticks(self.speed) or PAGE_CHUNKS.fast_ticks) / 1000.0
+        dt = (self.chunk_ticks(self.speed) or PAGE_CHUNKS.fast_ticks) / TICKS_PER_S
         if self._anchor_prev is not None:
             velocity = (anchor - self._anchor_prev) / dt
         self._anchor_prev = anchor

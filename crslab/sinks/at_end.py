@@ -22,8 +22,8 @@ class AtEnd(Sink):
     """An output said when the run ends: ``say(result)`` (after the sinks before it)."""
 
     def __init__(self, say: Callable[[Any], None]) -> None:
-        """``say`` takes how the run ended (a :class:`crslab.sim.status.RunResult` for a
-        ``Simulation``'s run)."""
+        """``say`` takes how the run ended (a :class:`crslab.run.status.RunResult` for a
+        ``BoardRun``'s run)."""
         self.say = say
 
     def on_end(self, result: Ended) -> None:

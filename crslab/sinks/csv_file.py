@@ -27,6 +27,7 @@ from typing import BinaryIO
 
 import numpy as np
 
+from crslab.framework_facts import TICKS_PER_S
 from crslab.output_paths import with_parent
 from crslab.scopes.signals import SIGNALS, WORLD_SIGNALS, csv_header, signal_values
 from crslab.sinks.sink import Sink
@@ -63,7 +64,7 @@ class CsvSink(Sink):
         tick = columns["tick"][:, 0]
         if not len(tick):
             return
-        arrays = [pa.array(tick), pa.array(tick / 1000.0)]
+        arrays = [pa.array(tick), pa.array(tick / TICKS_PER_S)]
         arrays += [pa.array(signal_values(columns, s)) for s in self.signals]
         table = pa.Table.from_arrays(arrays, names=csv_header(self.signals))
         if self._writer is None:

@@ -16,7 +16,7 @@ import sys
 from collections.abc import Sequence
 from typing import TextIO
 
-from crslab.framework_facts import MB_LIMIT_UNITS, MB_OVER_LIMIT_MS, MB_TIMEOUT_MS
+from crslab.framework_facts import MB_LIMIT_UNITS, MB_OVER_LIMIT_MS, MB_TIMEOUT_MS, TICKS_PER_S
 from crslab.scenario.event import Event
 from crslab.scenario.expect_events import Expect, ExpectOutcome
 from crslab.sinks.sink import Sink
@@ -28,7 +28,7 @@ def seconds(tick: int) -> str:
     >>> seconds(5000), seconds(4583)
     ('5.0', '4.583')
     """
-    return f"{tick / 1000:.1f}" if tick % 100 == 0 else f"{tick / 1000:.3f}"
+    return f"{tick / TICKS_PER_S:.1f}" if tick % 100 == 0 else f"{tick / TICKS_PER_S:.3f}"
 
 
 def announcement(event: Event, outcome: ExpectOutcome | None = None, prefix: str = "") -> str:
@@ -63,7 +63,7 @@ def motor_board_line(tick: int, joint: int, off: bool) -> str:
     >>> motor_board_line(6100, 1, False)
     'motor board: outputs back at tick 6100 (t = 6.100 s)'
     """
-    at = f"at tick {tick} (t = {tick / 1000:.3f} s)"
+    at = f"at tick {tick} (t = {tick / TICKS_PER_S:.3f} s)"
     if not off:
         return f"motor board: outputs back {at}"
     why = (f"joint {joint} commanded beyond {MB_LIMIT_UNITS:g} units for {MB_OVER_LIMIT_MS} ms" if joint

@@ -43,7 +43,7 @@ CALLS = ("on_motor_board", "on_expectation", "on_print", "on_serial", "on_log", 
 
 
 class Ended(Protocol):
-    """How a run ended, as a sink sees it (:class:`crslab.sim.status.RunResult` is one)."""
+    """How a run ended, as a sink sees it (:class:`crslab.run.status.RunResult` is one)."""
 
     @property
     def status(self) -> str:
@@ -93,7 +93,7 @@ class Sink:
         """The machine keeps up only ``rate`` x real time, less than asked; called once."""
 
     def on_end(self, result: Ended) -> None:
-        """The run has ended (``result``, a :class:`crslab.sim.status.RunResult`): every byte was
+        """The run has ended (``result``, a :class:`crslab.run.status.RunResult`): every byte was
         handed on before; called once, the run's last call before :meth:`close`."""
 
     def close(self) -> None:

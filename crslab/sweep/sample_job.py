@@ -9,17 +9,18 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
+from crslab.framework_facts import TICKS_PER_S
 from crslab.lab.build import LabBuildError, LabForbidden
 from crslab.lab.source import LabSource
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.transcript import split_lines
-from crslab.sim.assemble import run_kept
-from crslab.sim.simulation import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, SimError
-from crslab.sim.status import RunStatus
+from crslab.run.assemble import run_kept
+from crslab.run.board_run import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, RunError
+from crslab.run.status import RunStatus
 from crslab.sweep import variations
 from crslab.sweep.run_metrics import METRIC_NAMES, run_metrics
 from crslab.sweep.variations import Vary
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 Row = dict[str, object]
 """One table row: column name to value (int, float, bool or str)."""
@@ -31,7 +32,7 @@ class SweepSpec:
     build is replaced by the one made where the job runs, from ``lab``."""
 
     lab: LabSource
-    config: SimConfig
+    config: RunConfig
     end_tick: int
     varies: tuple[Vary, ...]
     seed: int = 1
@@ -79,7 +80,7 @@ class SweepSpec:
             **{v.name: x for v, x in zip(self.varies, values, strict=True)},
             "status": str(status),
             "passed": bool(passed),
-            "end_s": end_tick / 1000.0,
+            "end_s": end_tick / TICKS_PER_S,
             **metrics,
         }
         if self.golden is not None:
@@ -122,7 +123,7 @@ class SweepJob:
             return self.lost(RunStatus.FORBIDDEN, str(exc))
         except LabBuildError as exc:
             return self.lost(RunStatus.BUILD_ERROR, str(exc))
-        except SimError as exc:
+        except RunError as exc:
             return self.lost(exc.status, str(exc))
         if result.status is RunStatus.NO_LAB:
             return self.lost(result.status, result.message)

@@ -40,7 +40,7 @@ from crslab.scenario.event import Event, rng_state
 from crslab.scenario.fault_events import EncoderNoise
 from crslab.scenario.lab_events import SetVariable
 from crslab.scenario.plant_events import EndMass
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 
 PLANT_NAMES: dict[str, str] = {
     "friction": "friction of every motor, times the identified",
@@ -159,11 +159,11 @@ def noise_state(seed: int, sample: int) -> int:
     return rng_state(seed, NOISE_ORDINAL + sample)
 
 
-def apply(config: SimConfig, varies: Sequence[Vary], values: Sequence[float], *, seed: int,
-          sample: int) -> SimConfig:
+def apply(config: RunConfig, varies: Sequence[Vary], values: Sequence[float], *, seed: int,
+          sample: int) -> RunConfig:
     """The run of one sample: ``config`` with each of ``varies`` at its value in ``values``.
 
-    >>> from crslab.sim.api import make_config
+    >>> from crslab.run.api import make_config
     >>> base = make_config(None, "hands_off")
     >>> run = apply(base, [parse_vary("friction=0:2"), parse_vary("friction2=0:2"),
     ...                    parse_vary("rest_offset3=0:1"), parse_vary("payload_kg=0:2")],

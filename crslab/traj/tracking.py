@@ -17,9 +17,9 @@ from pathlib import Path
 import numpy as np
 
 from crslab import resources
-from crslab.framework_facts import CLAMP_UNITS
+from crslab.framework_facts import CLAMP_UNITS, TICKS_PER_S
 from crslab.output_paths import with_parent
-from crslab.sim.running import RunningLab
+from crslab.run.running import RunningLab
 from crslab.traj.profiles import PROFILES
 from crslab.traj.waypoints import WaypointPlan
 
@@ -87,7 +87,7 @@ def tracking_report(log: dict[str, np.ndarray], plan: WaypointPlan, path_start_t
     rows = (ticks >= path_start_tick) & (ticks <= end_tick)
     if not rows.any():
         raise TrackingError("the run ended before the waypoint path began: give a longer --duration")
-    t = (ticks[rows] - path_start_tick) / 1000.0
+    t = (ticks[rows] - path_start_tick) / TICKS_PER_S
     desired = plan.trajectory.evaluate(t).q
     actual = log["enc_rad"][rows]
     err = desired - actual

@@ -45,10 +45,11 @@ from pathlib import Path
 
 import numpy as np
 
+from crslab.framework_facts import TICKS_PER_S
 from crslab.traj.joint_space import ARMS, ArmForWaypoints
 from crslab.traj.profiles import Trajectory, TrajectoryError, plan_path
 
-CHECK_RATE_HZ = 1000
+CHECK_RATE_HZ = TICKS_PER_S
 """Between waypoints the joint limits are checked at this rate (the lab's tick rate)."""
 
 

@@ -1,6 +1,6 @@
-"""One board instance in the worker: one lab's MuJoCo data, its board (``crs_sim``: the framework's
+"""One board instance in the worker: one lab's MuJoCo data, its board (``crs_board``: the framework's
 state), its firmware and its outputs (its own shared block, its scope log), stepped in chunks on
-request. A worker process holds many (:mod:`crslab.worker.worker`).
+request. A worker process holds many (:mod:`crslab.worker.main`).
 
 Serial bytes never travel through the pipe: the board writes them into the instance's shared
 block, where the crslab process reads them even if this process dies.
@@ -10,7 +10,7 @@ store of its own, and it can reach nothing of this process (csrc/board/firmware_
 instances of a worker share one wasmtime engine and one compiled module per distinct firmware,
 and a trap or a hang ends only the instance whose firmware did it. A native
 firmware (crslab debug, --sanitize, --native) is a shared object holding the board too; with
-``SimConfig.sandboxed`` the worker builds the plant, then closes itself in the run sandbox
+``RunConfig.sandboxed`` the worker builds the plant, then closes itself in the run sandbox
 (crslab/sandbox/run_sandbox.py), then loads it: from the lab's first constructor on, it may
 compute and print, and nothing else. Everything a native worker sends is read by the crslab
 process as untrusted (crslab/worker/worker_messages.py).
@@ -37,7 +37,7 @@ from crslab.scenario.expect_events import Observation
 from crslab.worker import worker_messages
 from crslab.worker.board_ffi import board_constants, native_board_ffi
 from crslab.worker.board_settings import board_settings, friction
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
@@ -128,7 +128,7 @@ def attach_world(ffi: FFI, w: object, model: object, data: object, world: World)
     return keep
 
 
-def plant_model(config: SimConfig) -> object:
+def plant_model(config: RunConfig) -> object:
     """The MuJoCo model of ``config``'s world with its plant parameters applied (loaded from the
     MJCF once)."""
     model = load_scene(config.world)
@@ -146,7 +146,7 @@ class FirmwareStopped(Exception):
 
 
 def trap_info(ffi: FFI, sim: object) -> dict:
-    """How the firmware stopped (``crs_sim.trap``), as plain data: kind, phase, tick, exit code and
+    """How the firmware stopped (``crs_board.trap``), as plain data: kind, phase, tick, exit code and
     wasmtime's text (the firmware's frames included)."""
     t = sim.trap  # type: ignore[attr-defined]
     return {"kind": int(t.kind), "phase": int(t.phase), "tick": int(t.tick), "exit_code": int(t.exit_code),
@@ -157,13 +157,13 @@ class Board:
     """One board instance: its plant's data, the board and the lab, stepped in chunks.
 
     ``deadline_s``: a WebAssembly firmware's call running longer is interrupted (None: never).
-    ``model``: the MuJoCo model to run on (:class:`crslab.worker.worker.Models` shares one among
+    ``model``: the MuJoCo model to run on (:class:`crslab.worker.main.Models` shares one among
     instances that never change theirs); None: its own, loaded here. ``image``: the firmware's bytes
-    and digest, when the worker already read them (:class:`crslab.worker.worker.Images`).
+    and digest, when the worker already read them (:class:`crslab.worker.main.Images`).
     ``time_lab`` False counts no lab() call's cost (measuring what timing costs:
-    :mod:`crslab.sim.inprocess`)."""
+    :mod:`crslab.run.inprocess`)."""
 
-    def __init__(self, config: SimConfig, shared: mmap.mmap, keep_fds: Iterable[int] = (),
+    def __init__(self, config: RunConfig, shared: mmap.mmap, keep_fds: Iterable[int] = (),
                  debug: DebugSetup | None = None, *, deadline_s: float | None = None,
                  model: object | None = None, image: WasmImage | None = None, time_lab: bool = True) -> None:
         import mujoco
@@ -251,17 +251,17 @@ class Board:
                                                                values.get("peg_tip_z", 0.0)))
         return values
 
-    def _new_sim(self, config: SimConfig, block: object) -> object:
-        sim = self.ffi.new("crs_sim *")
+    def _new_sim(self, config: RunConfig, block: object) -> object:
+        sim = self.ffi.new("crs_board *")
         self.lib.crs_board_init(sim, config.build.generation.id, block)
         return sim
 
-    def _load_native(self, config: SimConfig, block: object, keep_fds: Iterable[int],
+    def _load_native(self, config: RunConfig, block: object, keep_fds: Iterable[int],
                      debug: DebugSetup | None) -> tuple[object, object]:
         """The native firmware's shared object, loaded (in the run sandbox when asked) and
         attached to a new board; returns (library, sim)."""
         tracer = debug.tracer_pid if debug is not None else None
-        constants = board_constants()  # read from sim.h before the sandbox closes every file
+        constants = board_constants()  # read from board.h before the sandbox closes every file
         if config.sandboxed:
             from crslab.sandbox.run_sandbox import enter_run_sandbox
 
@@ -280,7 +280,7 @@ class Board:
             raise FirmwareStopped(trap_info(self.ffi, sim))
         return lib, sim
 
-    def _load_wasm(self, config: SimConfig, block: object, deadline_s: float | None,
+    def _load_wasm(self, config: RunConfig, block: object, deadline_s: float | None,
                    image: WasmImage) -> object:
         """The WebAssembly firmware, loaded into a new board (crslab._core): a store of its own, the
         compiled module shared with every instance of the same firmware in this process; raises
@@ -405,7 +405,7 @@ class Board:
             if sim.tick >= until_tick:
                 return lib.CRS_RUN_DONE
             stop_at = min(until_tick, self.events[0].tick) if self.events else until_tick
-            code = lib.crs_sim_run(sim, stop_at)
+            code = lib.crs_board_run(sim, stop_at)
             if code == lib.CRS_RUN_LOG_FULL or (self.config.log_signals and code != lib.CRS_RUN_DONE):
                 self._drain_log()
             if code == lib.CRS_RUN_EVENTS_FULL:

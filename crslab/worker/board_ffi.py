@@ -1,4 +1,4 @@
-"""cffi declarations of the emulated board (csrc/board/sim.h), for the native worker and the reader,
+"""cffi declarations of the emulated board (csrc/board/board.h), for the native worker and the reader,
 and its constants (phases, run codes, lab-symbol bits, trap kinds), so Python never writes them
 again.
 
@@ -20,13 +20,14 @@ from cffi import FFI
 from crslab import resources
 from crslab.cheaders import cdef_from_header
 
-BOARD_HEADERS = ("port/firmware_board.h", "plant/world.h", "board/sim.h", "board/board_config.h")
-"""sim.h, the headers it includes (cffi reads no #include) and the board's configuration (board_config.h),
+BOARD_HEADERS = ("port/firmware_board.h", "kin/traj_profiles.h", "plant/drive.h", "plant/friction.h", "plant/hand.h",
+                 "plant/plant_faults.h", "plant/push.h", "plant/world.h", "board/board.h", "board/board_config.h")
+"""board.h, the headers it includes (cffi reads no #include) and the board's configuration (board_config.h),
 under csrc/."""
 
 
 def board_ffi() -> Any:
-    """The FFI holding every declaration of sim.h (crslab._core's, compiled from :data:`BOARD_HEADERS`
+    """The FFI holding every declaration of board.h (crslab._core's, compiled from :data:`BOARD_HEADERS`
     and the core's other headers)."""
     from crslab._core import ffi
 
@@ -35,7 +36,7 @@ def board_ffi() -> Any:
 
 @cache
 def native_board_ffi() -> FFI:
-    """sim.h's declarations, the debugger's (debug.h) and the native firmware port's
+    """board.h's declarations, the debugger's (debug.h) and the native firmware port's
     (crs_fw_native_attach): a native lab's shared object holds all of them."""
     ffi = FFI()
     for header in (*BOARD_HEADERS, "board/debug.h", "board/firmware_native.h"):
@@ -50,7 +51,7 @@ def shared_size() -> int:
 
 @cache
 def board_constants() -> Any:
-    """sim.h's constants as attributes (``CRS_PHASE_LAB``, ``CRS_RUN_NAN_STRICT``,
+    """board.h's constants as attributes (``CRS_PHASE_LAB``, ``CRS_RUN_NAN_STRICT``,
     ``CRS_LAB_HAS_LAB``...), without loading any lab code.
 
     >>> board_constants().CRS_PHASE_PRINTING

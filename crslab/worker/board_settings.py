@@ -24,7 +24,7 @@ from crslab.scenario.push_events import Push
 
 if TYPE_CHECKING:
     from crslab.plant.plant_params import PlantParams
-    from crslab.worker.config import SimConfig
+    from crslab.worker.config import RunConfig
 
 
 def friction(units: dict[str, tuple[float, ...]], transition_rad_s: float) -> dict[str, Any]:
@@ -43,7 +43,7 @@ def plant_settings(plant: PlantParams) -> dict[str, Any]:
     }
 
 
-def board_settings(config: SimConfig, *, trap_fp: bool = False, time_lab: bool = True) -> dict[str, Any]:
+def board_settings(config: RunConfig, *, trap_fp: bool = False, time_lab: bool = True) -> dict[str, Any]:
     """``crs_board_config`` for the run ``config`` (its fields by name)."""
     return {
         "strict_nan": int(config.strict_nan), "motor_board": MOTOR_BOARDS[config.motor_board_model],

@@ -27,7 +27,7 @@ class HandGains:
 
 
 @dataclass(frozen=True)
-class SimConfig:
+class RunConfig:
     """One run: the lab, the scenario, and the options that change what it prints."""
 
     build: LabBuild

@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     import numpy as np
 
     from crslab.plant.plant_params import PlantParams
-    from crslab.worker.config import SimConfig
+    from crslab.worker.config import RunConfig
 
 
 class EffectTarget(Protocol):
@@ -42,7 +42,7 @@ class EffectTarget(Protocol):
 
     model: mujoco.MjModel
     data: mujoco.MjData
-    config: SimConfig
+    config: RunConfig
     rest_dh: np.ndarray
 
     def board_event(self, fields: dict[str, Any]) -> None: ...

@@ -1,6 +1,6 @@
 """Where the lab's global variables are in the worker, and in which C types, for both kinds of
 firmware: the watched variables' ``get``/``set``, the expectations' reads, the scenarios' writes,
-and the emulated C28x memory the course's MATLAB tools read and write (``crs_sim.memory``).
+and the emulated C28x memory the course's MATLAB tools read and write (``crs_board.memory``).
 
 - WebAssembly: a variable lives in the firmware's linear memory, at the address its export holds
   (the build exports every global of the lab file); its types are wasm32's (``int`` and ``long``

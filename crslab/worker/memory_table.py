@@ -1,6 +1,6 @@
 """The emulated C28x memory's table, filled in the worker once the firmware is loaded: where each
 variable of the lab's layout lives in this process, so the board's MATLAB code reads and writes
-the lab's real globals (``crs_sim.memory``, csrc/board/c28x_memory.c).
+the lab's real globals (``crs_board.memory``, csrc/board/c28x_memory.c).
 
 A variable the worker cannot reach (a ``static``, which has no symbol; a pointer, whose value means
 nothing on the C28x; one whose object in the firmware is smaller than the source's parse says, so
@@ -18,7 +18,7 @@ from crslab.worker.firmware_memory import FirmwareMemory
 
 def fill_memory_table(sim: object, board: FFI, lib: object, firmware: FirmwareMemory,
                       mem: MemoryLayout) -> list[object]:
-    """Point the board ``sim`` (a ``crs_sim *`` of ``board``, whose functions are ``lib``'s) at a
+    """Point the board ``sim`` (a ``crs_board *`` of ``board``, whose functions are ``lib``'s) at a
     table of ``mem``'s variables in the loaded ``firmware`` (``crs_board_attach_memory``); returns
     what must stay alive as long as the table is used."""
     c = board_constants()

@@ -1,5 +1,5 @@
-"""A run's statistics, typed: the board's counters the worker reads out of ``crs_sim``
-(csrc/board/sim.h) and what the crslab process counts beside them, as one frozen
+"""A run's statistics, typed: the board's counters the worker reads out of ``crs_board``
+(csrc/board/board.h) and what the crslab process counts beside them, as one frozen
 :class:`RunStats` (``RunResult.stats``), read by attribute.
 
 On the pipe they travel as a table of plain data (:meth:`RunStats.wire`); the crslab process reads
@@ -21,7 +21,7 @@ from typing import Any
 
 @dataclass(frozen=True)
 class RunStats:
-    """What a run counted. The board's counters (``crs_sim``'s fields of the same names,
+    """What a run counted. The board's counters (``crs_board``'s fields of the same names,
     :data:`BOARD_COUNTERS`) first; ``tick`` and below are the worker's view of the run; the last
     three are the crslab process's, set once the run has ended."""
 
@@ -96,7 +96,7 @@ _NAMES = tuple(f.name for f in dataclasses.fields(RunStats))
 BOARD_COUNTERS: tuple[str, ...] = tuple(
     itertools.takewhile(lambda name: name != "tick", _NAMES)
 )
-"""The ``crs_sim`` fields the worker reports as they are (whole numbers), by their C names:
+"""The ``crs_board`` fields the worker reports as they are (whole numbers), by their C names:
 :class:`RunStats`'s fields before ``tick``."""
 
 

@@ -1,4 +1,4 @@
-"""The messages between the crslab process and its worker (crslab/worker/worker.py), typed, and the
+"""The messages between the crslab process and its worker (crslab/worker/main.py), typed, and the
 one place the worker's replies are checked.
 
 A worker holds board instances (:class:`crslab.worker.board.Board`), each named by a whole number
@@ -11,7 +11,7 @@ its tick in one request, :class:`Get` or :class:`Set` a watched variable, :class
 (or :class:`Failed`, :class:`Trapped`: it is not open), then :class:`Ran` for a run (one per
 instance of a :class:`RunMany`, in its order), :class:`Value` or :class:`Error` for the others,
 :class:`Stopped` last. Serial bytes never travel here: each instance's board writes them into its
-own shared block (:mod:`crslab.sim.shared_block`).
+own shared block (:mod:`crslab.run.shared_block`).
 
 On the pipe every message is a tuple of plain data, its kind first (:meth:`Message.wire`): the
 crslab process never unpickles a class the worker names. A native lab shares the worker's process
@@ -43,7 +43,7 @@ from crslab.worker.run_stats import BOARD_COUNTERS, RunStats
 from crslab.worker.worker_reply import UnreadableReply
 
 if TYPE_CHECKING:
-    from crslab.worker.config import SimConfig
+    from crslab.worker.config import RunConfig
 
 
 @dataclass_transform(frozen_default=True)
@@ -152,7 +152,7 @@ class Open(Message):
     descriptor (:func:`multiprocessing.reduction.send_handle`)."""
 
     instance: int
-    config: SimConfig
+    config: RunConfig
     deadline_s: float | None
 
 
@@ -355,7 +355,7 @@ def _log(value: Any) -> dict | None:
 
 
 def _trap(value: Any) -> dict:
-    """How the firmware stopped (:func:`crslab.worker.worker.trap_info`'s fields)."""
+    """How the firmware stopped (:func:`crslab.worker.main.trap_info`'s fields)."""
     if not isinstance(value, dict):
         raise _Bad(f"trap is {type(value).__name__}, not a table")
     for key in ("kind", "phase", "tick", "exit_code", "line"):

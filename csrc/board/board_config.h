@@ -1,14 +1,14 @@
 /* A run's settings and a scenario's events, handed to the board whole: the worker fills one struct
  * and makes one call (crs_board_configure, crs_board_apply_event, ...); nothing outside the board
- * writes crs_sim's fields. Read by cffi (after sim.h). */
+ * writes crs_board's fields. Read by cffi (after board.h). */
 #ifndef CRSLAB_BOARD_CONFIG_H
 #define CRSLAB_BOARD_CONFIG_H
 
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
-/* Everything of a run that decides what the board does (crslab/worker/config.py: SimConfig). */
+/* Everything of a run that decides what the board does (crslab/worker/config.py: RunConfig). */
 typedef struct {
     int32_t strict_nan;                /* 1: a NaN/Inf torque stops the run */
     int32_t motor_board;               /* CRS_MOTOR_BOARD_* */
@@ -59,7 +59,7 @@ typedef struct {
 } crs_board_event;
 
 /* The board's counters, in the order crs_board_counters writes them (the names, lower case, are
- * crs_sim's fields; motor_board_cutouts is the motor board's). */
+ * crs_board's fields; motor_board_cutouts is the motor board's). */
 typedef enum {
     CRS_COUNTER_LAB_CALLS = 0,
     CRS_COUNTER_LAB_COST_TOTAL = 1,
@@ -87,27 +87,27 @@ typedef enum {
     CRS_COUNTERS = 23
 } crs_counter;
 
-/* A new board of framework generation `generation` writing into `shared` (crs_sim_init, then
+/* A new board of framework generation `generation` writing into `shared` (crs_board_defaults, then
  * those two). */
-void crs_board_init(crs_sim *sim, int32_t generation, crs_shared *shared);
+void crs_board_init(crs_board *board, int32_t generation, crs_shared *shared);
 /* Give the board a run's settings (after its firmware is loaded: the budget is converted into
  * its cost unit). */
-void crs_board_configure(crs_sim *sim, const crs_board_config *config);
+void crs_board_configure(crs_board *board, const crs_board_config *config);
 /* Step `plant` (its model, its data and their arrays). */
-void crs_board_attach_plant(crs_sim *sim, const crs_board_plant *plant);
+void crs_board_attach_plant(crs_board *board, const crs_board_plant *plant);
 /* Fill `log`'s arrays (capacity rows each) from now on; a capacity of 0 logs nothing. */
-void crs_board_attach_log(crs_sim *sim, const crs_log *log);
+void crs_board_attach_log(crs_board *board, const crs_log *log);
 /* The rows logged since the last call (the reader took them: logging starts again at row 0). */
-int64_t crs_board_take_log(crs_sim *sim);
+int64_t crs_board_take_log(crs_board *board);
 /* The motor board's events since the last call (the reader took them). */
-uint32_t crs_board_take_motor_board_events(crs_sim *sim);
+uint32_t crs_board_take_motor_board_events(crs_board *board);
 /* The lab's variables in C28x memory: `count` entries of `vars` (kept by the caller). */
-void crs_board_attach_memory(crs_sim *sim, crs_mem_var *vars, uint32_t count);
+void crs_board_attach_memory(crs_board *board, crs_mem_var *vars, uint32_t count);
 /* The world's configuration: the fields of `world` above its state (crs_world, world.h). */
-void crs_board_attach_world(crs_sim *sim, const crs_world *world);
+void crs_board_attach_world(crs_board *board, const crs_world *world);
 /* The board's counters now, into out[CRS_COUNTERS] (crs_counter's order): one call, however many. */
-void crs_board_counters(const crs_sim *sim, int64_t *out);
-/* Apply `event` now (before the tick sim->tick runs): 0, or -1 for a kind the board does not know. */
-int crs_board_apply_event(crs_sim *sim, const crs_board_event *event);
+void crs_board_counters(const crs_board *board, int64_t *out);
+/* Apply `event` now (before the tick board->tick runs): 0, or -1 for a kind the board does not know. */
+int crs_board_apply_event(crs_board *board, const crs_board_event *event);
 
 #endif

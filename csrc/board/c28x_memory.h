@@ -9,7 +9,7 @@
 
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
 /* The 16-bit word at `address` (0 where no variable lies). */
 uint16_t crs_mem_read_word(const crs_c28x_memory *mem, uint32_t address);

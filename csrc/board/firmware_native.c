@@ -12,29 +12,29 @@
 #include <string.h>
 #include <time.h>
 
-#include "board.h"
+#include "board_io.h"
 #include "debug.h"
 #include "firmware.h"
 #include "firmware_port.h"
 
-static crs_sim *board_sim; /* the one board of this process: serial_printf's way to it */
+static crs_board *this_board; /* the one board of this process: serial_printf's way to it */
 
 static void *at(uintptr_t address) { return (void *)address; }
 
-int crs_fw_native_attach(crs_sim *sim)
+int crs_fw_native_attach(crs_board *board)
 {
-    board_sim = sim;
-    memset(&sim->trap, 0, sizeof sim->trap);
-    if (crs_board_check_generation(sim) != 0) return CRS_RUN_TRAPPED;
-    const crs_fw_table *t = crs_fw_start(sim->generation);
+    this_board = board;
+    memset(&board->trap, 0, sizeof board->trap);
+    if (crs_board_check_generation(board) != 0) return CRS_RUN_TRAPPED;
+    const crs_fw_table *t = crs_fw_start(board->generation);
     if (t == NULL) { /* the firmware is linked with the same generations.c: never */
-        sim->trap.kind = CRS_FW_TRAP_LOAD;
-        sim->trap.phase = CRS_PHASE_LOADING;
-        snprintf(sim->trap.text, sizeof sim->trap.text, "the firmware cannot run framework generation %d",
-                 (int)sim->generation);
+        board->trap.kind = CRS_FW_TRAP_LOAD;
+        board->trap.phase = CRS_PHASE_LOADING;
+        snprintf(board->trap.text, sizeof board->trap.text, "the firmware cannot run framework generation %d",
+                 (int)board->generation);
         return CRS_RUN_TRAPPED;
     }
-    crs_fw_view *v = &sim->fw;
+    crs_fw_view *v = &board->fw;
     v->tau = at(t->tau);
     v->offset_enc2 = at(t->offset_enc2);
     v->offset_enc3 = at(t->offset_enc3);
@@ -43,40 +43,40 @@ int crs_fw_native_attach(crs_sim *sim)
     for (int i = 0; i < CRS_FW_SIMULINK_INPUTS; ++i) v->simulink_input[i] = at(t->simulink_input[i]);
     v->matlab_lock = at(t->matlab_lock);
     v->symbols = t->symbols;
-    sim->cost_unit = CRS_COST_NS;
+    board->cost_unit = CRS_COST_NS;
     return 0;
 }
 
-int crs_fw_call_lab(crs_sim *sim, int32_t *print)
+int crs_fw_call_lab(crs_board *board, int32_t *print)
 {
-    crs_shared *sh = sim->shared;
-    const float th1 = (float)sim->enc_rad[0], th2 = (float)sim->enc_rad[1], th3 = (float)sim->enc_rad[2];
-    sim->lab_calls++;
-    if (!sim->time_lab) {
+    crs_shared *sh = board->shared;
+    const float th1 = (float)board->enc_rad[0], th2 = (float)board->enc_rad[1], th3 = (float)board->enc_rad[2];
+    board->lab_calls++;
+    if (!board->time_lab) {
         sh->phase = CRS_PHASE_LAB;
-        *print = crs_fw_lab(th1, th2, th3, sim->safety_flag);
+        *print = crs_fw_lab(th1, th2, th3, board->safety_flag);
         return 0;
     }
-    if (sim->debug.trap_fp) crs_debug_fp_traps(1); /* crslab debug --debug-on-crash --strict */
+    if (board->debug.trap_fp) crs_debug_fp_traps(1); /* crslab debug --debug-on-crash --strict */
     /* the monotonic clock (vDSO, no system call): a thread CPU-time clock costs two system
      * calls per tick, a sixth of the worker's time */
     const int64_t start_ns = crs_now_ns();
     sh->phase = CRS_PHASE_LAB;
-    *print = crs_fw_lab(th1, th2, th3, sim->safety_flag);
-    crs_board_lab_cost(sim, crs_now_ns() - start_ns);
-    if (sim->debug.trap_fp) crs_debug_fp_traps(0);
+    *print = crs_fw_lab(th1, th2, th3, board->safety_flag);
+    crs_board_lab_cost(board, crs_now_ns() - start_ns);
+    if (board->debug.trap_fp) crs_debug_fp_traps(0);
     return 0;
 }
 
-int crs_fw_tick_begins(crs_sim *sim) { return crs_debug_tick_begins(sim); }
+int crs_fw_tick_begins(crs_board *board) { return crs_debug_tick_begins(board); }
 
-void crs_fw_chunk_begins(crs_sim *sim) { (void)sim; /* the crslab process watches a native worker */ }
+void crs_fw_chunk_begins(crs_board *board) { (void)board; /* the crslab process watches a native worker */ }
 
-void crs_fw_chunk_ends(crs_sim *sim) { (void)sim; }
+void crs_fw_chunk_ends(crs_board *board) { (void)board; }
 
-int crs_fw_call_printing(crs_sim *sim)
+int crs_fw_call_printing(crs_board *board)
 {
-    sim->shared->phase = CRS_PHASE_PRINTING;
+    board->shared->phase = CRS_PHASE_PRINTING;
     crs_fw_printing();
     return 0;
 }
@@ -84,5 +84,5 @@ int crs_fw_call_printing(crs_sim *sim)
 int32_t crs_board_serial_send(int32_t port, const char *chars, uint32_t formatted)
 {
     (void)port;
-    return crs_board_serial_out(board_sim, chars, formatted, formatted);
+    return crs_board_serial_out(this_board, chars, formatted, formatted);
 }

@@ -5,38 +5,38 @@
  * One implementation per build of the board: firmware_wasm.c (crslab's default: the firmware is a
  * WebAssembly module that wasmtime runs inside this process, compiled into crslab._core) and
  * firmware_native.c (the firmware linked natively into one shared object with the board: crslab
- * debug, --sanitize, --native). Both set sim->fw (where the firmware's variables are), count what
+ * debug, --sanitize, --native). Both set board->fw (where the firmware's variables are), count what
  * each lab() call costs and mark the phase the board is in for the watchdog. */
 #ifndef CRSLAB_FIRMWARE_PORT_H
 #define CRSLAB_FIRMWARE_PORT_H
 
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
 /* lab() once, with this tick's encoder angles and the last tick's safety flag; the torques land
- * in sim->fw.tau. *print is 1 when the lab asked for printing(). Returns 0, or CRS_RUN_TRAPPED
- * with sim->trap filled. */
-int crs_fw_call_lab(crs_sim *sim, int32_t *print);
+ * in board->fw.tau. *print is 1 when the lab asked for printing(). Returns 0, or CRS_RUN_TRAPPED
+ * with board->trap filled. */
+int crs_fw_call_lab(crs_board *board, int32_t *print);
 /* printing() once: 0, or CRS_RUN_TRAPPED. */
-int crs_fw_call_printing(crs_sim *sim);
+int crs_fw_call_printing(crs_board *board);
 /* At the start of every tick: 1 to end the chunk before it (crslab debug's --break-when holds;
  * only a native firmware runs under a debugger), else 0. */
-int crs_fw_tick_begins(crs_sim *sim);
+int crs_fw_tick_begins(crs_board *board);
 
-/* Before and after each chunk of ticks (crs_sim_run): the WebAssembly port arms this board's
+/* Before and after each chunk of ticks (crs_board_run): the WebAssembly port arms this board's
  * store and its watchdog (interrupts per store); the native port does nothing. */
-void crs_fw_chunk_begins(crs_sim *sim);
-void crs_fw_chunk_ends(crs_sim *sim);
+void crs_fw_chunk_begins(crs_board *board);
+void crs_fw_chunk_ends(crs_board *board);
 
 /* What the firmware's serial_printf sends (firmware.h: crs_board_serial_send): `formatted`
  * characters, the first of them at `chars` (`available` of them readable). Queues them on SerialA's
  * line and returns how many the transmit ring took; a line that overflows the generation's
- * format buffer is noted (sim->overflow_tick) instead and nothing is queued. */
-int32_t crs_board_serial_out(crs_sim *sim, const char *chars, uint32_t available, uint32_t formatted);
+ * format buffer is noted (board->overflow_tick) instead and nothing is queued. */
+int32_t crs_board_serial_out(crs_board *board, const char *chars, uint32_t available, uint32_t formatted);
 
-/* Count what one lab() call cost (in sim->cost_unit) into the run's totals, its maximum and the
- * calls over sim->budget (the first few ticks of which are kept). */
-void crs_board_lab_cost(crs_sim *sim, int64_t cost);
+/* Count what one lab() call cost (in board->cost_unit) into the run's totals, its maximum and the
+ * calls over board->budget (the first few ticks of which are kept). */
+void crs_board_lab_cost(crs_board *board, int64_t cost);
 
 #endif

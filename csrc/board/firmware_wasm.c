@@ -7,7 +7,7 @@
  * go to CCS's console, not Tera Term) are counted and dropped, exit() ends the run, and everything
  * else (files, the clock, the environment, random bytes, sockets) is refused and named.
  *
- * A worker may hold many boards (crs_sim), each with its own firmware: they share one wasmtime
+ * A worker may hold many boards (crs_board), each with its own firmware: they share one wasmtime
  * engine (per process) and one compiled module per distinct firmware (refcounted, by the module's
  * digest), and each has a store and an instance of its own, so what one firmware does (a trap, a
  * hang) ends its own board only.
@@ -32,7 +32,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "board.h"
+#include "board_io.h"
 #include "firmware_port.h"
 #include "wasmtime_api.h"
 
@@ -132,7 +132,7 @@ typedef struct crs_wasm_module {
 } crs_wasm_module;
 
 typedef struct {
-    crs_sim *sim;
+    crs_board *board;
     wasmtime_store_t *store;
     wasmtime_context_t *ctx;
     wasmtime_linker_t *linker;
@@ -204,7 +204,7 @@ static void *watchdog(void *unused)
         }
         const crs_wasm *w = watch_running;
         /* the tick and phase its board is in (written by the board, in the worker's main thread) */
-        const volatile crs_shared *sh = w->sim->shared;
+        const volatile crs_shared *sh = w->board->shared;
         const int64_t tick = sh->tick;
         const int32_t phase = sh->phase;
         const int64_t now = watch_now_ns();
@@ -264,21 +264,21 @@ static void set_text(crs_fw_trap *t, const char *text)
     snprintf(t->text, sizeof t->text, "%s", text);
 }
 
-static void load_failed(crs_sim *sim, const char *what, const char *detail, size_t detail_len)
+static void load_failed(crs_board *board, const char *what, const char *detail, size_t detail_len)
 {
-    crs_fw_trap *t = &sim->trap;
+    crs_fw_trap *t = &board->trap;
     t->kind = CRS_FW_TRAP_LOAD;
     t->phase = CRS_PHASE_LOADING;
-    t->tick = sim->tick;
+    t->tick = board->tick;
     snprintf(t->text, sizeof t->text, "%s%s%.*s", what, detail_len ? ": " : "", (int)detail_len,
              detail != NULL ? detail : "");
 }
 
-static void take_error(crs_sim *sim, const char *what, wasmtime_error_t *err)
+static void take_error(crs_board *board, const char *what, wasmtime_error_t *err)
 {
     wasm_byte_vec_t m = {0, NULL};
     api.error_message(err, &m);
-    load_failed(sim, what, m.data, m.size);
+    load_failed(board, what, m.data, m.size);
     api.byte_vec_delete(&m);
     api.error_delete(err);
 }
@@ -308,10 +308,10 @@ static crs_wasm *of_caller(wasmtime_caller_t *caller)
 /* A trap of the board's own making: `kind` and `text` say why (the text may quote the firmware). */
 static wasm_trap_t *board_trap(crs_wasm *w, int32_t kind, const char *text)
 {
-    crs_fw_trap *t = &w->sim->trap;
+    crs_fw_trap *t = &w->board->trap;
     t->kind = kind;
-    t->phase = w->sim->shared != NULL ? w->sim->shared->phase : CRS_PHASE_LOADING;
-    t->tick = w->sim->tick;
+    t->phase = w->board->shared != NULL ? w->board->shared->phase : CRS_PHASE_LOADING;
+    t->tick = w->board->tick;
     set_text(t, text);
     return api.trap_new(text, strlen(text));
 }
@@ -325,7 +325,7 @@ static wasm_trap_t *board_serial_send(void *env, wasmtime_caller_t *caller, wasm
     if (n < 3) return board_trap(w, CRS_FW_TRAP_OTHER, "the firmware called board.serial_send wrongly");
     const uint64_t chars = (uint32_t)a[1].i32, formatted = (uint32_t)a[2].i32;
     const uint64_t available = chars < w->size ? (w->size - chars < formatted ? w->size - chars : formatted) : 0;
-    a[0].i32 = crs_board_serial_out(w->sim, (const char *)w->base + (chars < w->size ? chars : 0),
+    a[0].i32 = crs_board_serial_out(w->board, (const char *)w->base + (chars < w->size ? chars : 0),
                                     (uint32_t)available, (uint32_t)formatted);
     return NULL;
 }
@@ -336,7 +336,7 @@ static wasm_trap_t *board_fault(void *env, wasmtime_caller_t *caller, wasmtime_v
     crs_wasm *w = of_caller(caller);
     const int32_t kind = n >= 1 ? a[0].i32 : CRS_FW_TRAP_OTHER;
     const int known = kind == CRS_FW_TRAP_NULL || kind == CRS_FW_TRAP_DIVIDE || kind == CRS_FW_TRAP_OVERFLOW;
-    w->sim->trap.line = n >= 2 && a[1].i32 > 0 ? a[1].i32 : 0;
+    w->board->trap.line = n >= 2 && a[1].i32 > 0 ? a[1].i32 : 0;
     return board_trap(w, known ? kind : CRS_FW_TRAP_OTHER, "");
 }
 
@@ -370,7 +370,7 @@ static wasm_trap_t *wasi_fd_write(crs_wasm *w, wasmtime_val_raw_t *a, size_t n, 
     uint64_t total = 0;
     for (uint32_t i = 0; i < count; ++i) total += load_u32(vec + 8 * (uint64_t)i + 4);
     if (total > UINT32_MAX) total = UINT32_MAX;
-    w->sim->console_bytes += (int64_t)total; /* CCS's console: counted, not shown */
+    w->board->console_bytes += (int64_t)total; /* CCS's console: counted, not shown */
     store_u32(written, (uint32_t)total);
     a[0].i32 = 0;
     return NULL;
@@ -481,7 +481,7 @@ static wasm_trap_t *wasi_path_filestat_get(crs_wasm *w, wasmtime_val_raw_t *a, s
 static wasm_trap_t *wasi_proc_exit(crs_wasm *w, wasmtime_val_raw_t *a, size_t n, const char *name)
 {
     (void)name;
-    w->sim->trap.exit_code = n >= 1 ? a[0].i32 : 0;
+    w->board->trap.exit_code = n >= 1 ? a[0].i32 : 0;
     return board_trap(w, CRS_FW_TRAP_EXIT, "exit");
 }
 
@@ -562,7 +562,7 @@ static void free_name(void *name) { free(name); }
  * 0, or -1 with the load failure noted. */
 static int define_imports(crs_wasm *w)
 {
-    crs_sim *sim = w->sim;
+    crs_board *board = w->board;
     wasm_importtype_vec_t imports = {0, NULL};
     api.module_imports(w->module, &imports);
     int ok = 0;
@@ -574,7 +574,7 @@ static int define_imports(crs_wasm *w)
         snprintf(shown, sizeof shown, "%.*s.%.*s", (int)(mod->size < 60 ? mod->size : 60), mod->data,
                  (int)(name->size < 60 ? name->size : 60), name->data);
         if (api.externtype_kind(type) != WASM_EXTERN_FUNC) {
-            load_failed(sim, "the firmware imports something other than a function", shown, strlen(shown));
+            load_failed(board, "the firmware imports something other than a function", shown, strlen(shown));
             ok = -1;
             break;
         }
@@ -598,7 +598,7 @@ static int define_imports(crs_wasm *w)
             if (callback == NULL) {
                 char *kept = calloc(1, name->size + 1);
                 if (kept == NULL) {
-                    load_failed(sim, "out of memory", NULL, 0);
+                    load_failed(board, "out of memory", NULL, 0);
                     ok = -1;
                     break;
                 }
@@ -608,14 +608,14 @@ static int define_imports(crs_wasm *w)
                 finalizer = free_name;
             }
         } else {
-            load_failed(sim, "the firmware imports a function the board does not give", shown, strlen(shown));
+            load_failed(board, "the firmware imports a function the board does not give", shown, strlen(shown));
             ok = -1;
             break;
         }
         wasmtime_error_t *err = api.linker_define_func_unchecked(w->linker, mod->data, mod->size, name->data,
                                                                  name->size, ft, callback, env, finalizer);
         if (err != NULL) {
-            take_error(sim, "the board cannot give the firmware its imports", err);
+            take_error(board, "the board cannot give the firmware its imports", err);
             ok = -1;
         }
     }
@@ -653,14 +653,14 @@ static void append_message(crs_fw_trap *t, const wasm_byte_vec_t *m)
              (int)(m->size < sizeof t->text ? m->size : sizeof t->text - 1), m->data);
 }
 
-/* Call `f`; 0, or CRS_RUN_TRAPPED with sim->trap saying how it stopped. */
+/* Call `f`; 0, or CRS_RUN_TRAPPED with board->trap saying how it stopped. */
 static int call(crs_wasm *w, const wasmtime_func_t *f, wasmtime_val_raw_t *args, size_t n, int32_t phase)
 {
     wasm_trap_t *trap = NULL;
     wasmtime_error_t *err = api.func_call_unchecked(w->ctx, f, args, n, &trap);
     if (err == NULL && trap == NULL) return 0;
-    crs_sim *sim = w->sim;
-    crs_fw_trap *t = &sim->trap;
+    crs_board *board = w->board;
+    crs_fw_trap *t = &board->trap;
     if (t->kind == CRS_FW_TRAP_NONE) { /* not one of the board's own */
         uint8_t code = 0;
         if (trap != NULL) {
@@ -680,7 +680,7 @@ static int call(crs_wasm *w, const wasmtime_func_t *f, wasmtime_val_raw_t *args,
     append_message(t, &m);
     if (m.data != NULL) api.byte_vec_delete(&m);
     t->phase = phase;
-    t->tick = sim->tick;
+    t->tick = board->tick;
     if (trap != NULL) api.trap_delete(trap);
     if (err != NULL) api.error_delete(err);
     return CRS_RUN_TRAPPED;
@@ -695,37 +695,37 @@ static void take_fuel(crs_wasm *w, int64_t *cost)
     w->fuel_left = left;
 }
 
-int crs_fw_call_lab(crs_sim *sim, int32_t *print)
+int crs_fw_call_lab(crs_board *board, int32_t *print)
 {
-    crs_wasm *w = sim->firmware;
-    crs_shared *sh = sim->shared;
+    crs_wasm *w = board->firmware;
+    crs_shared *sh = board->shared;
     wasmtime_val_raw_t a[4];
-    a[0].f32 = (float)sim->enc_rad[0];
-    a[1].f32 = (float)sim->enc_rad[1];
-    a[2].f32 = (float)sim->enc_rad[2];
-    a[3].i32 = sim->safety_flag;
-    sim->lab_calls++;
+    a[0].f32 = (float)board->enc_rad[0];
+    a[1].f32 = (float)board->enc_rad[1];
+    a[2].f32 = (float)board->enc_rad[2];
+    a[3].i32 = board->safety_flag;
+    board->lab_calls++;
     sh->phase = CRS_PHASE_LAB;
     const int code = call(w, &w->lab, a, 4, CRS_PHASE_LAB);
     int64_t cost = 0;
     take_fuel(w, &cost);
-    crs_board_lab_cost(sim, cost);
+    crs_board_lab_cost(board, cost);
     if (code) return code;
     *print = a[0].i32 != 0;
     return 0;
 }
 
-int crs_fw_tick_begins(crs_sim *sim)
+int crs_fw_tick_begins(crs_board *board)
 {
-    (void)sim; /* no debugger runs a WebAssembly firmware: crslab debug builds it natively */
+    (void)board; /* no debugger runs a WebAssembly firmware: crslab debug builds it natively */
     return 0;
 }
 
-int crs_fw_call_printing(crs_sim *sim)
+int crs_fw_call_printing(crs_board *board)
 {
-    crs_wasm *w = sim->firmware;
+    crs_wasm *w = board->firmware;
     wasmtime_val_raw_t a[1];
-    sim->shared->phase = CRS_PHASE_PRINTING;
+    board->shared->phase = CRS_PHASE_PRINTING;
     const int code = call(w, &w->printing, a, 0, CRS_PHASE_PRINTING);
     int64_t cost = 0;
     take_fuel(w, &cost);
@@ -759,12 +759,12 @@ enum {
 
 static int read_table(crs_wasm *w, uint32_t address)
 {
-    crs_sim *sim = w->sim;
+    crs_board *board = w->board;
     const uint8_t *t = span(w, address, 4 * T_WORDS);
     if (t == NULL) return -1;
     uint32_t word[T_WORDS];
     for (int i = 0; i < T_WORDS; ++i) word[i] = load_u32(t + 4 * i);
-    crs_fw_view *v = &sim->fw;
+    crs_fw_view *v = &board->fw;
     memset(v, 0, sizeof *v);
     v->tau = view(w, word[T_TAU], 3 * sizeof(float), 4);
     v->offset_enc2 = view(w, word[T_OFFSET2], sizeof(float), 4);
@@ -821,12 +821,12 @@ static void keep_compiled(const wasmtime_module_t *module, const char *path)
 }
 
 /* The process's engine, created with the board's limits by the first load; 0, or -1 with
- * sim->trap saying why. */
-static int engine_for(crs_sim *sim, const crs_wasm_options *o)
+ * board->trap saying why. */
+static int engine_for(crs_board *board, const crs_wasm_options *o)
 {
     if (engine != NULL) {
         if (o->memory_bytes == engine_memory_bytes && o->stack_bytes == engine_stack_bytes) return 0;
-        load_failed(sim, "this worker's boards have other memory or stack limits", NULL, 0);
+        load_failed(board, "this worker's boards have other memory or stack limits", NULL, 0);
         return -1;
     }
     wasm_config_t *config = api.config_new();
@@ -844,7 +844,7 @@ static int engine_for(crs_sim *sim, const crs_wasm_options *o)
     api.config_memory_may_move_set(config, false);
     engine = api.engine_new_with_config(config);
     if (engine == NULL) {
-        load_failed(sim, "wasmtime cannot start", NULL, 0);
+        load_failed(board, "wasmtime cannot start", NULL, 0);
         return -1;
     }
     engine_memory_bytes = o->memory_bytes;
@@ -853,8 +853,8 @@ static int engine_for(crs_sim *sim, const crs_wasm_options *o)
 }
 
 /* The compiled module for `o` (one per distinct module_key, shared and counted), or NULL with
- * sim->trap saying why. */
-static crs_wasm_module *module_for(crs_sim *sim, const crs_wasm_options *o)
+ * board->trap saying why. */
+static crs_wasm_module *module_for(crs_board *board, const crs_wasm_options *o)
 {
     const char *key = o->module_key != NULL ? o->module_key : "";
     if (key[0] != '\0') {
@@ -867,7 +867,7 @@ static crs_wasm_module *module_for(crs_sim *sim, const crs_wasm_options *o)
     }
     crs_wasm_module *m = calloc(1, sizeof *m);
     if (m == NULL) {
-        load_failed(sim, "out of memory", NULL, 0);
+        load_failed(board, "out of memory", NULL, 0);
         return NULL;
     }
     snprintf(m->key, sizeof m->key, "%s", key);
@@ -875,7 +875,7 @@ static crs_wasm_module *module_for(crs_sim *sim, const crs_wasm_options *o)
     if (m->module == NULL) {
         wasmtime_error_t *err = api.module_new(engine, o->wasm, (size_t)o->wasm_len, &m->module);
         if (err != NULL) {
-            take_error(sim, "not a WebAssembly module wasmtime can run", err);
+            take_error(board, "not a WebAssembly module wasmtime can run", err);
             free(m);
             return NULL;
         }
@@ -916,35 +916,35 @@ int32_t crs_fw_wasm_module_held(const char *module_key)
     return 0;
 }
 
-int32_t crs_fw_wasm_module_refs(const crs_sim *sim)
+int32_t crs_fw_wasm_module_refs(const crs_board *board)
 {
-    const crs_wasm *w = sim->firmware;
+    const crs_wasm *w = board->firmware;
     return w != NULL && w->shared != NULL ? w->shared->refs : 0;
 }
 
 /* Instantiate the module in the store of `w` and run its constructors and crs_fw_start; 0, or
- * CRS_RUN_TRAPPED with sim->trap saying why. */
+ * CRS_RUN_TRAPPED with board->trap saying why. */
 static int start_firmware(crs_wasm *w)
 {
-    crs_sim *sim = w->sim;
+    crs_board *board = w->board;
     char error[256];
     wasm_trap_t *trap = NULL;
     wasmtime_error_t *err = api.linker_instantiate(w->linker, w->ctx, w->module, &w->instance, &trap);
     if (err != NULL) {
-        take_error(sim, "the firmware cannot be started", err);
+        take_error(board, "the firmware cannot be started", err);
         return CRS_RUN_TRAPPED;
     }
     if (trap != NULL) {
         wasm_byte_vec_t m = {0, NULL};
         api.trap_message(trap, &m);
-        load_failed(sim, "the firmware stopped while it was started", m.data, m.size);
+        load_failed(board, "the firmware stopped while it was started", m.data, m.size);
         api.byte_vec_delete(&m);
         api.trap_delete(trap);
         return CRS_RUN_TRAPPED;
     }
     wasmtime_extern_t memory;
     if (!api.instance_export_get(w->ctx, &w->instance, "memory", 6, &memory) || memory.kind != WASMTIME_EXTERN_MEMORY) {
-        load_failed(sim, "the firmware exports no memory", NULL, 0);
+        load_failed(board, "the firmware exports no memory", NULL, 0);
         return CRS_RUN_TRAPPED;
     }
     w->memory = memory.of.memory;
@@ -953,55 +953,55 @@ static int start_firmware(crs_wasm *w)
     wasmtime_func_t start;
     if (export_func(w, "crs_fw_start", &start) != 0 || export_func(w, "crs_fw_lab", &w->lab) != 0
         || export_func(w, "crs_fw_printing", &w->printing) != 0) {
-        load_failed(sim, "not a crslab firmware (crs_fw_start, crs_fw_lab or crs_fw_printing is missing)", NULL, 0);
+        load_failed(board, "not a crslab firmware (crs_fw_start, crs_fw_lab or crs_fw_printing is missing)", NULL, 0);
         return CRS_RUN_TRAPPED;
     }
-    sim->cost_unit = CRS_COST_INSTRUCTIONS;
+    board->cost_unit = CRS_COST_INSTRUCTIONS;
     wasmtime_func_t initialize;
     wasmtime_val_raw_t a[1];
     if (export_func(w, "_initialize", &initialize) == 0) { /* the C library's and the lab's constructors */
         if (call(w, &initialize, a, 0, CRS_PHASE_LOADING) != 0) return CRS_RUN_TRAPPED;
     }
-    a[0].i32 = sim->generation;
+    a[0].i32 = board->generation;
     if (call(w, &start, a, 1, CRS_PHASE_LOADING) != 0) return CRS_RUN_TRAPPED;
     int64_t cost = 0;
     take_fuel(w, &cost); /* the constructors' cost is not lab()'s */
     if (a[0].i32 == 0) {
         snprintf(error, sizeof error, "the firmware cannot run framework generation %d (its generations.c "
-                 "is not the board's)", (int)sim->generation);
-        load_failed(sim, error, NULL, 0);
+                 "is not the board's)", (int)board->generation);
+        load_failed(board, error, NULL, 0);
         return CRS_RUN_TRAPPED;
     }
     if (read_table(w, (uint32_t)a[0].i32) != 0) {
-        load_failed(sim, "the firmware's table of the framework's variables is not in its memory", NULL, 0);
+        load_failed(board, "the firmware's table of the framework's variables is not in its memory", NULL, 0);
         return CRS_RUN_TRAPPED;
     }
     return 0;
 }
 
-int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
+int crs_fw_wasm_load(crs_board *board, const crs_wasm_options *o)
 {
     char error[256];
-    memset(&sim->trap, 0, sizeof sim->trap);
-    if (crs_board_check_generation(sim) != 0) return CRS_RUN_TRAPPED;
+    memset(&board->trap, 0, sizeof board->trap);
+    if (crs_board_check_generation(board) != 0) return CRS_RUN_TRAPPED;
     if (crs_wasmtime_api_load(&api, o->libwasmtime, error, sizeof error) != 0) {
-        load_failed(sim, error, NULL, 0);
+        load_failed(board, error, NULL, 0);
         return CRS_RUN_TRAPPED;
     }
     if (watch_start() != 0) {
-        load_failed(sim, "the board cannot start its watchdog", NULL, 0);
+        load_failed(board, "the board cannot start its watchdog", NULL, 0);
         return CRS_RUN_TRAPPED;
     }
-    if (engine_for(sim, o) != 0) return CRS_RUN_TRAPPED;
+    if (engine_for(board, o) != 0) return CRS_RUN_TRAPPED;
     crs_wasm *w = calloc(1, sizeof *w);
     if (w == NULL) {
-        load_failed(sim, "out of memory", NULL, 0);
+        load_failed(board, "out of memory", NULL, 0);
         return CRS_RUN_TRAPPED;
     }
-    w->sim = sim;
+    w->board = board;
     w->deadline_ns = (int64_t)o->deadline_ns;
-    sim->firmware = w;
-    w->shared = module_for(sim, o);
+    board->firmware = w;
+    w->shared = module_for(board, o);
     if (w->shared == NULL) return CRS_RUN_TRAPPED;
     w->module = w->shared->module;
     w->store = api.store_new(engine, w, NULL);
@@ -1010,7 +1010,7 @@ int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
     w->fuel_left = FUEL;
     wasmtime_error_t *err = api.context_set_fuel(w->ctx, FUEL);
     if (err != NULL) {
-        take_error(sim, "wasmtime cannot count the firmware's instructions", err);
+        take_error(board, "wasmtime cannot count the firmware's instructions", err);
         return CRS_RUN_TRAPPED;
     }
     w->linker = api.linker_new(engine);
@@ -1021,39 +1021,39 @@ int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *o)
     return code;
 }
 
-void crs_fw_wasm_unload(crs_sim *sim)
+void crs_fw_wasm_unload(crs_board *board)
 {
-    crs_wasm *w = sim->firmware;
+    crs_wasm *w = board->firmware;
     if (w == NULL) return;
     if (w->store != NULL) api.store_delete(w->store);
     if (w->linker != NULL) api.linker_delete(w->linker);
     module_release(w->shared);
     free(w);
-    sim->firmware = NULL;
-    memset(&sim->fw, 0, sizeof sim->fw);
+    board->firmware = NULL;
+    memset(&board->fw, 0, sizeof board->fw);
 }
 
-void crs_fw_chunk_begins(crs_sim *sim)
+void crs_fw_chunk_begins(crs_board *board)
 {
-    if (sim->firmware != NULL) watch_begin(sim->firmware);
+    if (board->firmware != NULL) watch_begin(board->firmware);
 }
 
-void crs_fw_chunk_ends(crs_sim *sim)
+void crs_fw_chunk_ends(crs_board *board)
 {
-    (void)sim;
+    (void)board;
     watch_end();
 }
 
-uint8_t *crs_fw_wasm_memory(crs_sim *sim, uint64_t *size)
+uint8_t *crs_fw_wasm_memory(crs_board *board, uint64_t *size)
 {
-    const crs_wasm *w = sim->firmware;
+    const crs_wasm *w = board->firmware;
     *size = w != NULL ? w->size : 0;
     return w != NULL ? w->base : NULL;
 }
 
-uint32_t crs_fw_wasm_variable(crs_sim *sim, const char *name)
+uint32_t crs_fw_wasm_variable(crs_board *board, const char *name)
 {
-    crs_wasm *w = sim->firmware;
+    crs_wasm *w = board->firmware;
     wasmtime_extern_t e;
     if (w == NULL || !api.instance_export_get(w->ctx, &w->instance, name, strlen(name), &e)
         || e.kind != WASMTIME_EXTERN_GLOBAL) {

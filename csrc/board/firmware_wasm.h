@@ -2,14 +2,14 @@
  * crslab/lab/firmware.py) that wasmtime runs inside the worker, on its own memory, with the board's
  * few functions as its only imports. A worker may hold many boards: one engine per process, one
  * compiled module per distinct firmware (shared by every board running it), a store and an instance
- * per board, and a deadline per store. Compiled into crslab._core; read by cffi with sim.h. */
+ * per board, and a deadline per store. Compiled into crslab._core; read by cffi with board.h. */
 #ifndef CRSLAB_FIRMWARE_WASM_H
 #define CRSLAB_FIRMWARE_WASM_H
 
 #include <stddef.h>
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
 typedef struct {
     const char *libwasmtime;      /* path of the wasmtime C library (the `wasmtime` package's) */
@@ -25,28 +25,28 @@ typedef struct {
                                      longer is interrupted (CRS_FW_TRAP_INTERRUPT); 0: never */
 } crs_wasm_options;
 
-/* Load the firmware for sim->generation into a store of its own, run its constructors (phase
- * CRS_PHASE_LOADING) and point sim->fw at its variables. The first load of a process creates its
+/* Load the firmware for board->generation into a store of its own, run its constructors (phase
+ * CRS_PHASE_LOADING) and point board->fw at its variables. The first load of a process creates its
  * engine (with this memory and stack; later loads must ask for the same) and its watchdog thread.
- * Returns 0; else CRS_RUN_TRAPPED with sim->trap saying why (CRS_FW_TRAP_LOAD: the module is not a firmware this board can run, or it asks for more than the
+ * Returns 0; else CRS_RUN_TRAPPED with board->trap saying why (CRS_FW_TRAP_LOAD: the module is not a firmware this board can run, or it asks for more than the
  * board gives; any other kind: a constructor stopped). */
-int crs_fw_wasm_load(crs_sim *sim, const crs_wasm_options *options);
+int crs_fw_wasm_load(crs_board *board, const crs_wasm_options *options);
 /* Load wasmtime's C library (`libwasmtime`, its path) into this process now, so that the processes
  * it forks later start with it loaded (crslab's fork servers); 0, or -1 when it cannot be loaded. */
 int crs_fw_wasm_preload(const char *libwasmtime);
-/* Free the firmware's store (sim->firmware is NULL afterwards), and its compiled module when no
+/* Free the firmware's store (board->firmware is NULL afterwards), and its compiled module when no
  * other board uses it. */
-void crs_fw_wasm_unload(crs_sim *sim);
+void crs_fw_wasm_unload(crs_board *board);
 /* The compiled modules this process holds now (one per distinct module_key in use). */
 int32_t crs_fw_wasm_module_count(void);
 /* 1 when this process holds the compiled module of `module_key` now (a load of it reads no file). */
 int32_t crs_fw_wasm_module_held(const char *module_key);
-/* How many boards share the compiled module of sim's firmware (0: none loaded). */
-int32_t crs_fw_wasm_module_refs(const crs_sim *sim);
+/* How many boards share the compiled module of board's firmware (0: none loaded). */
+int32_t crs_fw_wasm_module_refs(const crs_board *board);
 /* The firmware's memory: its first byte, and its size in *size (0 when none is loaded). */
-uint8_t *crs_fw_wasm_memory(crs_sim *sim, uint64_t *size);
+uint8_t *crs_fw_wasm_memory(crs_board *board, uint64_t *size);
 /* The address in the firmware's memory of the variable the module exports as `name` (the build
  * exports every global of the lab file that has one), or 0. */
-uint32_t crs_fw_wasm_variable(crs_sim *sim, const char *name);
+uint32_t crs_fw_wasm_variable(crs_board *board, const char *name);
 
 #endif

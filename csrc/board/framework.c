@@ -16,16 +16,16 @@ int64_t crs_encoder_counts(double motor_rad, double rest_motor_rad)
     return llround((motor_rad - rest_motor_rad) / RAD_PER_COUNT);
 }
 
-void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3])
+void crs_read_encoders(crs_board *board, const double motor_rad[3], double enc_rad[3])
 {
     const double offset[3] = {
         0.0,
-        sim->fw.offset_enc2 != NULL ? (double)*sim->fw.offset_enc2 : 0.0,
-        sim->fw.offset_enc3 != NULL ? (double)*sim->fw.offset_enc3 : 0.0,
+        board->fw.offset_enc2 != NULL ? (double)*board->fw.offset_enc2 : 0.0,
+        board->fw.offset_enc3 != NULL ? (double)*board->fw.offset_enc3 : 0.0,
     };
     for (int j = 0; j < 3; ++j) {
-        const int64_t counts = crs_faulty_encoder_counts(&sim->faults, sim->tick, j,
-                                                         crs_encoder_counts(motor_rad[j], sim->rest_motor_rad[j]));
+        const int64_t counts = crs_faulty_encoder_counts(&board->faults, board->tick, j,
+                                                         crs_encoder_counts(motor_rad[j], board->rest_motor_rad[j]));
         /* encoder 2 is mounted reversed: the chip counts down and the framework negates it */
         const int64_t raw = (j == 1) ? -counts : counts;
         const double angle = (double)((j == 1) ? -raw : raw) * RAD_PER_COUNT;

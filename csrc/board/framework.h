@@ -2,10 +2,10 @@
 #ifndef CRSLAB_FRAMEWORK_H
 #define CRSLAB_FRAMEWORK_H
 
-#include "sim.h"
+#include "board.h"
 
 /* Encoder angles (rad) the framework hands to lab(), from the plant's true motor angles. */
-void crs_read_encoders(crs_sim *sim, const double motor_rad[3], double enc_rad[3]);
+void crs_read_encoders(crs_board *board, const double motor_rad[3], double enc_rad[3]);
 /* The hold controller's every-tick update (from tick 0 on): velocity filter and output
  * h->out for this tick's angles, toward the references as they stand. */
 void crs_hold_update(crs_hold *h, const double enc_rad[3]);

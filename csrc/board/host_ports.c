@@ -26,9 +26,9 @@ static void send_until(crs_host_port *hp, int64_t until)
     }
 }
 
-static void port_tick(crs_sim *sim, int port, int64_t tick)
+static void port_tick(crs_board *board, int port, int64_t tick)
 {
-    crs_host_port *hp = &sim->shared->host_ports[port];
+    crs_host_port *hp = &board->shared->host_ports[port];
     uint32_t inbox = hp->inbox_len; /* the reader wrote it: clamp to the block */
     if (inbox > CRS_HOST_INBOX_CAPACITY) inbox = CRS_HOST_INBOX_CAPACITY;
     if (inbox == 0 && hp->rx.len == 0 && hp->tx.len == 0) return;
@@ -47,18 +47,18 @@ static void port_tick(crs_sim *sim, int port, int64_t tick)
         const int64_t now = first_arrival + (int64_t)i * per_char;
         send_until(hp, now);
         if (port == CRS_HOST_PORT_B) {
-            crs_simulink_receive(sim, now, (uint8_t)bytes[i]);
+            crs_simulink_receive(board, now, (uint8_t)bytes[i]);
         } else {
-            crs_matlab_receive(sim, now, (uint8_t)bytes[i]);
+            crs_matlab_receive(board, now, (uint8_t)bytes[i]);
         }
     }
     send_until(hp, (tick + 1) * crs_line_units_per_tick());
 }
 
-void crs_host_ports_tick(crs_sim *sim, int64_t tick)
+void crs_host_ports_tick(crs_board *board, int64_t tick)
 {
-    port_tick(sim, CRS_HOST_PORT_B, tick);
-    port_tick(sim, CRS_HOST_PORT_C, tick);
+    port_tick(board, CRS_HOST_PORT_B, tick);
+    port_tick(board, CRS_HOST_PORT_C, tick);
 }
 
 int crs_host_ports_full(const crs_shared *sh)

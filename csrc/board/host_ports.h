@@ -14,11 +14,11 @@
 
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
 /* The ports' work for tick `tick`, after its lab(): take the inbox onto the receive lines, receive
  * what arrives during the tick, answer, and move what leaves during the tick to out[]. */
-void crs_host_ports_tick(crs_sim *sim, int64_t tick);
+void crs_host_ports_tick(crs_board *board, int64_t tick);
 
 /* 1 when a port's out[] is more than half full (the reader should take it). */
 int crs_host_ports_full(const crs_shared *sh);

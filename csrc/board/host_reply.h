@@ -6,10 +6,10 @@
 
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
 /* Queue a reply on host port `port` (CRS_HOST_PORT_*) at line time `now`; what its transmit ring
  * cannot take is dropped and counted. */
-void crs_host_reply(crs_sim *sim, int port, int64_t now, const char *data, uint32_t n);
+void crs_host_reply(crs_board *board, int port, int64_t now, const char *data, uint32_t n);
 
 #endif

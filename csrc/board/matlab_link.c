@@ -49,20 +49,20 @@ static void put_big_endian32(char *out, uint32_t v)
  * board sends the header, then each float, into the transmit ring, which keeps what fits (the
  * line drains far slower than the board queues, so once a float does not fit whole, nothing after
  * it does). */
-static void read_floats(crs_sim *sim, int64_t now, const uint8_t *m, int32_t matlab)
+static void read_floats(crs_board *board, int64_t now, const uint8_t *m, int32_t matlab)
 {
     const uint32_t address = big_endian32(m + 1) & ADDRESS_MASK;
     const uint32_t floats = (uint32_t)m[5] << 8 | m[6];
     /* the framework variable in .my_vars (csrc/firmware/firmware.c) */
-    if ((matlab & CRS_MATLAB_LOCK) && sim->fw.matlab_lock != NULL) *sim->fw.matlab_lock = 1.0f;
-    crs_host_port *hp = &sim->shared->host_ports[CRS_HOST_PORT_C];
+    if ((matlab & CRS_MATLAB_LOCK) && board->fw.matlab_lock != NULL) *board->fw.matlab_lock = 1.0f;
+    crs_host_port *hp = &board->shared->host_ports[CRS_HOST_PORT_C];
     const char header[3] = {(char)CRS_MATLAB_START, (char)((3 + floats) & 0xFF), '3'};
-    crs_host_reply(sim, CRS_HOST_PORT_C, now, header, sizeof header);
+    crs_host_reply(board, CRS_HOST_PORT_C, now, header, sizeof header);
     for (uint32_t i = 0; i < floats; ++i) {
-        const uint32_t v = crs_mem_read32(&sim->memory, (address + 2 * i) & ADDRESS_MASK);
+        const uint32_t v = crs_mem_read32(&board->memory, (address + 2 * i) & ADDRESS_MASK);
         const char bytes[4] = {(char)v, (char)(v >> 8), (char)(v >> 16), (char)(v >> 24)};
         const int64_t dropped_before = hp->tx_dropped;
-        crs_host_reply(sim, CRS_HOST_PORT_C, now, bytes, sizeof bytes);
+        crs_host_reply(board, CRS_HOST_PORT_C, now, bytes, sizeof bytes);
         if (hp->tx_dropped != dropped_before) { /* the ring is full: the rest is dropped too */
             hp->tx_dropped += 4 * (int64_t)(floats - i - 1);
             break;
@@ -71,21 +71,21 @@ static void read_floats(crs_sim *sim, int64_t now, const uint8_t *m, int32_t mat
 }
 
 /* '3' / '1': k = (L - 3) / 8 raw 32-bit stores (C division: a short message writes none). */
-static void write_values(crs_sim *sim, const uint8_t *m, int32_t length_byte, int big_endian)
+static void write_values(crs_board *board, const uint8_t *m, int32_t length_byte, int big_endian)
 {
     int32_t pairs = (length_byte - 3) / 8;
     if (pairs > MAX_PAIRS) pairs = MAX_PAIRS; /* the board would read past UARTMessageArray */
     for (int32_t k = 0; k < pairs; ++k) {
         const uint8_t *p = m + 1 + 8 * k;
         const uint32_t value = big_endian ? big_endian32(p + 4) : little_endian32(p + 4);
-        crs_mem_write32(&sim->memory, big_endian32(p) & ADDRESS_MASK, value);
+        crs_mem_write32(&board->memory, big_endian32(p) & ADDRESS_MASK, value);
     }
 }
 
 /* '0': every sampled address and its value, both big endian. */
-static void echo(crs_sim *sim, int64_t now)
+static void echo(crs_board *board, int64_t now)
 {
-    const crs_matlab_rx *rx = &sim->matlab;
+    const crs_matlab_rx *rx = &board->matlab;
     char reply[3 + 8 * CRS_MATLAB_ECHO_BUFFER];
     reply[0] = (char)CRS_MATLAB_START;
     reply[1] = (char)((3 + 8 * rx->echo_count) & 0xFF);
@@ -96,35 +96,35 @@ static void echo(crs_sim *sim, int64_t now)
         put_big_endian32(reply + n + 4, rx->echo_value[i]);
         n += 8;
     }
-    crs_host_reply(sim, CRS_HOST_PORT_C, now, reply, n);
+    crs_host_reply(board, CRS_HOST_PORT_C, now, reply, n);
 }
 
-static void dispatch(crs_sim *sim, int64_t now)
+static void dispatch(crs_board *board, int64_t now)
 {
-    const crs_matlab_rx *rx = &sim->matlab;
-    const int32_t matlab = sim->gen->matlab; /* looked up when loaded */
+    const crs_matlab_rx *rx = &board->matlab;
+    const int32_t matlab = board->gen->matlab; /* looked up when loaded */
     const uint8_t *m = rx->message; /* a 2-byte message finds the last one's payload still here */
     switch (m[0]) {
     case '2':
-        read_floats(sim, now, m, matlab);
+        read_floats(board, now, m, matlab);
         break;
     case '3':
-        write_values(sim, m, rx->length + 1, 0);
+        write_values(board, m, rx->length + 1, 0);
         break;
     case '1':
-        if (matlab & CRS_MATLAB_BIG_ENDIAN_WRITE) write_values(sim, m, rx->length + 1, 1);
+        if (matlab & CRS_MATLAB_BIG_ENDIAN_WRITE) write_values(board, m, rx->length + 1, 1);
         break;
     case '0':
-        if (matlab & CRS_MATLAB_ECHO) echo(sim, now);
+        if (matlab & CRS_MATLAB_ECHO) echo(board, now);
         break;
     default: /* no such command: no reply */
         break;
     }
 }
 
-void crs_matlab_receive(crs_sim *sim, int64_t now, uint8_t byte)
+void crs_matlab_receive(crs_board *board, int64_t now, uint8_t byte)
 {
-    crs_matlab_rx *rx = &sim->matlab;
+    crs_matlab_rx *rx = &board->matlab;
     if (rx->wedged) return; /* the count can never match again: only a reset helps */
     if (!rx->receiving) {
         if (byte == CRS_MATLAB_START) {
@@ -139,7 +139,7 @@ void crs_matlab_receive(crs_sim *sim, int64_t now, uint8_t byte)
         rx->count = 1;
         if (rx->length <= 0) {
             rx->wedged = 1;
-            crs_host_port *hp = &sim->shared->host_ports[CRS_HOST_PORT_C];
+            crs_host_port *hp = &board->shared->host_ports[CRS_HOST_PORT_C];
             hp->wedged = 1;
             hp->wedged_tick = crs_line_tick(now);
             return;
@@ -153,7 +153,7 @@ void crs_matlab_receive(crs_sim *sim, int64_t now, uint8_t byte)
                 && rx->echo_count < CRS_MATLAB_ECHO_BUFFER) {
                 const uint32_t address = big_endian32(rx->message + index - 3);
                 rx->echo_address[rx->echo_count] = address;
-                rx->echo_value[rx->echo_count] = crs_mem_read32(&sim->memory, address & ADDRESS_MASK);
+                rx->echo_value[rx->echo_count] = crs_mem_read32(&board->memory, address & ADDRESS_MASK);
                 rx->echo_count++;
             }
         }
@@ -161,6 +161,6 @@ void crs_matlab_receive(crs_sim *sim, int64_t now, uint8_t byte)
     }
     if (rx->count == rx->length) {
         rx->receiving = 0;
-        dispatch(sim, now);
+        dispatch(board, now);
     }
 }

@@ -5,10 +5,10 @@
 
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
 /* One byte arriving on SerialC (the receive interrupt), its last bit at line time `now`
  * (csrc/board/serial_line.h). */
-void crs_matlab_receive(crs_sim *sim, int64_t now, uint8_t byte);
+void crs_matlab_receive(crs_board *board, int64_t now, uint8_t byte);
 
 #endif

@@ -1,5 +1,5 @@
 /* The motor board between the framework's commands and the amplifiers (docs/framework.md section 5).
- * Internal to the board; not read by cffi (its state, crs_motor_board, is in sim.h).
+ * Internal to the board; not read by cffi (its state, crs_motor_board, is in board.h).
  *
  * Piccolo: each command arrives as whole PWM counts (CRS_MB_COUNTS_PER_UNIT per command unit,
  * truncated toward zero as the DSP converts it); a message with a joint beyond
@@ -13,7 +13,7 @@
 
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
 /* Zero the state and select the model (CRS_MOTOR_BOARD_*). */
 void crs_motor_board_init(crs_motor_board *mb, int32_t model);

@@ -5,7 +5,7 @@
 
 int64_t crs_line_units_per_tick(void) { return CRS_SERIAL_BAUD; }
 
-int64_t crs_line_units_per_char(void) { return 1000 * (int64_t)CRS_SERIAL_BITS_PER_CHAR; }
+int64_t crs_line_units_per_char(void) { return (int64_t)CRS_TICKS_PER_S * CRS_SERIAL_BITS_PER_CHAR; }
 
 int64_t crs_line_tick(int64_t t) { return (t - 1) / crs_line_units_per_tick(); }
 

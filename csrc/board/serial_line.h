@@ -14,7 +14,7 @@
 
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
 /* The most characters that can leave a line in one tick (11 or 12 at 115200 baud). */
 enum { CRS_LINE_MAX_CHARS_PER_TICK = 12 };

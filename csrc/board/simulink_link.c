@@ -29,32 +29,32 @@ int32_t crs_simulink_scaled(float value)
 
 static float plot_var(const float *v) { return v != NULL ? *v : 0.0f; }
 
-static void reply(crs_sim *sim, int64_t now)
+static void reply(crs_board *board, int64_t now)
 {
     char out[4 * CRS_SIMULINK_PLOTS];
     for (int i = 0; i < CRS_SIMULINK_PLOTS; ++i) {
-        const uint32_t v = (uint32_t)crs_simulink_scaled(plot_var(sim->fw.plot[i]));
+        const uint32_t v = (uint32_t)crs_simulink_scaled(plot_var(board->fw.plot[i]));
         for (int b = 0; b < 4; ++b) out[4 * i + b] = (char)(v >> (8 * b));
     }
-    crs_host_reply(sim, CRS_HOST_PORT_B, now, out, sizeof out);
+    crs_host_reply(board, CRS_HOST_PORT_B, now, out, sizeof out);
 }
 
-static void store(crs_sim *sim, const crs_simulink_rx *rx)
+static void store(crs_board *board, const crs_simulink_rx *rx)
 {
     for (int i = 0; i < CRS_SIMULINK_INPUTS; ++i) {
         /* the C28x's int is 16 bits */
-        int32_t *input = sim->fw.simulink_input[i];
+        int32_t *input = board->fw.simulink_input[i];
         if (input != NULL) *input = (int16_t)(uint16_t)(rx->data[2 * i] | rx->data[2 * i + 1] << 8);
     }
 }
 
-void crs_simulink_receive(crs_sim *sim, int64_t now, uint8_t byte)
+void crs_simulink_receive(crs_board *board, int64_t now, uint8_t byte)
 {
-    crs_simulink_rx *rx = &sim->simulink;
+    crs_simulink_rx *rx = &board->simulink;
     if (rx->receiving) {
         rx->data[rx->count++] = byte;
         if (rx->count == 2 * CRS_SIMULINK_INPUTS) {
-            store(sim, rx);
+            store(board, rx);
             rx->receiving = 0;
         }
         return;
@@ -67,6 +67,6 @@ void crs_simulink_receive(crs_sim *sim, int64_t now, uint8_t byte)
     if (byte == CRS_SIMULINK_SYNC_2) {
         rx->receiving = 1;
         rx->count = 0;
-        reply(sim, now);
+        reply(board, now);
     }
 }

@@ -5,11 +5,11 @@
 
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
 /* One byte arriving on SerialB (the receive interrupt), its last bit at line time `now`
  * (csrc/board/serial_line.h). */
-void crs_simulink_receive(crs_sim *sim, int64_t now, uint8_t byte);
+void crs_simulink_receive(crs_board *board, int64_t now, uint8_t byte);
 
 /* What a Simulink_PlotVar is sent as: the C long of 10000 * value, multiplied in single precision
  * and truncated toward zero. Beyond the long's range C leaves it undefined: saturated here, as the

@@ -8,7 +8,7 @@
  * the arm rests to the first waypoint (approach_s), a pause (hold_s), then one synchronized
  * rest-to-rest move per waypoint pair, each taking wp_duration_s[i].
  *
- * The waypoints are watched variables (written by `crslab sim --waypoints pts.csv` before the
+ * The waypoints are watched variables (written by `crslab board --waypoints pts.csv` before the
  * first tick, or from MATLAB on the real board): wp_motor_rad holds n_waypoints rows of three
  * motor angles (rad). Every 500 ms it prints the desired angles, the measured angles and their
  * difference, in degrees. */

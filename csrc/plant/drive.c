@@ -3,9 +3,11 @@
 
 #include <math.h>
 
+#include "framework_facts.h"
+
 double crs_drive_follow(const crs_drive *drive)
 {
-    return drive->lag_s > 0.0 ? -expm1(-0.001 / drive->lag_s) : 1.0;
+    return drive->lag_s > 0.0 ? -expm1(-CRS_TICK_S / drive->lag_s) : 1.0;
 }
 
 void crs_drive_step(crs_drive *drive, double follow, const double command_units[3],

@@ -1,6 +1,6 @@
 /* The drive between the motor board's outputs and the joints: per motor, the amplifier and the
- * motor (what the command units become as torque). Internal to the board; not read by cffi (its
- * state, crs_drive, is in sim.h). The numbers come from the plant parameters
+ * motor (what the command units become as torque). Its state, crs_drive,
+ * is read by cffi (ABI mode): plain declarations only. The numbers come from the plant parameters
  * (crslab/plant/plant_params.py, models/crs_arm/params.toml [drive]).
  *
  * The amplifier delivers the commanded torque while its supply voltage lasts. At motor speed w
@@ -14,7 +14,16 @@
 #ifndef CRSLAB_DRIVE_H
 #define CRSLAB_DRIVE_H
 
-#include "sim.h"
+#include <stdint.h>
+
+/* The amplifiers and motors between the motor board and the joints (csrc/plant/drive.h), set from
+ * the plant parameters (crslab/plant/plant_params.py) before the first tick. */
+typedef struct {
+    double stall_units[3];             /* torque delivered at standstill, at most, command units */
+    double backemf_units_s_per_rad[3]; /* what each rad/s of motor speed takes off that, units s/rad */
+    double lag_s;                      /* first-order lag of the delivered torque; 0: none */
+    double torque_units[3];            /* state: the torque each motor delivers now, command units */
+} crs_drive;
 
 /* The share of the way to its target the delivered torque goes in one 1 ms step (1 with no
  * lag): what crs_drive_step takes as `follow`. It depends on lag_s alone, which changes only

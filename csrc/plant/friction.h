@@ -1,6 +1,6 @@
 /* Friction on each motor angle (see models/crs_arm/README.md, "Friction"): the part of it that
- * acts while the joint slides. Internal to the board; not read by cffi (its parameters,
- * crs_friction, are in sim.h). The numbers come from the plant parameters
+ * acts while the joint slides. Its parameters,
+ * crs_friction, are read by cffi (ABI mode): plain declarations only. The numbers come from the plant parameters
  * (crslab/plant/plant_params.py, PlantParams.friction_nm, whose rule this is; models/crs_arm/params.toml
  * [friction]).
  *
@@ -21,7 +21,17 @@
 #ifndef CRSLAB_FRICTION_H
 #define CRSLAB_FRICTION_H
 
-#include "sim.h"
+
+/* Friction on each motor angle beyond its static band (csrc/plant/friction.h), set from the plant
+ * parameters before the first tick; the static band itself is MuJoCo's friction constraint. In
+ * command units (N.m over the motor gain); _pos moving positive, _neg moving negative. */
+typedef struct {
+    double slide_pos_units[3];             /* Cpos - Spos: the line's intercept beyond the band's edge */
+    double slide_neg_units[3];             /* Cneg - Sneg (negative when |Cneg| > |Sneg|) */
+    double viscous_pos_units_s_per_rad[3]; /* Vpos: the line's slope */
+    double viscous_neg_units_s_per_rad[3]; /* Vneg */
+    double transition_rad_s;               /* speed over which the band's edge becomes the line */
+} crs_friction;
 
 /* The sliding friction on each motor at `motor_rad_s` (rad/s), command units (positive: pushing
  * the motor angle positive), written into `torque_units`. */

@@ -1,10 +1,12 @@
 /* The test rig's hand: what moves the arm in Lab 1 (see hand.h). */
 #include "hand.h"
 
+#include "framework_facts.h"
+
 void crs_hand_plan(const crs_hand *h, crs_hand_path *path)
 {
     /* a minimum-jerk path (the quintic profile) from where the move started to the target */
-    const double duration_s = (double)h->duration_ticks * 1e-3;
+    const double duration_s = (double)h->duration_ticks * CRS_TICK_S;
     path->planned = 0;
     if (h->duration_ticks > 0) {
         for (int j = 0; j < 3; ++j) {
@@ -16,19 +18,19 @@ void crs_hand_plan(const crs_hand *h, crs_hand_path *path)
     }
 }
 
-void crs_hand_step_along(crs_sim *sim, const crs_hand_path *hand_path)
+void crs_hand_step_along(crs_hand *h, const crs_hand_path *hand_path, int64_t tick, const double qpos_dh_rad[3],
+                         const double qvel_dh_rad_s[3])
 {
-    crs_hand *h = &sim->hand;
     if (!h->active) {
         for (int j = 0; j < 3; ++j) h->force_nm[j] = 0.0;
         return;
     }
-    const double t_s = (double)(sim->tick - h->start_tick) * 1e-3;
+    const double t_s = (double)(tick - h->start_tick) * CRS_TICK_S;
     for (int j = 0; j < 3; ++j) {
         traj_sample path = {h->target_dh_rad[j], 0.0, 0.0, 0.0}; /* no duration: the target at once */
         if (hand_path->planned) path = traj_eval(&hand_path->move[j], t_s);
-        const double err = path.q_rad - sim->plant.qpos[j];
-        const double derr = path.qd_rad_s - sim->plant.qvel[j];
+        const double err = path.q_rad - qpos_dh_rad[j];
+        const double derr = path.qd_rad_s - qvel_dh_rad_s[j];
         double f = h->kp_nm_per_rad * err + h->ki_nm_per_rad_s * h->integral_rad_s[j]
                  + h->kd_nm_s_per_rad * derr;
         if (f > h->max_nm) {
@@ -36,7 +38,7 @@ void crs_hand_step_along(crs_sim *sim, const crs_hand_path *hand_path)
         } else if (f < -h->max_nm) {
             f = -h->max_nm;
         } else {
-            h->integral_rad_s[j] += err * 1e-3; /* integrate only when not saturated */
+            h->integral_rad_s[j] += err * CRS_TICK_S; /* integrate only when not saturated */
         }
         h->force_nm[j] = f;
     }

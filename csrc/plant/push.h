@@ -1,7 +1,7 @@
 /* The push: an external force at the end effector, the point where the course's forward
  * kinematics puts x, y, z (csrc/kin/crs_arm.h; MuJoCo's site "ee"), as the course's Lab 4
  * simulation pushes the arm to stand in for a hand. A scenario's `push` events set it
- * (crslab/scenario/push_events.py, crslab/sim/event_effects.py); its state, crs_push, is in sim.h.
+ * (crslab/scenario/push_events.py, crslab/worker/event_effects.py); its state is crs_push, below.
  *
  * The force is given in the world frame (DH frame 0, N): a frame a scenario names is turned into
  * the world's in Python when the file is read. It is constant, or a square wave: +force_n for
@@ -18,7 +18,16 @@
 
 #include <stdint.h>
 
-#include "sim.h"
+/* A push at the end effector (csrc/plant/push.h; the scenario's `push` events): a force at the
+ * point the course's forward kinematics computes, constant or a square wave. */
+typedef struct {
+    int32_t active;              /* 0: no push */
+    int32_t pad;
+    int64_t start_tick;          /* the tick it began: its square wave counts from here */
+    int64_t half_period_ticks;   /* 0: constant; else the force flips sign every this many ticks */
+    double force_n[3];           /* world frame (DH frame 0), N: the force of the first half period */
+    double now_n[3];             /* this tick's force, world frame, N (0 when inactive) */
+} crs_push;
 
 /* The push's force at `tick` (world frame, N) into force_n: 0 when inactive or before its start;
  * force_n, or its opposite in the odd half periods of a square wave. */

@@ -1,7 +1,7 @@
 /* The port between the firmware (csrc/firmware: the lab file and the framework's stand-ins) and
  * the board (csrc/board): the numbers both sides of it agree on. The firmware includes this folder
- * (csrc/port) and nothing of the board's; the board's sim.h includes this header. Read by cffi
- * (plain declarations only), before sim.h.
+ * (csrc/port) and nothing of the board's; the board's board.h includes this header. Read by cffi
+ * (plain declarations only), before board.h.
  *
  * The rest of what the two sides share is in this folder too: the course framework's numbers
  * (framework_facts.h) and its generations' rows (generations.h, generations.c), which the board
@@ -14,7 +14,7 @@
 enum { CRS_LINE_QUEUE_CAPACITY = 4096 };
 
 /* Which symbols the lab file defines (crs_fw_table.symbols, firmware.h; the board's
- * crs_fw_view.symbols, sim.h): a bit each. */
+ * crs_fw_view.symbols, board.h): a bit each. */
 enum {
     CRS_LAB_HAS_LAB = 1, CRS_LAB_HAS_PRINTING = 2, CRS_LAB_HAS_UARTPRINT = 4,
     CRS_LAB_HAS_OFFSET2 = 8, CRS_LAB_HAS_OFFSET3 = 16, CRS_LAB_HAS_PLOTVARS = 32

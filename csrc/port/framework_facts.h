@@ -10,6 +10,7 @@
 
 /* The 1 ms tick. */
 enum {
+    CRS_TICKS_PER_S = 1000,              /* the framework's timer interrupt: one tick a millisecond */
     CRS_STARTUP_TICKS = 4100,            /* first lab() call at 4.1 s; before it nothing reaches
                                             the motors (the brake releases at 4.0 s) */
     CRS_ENCODER_COUNTS_PER_REV = 288000  /* joints 1-3, per motor revolution (72:1 drive) */
@@ -25,7 +26,8 @@ static const double CRS_HOLD_KP_SWITCH_RAD = 0.1;  /* error threshold between th
 static const double CRS_HOLD_KD = 1.0;             /* units s/rad */
 static const double CRS_HOLD_REANCHOR_RAD = 0.15;  /* outside the envelope, a reference farther than
                                                       this from its angle moves to the angle */
-static const double CRS_TICK_S = 0.001;            /* the velocity's backward difference step */
+static const double CRS_TICK_S = 0.001;            /* 1 / CRS_TICKS_PER_S: one tick, s (also the
+                                                      velocity's backward difference step) */
 
 /* The wrist (joint 5) e-stop: from 4.1 s on, a wrist more than this from its hold reference
  * latches every output to zero. */

@@ -4,7 +4,7 @@
  * Both sides read the rows: the board (csrc/board, crslab._core and a native lab's shared object)
  * and the firmware (csrc/firmware, compiled with the lab: crslab/lab/firmware.py builds
  * generations.c into it too); Python reads them through cffi (crslab/generations.py). A lab's
- * generation is a row's `id` (crs_sim.generation); an id no row has is refused where the firmware
+ * generation is a row's `id` (crs_board.generation); an id no row has is refused where the firmware
  * is loaded, on both sides. Plain declarations only: cffi reads this file. */
 #ifndef CRSLAB_GENERATIONS_H
 #define CRSLAB_GENERATIONS_H
@@ -41,7 +41,7 @@ enum {
 enum { CRS_PRINTF_BUFFER_MAX = 2048 };
 
 typedef struct crs_generation {
-    int32_t id;                    /* what crs_sim.generation holds; 1 and up */
+    int32_t id;                    /* what crs_board.generation holds; 1 and up */
     const char *name;              /* "A": `crslab new --gen`, messages */
     const char *title;             /* what a starting file (`crslab new`) calls it */
     const char *include;           /* the header whose #include says a lab was written for it */

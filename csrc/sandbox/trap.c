@@ -4,7 +4,7 @@
  * not need with SECCOMP_RET_TRAP: the call is not made and the kernel raises SIGSYS in the
  * calling thread, with the call's number in siginfo and its arguments in the saved registers.
  * This handler writes them, with the path the call named, into the shared block the crslab
- * process reads (crs_shared.refusal, csrc/board/sim.h) and ends the worker at once: the run ends
+ * process reads (crs_shared.refusal, csrc/board/board.h) and ends the worker at once: the run ends
  * with a diagnosis instead of a lab that carries on after a silent EPERM.
  *
  * Two calls are answered instead of refused:

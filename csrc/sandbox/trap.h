@@ -1,11 +1,11 @@
 /* The sandboxed worker's SIGSYS handler (see trap.c). Read by cffi (ABI mode) together with
- * csrc/board/sim.h: plain declarations only. */
+ * csrc/board/board.h: plain declarations only. */
 #ifndef CRSLAB_TRAP_H
 #define CRSLAB_TRAP_H
 
 #include <stdint.h>
 
-#include "sim.h"
+#include "board.h"
 
 enum {
     CRS_TRAP_SYSCALLS = 1024, /* path_arg[] covers system calls 0 .. 1023 */

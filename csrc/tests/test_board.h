@@ -9,7 +9,7 @@
 
 #include "crs_arm.h"
 #include "firmware_native.h"
-#include "sim.h"
+#include "board.h"
 
 /* The calls the firmware makes to the test's lab() and printing() (crslab's builds append them to a
  * lab's translation unit: crslab/lab/entry_points.py). Put after both definitions. */
@@ -33,29 +33,29 @@ typedef struct {
 
 /* A new board of `generation` whose first lab() call is at tick `startup_ticks`; the plant's
  * angles start at rest. Free it with test_board_free. */
-static inline crs_sim *test_board(int generation, int64_t startup_ticks, const test_plant *plant)
+static inline crs_board *test_board(int generation, int64_t startup_ticks, const test_plant *plant)
 {
-    crs_sim *sim = calloc(1, sizeof *sim);
-    crs_sim_init(sim);
-    sim->shared = calloc(1, sizeof(crs_shared));
-    sim->generation = generation;
-    if (crs_fw_native_attach(sim) != 0) { /* the test's lab is this board's firmware */
-        printf("FAIL crs_fw_native_attach for generation %d: %s\n", generation, sim->trap.text);
+    crs_board *board = calloc(1, sizeof *board);
+    crs_board_defaults(board);
+    board->shared = calloc(1, sizeof(crs_shared));
+    board->generation = generation;
+    if (crs_fw_native_attach(board) != 0) { /* the test's lab is this board's firmware */
+        printf("FAIL crs_fw_native_attach for generation %d: %s\n", generation, board->trap.text);
         ++failures;
     }
-    sim->startup_ticks = startup_ticks;
-    sim->time_lab = 0;
-    memcpy(sim->rest_motor_rad, TEST_REST_MOTOR_RAD, sizeof TEST_REST_MOTOR_RAD);
+    board->startup_ticks = startup_ticks;
+    board->time_lab = 0;
+    memcpy(board->rest_motor_rad, TEST_REST_MOTOR_RAD, sizeof TEST_REST_MOTOR_RAD);
     crs_motor_to_dh(TEST_REST_MOTOR_RAD, plant->qpos);
-    sim->plant = (crs_board_plant){.step = plant->step, .qpos = plant->qpos, .qvel = plant->qvel,
+    board->plant = (crs_board_plant){.step = plant->step, .qpos = plant->qpos, .qvel = plant->qvel,
                                    .ctrl = plant->ctrl, .qfrc_applied = plant->qfrc};
-    return sim;
+    return board;
 }
 
-static inline void test_board_free(crs_sim *sim)
+static inline void test_board_free(crs_board *board)
 {
-    free(sim->shared);
-    free(sim);
+    free(board->shared);
+    free(board);
 }
 
 #endif

@@ -31,8 +31,8 @@ from mujoco import rollout
 
 from crslab.plant.model import SCENE_XML, load_model
 from crslab.plant.mujoco_c import stop_stage_timers
-from crslab.sim.inprocess import InProcessRun
-from crslab.worker.config import SimConfig
+from crslab.run.inprocess import InProcessRun
+from crslab.worker.config import RunConfig
 
 HARNESS_C = Path(__file__).resolve().parent / "bare_mj_step.c"
 MODEL_XML = SCENE_XML
@@ -59,7 +59,7 @@ class Recording:
         return path
 
 
-def record_run(config: SimConfig, ticks: int) -> Recording:
+def record_run(config: RunConfig, ticks: int) -> Recording:
     """Run ``config`` for ``ticks`` ticks with crslab's worker in this process, one tick at a
     time, keeping each tick's ``ctrl`` and ``qfrc_applied`` (they are set just before its
     ``mj_step`` and stay in ``mjData`` after it). Chunking never changes a run, so this is the

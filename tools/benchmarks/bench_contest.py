@@ -8,7 +8,7 @@ the peg is in contact for most of the run (the share is printed). The bare C loo
 (``crslab.world.scene.scene_xml``: the arm, the peg on its wrist, every fixture and its force
 sensors) and replays the ``ctrl`` and ``qfrc_applied`` recorded from the same run tick by tick;
 it must end in that run's state bit for bit, so both sides did the same physics, contacts and
-sensors included. crslab's side is ``Simulation.run`` at ``--fast`` in a process of its own
+sensors included. crslab's side is ``BoardRun.run`` at ``--fast`` in a process of its own
 (``sim_rates.py``), which also works out the world's quantities after every step
 (csrc/plant/world.c). Target (issue 30): crslab >= 0.9 of the bare loop.
 """
@@ -24,7 +24,7 @@ from pathlib import Path
 from baselines import build_bare_loop, record_run, run_bare_loop, same_physics
 
 from crslab import crs
-from crslab.sim.api import make_config, simulate
+from crslab.run.api import make_config, simulate
 from crslab.world.layout import load_world
 from crslab.world.scene import scene_xml
 
@@ -98,7 +98,7 @@ def run() -> list[str]:
         f"on the hole block and into the groove (in contact {touching.mean():.0%} of the ticks, up to "
         f"{max(logged['hole_force'].max(), logged['groove_force'].max()):.0f} N); the bare loop's replay "
         f"ends in the run's state bit for bit",
-        f"crslab Simulation.run --fast in the contest world (WebAssembly lab, world quantities every "
+        f"crslab BoardRun.run --fast in the contest world (WebAssembly lab, world quantities every "
         f"tick), best of {2 * REPEATS}: {sim:,.0f} ticks/s",
         f"bare C loop on the same generated scene (contacts and sensors included), best of {2 * REPEATS} "
         f"passes: {c_loop:,.0f} steps/s",

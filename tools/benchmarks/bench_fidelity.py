@@ -49,7 +49,7 @@ from crslab.plant.model import holding_torques_nm
 from crslab.plant.model_files import COURSE_END_MASS_KG, PARAMS
 from crslab.plant.plant_params import PlantParams
 from crslab.resources import path as resource_path
-from crslab.sim.api import make_config, simulate
+from crslab.run.api import make_config, simulate
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]

@@ -16,8 +16,8 @@ import time
 from crslab.host_tools.ports import PtyPort
 from crslab.host_tools.serial_protocols import read_request, simulink_packet
 from crslab.live.bridge import SerialBridge
-from crslab.sim.api import make_config
-from crslab.sim.assemble import started
+from crslab.run.api import make_config
+from crslab.run.assemble import started
 from crslab.sinks.sink import Sink
 
 READS = 300

@@ -1,14 +1,14 @@
 """Issue 5: what isolation (the worker process) and lab() timing cost: the same ticks of the
 default lab on the tour, run by ``crslab sim --fast``'s code path and in-process with timing
-off (crslab.sim.inprocess), in one run. Target: isolated at least 0.95 of in-process."""
+off (crslab.run.inprocess), in one run. Target: isolated at least 0.95 of in-process."""
 
 from __future__ import annotations
 
 import time
 
-from crslab.sim.api import make_config
-from crslab.sim.assemble import started
-from crslab.sim.inprocess import InProcessRun
+from crslab.run.api import make_config
+from crslab.run.assemble import started
+from crslab.run.inprocess import InProcessRun
 from crslab.sinks.sink import Sink
 
 REPEATS = 5
@@ -45,7 +45,7 @@ def run() -> list[str]:
     a, b = max(iso), max(inp)
     return [
         f"Lab 1 tour (built natively), {TICKS} ticks, best of {REPEATS} (interleaved), set-up not timed:",
-        f"  isolated (Simulation.run --fast: worker process, lab() timed): {a:,.0f} ticks/s",
+        f"  isolated (BoardRun.run --fast: worker process, lab() timed): {a:,.0f} ticks/s",
         f"  in-process (the same worker code in this process, lab() not timed): {b:,.0f} ticks/s",
         f"  ratio isolated / in-process {a / b:.3f} (target >= 0.95, issue 5)",
     ]

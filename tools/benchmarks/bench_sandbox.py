@@ -21,8 +21,8 @@ import time
 from pathlib import Path
 
 from crslab.lab.build import DEFAULT_LAB, build_lab
-from crslab.sim.api import make_config
-from crslab.sim.assemble import started
+from crslab.run.api import make_config
+from crslab.run.assemble import started
 from crslab.worker.board_ffi import board_ffi, shared_size
 
 REPEATS = 5
@@ -51,7 +51,7 @@ def load_s(config) -> float:
     """Seconds a forked worker takes to enter the sandbox (if on) and load the lab."""
     read, write = os.pipe()
     pid = os.fork()
-    if pid == 0:  # the worker's last steps before its first tick, as crslab.worker.worker does them
+    if pid == 0:  # the worker's last steps before its first tick, as crslab.worker.main does them
         os.close(read)
         ffi = board_ffi()
         block = ffi.cast("crs_shared *", ffi.from_buffer(mmap.mmap(-1, shared_size())))

@@ -297,7 +297,7 @@ class PhysicsFloor:
     def __init__(self, folder: Path) -> None:
         from baselines import build_bare_loop, record_run
 
-        from crslab.sim.api import make_config
+        from crslab.run.api import make_config
 
         config = make_config(native=True)  # the same physics as the WebAssembly lab's (bench_sim.py)
         self.exe = build_bare_loop(folder)

@@ -4,7 +4,7 @@ a user runs it.
 
 Everything runs crslab's default lab (Lab 1) on the default scenario (the tour, 25 000 ticks).
 
-* **crslab, API**: ticks per second of ``Simulation.run`` at ``--fast``, the worker already
+* **crslab, API**: ticks per second of ``BoardRun.run`` at ``--fast``, the worker already
   started (not timed): per tick the framework, ``lab()`` (its instructions counted, as ``crslab
   sim`` does), the hand, ``mj_step``; per chunk the pipe and the serial bytes. The lab runs as
   WebAssembly firmware (crslab's default). Best of ``2 * REPEATS``, each in a process of its own
@@ -19,7 +19,7 @@ Everything runs crslab's default lab (Lab 1) on the default scenario (the tour, 
   same run tick by tick, nothing else per step; it must end in that run's state bit for bit.
   Best of ``REPEATS`` processes x 2 passes (the later passes warm): the strongest baseline.
   Targets: crslab >= 0.9 of it (issue 19), the WebAssembly firmware >= 0.88 (issue 22).
-* **CPU time** of the same runs (Linux): the worker's time on a CPU during ``Simulation.run``
+* **CPU time** of the same runs (Linux): the worker's time on a CPU during ``BoardRun.run``
   (``/proc/PID/schedstat``; the crslab process's share, about 1.5 ms a run, is left out) against
   the bare loop's process CPU time per pass. Wall time on a loaded machine (other programs, this
   machine's two cores) measures the scheduler as much as the code; CPU time does not. Best of
@@ -63,7 +63,7 @@ import numpy as np
 from baselines import build_bare_loop, record_run, rollout_run, run_bare_loop, same_physics
 
 import crslab
-from crslab.sim.api import make_config
+from crslab.run.api import make_config
 
 REPEATS = 5
 CRSLAB = Path(sys.executable).with_name("crslab")  # the console script, as a user runs it
@@ -155,7 +155,7 @@ def run() -> list[str]:
         f"same physics on both sides: Lab 1 on the tour, {ticks} ticks; the replays of the run's recorded "
         f"ctrl and qfrc_applied end in its state bit for bit (max |qfrc_applied| "
         f"{np.abs(rec.qfrc_applied).max():.1f} N.m)",
-        f"crslab Simulation.run --fast (API, worker started; framework + lab() + hand + mj_step + pipe), "
+        f"crslab BoardRun.run --fast (API, worker started; framework + lab() + hand + mj_step + pipe), "
         f"lab as WebAssembly firmware, best of {2 * REPEATS}: {sim:,.0f} ticks/s",
         f"the same with the lab built natively (--native), interleaved, best of {2 * REPEATS}: {nat:,.0f} "
         f"ticks/s",

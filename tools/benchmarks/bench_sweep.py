@@ -15,7 +15,7 @@ from crslab.executors.dask_cluster import DaskExecutor
 from crslab.executors.local import LocalExecutor
 from crslab.lab.build import DEFAULT_LAB
 from crslab.lab.source import LabSource
-from crslab.sim.api import make_config
+from crslab.run.api import make_config
 from crslab.sweep import sampling, variations
 from crslab.sweep.sample_job import SweepJob, SweepSpec
 

@@ -1,7 +1,7 @@
 """CPU per simulated tick per board instance with many instances in one worker (a helper of
 bench_sim.py; issue 32: ``crslab serve`` runs its sessions as instances of a few workers).
 
-One WebAssembly worker (:class:`~crslab.sim.board_worker.BoardWorker`) holds ``N`` instances of
+One WebAssembly worker (:class:`~crslab.run.board_client.BoardClient`) holds ``N`` instances of
 crslab's default lab (Lab 1) on the tour and runs them all to the same tick, chunk after chunk, as
 serve's run hosts do (250-tick chunks, ``PAGE_CHUNKS`` at real time, one ``RunMany`` request per
 chunk). The figure is the worker's CPU time (every thread of it, Linux's schedstat) over the
@@ -18,11 +18,11 @@ import argparse
 import json
 from pathlib import Path
 
-from crslab.sim.api import make_config
-from crslab.sim.board_worker import BoardWorker
+from crslab.run.api import make_config
+from crslab.run.board_client import BoardClient
 
 CHUNK_TICKS = 250
-"""serve's chunk at real time (crslab.sim.pacing.PAGE_CHUNKS)."""
+"""serve's chunk at real time (crslab.run.pacing.PAGE_CHUNKS)."""
 START_TICK = 4000
 """Where the timed run starts: lab() runs from tick 4100 (the startup delay) on."""
 INSTANCE_TICKS = 150_000
@@ -53,7 +53,7 @@ def us_per_tick(instances: int, ticks: int | None = None, chunk: int = CHUNK_TIC
     chunks of ``chunk`` ticks."""
     ticks = ticks_for(instances) if ticks is None else ticks
     config = make_config()
-    worker = BoardWorker()
+    worker = BoardClient()
     try:
         handles = [worker.open(config) for _ in range(instances)]
         tick, cpu0 = 0, 0.0

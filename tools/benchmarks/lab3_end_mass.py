@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 
-from crslab.sim.api import make_config
-from crslab.sim.assemble import started
+from crslab.run.api import make_config
+from crslab.run.assemble import started
 from crslab.sinks.memory import MemorySink
 
 LAB = Path(__file__).resolve().parents[2] / "tests" / "labs" / "lab3_inverse_dynamics.c"

@@ -18,8 +18,8 @@ import json
 import time
 from pathlib import Path
 
-from crslab.sim.api import make_config
-from crslab.sim.simulation import Simulation
+from crslab.run.api import make_config
+from crslab.run.board_run import BoardRun
 from crslab.sinks.sink import Sink
 
 
@@ -32,9 +32,9 @@ def on_cpu_s(pid: int) -> float | None:
 
 
 def sim_rate(config, ticks: int) -> tuple[float, float | None]:
-    """Ticks per second of Simulation.run over ``ticks`` ticks (the worker already running), by
+    """Ticks per second of BoardRun.run over ``ticks`` ticks (the worker already running), by
     wall time and by the worker's CPU time (None where it cannot be read)."""
-    with Simulation(config) as sim:
+    with BoardRun(config) as sim:
         cpu0 = on_cpu_s(sim.worker_pid)
         t = time.perf_counter()
         result = sim.run(ticks, Sink(), speed=None)

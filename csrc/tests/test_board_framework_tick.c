@@ -1,4 +1,4 @@
-/* C-level tests of the framework's 1 ms tick, driven alone (no MuJoCo): crs_sim_run with a stub
+/* C-level tests of the framework's 1 ms tick, driven alone (no MuJoCo): crs_board_run with a stub
  * plant whose motor angles follow a script, and a small test lab compiled in. Built with -Werror
  * and under ASan/UBSan by tests/test_c_core.py; exit status 0 when every check passes.
  *
@@ -22,7 +22,7 @@
 #include "generations.h"
 #include "motor_board.h"
 #include "firmware_native.h"
-#include "sim.h"
+#include "board.h"
 
 #include "checks.h"
 #include "test_board.h"
@@ -47,7 +47,7 @@ static struct {
     int error_seen[MAX_CALLS]; /* the `error` argument of each call */
 } lab_state;
 
-static crs_sim *the_sim; /* the board under test (the lab peeks at its tick) */
+static crs_board *the_sim; /* the board under test (the lab peeks at its tick) */
 
 void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2,
          float *tau3, int error)
@@ -123,10 +123,10 @@ static void stub_step(const void *model, void *data)
     crs_motor_to_dh(plant_motor, qpos);
 }
 
-static crs_sim *new_sim(int generation, int64_t startup_ticks, void (*script)(int64_t, double *))
+static crs_board *new_sim(int generation, int64_t startup_ticks, void (*script)(int64_t, double *))
 {
     const test_plant plant = {qpos, qvel, ctrl, qfrc, stub_step};
-    crs_sim *sim = test_board(generation, startup_ticks, &plant);
+    crs_board *board = test_board(generation, startup_ticks, &plant);
     plant_script = script;
     plant_steps = 0;
     memcpy(plant_motor, TEST_REST_MOTOR_RAD, sizeof plant_motor);
@@ -135,16 +135,16 @@ static crs_sim *new_sim(int generation, int64_t startup_ticks, void (*script)(in
     memset(&lab_state, 0, sizeof lab_state);
     UARTprint = 0;
     printing_calls = 0;
-    the_sim = sim;
-    return sim;
+    the_sim = board;
+    return board;
 }
 
 /* Run exactly one tick. */
-static void tick(crs_sim *sim)
+static void tick(crs_board *board)
 {
-    const int code = crs_sim_run(sim, sim->tick + 1);
+    const int code = crs_board_run(board, board->tick + 1);
     if (code != CRS_RUN_DONE && code != CRS_RUN_EVENTS_FULL) {
-        printf("FAIL crs_sim_run stopped with %d at tick %lld\n", code, (long long)sim->tick);
+        printf("FAIL crs_board_run stopped with %d at tick %lld\n", code, (long long)board->tick);
         ++failures;
     }
 }
@@ -165,28 +165,28 @@ static void ramp_script(int64_t k, double motor[3])
 
 static void test_hold_controller_worked_sequence(void)
 {
-    crs_sim *sim = new_sim(CRS_GEN_A, 50, ramp_script);
+    crs_board *board = new_sim(CRS_GEN_A, 50, ramp_script);
     lab_state.mode = LAB_TORQUE;
     lab_state.torque[0] = 0.77f; /* used inside the envelope, discarded outside */
 
     /* tick 0: the references are 0 and the last angles 0, so the velocity sees the whole offset
      * in one ms. Joint 2: e = 0 - (-0.42) = 0.42 > 0.1 -> Kp 15; v = (-420 + 0 + 0) / 3 = -140;
      * u = 15 * 0.42 + 140 = 146.3. Joint 3: e = -0.24 -> Kp 15; v = 240 / 3 = 80; u = -3.6 - 80. */
-    tick(sim);
-    check_close("tick 0: hold u1", sim->hold.out[0], 0.0, 1e-9);
-    check_close("tick 0: hold u2", sim->hold.out[1], 146.3, 1e-3);
-    check_close("tick 0: hold u3", sim->hold.out[2], -83.6, 1e-3);
-    check_close("tick 0: nothing reaches the motors before the gate", fabs(sim->applied[1]), 0.0, 0.0);
-    check("tick 0: references start at 0", sim->hold.ref_rad[0] == 0.0f && sim->hold.ref_rad[1] == 0.0f
-                                               && sim->hold.ref_rad[2] == 0.0f);
-    while (sim->tick < 50) tick(sim);
-    check("references stay 0 until the startup gate", sim->hold.ref_rad[1] == 0.0f);
-    tick(sim); /* tick 50: inside the envelope the references follow the arm */
-    check("inside, the references follow the angles", sim->hold.ref_rad[1] == (float)sim->enc_rad[1]
-                                                           && sim->hold.ref_rad[2] == (float)sim->enc_rad[2]);
-    check_close("inside, the lab's torque is used", sim->applied[0], 0.77f, 0.0);
+    tick(board);
+    check_close("tick 0: hold u1", board->hold.out[0], 0.0, 1e-9);
+    check_close("tick 0: hold u2", board->hold.out[1], 146.3, 1e-3);
+    check_close("tick 0: hold u3", board->hold.out[2], -83.6, 1e-3);
+    check_close("tick 0: nothing reaches the motors before the gate", fabs(board->applied[1]), 0.0, 0.0);
+    check("tick 0: references start at 0", board->hold.ref_rad[0] == 0.0f && board->hold.ref_rad[1] == 0.0f
+                                               && board->hold.ref_rad[2] == 0.0f);
+    while (board->tick < 50) tick(board);
+    check("references stay 0 until the startup gate", board->hold.ref_rad[1] == 0.0f);
+    tick(board); /* tick 50: inside the envelope the references follow the arm */
+    check("inside, the references follow the angles", board->hold.ref_rad[1] == (float)board->enc_rad[1]
+                                                           && board->hold.ref_rad[2] == (float)board->enc_rad[2]);
+    check_close("inside, the lab's torque is used", board->applied[0], 0.77f, 0.0);
 
-    while (sim->tick < RAMP_START) tick(sim);
+    while (board->tick < RAMP_START) tick(board);
     /* the ramp starts: r = 23 counts per ms. Joint 1 averages v with the two previous averages:
      * r/3, 4r/9, 16r/27, 55r/81; joint 2's line uses the older one twice: r/3, r/3, 5r/9, 5r/9.
      * The reference is last tick's angle, so e = -step and Kp = 25: u = -25 step - v. */
@@ -195,70 +195,70 @@ static void test_hold_controller_worked_sequence(void)
     const double v1[4] = {r1 / 3, 4 * r1 / 9, 16 * r1 / 27, 55 * r1 / 81};
     const double v2[4] = {r2 / 3, r2 / 3, 5 * r2 / 9, 5 * r2 / 9};
     for (int i = 0; i < 4; ++i) {
-        tick(sim);
+        tick(board);
         char what[80];
         snprintf(what, sizeof what, "ramp tick %d: joint 1 averages over three", i);
-        check_close(what, sim->hold.out[0], -25 * step1 - v1[i], 2e-3);
+        check_close(what, board->hold.out[0], -25 * step1 - v1[i], 2e-3);
         snprintf(what, sizeof what, "ramp tick %d: joint 2's quirk", i);
-        check_close(what, sim->hold.out[1], -25 * step2 - v2[i], 2e-3);
+        check_close(what, board->hold.out[1], -25 * step2 - v2[i], 2e-3);
     }
 
     /* the arm turns joint 1 out of the envelope */
     int64_t out_tick = -1;
-    while (sim->tick < 6000 && out_tick < 0) {
-        tick(sim);
-        if (sim->safety_flag) out_tick = sim->tick - 1;
+    while (board->tick < 6000 && out_tick < 0) {
+        tick(board);
+        if (board->safety_flag) out_tick = board->tick - 1;
     }
-    check("joint 1 leaves the envelope", out_tick > 0 && fabs(sim->enc_rad[0]) > 0.6667 * PI_D);
+    check("joint 1 leaves the envelope", out_tick > 0 && fabs(board->enc_rad[0]) > 0.6667 * PI_D);
     const long first_call_tick = 50;
     check("error is 0 in the call of the tick that left", lab_state.error_seen[out_tick - first_call_tick] == 0);
     /* outside: the hold output, with the reference one step behind: u1 = -25 step1 - r1 (v settled) */
-    check_close("outside: joint 1 gets the hold output", sim->applied[0], -25 * step1 - r1, 2e-3);
-    check_close("outside: joint 2 gets the hold output", sim->applied[1], -25 * step2 - r2, 2e-3);
-    check_close("outside: joint 3 is held still", sim->applied[2], 0.0, 1e-6);
-    tick(sim);
+    check_close("outside: joint 1 gets the hold output", board->applied[0], -25 * step1 - r1, 2e-3);
+    check_close("outside: joint 2 gets the hold output", board->applied[1], -25 * step2 - r2, 2e-3);
+    check_close("outside: joint 3 is held still", board->applied[2], 0.0, 1e-6);
+    tick(board);
     check("error is 1 one tick later", lab_state.error_seen[out_tick + 1 - first_call_tick] == 1);
     /* the reference stays at the last inside angle while the arm moves on: after k more ticks
      * e = -(k + 1) step1; beyond 0.1 rad (k + 1 >= 200) Kp drops to 15 */
-    while (sim->tick < out_tick + 99) tick(sim);
-    tick(sim); /* k = 99 */
-    check_close("outside, k = 99: Kp 25", sim->applied[0], -25 * 100 * step1 - r1, 2e-3);
-    while (sim->tick < out_tick + 250) tick(sim);
-    tick(sim); /* k = 250 */
-    check_close("outside, k = 250: Kp 15", sim->applied[0], -15 * 251 * step1 - r1, 2e-3);
+    while (board->tick < out_tick + 99) tick(board);
+    tick(board); /* k = 99 */
+    check_close("outside, k = 99: Kp 25", board->applied[0], -25 * 100 * step1 - r1, 2e-3);
+    while (board->tick < out_tick + 250) tick(board);
+    tick(board); /* k = 250 */
+    check_close("outside, k = 250: Kp 15", board->applied[0], -15 * 251 * step1 - r1, 2e-3);
     /* at k = 298, e = -299 step1 = -0.15003 rad: the reference re-anchors to the arm, so at
      * k = 299 the error is one step again */
-    while (sim->tick < out_tick + 298) tick(sim);
-    tick(sim);
-    check_close("outside, k = 298: last pull before re-anchoring", sim->applied[0], -15 * 299 * step1 - r1, 2e-3);
-    check("re-anchored to the arm", sim->hold.ref_rad[0] == (float)sim->enc_rad[0]);
-    tick(sim);
-    check_close("outside, k = 299: re-anchored", sim->applied[0], -25 * step1 - r1, 2e-3);
-    test_board_free(sim);
+    while (board->tick < out_tick + 298) tick(board);
+    tick(board);
+    check_close("outside, k = 298: last pull before re-anchoring", board->applied[0], -15 * 299 * step1 - r1, 2e-3);
+    check("re-anchored to the arm", board->hold.ref_rad[0] == (float)board->enc_rad[0]);
+    tick(board);
+    check_close("outside, k = 299: re-anchored", board->applied[0], -25 * step1 - r1, 2e-3);
+    test_board_free(board);
 }
 
 /* ---- startup gate, clamp, NaN ------------------------------------------------------------ */
 
 static void test_startup_gate_and_clamp(void)
 {
-    crs_sim *sim = new_sim(CRS_GEN_A, CRS_STARTUP_TICKS, NULL);
+    crs_board *board = new_sim(CRS_GEN_A, CRS_STARTUP_TICKS, NULL);
     lab_state.mode = LAB_TORQUE;
     lab_state.torque[0] = 40.0f;
     lab_state.torque[1] = -40.0f;
     lab_state.torque[2] = 0.5f;
-    crs_sim_run(sim, CRS_STARTUP_TICKS);
-    check("lab() is not called before 4.1 s", lab_state.calls == 0 && sim->lab_calls == 0);
-    check("nothing is commanded before 4.1 s", sim->command[0] == 0.0 && sim->applied[0] == 0.0);
-    tick(sim);
-    check("the first lab() call is at tick 4100", lab_state.calls == 1 && sim->tick == 4101);
-    check_close("40 is clamped to 5", sim->applied[0], 5.0, 0.0);
-    check_close("-40 is clamped to -5", sim->applied[1], -5.0, 0.0);
-    check_close("0.5 passes", sim->applied[2], 0.5, 0.0);
+    crs_board_run(board, CRS_STARTUP_TICKS);
+    check("lab() is not called before 4.1 s", lab_state.calls == 0 && board->lab_calls == 0);
+    check("nothing is commanded before 4.1 s", board->command[0] == 0.0 && board->applied[0] == 0.0);
+    tick(board);
+    check("the first lab() call is at tick 4100", lab_state.calls == 1 && board->tick == 4101);
+    check_close("40 is clamped to 5", board->applied[0], 5.0, 0.0);
+    check_close("-40 is clamped to -5", board->applied[1], -5.0, 0.0);
+    check_close("0.5 passes", board->applied[2], 0.5, 0.0);
     lab_state.torque[2] = NAN;
-    tick(sim);
+    tick(board);
     check("a NaN torque applies nothing and is counted",
-          sim->applied[2] == 0.0 && sim->nan_count == 1 && sim->nan_first_tick == 4101 && sim->nan_first_joint == 3);
-    test_board_free(sim);
+          board->applied[2] == 0.0 && board->nan_count == 1 && board->nan_first_tick == 4101 && board->nan_first_joint == 3);
+    test_board_free(board);
 }
 
 /* ---- print triggers ---------------------------------------------------------------------- */
@@ -267,19 +267,19 @@ static void test_print_triggers(void)
 {
     for (int32_t row = 0; row < crs_generation_count(); ++row) {
         const crs_generation *gen = crs_generation_at(row);
-        crs_sim *sim = new_sim(gen->id, 10, NULL);
+        crs_board *board = new_sim(gen->id, 10, NULL);
         lab_state.mode = LAB_PRINT_TRIGGERS;
-        crs_sim_run(sim, 200);
-        crs_shared *sh = sim->shared;
+        crs_board_run(board, 200);
+        crs_shared *sh = board->shared;
         const char *want = "L0 P0\n\rL2 P1\n\r"; /* printing() once per tick that asked, after lab() */
         char what[80];
         snprintf(what, sizeof what, "gen %s: printing() runs once, after lab(), when asked", gen->name);
         check(what, sh->serial_len == strlen(want) && memcmp(sh->serial, want, strlen(want)) == 0);
-        check("printing() ran twice", sim->printing_runs == 2);
+        check("printing() ran twice", board->printing_runs == 2);
         if (gen->print_trigger == CRS_PRINT_UARTPRINT) check("UARTprint is cleared", UARTprint == 0);
         /* each print's bytes leave at 11.52 per ms from the tick it was made in */
         check("the first bytes leave in the tick of the first call", sh->mark_count >= 2 && sh->mark_tick[0] == 10);
-        test_board_free(sim);
+        test_board_free(board);
     }
 }
 
@@ -308,44 +308,44 @@ static void test_generation_rows_and_an_unknown_generation(void)
 
     check("no generation 0 or 3", crs_generation_of(0) == NULL && crs_generation_of(3) == NULL);
     check("the firmware refuses generation 3", crs_fw_start(3) == NULL);
-    crs_sim *sim = calloc(1, sizeof *sim);
-    crs_sim_init(sim);
-    sim->shared = calloc(1, sizeof(crs_shared));
-    check("a board is of no generation until told", sim->generation == 0);
-    sim->generation = 3;
-    const int code = crs_fw_native_attach(sim);
+    crs_board *board = calloc(1, sizeof *board);
+    crs_board_defaults(board);
+    board->shared = calloc(1, sizeof(crs_shared));
+    check("a board is of no generation until told", board->generation == 0);
+    board->generation = 3;
+    const int code = crs_fw_native_attach(board);
     check("the board refuses to load a firmware for generation 3, and says which it knows",
-          code == CRS_RUN_TRAPPED && sim->trap.kind == CRS_FW_TRAP_LOAD
-              && strcmp(sim->trap.text, "the board knows no framework generation 3 (it knows A (1), B (2))") == 0);
-    test_board_free(sim);
+          code == CRS_RUN_TRAPPED && board->trap.kind == CRS_FW_TRAP_LOAD
+              && strcmp(board->trap.text, "the board knows no framework generation 3 (it knows A (1), B (2))") == 0);
+    test_board_free(board);
 }
 
 /* ---- the motor board -------------------------------------------------------------------- */
 
 static void test_motor_board_cuts_out_after_500_ms_over_4_units(void)
 {
-    crs_sim *sim = new_sim(CRS_GEN_B, 100, NULL);
-    sim->motor_board.model = CRS_MOTOR_BOARD_PICCOLO;
+    crs_board *board = new_sim(CRS_GEN_B, 100, NULL);
+    board->motor_board.model = CRS_MOTOR_BOARD_PICCOLO;
     lab_state.mode = LAB_ALTERNATE;
     /* 4.5 units = 1350 counts > 1200: ticks 100 .. 599 (500 ms) reach the motors, 600 on do not */
-    crs_sim_run(sim, 600);
-    check_close("+-4.5 reaches the motors for 500 ms", fabs(sim->applied[0]), 4.5, 0.0);
-    check("... and the board is on", sim->motor_board.off == 0);
-    tick(sim);
-    check("at 500 ms over the limit every output is cut", sim->applied[0] == 0.0 && sim->motor_board.off == 1);
+    crs_board_run(board, 600);
+    check_close("+-4.5 reaches the motors for 500 ms", fabs(board->applied[0]), 4.5, 0.0);
+    check("... and the board is on", board->motor_board.off == 0);
+    tick(board);
+    check("at 500 ms over the limit every output is cut", board->applied[0] == 0.0 && board->motor_board.off == 1);
     check("the cut-out is reported: tick 600, joint 1",
-          sim->motor_board.event_count == 1 && sim->motor_board.event_tick[0] == 600
-              && sim->motor_board.event_joint[0] == 1 && sim->motor_board.event_off[0] == 1);
-    crs_sim_run(sim, 2100);
-    check("cut while the lab keeps commanding 4.5", sim->applied[0] == 0.0 && sim->motor_board.off == 1);
-    tick(sim); /* tick 2100: the lab commands 0 */
-    check("back when the command drops to 4 units or less", sim->motor_board.off == 0);
+          board->motor_board.event_count == 1 && board->motor_board.event_tick[0] == 600
+              && board->motor_board.event_joint[0] == 1 && board->motor_board.event_off[0] == 1);
+    crs_board_run(board, 2100);
+    check("cut while the lab keeps commanding 4.5", board->applied[0] == 0.0 && board->motor_board.off == 1);
+    tick(board); /* tick 2100: the lab commands 0 */
+    check("back when the command drops to 4 units or less", board->motor_board.off == 0);
     check("the end is reported at tick 2100",
-          sim->motor_board.event_count == 2 && sim->motor_board.event_tick[1] == 2100 && sim->motor_board.event_off[1] == 0);
-    crs_sim_run(sim, 2201);
-    check_close("later commands reach the motors again", sim->applied[0], 1.0, 0.0);
-    check("one cut-out in all", sim->motor_board.cutouts == 1);
-    test_board_free(sim);
+          board->motor_board.event_count == 2 && board->motor_board.event_tick[1] == 2100 && board->motor_board.event_off[1] == 0);
+    crs_board_run(board, 2201);
+    check_close("later commands reach the motors again", board->applied[0], 1.0, 0.0);
+    check("one cut-out in all", board->motor_board.cutouts == 1);
+    test_board_free(board);
 }
 
 static void test_motor_board_timeout_and_counts(void)
@@ -385,10 +385,10 @@ static void test_motor_board_timeout_and_counts(void)
 
 static void test_serial_ring_drops(void)
 {
-    crs_sim *sim = new_sim(CRS_GEN_B, 10, NULL);
+    crs_board *board = new_sim(CRS_GEN_B, 10, NULL);
     lab_state.mode = LAB_BURSTS;
-    crs_sim_run(sim, 2000);
-    crs_shared *sh = sim->shared;
+    crs_board_run(board, 2000);
+    crs_shared *sh = board->shared;
     /* burst 1 (tick 10) into an idle line: the ring takes 136 of a call; after each call the
      * interrupt moves 17 into the FIFO and the shift register. Line 1: 60. Line 2: 60 queued, 43
      * in the ring, room 93: 60. Line 3: 120 queued, 103 in the ring, room 33: 33. Line 4: none.
@@ -406,7 +406,7 @@ static void test_serial_ring_drops(void)
     }
     check("the line carries exactly what the ring kept", sh->serial_len == n && memcmp(sh->serial, want, n) == 0);
     check("87 + 183 + 87 characters dropped, the first at tick 10",
-          sim->tx_dropped == 357 && sim->tx_first_drop_tick == 10);
+          board->tx_dropped == 357 && board->tx_first_drop_tick == 10);
     /* a print mark for each serial_printf the ring took characters of: its tick and how many */
     const int64_t mark_tick[7] = {10, 10, 10, 15, 1010, 1010, 1010};
     const uint32_t mark_chars[7] = {60, 60, 33, 57, 60, 60, 33};
@@ -426,7 +426,7 @@ static void test_serial_ring_drops(void)
     }
     check("bursts 1 and 2 have left by tick 28", last_of_bursts_1_2 == 28);
     check("nothing left on the line", sh->line.len == 0);
-    test_board_free(sim);
+    test_board_free(board);
 }
 
 static void test_printf_overflow_stops_the_run(void)
@@ -435,22 +435,22 @@ static void test_printf_overflow_stops_the_run(void)
         int generation, chars, overflows;
     } cases[4] = {{CRS_GEN_B, 135, 0}, {CRS_GEN_B, 136, 1}, {CRS_GEN_A, 2047, 0}, {CRS_GEN_A, 2048, 1}};
     for (int i = 0; i < 4; ++i) {
-        crs_sim *sim = new_sim(cases[i].generation, 10, NULL);
+        crs_board *board = new_sim(cases[i].generation, 10, NULL);
         lab_state.mode = LAB_ONE_LINE;
         lab_state.line_chars = cases[i].chars;
-        const int code = crs_sim_run(sim, 100);
+        const int code = crs_board_run(board, 100);
         char what[120];
         snprintf(what, sizeof what, "gen %c, a %d-character line: %s", cases[i].generation == CRS_GEN_A ? 'A' : 'B',
                  cases[i].chars, cases[i].overflows ? "the run stops at once" : "fits the buffer (with its NUL)");
         if (cases[i].overflows) {
-            check(what, code == CRS_RUN_PRINTF_OVERFLOW && sim->tick == 13 && sim->overflow_tick == 13
-                            && sim->overflow_chars == (uint32_t)cases[i].chars && sim->overflow_phase == CRS_PHASE_LAB
+            check(what, code == CRS_RUN_PRINTF_OVERFLOW && board->tick == 13 && board->overflow_tick == 13
+                            && board->overflow_chars == (uint32_t)cases[i].chars && board->overflow_phase == CRS_PHASE_LAB
                             && lab_state.calls == 4);
-            check("nothing of the overflowing line is sent", sim->shared->line.len == 0 && sim->shared->serial_len == 0);
+            check("nothing of the overflowing line is sent", board->shared->line.len == 0 && board->shared->serial_len == 0);
         } else {
-            check(what, code == CRS_RUN_DONE && sim->overflow_tick < 0);
+            check(what, code == CRS_RUN_DONE && board->overflow_tick < 0);
         }
-        test_board_free(sim);
+        test_board_free(board);
     }
 }
 
@@ -496,23 +496,23 @@ static void test_drive_envelope_lag_and_dead_motor(void)
 
 static void test_drive_between_motor_board_and_ctrl(void)
 {
-    crs_sim *sim = new_sim(CRS_GEN_A, 0, NULL);
-    check("drive: ideal until the plant sets it", isinf(sim->drive.stall_units[0]));
+    crs_board *board = new_sim(CRS_GEN_A, 0, NULL);
+    check("drive: ideal until the plant sets it", isinf(board->drive.stall_units[0]));
     lab_state.mode = LAB_TORQUE;
     lab_state.torque[0] = 4.5f;
     lab_state.torque[1] = -1.0f;
     for (int j = 0; j < 3; ++j) {
-        sim->drive.stall_units[j] = 3.0;
-        sim->drive.backemf_units_s_per_rad[j] = 1.0;
+        board->drive.stall_units[j] = 3.0;
+        board->drive.backemf_units_s_per_rad[j] = 1.0;
     }
     memset(qvel, 0, sizeof qvel);
-    tick(sim);
+    tick(board);
     check_close("drive: the motor board's 4.5 units become the 3 units the amplifier can give", ctrl[0], 3.0,
                 1e-12);
     check_close("drive: -1 unit passes", ctrl[1], -1.0, 1e-6);
-    check_close("drive: the command that reached the amplifier is still logged as applied", sim->applied[0], 4.5,
+    check_close("drive: the command that reached the amplifier is still logged as applied", board->applied[0], 4.5,
                 1e-6);
-    test_board_free(sim);
+    test_board_free(board);
 }
 
 /* ---- friction while a joint slides ------------------------------------------------------------ */
@@ -617,23 +617,23 @@ static void test_hold_velocity_at_rest_ends_at_zero(void)
 
 static void test_friction_between_drive_and_ctrl(void)
 {
-    crs_sim *sim = new_sim(CRS_GEN_A, 0, NULL);
+    crs_board *board = new_sim(CRS_GEN_A, 0, NULL);
     lab_state.mode = LAB_TORQUE;
     lab_state.torque[0] = 2.0f;
     lab_state.torque[1] = 0.0f;
     lab_state.torque[2] = 0.0f;
-    sim->friction.transition_rad_s = 0.02;
-    sim->friction.viscous_pos_units_s_per_rad[0] = 0.25;
-    sim->friction.viscous_neg_units_s_per_rad[2] = 0.2;
+    board->friction.transition_rad_s = 0.02;
+    board->friction.viscous_pos_units_s_per_rad[0] = 0.25;
+    board->friction.viscous_neg_units_s_per_rad[2] = 0.2;
     memset(qvel, 0, sizeof qvel);
     qvel[0] = 2.0;           /* motor 1 at 2 rad/s */
     qvel[1] = 0.5;           /* j2 at 0.5, j3 at -1.5: motor 3 (j2 + j3) at -1 rad/s */
     qvel[2] = -1.5;
-    tick(sim);
+    tick(board);
     check_close("friction: the drive's 2 units less Vpos w = 0.5", ctrl[0], 1.5, 1e-6);
     check_close("friction: motor 3 turns at j2 + j3 and is pushed back by Vneg w", ctrl[2], 0.2, 1e-6);
-    check_close("friction: the command logged is the motor board's, friction apart", sim->applied[0], 2.0, 1e-6);
-    test_board_free(sim);
+    check_close("friction: the command logged is the motor board's, friction apart", board->applied[0], 2.0, 1e-6);
+    test_board_free(board);
 }
 
 int main(void)

@@ -28,7 +28,7 @@ import numpy as np
 
 from crslab.worker import worker_messages
 from crslab.worker.board import Board, FirmwareStopped, plant_model, trap_info
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import changes_model
 from crslab.worker.wasm_runtime import WasmImage
@@ -42,7 +42,7 @@ class Models:
     def __init__(self) -> None:
         self._shared: dict[tuple, object] = {}
 
-    def model_for(self, config: SimConfig) -> object:
+    def model_for(self, config: RunConfig) -> object:
         """The model an instance of ``config`` runs on."""
         key = (config.world, config.plant)
         model = self._shared.get(key)
@@ -70,7 +70,7 @@ class Images:
         return image
 
 
-class Worker:
+class BoardInstances:
     """The instances of one worker process, by the number the crslab process gave each."""
 
     def __init__(self) -> None:
@@ -78,7 +78,7 @@ class Worker:
         self.models = Models()
         self.images = Images()
 
-    def open(self, instance: int, config: SimConfig, shared: mmap.mmap, deadline_s: float | None,
+    def open(self, instance: int, config: RunConfig, shared: mmap.mmap, deadline_s: float | None,
              keep_fds: list[int], debug: DebugSetup | None = None, *,
              first: bool = False) -> worker_messages.Message:
         """Open ``instance`` on the shared block ``shared`` (``first``: the instance the worker was
@@ -157,11 +157,11 @@ class Worker:
         self.instances.clear()
 
 
-def serve(conn: Connection, first: SimConfig | None, shared_fd: int | None, debug: DebugSetup | None = None,
+def serve(conn: Connection, first: RunConfig | None, shared_fd: int | None, debug: DebugSetup | None = None,
           deadline_s: float | None = None) -> None:
     """Worker entry point: open instance 0 of ``first`` on the shared block ``shared_fd`` (when
     given), then answer requests until ``End`` or the pipe closes."""
-    worker = Worker()
+    worker = BoardInstances()
 
     def send(reply: worker_messages.Message) -> None:
         conn.send(reply.wire())

@@ -3,10 +3,10 @@
 ``friction``, ``doctor``, ``contest``) goes through here.
 
 - :func:`make_config`: the lab built (WebAssembly, or native), the scenario loaded and checked
-  against it, the plant and the world: one run's :class:`~crslab.worker.config.SimConfig`.
+  against it, the plant and the world: one run's :class:`~crslab.worker.config.RunConfig`.
   A caller that has built the lab already (serve's page shows the build before it runs) passes
   the build (``build=``), so it is not built twice.
-- :func:`started`: the :class:`~crslab.sim.simulation.Simulation` started with its deadline and
+- :func:`started`: the :class:`~crslab.run.board_run.BoardRun` started with its deadline and
   limits, and a lab that defines no ``lab()`` refused (:class:`NoLab`, one wording) before any
   tick.
 - :func:`run_kept`: a started run taken to its end with every sink fed, its result returned with
@@ -27,13 +27,13 @@ from crslab.framework_facts import LAB_BUDGET_INSTRUCTIONS, MOTOR_BOARDS, STARTU
 from crslab.lab.build import LabBuild, build_lab
 from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
+from crslab.run.board_run import DEFAULT_DEADLINE_S, NO_LIMITS, BoardRun, Limits, RunError
+from crslab.run.status import RunResult, RunStatus
 from crslab.sandbox import resolve as resolve_sandbox
 from crslab.scenario.load import Scenario, check_lab, load_scenario
-from crslab.sim.simulation import DEFAULT_DEADLINE_S, NO_LIMITS, Limits, SimError, Simulation
-from crslab.sim.status import RunResult, RunStatus
 from crslab.sinks.memory import MemorySink
 from crslab.sinks.sink import FanOut, Sink
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.world.layout import FREE_AIR, World, load_world
 
@@ -43,7 +43,7 @@ __all__ = ["DEFAULT_DEADLINE_S", "DEFAULT_REST_MOTOR_RAD", "NO_LIMITS", "Limits"
            "run_kept", "started"]
 
 
-class NoLab(SimError):
+class NoLab(RunError):
     """The lab file defines no ``lab()`` (the board would not link without one): refused before
     any tick, with status ``no-lab``."""
 
@@ -69,7 +69,7 @@ def make_config(
     plant: PlantParams | str | Path | None = None,
     world: World | str | Path | None = None,
     build: LabBuild | None = None,
-) -> SimConfig:
+) -> RunConfig:
     """Build the lab (cached) and load the scenario into one run's configuration.
 
     The arm's true resting pose is ``rest_motor_rad``, else the scenario's, else the default.
@@ -104,7 +104,7 @@ def make_config(
         build = build_lab(Path(lab) if lab is not None else None, native=native, sanitize=sanitize,
                           sandboxed=sandboxed, debug=debug, break_when=break_when)
     check_lab(sc, build)
-    return SimConfig(
+    return RunConfig(
         build=build,
         scenario=sc,
         rest_motor_rad=rest,  # type: ignore[arg-type]
@@ -120,25 +120,25 @@ def make_config(
 
 
 @contextmanager
-def started(config: SimConfig, *, deadline_s: float | None = DEFAULT_DEADLINE_S, limits: Limits = NO_LIMITS,
+def started(config: RunConfig, *, deadline_s: float | None = DEFAULT_DEADLINE_S, limits: Limits = NO_LIMITS,
             debug: DebugSetup | None = None,
-            on_started: Callable[[], None] | None = None) -> Iterator[Simulation]:
+            on_started: Callable[[], None] | None = None) -> Iterator[BoardRun]:
     """``config``'s lab started in its worker, ready to run (see
-    :class:`~crslab.sim.simulation.Simulation` for ``deadline_s``, ``limits``, ``debug`` and
+    :class:`~crslab.run.board_run.BoardRun` for ``deadline_s``, ``limits``, ``debug`` and
     ``on_started``); the worker is stopped when the block ends. Raises :class:`NoLab` when the lab
-    defines no ``lab()``, ``SimError`` when the worker cannot start."""
-    with Simulation(config, deadline_s=deadline_s, limits=limits, debug=debug, on_started=on_started) as sim:
+    defines no ``lab()``, ``RunError`` when the worker cannot start."""
+    with BoardRun(config, deadline_s=deadline_s, limits=limits, debug=debug, on_started=on_started) as sim:
         if not sim.defines_lab:
             raise NoLab(config.build.source.name)
         yield sim
 
 
-def run_kept(config: SimConfig, end_tick: int, sinks: Sequence[Sink] = (), *, speed: float | None = None,
+def run_kept(config: RunConfig, end_tick: int, sinks: Sequence[Sink] = (), *, speed: float | None = None,
              deadline_s: float | None = DEFAULT_DEADLINE_S, limits: Limits = NO_LIMITS) -> RunResult:
     """Run ``config`` to ``end_tick`` (``speed`` None: as fast as possible, else x real time),
     feeding ``sinks``, and return the result with every serial call, the print marks and the
     scope log (when ``config.log_signals``) kept. A lab without ``lab()`` ends ``no-lab`` before
-    any tick; raises ``SimError`` when the worker cannot start."""
+    any tick; raises ``RunError`` when the worker cannot start."""
     memory = MemorySink()
     try:
         with started(config, deadline_s=deadline_s, limits=limits) as sim:

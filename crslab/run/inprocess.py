@@ -9,14 +9,14 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from crslab.sim.shared_block import SharedBlock
-from crslab.worker.config import SimConfig
+from crslab.run.shared_block import SharedBlock
+from crslab.worker.config import RunConfig
 
 
 class InProcessRun:
     """The worker's plant, board and lab, set up in this process."""
 
-    def __init__(self, config: SimConfig) -> None:
+    def __init__(self, config: RunConfig) -> None:
         from crslab.worker.board import Board
 
         # a native firmware from a private copy of the lab's shared object: loading the cached one
@@ -48,6 +48,6 @@ class InProcessRun:
         return bytes(out + self.block.take_line())
 
 
-def run_in_process(config: SimConfig, end_tick: int) -> bytes:
+def run_in_process(config: RunConfig, end_tick: int) -> bytes:
     """Run ``config`` to ``end_tick`` in this process; returns the serial bytes."""
     return InProcessRun(config).run(end_tick)

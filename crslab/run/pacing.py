@@ -6,7 +6,7 @@ speed. A run's :class:`Chunks` say how long its chunks are: as fast as possible,
 ``fast_ticks``; at ``speed`` x real time, ``realtime_ticks`` simulated ms scaled by the speed, or
 (``aligned``) as long as it takes to end at the run's own phase of every ``realtime_ticks`` ms of
 the machine's clock (a server's runs wake one after another, not all at once). A
-:class:`~crslab.sim.running.PacedControl` (a host program on a serial port, a page that acts)
+:class:`~crslab.run.running.PacedControl` (a host program on a serial port, a page that acts)
 shortens chunks to what it asks; a debugger makes them :data:`DEBUG_SLICE_TICKS` and ends one at
 the tick it names. After a chunk, the run is due again when the wall clock reaches the tick it
 reached (:meth:`Pacer.due_s`): ``crslab sim`` sleeps until then (:meth:`Pacer.wait`), a server
@@ -30,7 +30,8 @@ import time
 from collections.abc import Sequence
 from typing import NamedTuple
 
-from crslab.sim.running import LiveControl, PacedControl, RunDebugger
+from crslab.framework_facts import TICKS_PER_S
+from crslab.run.running import LiveControl, PacedControl, RunDebugger
 
 REALTIME_SLICE_TICKS = 20
 FAST_SLICE_TICKS = 20_000
@@ -66,7 +67,7 @@ _PACED: dict[type, bool] = {}
 
 
 def _paced(control: LiveControl) -> bool:
-    """Whether ``control`` is a :class:`~crslab.sim.running.PacedControl` (asked once per class:
+    """Whether ``control`` is a :class:`~crslab.run.running.PacedControl` (asked once per class:
     a protocol's ``isinstance`` inspects the class every time)."""
     paced = _PACED.get(type(control))
     if paced is None:
@@ -106,7 +107,7 @@ class Pacer:
         """When ``tick`` is due on the machine's monotonic clock (as fast as possible: now)."""
         if self.speed is None:
             return time.monotonic()
-        return self._wall + (tick - self._tick) / 1000.0 / self.speed
+        return self._wall + (tick - self._tick) / TICKS_PER_S / self.speed
 
     def set_speed(self, speed: float | None, tick: int) -> None:
         """Go on at ``speed`` from ``tick``, due now."""
@@ -123,11 +124,11 @@ class Pacer:
             return chunks.fast_ticks
         if not chunks.aligned:
             return max(1, int(chunks.realtime_ticks * self.speed))
-        period_s = chunks.realtime_ticks / 1000.0
+        period_s = chunks.realtime_ticks / TICKS_PER_S
         ahead_s = (self.phase * period_s - self.due_s(tick)) % period_s
         if ahead_s < period_s / 2:  # the first chunk takes half a period or more, never a sliver
             ahead_s += period_s
-        return max(1, min(chunks.fast_ticks, round(ahead_s * 1000.0 * self.speed)))
+        return max(1, min(chunks.fast_ticks, round(ahead_s * TICKS_PER_S * self.speed)))
 
     def next_chunk(self, tick: int, end_tick: int, controls: Sequence[LiveControl]) -> tuple[int, int | None]:
         """Where the chunk from ``tick`` ends, and the tick the debugger asks to stop before (None)."""
@@ -154,5 +155,5 @@ class Pacer:
             self.restart(tick)
         elif lag > BEHIND_S and not self._warned:
             self._warned = True
-            return Waited(False, (tick - self.tick0) / 1000.0 / self.elapsed_s())
+            return Waited(False, (tick - self.tick0) / TICKS_PER_S / self.elapsed_s())
         return Waited(False, None)

@@ -1,6 +1,6 @@
 """The host ports' side of the shared block, read and written by the crslab process between
 chunks of ticks (the worker is idle then): what left the board on SerialB or SerialC, and what
-the host sent, for the board's receiver from the next tick to run on (csrc/board/sim.h,
+the host sent, for the board's receiver from the next tick to run on (csrc/board/board.h,
 ``crs_host_port``). The block is the lab's to scribble on: every length read is clamped to it.
 """
 

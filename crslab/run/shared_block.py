@@ -1,4 +1,4 @@
-"""The memory the board and the crslab process share (``crs_shared``, csrc/board/sim.h), and its one
+"""The memory the board and the crslab process share (``crs_shared``, csrc/board/board.h), and its one
 reader: what the board printed (the print marks, the bytes that left it with their ticks, what is
 still on the serial line when a run ends), where the worker is (tick and phase), what the sandbox
 refused, and the host ports.
@@ -22,7 +22,7 @@ from collections.abc import Callable
 from typing import Any
 
 from crslab import os_support
-from crslab.sim.host_ports import PortExchange, exchange, port_index
+from crslab.run.host_ports import PortExchange, exchange, port_index
 from crslab.worker.board_ffi import board_ffi, shared_size
 
 TakePrint = Callable[[int, int], None]

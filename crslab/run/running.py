@@ -1,11 +1,11 @@
 """A running lab as the windows into it see it between two chunks of ticks.
 
 The live-variable console, MuJoCo's viewer and the waypoint tracking all act on a lab while it
-runs, through this one interface (:class:`crslab.sim.simulation.Simulation` has it): read and write
+runs, through this one interface (:class:`crslab.run.board_run.BoardRun` has it): read and write
 its watched variables (``get``, ``set``), push the arm (``push``), and know the run's
 configuration and current tick; the serial bridge exchanges bytes with the host ports
 (``exchange``). Each of them that acts after every chunk of ticks is a :class:`LiveControl`, handed
-to ``Simulation.run(controls=...)``; one that needs short chunks is a :class:`PacedControl`.
+to ``BoardRun.run(controls=...)``; one that needs short chunks is a :class:`PacedControl`.
 """
 
 from __future__ import annotations
@@ -15,15 +15,15 @@ from typing import TYPE_CHECKING, Protocol, runtime_checkable
 import numpy as np
 
 if TYPE_CHECKING:
-    from crslab.sim.host_ports import PortExchange
-    from crslab.worker.config import SimConfig
+    from crslab.run.host_ports import PortExchange
+    from crslab.worker.config import RunConfig
 
 
 class RunningLab(Protocol):
     """A lab running in its worker, idle between two chunks of ticks."""
 
     @property
-    def config(self) -> SimConfig:
+    def config(self) -> RunConfig:
         """The run's configuration: the lab's build (watched variables), the scenario, the options."""
         ...
 

@@ -1,12 +1,12 @@
-"""The crslab side of a run: a :class:`Simulation` starts the worker, asks it for chunks of ticks,
+"""The crslab side of a run: a :class:`BoardRun` starts the worker, asks it for chunks of ticks,
 hands what the board printed and everything else the run reports to one sink, and ends with one
-:class:`~crslab.sim.status.RunResult`.
+:class:`~crslab.run.status.RunResult`.
 
 Its parts each have a module: the worker process, started and watched
-(:mod:`crslab.sim.worker_process`); the messages on the pipe, checked once
+(:mod:`crslab.run.worker_process`); the messages on the pipe, checked once
 (:mod:`crslab.worker.worker_messages`); the shared block the board prints into
-(:mod:`crslab.sim.shared_block`); the words for a run that ended early
-(:mod:`crslab.sim.diagnosis`); the length of chunks and the wall clock (:mod:`crslab.sim.pacing`).
+(:mod:`crslab.run.shared_block`); the words for a run that ended early
+(:mod:`crslab.run.diagnosis`); the length of chunks and the wall clock (:mod:`crslab.run.pacing`).
 
 Time: tick k is at t = k ms (tick 0 is t = 0). Where chunks begin and end never changes what the
 lab sees, so the transcript is the same at any speed. Serial bytes come with the tick during which
@@ -25,27 +25,28 @@ from contextlib import AbstractContextManager, contextmanager, nullcontext
 
 import numpy as np
 
+from crslab.framework_facts import TICKS_PER_S
+from crslab.run import diagnosis, termination
+from crslab.run.board_client import DEFAULT_DEADLINE_S, BoardClient, BoardHandle, InstanceNotOpened
+from crslab.run.diagnosis import Ending
+from crslab.run.firmware_trap import diagnose
+from crslab.run.host_ports import PortExchange
+from crslab.run.pacing import Pacer
+from crslab.run.running import LiveControl, PacedControl, RunDebugger
+from crslab.run.status import RunResult, RunStatus
+from crslab.run.worker_process import NO_LIMITS, Limits
 from crslab.scenario.expect_events import Judge
-from crslab.sim import diagnosis, termination
-from crslab.sim.board_worker import DEFAULT_DEADLINE_S, BoardHandle, BoardWorker, InstanceNotOpened
-from crslab.sim.diagnosis import Ending
-from crslab.sim.firmware_trap import diagnose
-from crslab.sim.host_ports import PortExchange
-from crslab.sim.pacing import Pacer
-from crslab.sim.running import LiveControl, PacedControl, RunDebugger
-from crslab.sim.status import RunResult, RunStatus
-from crslab.sim.worker_process import NO_LIMITS, Limits
 from crslab.sinks.sink import FanOut, Sink
 from crslab.worker import worker_messages
 from crslab.worker.board_ffi import board_constants
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.run_stats import RunStats
 
-__all__ = ["DEFAULT_DEADLINE_S", "NO_LIMITS", "CtrlC", "Limits", "SimError", "Simulation"]
+__all__ = ["DEFAULT_DEADLINE_S", "NO_LIMITS", "CtrlC", "Limits", "RunError", "BoardRun"]
 
 
-class SimError(Exception):
+class RunError(Exception):
     """The run could not start (the worker failed before the first tick); ``status`` says how
     (crashed, or forbidden when a constructor tried what the sandbox refuses)."""
 
@@ -136,8 +137,8 @@ class _Printed:
         return self.bytes > self.cap
 
 
-class Simulation:
-    """A running lab: ``with Simulation(config) as sim: sim.run(end_tick, sink, ...)``.
+class BoardRun:
+    """A running lab: ``with BoardRun(config) as sim: sim.run(end_tick, sink, ...)``.
 
     ``debug`` prepares the worker for a debugger (``crslab debug``): the process it names may
     trace it. ``deadline_s`` None never calls the lab hung (a debugger holds it as long as it
@@ -147,9 +148,9 @@ class Simulation:
     share: a server's) instead of starting a worker of its own.
     """
 
-    def __init__(self, config: SimConfig, *, deadline_s: float | None = DEFAULT_DEADLINE_S,
+    def __init__(self, config: RunConfig, *, deadline_s: float | None = DEFAULT_DEADLINE_S,
                  limits: Limits = NO_LIMITS, debug: DebugSetup | None = None,
-                 on_started: Callable[[], None] | None = None, worker: BoardWorker | None = None) -> None:
+                 on_started: Callable[[], None] | None = None, worker: BoardClient | None = None) -> None:
         self.config = config
         self._deadline_s = deadline_s
         self.debug = debug
@@ -169,12 +170,12 @@ class Simulation:
         self._own_worker = worker is None
         try:
             if worker is None:
-                self.board_worker = BoardWorker(config, deadline_s=deadline_s, limits=limits, debug=debug,
+                self.board_client = BoardClient(config, deadline_s=deadline_s, limits=limits, debug=debug,
                                                 on_started=on_started)
-                assert self.board_worker.first is not None
-                self.board: BoardHandle = self.board_worker.first
+                assert self.board_client.first is not None
+                self.board: BoardHandle = self.board_client.first
             else:
-                self.board_worker = worker
+                self.board_client = worker
                 self.board = worker.open(config, deadline_s=deadline_s)
         except InstanceNotOpened as exc:
             reply = exc.reply
@@ -183,9 +184,9 @@ class Simulation:
             elif isinstance(reply, worker_messages.Failed):
                 reply = Ending(RunStatus.CRASHED, 0, f"{self.lab_name}: {reply.message}")
             assert isinstance(reply, Ending)
-            raise SimError(reply.message, reply.status) from None
+            raise RunError(reply.message, reply.status) from None
         self.block = self.board.block
-        self.worker = self.board_worker.process
+        self.worker = self.board_client.process
         self.sanitizer_dir = self.worker.sanitizer_dir
         self.symbols = self.board.symbols
 
@@ -213,7 +214,7 @@ class Simulation:
         return bool(self.symbols & board_constants().CRS_LAB_HAS_LAB)
 
     # -- lifecycle ---------------------------------------------------------------------------
-    def __enter__(self) -> Simulation:
+    def __enter__(self) -> BoardRun:
         return self
 
     def __exit__(self, *exc: object) -> None:
@@ -222,19 +223,19 @@ class Simulation:
     def close(self) -> None:
         """Stop the instance and its worker, unless the worker is shared (it leaves no process
         behind), and free the shared block."""
-        if self.board_worker.alive:
-            stopped = self.board_worker.stop(self.board)
+        if self.board_client.alive:
+            stopped = self.board_client.stop(self.board)
             if stopped is not None:
                 self.stats = stopped.stats
         if self._own_worker:
-            self.board_worker.close()
+            self.board_client.close()
         self.block.close()
 
-    # -- the running lab (crslab.sim.running.RunningLab) ---------------------------------------
+    # -- the running lab (crslab.run.running.RunningLab) ---------------------------------------
     def _ask(self, request: worker_messages.Request) -> float | list[float] | None:
-        reply = self.board_worker.ask(self.board, request)
+        reply = self.board_client.ask(self.board, request)
         if isinstance(reply, Ending):
-            raise SimError(reply.message)
+            raise RunError(reply.message)
         if isinstance(reply, worker_messages.Error):
             raise KeyError(reply.message)
         return reply.value
@@ -284,7 +285,7 @@ class Simulation:
         After every chunk of ticks, once ``sink`` took it, each of ``controls`` is served: the
         worker is idle then, so they may call :meth:`get`, :meth:`set`, :meth:`push` and
         :meth:`exchange` (live variables, the viewer's mouse, the host ports); a
-        :class:`~crslab.sim.running.PacedControl` among them (the serial bridge while a host
+        :class:`~crslab.run.running.PacedControl` among them (the serial bridge while a host
         program is attached) shortens the chunks to what it asks, and is served again right
         before the next chunk when the run waited for the wall clock.
 
@@ -303,7 +304,7 @@ class Simulation:
                 self.worker.kill()
                 tick = self.block.tick
                 how = f"terminated ({exc.name})" if isinstance(exc, termination.Terminated) else "interrupted"
-                ending = Ending(RunStatus.INTERRUPTED, tick, f"{how} at t = {tick / 1000:.3f} s")
+                ending = Ending(RunStatus.INTERRUPTED, tick, f"{how} at t = {tick / TICKS_PER_S:.3f} s")
             return run.ended(ending)  # (its sinks' on_end too: a Ctrl-C now waits for the report)
 
     def start(self, end_tick: int, sink: Sink | None, pacer: Pacer,
@@ -335,7 +336,7 @@ class Simulation:
 
     def run_chunk(self, target: int) -> worker_messages.Ran | Ending:
         """Have the worker run the lab to ``target``: its reply, or how the worker ended."""
-        return self.board_worker.run([(self.board, target)])[0]
+        return self.board_client.run([(self.board, target)])[0]
 
     def _took(self, reply: worker_messages.Ran | Ending, run: ChunkedRun,
               held: Callable[[], AbstractContextManager[None]], serve: bool = True) -> Ending | None:
@@ -414,12 +415,12 @@ class Simulation:
 
 
 class ChunkedRun:
-    """One run of a :class:`Simulation`, taken chunk by chunk: where the next chunk ends
+    """One run of a :class:`BoardRun`, taken chunk by chunk: where the next chunk ends
     (:meth:`next_chunk`), what a chunk's reply hands to the sink and the controls (:meth:`took`),
     and the result once it ended (:meth:`ended`). The worker is asked by the caller, so a server
     may run many labs of one worker forward in one request (crslab/serve/run_host.py)."""
 
-    def __init__(self, sim: Simulation, end_tick: int, sink: Sink, pacer: Pacer,
+    def __init__(self, sim: BoardRun, end_tick: int, sink: Sink, pacer: Pacer,
                  controls: Sequence[LiveControl]) -> None:
         self.sim = sim
         self.end_tick = end_tick

@@ -1,7 +1,7 @@
 /* C-level tests of the host ports (docs/host-tools.md, "The protocols byte by byte"), driven
  * alone: the
  * emulated C28x memory over hand-made variables, SerialC's MATLAB messages and SerialB's Simulink
- * packets through crs_sim_run with a stub plant. Built with -Werror and under ASan/UBSan by
+ * packets through crs_board_run with a stub plant. Built with -Werror and under ASan/UBSan by
  * tests/test_c_core.py; exit status 0 when every check passes.
  *
  * Expected bytes are the worked vectors of docs/host-tools.md (whattoprint = 1.25 at 0xc816 reads
@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "board.h"
+#include "board_io.h"
 #include "c28x_memory.h"
 #include "coecsl.h"
 #include "crs_arm.h"
@@ -26,7 +26,7 @@
 extern int SIMU_Var1_fromSIMU_16bit, SIMU_Var7_fromSIMU_16bit;
 extern float matlabLock;
 #include "firmware_native.h"
-#include "sim.h"
+#include "board.h"
 
 #include "checks.h"
 #include "test_board.h"
@@ -102,40 +102,40 @@ static crs_mem_var VARS[] = {
 static double qpos[3], qvel[3], ctrl[3], qfrc[3];
 static void stub_step(const void *model, void *data) { (void)model, (void)data; }
 
-static crs_sim *new_sim(int generation)
+static crs_board *new_sim(int generation)
 {
     const test_plant plant = {qpos, qvel, ctrl, qfrc, stub_step};
-    crs_sim *sim = test_board(generation, 0, &plant);
-    sim->memory.vars = VARS;
-    sim->memory.count = sizeof VARS / sizeof VARS[0];
+    crs_board *board = test_board(generation, 0, &plant);
+    board->memory.vars = VARS;
+    board->memory.count = sizeof VARS / sizeof VARS[0];
     calls = 0;
     whattoprint = 1.25f;
     matlabLock = 0.0f;
     SIMU_Var1_fromSIMU_16bit = 0;
-    return sim;
+    return board;
 }
 
-static void run_to(crs_sim *sim, int64_t tick)
+static void run_to(crs_board *board, int64_t tick)
 {
-    const int code = crs_sim_run(sim, tick);
+    const int code = crs_board_run(board, tick);
     if (code != CRS_RUN_DONE) {
-        printf("FAIL crs_sim_run stopped with %d at tick %lld\n", code, (long long)sim->tick);
+        printf("FAIL crs_board_run stopped with %d at tick %lld\n", code, (long long)board->tick);
         ++failures;
     }
 }
 
 /* What the host sends between chunks: into the port's inbox. */
-static void host_sends(crs_sim *sim, int port, const unsigned char *bytes, uint32_t n)
+static void host_sends(crs_board *board, int port, const unsigned char *bytes, uint32_t n)
 {
-    crs_host_port *hp = &sim->shared->host_ports[port];
+    crs_host_port *hp = &board->shared->host_ports[port];
     memcpy(hp->inbox + hp->inbox_len, bytes, n);
     hp->inbox_len += n;
 }
 
 /* What left the board on a port since the last look. */
-static uint64_t host_takes(crs_sim *sim, int port, char *out)
+static uint64_t host_takes(crs_board *board, int port, char *out)
 {
-    crs_host_port *hp = &sim->shared->host_ports[port];
+    crs_host_port *hp = &board->shared->host_ports[port];
     const uint64_t n = hp->out_len;
     memcpy(out, hp->out, n);
     hp->out_len = 0;
@@ -148,8 +148,8 @@ static char got[8192];
 
 static void test_memory_words_are_the_c28x_representation(void)
 {
-    crs_sim *sim = new_sim(CRS_GEN_A);
-    const crs_c28x_memory *mem = &sim->memory;
+    crs_board *board = new_sim(CRS_GEN_A);
+    const crs_c28x_memory *mem = &board->memory;
     check("an int is its low 16 bits: -2", crs_mem_read_word(mem, 0x9000) == 0xFFFE);
     check("an int is its low 16 bits: 0x12345 -> 0x2345", crs_mem_read_word(mem, 0x9001) == 0x2345);
     /* -70000 = 0xFFFEEE90: low word first */
@@ -182,116 +182,116 @@ static void test_memory_words_are_the_c28x_representation(void)
     check("one word of a float", whattoprint == 3.0f);
     mode = -2;
     flags = 0xBEEF;
-    test_board_free(sim);
+    test_board_free(board);
 }
 
 /* ---- SerialC ------------------------------------------------------------------------------- */
 
 static void test_gen_a_read_write_and_its_timing(void)
 {
-    crs_sim *sim = new_sim(CRS_GEN_A);
-    run_to(sim, 10);
+    crs_board *board = new_sim(CRS_GEN_A);
+    run_to(board, 10);
     static const unsigned char read[] = {0x2A, 0x09, 0x32, 0x00, 0x00, 0xC8, 0x16, 0x00, 0x01};
-    host_sends(sim, CRS_HOST_PORT_C, read, sizeof read);
+    host_sends(board, CRS_HOST_PORT_C, read, sizeof read);
     /* the 9 bytes arrive during tick 10, the last one 90 000 line units (of 115 200) into it; the
      * reply leaves from then on: 2 bytes by 110 000, the other 5 during tick 11 */
     static const unsigned char reply[] = {0x2A, 0x04, 0x33, 0x00, 0x00, 0xA0, 0x3F};
-    run_to(sim, 11);
+    run_to(board, 11);
     check_bytes("the reply starts as the request's last byte arrives", got,
-                host_takes(sim, CRS_HOST_PORT_C, got), reply, 2);
-    run_to(sim, 12);
-    check_bytes("read whattoprint = 1.25 (the worked vector)", got, host_takes(sim, CRS_HOST_PORT_C, got),
+                host_takes(board, CRS_HOST_PORT_C, got), reply, 2);
+    run_to(board, 12);
+    check_bytes("read whattoprint = 1.25 (the worked vector)", got, host_takes(board, CRS_HOST_PORT_C, got),
                 reply + 2, sizeof reply - 2);
     check("a Gen A read sets matlabLock", matlabLock == 1.0f);
 
     /* write 3.75 in two pieces, as ME446_serialwrite's two fwrite calls; no timeout */
     static const unsigned char head[] = {0x2A, 0x0B, 0x33, 0x00, 0x00, 0xC8, 0x16};
     static const unsigned char value[] = {0x00, 0x00, 0x70, 0x40};
-    host_sends(sim, CRS_HOST_PORT_C, head, sizeof head);
-    run_to(sim, 50);
+    host_sends(board, CRS_HOST_PORT_C, head, sizeof head);
+    run_to(board, 50);
     check("half a write changes nothing", whattoprint == 1.25f);
-    host_sends(sim, CRS_HOST_PORT_C, value, sizeof value);
-    run_to(sim, 52);
+    host_sends(board, CRS_HOST_PORT_C, value, sizeof value);
+    run_to(board, 52);
     /* the value's 4 bytes arrive during tick 50: lab() of tick 50 sees 1.25, tick 51 sees 3.75 */
     check("lab() of the tick the write arrives sees the old value", seen_whattoprint[50] == 1.25f);
     check("the next lab() sees the new value", seen_whattoprint[51] == 3.75f);
-    check("a write has no reply", host_takes(sim, CRS_HOST_PORT_C, got) == 0);
+    check("a write has no reply", host_takes(board, CRS_HOST_PORT_C, got) == 0);
 
     /* '1' (Gen A): the value big endian: -2.5 = C0 20 00 00 */
     static const unsigned char write_be[] = {0x2A, 0x0B, 0x31, 0x00, 0x00, 0xC8, 0x16, 0xC0, 0x20, 0x00, 0x00};
-    host_sends(sim, CRS_HOST_PORT_C, write_be, sizeof write_be);
-    run_to(sim, 60);
+    host_sends(board, CRS_HOST_PORT_C, write_be, sizeof write_be);
+    run_to(board, 60);
     check("'1' writes a big-endian value", whattoprint == -2.5f);
 
     /* two pairs in one '3': theta1array[0] = 1.0 and theta1array[1] = -1.0 */
     static const unsigned char pairs[] = {0x2A, 0x13, 0x33, 0x00, 0x00, 0xC4, 0xC0, 0x00, 0x00, 0x80, 0x3F,
                                           0x00, 0x00, 0xC4, 0xC2, 0x00, 0x00, 0x80, 0xBF};
-    host_sends(sim, CRS_HOST_PORT_C, pairs, sizeof pairs);
-    run_to(sim, 70);
+    host_sends(board, CRS_HOST_PORT_C, pairs, sizeof pairs);
+    run_to(board, 70);
     check("a '3' of two pairs writes both", theta1array[0] == 1.0f && theta1array[1] == -1.0f);
 
     /* '0' echo of two addresses: address and value, both big endian */
     static const unsigned char echo[] = {0x2A, 0x0B, 0x30, 0x00, 0x00, 0xC8, 0x16, 0x00, 0x00, 0xC4, 0xC0};
-    host_sends(sim, CRS_HOST_PORT_C, echo, sizeof echo);
-    run_to(sim, 80);
+    host_sends(board, CRS_HOST_PORT_C, echo, sizeof echo);
+    run_to(board, 80);
     static const unsigned char echoed[] = {0x2A, 0x13, 0x30, 0x00, 0x00, 0xC8, 0x16, 0xC0, 0x20, 0x00, 0x00,
                                            0x00, 0x00, 0xC4, 0xC0, 0x3F, 0x80, 0x00, 0x00};
-    check_bytes("'0' echoes addresses and big-endian values", got, host_takes(sim, CRS_HOST_PORT_C, got),
+    check_bytes("'0' echoes addresses and big-endian values", got, host_takes(board, CRS_HOST_PORT_C, got),
                 echoed, sizeof echoed);
 
     /* a 2-byte message re-dispatches the last message's payload: a '2' read is read afresh */
-    host_sends(sim, CRS_HOST_PORT_C, read, sizeof read);
-    run_to(sim, 90);
-    host_takes(sim, CRS_HOST_PORT_C, got);
+    host_sends(board, CRS_HOST_PORT_C, read, sizeof read);
+    run_to(board, 90);
+    host_takes(board, CRS_HOST_PORT_C, got);
     whattoprint = 0.5f; /* 3F000000 */
     static const unsigned char again[] = {0x2A, 0x02};
-    host_sends(sim, CRS_HOST_PORT_C, again, sizeof again);
-    run_to(sim, 100);
+    host_sends(board, CRS_HOST_PORT_C, again, sizeof again);
+    run_to(board, 100);
     static const unsigned char reread[] = {0x2A, 0x04, 0x33, 0x00, 0x00, 0x00, 0x3F};
-    check_bytes("L = 2 answers the last read again", got, host_takes(sim, CRS_HOST_PORT_C, got), reread,
+    check_bytes("L = 2 answers the last read again", got, host_takes(board, CRS_HOST_PORT_C, got), reread,
                 sizeof reread);
 
     /* an unknown command: no reply; junk before a '*' is skipped */
     static const unsigned char junk[] = {0x00, 0x41, 0x2A, 0x04, 0x39, 0x39};
-    host_sends(sim, CRS_HOST_PORT_C, junk, sizeof junk);
-    host_sends(sim, CRS_HOST_PORT_C, read, sizeof read);
-    run_to(sim, 110);
-    check_bytes("junk and an unknown command are ignored", got, host_takes(sim, CRS_HOST_PORT_C, got),
+    host_sends(board, CRS_HOST_PORT_C, junk, sizeof junk);
+    host_sends(board, CRS_HOST_PORT_C, read, sizeof read);
+    run_to(board, 110);
+    check_bytes("junk and an unknown command are ignored", got, host_takes(board, CRS_HOST_PORT_C, got),
                 reread, sizeof reread);
 
     /* a length byte of 0 wedges the receiver for good */
     static const unsigned char wedge[] = {0x2A, 0x00};
-    host_sends(sim, CRS_HOST_PORT_C, wedge, sizeof wedge);
-    host_sends(sim, CRS_HOST_PORT_C, read, sizeof read);
-    run_to(sim, 130);
-    check("a length byte of 0 wedges the receiver", host_takes(sim, CRS_HOST_PORT_C, got) == 0
-          && sim->shared->host_ports[CRS_HOST_PORT_C].wedged == 1
-          && sim->shared->host_ports[CRS_HOST_PORT_C].wedged_tick == 110);
-    test_board_free(sim);
+    host_sends(board, CRS_HOST_PORT_C, wedge, sizeof wedge);
+    host_sends(board, CRS_HOST_PORT_C, read, sizeof read);
+    run_to(board, 130);
+    check("a length byte of 0 wedges the receiver", host_takes(board, CRS_HOST_PORT_C, got) == 0
+          && board->shared->host_ports[CRS_HOST_PORT_C].wedged == 1
+          && board->shared->host_ports[CRS_HOST_PORT_C].wedged_tick == 110);
+    test_board_free(board);
 }
 
 static void test_gen_b_ignores_echo_and_big_endian_writes_and_its_ring_limits_a_read(void)
 {
-    crs_sim *sim = new_sim(CRS_GEN_B);
+    crs_board *board = new_sim(CRS_GEN_B);
     static const unsigned char write_be[] = {0x2A, 0x0B, 0x31, 0x00, 0x00, 0xC8, 0x16, 0xC0, 0x20, 0x00, 0x00};
     static const unsigned char echo[] = {0x2A, 0x07, 0x30, 0x00, 0x00, 0xC8, 0x16};
-    host_sends(sim, CRS_HOST_PORT_C, write_be, sizeof write_be);
-    host_sends(sim, CRS_HOST_PORT_C, echo, sizeof echo);
-    run_to(sim, 10);
-    check("Gen B ignores '1' and '0'", whattoprint == 1.25f && host_takes(sim, CRS_HOST_PORT_C, got) == 0);
+    host_sends(board, CRS_HOST_PORT_C, write_be, sizeof write_be);
+    host_sends(board, CRS_HOST_PORT_C, echo, sizeof echo);
+    run_to(board, 10);
+    check("Gen B ignores '1' and '0'", whattoprint == 1.25f && host_takes(board, CRS_HOST_PORT_C, got) == 0);
     static const unsigned char read1[] = {0x2A, 0x09, 0x32, 0x00, 0x00, 0xC8, 0x16, 0x00, 0x01};
-    host_sends(sim, CRS_HOST_PORT_C, read1, sizeof read1);
-    run_to(sim, 20);
-    host_takes(sim, CRS_HOST_PORT_C, got);
+    host_sends(board, CRS_HOST_PORT_C, read1, sizeof read1);
+    run_to(board, 20);
+    host_takes(board, CRS_HOST_PORT_C, got);
     check("a Gen B read leaves matlabLock alone", matlabLock == 0.0f);
 
     /* 600 floats from theta1array on: the 2000-byte ring plus the FIFO and the shift register take
      * the header and 503 floats and 2 bytes of the next; the reply takes 176 ms to leave */
     for (int i = 0; i < 100; ++i) theta1array[i] = (float)i;
     static const unsigned char read600[] = {0x2A, 0x09, 0x32, 0x00, 0x00, 0xC4, 0xC0, 0x02, 0x58};
-    host_sends(sim, CRS_HOST_PORT_C, read600, sizeof read600);
-    run_to(sim, 300);
-    const uint64_t n = host_takes(sim, CRS_HOST_PORT_C, got);
+    host_sends(board, CRS_HOST_PORT_C, read600, sizeof read600);
+    run_to(board, 300);
+    const uint64_t n = host_takes(board, CRS_HOST_PORT_C, got);
     check("the reply is cut at the ring", n == 2017);
     check("its header counts 603 mod 256", (unsigned char)got[1] == (603 & 0xFF) && got[2] == '3');
     float f;
@@ -299,35 +299,35 @@ static void test_gen_b_ignores_echo_and_big_endian_writes_and_its_ring_limits_a_
     check("float 99 is theta1array[99]", f == 99.0f);
     memcpy(&f, got + 3 + 4 * 100, 4);
     check("float 100 runs into whatever follows (nothing: 0)", f == 0.0f);
-    check("the dropped bytes are counted", sim->shared->host_ports[CRS_HOST_PORT_C].tx_dropped == 2403 - 2017);
-    test_board_free(sim);
+    check("the dropped bytes are counted", board->shared->host_ports[CRS_HOST_PORT_C].tx_dropped == 2403 - 2017);
+    test_board_free(board);
 }
 
 /* ---- SerialB ------------------------------------------------------------------------------- */
 
 static void test_simulink_packets_are_answered_at_once_and_reach_the_lab(void)
 {
-    crs_sim *sim = new_sim(CRS_GEN_B);
+    crs_board *board = new_sim(CRS_GEN_B);
     /* V1 = -3 (FD FF), V2..V7 = 2..7 */
     static const unsigned char packet[] = {0xFF, 0x7F, 0xFD, 0xFF, 0x02, 0x00, 0x03, 0x00, 0x04, 0x00,
                                            0x05, 0x00, 0x06, 0x00, 0x07, 0x00};
     /* right after reset the first byte is tested for 7F alone: the FF takes the flag, the 7F
      * after it is not a start, and the first packet goes unanswered */
-    host_sends(sim, CRS_HOST_PORT_B, packet, sizeof packet);
-    run_to(sim, 20);
-    check("the first packet after reset is lost", host_takes(sim, CRS_HOST_PORT_B, got) == 0
+    host_sends(board, CRS_HOST_PORT_B, packet, sizeof packet);
+    run_to(board, 20);
+    check("the first packet after reset is lost", host_takes(board, CRS_HOST_PORT_B, got) == 0
           && SIMU_Var1_fromSIMU_16bit == 0);
-    host_sends(sim, CRS_HOST_PORT_B, packet, sizeof packet);
+    host_sends(board, CRS_HOST_PORT_B, packet, sizeof packet);
     /* bytes 1..11 arrive during tick 20, 12..16 during tick 21: the 7F (byte 2, 20 000 line units
      * into tick 20) is answered at once with the PlotVars after lab() of tick 20, 9 of the reply's
      * bytes leaving during tick 20; the values are stored after tick 21's lab() */
-    run_to(sim, 21);
-    uint64_t n = host_takes(sim, CRS_HOST_PORT_B, got);
+    run_to(board, 21);
+    uint64_t n = host_takes(board, CRS_HOST_PORT_B, got);
     check("the reply starts before the packet has all arrived", n == 9);
-    run_to(sim, 23);
+    run_to(board, 23);
     check("lab() of tick 21 has not seen the values", seen_simu1[21] == 0);
     check("lab() of tick 22 sees them", seen_simu1[22] == -3 && SIMU_Var7_fromSIMU_16bit == 7);
-    n += host_takes(sim, CRS_HOST_PORT_B, got + n);
+    n += host_takes(board, CRS_HOST_PORT_B, got + n);
     int32_t v[4];
     memcpy(v, got, sizeof v);
     check("the reply is 16 bytes", n == 16);
@@ -336,7 +336,7 @@ static void test_simulink_packets_are_answered_at_once_and_reach_the_lab(void)
     check("PlotVar4: saturated", v[3] == INT32_MAX);
 
     /* the first byte after reset is tested for 7F alone; a stray FF 7F while hunting syncs */
-    crs_sim *fresh = new_sim(CRS_GEN_A);
+    crs_board *fresh = new_sim(CRS_GEN_A);
     static const unsigned char bare[] = {0x7F, 0x09, 0x00, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
     host_sends(fresh, CRS_HOST_PORT_B, bare, sizeof bare);
     run_to(fresh, 5);
@@ -348,7 +348,7 @@ static void test_simulink_packets_are_answered_at_once_and_reach_the_lab(void)
     check("a packet after a stray byte", SIMU_Var1_fromSIMU_16bit == 1 && host_takes(fresh, CRS_HOST_PORT_B, got) == 16);
     free(fresh->shared);
     free(fresh);
-    test_board_free(sim);
+    test_board_free(board);
 }
 
 static void test_simulink_scaling(void)

@@ -1,5 +1,5 @@
-"""One line of diagnosis for a WebAssembly firmware that stopped (``crs_sim.trap``, sent by the
-worker as a dict, see :func:`crslab.worker.worker.trap_info`): what happened, in which function and
+"""One line of diagnosis for a WebAssembly firmware that stopped (``crs_board.trap``, sent by the
+worker as a dict, see :func:`crslab.worker.main.trap_info`): what happened, in which function and
 line of the lab file, where in the tick, and how the run is classed.
 
 The board is trusted and the worker survives the firmware's trap, so the transcript up to the trap
@@ -24,8 +24,9 @@ from __future__ import annotations
 import re
 from pathlib import Path, PurePath
 
-from crslab.sim.status import RunStatus
-from crslab.sim.wasm_lines import line_at
+from crslab.framework_facts import TICKS_PER_S
+from crslab.run.status import RunStatus
+from crslab.run.wasm_lines import line_at
 from crslab.untrusted_text import for_terminal
 from crslab.worker.board_ffi import board_constants
 
@@ -64,7 +65,7 @@ _FRAME_AT = re.compile(r"^\s*\d+:\s+(0x[0-9a-f]+) - (\S+)\n\s*at (.+?)(?::(\d+))
 def where_stopped(text: str, lab_name: str, image: Path | None = None) -> str:
     """Where in the lab's own file a firmware that was stopped (an interrupt) was: ``FILE:LINE in
     FUNCTION()`` of the innermost frame in the lab's file (a line wasmtime does not give, as for a
-    loop's head, read from the firmware ``image``'s own line table: :mod:`crslab.sim.wasm_lines`),
+    loop's head, read from the firmware ``image``'s own line table: :mod:`crslab.run.wasm_lines`),
     ``in FUNCTION() (FILE)`` when its line is not known, else empty.
 
     >>> where_stopped("    0:   0x561a - wait_ready\\n        at /x/hang.c\\n    1: 0x50b - lab\\n"
@@ -103,7 +104,7 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None,
     text = str(trap.get("text", ""))
     func, where = _phase_words(phase)
     at = ("before the first tick" if phase == c.CRS_PHASE_LOADING
-          else f"at tick {tick} (t = {tick / 1000:.3f} s)")
+          else f"at tick {tick} (t = {tick / TICKS_PER_S:.3f} s)")
     line = f"{lab_name}:{int(trap['line'])}" if int(trap.get("line", 0)) > 0 else where_in(text, lab_name)
     place = f"at {line} {where}" if line else where
     if kind == c.CRS_FW_TRAP_INTERRUPT:

@@ -4,7 +4,7 @@ the board's print buffer, returned a NaN under ``--strict``, or wrote into crsla
 
 Each is an :class:`Ending`: the status, the tick and the words, read from what survives the worker
 (its exit status, the shared block, the sanitizer's report) and never from anything it said. A
-WebAssembly firmware's own traps are worded by :mod:`crslab.sim.firmware_trap`.
+WebAssembly firmware's own traps are worded by :mod:`crslab.run.firmware_trap`.
 
 >>> hung("lab.c", "printing()", 5100, 0.5).message
 'lab.c hung: printing() did not return within 0.5 s at tick 5100 (t = 5.100 s)'
@@ -17,9 +17,10 @@ import signal
 from pathlib import Path
 from typing import NamedTuple
 
-from crslab.sim.sanitizer import summarize_sanitizer_report
-from crslab.sim.shared_block import SharedBlock
-from crslab.sim.status import RunStatus
+from crslab.framework_facts import TICKS_PER_S
+from crslab.run.sanitizer import summarize_sanitizer_report
+from crslab.run.shared_block import SharedBlock
+from crslab.run.status import RunStatus
 from crslab.untrusted_text import for_terminal
 from crslab.worker.board_ffi import board_constants
 from crslab.worker.run_stats import RunStats
@@ -39,7 +40,7 @@ def at_tick(tick: int) -> str:
     >>> at_tick(5123)
     'at tick 5123 (t = 5.123 s)'
     """
-    return f"at tick {tick} (t = {tick / 1000:.3f} s)"
+    return f"at tick {tick} (t = {tick / TICKS_PER_S:.3f} s)"
 
 
 def phase_where(phase: int) -> str:
@@ -171,7 +172,7 @@ def tampered(lab_name: str, what: str, tick: int) -> Ending:
     """The lab wrote into the pipe to crslab (it is unpickled by nobody); ``tick`` is an upper
     bound, as the worker may have run on a little since."""
     return Ending(RunStatus.FORBIDDEN, tick, f"{lab_name} was stopped by the sandbox: it tried to write "
-                  f"into crslab's pipe ({what}) by tick {tick} (t = {tick / 1000:.3f} s)")
+                  f"into crslab's pipe ({what}) by tick {tick} (t = {tick / TICKS_PER_S:.3f} s)")
 
 
 def nan_strict(lab_name: str, stats: RunStats, tick: int) -> Ending:

@@ -1,21 +1,21 @@
-"""Board instances in worker processes, seen from the crslab process: a :class:`BoardWorker` starts
-one worker (:mod:`crslab.sim.worker_process`) and opens, runs and stops board instances in it; a
+"""Board instances in worker processes, seen from the crslab process: a :class:`BoardClient` starts
+one worker (:mod:`crslab.run.worker_process`) and opens, runs and stops board instances in it; a
 :class:`BoardHandle` is one instance (its number in the worker, its shared block, its last tick and
-counters). :class:`crslab.sim.simulation.Simulation` runs one instance in a worker of its own; a
+counters). :class:`crslab.run.board_run.BoardRun` runs one instance in a worker of its own; a
 server runs many sessions as instances of a few workers (one per core).
 
 A WebAssembly worker holds any number of instances, of any labs: they share one wasmtime engine,
 one compiled module per distinct firmware and one MuJoCo model per world and plant, and a fault in
 one firmware (a trap, a call past its deadline, a print that overflows the board's buffer) ends
 that instance's run only (its :class:`~crslab.worker.worker_messages.Ran` says
-``CRS_RUN_TRAPPED`` or another stop code); :meth:`BoardWorker.run` runs many instances forward in
+``CRS_RUN_TRAPPED`` or another stop code); :meth:`BoardClient.run` runs many instances forward in
 one request, one reply each. A native worker (``--native``, ``--sanitize``, ``crslab debug``)
 holds the one instance it was started with: nothing contains its lab otherwise. When the worker
 process itself ends (it died, it was killed at a deadline it did not keep, a native lab forged a
-reply), every instance of it ends with the same :class:`~crslab.sim.diagnosis.Ending`.
+reply), every instance of it ends with the same :class:`~crslab.run.diagnosis.Ending`.
 
->>> from crslab.sim.board_worker import BoardWorker  # doctest: +SKIP
->>> workers = [BoardWorker() for _ in range(2)]  # doctest: +SKIP
+>>> from crslab.run.board_client import BoardClient  # doctest: +SKIP
+>>> workers = [BoardClient() for _ in range(2)]  # doctest: +SKIP
 >>> a = workers[0].open(config_a); b = workers[1].open(config_b)  # doctest: +SKIP
 >>> workers[0].run([(a, 1000)])  # doctest: +SKIP
 """
@@ -24,12 +24,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
-from crslab.sim.diagnosis import Ending
-from crslab.sim.shared_block import SharedBlock
-from crslab.sim.status import RunStatus
-from crslab.sim.worker_process import NO_LIMITS, READY_TIMEOUT_S, Limits, WorkerProcess
+from crslab.run.diagnosis import Ending
+from crslab.run.shared_block import SharedBlock
+from crslab.run.status import RunStatus
+from crslab.run.worker_process import NO_LIMITS, READY_TIMEOUT_S, Limits, WorkerProcess
 from crslab.worker import worker_messages
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.run_stats import RunStats
 
@@ -37,12 +37,12 @@ DEFAULT_DEADLINE_S = 2.0
 """How long one call of a lab's firmware (lab(), printing(), a constructor) may run before it is
 interrupted and its run ends ``hung``, by default (``--deadline``)."""
 
-__all__ = ["DEFAULT_DEADLINE_S", "BoardHandle", "BoardWorker", "InstanceNotOpened"]
+__all__ = ["DEFAULT_DEADLINE_S", "BoardHandle", "BoardClient", "InstanceNotOpened"]
 
 
 class InstanceNotOpened(Exception):
     """An instance could not be opened: ``reply`` is the worker's :class:`Trapped` or
-    :class:`Failed`, or the :class:`~crslab.sim.diagnosis.Ending` of the worker meanwhile."""
+    :class:`Failed`, or the :class:`~crslab.run.diagnosis.Ending` of the worker meanwhile."""
 
     def __init__(self, reply: object) -> None:
         super().__init__(str(reply))
@@ -50,12 +50,12 @@ class InstanceNotOpened(Exception):
 
 
 class BoardHandle:
-    """One board instance of a :class:`BoardWorker`: ``id`` (its number in the worker), ``config``,
+    """One board instance of a :class:`BoardClient`: ``id`` (its number in the worker), ``config``,
     ``block`` (its shared block: its serial bytes, its host ports, where it is), ``symbols`` (the
     lab's ``CRS_LAB_HAS_*`` bits), and, as its runs come back, ``tick`` and ``stats``. ``ending``
     is set once the worker process it lived in ended (every later request of it is refused)."""
 
-    def __init__(self, worker: BoardWorker, instance: int, config: SimConfig, block: SharedBlock,
+    def __init__(self, worker: BoardClient, instance: int, config: RunConfig, block: SharedBlock,
                  deadline_s: float | None) -> None:
         self.worker = worker
         self.id = instance
@@ -77,7 +77,7 @@ class BoardHandle:
         return f"<BoardHandle {self.id} of {self.lab_name} at tick {self.tick}>"
 
 
-class BoardWorker:
+class BoardClient:
     """A worker process and the board instances it holds (see the module's text).
 
     ``first``: the configuration of an instance opened while the worker starts (its handle is
@@ -88,7 +88,7 @@ class BoardWorker:
     cannot be opened (the worker is ended then).
     """
 
-    def __init__(self, first: SimConfig | None = None, *, deadline_s: float | None = DEFAULT_DEADLINE_S,
+    def __init__(self, first: RunConfig | None = None, *, deadline_s: float | None = DEFAULT_DEADLINE_S,
                  limits: Limits = NO_LIMITS, debug: DebugSetup | None = None,
                  on_started: Callable[[], None] | None = None) -> None:
         self.limits = limits
@@ -122,7 +122,7 @@ class BoardWorker:
         """Whether the worker process still runs."""
         return self.process.process.is_alive()
 
-    def _handle(self, config: SimConfig, block: SharedBlock, deadline_s: float | None) -> BoardHandle:
+    def _handle(self, config: RunConfig, block: SharedBlock, deadline_s: float | None) -> BoardHandle:
         handle = BoardHandle(self, self._next_id, config, block, deadline_s)
         self._next_id += 1
         return handle
@@ -138,12 +138,12 @@ class BoardWorker:
         self.handles[handle.id] = handle
 
     # -- instances -----------------------------------------------------------------------------
-    def open(self, config: SimConfig, *, deadline_s: float | None = DEFAULT_DEADLINE_S) -> BoardHandle:
+    def open(self, config: RunConfig, *, deadline_s: float | None = DEFAULT_DEADLINE_S) -> BoardHandle:
         """Open an instance running ``config`` (a WebAssembly firmware) in this worker; raises
         :class:`InstanceNotOpened` when its firmware cannot be loaded or stops in a constructor
         (the worker and its other instances go on), or the worker ended meanwhile."""
         if self.native or config.build.native:
-            raise ValueError("a native firmware runs in a worker of its own (BoardWorker(first=config))")
+            raise ValueError("a native firmware runs in a worker of its own (BoardClient(first=config))")
         block = SharedBlock.new()
         handle = self._handle(config, block, deadline_s)
         try:
@@ -163,7 +163,7 @@ class BoardWorker:
             ) -> list[worker_messages.Ran | Ending]:
         """Run each handle of ``targets`` to its tick, in one request: one result per target, in
         order: its :class:`~crslab.worker.worker_messages.Ran` (a faulted firmware's says how it
-        stopped), or the :class:`~crslab.sim.diagnosis.Ending` of the worker process when it
+        stopped), or the :class:`~crslab.run.diagnosis.Ending` of the worker process when it
         ended meanwhile (then of every handle of it). ``each(i, ran)`` is called with each
         target's ``Ran`` as it comes, while the worker runs the next ones (it must not ask this
         worker anything)."""

@@ -1,7 +1,7 @@
 """SIGTERM and SIGHUP (a closed terminal, ``kill``, a CI job's time-out) end a crslab command as
 Ctrl-C does: the run stops between chunks, what the lab printed is kept, the serial links, the
 map and the ``--pty-link`` are removed, and one line says "terminated at t = ...". The
-``crslab`` command installs :func:`install` first; :class:`crslab.sim.simulation.CtrlC` takes the
+``crslab`` command installs :func:`install` first; :class:`crslab.run.board_run.CtrlC` takes the
 signals over during a run exactly as it takes SIGINT. The exit status is the shell's for the
 signal (128 + its number: 143 for SIGTERM, 129 for SIGHUP).
 

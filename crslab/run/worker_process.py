@@ -1,10 +1,10 @@
 """The worker as a process seen from the crslab process: started (forked, or spawned with the
 sanitizer runtime for ``--sanitize``), asked through the pipe (:mod:`crslab.worker.worker_messages`),
 watched while it works, and stopped so that it leaves no process behind. Its board instances are
-:mod:`crslab.sim.board_worker`'s to open and run.
+:mod:`crslab.run.board_client`'s to open and run.
 
 While a request is out, :meth:`WorkerProcess.reply` watches what the worker cannot hide: that it
-is alive (else :func:`crslab.sim.diagnosis.died` says why), how long a lab's current call has
+is alive (else :func:`crslab.run.diagnosis.died` says why), how long a lab's current call has
 run by the phase its board wrote into its shared block (a WebAssembly firmware is interrupted at
 its deadline by the worker's own watchdog and the worker answers; a native worker, or a
 WebAssembly one that does not answer within a grace, is killed), its CPU time by the kernel's count
@@ -32,13 +32,13 @@ from pathlib import Path
 from typing import Any
 
 from crslab import os_support
-from crslab.sim import diagnosis
-from crslab.sim.diagnosis import Ending, WorkerDeath
-from crslab.sim.sanitizer import asan_runtime
-from crslab.sim.shared_block import SharedBlock
-from crslab.sim.status import RunStatus
+from crslab.run import diagnosis
+from crslab.run.diagnosis import Ending, WorkerDeath
+from crslab.run.sanitizer import asan_runtime
+from crslab.run.shared_block import SharedBlock
+from crslab.run.status import RunStatus
 from crslab.worker.board_ffi import board_constants
-from crslab.worker.config import SimConfig
+from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.worker_messages import End, Message, read_reply
 from crslab.worker.worker_reply import UnreadableReply, receive
@@ -93,7 +93,7 @@ def _same(dup: Any) -> Any:
     return dup
 
 
-def _child(conn: Connection, config: SimConfig | None, shared: WorkerFd | None, limits: Limits = NO_LIMITS,
+def _child(conn: Connection, config: RunConfig | None, shared: WorkerFd | None, limits: Limits = NO_LIMITS,
            debug: DebugSetup | None = None, console: WorkerFd | None = None,
            deadline_s: float | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
@@ -122,7 +122,7 @@ def _child(conn: Connection, config: SimConfig | None, shared: WorkerFd | None, 
     # the worker never draws: MuJoCo's import then makes no OpenGL context (glfw, whose import loads
     # cffi's C parser: some 40-100 ms of CPU before the first lab() call); a user's MUJOCO_GL stays
     os.environ.setdefault("MUJOCO_GL", "disable")
-    from crslab.worker.worker import serve
+    from crslab.worker.main import serve
 
     serve(conn, config, shared.detach() if shared is not None else None, debug, deadline_s)
     os._exit(0)
@@ -133,7 +133,7 @@ class WorkerProcess:
     while the worker starts; a native worker holds only that one), else (a WebAssembly worker) it
     starts with no instance. See the module's text."""
 
-    def __init__(self, config: SimConfig | None, block: SharedBlock | None, limits: Limits = NO_LIMITS,
+    def __init__(self, config: RunConfig | None, block: SharedBlock | None, limits: Limits = NO_LIMITS,
                  debug: DebugSetup | None = None, deadline_s: float | None = None) -> None:
         self.config = config
         self.block = block
@@ -217,7 +217,7 @@ class WorkerProcess:
               during_setup: bool = False, ticks: int | None = None, instance: int | None = None,
               blocks: list[SharedBlock] | None = None) -> Any:
         """The worker's next reply, checked to be one of ``due`` (about ``instance`` when given), or
-        how the run ended meanwhile (an :class:`~crslab.sim.diagnosis.Ending`): the worker died
+        how the run ended meanwhile (an :class:`~crslab.run.diagnosis.Ending`): the worker died
         (``during_setup``: before it was ready), a lab() or printing() call of the instance of one
         of ``blocks`` (default: instance 0's) ran past ``deadline_s`` and the worker did not answer,
         the worker used more CPU time than a chunk of ``ticks`` may (:data:`CPU_S_PER_TICK` each,

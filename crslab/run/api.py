@@ -10,11 +10,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
+from crslab.run.assemble import DEFAULT_REST_MOTOR_RAD, make_config, run_kept
+from crslab.run.board_run import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
+from crslab.run.status import RunResult
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import Scenario
-from crslab.sim.assemble import DEFAULT_REST_MOTOR_RAD, make_config, run_kept
-from crslab.sim.simulation import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
-from crslab.sim.status import RunResult
 from crslab.sinks.sink import Sink
 
 __all__ = ["DEFAULT_REST_MOTOR_RAD", "make_config", "simulate"]

@@ -2,7 +2,7 @@
  * serial_printf, the GPIO registers, the clock. */
 #define _POSIX_C_SOURCE 199309L
 
-#include "board.h"
+#include "board_io.h"
 
 #include <stdint.h>
 #include <stdio.h>
@@ -20,24 +20,24 @@ int64_t crs_now_ns(void)
     return (int64_t)ts.tv_sec * 1000000000LL + ts.tv_nsec;
 }
 
-int crs_board_check_generation(crs_sim *sim)
+int crs_board_check_generation(crs_board *board)
 {
-    const crs_generation *gen = crs_generation_of(sim->generation);
+    const crs_generation *gen = crs_generation_of(board->generation);
     const char *problem = crs_generation_problem(gen);
     if (problem == NULL) {
-        sim->gen = gen; /* the row every serial_printf and host reply reads */
+        board->gen = gen; /* the row every serial_printf and host reply reads */
         return 0;
     }
-    crs_fw_trap *t = &sim->trap;
+    crs_fw_trap *t = &board->trap;
     t->kind = CRS_FW_TRAP_LOAD;
     t->phase = CRS_PHASE_LOADING;
-    t->tick = sim->tick;
+    t->tick = board->tick;
     if (gen != NULL) {
         snprintf(t->text, sizeof t->text, "framework generation %s cannot run: %s", gen->name, problem);
         return CRS_RUN_TRAPPED;
     }
     int n = snprintf(t->text, sizeof t->text, "the board knows no framework generation %d (it knows",
-                     (int)sim->generation);
+                     (int)board->generation);
     for (int32_t i = 0; i < crs_generation_count() && n > 0 && (size_t)n < sizeof t->text; ++i) {
         const crs_generation *g = crs_generation_at(i);
         n += snprintf(t->text + n, sizeof t->text - (size_t)n, "%s %s (%d)", i == 0 ? "" : ",", g->name,
@@ -47,55 +47,55 @@ int crs_board_check_generation(crs_sim *sim)
     return CRS_RUN_TRAPPED;
 }
 
-void crs_board_lab_cost(crs_sim *sim, int64_t cost)
+void crs_board_lab_cost(crs_board *board, int64_t cost)
 {
-    sim->lab_cost_total += cost;
-    if (cost > sim->lab_cost_max) {
-        sim->lab_cost_max = cost;
-        sim->lab_max_tick = sim->tick;
+    board->lab_cost_total += cost;
+    if (cost > board->lab_cost_max) {
+        board->lab_cost_max = cost;
+        board->lab_max_tick = board->tick;
     }
-    if (cost > sim->budget) {
-        const int64_t kept = (int64_t)(sizeof sim->first_over_tick / sizeof sim->first_over_tick[0]);
-        if (sim->over_budget < kept) sim->first_over_tick[sim->over_budget] = sim->tick;
-        sim->over_budget++;
+    if (cost > board->budget) {
+        const int64_t kept = (int64_t)(sizeof board->first_over_tick / sizeof board->first_over_tick[0]);
+        if (board->over_budget < kept) board->first_over_tick[board->over_budget] = board->tick;
+        board->over_budget++;
     }
 }
 
-int32_t crs_board_serial_out(crs_sim *sim, const char *chars, uint32_t available, uint32_t formatted)
+int32_t crs_board_serial_out(crs_board *board, const char *chars, uint32_t available, uint32_t formatted)
 {
-    if (sim == NULL || sim->shared == NULL || sim->overflow_tick >= 0) return 0;
-    const crs_generation *gen = sim->gen; /* looked up when loaded */
+    if (board == NULL || board->shared == NULL || board->overflow_tick >= 0) return 0;
+    const crs_generation *gen = board->gen; /* looked up when loaded */
     const uint32_t buffer = (uint32_t)gen->printf_buffer_chars;
-    crs_shared *sh = sim->shared;
+    crs_shared *sh = board->shared;
     if (formatted >= buffer) {
         /* the characters and the terminating NUL overrun the board's buffer: memory is corrupt */
-        sim->overflow_tick = sim->tick;
-        sim->overflow_chars = formatted;
-        sim->overflow_phase = sh->phase;
+        board->overflow_tick = board->tick;
+        board->overflow_chars = formatted;
+        board->overflow_phase = sh->phase;
         return 0;
     }
     const uint32_t n = formatted <= available ? formatted : available;
     const uint32_t ring = (uint32_t)gen->tx_ring_chars;
-    const uint32_t taken = crs_line_queue(&sh->line, ring, sim->tick, chars, n);
+    const uint32_t taken = crs_line_queue(&sh->line, ring, board->tick, chars, n);
     if (taken > 0 && sh->print_count < CRS_PRINT_CAPACITY) {
         /* a print mark: this call's tick and how many of its characters are on the line */
-        sh->print_tick[sh->print_count] = sim->tick;
+        sh->print_tick[sh->print_count] = board->tick;
         sh->print_chars[sh->print_count] = taken;
         sh->print_count++;
     }
     if (taken < n) {
-        if (sim->tx_first_drop_tick < 0) sim->tx_first_drop_tick = sim->tick;
-        sim->tx_dropped += (int64_t)(n - taken);
+        if (board->tx_first_drop_tick < 0) board->tx_first_drop_tick = board->tick;
+        board->tx_dropped += (int64_t)(n - taken);
     }
     return (int32_t)taken;
 }
 
 enum { GPBDAT = 4, GPBSET = 5, GPBCLEAR = 6, GPBTOGGLE = 7 };
 
-uint32_t crs_board_update_gpio(crs_sim *sim)
+uint32_t crs_board_update_gpio(crs_board *board)
 {
-    uint32_t *r = sim->fw.gpio;
-    if (r == NULL) return sim->leds;
+    uint32_t *r = board->fw.gpio;
+    if (r == NULL) return board->leds;
     uint32_t dat = r[GPBDAT];
     dat ^= r[GPBTOGGLE];
     dat |= r[GPBSET];
