@@ -1,6 +1,6 @@
 """Run by gdb itself (``gdb -x in_gdb.py``) once it has attached, in ``crslab debug`` on the
 terminal. It reads the settings of crslab's setup script (``$crs_csrc``, ``$crs_lab_file``,
-``$crs_sanitizer_report``, ``$crs_batch``) and:
+``$crs_sanitizer_report``, ``$crs_batch``, ``$crs_ticks_per_s``) and:
 
 - makes stepping skip crslab's own C (``serial_printf`` is one step);
 - breaks on ``crs_debug_break``, which the worker calls when the run reaches the break: there
@@ -34,8 +34,6 @@ functions.
 from __future__ import annotations
 
 import os
-
-from crslab.framework_facts import TICKS_PER_S
 
 try:
     import gdb  # type: ignore[import-not-found]
@@ -129,7 +127,8 @@ def _on_stop(event: object) -> None:
     frames = _frames()
     index = lab_frame_index([f for _, f in frames], _setting("crs_lab_file"))
     tick = int(gdb.parse_and_eval("crs_tick"))
-    print(f"crslab: the lab stopped at tick {tick} (t = {tick / TICKS_PER_S:.3f} s): {what}; 'bt' shows the "
+    ticks_per_s = int(gdb.parse_and_eval("$crs_ticks_per_s"))  # the setup script's (framework_facts.h)
+    print(f"crslab: the lab stopped at tick {tick} (t = {tick / ticks_per_s:.3f} s): {what}; 'bt' shows the "
           "calls that led there, 'continue' ends the run as crslab sim would")
     if index is not None:
         frames[index][0].select()
