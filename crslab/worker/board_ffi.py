@@ -20,10 +20,11 @@ from cffi import FFI
 from crslab import resources
 from crslab.cheaders import cdef_from_header
 
-BOARD_HEADERS = ("port/firmware_board.h", "kin/traj_profiles.h", "plant/drive.h", "plant/friction.h", "plant/hand.h",
-                 "plant/plant_faults.h", "plant/push.h", "plant/world.h", "board/board.h", "board/board_config.h")
-"""board.h, the headers it includes (cffi reads no #include) and the board's configuration (board_config.h),
-under csrc/."""
+BOARD_HEADERS = ("port/firmware_board.h", "kin/traj_profiles.h", "plant/drive.h", "plant/friction.h",
+                 "plant/hand.h", "plant/plant_faults.h", "plant/push.h", "plant/world.h", "board/board.h",
+                 "board/board_config.h")
+"""board.h, the headers it includes (cffi reads no #include) and the board's configuration
+(board_config.h), under csrc/."""
 
 
 def board_ffi() -> Any:
