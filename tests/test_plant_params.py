@@ -104,12 +104,12 @@ def test_a_plant_file_round_trips_and_overrides_only_what_it_says(tmp_path):
     ("[waist]\nmass = 3\n", "1: waist: unknown table (a plant file holds [command], "),
     ("[friction.motor4]\nCpos_nm = 1\n", "1: friction.motor4: unknown table (motor1, motor2 or motor3)"),
     ("[friction.motor1]\nCpos = 1\n", "2: friction.motor1.Cpos: unknown key (Cpos_nm, "),
-    ("[friction.motor1]\n\nSneg_nm = 0.5\n", "3: friction.motor1.Sneg_nm: 0.5 is outside -1000 .. 0 (static "),
+    ("[friction.motor1]\n\nSneg_nm = 0.5\n", "3: friction.motor1.Sneg_nm: 0.5 is outside -1000 .. 0 (st"),
     ("[variations]\nfriction1 = -2\n", "2: variations.friction1: -2 is outside 0 .. 100 (scale of all"),
     ("[variations]\npayload_kg = 1e300\n", "2: variations.payload_kg: 1e300 is too large a number"),
-    ("[variations]\n# nothing\npayload_kg = 1e-300\n", "3: variations.payload_kg: 1e-300 is too small a number"),
-    ("[variations]\nmass = " + "9" * 400 + "\n", "2: variations.mass: a whole number of 400 digits is too large"),
-    ("[command]\nnewton_metre_per_unit = true\n", "2: command.newton_metre_per_unit: must be a number, got True"),
+    ("[variations]\n# nothing\npayload_kg = 1e-300\n", "3: variations.payload_kg: 1e-300 is too small a"),
+    ("[variations]\nmass = " + "9" * 400 + "\n", "2: variations.mass: a whole number of 400 digits is too"),
+    ("[command]\nnewton_metre_per_unit = true\n", "2: command.newton_metre_per_unit: must be a number, got"),
     ("drive = ", " not valid TOML"),
 ])
 def test_bad_plant_files_are_one_line_naming_file_line_and_key(tmp_path, text, words):
