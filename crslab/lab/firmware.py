@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import TextIO
 
 from crslab import resources
+from crslab.cache import is_sealed, read_sealed, seal_file, subfolder
 from crslab.lab import zig
 from crslab.lab.c89_habits import habit_warnings, lab_flags
 from crslab.lab.compile_process import (
@@ -153,14 +154,15 @@ def csrc_debug_map(compiler_option: list[str] | None = None) -> list[str]:
 
 
 def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - build.content_digest
-    """The stand-ins and the kinematics compiled for wasm32, once per content, flags and zig."""
+    """The stand-ins and the kinematics compiled for wasm32, once per content, flags and zig: each
+    object sealed (:func:`crslab.cache.seal_file`) and linked into a lab only while its seal holds
+    (a folder or file of the cache that cannot be used raises :class:`crslab.cache.CacheError`)."""
     digest = digest_of([zig.zig_version().encode(), " ".join(FIRMWARE_FLAGS).encode()]
                        + [p.read_bytes() for p in FIRMWARE_SOURCES + FIRMWARE_HEADERS])
-    out_dir = cache / f"firmware-{digest}"
+    out_dir = subfolder(cache, f"firmware-{digest}")
     objects = [out_dir / f"{p.parent.name}_{p.stem}.o" for p in FIRMWARE_SOURCES]
-    if all(o.exists() for o in objects):
+    if all(is_sealed(o) for o in objects):
         return objects
-    out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
         procs = []
         try:
@@ -177,7 +179,7 @@ def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - bu
                     failed.append(f"crslab's firmware source {src.name} does not compile for wasm32:\n"
                                   f"{r.stderr}")
                 else:
-                    part.replace(obj)
+                    seal_file(part, obj)
         finally:
             for proc, *_ in procs:
                 proc.kill()
@@ -298,13 +300,13 @@ class WasmImage:
 
     @staticmethod
     def load(folder: Path) -> WasmImage | None:
-        """The image cached in ``folder``, or None."""
+        """The image cached in ``folder`` (both files as this user's build sealed them), or None."""
         try:
-            names = json.loads((folder / "names.json").read_text())
-        except (OSError, ValueError):
+            names = json.loads(read_sealed(folder / "names.json") or b"")
+        except ValueError:
             return None
         image = folder / "lab.wasm"
-        if not image.exists():
+        if not is_sealed(image):
             return None
         return WasmImage(image, tuple(names["renamed"]), tuple(names["sized"]),
                          tuple(names.get("habits", ())))

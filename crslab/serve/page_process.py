@@ -288,7 +288,10 @@ def compile_module(config: RunConfig) -> None:
 
     if config.build.native:
         return
-    kept = WasmImage.read(config.build.image).compiled_path()
+    try:
+        kept = WasmImage.read(config.build.image).compiled_path()
+    except OSError:
+        return  # the run host opens it and says why
     if kept is None or kept.exists():
         return
     try:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import contextlib
 import copy
+import errno
 import mmap
 import os
 from collections.abc import Iterable
@@ -28,6 +29,7 @@ import numpy as np
 from cffi import FFI
 
 from crslab import crs, os_support
+from crslab.cache import is_sealed
 from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
 from crslab.lab.watched import WatchedError, WatchedVar, watched_var
 from crslab.plant.model import apply_friction, apply_plant, motor_to_qpos
@@ -43,12 +45,7 @@ from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
 from crslab.worker.run_stats import RunStats
-from crslab.worker.wasm_runtime import (
-    WasmImage,
-    seal_compiled,
-    unsealed_compiled_removed,
-    wasmtime_library,
-)
+from crslab.worker.wasm_runtime import KeptModule, WasmImage, WasmImageError, wasmtime_library
 from crslab.world.layout import World, peg_depth_m
 from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
 
@@ -262,6 +259,11 @@ class Board:
         attached to a new board; returns (library, sim)."""
         tracer = debug.tracer_pid if debug is not None else None
         constants = board_constants()  # read from board.h before the sandbox closes every file
+        for library in (config.build.image, config.build.trap_library):
+            # loaded by its path: this user's build sealed it, in a folder only this user writes
+            if library is not None and not is_sealed(library):
+                raise WasmImageError(errno.EACCES, f"{library.name} is not what crslab built (its seal "
+                                                   "does not hold): build it again")
         if config.sandboxed:
             from crslab.sandbox.run_sandbox import enter_run_sandbox
 
@@ -290,21 +292,25 @@ class Board:
         os.environ["WASMTIME_BACKTRACE_DETAILS"] = "1"
         library = self.ffi.new("char[]", str(wasmtime_library()).encode())
         key = self.ffi.new("char[]", image.digest.encode())
-        # the compiled module kept between runs: read (and its seal checked) only when this process
-        # does not hold the module already (another instance of the same firmware)
-        kept = None if self.lib.crs_fw_wasm_module_held(key) else image.compiled_path()
-        sealed_stamp = unsealed_compiled_removed(kept) if kept is not None else None
-        compiled = self.ffi.new("char[]", str(kept).encode()) if kept is not None else self.ffi.NULL
+        # the compiled module kept between runs: read (its seal checked on the bytes the board then
+        # loads) only when this process does not hold the module already (another instance of the
+        # same firmware); compiled anew, the board writes it to a private file crslab then seals
+        path = None if self.lib.crs_fw_wasm_module_held(key) else image.compiled_path()
+        kept = KeptModule(path) if path is not None else None
+        bytes_ = kept.bytes if kept is not None else None
+        compiled = self.ffi.from_buffer("uint8_t[]", bytes_) if bytes_ else self.ffi.NULL
         wasm = self.ffi.from_buffer("uint8_t[]", image.wasm)
         options = self.ffi.new("crs_wasm_options *", {
             "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": MEMORY_BYTES,
-            "stack_bytes": NATIVE_STACK_BYTES, "compiled_path": compiled, "module_key": key,
+            "stack_bytes": NATIVE_STACK_BYTES, "compiled": compiled, "compiled_len": len(bytes_ or b""),
+            "compiled_fd": kept.fd if kept is not None else -1, "module_key": key,
             "deadline_ns": 0 if deadline_s is None else max(1, round(deadline_s * 1e9))})
-        self._keep += [library, wasm, compiled, key, options]
+        self._keep += [library, wasm, key]
         block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
         code = self.lib.crs_fw_wasm_load(sim, options)
+        del compiled, options  # wasmtime copied what it loaded
         if kept is not None:
-            seal_compiled(kept, sealed_stamp)
+            kept.keep()
         if code != 0:
             raise FirmwareStopped(trap_info(self.ffi, sim))
         block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]

@@ -25,6 +25,7 @@
 #include "firmware_wasm.h"
 
 #include <dlfcn.h>
+#include <errno.h>
 #include <pthread.h>
 #include <time.h>
 #include <stdio.h>
@@ -78,7 +79,7 @@ int crs_wasmtime_api_load(crs_wasmtime_api *out, const char *path, char *error, 
     LOAD_SYMBOL(module_new, wasmtime_module_new);
     LOAD_SYMBOL(module_delete, wasmtime_module_delete);
     LOAD_SYMBOL(module_serialize, wasmtime_module_serialize);
-    LOAD_SYMBOL(module_deserialize_file, wasmtime_module_deserialize_file);
+    LOAD_SYMBOL(module_deserialize, wasmtime_module_deserialize);
     LOAD_SYMBOL(module_imports, wasmtime_module_imports);
     LOAD_SYMBOL(importtype_vec_delete, wasm_importtype_vec_delete);
     LOAD_SYMBOL(importtype_module, wasm_importtype_module);
@@ -783,23 +784,24 @@ int crs_fw_wasm_preload(const char *libwasmtime)
     return crs_wasmtime_api_load(&api, libwasmtime, error, sizeof error) == 0 ? 0 : -1;
 }
 
-/* The module as wasmtime compiled it for this engine, from `path` (crslab's build cache, written by
- * keep_compiled from this firmware's bytes), or NULL when there is none or wasmtime refuses it
- * (another wasmtime or another configuration: its header says so), and it is compiled anew. */
-static wasmtime_module_t *load_compiled(const char *path)
+/* The module as wasmtime compiled it for this engine, from `bytes` (kept in crslab's build cache
+ * from this firmware's compilation, read and its seal checked by crslab: these very bytes), or NULL
+ * when there are none or wasmtime refuses them (another wasmtime or another configuration: their
+ * header says so), and it is compiled anew. */
+static wasmtime_module_t *load_compiled(const uint8_t *bytes, uint64_t len)
 {
-    if (access(path, R_OK) != 0) return NULL;
+    if (bytes == NULL || len == 0) return NULL;
     wasmtime_module_t *module = NULL;
-    wasmtime_error_t *err = api.module_deserialize_file(engine, path, &module);
+    wasmtime_error_t *err = api.module_deserialize(engine, bytes, (size_t)len, &module);
     if (err == NULL) return module;
     api.error_delete(err);
     return NULL;
 }
 
-/* Keep the compiled module at `path` for the next run of the same firmware (written whole to a
- * file of its own, then renamed into place: a run reading it never sees half of it). A cache:
- * when it cannot be written, the next run compiles again. */
-static void keep_compiled(const wasmtime_module_t *module, const char *path)
+/* Write the compiled module to `fd` (a private file crslab made, which it then seals and renames
+ * into place for the next run of the same firmware); the board opens no file of the cache. A cache:
+ * when it cannot be written, crslab keeps nothing and the next run compiles again. */
+static void keep_compiled(const wasmtime_module_t *module, int fd)
 {
     wasm_byte_vec_t bytes = {0, NULL};
     wasmtime_error_t *err = api.module_serialize((wasmtime_module_t *)module, &bytes);
@@ -807,15 +809,12 @@ static void keep_compiled(const wasmtime_module_t *module, const char *path)
         api.error_delete(err);
         return;
     }
-    char partial[4096];
-    const int n = snprintf(partial, sizeof partial, "%s.%ld.partial", path, (long)getpid());
-    if (n > 0 && (size_t)n < sizeof partial) {
-        FILE *f = fopen(partial, "wb");
-        if (f != NULL) {
-            const int whole = fwrite(bytes.data, 1, bytes.size, f) == bytes.size;
-            if (fclose(f) == 0 && whole && rename(partial, path) == 0) partial[0] = '\0';
-            if (partial[0] != '\0') remove(partial);
-        }
+    size_t done = 0;
+    while (done < bytes.size) {
+        const ssize_t n = write(fd, (const char *)bytes.data + done, bytes.size - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        done += (size_t)n;
     }
     api.byte_vec_delete(&bytes);
 }
@@ -871,7 +870,7 @@ static crs_wasm_module *module_for(crs_board *board, const crs_wasm_options *o)
         return NULL;
     }
     snprintf(m->key, sizeof m->key, "%s", key);
-    if (o->compiled_path != NULL) m->module = load_compiled(o->compiled_path);
+    m->module = load_compiled(o->compiled, o->compiled_len);
     if (m->module == NULL) {
         wasmtime_error_t *err = api.module_new(engine, o->wasm, (size_t)o->wasm_len, &m->module);
         if (err != NULL) {
@@ -879,7 +878,7 @@ static crs_wasm_module *module_for(crs_board *board, const crs_wasm_options *o)
             free(m);
             return NULL;
         }
-        if (o->compiled_path != NULL) keep_compiled(m->module, o->compiled_path);
+        if (o->compiled_fd >= 0) keep_compiled(m->module, o->compiled_fd);
     }
     m->refs = 1;
     m->next = modules;

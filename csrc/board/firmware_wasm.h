@@ -17,8 +17,12 @@ typedef struct {
     uint64_t wasm_len;
     uint64_t memory_bytes;        /* the most memory the firmware may have, bytes */
     uint64_t stack_bytes;         /* the most native stack its calls may use, bytes */
-    const char *compiled_path;    /* where wasmtime's compilation of this module for this board is
-                                     kept between runs (crslab's build cache); NULL: compile anew */
+    const uint8_t *compiled;      /* wasmtime's compilation of this module for this board, kept
+                                     between runs in crslab's build cache (read and its seal checked
+                                     by crslab); NULL: compile anew */
+    uint64_t compiled_len;
+    int32_t compiled_fd;          /* a module compiled anew is written here (a private file crslab
+                                     seals and renames into the cache); -1: kept nowhere */
     const char *module_key;       /* the module's digest (at most 95 characters): boards loading the
                                      same key share one compiled module; NULL or "": not shared */
     uint64_t deadline_ns;         /* a firmware call (a constructor, lab(), printing()) running
