@@ -62,7 +62,7 @@ def unsafe_reason(folder: Path, *, follow: bool = True) -> str | None:
     return None
 
 
-def _usable(base: Path, *, follow: bool = True) -> str | None:
+def usable_problem(base: Path, *, follow: bool = True) -> str | None:
     """Create ``base`` (private) when missing; None when it is this user's and writable, else why not."""
     try:
         base.mkdir(mode=0o700, parents=True, exist_ok=True)
@@ -97,13 +97,13 @@ def cache_dir() -> Path:
     """
     env = os.environ.get(CACHE_ENV)
     base = Path(env) if env else Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "crslab"
-    why = _usable(base)
+    why = usable_problem(base)
     if why is None:
         return base
     if env:
         raise CacheError(f"{CACHE_ENV}={env} cannot be used as crslab's cache: {why}")
     fallback = fallback_dir()
-    why_not = _usable(fallback, follow=False)
+    why_not = usable_problem(fallback, follow=False)
     if why_not is None:
         return fallback
     raise CacheError(f"crslab has no cache it can use: {base}: {why}; {fallback}: {why_not} (set {CACHE_ENV} "
