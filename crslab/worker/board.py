@@ -23,6 +23,7 @@ import copy
 import errno
 import mmap
 import os
+import re
 from collections.abc import Iterable
 
 import numpy as np
@@ -125,10 +126,37 @@ def attach_world(ffi: FFI, w: object, model: object, data: object, world: World)
     return keep
 
 
+class ModelRefused(Exception):
+    """MuJoCo refuses the model a run's world file makes: the message names the file (``file``)."""
+
+    def __init__(self, file: str, message: str) -> None:
+        super().__init__(message)
+        self.file = file
+
+
+def refusal_text(error: str) -> str:
+    """MuJoCo's refusal of a model, in one line: what it refused and in which part.
+
+    >>> refusal_text("Error: error 'inertia must have positive eigenvalues' in fullinertia\\n"
+    ...              "Element name 'peg', id 5, line 35")
+    'inertia must have positive eigenvalues (the peg)'
+    """
+    what = re.search(r"error '([^']*)'", error)
+    part = re.search(r"Element name '([^']*)'", error)
+    text = what.group(1) if what else (error.strip().splitlines() or ["no reason given"])[0]
+    return f"{text} (the {part.group(1)})" if part and part.group(1) else text
+
+
 def plant_model(config: RunConfig) -> object:
     """The MuJoCo model of ``config``'s world with its plant parameters applied (loaded from the
-    MJCF once)."""
-    model = load_scene(config.world)
+    MJCF once). A world MuJoCo refuses (its values each in range, together not a body MuJoCo can
+    simulate: a peg of 1e-11 kg) raises :class:`ModelRefused` naming the world's file."""
+    try:
+        model = load_scene(config.world)
+    except ValueError as exc:
+        source = config.world.source or "the world"
+        why = refusal_text(str(exc))
+        raise ModelRefused(source, f"{source}: MuJoCo refuses the world it describes: {why}") from None
     apply_plant(model, config.plant, loaded=copy.copy(model))
     return model
 

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from crslab.worker import worker_messages
-from crslab.worker.board import Board, FirmwareStopped, plant_model, trap_info
+from crslab.worker.board import Board, FirmwareStopped, ModelRefused, plant_model, trap_info
 from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import changes_model
@@ -99,6 +99,8 @@ class BoardInstances:
                               image=self.images.image(config.build.image))
         except SandboxError as exc:
             return worker_messages.Failed(instance, str(exc))
+        except ModelRefused as exc:
+            return worker_messages.Failed(instance, str(exc), file=exc.file)
         except FirmwareStopped as exc:
             return worker_messages.Trapped(instance, exc.trap)
         except OSError as exc:
