@@ -345,7 +345,7 @@ class _Scan:
         self.i += 1
         path = table + names
         self._nest(path[:-1], line)
-        self.lines.setdefault(path, line)
+        self.lines.setdefault(path, line)  # the key's own line
         self._value(path)
 
     def _value(self, path: KeyPath) -> None:
