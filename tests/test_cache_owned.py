@@ -212,6 +212,16 @@ def test_a_sealed_file_of_another_user_is_not_loaded(tmp_path):
     assert cache.read_sealed(path, tmp_path) is None
 
 
+def test_a_sealed_file_copied_under_another_name_is_not_loaded(tmp_path):
+    """A seal binds the name: one build's module and seal, copied under another build's name, are
+    not that build's."""
+    cache.write_sealed(tmp_path / "a.cwasm", b"module a", tmp_path)
+    shutil.copy(tmp_path / "a.cwasm", tmp_path / "b.cwasm")
+    shutil.copy(tmp_path / "a.cwasm.seal", tmp_path / "b.cwasm.seal")
+    assert cache.read_sealed(tmp_path / "a.cwasm", tmp_path) == b"module a"
+    assert cache.read_sealed(tmp_path / "b.cwasm", tmp_path) is None
+
+
 def test_a_sealed_file_that_is_a_link_is_not_loaded(tmp_path):
     cache.write_sealed(tmp_path / "real.wasm", b"module", tmp_path)
     (tmp_path / "lab.wasm").symlink_to(tmp_path / "real.wasm")
