@@ -6,6 +6,7 @@ import asyncio
 import json
 import os
 import pickle
+import select
 import struct
 import threading
 from multiprocessing import Pipe
@@ -69,3 +70,27 @@ def test_a_host_writes_a_wake_ups_messages_together_and_a_threads_at_once():
     aside.start()
     aside.join()
     assert ours.poll(5) and wire.unhost_frame(ours.recv_bytes()) == ("c", b"E", b"3")
+
+
+def test_a_wake_ups_first_message_waits_at_most_flush_s(monkeypatch):
+    from crslab.serve import run_host
+
+    now = [100.0]
+    ours, theirs = Pipe()
+    host = RunHost(theirs)
+
+    def readable() -> bool:  # (select's own timeout: the host's clock is this test's below)
+        return bool(select.select([ours], [], [], 0.05)[0])
+
+    monkeypatch.setattr(run_host.time, "monotonic", lambda: now[0])
+    host.send_frame(wire.host_frame("a", wire.FORWARD, b"1"))
+    now[0] += run_host.FLUSH_S * 0.9
+    host.send_frame(wire.host_frame("b", wire.FORWARD, b"2"))
+    assert not readable()
+    now[0] += run_host.FLUSH_S * 0.2  # the first has waited FLUSH_S: both go with the third
+    host.send_frame(wire.host_frame("c", wire.FORWARD, b"3"))
+    host.send_frame(wire.host_frame("d", wire.FORWARD, b"4"))  # a new wake-up's first waits again
+    monkeypatch.undo()
+    assert readable()
+    assert [wire.unhost_frame(ours.recv_bytes())[0] for _ in range(3)] == ["a", "b", "c"]
+    assert not readable()

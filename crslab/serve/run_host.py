@@ -59,6 +59,9 @@ SEND_BUFFER_BYTES = 4 << 20
 """The host's side of its pipe to the server buffers this much (as far as the system allows)."""
 BATCH_S = 0.005
 """A wake-up runs every run due within this much of now (s), in one request to the worker."""
+FLUSH_S = 0.005
+"""A page message waits at most this long (s) for the others of its wake-up before they are written
+to the server together."""
 LEAD_S = 0.03
 """A run's chunk is due this long before the wall clock reaches its first tick (s): the page gets
 it ahead of its time, as its playout needs, though the host runs its other runs' chunks first."""
@@ -232,16 +235,22 @@ class RunHost:
         self._send_lock = threading.Lock()
         self._out: list[bytes] = []
         """The page messages of this wake-up, framed, not yet written (:meth:`flush`)."""
+        self._held_since = 0.0
         self._loop = threading.get_ident()
         """The thread of :meth:`serve`'s loop: its messages wait for :meth:`flush`."""
         self._aside: list[threading.Thread] = []
 
     def send_frame(self, data: bytes) -> None:
         """One page message to the server: written with the others of this wake-up
-        (:meth:`flush`), or at once when a thread of the host's sends it (a recorder closing)."""
+        (:meth:`flush`), or once the first of them has waited :data:`FLUSH_S` (a long wake-up's
+        first chunks do not wait for its last), or at once when a thread of the host's sends it (a
+        recorder closing)."""
         with self._send_lock:
+            now = time.monotonic()
+            if not self._out:
+                self._held_since = now
             self._out.append(wire.length_prefixed(data))
-            if threading.get_ident() != self._loop:
+            if threading.get_ident() != self._loop or now - self._held_since >= FLUSH_S:
                 self._write()
 
     def flush(self) -> None:
