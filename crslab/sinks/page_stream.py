@@ -3,9 +3,10 @@
 the serial bytes with the tick each left the board (what Tera Term shows, at the time the board
 sends it), the arm's pose at 60 Hz of simulated time (DH and motor angles, the safety flag,
 whether the motor board cut the outputs: the page poses its model of the arm from the DH angles;
-packed as little-endian float64 rows, :func:`packed_rows`), and the scope rows of every 5th tick (``Simulink_PlotVar1..4``, motor angles, commanded and applied
-torques: :data:`SCOPE_SIGNALS`; one row each 5 ms, as the course's Simulink model samples them:
-:data:`SCOPE_EVERY_TICKS`), packed as little-endian float32. What the page does to the run is
+packed as little-endian float64 rows, :func:`packed_rows`), and the scope rows of every 5th tick
+(``Simulink_PlotVar1..4``, motor angles, commanded and applied torques: :data:`SCOPE_SIGNALS`;
+one row each 5 ms, as the course's Simulink model samples them: :data:`SCOPE_EVERY_TICKS`), packed
+as little-endian float32. What the page does to the run is
 crslab/serve/stream.py's (:class:`~crslab.serve.stream.PageControl`).
 
 >>> frame_ticks(np.arange(0, 40))
