@@ -20,6 +20,12 @@ from pathlib import Path
 
 from crslab.cache import CacheError, cache_dir, private_file, read_sealed, seal_into_place, subfolder
 
+ENGINE_ENVIRONMENT = {"WASMTIME_BACKTRACE_DETAILS": "1"}
+"""What wasmtime reads from the environment when it makes an engine, as every engine of crslab's
+has it (a trap's backtrace names the lab's file and line: the firmware carries its DWARF). It is part
+of the engine's configuration: a module compiled by an engine without it is not loaded by one with
+it (it is compiled again)."""
+
 
 class WasmtimeMissing(FileNotFoundError):
     """The wasmtime package (a dependency of crslab) is not installed or lacks its library."""
@@ -128,6 +134,15 @@ class KeptModule:
             except OSError:
                 pass
 
+    def discard(self) -> bool:
+        """Close and remove the private file, keeping nothing; False."""
+        if self.fd >= 0:
+            os.close(self.fd)
+            self.fd = -1
+        if self._part is not None:
+            self._part.unlink(missing_ok=True)
+        return False
+
     def keep(self) -> bool:
         """Seal what the board wrote to :attr:`fd` (if anything) and rename it into place; the
         private file is closed and gone either way. Whether a module was kept."""
@@ -146,6 +161,38 @@ class KeptModule:
             os.close(self.fd)
             self.fd = -1
             self._part.unlink(missing_ok=True)
+
+
+class NotCompiled(Exception):
+    """wasmtime could not compile a firmware, or its compilation could not be kept."""
+
+
+def compile_kept(image: WasmImage, kept: Path) -> None:
+    """Have wasmtime compile ``image`` now, in this process (an engine of its own, made as a
+    worker's is, freed before this returns: no worker, board or store), unless this user's board
+    kept it at ``kept`` already (its :meth:`WasmImage.compiled_path`), and keep it there, sealed
+    (:class:`KeptModule`: written to a private file, sealed, renamed into place): a worker that
+    later loads the firmware only reads it. Raises :class:`NotCompiled` saying why it could not."""
+    from crslab._core import ffi, lib
+
+    module = KeptModule(kept)
+    if module.bytes is not None:
+        return
+    if module.fd < 0:
+        raise NotCompiled(f"the compiled module cannot be kept in {kept.parent}")
+    os.environ.update(ENGINE_ENVIRONMENT)
+    library = ffi.new("char[]", str(wasmtime_library()).encode())
+    wasm = ffi.from_buffer("uint8_t[]", image.wasm)
+    options = ffi.new("crs_wasm_options *", {
+        "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": image.memory_bytes,
+        "stack_bytes": image.stack_bytes, "compiled": ffi.NULL, "compiled_fd": module.fd})
+    error = ffi.new("char[]", 512)
+    code = lib.crs_fw_wasm_compile(options, error, len(error))
+    kept_now = module.keep() if code == 0 else module.discard()
+    if code != 0:
+        raise NotCompiled(ffi.string(error).decode(errors="replace"))
+    if not kept_now:
+        raise NotCompiled(f"the compiled module could not be kept at {kept}")
 
 
 def preload() -> bool:

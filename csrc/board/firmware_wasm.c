@@ -799,15 +799,15 @@ static wasmtime_module_t *load_compiled(const uint8_t *bytes, uint64_t len)
 }
 
 /* Write the compiled module to `fd` (a private file crslab made, which it then seals and renames
- * into place for the next run of the same firmware); the board opens no file of the cache. A cache:
- * when it cannot be written, crslab keeps nothing and the next run compiles again. */
-static void keep_compiled(const wasmtime_module_t *module, int fd)
+ * into place for the next run of the same firmware); the board opens no file of the cache. 0, or -1
+ * when it was not written whole (a cache: crslab keeps nothing and the next run compiles again). */
+static int keep_compiled(const wasmtime_module_t *module, int fd)
 {
     wasm_byte_vec_t bytes = {0, NULL};
     wasmtime_error_t *err = api.module_serialize((wasmtime_module_t *)module, &bytes);
     if (err != NULL) {
         api.error_delete(err);
-        return;
+        return -1;
     }
     size_t done = 0;
     while (done < bytes.size) {
@@ -816,18 +816,15 @@ static void keep_compiled(const wasmtime_module_t *module, int fd)
         if (n <= 0) break;
         done += (size_t)n;
     }
+    const int whole = done == bytes.size ? 0 : -1;
     api.byte_vec_delete(&bytes);
+    return whole;
 }
 
-/* The process's engine, created with the board's limits by the first load; 0, or -1 with
- * board->trap saying why. */
-static int engine_for(crs_board *board, const crs_wasm_options *o)
+/* The engine configuration of every board, for the memory and stack of `o`: the process's engine
+ * (engine_for) and crs_fw_wasm_compile's are made alike, so a module one compiled the other loads. */
+static wasm_config_t *engine_config(const crs_wasm_options *o)
 {
-    if (engine != NULL) {
-        if (o->memory_bytes == engine_memory_bytes && o->stack_bytes == engine_stack_bytes) return 0;
-        load_failed(board, "this worker's boards have other memory or stack limits", NULL, 0);
-        return -1;
-    }
     wasm_config_t *config = api.config_new();
     api.config_consume_fuel_set(config, true);
     api.config_epoch_interruption_set(config, true);
@@ -841,6 +838,53 @@ static int engine_for(crs_board *board, const crs_wasm_options *o)
     api.config_memory_reservation_for_growth_set(config, 0);
     api.config_memory_guard_size_set(config, 0);
     api.config_memory_may_move_set(config, false);
+    return config;
+}
+
+int crs_fw_wasm_compile(const crs_wasm_options *o, char *error, size_t error_size)
+{
+    if (crs_wasmtime_api_load(&api, o->libwasmtime, error, error_size) != 0) return -1;
+    if (o->compiled_fd < 0) {
+        snprintf(error, error_size, "there is no place to keep the compiled module");
+        return -1;
+    }
+    wasm_engine_t *own = api.engine_new_with_config(engine_config(o));
+    if (own == NULL) {
+        snprintf(error, error_size, "wasmtime cannot start");
+        return -1;
+    }
+    wasmtime_module_t *module = NULL;
+    wasmtime_error_t *err = api.module_new(own, o->wasm, (size_t)o->wasm_len, &module);
+    int code = 0;
+    if (err != NULL) {
+        wasm_byte_vec_t m = {0, NULL};
+        api.error_message(err, &m);
+        snprintf(error, error_size, "not a WebAssembly module wasmtime can run: %.*s", (int)m.size,
+                 m.data != NULL ? m.data : "");
+        api.byte_vec_delete(&m);
+        api.error_delete(err);
+        code = -1;
+    } else {
+        if (keep_compiled(module, o->compiled_fd) != 0) {
+            snprintf(error, error_size, "the compiled module could not be written");
+            code = -1;
+        }
+        api.module_delete(module);
+    }
+    api.engine_delete(own);
+    return code;
+}
+
+/* The process's engine, created with the board's limits by the first load; 0, or -1 with
+ * board->trap saying why. */
+static int engine_for(crs_board *board, const crs_wasm_options *o)
+{
+    if (engine != NULL) {
+        if (o->memory_bytes == engine_memory_bytes && o->stack_bytes == engine_stack_bytes) return 0;
+        load_failed(board, "this worker's boards have other memory or stack limits", NULL, 0);
+        return -1;
+    }
+    wasm_config_t *config = engine_config(o);
     engine = api.engine_new_with_config(config);
     if (engine == NULL) {
         load_failed(board, "wasmtime cannot start", NULL, 0);
@@ -878,7 +922,7 @@ static crs_wasm_module *module_for(crs_board *board, const crs_wasm_options *o)
             free(m);
             return NULL;
         }
-        if (o->compiled_fd >= 0) keep_compiled(m->module, o->compiled_fd);
+        if (o->compiled_fd >= 0) (void)keep_compiled(m->module, o->compiled_fd);
     }
     m->refs = 1;
     m->next = modules;
