@@ -414,13 +414,15 @@ def arm_shapes(world: str = "none") -> dict:
     parent, its frame in the parent's (metres; quaternions ``x y z w``), its hinge (axis and anchor
     in its own frame, and which DH angle turns it: ``q``; the peg's wrist, held at minus the sum of
     two, has ``minus_sum``) and its shapes in its frame; in a ``world`` (a built-in's name) its
-    fixtures too, which never move (only the arm's links are ``moving``: a hand may drag them)."""
+    fixtures too, which never move (only the arm's links are ``moving``: a hand may drag them), and
+    the ``view`` that frames them (:func:`fixtures_view`; None in free air)."""
     from crslab.plant.model import LINK_BODIES
     from crslab.scopes.arm3d import ArmModel
     from crslab.world.layout import load_world
     from crslab.world.scene import WRIST_JOINT
 
-    arm = ArmModel(load_world(world))
+    loaded = load_world(world)
+    arm = ArmModel(loaded)
     m = arm.model
     shapes = {b.id: b.shapes for b in arm.bodies}
     out = []
@@ -457,7 +459,41 @@ def arm_shapes(world: str = "none") -> dict:
                 ],
             }
         )
-    return {"bodies": out}
+    return {"bodies": out, "view": fixtures_view(loaded)}
+
+
+VIEW_FOV_DEG = 40.0
+"""The page's camera's vertical field of view (arm3d.js's PerspectiveCamera)."""
+VIEW_PHI, VIEW_THETA = 1.15, 0.9
+"""The page's camera's direction: three.js's spherical angles from its y axis (MuJoCo's z, up)
+and about it (arm3d.js turns them into MuJoCo's frame): from above and in front, to the side."""
+
+
+def fixtures_view(world: object) -> dict | None:
+    """Where the page's camera looks from to frame every fixture of ``world`` (a
+    :class:`~crslab.world.layout.World`; its boxes, the table left out) with the arm's base: the
+    middle of their bounding box, at the distance from which the sphere around that box fits the
+    field of view (:data:`VIEW_FOV_DEG`, on a square view, 5 % to spare); None in free air.
+
+    >>> from crslab.world.layout import load_world
+    >>> fixtures_view(load_world("none")) is None
+    True
+    """
+    import math
+
+    import numpy as np
+
+    from crslab.world.layout import fixture_boxes
+
+    boxes = fixture_boxes(world)  # type: ignore[arg-type]
+    if not boxes:
+        return None
+    lo = np.min([b.lo for b in boxes] + [[0.0, 0.0, 0.0]], axis=0)
+    hi = np.max([b.hi for b in boxes] + [[0.0, 0.0, 0.0]], axis=0)
+    radius = float(np.linalg.norm(hi - lo)) / 2
+    distance = 1.05 * radius / math.sin(math.radians(VIEW_FOV_DEG / 2))
+    return {"target": ((lo + hi) / 2).round(4).tolist(), "distance": round(distance, 4), "phi": VIEW_PHI,
+            "theta": VIEW_THETA, "fov_deg": VIEW_FOV_DEG}
 
 
 def make_app(settings: ServeSettings, sessions: Sessions,
