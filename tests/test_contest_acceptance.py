@@ -76,6 +76,9 @@ def world_with_groove_moved(folder, dy_m):
     return path
 
 
+ABOVE_THE_PLATE_Z = load_world("contest").groove.top_z_m + 0.010
+
+
 VARIANTS = {
     "starter": (STARTER, None),
     # the peg stiff in x and y over a hole 1 cm from where the waypoints put it: it cannot slide in
@@ -90,6 +93,18 @@ VARIANTS = {
     # from the hole to the groove 4 cm below the obstacle's top (0.30 m): through it
     "through_obstacle": (variant(STARTER, ("{0.200, 0.110, 0.380,", "{0.200, 0.110, 0.260,"),
                                  ("{HOLE_X, HOLE_Y, 0.380,", "{HOLE_X, HOLE_Y, 0.260,")), None),
+    # along the groove 1 cm above the plate's top: never in it
+    "groove_high": (variant(STARTER, ("#define GROOVE_Z 0.213", f"#define GROOVE_Z {ABOVE_THE_PLATE_Z:.4f}")),
+                    None),
+    # joint 1 commanded 5 units (over the motor board's 4) from lab()'s call 3000 to 4000, and one
+    # call (2000, t = 6.1 s) that counts to 100,000: over the budget of 75,000 instructions
+    "cut_and_costly": (variant(
+        STARTER,
+        ("    *tau1 = saturate(*tau1);",
+         "    *tau1 = (mycount >= 3000 && mycount < 4000) ? 5.0f : saturate(*tau1);"),
+        ("    mycount++;\n}", "    if (mycount == 2000) {\n        long k;\n"
+         "        for (k = 0; k < 100000; k++) busy += 1.0f;\n    }\n    mycount++;\n}"),
+        ("long mycount = 0;", "long mycount = 0;\nvolatile float busy = 0;")), None),
 }
 
 
@@ -140,7 +155,7 @@ def test_the_starter_follows_a_groove_4_mm_from_its_waypoints(cards):
 
 @pytest.mark.parametrize("name, task", [
     ("hole_stiff", "peg"),
-    ("groove_stiff", "groove"),
+    ("groove_stiff", "groove"), ("groove_high", "groove"),
     ("egg_deep", "egg"), ("through_obstacle", "obstacle")])
 def test_each_variant_fails_the_task_it_breaks(cards, name, task):
     card, status = cards[name]
@@ -151,6 +166,10 @@ def test_each_variant_fails_the_task_it_breaks(cards, name, task):
         # on the block beside the hole (1 cm off): where it stopped, said
         assert evidence["held_s"] < RULES["peg_hold_s"] and evidence["stopped_at"] is not None
         assert 0.003 < evidence["off_axis_m"] < 0.03
+    elif task == "groove" and name == "groove_high":
+        # never below the plate's top: how high it stayed, the 1 cm it was told less what the tip
+        # sags under gravity on its stiffness
+        assert evidence["share"] == 0 and 0.001 < evidence["lowest_above_top_m"] < 0.010
     elif task == "groove":
         assert evidence["left_at"] is not None and evidence["share"] < RULES["groove_min_share"]
     elif task == "egg":
@@ -159,6 +178,14 @@ def test_each_variant_fails_the_task_it_breaks(cards, name, task):
         assert evidence["peak_before_break_g"] < evidence["peak_g"]
     else:
         assert evidence["touched"] and evidence["touched_by"] and evidence["max_force_n"] > 0.05
+
+
+def test_the_card_says_when_the_motor_board_cut_the_run_and_a_call_over_the_budget(cards):
+    card, _ = cards["cut_and_costly"]
+    run = card["run"]
+    # over 4 units from call 3000 (t = 7.1 s): cut 0.5 s later
+    assert run["motor_board_off_at_s"] == pytest.approx(7.6, abs=0.01)
+    assert run["over_budget"] == 1
 
 
 def test_the_card_s_lines_and_picture(tmp_path):

@@ -314,13 +314,14 @@ def test_a_full_run_has_a_time_from_first_motion_to_last_task():
     assert d["tasks"]["egg"]["in_band_s"] == 3.0 and d["tasks"]["egg"]["broken_by"] is None
     assert card.lines()[4].startswith(f"time      {card.time_s:.2f} s from the first motion")
     # still over the egg from 8.5 s: the arm at rest since then, 4.5 s before the end: not yet for
-    # good (5 s); run to 14 s, it is
+    # good (10 s); run to 19 s, it is
     assert card.ended.still_since_s is None and card.lines()[-1] == "run       ended at t = 13.00 s"
     # (within 2 mm of its end from 2 mm before it, at |(-0.1, 0.3, 0.125)| / 0.5 s)
     speed = np.linalg.norm([-0.1, 0.3, 0.125]) / 0.5
-    still = score(full_run(14.0), layout()).ended.still_since_s
+    still = score(full_run(19.0), layout()).ended.still_since_s
     assert still == pytest.approx(8.5 - 0.002 / speed, abs=0.0015)
-    assert 14.0 - 8.5 >= STILL_S
+    assert 19.0 - 8.5 >= STILL_S > 18.0 - 8.5
+    assert score(full_run(18.0), layout()).ended.still_since_s is None
 
 
 def test_no_time_unless_all_four_are_done():

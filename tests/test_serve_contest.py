@@ -84,8 +84,8 @@ def test_a_contest_run_on_the_page_is_crslab_contest_s(contest_run):
     # the run ended when the arm came to rest, not at the 60 s limit
     assert got[-1]["end_tick"] < 60_000 and card["card"]["run"]["still_since_s"] is not None
     # crslab contest's card of the same lab (every tick logged; the page logs every 5th)
-    r = subprocess.run([sys.executable, "-m", "crslab", "contest", "--lab", lab, "--json"], capture_output=True,
-                       text=True, timeout=600)
+    r = subprocess.run([sys.executable, "-m", "crslab", "contest", "--lab", lab, "--json"],
+                       capture_output=True, text=True, timeout=600)
     cli = json.loads(r.stdout)
     page = card["card"]
     assert r.returncode == 0 and page["complete"] and cli["complete"]

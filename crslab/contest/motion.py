@@ -4,18 +4,17 @@ A TA starts the clock when the arm first moves and stops watching once it has co
 its last task. crslab does the same with two numbers: the **first motion** is the first row whose
 tip is :data:`MOTION_M` from where it was on the log's first row; the **motion has ended** once the
 tip has stayed within :data:`STILL_M` of where it is now for :data:`STILL_S` (a press held for its
-designed 2 s, a pause over the hole, stay well inside that: a lab that pauses longer between two
-tasks is still judged, only its run ends there), counted from after the first motion. A lab that
+designed 2 s, a pause over the hole, stay well inside that), counted from after the first motion. A lab that
 never moves is given :data:`NO_MOTION_S` after its first ``lab()`` call; no run lasts longer than
 :data:`LONGEST_S` unless ``--duration`` says so.
 
->>> t = np.arange(0, 10001) / 1000.0                     # 10 s at 1 kHz
+>>> t = np.arange(0, 15001) / 1000.0                     # 15 s at 1 kHz
 >>> tip = np.zeros((len(t), 3)); tip[:, 0] = np.clip(t - 2.0, 0.0, 1.0) * 0.1   # moves 2-3 s
 >>> first_motion(t, tip)                     # past 5 mm along x from t = 2.051 s
 2.051
 >>> still_since(t, tip, first_s=2.051)       # within 2 mm of its end from t = 2.981 s
 2.981
->>> still_since(t[:7000], tip[:7000], first_s=2.051) is None   # only 4 s still by t = 7 s
+>>> still_since(t[:12000], tip[:12000], first_s=2.051) is None   # only 9 s still by t = 12 s
 True
 """
 
@@ -28,9 +27,10 @@ MOTION_M = 0.005
 STILL_M = 0.002
 """Still: the tip within this distance (m) of where it came to rest (a held press sways less than
 that; the joints' static friction holds a stopped arm to a fraction of a millimetre)."""
-STILL_S = 5.0
-"""How long (s) the tip must stay still for the motion to have ended: longer than every hold
-the course's rules ask for (the egg's 2 s, the hole's moment) with a margin for a pause."""
+STILL_S = 10.0
+"""How long (s) the tip must stay still for the motion to have ended: five times the longest hold
+the course's rules ask for (the egg's 2 s; the hole's is a moment), so that a lab's pause between
+two tasks, or a press held longer than designed, does not end its run."""
 NO_MOTION_S = 15.0
 """How long (s) after its first ``lab()`` call a lab that never moves the arm is given."""
 LONGEST_S = 60.0
