@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from crslab.starters import starter_text
-from crslab.world.layout import load_world, world_file
+from crslab.world import load_world, world_file
 
 LABS = Path(__file__).parent / "labs"
 

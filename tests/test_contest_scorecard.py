@@ -6,7 +6,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from crslab.contest.scorecard import DEPTH_SLACK_M, MOTION_M, TOUCH_N, Rules, ScorecardError, score
+from crslab.contest.scorecard import DEPTH_SLACK_M, MOTION_M, ScorecardError, score
+from crslab.world.fixtures import ContestRules
+from crslab.world.world_facts import TOUCH_N
 
 MS = 0.001
 
@@ -18,12 +20,12 @@ def layout(**missing):
     world = SimpleNamespace(
         name="hand",
         hole=SimpleNamespace(center_xy_m=(0.0, 0.3), top_z_m=0.15, diameter_m=0.02, depth_m=0.04),
-        obstacle=SimpleNamespace(center_m=(0.2, 0.1, 0.25), size_m=(0.04, 0.04, 0.1)),
+        obstacle=SimpleNamespace(center_xy_m=(0.2, 0.1), top_z_m=0.30, size_xy_m=(0.04, 0.04)),
         groove=SimpleNamespace(corners_xy_m=((0.4, 0.1), (0.4, 0.0), (0.3, 0.0), (0.3, -0.1)), top_z_m=0.2,
-                               width_m=0.02, depth_m=0.01),
+                               width_m=0.02, depth_m=0.01, length_m=0.3),
         egg=SimpleNamespace(center_xy_m=(0.2, 0.2), top_z_m=0.3),
-        contest=SimpleNamespace(band_g=(500.0, 1000.0), hold_s=2.0, peg_min_depth_m=0.01, peg_hold_s=0.5,
-                                groove_min_share=0.9),
+        contest=ContestRules(band_g=(500.0, 1000.0), hold_s=2.0, peg_min_depth_m=0.01, peg_hold_s=0.5,
+                             groove_min_share=0.9),
     )
     for k in missing:
         setattr(world, k, None)
@@ -218,8 +220,8 @@ def test_no_time_unless_all_four_are_done():
 
 
 def test_a_world_without_fixtures_scores_nothing_and_says_why():
-    card = score(full_run(), layout(hole=1, obstacle=1, groove=1, egg=1, contest=1))
-    assert card.done == 0 and card.rules == Rules()
+    card = score(full_run(), layout(hole=1, obstacle=1, groove=1, egg=1))
+    assert card.done == 0 and card.rules == layout().contest
     assert card.lines()[0] == "peg       FAIL  world 'hand' has no hole"
     assert card.lines()[3] == "egg       FAIL  world 'hand' has no egg"
 
@@ -234,16 +236,17 @@ def test_a_log_without_the_worlds_signals_is_one_line():
 
 def test_the_contest_world_s_own_layout_and_rules():
     """The same rules read from crslab/worlds/contest.toml: down the hole's axis to 3 cm below its
-    top, held 1 s; the rules ask 2 cm for 0.5 s (its [contest] table)."""
-    from crslab.world.layout import load_world
+    top, held 1 s; the rules ask 5 mm for 0.5 s (its [contest] table: crslab's defaults)."""
+    from crslab.world import load_world
 
     world = load_world("contest")
     (x, y), top = world.hole.center_xy_m, world.hole.top_z_m
     log = trace([(0, x, y, top + 0.05), (1, x, y, top - 0.03), (2, x, y, top - 0.03), (3, x, y, top + 0.05)])
     card = score(log, world)
-    assert card.rules == Rules(band_g=(500.0, 1000.0), hold_s=2.0, peg_min_depth_m=0.02, peg_hold_s=0.5,
-                               groove_min_share=0.9)
+    assert card.rules == ContestRules(band_g=(500.0, 1000.0), hold_s=2.0, hold_tolerance_s=0.2,
+                                      peg_min_depth_m=0.005, peg_hold_s=0.5, groove_min_share=0.9,
+                                      obstacle_around=True) == ContestRules()
     assert card.peg.done and card.peg.depth_m == pytest.approx(0.03)
-    # at least 2 cm deep from 7/8 of the way down (t = 0.875 s) to 1/8 of the way up (t = 2.125 s)
-    assert card.peg.held_s == pytest.approx(1.25, abs=0.002)
+    # at least 5 mm deep from 11/16 of the way down (t = 0.6875 s) to 5/16 of the way up (t = 2.3125 s)
+    assert card.peg.held_s == pytest.approx(1.625, abs=0.002)
     assert not card.egg.done and card.egg.note == "" and not card.obstacle.passed_over

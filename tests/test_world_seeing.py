@@ -15,7 +15,7 @@ from rerun.chunk import RrdReader
 from crslab import crs
 from crslab.scopes.arm3d import ArmModel
 from crslab.scopes.signals import SIGNALS, WORLD_SIGNALS
-from crslab.world.layout import load_world
+from crslab.world import load_world
 
 ROOT = Path(__file__).resolve().parents[1]
 CONTEST = load_world("contest")

@@ -8,7 +8,6 @@ crashes, hangs, ...
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import sys
 from pathlib import Path
@@ -20,7 +19,6 @@ from crslab.run.status import ExitStatus, RunStatus
 from crslab.scenario.event import seconds_to_tick
 from crslab.untrusted_text import for_terminal
 from crslab.worker.config import RunConfig
-from crslab.world.layout import World, WorldError, load_world
 
 CONTEST_WORLD = "contest"
 CONTEST_SCENARIO = "hands_off"
@@ -63,27 +61,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_contest)
 
 
-def load_contest_world(name: str) -> World:
-    """The world named or found at ``name``; a bad one is a one-line error."""
-    try:
-        return load_world(name)
-    except WorldError as exc:
-        raise CliError(str(exc)) from None
-    except OSError as exc:
-        raise CliError(f"{name}: cannot read the world file ({exc.strerror})") from None
-
-
-def contest_config(args: argparse.Namespace, world: World) -> RunConfig:
-    """The run options' configuration, logging the scope rows, in ``world``."""
-    return dataclasses.replace(config_from_args(args, log=True), world=world)
+def contest_config(args: argparse.Namespace) -> RunConfig:
+    """The run options' configuration, logging the scope rows, in the world ``--world`` names (read
+    once, checked at the arm's rest; a bad one is a one-line error)."""
+    return config_from_args(args, log=True)
 
 
 def run_contest(args: argparse.Namespace) -> int:
     """``crslab contest``."""
     if not args.lab.is_file():
         raise CliError(f"{args.lab}: no such lab file")
-    world = load_contest_world(args.world)
-    config = contest_config(args, world)
+    config = contest_config(args)
+    world = config.world
     end_tick = seconds_to_tick(args.duration or CONTEST_DURATION_S)
     result = run_to_end(config, end_tick, args)
     if not result.log:

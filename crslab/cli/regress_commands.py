@@ -21,7 +21,6 @@ from crslab.cli.contest_commands import (
     CONTEST_SCENARIO,
     CONTEST_WORLD,
     contest_config,
-    load_contest_world,
 )
 from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.run_options import (
@@ -390,9 +389,9 @@ def run_grade_contest(args: argparse.Namespace) -> int:
     if getattr(args, "world", None) in (None, "none"):
         args.world = CONTEST_WORLD
     args.scenario = args.scenario or CONTEST_SCENARIO
-    world = load_contest_world(args.world)
     args.lab = None   # the configuration is built once with crslab's own lab; each submission is rebuilt
-    config = contest_config(args, world)
+    config = contest_config(args)
+    world = config.world
     end_tick = seconds_to_tick(args.duration or CONTEST_DURATION_S)
     subs = g.find_submissions(folder)
     if not subs:

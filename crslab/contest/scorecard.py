@@ -41,32 +41,13 @@ from typing import Any
 import numpy as np
 
 from crslab.framework_facts import TICKS_PER_S
+from crslab.world.fixtures import ContestRules
+from crslab.world.world_facts import TOUCH_N, groove_nearest, peg_depths
 
-TOUCH_N = 0.05
-"""A contact force above this (N) counts as a touch: MuJoCo reports exactly 0 without contact."""
 MOTION_M = 0.005
 """The first motion: the peg's tip this far (m) from where it was on the log's first row."""
 DEPTH_SLACK_M = 0.005
 """Below the groove's floor by this much (m) still counts as inside (the contact's penetration)."""
-
-
-@dataclass(frozen=True)
-class Rules:
-    """What each task asks (the world's ``[contest]`` table; these defaults when it has none)."""
-
-    band_g: tuple[float, float] = (500.0, 1000.0)
-    hold_s: float = 2.0
-    peg_min_depth_m: float = 0.01
-    peg_hold_s: float = 0.5
-    groove_min_share: float = 0.9
-
-    @classmethod
-    def of(cls, world: Any) -> Rules:
-        """The world's rules (``world.contest``), else the defaults."""
-        got = getattr(world, "contest", None)
-        if got is None:
-            return cls()
-        return cls(**{k: getattr(got, k, getattr(cls(), k)) for k in cls.__dataclass_fields__})
 
 
 class ScorecardError(ValueError):
@@ -127,7 +108,7 @@ class Scorecard:
     egg: Egg
     time_s: float | None
     first_motion_s: float | None
-    rules: Rules
+    rules: ContestRules
 
     TASKS = ("peg", "obstacle", "groove", "egg")
 
@@ -242,39 +223,16 @@ def column(log: Mapping[str, np.ndarray], name: str, width: int = 1) -> np.ndarr
     return a.reshape(len(a), -1)[:, :width]
 
 
-def _segments_distance(p: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
-    """Each point's distance (m) to the polyline through ``corners`` and its arc length along it.
-
-    >>> d, s, total = _segments_distance(np.array([[1.0, 0.5], [2.0, 1.5]]),
-    ...                                  np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]]))
-    >>> d.tolist(), s.tolist(), total
-    ([0.5, 0.0], [1.0, 3.5], 4.0)
-    """
-    best_d = np.full(len(p), np.inf)
-    best_s = np.zeros(len(p))
-    s0 = 0.0
-    for a, b in zip(corners[:-1], corners[1:]):
-        ab = b - a
-        length = float(np.hypot(*ab))
-        u = np.clip(((p - a) @ ab) / (length * length), 0.0, 1.0)
-        d = np.hypot(*(p - (a + u[:, None] * ab)).T)
-        closer = d < best_d
-        best_d = np.where(closer, d, best_d)
-        best_s = np.where(closer, s0 + u * length, best_s)
-        s0 += length
-    return best_d, best_s, s0
-
-
 def score(log: Mapping[str, np.ndarray], world: Any) -> Scorecard:
     """Score one run: its scope log (one row per tick) in ``world`` (a
-    :class:`crslab.world.layout.World`). Raises :class:`ScorecardError` when a signal is missing."""
+    :class:`crslab.world.World`). Raises :class:`ScorecardError` when a signal is missing."""
     tick = column(log, "tick")
     if len(tick) == 0:
         raise ScorecardError("the run's scope log has no rows")
     t = tick / TICKS_PER_S
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.001
     tip = column(log, "peg_tip", 3)
-    rules = Rules.of(world)
+    rules = world.contest
 
     peg = _peg(world, rules, t, dt, tip)
     obstacle = _obstacle(world, log, t, tip)
@@ -289,13 +247,11 @@ def score(log: Mapping[str, np.ndarray], world: Any) -> Scorecard:
     return Scorecard(peg, obstacle, groove, egg, time_s, first, rules)
 
 
-def _peg(world: Any, rules: Rules, t: np.ndarray, dt: float, tip: np.ndarray) -> Peg:
+def _peg(world: Any, rules: ContestRules, t: np.ndarray, dt: float, tip: np.ndarray) -> Peg:
     hole = getattr(world, "hole", None)
     if hole is None:
         return Peg(False, 0.0, 0.0, None, note=f"world {world.name!r} has no hole")
-    cx, cy = hole.center_xy_m
-    inside = np.hypot(tip[:, 0] - cx, tip[:, 1] - cy) <= hole.diameter_m / 2
-    depth = np.where(inside, np.maximum(hole.top_z_m - tip[:, 2], 0.0), 0.0)
+    depth = peg_depths(hole.center_xy_m, hole.top_z_m, hole.diameter_m / 2, tip)
     deep = depth >= rules.peg_min_depth_m
     rows, _ = longest_run(deep)
     need = max(1, math.ceil(rules.peg_hold_s / dt - 1e-9))
@@ -310,8 +266,8 @@ def _obstacle(world: Any, log: Mapping[str, np.ndarray], t: np.ndarray, tip: np.
                         note=f"world {world.name!r} has no obstacle")
     force = column(log, "obstacle_force")
     touch = force > TOUCH_N
-    (x, y, z), (sx, sy, sz) = ob.center_m, ob.size_m
-    over = ((np.abs(tip[:, 0] - x) <= sx / 2) & (np.abs(tip[:, 1] - y) <= sy / 2) & (tip[:, 2] > z + sz / 2))
+    (x, y), (sx, sy) = ob.center_xy_m, ob.size_xy_m
+    over = ((np.abs(tip[:, 0] - x) <= sx / 2) & (np.abs(tip[:, 1] - y) <= sy / 2) & (tip[:, 2] > ob.top_z_m))
     k = int(np.argmax(over)) if over.any() else -1
     touched = bool(touch.any())
     over_at = tuple(float(v) for v in tip[k]) if k >= 0 else None
@@ -320,14 +276,14 @@ def _obstacle(world: Any, log: Mapping[str, np.ndarray], t: np.ndarray, tip: np.
                     float(t[k]) if k >= 0 else None)
 
 
-def _groove(world: Any, rules: Rules, log: Mapping[str, np.ndarray], t: np.ndarray,
+def _groove(world: Any, rules: ContestRules, log: Mapping[str, np.ndarray], t: np.ndarray,
             tip: np.ndarray) -> Groove:
     gr = getattr(world, "groove", None)
     if gr is None:
         return Groove(False, 0.0, 0.0, None, None, None, note=f"world {world.name!r} has no groove")
     side = np.abs(column(log, "groove_side_force"))
-    corners = np.asarray(gr.corners_xy_m, dtype=np.float64)
-    dist, arc, total = _segments_distance(tip[:, :2], corners)
+    _, dist, arc = groove_nearest(gr.corners_xy_m, tip[:, :2])
+    total = gr.length_m
     inside = ((dist <= gr.width_m / 2) & (tip[:, 2] <= gr.top_z_m)
               & (tip[:, 2] >= gr.top_z_m - gr.depth_m - DEPTH_SLACK_M))
     if not inside.any():
@@ -349,7 +305,7 @@ def _groove(world: Any, rules: Rules, log: Mapping[str, np.ndarray], t: np.ndarr
                   reached_exit=bool(reached_end))
 
 
-def _egg(world: Any, rules: Rules, log: Mapping[str, np.ndarray], t: np.ndarray, dt: float) -> Egg:
+def _egg(world: Any, rules: ContestRules, log: Mapping[str, np.ndarray], t: np.ndarray, dt: float) -> Egg:
     if getattr(world, "egg", None) is None:
         return Egg(False, 0.0, 0.0, False, None, None, note=f"world {world.name!r} has no egg")
     grams = column(log, "scale_g")

@@ -226,7 +226,7 @@ class CrsServer:
         return JSONResponse(self._scenarios)
 
     async def arm(self, request: Request) -> Response:
-        from crslab.world.layout import WORLD_NAMES
+        from crslab.world import WORLD_NAMES
 
         world = request.query_params.get("world", "none")
         if world not in WORLD_NAMES:
@@ -236,7 +236,7 @@ class CrsServer:
         return JSONResponse(self._arm[world], headers={"Cache-Control": "max-age=3600"})
 
     async def worlds(self, request: Request) -> Response:
-        from crslab.world.layout import WORLD_NAMES, load_world
+        from crslab.world import WORLD_NAMES, load_world
 
         described = {"none": "free air (no fixtures)",
                      "contest": "the final project: peg and hole, obstacle, groove, egg on a scale"}
@@ -417,7 +417,7 @@ def arm_shapes(world: str = "none") -> dict:
     fixtures too, which never move (only the arm's links are ``moving``: a hand may drag them)."""
     from crslab.plant.model import LINK_BODIES
     from crslab.scopes.arm3d import ArmModel
-    from crslab.world.layout import load_world
+    from crslab.world import load_world
     from crslab.world.scene import WRIST_JOINT
 
     arm = ArmModel(load_world(world))
