@@ -382,10 +382,12 @@ def test_the_grooves_side_force_is_across_its_segment_never_along_it():
 
 
 def test_the_pegs_depth_is_below_the_holes_top_within_its_radius():
+    """Down the hole's axis, 1.5 mm off it, over its chamfer 1 mm below the top (8 mm off the axis:
+    past the hole's 7 mm radius, so not in it), and on the block beside it."""
     m, d = free_scene()
     h = CONTEST.hole
-    for off, depth in ((0.0, 0.03), (0.0015, 0.045), (0.012, 0.0)):  # the last beside the hole, on the block
-        z = h.top_z_m - depth if off < h.diameter_m / 2 else h.top_z_m + 0.0005
+    for off, below, depth in ((0.0, 0.03, 0.03), (0.0015, 0.045, 0.045), (0.008, 0.001, 0.0), (0.012, -0.0005, 0.0)):
+        z = h.top_z_m - below
         place_tip(m, d, (h.center_xy_m[0] + off, h.center_xy_m[1], z))
         row, _ = world_row(m, d)
         assert row["peg_depth"] == pytest.approx(depth, abs=1e-9)

@@ -37,7 +37,7 @@ from crslab.plant.model_files import ARM_XML, SCENE_XML
 from crslab.world.fixtures import World
 from crslab.world.layout_checks import fixture_solids
 from crslab.world.shapes import Box, Cylinder, Shape
-from crslab.world.world_facts import FIXTURES, flatten_egg_geom
+from crslab.world.world_facts import FIXTURES, OBSTACLE_BODIES, flatten_egg_geom
 
 WRIST_JOINT = "peg_wrist"
 """The peg's wrist joint (world scenes only): kept at minus the forearm's absolute angle."""
@@ -51,9 +51,9 @@ PEG_TYPE, FOREARM_TYPE, UPPER_ARM_TYPE = 1, 2, 4
 """Collision bits: the peg and its gripper (contype 1) touch every fixture; the forearm (2) and
 the upper arm (4) only the obstacle's copy that has their bit."""
 OBSTACLE_COPIES = {
-    "obstacle": PEG_TYPE,
-    "obstacle_forearm": FOREARM_TYPE,
-    "obstacle_upper_arm": UPPER_ARM_TYPE,
+    OBSTACLE_BODIES["peg"]: PEG_TYPE,
+    OBSTACLE_BODIES["forearm"]: FOREARM_TYPE,
+    OBSTACLE_BODIES["upper_arm"]: UPPER_ARM_TYPE,
 }
 """The obstacle's three bodies, at one place, each touched by one part of the arm: each one's force
 sensor says what that part presses on it (only the first is drawn)."""
@@ -213,7 +213,7 @@ def _fixture_bodies(worldbody: ET.Element, world: World, mat: _Materials) -> Non
         for name, bit in OBSTACLE_COPIES.items():
             body = _body(worldbody, name)
             _site(body, f"{name}_site", top)
-            drawn = name == "obstacle"
+            drawn = name == OBSTACLE_BODIES["peg"]
             _solid(
                 body,
                 Box(post.center, post.half, 0.0, name if drawn else f"{name}_copy"),  # type: ignore[union-attr]

@@ -58,6 +58,12 @@ FIXTURES: tuple[str, ...] = tuple(
 """The bodies with a force sensor, in the scene's sensor order after the peg tip (each
 ``NAME_force`` at ``NAME_site``)."""
 
+OBSTACLE_BODIES: dict[str, str] = {part: FIXTURES[index] for part, index in (
+    ("peg", lib.CRS_FIXTURE_OBSTACLE), ("forearm", lib.CRS_FIXTURE_OBSTACLE_FOREARM),
+    ("upper_arm", lib.CRS_FIXTURE_OBSTACLE_UPPER_ARM))}
+"""The obstacle's three bodies by the part of the arm each is touched by (``peg``, ``forearm``,
+``upper_arm``)."""
+
 EGG_FLAT_SHARE: float = lib.CRS_EGG_FLAT_SHARE
 """A broken egg keeps this share of its height, lying on its scale."""
 EGG_FALL_M_S: float = lib.CRS_EGG_FALL_M_S
