@@ -386,7 +386,8 @@ def test_the_pegs_depth_is_below_the_holes_top_within_its_radius():
     past the hole's 7 mm radius, so not in it), and on the block beside it."""
     m, d = free_scene()
     h = CONTEST.hole
-    for off, below, depth in ((0.0, 0.03, 0.03), (0.0015, 0.045, 0.045), (0.008, 0.001, 0.0), (0.012, -0.0005, 0.0)):
+    cases = ((0.0, 0.03, 0.03), (0.0015, 0.045, 0.045), (0.008, 0.001, 0.0), (0.012, -0.0005, 0.0))
+    for off, below, depth in cases:
         z = h.top_z_m - below
         place_tip(m, d, (h.center_xy_m[0] + off, h.center_xy_m[1], z))
         row, _ = world_row(m, d)

@@ -100,7 +100,8 @@ def test_the_homes_name_the_facts_from_c_only():
     numbers = [n.lineno for n in ast.walk(tree) if isinstance(n, ast.AnnAssign | ast.Assign)
                and isinstance(n.value, ast.Constant) and isinstance(n.value.value, int | float)]
     assert numbers == []
-    assert ContestRules() == ContestRules(band_g=world_facts.CONTEST_BAND_G, hold_s=world_facts.CONTEST_HOLD_S,
+    f = world_facts
+    assert ContestRules() == ContestRules(band_g=f.CONTEST_BAND_G, hold_s=f.CONTEST_HOLD_S,
                                           hold_tolerance_s=world_facts.CONTEST_HOLD_TOLERANCE_S,
                                           peg_min_depth_m=world_facts.CONTEST_PEG_MIN_DEPTH_M,
                                           peg_hold_s=world_facts.CONTEST_PEG_HOLD_S,
