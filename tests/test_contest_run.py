@@ -14,7 +14,7 @@ from crslab.contest.scorecard import RunFacts, score
 from crslab.framework_facts import STARTUP_TICKS, TICKS_PER_S
 from crslab.run.api import make_config
 from crslab.starters import starter_text
-from crslab.world.layout import WorldError, load_world
+from crslab.world import WorldError, load_world
 from tests.test_contest_offsets import GEN_B, LAB
 
 STARTER = starter_text("final", "B")
@@ -86,9 +86,15 @@ def test_offsets_that_rest_the_arm_in_a_fixture_are_refused(tmp_path):
     lab = tmp_path / "final.c"
     lab.write_text(STARTER)
     config = make_config(lab, CONTEST_SCENARIO, world=WORLD)
-    # motor angles 1.024 and 0.766 rad put the peg's tip at (0.40, 0, 0.21) m (crslab ik), inside
-    # the groove plate (its top at 0.225 m)
-    q = crs.ik(np.array([0.40, 0.0, 0.21]) / crs.M_PER_IN, elbow="up")
+    # motor angles that put the peg's tip 5 mm into the groove plate's solid top (crslab ik), the
+    # waist at 0 as at rest: the first point along y = 0 that the plate's solids hold
+    from crslab.world.layout_checks import fixture_solids
+
+    top = WORLD.groove.top_z_m - 0.005
+    plate = [shape for table, shape in fixture_solids(WORLD) if table == "groove"]
+    x = next(x for x in np.arange(0.30, 0.50, 0.001) if any(p.distance(np.array([[x, 0.0, top]]))[0] == 0
+                                                            for p in plate))
+    q = crs.ik(np.array([x, 0.0, top]) / crs.M_PER_IN, elbow="up")
     with pytest.raises(WorldError) as err:
         contest_config(config, contest_rest(STARTER, (q[1], q[2])))
     assert str(err.value).startswith(f"the arm resting at {q[1]:.4f} {q[2]:.4f} rad (--offsets): ")

@@ -30,7 +30,7 @@ def layout(*missing, **rules):
     world = SimpleNamespace(
         name="hand",
         hole=SimpleNamespace(center_xy_m=(0.0, 0.3), top_z_m=0.15, diameter_m=0.02, depth_m=0.04),
-        obstacle=SimpleNamespace(center_m=(0.2, 0.1, 0.25), size_m=(0.04, 0.04, 0.1)),
+        obstacle=SimpleNamespace(center_xy_m=(0.2, 0.1), top_z_m=0.3, size_xy_m=(0.04, 0.04)),
         groove=SimpleNamespace(corners_xy_m=CORNERS, top_z_m=0.2, width_m=0.02, depth_m=0.01),
         egg=SimpleNamespace(center_xy_m=(0.2, 0.2), top_z_m=0.3, diameter_m=0.04),
         contest=SimpleNamespace(**{**RULES, **rules}),

@@ -19,7 +19,9 @@ from crslab.serve.app import arm_shapes, fixtures_view
 from crslab.serve.page_messages import ProtocolError, parse_message
 from crslab.sinks.page_stream import SCOPE_SIGNALS
 from crslab.starters import starter_text
-from crslab.world.layout import fixture_boxes, load_world
+from crslab.world import load_world
+from crslab.world.layout_checks import fixture_solids
+from crslab.world.shapes import Box
 
 FINAL = starter_text("final", "B")
 
@@ -46,12 +48,18 @@ def test_the_camera_frames_every_fixture():
     eye, target = camera(view), np.asarray(view["target"])
     axis = (target - eye) / np.linalg.norm(target - eye)
     half = math.radians(view["fov_deg"] / 2)
-    boxes = fixture_boxes(world)
-    assert {b.table for b in boxes} == {"hole", "obstacle", "groove", "egg"}
-    for box in boxes:
-        for corner in np.array(np.meshgrid(*zip(box.lo, box.hi))).T.reshape(-1, 3):
-            ray = (corner - eye) / np.linalg.norm(corner - eye)
-            assert math.acos(np.clip(ray @ axis, -1, 1)) < half, (box.what, corner)
+    solids = fixture_solids(world)
+    assert {table for table, _ in solids} == {"hole", "obstacle", "groove", "egg"}
+    for table, solid in solids:
+        z0, z1 = solid.z_range
+        if isinstance(solid, Box):
+            xy = solid.corners_xy()
+        else:   # an upright cylinder: its rim's points every 10 degrees
+            a = np.radians(np.arange(0, 360, 10))
+            xy = np.asarray(solid.center_xy) + solid.radius * np.stack([np.cos(a), np.sin(a)], axis=1)
+        for corner in [(*p, z) for p in xy for z in (z0, z1)]:
+            ray = (np.asarray(corner) - eye) / np.linalg.norm(np.asarray(corner) - eye)
+            assert math.acos(np.clip(ray @ axis, -1, 1)) < half, (table, solid.name, corner)
 
 
 @pytest.fixture(scope="module")
@@ -90,7 +98,8 @@ def test_a_contest_run_on_the_page_is_crslab_contest_s(contest_run):
     page = card["card"]
     assert r.returncode == 0 and page["complete"] and cli["complete"]
     assert page["rest"] == cli["rest"] and page["run"]["end_s"] == cli["run"]["end_s"]
-    assert page["time_s"] == pytest.approx(cli["time_s"], abs=0.006)   # within a 5 ms row
+    # the first motion and the last task each within a 5 ms row
+    assert page["time_s"] == pytest.approx(cli["time_s"], abs=0.011)
     assert page["tasks"]["egg"]["peak_g"] == pytest.approx(cli["tasks"]["egg"]["peak_g"], abs=50)
     assert card["lines"][5].startswith("rest      -0.4100 0.2400 rad: the lab's own offset_Enc2_rad")
 

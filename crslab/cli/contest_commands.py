@@ -23,7 +23,7 @@ from crslab.run.board_run import RunError
 from crslab.run.status import ExitStatus, RunResult, RunStatus
 from crslab.untrusted_text import for_terminal
 from crslab.worker.config import RunConfig
-from crslab.world.layout import World, WorldError, load_world
+from crslab.world import WorldError
 
 DURATION_DEFAULT = (f"until the arm comes to rest after its last motion (still within {1000 * STILL_M:g} mm "
                     f"for {STILL_S:g} s), at most {LONGEST_S:g} s")
@@ -68,20 +68,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run_contest_command)
 
 
-def load_contest_world(name: str | Path) -> World:
-    """The world named or found at ``name``, loaded once; a bad one is a one-line error."""
-    try:
-        world = load_world(name)
-    except WorldError as exc:
-        raise CliError(str(exc)) from None
-    except OSError as exc:
-        raise CliError(f"{name}: cannot read the world file ({exc.strerror})") from None
-    if world.is_free_air or world.contest is None:
-        raise CliError(f"{name}: world {world.name!r} has no fixtures: the contest needs the hole, the "
-                       "obstacle, the groove and the egg (the contest world has them)")
-    return world
-
-
 def read_lab_text(path: Path) -> str:
     """The lab file's text (for its offsets); a missing one is a one-line error."""
     if not path.is_file():
@@ -92,10 +78,13 @@ def read_lab_text(path: Path) -> str:
         raise CliError(f"{path}: cannot read it ({exc.strerror})") from None
 
 
-def contest_run_config(args: argparse.Namespace, world: World, rest: Rest) -> RunConfig:
-    """The run options' configuration made a contest run in ``world`` resting at ``rest``."""
-    args.world = world   # loaded once: make_config takes the World as it is
-    config = config_from_args(args, log=True, rest_motor_rad=rest.motor_rad)
+def contest_run_config(args: argparse.Namespace, rest: Rest) -> RunConfig:
+    """The run options' configuration (the world ``--world`` names read once: a bad one is a
+    one-line error) made a contest run resting at ``rest``."""
+    config = config_from_args(args, log=True)
+    if config.world.is_free_air:
+        raise CliError(f"{args.world}: world {config.world.name!r} has no fixtures: the contest needs the "
+                       "hole, the obstacle, the groove and the egg (the contest world has them)")
     try:
         return contest_config(config, rest)
     except WorldError as exc:
@@ -111,9 +100,9 @@ def facts(result: RunResult, config: RunConfig, rest: Rest) -> RunFacts:
 def run_contest_command(args: argparse.Namespace) -> int:
     """``crslab contest``."""
     text = read_lab_text(args.lab)
-    world = load_contest_world(args.world)
     rest = contest_rest(text, args.offsets)
-    config = contest_run_config(args, world, rest)
+    config = contest_run_config(args, rest)
+    world = config.world
     try:
         result = run_contest(config, duration_s=args.duration, deadline_s=args.deadline,
                              limits=limits_from_args(args))

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 from crslab.cli import CliError
 from crslab.cli.autograder_report import add_report_options, run_report
-from crslab.cli.contest_commands import DURATION_DEFAULT, OFFSETS_DEFAULT, load_contest_world
+from crslab.cli.contest_commands import DURATION_DEFAULT, OFFSETS_DEFAULT
 from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.run_options import (
     add_c28x_option,
@@ -392,11 +392,14 @@ def run_grade_contest(args: argparse.Namespace) -> int:
         raise CliError(f"{folder}: no such folder of submissions")
     if args.jobs is not None and args.jobs < 1:
         raise CliError(f"--jobs must be at least 1, got {args.jobs}")
-    world = load_contest_world(args.world or CONTEST_WORLD)
-    world_name, args.world = world.source, world   # loaded once: every run takes it as it is
+    args.world = args.world or CONTEST_WORLD
     args.scenario = args.scenario or CONTEST_SCENARIO
     args.lab = None   # the configuration is built once with crslab's own lab; each submission is rebuilt
-    config = config_from_args(args, log=True)
+    config = config_from_args(args, log=True)   # the world read once: every run takes it as it is
+    world = config.world
+    if world.is_free_air:
+        raise CliError(f"{args.world}: world {world.name!r} has no fixtures: the contest needs the hole, the "
+                       "obstacle, the groove and the egg (the contest world has them)")
     found = g.find_class(folder)
     subs = found.labs
     if not subs:
@@ -412,7 +415,7 @@ def run_grade_contest(args: argparse.Namespace) -> int:
     executor = executor_from_args(args)
     long = f"{args.duration:g} s" if args.duration else "until each arm comes to rest"
     print(f"crslab grade: {found.summary()}", file=sys.stderr)
-    print(f"crslab grade: {len(subs)} submissions in the {world_name} world on {config.scenario.name} "
+    print(f"crslab grade: {len(subs)} submissions in the {world.source} world on {config.scenario.name} "
           f"({long}, each resting where its own offsets say), by the contest's scorecard, "
           f"{executor.description}", file=sys.stderr)
     progress = g.Progress(len(subs))

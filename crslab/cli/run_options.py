@@ -26,7 +26,7 @@ from crslab.sandbox import missing as sandbox_missing
 from crslab.scenario.load import ScenarioError
 from crslab.untrusted_text import for_text
 from crslab.worker.config import RunConfig
-from crslab.world.layout import WorldError
+from crslab.world import WorldError
 
 
 def positive_int(text: str) -> int:

@@ -48,7 +48,7 @@ def _missing_verb(p: argparse.ArgumentParser) -> int:
 
 def run_list(args: argparse.Namespace) -> int:
     """``crslab world list``."""
-    from crslab.world.layout import WORLD_NAMES, load_world
+    from crslab.world import WORLD_NAMES, load_world
 
     for name in WORLD_NAMES:
         world = load_world(name)
@@ -59,7 +59,7 @@ def run_list(args: argparse.Namespace) -> int:
 
 def run_show(args: argparse.Namespace) -> int:
     """``crslab world show NAME``."""
-    from crslab.world.layout import WORLD_NAMES, world_file
+    from crslab.world import WORLD_NAMES, world_file
 
     if args.name not in WORLD_NAMES:
         raise CliError(f"no built-in world {args.name!r} (built-ins: {', '.join(WORLD_NAMES)}); "
@@ -70,7 +70,7 @@ def run_show(args: argparse.Namespace) -> int:
 
 def run_check(args: argparse.Namespace) -> int:
     """``crslab world check FILE``."""
-    from crslab.world.layout import WorldError, load_world
+    from crslab.world import WorldError, load_world
 
     try:
         world = load_world(args.file)

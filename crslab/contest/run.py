@@ -37,13 +37,16 @@ CHUNK_TICKS = 1000
 def contest_config(config: RunConfig, rest: Rest) -> RunConfig:
     """``config`` (its world a contest world) logging the scope rows, with the arm resting at
     ``rest``. Raises ``WorldError`` (one line) when a fixture stands where the arm rests there."""
-    from crslab.world.layout import WorldError, check_world
+    from crslab.world import WorldError
+    from crslab.world.layout_checks import check_layout
 
-    try:
-        check_world(config.world, "", rest.motor_rad)
-    except WorldError as exc:
-        raise WorldError(f"the arm resting at {rest.motor_rad[1]:.4f} {rest.motor_rad[2]:.4f} rad "
-                         f"({rest.said}): {exc}") from None
+    world = config.world
+
+    def fail(table: str, why: str) -> WorldError:
+        return WorldError(f"the arm resting at {rest.motor_rad[1]:.4f} {rest.motor_rad[2]:.4f} rad "
+                          f"({rest.said}): {world.source}: {table}: {why}")
+
+    check_layout(world, rest.motor_rad, fail)
     return dataclasses.replace(config, rest_motor_rad=rest.motor_rad, log_signals=True)
 
 

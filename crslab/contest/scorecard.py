@@ -116,18 +116,12 @@ class Scorecard:
 
 def score(log: Mapping[str, np.ndarray], world: Any, run: RunFacts | None = None) -> Scorecard:
     """Score one run: its scope log (one row per logged tick) in ``world`` (a
-    :class:`crslab.world.layout.World` with fixtures), what the run reported (``run``; None: a run
+    :class:`crslab.world.World` with fixtures), what the run reported (``run``; None: a run
     that reached its end). Raises :class:`ScorecardError` when a signal is missing."""
-    from crslab.contest.interim_row import interim_log, interim_world
-
-    world = interim_world(world)
-    log = interim_log(log, world)
     run = run if run is not None else RunFacts()
     tick = column(log, "tick")
     if len(tick) == 0:
         raise ScorecardError("the run's scope log has no rows")
-    if getattr(world, "contest", None) is None:
-        raise ScorecardError(f"world {world.name!r} has no contest rules (it has no fixtures)")
     t = tick / TICKS_PER_S
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 1.0 / TICKS_PER_S
     tr = Trace(t, column(log, "peg_tip", 3), dt)

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from crslab.contest.interim_row import EGG_BROKEN_BY, TOUCH_N
+from crslab.world.world_facts import EGG_BROKEN_BY, TOUCH_N
 
 DEPTH_SLACK_M = 0.005
 """Below the groove's floor by this much (m) still counts as in it (the contact's penetration)."""
@@ -76,6 +76,11 @@ def first_run_reaching(mask: np.ndarray, rows: int) -> int:
     return -1
 
 
+def _across(tr: Trace, center_xy: tuple[float, float]) -> np.ndarray:
+    """Each row's tip's distance (m, across: in x-y) from a vertical axis through ``center_xy``."""
+    return np.hypot(tr.tip[:, 0] - center_xy[0], tr.tip[:, 1] - center_xy[1])
+
+
 def _xyz(p: np.ndarray) -> tuple[float, float, float]:
     return (float(p[0]), float(p[1]), float(p[2]))
 
@@ -120,7 +125,7 @@ def judge_peg(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Peg:
     k = first_run_reaching(deep, tr.rows(rules.peg_hold_s))
     if k >= 0:
         return Peg(True, float(depth.max()), rows * tr.dt, float(tr.t[k]))
-    off = np.hypot(tr.tip[:, 0] - hole.center_xy_m[0], tr.tip[:, 1] - hole.center_xy_m[1])
+    off = _across(tr, hole.center_xy_m)
     near = np.flatnonzero(off <= NEAR_HOLE_M)
     # the lowest point near the axis; never near: the nearest (the lowest of those)
     at = int(near[np.argmin(tr.tip[near, 2])]) if len(near) else int(np.lexsort((tr.tip[:, 2], off))[0])
@@ -155,7 +160,7 @@ class Obstacle:
 
 
 def _box_distance_xy(p: np.ndarray, center: tuple, size: tuple) -> float:
-    d = np.maximum(np.abs(p[:2] - np.asarray(center[:2])) - np.asarray(size[:2]) / 2, 0.0)
+    d = np.maximum(np.abs(p[:2] - np.asarray(center)) - np.asarray(size) / 2, 0.0)
     return float(np.hypot(*d))
 
 
@@ -175,15 +180,14 @@ def judge_obstacle(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Obst
             touches.append(Touch(part, float(tr.t[hit[0]]), float(f.max())))
     touches.sort(key=lambda x: x.first_s)
     total = column(log, "obstacle_force")
-    center, size = np.asarray(ob.center_m), np.asarray(ob.size_m)
-    top = center[2] + size[2] / 2
+    center, size, top = np.asarray(ob.center_xy_m), np.asarray(ob.size_xy_m), ob.top_z_m
     over = ((np.abs(tr.tip[:, 0] - center[0]) <= size[0] / 2)
             & (np.abs(tr.tip[:, 1] - center[1]) <= size[1] / 2) & (tr.tip[:, 2] > top))
     passed = at = beside = done_at = None
     if world.hole is not None and world.groove is not None:
         way = np.asarray(world.groove.corners_xy_m[0]) - np.asarray(world.hole.center_xy_m)
         way = way / np.hypot(*way)
-        s = (tr.tip[:, :2] - center[:2]) @ way
+        s = (tr.tip[:, :2] - center) @ way
         cross = np.flatnonzero((s[:-1] < 0) & (s[1:] >= 0)) + 1
         for k in cross:
             k = int(k)
@@ -192,7 +196,7 @@ def judge_obstacle(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Obst
                 break
             if rules.obstacle_around and passed is None:
                 passed, at, done_at = "around", _xyz(tr.tip[k]), float(tr.t[k])
-                beside = _box_distance_xy(tr.tip[k], ob.center_m, ob.size_m)
+                beside = _box_distance_xy(tr.tip[k], ob.center_xy_m, ob.size_xy_m)
                 break
     elif over.any():  # no way from a hole to a groove to cross: over its top is passing it
         k = int(np.argmax(over))
@@ -312,8 +316,7 @@ def judge_egg(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Egg:
     touched = bool((force > TOUCH_N).any())
     lowest = None
     if not touched:
-        off = np.hypot(tr.tip[:, 0] - egg.center_xy_m[0], tr.tip[:, 1] - egg.center_xy_m[1])
-        over = off <= egg.diameter_m / 2
+        over = _across(tr, egg.center_xy_m) <= egg.diameter_m / 2
         lowest = float(tr.tip[over, 2].min() - egg.top_z_m) if over.any() else None
     return Egg(k >= 0 and not broken, float(grams.max()), rows * tr.dt, broken,
                float(tr.t[at]) if broken else None, float(tr.t[k]) if k >= 0 and not broken else None,

@@ -45,7 +45,7 @@ class ContestRunner:
         return contest_rest(text, self.offsets)
 
     def __call__(self, config: RunConfig, text: str, deadline_s: float, limits: Limits) -> RunResult:
-        from crslab.world.layout import WorldError
+        from crslab.world import WorldError
 
         try:
             config = contest_config(config, self.rest(text))

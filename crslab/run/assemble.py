@@ -35,7 +35,7 @@ from crslab.sinks.memory import MemorySink
 from crslab.sinks.sink import FanOut, Sink
 from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
-from crslab.world.layout import FREE_AIR, World, load_world
+from crslab.world import FREE_AIR, World, load_world
 
 DEFAULT_REST_MOTOR_RAD = REST_MOTOR_RAD
 IN_A_WORLD_SCENARIO = "hands_off"
@@ -84,7 +84,7 @@ def make_config(
     ``piccolo``; None takes the lab's generation's (Gen A: none, Gen B: piccolo). ``debug`` and
     ``break_when`` build the lab for a debugger (:func:`crslab.lab.build.build_lab`). ``plant`` is
     the arm's plant parameters or a plant file (``crslab identify`` writes one); None: crslab's arm.
-    ``world`` is what the arm can touch: a :class:`~crslab.world.layout.World`, a built-in world's
+    ``world`` is what the arm can touch: a :class:`~crslab.world.World`, a built-in world's
     name (``none``, ``contest``) or a world file; None: free air (``none``). ``build``: the lab
     already built (then ``lab`` and the build options are not used again).
     Raises ``ScenarioError`` when the scenario writes a variable the lab does not watch,

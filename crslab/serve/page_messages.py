@@ -47,7 +47,7 @@ import math
 import re
 from typing import Any
 
-from crslab.world.layout import WORLD_NAMES
+from crslab.world import WORLD_NAMES
 
 MAX_MESSAGE_BYTES = 1_000_000
 """The largest message the page may send (a lab file or a golden file with room to spare)."""

@@ -235,7 +235,7 @@ class Session:
         from crslab.regress.compare import compare
         from crslab.regress.runner import run_lab
         from crslab.regress.transcript import GoldenError, read_golden, recorded_run, split_lines
-        from crslab.world.layout import WORLD_NAMES
+        from crslab.world import WORLD_NAMES
 
         lab = self._write_lab(msg["lab"])
         golden_path = self._write("golden", msg["golden"])

@@ -52,7 +52,7 @@ from crslab.sinks.page_stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream,
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
 from crslab.worker.config import RunConfig
-from crslab.world.layout import World
+from crslab.world import World
 
 RUN = "run"
 PAGE = "page"

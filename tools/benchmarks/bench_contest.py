@@ -25,7 +25,7 @@ from baselines import build_bare_loop, record_run, run_bare_loop, same_physics
 
 from crslab import crs
 from crslab.run.api import make_config, simulate
-from crslab.world.layout import load_world
+from crslab.world import load_world
 from crslab.world.scene import scene_xml
 
 REPEATS = 3
