@@ -243,7 +243,9 @@ def test_grade_contest_grades_a_class_as_grade_does(tmp_path):
     (subs / "bob.c").write_text(STARTER)           # the same run as alice's: ranked equal
     (subs / "carol.c").write_text((LABS / "does_not_compile.c").read_text())
     (subs / "dave.c").write_text(CRASHING)
-    (subs / "erin.c").write_text(VARIANTS["egg_deep"][0])
+    # erin's bench rests elsewhere: her own offsets are where her arm rests
+    (subs / "erin.c").write_text(variant(VARIANTS["egg_deep"][0], ("float offset_Enc2_rad = -0.42;",
+                                                                   "float offset_Enc2_rad = -0.41;")))
     out = tmp_path / "out"
     r = crslab("grade", subs, "--contest", "-o", out, "--jobs", "2")
     assert r.returncode == 1, r.stderr
@@ -255,6 +257,8 @@ def test_grade_contest_grades_a_class_as_grade_does(tmp_path):
     assert float(a["time_s"]) > 0 and a["time_s"] == b["time_s"] and a["rank"] == b["rank"] == "1"
     assert (a["rest_motor2_rad"], a["rest_motor3_rad"], a["rest_from"]) == ("-0.420000", "0.240000", "lab")
     erin = rows["erin.c"]
+    assert (erin["rest_motor2_rad"], erin["rest_motor3_rad"], erin["rest_from"]) == ("-0.410000", "0.240000",
+                                                                                   "lab")
     assert erin["result"] == f"{erin['tasks_done']} of 4" and erin["egg_done"] == "0"
     assert erin["egg_broken_by"] == "the_press" and erin["time_s"] == "" and erin["rank"] == "3"
     assert "BROKEN" in erin["detail"] and "by the press" in erin["detail"]
