@@ -39,6 +39,7 @@ from pathlib import Path
 
 from crslab import os_support
 from crslab.contest.offsets import Rest
+from crslab.contest.page_card import ContestCardSink
 from crslab.contest.run import MotionWatch
 from crslab.framework_facts import TICKS_PER_S
 from crslab.live.console import VarConsole
@@ -51,7 +52,6 @@ from crslab.run.status import RunResult, RunStatus
 from crslab.serve import wire
 from crslab.serve.page_text import PageText
 from crslab.serve.stream import PageControl, Stopped
-from crslab.sinks.contest_card import ContestCardSink
 from crslab.sinks.page_stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream, message
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink

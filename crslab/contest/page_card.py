@@ -1,4 +1,5 @@
-"""The contest's scorecard of a run on ``crslab serve``'s page (a run with ``contest`` on): the scope
+"""The contest's scorecard of a run on ``crslab serve``'s page (a run with ``contest`` on), a sink of
+that run (crslab/serve/run_host.py adds it; it lives here, with the judging it calls): the scope
 rows the run logs (every 5th tick there, every tick when it records) kept, scored once the run ends
 as ``crslab contest`` scores its run (:func:`crslab.contest.scorecard.score`), and sent to the page
 as one ``scorecard`` message: the card's lines and its JSON, before the run's ``ended``."""
