@@ -3,8 +3,8 @@ tasks of the contest world, and each variant that breaks one task fails that tas
 its evidence: stiff in x-y at the hole with the hole 1 cm off, the groove followed above its
 plate's top (the starter, compliant across, follows a groove 4 mm from its waypoints), a press
 target deep enough to break the egg, a path through the obstacle. ``crslab grade --contest`` on a
-small class gives a column per task and a JUnit case per task. Each lab runs once (module-scoped), as a user runs it:
-``crslab contest --json`` in a process of its own."""
+small class gives a column per task and a JUnit case per task. Each lab runs once
+(module-scoped), as a user runs it: ``crslab contest --json`` in a process of its own."""
 
 import csv
 import json
