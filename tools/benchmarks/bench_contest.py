@@ -16,16 +16,15 @@ sensors included. crslab's side is ``BoardRun.run`` at ``--fast`` in a process o
 from __future__ import annotations
 
 import json
-import xml.etree.ElementTree as ET
 import subprocess
 import sys
 import tempfile
+import xml.etree.ElementTree as ET
 from pathlib import Path
-
-from baselines import build_bare_loop, record_run, run_bare_loop, same_physics
 
 import mujoco
 import numpy as np
+from baselines import build_bare_loop, record_run, run_bare_loop, same_physics
 
 from crslab import crs
 from crslab.run.api import make_config, simulate
