@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from crslab import crs
 from crslab.plant.model import holding_torques_nm
 from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
@@ -83,3 +84,72 @@ def test_a_joint_holding_still_keeps_holding_while_another_slides():
     slide = (1.2 * plant.static_pos_nm[0] - plant.coulomb_pos_nm[0]) / plant.viscous_pos_nm_s_per_rad[0]
     assert d[0] == pytest.approx(2.0 * slide, rel=0.15), d
     assert np.all(np.abs(d[1:]) < COUNT_RAD), d
+
+
+# The egg's height and reach in the contest layout ((0.226, 0.184, 0.2975) m, turned onto y = 0: its
+# joints 2 and 3 are the egg's), where tests/labs/force_press_gen_b.c presses straight down.
+EGG_MOTOR_RAD = (0.0, 0.471, 0.804)
+KPXY = 5000.0  # the lab's x-y stiffness, N/m
+
+
+def press(force_n: float, seconds: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """The force-feedforward press (tests/labs/force_press_gen_b.c) from rest at the egg's pose:
+    how far the motor angles (rad) and the tip (m) move in ``seconds`` under ``force_n`` down."""
+    config = make_config(LABS / "force_press_gen_b.c", "hands_off", startup_delay=False,
+                         rest_motor_rad=EGG_MOTOR_RAD, log=True)
+    memory = MemorySink()
+    with BoardRun(config) as run:
+        run.run(300, memory)
+        run.set("Fpress", float(force_n))
+        run.run(int(seconds * 1000), memory)
+    enc, ee = memory.log["enc_rad"], memory.log["ee"]
+    return enc[-1] - enc[299], ee[-1] - ee[299]
+
+
+@pytest.fixture(scope="module")
+def press_forces():
+    """Hand-derived, from the plant's static values and the course's Jacobian (crslab.crs): a
+    downward force F at the tip puts -F dz/dth on each motor (N.m), besides what the lab's gravity
+    compensation (the course's p vector) leaves of the model's gravity. Returns the force at which
+    the first joint gives and the force that moves the tip straight down against both bands
+    (virtual work: Spos2 dth2 + Spos3 dth3 per metre down), and the torque per newton."""
+    plant = PlantParams.defaults()
+    q = np.array(EGG_MOTOR_RAD)
+    jac = crs.jacobian(q) * 0.0254  # m per rad
+    course = 6.0 * np.array([0.0, -0.0753 * 9.81 * np.sin(q[1]), -0.0298 * 9.81 * np.cos(q[2])])
+    left = -holding_torques_nm(q, plant) + course  # gravity the lab does not cancel, N.m
+    per_newton = -jac[2, :]
+    first = min((plant.static_pos_nm[j] - left[j]) / per_newton[j] for j in (1, 2))
+    down = np.linalg.solve(jac, [0.0, 0.0, -1.0])
+    straight = float(down[1] * plant.static_pos_nm[1] + down[2] * plant.static_pos_nm[2])
+    return first, straight, per_newton, left, jac
+
+
+def test_a_press_below_what_the_joints_hold_leaves_the_arm_at_rest(press_forces):
+    """14.3 N: joint 3 gives first (0.176 N.m per N against its Spos3 2.51); at 95 % of it not one
+    count moves in a second, as a real joint holds inside its band."""
+    first, straight, *_ = press_forces
+    assert 14.0 < first < straight < 17.5
+    moved, _ = press(0.95 * first)
+    assert np.all(np.abs(moved) < COUNT_RAD), moved
+
+
+def test_between_the_first_joint_giving_and_straight_down_it_slides_until_x_y_take_it(press_forces):
+    """Half way between: joint 3 slides until the stiff x-y spring's pull on it,
+    KPxy (J13^2 + J23^2) per rad, takes the excess 0.176 F - Spos3; joints 1 and 2 hold."""
+    first, straight, per_newton, left, jac = press_forces
+    force = 0.5 * (first + straight)
+    plant = PlantParams.defaults()
+    pull_nm_per_rad = KPXY * (jac[0, 2] ** 2 + jac[1, 2] ** 2)
+    expected = (per_newton[2] * force + left[2] - plant.static_pos_nm[2]) / pull_nm_per_rad
+    moved, _ = press(force)
+    assert np.all(np.abs(moved[:2]) < COUNT_RAD), moved
+    assert moved[2] == pytest.approx(expected, rel=0.1), (moved, expected)
+
+
+def test_above_straight_down_the_press_goes_down(press_forces):
+    """15 % above the straight-down force the tip goes down (12 mm in the second) with x and y
+    held within half a millimetre: the press reaches what is below it."""
+    _, straight, *_ = press_forces
+    _, tip = press(1.15 * straight)
+    assert tip[2] < -0.005 and np.all(np.abs(tip[:2]) < 0.0005), tip
