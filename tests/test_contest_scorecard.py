@@ -225,7 +225,7 @@ def test_a_peg_that_never_goes_below_the_plate_s_top_says_how_high_it_stayed():
     card = score(trace([(0, 0.4, 0.1, 0.21), (1, 0.4, 0.0, 0.206), (2, 0.3, 0.0, 0.206)]), layout())
     g = card.groove
     assert g.share == 0.0 and g.entered_at_s is None and g.lowest_above_top_m == pytest.approx(0.006)
-    assert "never below the plate's top over it: the tip's lowest over the channel 6 mm above the top" \
+    assert "never below the plate's top over it: the tip's lowest over the channel 6.0 mm above the top" \
         in card.lines()[2]
     away = score(trace([(0, 0.1, 0.1, 0.19), (1, 0.1, 0.0, 0.19)]), layout()).lines()[2]
     assert "never over the channel: 200 mm from its centre line at the nearest" in away
@@ -285,7 +285,7 @@ def test_a_broken_egg_says_what_broke_it_and_the_press_s_peak_before():
 def test_an_egg_never_touched_says_how_high_the_peg_stayed():
     card = score(trace([(0, 0.2, 0.2, 0.35), (1, 0.2, 0.2, 0.314)]), layout())
     assert not card.egg.touched and card.egg.lowest_above_top_m == pytest.approx(0.014)
-    assert card.lines()[3].endswith("never touched: the tip's lowest over it 14 mm above its top")
+    assert card.lines()[3].endswith("never touched: the tip's lowest over it 14.0 mm above its top")
 
 
 # -- the whole card -----------------------------------------------------------------------------

@@ -207,7 +207,7 @@ def _groove_line(g: Groove, ru: Any) -> str:
     if g.entered_at_s is None:
         if g.lowest_above_top_m is not None:
             text += (f"; never below the plate's top over it: the tip's lowest over the channel "
-                     f"{1000 * g.lowest_above_top_m:.0f} mm above the top")
+                     f"{1000 * g.lowest_above_top_m:.1f} mm above the top")
         elif g.nearest_m is not None:
             text += f"; never over the channel: {1000 * g.nearest_m:.0f} mm from its centre line at the " \
                 "nearest"
@@ -235,7 +235,7 @@ def _egg_line(e: Egg, ru: Any) -> str:
                  f"{e.peak_before_break_g:.0f} g")
     elif not e.touched:
         if e.lowest_above_top_m is not None:
-            text += (f"; never touched: the tip's lowest over it {1000 * e.lowest_above_top_m:.0f} mm above "
+            text += (f"; never touched: the tip's lowest over it {1000 * e.lowest_above_top_m:.1f} mm above "
                      "its top")
         else:
             text += "; never touched: the tip never came over it"

@@ -9,7 +9,7 @@ from them; the hole block, drawn as staves around its hole, is its bounding box 
 >>> world = load_world("contest")
 >>> sorted({table for table, _ in fixture_solids(world)})
 ['egg', 'groove', 'hole', 'obstacle']
->>> [round(v, 4) for v in arm_points_m(world, [0.0, 0.0, 0.0])["wrist"]]   # motor zero, the arm raised
+>>> arm_points_m(world, [0.0, 0.0, 0.0])["wrist"].round(4).tolist()   # motor zero, the arm raised
 [0.254, 0.0, 0.608]
 """
 
