@@ -46,7 +46,7 @@ MAGIC = b"# crslab transcript"
 DEFAULT_PLANT = "default"
 """A golden header's ``plant`` for crslab's own arm."""
 DEFAULT_WORLD = "none"
-"""A golden header's ``world`` for free air (crslab.world.layout.DEFAULT_WORLD)."""
+"""A golden header's ``world`` for free air (world ``none``)."""
 HEADER_END = b"# ----\n"
 GOLDEN_MAX_BYTES = 64_000_000
 """The largest golden file crslab reads: four times what a run prints at most by default
