@@ -592,14 +592,19 @@ class Table:
             raise self.fail(key, f"must be a list of three numbers, got {shown(value)}")
         return np.asarray(self.numbers(key, 3), dtype=float)
 
-    def points(self, key: str, n: int) -> tuple[tuple[float, float], ...]:
-        """``key`` as a list of ``n`` [x, y] points of finite numbers."""
+    def points(self, key: str, n: int, *, minimum: float | None = None,
+               maximum: float | None = None) -> tuple[tuple[float, float], ...]:
+        """``key`` as a list of ``n`` [x, y] points of finite numbers, each coordinate from
+        ``minimum`` to ``maximum``."""
         value = self.value(key)
         if (not isinstance(value, list) or len(value) != n
                 or not all(isinstance(p, list) and len(p) == 2
                            and all(isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x)
                                    for x in p) for p in value)):
             raise self.fail(key, f"must be a list of {n} [x, y] points, got {shown(value)}")
+        for p in value:
+            for x in p:
+                checked_number(x, lambda why: self.fail(key, why), minimum=minimum, maximum=maximum, got=p)
         return tuple((float(p[0]), float(p[1])) for p in value)
 
     def sub(self, key: str, prefix: str | None = None) -> Table:

@@ -1,7 +1,7 @@
 """A model MuJoCo refuses is blamed on the file that made it (issue 38: ``mass_kg = 1e-300`` was
 refused by MuJoCo but blamed on the lab, ``crashed``, exit status 3): a world whose every value is in
-range but whose peg MuJoCo cannot simulate (1e-11 kg: its inertia's eigenvalues round to zero) is
-one line naming the world file, exit status 2 (bad input), on either board."""
+range but whose peg MuJoCo cannot simulate (1e-9 m across: its inertia's eigenvalues round to zero)
+is one line naming the world file, exit status 2 (bad input), on either board."""
 
 from __future__ import annotations
 
@@ -12,17 +12,17 @@ from pathlib import Path
 
 import pytest
 
-from crslab.world.layout import load_world
+from crslab.world import load_world
 
 ROOT = Path(__file__).resolve().parents[1]
 CONTEST = ROOT / "crslab" / "worlds" / "contest.toml"
 
 
-def world_with_peg_mass(tmp_path: Path, mass: str) -> Path:
+def world_with_peg_diameter(tmp_path: Path, diameter: str) -> Path:
     text = CONTEST.read_text()
-    assert "\nmass_kg = 0.030 " in text
+    assert "\n[peg]\ndiameter_m = 0.010 " in text
     path = tmp_path / "bench.toml"
-    path.write_text(text.replace("\nmass_kg = 0.030 ", f"\nmass_kg = {mass} ", 1))
+    path.write_text(text.replace("\n[peg]\ndiameter_m = 0.010 ", f"\n[peg]\ndiameter_m = {diameter} ", 1))
     return path
 
 
@@ -34,7 +34,7 @@ def sim(world: Path, *board: str) -> subprocess.CompletedProcess:
 
 @pytest.mark.parametrize("board", [[], ["--native"]], ids=["wasm", "native"])
 def test_a_world_mujoco_refuses_is_blamed_on_its_file(tmp_path, board):
-    world = world_with_peg_mass(tmp_path, "1e-11")
+    world = world_with_peg_diameter(tmp_path, "1e-9")
     load_world(world)  # every value within its range: only MuJoCo can tell
     r = sim(world, *board)
     assert r.returncode == 2, r.stderr
@@ -44,5 +44,5 @@ def test_a_world_mujoco_refuses_is_blamed_on_its_file(tmp_path, board):
 
 
 def test_the_same_world_with_a_peg_mujoco_accepts_runs(tmp_path):
-    r = sim(world_with_peg_mass(tmp_path, "1e-6"))
+    r = sim(world_with_peg_diameter(tmp_path, "1e-4"))
     assert r.returncode == 0, r.stderr
