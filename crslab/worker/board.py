@@ -156,7 +156,7 @@ def refusal_text(error: str) -> str:
 def plant_model(config: RunConfig) -> object:
     """The MuJoCo model of ``config``'s world with its plant parameters applied (loaded from the
     MJCF once). A world MuJoCo refuses (its values each in range, together not a body MuJoCo can
-    simulate: a peg of 1e-11 kg) raises :class:`ModelRefused` naming the world's file."""
+    simulate: a peg 1e-9 m across) raises :class:`ModelRefused` naming the world's file."""
     try:
         model = load_scene(config.world)
     except ValueError as exc:
