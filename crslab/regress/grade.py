@@ -270,7 +270,7 @@ def _alone_note(path: Path, diagnostics: str) -> str:
 def _build_and_run(path: Path, source: Path, config: RunConfig, end_tick: int, deadline_s: float,
                    limits: Limits, start: float, alone: bool = False, root: Path | None = None) -> RunResult:
     from crslab.lab.build import LabBuildError, LabForbidden, build_lab
-    from crslab.regress.runner import run_lab
+    from crslab.run.assemble import run_kept
     from crslab.run.board_run import RunError
     from crslab.scenario.load import ScenarioError, check_lab
 
@@ -298,8 +298,8 @@ def _build_and_run(path: Path, source: Path, config: RunConfig, end_tick: int, d
     except ScenarioError as exc:
         return ended(RunStatus.UNFIT, str(exc))
     try:
-        result = run_lab(dataclasses.replace(config, build=build), end_tick, deadline_s=deadline_s,
-                         limits=limits)
+        result = run_kept(dataclasses.replace(config, build=build), end_tick, deadline_s=deadline_s,
+                          limits=limits)
     except RunError as exc:
         return ended(exc.status, str(exc))
     return dataclasses.replace(result, lab_file=path, wall_s=time.monotonic() - start, habits=habits)

@@ -140,7 +140,7 @@ typedef struct {
 } crs_motor_board;
 
 /* The emulated C28x data memory (csrc/board/c28x_memory.h): the lab's globals at the 16-bit-word
- * addresses the TI linker would give them (crslab/host_tools/c28x_memory.py lays them out), each
+ * addresses the TI linker would give them (crslab/lab/c28x_memory.py lays them out), each
  * read and written in its C28x representation. Filled by the worker once the lab is loaded. */
 enum {
     CRS_MEM_SIGNED = 0,   /* a signed integer: its low 16 * words bits */
