@@ -21,6 +21,7 @@ import pytest
 from crslab._core import ffi, lib
 
 from crslab import crs
+from crslab._bindings import compiled_board
 from crslab.worker.board import STANDARD_GRAVITY, attach_world
 from crslab.world.layout import load_world
 from crslab.world.scene import PEG_BODY, PEG_TIP_SITE, load_scene, set_arm_pose
@@ -120,7 +121,7 @@ def world_row(m, d, world=CONTEST):
     """The board's C (crs_world_update) on this state's sensors: the scope row, by name."""
     w = ffi.new("crs_world *")
     lib.crs_world_init(w)
-    keep = attach_world(ffi, w, m, d, world)
+    keep = attach_world(compiled_board(), w, m, d, world)
     lib.crs_world_update(w, 0)
     row = list(w.row)
     del keep

@@ -1,5 +1,5 @@
 """wasmtime, which runs a lab's WebAssembly firmware inside the worker: where its C library is (the
-PyPI package ``wasmtime`` ships it; crslab._core loads it by path, csrc/board/wasmtime_api.h), a
+PyPI package ``wasmtime`` ships it; the C core loads it by path, csrc/board/wasmtime_api.h), a
 firmware's bytes and the digest that names its compiled code (shared by the worker's instances of
 one firmware, and kept between runs), and loading the library ahead of forks.
 
@@ -124,9 +124,9 @@ def preload() -> bool:
     """Load wasmtime's library into this process now, so that the processes it forks (a fork
     server's jobs and their lab workers) start with it loaded: about 0.1 s of CPU each saved.
     False when it cannot be loaded (a run then says why)."""
-    from crslab._core import lib
+    from crslab._bindings import preload_wasmtime
 
     try:
-        return lib.crs_fw_wasm_preload(str(wasmtime_library()).encode()) == 0
+        return preload_wasmtime(str(wasmtime_library()))
     except WasmtimeMissing:
         return False
