@@ -21,9 +21,17 @@ static crs_board *this_board; /* the one board of this process: serial_printf's 
 
 static void *at(uintptr_t address) { return (void *)address; }
 
+/* What the firmware's serial_printf sends (firmware.h: the board's function it calls). */
+static int32_t serial_send(int32_t port, const char *chars, uint32_t formatted)
+{
+    (void)port;
+    return crs_board_serial_out(this_board, chars, formatted, formatted);
+}
+
 int crs_fw_native_attach(crs_board *board)
 {
     this_board = board;
+    crs_board_serial_send = serial_send;
     memset(&board->trap, 0, sizeof board->trap);
     if (crs_board_check_generation(board) != 0) return CRS_RUN_TRAPPED;
     const crs_fw_table *t = crs_fw_start(board->config.generation);
@@ -79,10 +87,4 @@ int crs_fw_call_printing(crs_board *board)
     board->shared->phase = CRS_PHASE_PRINTING;
     crs_fw_printing();
     return 0;
-}
-
-int32_t crs_board_serial_send(int32_t port, const char *chars, uint32_t formatted)
-{
-    (void)port;
-    return crs_board_serial_out(this_board, chars, formatted, formatted);
 }
