@@ -50,7 +50,8 @@ def test_the_summary_names_the_trip_its_tick_and_the_hold_taking_over(sign_error
     trips = sum(1 for before, now in zip([0, *safety], safety) if now and not before)
     assert first >= STARTUP_TICKS  # the envelope is the lab's: checked from its first call on
     said = re.search(r"the arm left the safety envelope at tick (\d+) \(t = (\d+\.\d{3}) s\): the "
-                     r"framework's hold took over from lab\(\) \((once|\d+ times), ([\d,]+) ticks in all\)", stderr)
+                     r"framework's hold took over from lab\(\) \((once|\d+ times), ([\d,]+) ticks in all\)",
+                     stderr)
     assert said, stderr
     assert int(said.group(1)) == first and float(said.group(2)) == first / 1000
     assert said.group(3) == ("once" if trips == 1 else f"{trips} times")
