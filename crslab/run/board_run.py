@@ -423,7 +423,7 @@ class ChunkedRun:
         failed is ``unmet``); then the result to the sinks (``on_end``: the end-of-run report,
         among others)."""
         sim, printed = self.sim, self.printed
-        self._take_log()
+        self._take_log()  # the rows the last chunk left, whether the worker answered or not
         self._take_printed()
         line = sim.block.take_line()
         if line:
