@@ -423,7 +423,7 @@ class ChunkedRun:
         failed is ``unmet``); then the result to the sinks (``on_end``: the end-of-run report,
         among others)."""
         sim, printed = self.sim, self.printed
-        self._take_log()  # the rows the last chunk left, whether the worker answered or not
+        self._take_log(only_rows=True)  # the rows the last chunk left, whether the worker answered or not
         self._take_printed()
         line = sim.block.take_line()
         if line:
@@ -443,11 +443,14 @@ class ChunkedRun:
         self.sink.on_end(result)
         return result
 
-    def _take_log(self) -> None:
+    def _take_log(self, *, only_rows: bool = False) -> None:
         """Hand the scope rows the board wrote since the last time to the sink (when the run logs
-        them)."""
+        them): after a chunk, as many as it left (none, perhaps); ``only_rows``: only if there
+        are any (a run that ended after its last chunk was handed on has none)."""
         if self._logs:
-            self.sink.on_log(self.sim.block.take_log(world=self._world))
+            rows = self.sim.block.take_log(world=self._world)
+            if len(rows["tick"]) or not only_rows:
+                self.sink.on_log(rows)
 
     def _take_printed(self) -> None:
         """Hand what the board printed since the last time to the sink, through the output limit
