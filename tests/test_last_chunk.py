@@ -114,7 +114,7 @@ def test_ctrl_c_in_the_middle_of_a_chunk_keeps_every_tick_the_worker_finished(tm
     ended = re.search(r"interrupted at t = (\d+\.\d{3}) s", said)
     assert ended, said
     end_tick = round(float(ended.group(1)) * 1000)
-    assert end_tick > FAST_SLICE_TICKS  # the worker was killed in the second chunk
+    assert end_tick >= FAST_SLICE_TICKS  # killed in the second chunk (or, on a slow machine, as it began)
     assert csv_ticks(out).tolist() == list(range(end_tick))
 
 
