@@ -10,6 +10,8 @@ the functions here, numpy arrays in and out, and imports nothing of the core, as
   IK (``rrr_ik``, ``planar3r_ik``), rotations (``rotation_*``), trajectory profiles (``traj_*``):
   each fills the numpy arrays it is given, C-contiguous float64 (int32 for statuses and flags),
   for ``n`` rows at once.
+- The world's facts (csrc/plant/world.h, world_facts.h): its row's columns, fixtures, the egg, the
+  peg's depth, the groove's nearest point (``world_*``, ``egg_*``, ``peg_depths``, ``groove_nearest``).
 - The framework's generations (:func:`generation_rows`) and wasmtime's library loaded ahead of forks
   (:func:`preload_wasmtime`).
 - The board (csrc/board): :class:`BoardLibrary`, over the core (:func:`compiled_board`) or a native
@@ -61,6 +63,11 @@ def _d(arr: np.ndarray | None) -> Any:
 def _i(arr: np.ndarray | None) -> Any:
     """An ``int *`` onto a C-contiguous int32 array (no copy); NULL for None."""
     return ffi.NULL if arr is None else ffi.cast("int *", ffi.from_buffer(arr))
+
+
+def _i32(arr: np.ndarray) -> Any:
+    """An ``int32_t *`` onto a C-contiguous int32 array (no copy)."""
+    return ffi.cast("int32_t *", ffi.from_buffer(arr))
 
 
 # -- the CRS arm (csrc/kin/crs_arm.h): n rows of 3 ------------------------------------------------
@@ -248,6 +255,45 @@ def preload_wasmtime(library: str) -> bool:
     return lib.crs_fw_wasm_preload(library.encode()) == 0
 
 
+# -- the world's facts (csrc/plant/world.h, world_facts.h) ------------------------------------------
+def world_columns() -> list[tuple[str, str, str, int, int]]:
+    """The world row's quantities (``crs_world_columns``), in order: each one's name, unit, what it
+    is, offset and width."""
+    count = ffi.new("int32_t *")
+    table = lib.crs_world_columns(count)
+    return [(text_of(c.name), text_of(c.unit), text_of(c.what), int(c.offset), int(c.width))
+            for c in (table[i] for i in range(count[0]))]
+
+
+def world_fixture_names() -> tuple[str, ...]:
+    """The fixtures with a force sensor, in C's order (``crs_world_fixture_name``)."""
+    return tuple(text_of(lib.crs_world_fixture_name(i)) for i in range(lib.CRS_FIXTURES))
+
+
+def egg_broken_by_name(code: int) -> str:
+    """What broke the egg, for the row's ``egg_broken_by`` code (``crs_egg_broken_by_name``)."""
+    return text_of(lib.crs_egg_broken_by_name(code))
+
+
+def egg_flatten(size_m: np.ndarray, pos_m: np.ndarray) -> None:
+    """Lay an egg geom flat in place (``crs_egg_flatten``): its half sizes and centre, 3 values each."""
+    lib.crs_egg_flatten(_d(size_m), _d(pos_m))
+
+
+def peg_depths(hole_xy_m: np.ndarray, top_z_m: float, radius_m: float, tips_m: np.ndarray,
+               depth_m: np.ndarray, n: int) -> None:
+    """How deep each of ``n`` tips (rows of x, y, z) is in the hole (``crs_peg_depths``)."""
+    lib.crs_peg_depths(_d(hole_xy_m), top_z_m, radius_m, _d(tips_m), n, _d(depth_m))
+
+
+def groove_nearest(corners_xy_m: np.ndarray, points_m: np.ndarray, n: int, stride: int,
+                   segment: np.ndarray, offset_m: np.ndarray, along_m: np.ndarray) -> None:
+    """The groove's nearest segment, distance and length along for each of ``n`` points (rows of
+    ``stride`` values, x and y first): ``crs_groove_nearest_many``."""
+    lib.crs_groove_nearest_many(_d(corners_xy_m), _d(points_m), n, stride, _i32(segment), _d(offset_m),
+                                _d(along_m))
+
+
 # -- bytes in C memory ---------------------------------------------------------------------------------
 def read_bytes(cdata: Any, n: int) -> bytes:
     """The first ``n`` bytes at ``cdata`` (an array or pointer of the core's)."""
@@ -358,13 +404,9 @@ class BoardLibrary:
         """Have ``board`` step MuJoCo's model and data (``crs_board_plant`` by field name)."""
         self._lib.crs_board_attach_plant(board, self._ffi.new("crs_board_plant *", plant))
 
-    def attach_log(self, board: Any, log: dict[str, Any]) -> None:
-        """Have ``board`` log its scope rows into arrays (``crs_log_config`` by field name)."""
-        self._lib.crs_board_attach_log(board, self._ffi.new("crs_log_config *", log))
-
-    def attach_world(self, board: Any, world: Any) -> None:
-        """Give ``board`` the world's fixtures (a filled ``crs_world *``)."""
-        self._lib.crs_board_attach_world(board, world)
+    def attach_world(self, board: Any, config: Any) -> None:
+        """Give ``board`` the world's fixtures (a filled ``crs_world_config *``: one assignment)."""
+        self._lib.crs_board_attach_world(board, config)
 
     def attach_memory(self, board: Any, table: Any, count: int) -> None:
         """The lab's variables in C28x memory: ``count`` entries of ``table`` (``crs_mem_var[]``)."""
@@ -402,6 +444,15 @@ class BoardLibrary:
         """Load a WebAssembly firmware into ``board`` (``crs_wasm_options`` by field name): 0, or
         ``CRS_RUN_TRAPPED`` with ``board.trap`` saying why."""
         return int(self._lib.crs_fw_wasm_load(board, self._ffi.new("crs_wasm_options *", options)))
+
+    def wasm_compile(self, options: dict[str, Any]) -> str:
+        """Compile a WebAssembly firmware with the boards' engine settings and keep it at
+        ``compiled_path`` (``crs_wasm_options`` by field name; no board): empty, or why it could not."""
+        error = self._ffi.new("char[]", 512)
+        settings = self._ffi.new("crs_wasm_options *", options)
+        if self._lib.crs_fw_wasm_compile(settings, error, len(error)) != 0:
+            return self.string(error) or "wasmtime could not compile it"
+        return ""
 
     def wasm_unload(self, board: Any) -> None:
         """Free ``board``'s firmware store (and its compiled module when no other board uses it)."""

@@ -174,7 +174,7 @@ def test_every_file_a_comment_names_exists():
 def test_a_moved_file_or_name_is_found_and_a_present_one_is_not():
     lines = [(1, "laid out by crslab/host_tools/c28x_memory.py (now crslab/lab/c28x_memory.py)"),
              (2, "see worker/nothing.py and worker/board.py, plant/push.h"),
-             (3, "crslab.worker.main.WORLD_COLUMNS, crslab.worker.board.WORLD_COLUMNS, crslab.run.board_run"),
+             (3, "crslab.worker.main.WORLD_COLUMNS, crslab.world.world_facts.WORLD_COLUMNS, crslab.run"),
              (4, "crslab/worlds/NAME.toml, tools/benchmarks/bench_*.py, csrc/tests/test_, docs/worlds.md")]
     assert stale("x.c", lines) == ["x.c:1: crslab/host_tools/c28x_memory.py", "x.c:2: worker/nothing.py",
                                    "x.c:3: crslab.worker.main.WORLD_COLUMNS"]

@@ -10,7 +10,7 @@ from crslab import __version__
 from crslab.framework_facts import TICKS_PER_S
 from crslab.regress.transcript import DEFAULT_PLANT, DEFAULT_WORLD, sha256_of
 from crslab.worker.config import RunConfig
-from crslab.world.layout import WORLD_NAMES
+from crslab.world import WORLD_NAMES
 
 
 def run_header(config: RunConfig, end_tick: int, scenario_arg: str | None,

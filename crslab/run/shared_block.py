@@ -28,7 +28,7 @@ import numpy as np
 from crslab import os_support
 from crslab._bindings import constants, read_bytes, scope_log_columns, shared_view, size_of
 from crslab.run.host_ports import PortExchange, exchange, port_index
-from crslab.worker.scope_log import split_world_row
+from crslab.world.world_facts import split_world_row
 
 TakePrint = Callable[[int, int], None]
 """``(tick, chars)``: a serial_printf during ``tick`` put ``chars`` bytes on the line."""

@@ -18,13 +18,12 @@ from __future__ import annotations
 import asyncio
 import html
 import json
-import pickle
 import secrets
-import struct
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 from urllib.parse import urlparse
 
 from starlette.applications import Starlette
@@ -36,12 +35,16 @@ from starlette.websockets import WebSocket, WebSocketDisconnect, WebSocketDiscon
 
 from crslab.framework_facts import TICKS_PER_S
 from crslab.generations import GENERATIONS, NEWEST
+from crslab.run.status import RunStatus
+from crslab.serve import wire
 from crslab.serve.auth import Backoff, CookieSigner, User, verify_secret
 from crslab.serve.page_messages import ProtocolError, parse_message
-from crslab.serve.page_process import HOST_RUN
 from crslab.serve.page_sessions import LimitError, PageSession, Sessions
-from crslab.serve.run_host import DOWNLOADS, RUN_ENDED, RUN_STARTED
+from crslab.serve.run_host import DOWNLOADS
 from crslab.starters import LABS, starter_text
+
+if TYPE_CHECKING:
+    import numpy as np
 
 STATIC = Path(__file__).parent / "static"
 COOKIE = "crslab_session"
@@ -50,6 +53,8 @@ USER_COOKIE = "crslab_user"
 LOCAL_USER = "you"
 RUN_COMMANDS = ("stop", "speed", "vars", "hand", "release")
 """What the page says to its running lab: its run host gets them."""
+SESSION_GONE = wire.ended(RunStatus.CRASHED, "crslab's session process ended unexpectedly")
+"""What the page is told when its session process ended during a build, run or check."""
 CSP = (
     "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
     "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'"
@@ -226,7 +231,7 @@ class CrsServer:
         return JSONResponse(self._scenarios)
 
     async def arm(self, request: Request) -> Response:
-        from crslab.world.layout import WORLD_NAMES
+        from crslab.world import WORLD_NAMES
 
         world = request.query_params.get("world", "none")
         if world not in WORLD_NAMES:
@@ -236,7 +241,7 @@ class CrsServer:
         return JSONResponse(self._arm[world], headers={"Cache-Control": "max-age=3600"})
 
     async def worlds(self, request: Request) -> Response:
-        from crslab.world.layout import WORLD_NAMES, load_world
+        from crslab.world import WORLD_NAMES, load_world
 
         described = {"none": "free air (no fixtures)",
                      "contest": "the final project: peg and hole, obstacle, groove, egg on a scale"}
@@ -299,10 +304,8 @@ class CrsServer:
     async def _relay(self, ws: WebSocket, session: PageSession) -> None:
         """Hand the page's checked messages to the session process (a running lab's commands to
         its run host) and the messages of both to the page, over the session's pipe as asyncio
-        streams (multiprocessing's framing: a 4-byte big-endian length, then the bytes; the
-        server's messages are pickled dicts, the session's JSON) and the host's
-        (:mod:`crslab.serve.run_hosts`). Every message for the page goes through one outbox, in
-        order."""
+        streams (:mod:`crslab.serve.wire`) and the host's (:mod:`crslab.serve.run_hosts`). Every
+        message for the page goes through one outbox, in order."""
         reader, writer = await asyncio.open_connection(sock=session.take_socket())
         outbox: asyncio.Queue[tuple[bytes, bytes] | None] = asyncio.Queue()
         hosts = self.sessions.hosts
@@ -315,19 +318,15 @@ class CrsServer:
             return pending
 
         async def to_session(msg: dict) -> None:
-            data = pickle.dumps(msg)
-            writer.write(struct.pack("!i", len(data)) + data)
+            writer.write(wire.pickled(msg))
             await writer.drain()
 
         async def from_session() -> None:
             try:
                 while True:
-                    (size,) = struct.unpack("!i", await reader.readexactly(4))
-                    if size == -1:
-                        (size,) = struct.unpack("!Q", await reader.readexactly(8))
-                    data = await reader.readexactly(size)
+                    data = await wire.read_frame(reader)
                     tag, body = data[:1], data[1:]
-                    if tag == HOST_RUN:  # a prepared run: a host runs it from now on
+                    if tag == wire.HOST_RUN:  # a prepared run: a host runs it from now on
                         await hosts.hand(session.id, body, post, take_pending)
                     else:
                         post(tag, body)
@@ -338,17 +337,15 @@ class CrsServer:
             try:
                 while (item := await outbox.get()) is not None:
                     tag, body = item
-                    if tag == RUN_ENDED:
+                    if tag == wire.RUN_ENDED:
                         session.running = None
                         for msg in take_pending():  # for a run that never started: the session answers
                             await to_session(msg)
-                    elif tag == RUN_STARTED:
+                    elif tag == wire.RUN_STARTED:
                         session.running = "run"
                     await ws.send_text(body.decode())
                 if session.running is not None:
-                    await ws.send_text(json.dumps({
-                        "type": "ended", "status": "crashed", "exit_status": 3,
-                        "message": "crslab's session process ended unexpectedly"}))
+                    await ws.send_text(SESSION_GONE.decode())
                 await ws.close(code=1011)
             except (WebSocketDisconnected, WebSocketDisconnect, ConnectionError):
                 pass  # the page had gone first: its going is what ended the session
@@ -414,13 +411,15 @@ def arm_shapes(world: str = "none") -> dict:
     parent, its frame in the parent's (metres; quaternions ``x y z w``), its hinge (axis and anchor
     in its own frame, and which DH angle turns it: ``q``; the peg's wrist, held at minus the sum of
     two, has ``minus_sum``) and its shapes in its frame; in a ``world`` (a built-in's name) its
-    fixtures too, which never move (only the arm's links are ``moving``: a hand may drag them)."""
+    fixtures too, which never move (only the arm's links are ``moving``: a hand may drag them), and
+    the ``view`` that frames them (:func:`fixtures_view`; None in free air)."""
     from crslab.plant.model import LINK_BODIES
     from crslab.scopes.arm3d import ArmModel
-    from crslab.world.layout import load_world
+    from crslab.world import load_world
     from crslab.world.scene import WRIST_JOINT
 
-    arm = ArmModel(load_world(world))
+    loaded = load_world(world)
+    arm = ArmModel(loaded)
     m = arm.model
     shapes = {b.id: b.shapes for b in arm.bodies}
     out = []
@@ -457,7 +456,57 @@ def arm_shapes(world: str = "none") -> dict:
                 ],
             }
         )
-    return {"bodies": out}
+    return {"bodies": out, "view": fixtures_view(loaded)}
+
+
+VIEW_FOV_DEG = 40.0
+"""The page's camera's vertical field of view (arm3d.js's PerspectiveCamera)."""
+VIEW_PHI, VIEW_THETA = 1.15, 0.9
+"""The page's camera's direction: three.js's spherical angles from its y axis (MuJoCo's z, up)
+and about it (arm3d.js turns them into MuJoCo's frame): from above and in front, to the side."""
+
+
+def fixtures_view(world: object) -> dict | None:
+    """Where the page's camera looks from to frame every fixture of ``world`` (a
+    :class:`~crslab.world.World`; its solids, the table left out) with the arm's base: the
+    middle of their bounding box, at the distance from which the sphere around that box fits the
+    field of view (:data:`VIEW_FOV_DEG`, on a square view, 5 % to spare); None in free air.
+
+    >>> from crslab.world import load_world
+    >>> fixtures_view(load_world("none")) is None
+    True
+    """
+    import math
+
+    import numpy as np
+
+    from crslab.world.layout_checks import fixture_solids
+
+    solids = [shape for _, shape in fixture_solids(world)]  # type: ignore[arg-type]
+    if not solids:
+        return None
+    corners = np.concatenate([solid_corners(s) for s in solids] + [np.zeros((1, 3))])
+    lo, hi = corners.min(axis=0), corners.max(axis=0)
+    radius = float(np.linalg.norm(hi - lo)) / 2
+    distance = 1.05 * radius / math.sin(math.radians(VIEW_FOV_DEG / 2))
+    return {"target": ((lo + hi) / 2).round(4).tolist(), "distance": round(distance, 4), "phi": VIEW_PHI,
+            "theta": VIEW_THETA, "fov_deg": VIEW_FOV_DEG}
+
+
+def solid_corners(shape: object) -> np.ndarray:
+    """The corners (rows, m) of a fixture's solid (:mod:`crslab.world.shapes`): a box's eight, or
+    those of the box around an upright cylinder."""
+    import numpy as np
+
+    from crslab.world.shapes import Box
+
+    z0, z1 = shape.z_range  # type: ignore[attr-defined]
+    if isinstance(shape, Box):
+        xy = shape.corners_xy()
+    else:
+        (x, y), r = shape.center_xy, shape.radius  # type: ignore[attr-defined]
+        xy = np.array([[x - r, y - r], [x + r, y - r], [x + r, y + r], [x - r, y + r]])
+    return np.array([[*p, z] for p in xy for z in (z0, z1)])
 
 
 def make_app(settings: ServeSettings, sessions: Sessions,

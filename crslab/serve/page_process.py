@@ -5,8 +5,8 @@ The server starts it from a single-threaded fork server with crslab already impo
 ``crslab grade`` starts its jobs), so it may fork a check's sandboxed worker safely and run the
 sandboxed compiler; a crash in it touches no other session. It speaks to the server over one
 pipe: the server's checked messages in (:mod:`crslab.serve.page_messages`), messages for the page out,
-each prefixed with one byte saying what the server should note (:data:`FORWARD`,
-:data:`RUN_STARTED`, :data:`RUN_ENDED`), or :data:`HOST_RUN`: a prepared run for a run host.
+each prefixed with one byte saying what the server should note, or a prepared run for a run host
+(:mod:`crslab.serve.wire`).
 
 Every run is ``crslab sim``'s, put together by :mod:`crslab.run.assemble`: the same
 :func:`~crslab.run.assemble.make_config` here (the lab built in the compile sandbox, once: the build
@@ -30,6 +30,9 @@ from multiprocessing.connection import Connection
 from pathlib import Path
 
 from crslab import os_support
+from crslab.contest.motion import LONGEST_S
+from crslab.contest.offsets import contest_rest
+from crslab.contest.run import CONTEST_SCENARIO, CONTEST_WORLD, contest_config
 from crslab.lab.build import LabBuild, LabBuildError, LabForbidden, build_lab
 from crslab.lab.firmware import is_zig_prepared, prepare_zig
 from crslab.plant.plant_params import PlantParamsError
@@ -38,16 +41,15 @@ from crslab.run.board_run import Limits, RunError
 from crslab.run.status import RunStatus
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
+from crslab.serve import wire
 from crslab.serve.page_messages import compile_diagnostics, habit_diagnostics
 from crslab.serve.page_text import SESSION_SUBFOLDERS, PageText
-from crslab.serve.run_host import DOWNLOADS, FORWARD, RUN_ENDED, HostedRun
+from crslab.serve.run_host import DOWNLOADS, HostedRun
 from crslab.serve.stream import Stopped
+from crslab.serve.wire import FORWARD, HOST_RUN, RUN_ENDED
 from crslab.sinks.page_stream import message
 from crslab.worker.config import RunConfig
 
-HOST_RUN = b"H"
-"""For the server: a prepared run (a pickled :class:`~crslab.serve.run_host.HostedRun`) to hand to a
-run host."""
 BAD_INPUT = "bad-input"
 """An ``ended`` status beside the run statuses: the scenario (or another input) could not be used."""
 
@@ -159,13 +161,8 @@ class Session:
         )
         return path, build
 
-    def _ended(self, status: RunStatus, message_text: str, **fields: object) -> None:
-        self.send(
-            message(
-                "ended", status=status.value, exit_status=status.exit_status, message=message_text, **fields
-            ),
-            RUN_ENDED,
-        )
+    def _ended(self, status: RunStatus, message_text: str) -> None:
+        self.send(wire.ended(status, message_text), RUN_ENDED)
 
     # -- a run ------------------------------------------------------------------------------
     def run(self, msg: dict) -> None:
@@ -182,6 +179,11 @@ class Session:
             scenario["name"] if "name" in scenario else str(self._write("scenario", scenario["file"]))
         )
         rest = (DEFAULT_REST_MOTOR_RAD[0], *msg["offsets"]) if msg["offsets"] else None
+        contest = contest_rest(msg["lab"]["text"], msg["offsets"]) if msg["contest"] else None
+        world = msg["world"]
+        if contest is not None:  # as crslab contest runs it: hands off, resting where the lab says
+            scenario_arg, rest = CONTEST_SCENARIO, contest.motor_rad
+            world = CONTEST_WORLD if world == "none" else world
         record = msg["record"]
         try:
             config = make_config(
@@ -191,9 +193,11 @@ class Session:
                 rest_motor_rad=rest,
                 log=True,
                 sandbox=self.limits.sandboxed,
-                world=msg["world"],
+                world=world,
                 build=build,
             )
+            if contest is not None:
+                config = contest_config(config, contest)
         except (LabBuildError, ScenarioError, PlantParamsError, ValueError) as exc:
             # what crslab sim turns into one line and exit status 2 (bad input): nothing ran
             line = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
@@ -201,6 +205,9 @@ class Session:
             self.send(ended, RUN_ENDED)
             return
         end_tick = seconds_to_tick(msg["duration"]) if msg["duration"] else config.scenario.end_tick
+        until_still = contest is not None and not msg["duration"]
+        if until_still:
+            end_tick = seconds_to_tick(LONGEST_S)
         notes = []
         if end_tick > seconds_to_tick(self.limits.max_run_s):
             end_tick = seconds_to_tick(self.limits.max_run_s)
@@ -208,7 +215,8 @@ class Session:
         compile_module(config)
         self.hand_over(HostedRun(config, end_tick, msg["speed"], msg.get("phase", 0.0), tuple(notes),
                                  self.folder.resolve(), record_csv=record["csv"], record_rrd=record["rrd"],
-                                 output_bytes=int(self.limits.output_mb * 1e6)))
+                                 output_bytes=int(self.limits.output_mb * 1e6), contest=contest,
+                                 until_still=until_still))
 
     def hand_over(self, run: HostedRun) -> None:
         """The prepared run, for the server to hand to a run host (:mod:`crslab.serve.run_host`),
@@ -221,7 +229,7 @@ class Session:
         from crslab.regress.compare import compare
         from crslab.regress.transcript import GoldenError, read_golden, recorded_run, split_lines
         from crslab.run.assemble import run_kept
-        from crslab.world.layout import WORLD_NAMES
+        from crslab.world import WORLD_NAMES
 
         lab = self._write_lab(msg["lab"])
         golden_path = self._write("golden", msg["golden"])
@@ -281,21 +289,20 @@ class Session:
 
 def compile_module(config: RunConfig) -> None:
     """Have wasmtime compile the run's firmware into the build cache now, unless it is there
-    already (a lab's first run): here, in this session's own worker, the 0.1 s it takes costs the
+    already (a lab's first run): here, in this session's own process, the 0.1 s it takes costs the
     run host's other runs nothing; the host's worker then only loads it."""
-    from crslab.run.board_run import BoardRun
-    from crslab.worker.wasm_runtime import WasmImage
+    from crslab.worker.wasm_runtime import NotCompiled, WasmImage, compile_kept, unsealed_compiled_removed
 
     if config.build.native:
         return
-    kept = WasmImage.read(config.build.image).compiled_path()
-    if kept is None or kept.exists():
-        return
+    image = WasmImage.read(config.build.image)
+    kept = image.compiled_path()
+    if kept is None or unsealed_compiled_removed(kept) is not None:
+        return  # no cache to keep it in (the worker compiles it), or this user's board kept it already
     try:
-        with BoardRun(config):  # the board compiles the module and keeps it (sealed)
-            pass
-    except RunError:
-        pass  # the run host opens it again and says why
+        compile_kept(image, kept)
+    except (NotCompiled, OSError):
+        pass  # the run host's worker compiles it and says why it cannot
 
 
 def _terminated(signum: int, frame: object) -> None:
@@ -341,7 +348,7 @@ def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
                 traceback.print_exc()
                 text = f"crslab failed: {type(exc).__name__}: {exc}"
                 if kind in ("run", "check"):
-                    session.send(message("ended", status="crashed", exit_status=3, message=text), RUN_ENDED)
+                    session.send(wire.ended(RunStatus.CRASHED, text), RUN_ENDED)
                 elif kind == "build":
                     session.send(message("built", ok=False, message=text, diagnostics=[]), RUN_ENDED)
                 else:

@@ -44,52 +44,55 @@ from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
 from crslab.worker.run_stats import RunStats
-from crslab.worker.scope_log import WORLD_COLUMNS, split_world_row
 from crslab.worker.wasm_runtime import (
+    ENGINE_ENVIRONMENT,
     WasmImage,
     seal_compiled,
     unsealed_compiled_removed,
     wasmtime_library,
 )
-from crslab.world.layout import World, peg_depth_m
+from crslab.world import World
 from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
-
-STANDARD_GRAVITY = 9.80665
-"""What a scale divides a force by to show grams (m/s^2): scales are calibrated to it."""
+from crslab.world.world_facts import WORLD_ROW_WIDTH, split_world_row
 
 
-def attach_world(c: BoardLibrary, w: object, model: object, data: object, world: World) -> list[object]:
-    """Set the C world ``w`` (a ``crs_world *``; csrc/plant/world.h) for ``world``'s compiled scene
-    ``model`` and its ``data``: the sensors' places in ``data.sensordata``, the egg's breaking force
-    and geom, the groove's corners. Returns what must stay alive as long as ``w`` is used."""
-    if world.is_free_air:
-        return []
-    keep: list[object] = [model, data]
+def world_config(c: BoardLibrary, model: object, data: object, world: World) -> tuple[object, list[object]]:
+    """The C world's configuration (a ``crs_world_config *`` of ``c``'s; csrc/plant/world.h) for
+    ``world``'s compiled scene ``model`` and its ``data``: the sensors' places in
+    ``data.sensordata``, the hole, the groove's centre line, the egg's breaking force and geom.
+    Returns it and what must stay alive as long as it is used."""
+    config = c.new("crs_world_config *")
+    keep: list[object] = [model, data, config]
 
     def ptr(ctype: str, arr: np.ndarray, offset: int = 0) -> object:
         keep.append(arr)
         return c.pointer(ctype, arr.ctypes.data) + offset
 
-    w.enabled = 1  # type: ignore[attr-defined]
+    w = config
     w.sensordata = ptr("double *", data.sensordata)  # type: ignore[attr-defined]
+    w.peg_tip_adr = -1
     names = [model.sensor(i).name for i in range(model.nsensor)]  # type: ignore[attr-defined]
     if PEG_TIP_SITE in names:
         w.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])  # type: ignore[attr-defined]
     for i, fixture in enumerate(FIXTURE_SENSORS):
-        if f"{fixture}_force" in names:
-            w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")])  # type: ignore[attr-defined]
-    w.gravity_m_s2 = STANDARD_GRAVITY  # type: ignore[attr-defined]
+        found = f"{fixture}_force" in names
+        w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")]) if found else -1  # type: ignore[attr-defined]
+    w.timestep_s = float(model.opt.timestep)  # type: ignore[attr-defined]
+    if (h := world.hole) is not None:
+        w.has_hole = 1
+        w.hole_xy_m = list(h.center_xy_m)
+        w.hole_top_z_m, w.hole_radius_m = h.top_z_m, h.diameter_m / 2
     if world.groove is not None:
-        for i, (x, y) in enumerate(world.groove.corners_xy_m):
-            w.groove_xy_m[2 * i], w.groove_xy_m[2 * i + 1] = x, y  # type: ignore[attr-defined]
+        w.has_groove = 1
+        w.groove_xy_m = [v for corner in world.groove.corners_xy_m for v in corner]
     if world.egg is not None:
-        w.breaking_force_n = world.egg.breaking_force_n  # type: ignore[attr-defined]
+        w.breaking_force_n = world.egg.breaking_force_n
         egg = model.geom("egg").id  # type: ignore[attr-defined]
         w.egg_contype = ptr("int32_t *", model.geom_contype, egg)  # type: ignore[attr-defined]
         w.egg_conaffinity = ptr("int32_t *", model.geom_conaffinity, egg)  # type: ignore[attr-defined]
         w.egg_size_m = ptr("double *", model.geom_size, 3 * egg)  # type: ignore[attr-defined]
         w.egg_pos_m = ptr("double *", model.geom_pos, 3 * egg)  # type: ignore[attr-defined]
-    return keep
+    return config, keep
 
 
 def plant_model(config: RunConfig) -> object:
@@ -178,10 +181,13 @@ class Board:
         self.observations: list[Observation] = []
 
     def _set_world(self, world: World) -> None:
-        """Point the board's world (csrc/plant/world.h) at the scene's sensors and the egg's geom."""
-        fixtures = self.c.new("crs_world *")
-        self._keep += attach_world(self.c, fixtures, self.model, self.data, world)
-        self.c.attach_world(self.sim, fixtures)
+        """Configure the board's world (csrc/plant/world.h) with the scene's sensors and the egg's
+        geom; world ``none`` leaves it off."""
+        if world.is_free_air:
+            return
+        config, keep = world_config(self.c, self.model, self.data, world)
+        self._keep += keep
+        self.c.attach_world(self.sim, config)
 
     def board_event(self, fields: dict) -> None:
         """Have the board apply one ``crs_board_event`` (csrc/board/board_config.h) now."""
@@ -189,22 +195,19 @@ class Board:
             raise ValueError(f"the board knows no event of kind {fields.get('kind')}")
 
     def world_values(self) -> dict[str, float] | None:
-        """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...),
-        and ``peg_depth``: how far the peg's tip is below the hole's top while inside its radius (m,
-        else 0). None in a world without fixtures."""
+        """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...;
+        every column of :data:`~crslab.world.world_facts.WORLD_COLUMNS`). None in a world without
+        fixtures."""
         w = self.sim.world
         if not w.enabled:
             return None
         values = {}
-        row = [float(w.row[i]) for i in range(sum(WORLD_COLUMNS.values()))]
+        row = [float(w.state.row[i]) for i in range(WORLD_ROW_WIDTH)]
         for name, value in split_world_row(row).items():
             if len(value) == 3:
                 values.update({f"{name}_{a}": float(v) for a, v in zip("xyz", value)})
             else:
                 values[name] = float(value[0])
-        values["peg_depth"] = peg_depth_m(self.config.world, (values.get("peg_tip_x", 0.0),
-                                                               values.get("peg_tip_y", 0.0),
-                                                               values.get("peg_tip_z", 0.0)))
         return values
 
     def _load_native(self, config: RunConfig, block: object, keep_fds: Iterable[int],
@@ -234,8 +237,7 @@ class Board:
         :class:`FirmwareStopped` when it cannot be loaded or stops in a constructor."""
         c = self.c
         sim = c.new_board(config.build.generation.id, block)
-        # a trap's backtrace names the lab's file and line (the firmware carries its DWARF)
-        os.environ["WASMTIME_BACKTRACE_DETAILS"] = "1"
+        os.environ.update(ENGINE_ENVIRONMENT)  # (a trap's backtrace names the lab's file and line)
         library, key = c.text(str(wasmtime_library())), c.text(image.digest)
         # the compiled module kept between runs: read (and its seal checked) only when this process
         # does not hold the module already (another instance of the same firmware)

@@ -183,7 +183,10 @@ static int run_ticks(crs_board *board, int64_t until_tick)
         if (board->world.enabled) {
             /* the contact forces of the step just taken, logged with the state it started from */
             crs_world_update(&board->world, board->tick);
-            if (row >= 0) memcpy(&sh->log.world[CRS_WORLD_ROW * row], board->world.row, sizeof board->world.row);
+            if (row >= 0) {
+                memcpy(&sh->log.world[CRS_WORLD_ROW * row], board->world.state.row,
+                       sizeof board->world.state.row);
+            }
         }
         if (row >= 0) sh->log.count = row + 1; /* the tick's row is whole */
         board->tick++;
