@@ -1,5 +1,5 @@
 """wasmtime, which runs a lab's WebAssembly firmware inside the worker: where its C library is (the
-PyPI package ``wasmtime`` ships it; crslab._core loads it by path, csrc/board/wasmtime_api.h), a
+PyPI package ``wasmtime`` ships it; the C core loads it by path, csrc/board/wasmtime_api.h), a
 firmware's bytes and the digest that names its compiled code (shared by the worker's instances of
 one firmware, and kept between runs), and loading the library ahead of forks.
 
@@ -173,7 +173,7 @@ def compile_kept(image: WasmImage, kept: Path) -> None:
     kept it at ``kept`` already (its :meth:`WasmImage.compiled_path`), and keep it there, sealed
     (:class:`KeptModule`: written to a private file, sealed, renamed into place): a worker that
     later loads the firmware only reads it. Raises :class:`NotCompiled` saying why it could not."""
-    from crslab._core import ffi, lib
+    from crslab._bindings import compiled_board
 
     module = KeptModule(kept)
     if module.bytes is not None:
@@ -181,16 +181,14 @@ def compile_kept(image: WasmImage, kept: Path) -> None:
     if module.fd < 0:
         raise NotCompiled(f"the compiled module cannot be kept in {kept.parent}")
     os.environ.update(ENGINE_ENVIRONMENT)
-    library = ffi.new("char[]", str(wasmtime_library()).encode())
-    wasm = ffi.from_buffer("uint8_t[]", image.wasm)
-    options = ffi.new("crs_wasm_options *", {
+    c = compiled_board()
+    library, wasm = c.text(str(wasmtime_library())), c.bytes_view(image.wasm)
+    error = c.wasm_compile({
         "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": image.memory_bytes,
-        "stack_bytes": image.stack_bytes, "compiled": ffi.NULL, "compiled_fd": module.fd})
-    error = ffi.new("char[]", 512)
-    code = lib.crs_fw_wasm_compile(options, error, len(error))
-    kept_now = module.keep() if code == 0 else module.discard()
-    if code != 0:
-        raise NotCompiled(ffi.string(error).decode(errors="replace"))
+        "stack_bytes": image.stack_bytes, "compiled": c.pointer("uint8_t *", 0), "compiled_fd": module.fd})
+    kept_now = module.discard() if error else module.keep()
+    if error:
+        raise NotCompiled(error)
     if not kept_now:
         raise NotCompiled(f"the compiled module could not be kept at {kept}")
 
@@ -199,9 +197,9 @@ def preload() -> bool:
     """Load wasmtime's library into this process now, so that the processes it forks (a fork
     server's jobs and their lab workers) start with it loaded: about 0.1 s of CPU each saved.
     False when it cannot be loaded (a run then says why)."""
-    from crslab._core import lib
+    from crslab._bindings import preload_wasmtime
 
     try:
-        return lib.crs_fw_wasm_preload(str(wasmtime_library()).encode()) == 0
+        return preload_wasmtime(str(wasmtime_library()))
     except WasmtimeMissing:
         return False
