@@ -375,6 +375,8 @@ class BoardRun:
             return diagnosis.output_limit(self.lab_name, self.tick, printed.cap)
         if serve:
             run.serve_controls()
+        if reply.code == c.CRS_RUN_STOPPED:  # the page's Stop, or the page went
+            return diagnosis.stopped(self.tick)
         if reply.code == c.CRS_RUN_NAN_STRICT:
             return diagnosis.nan_strict(self.lab_name, self.stats, self.tick)
         if reply.code == c.CRS_RUN_PRINTF_OVERFLOW:

@@ -29,6 +29,7 @@ import signal
 import socket
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
@@ -37,18 +38,24 @@ from pathlib import Path
 from crslab import os_support
 from crslab.framework_facts import TICKS_PER_S
 from crslab.live.console import VarConsole
+from crslab.run import diagnosis
 from crslab.run.assemble import NoLab
 from crslab.run.board_client import BoardClient
 from crslab.run.board_run import DEFAULT_DEADLINE_S, BoardRun, ChunkedRun, Limits, RunError
 from crslab.run.diagnosis import Ending
 from crslab.run.pacing import PAGE_CHUNKS, Pacer
 from crslab.run.status import RunResult, RunStatus
+from crslab.run.worker_process import Wake
 from crslab.serve.page_text import PageText
 from crslab.serve.stream import PageControl, Stopped
 from crslab.sinks.page_stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream, message
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
+from crslab.worker.board_ffi import board_constants
 from crslab.worker.config import RunConfig
+from crslab.worker.run_stats import RunStats
+from crslab.worker.share import HOST_SHARE, board_ms
+from crslab.worker.worker_messages import Ran
 from crslab.world.layout import World
 
 RUN = "run"
@@ -62,6 +69,10 @@ SEND_BUFFER_BYTES = 4 << 20
 """The host's side of its pipe to the server buffers this much (as far as the system allows)."""
 BATCH_S = 0.005
 """A wake-up runs every run due within this much of now (s), in one request to the worker."""
+CUT_REST_S = 0.08
+"""A run whose chunk had its share of the host (:mod:`crslab.worker.share`: it ended at 20 ms of the
+worker's time) gets its next chunk this long after (s): a run that costs more than real time takes
+at most a fifth of its host, and goes on slower than real time."""
 LEAD_S = 0.03
 """A run's chunk is due this long before the wall clock reaches its first tick (s): the page gets
 it ahead of its time, as its playout needs, though the host runs its other runs' chunks first."""
@@ -120,6 +131,9 @@ class HostedSession:
         self.out = FanOut()
         self.notes = list(run.notes)
         self.due_s = 0.0
+        self.cut = False
+        """The last chunk ended at the run's share of the host (``CRS_RUN_CUT``)."""
+        self.slowed = False
 
     def send(self, data: bytes, tag: bytes = FORWARD) -> None:
         """A message for the page (no server path in it: :mod:`crslab.serve.page_text`)."""
@@ -173,8 +187,7 @@ class HostedSession:
             self.control.command(self.sim, msg)
             self.control.serve(self.sim)  # the hand's push, at once
         except Stopped:
-            tick = self.sim.tick
-            self.finish(Ending(RunStatus.INTERRUPTED, tick, f"stopped at t = {tick / TICKS_PER_S:.3f} s"))
+            self.finish(diagnosis.stopped(self.sim.tick))
             return False
         except RunError as exc:
             self.finish(Ending(RunStatus.CRASHED, self.sim.tick, str(exc)))
@@ -186,7 +199,12 @@ class HostedSession:
         """Hand a chunk's reply to the sinks (its controls wait for :meth:`after`: the worker may
         still be running the host's other chunks); how the run ended, or None."""
         assert self.chunked is not None and self.sim is not None
+        before = self.sim.stats
         ending = self.chunked.took(reply, serve=False)  # type: ignore[arg-type]
+        self.cut = isinstance(reply, Ran) and reply.code == board_constants().CRS_RUN_CUT
+        if self.cut and not self.slowed and ending is None:
+            self.slowed = True
+            self.slow_note(before, reply.stats)  # type: ignore[attr-defined]
         if ending is None and self.chunked.done:
             ending = Ending(RunStatus.OK, self.sim.tick)
         return ending
@@ -199,8 +217,29 @@ class HostedSession:
             self.finish(ending)
             return False
         self.chunked.serve_controls()
-        self.due_s = self.chunked.pacer.due_s(self.sim.tick) - LEAD_S
+        if self.cut:  # it had its share of the host: it goes on later, slower than real time
+            self.due_s = time.monotonic() + CUT_REST_S
+            self.chunked.pacer.restart(self.sim.tick, at_s=self.due_s + LEAD_S)
+        else:
+            self.due_s = self.chunked.pacer.due_s(self.sim.tick) - LEAD_S
         return True
+
+    def slow_note(self, before: RunStats, after: RunStats) -> None:
+        """Tell the page, once, that its run goes slower than real time, and why: its lab (what a
+        tick of it would take the board) or a busy server."""
+        calls = after.lab_calls - before.lab_calls
+        per_call = (after.lab_cost_total - before.lab_cost_total) / calls if calls else 0.0
+        name = self.run.config.build.source.name
+        tick_ms = 1000 / TICKS_PER_S
+        if board_ms(round(per_call)) > tick_ms:
+            why = (f"{name}'s lab() costs {per_call:,.0f} instructions a call: the F28335 would need "
+                   f"{board_ms(round(per_call)):g} ms for each, and it calls lab() every {tick_ms:g} ms, so "
+                   "the board would miss its timer ticks")
+        else:
+            why = "this server is busy"
+        note = f"{why}; the run goes on slower than real time, so that the server's other runs keep theirs"
+        self.notes.append(note)
+        self.send(message("note", tick=self.sim.tick if self.sim is not None else 0, text=note))
 
     def finish(self, ending: Ending) -> None:
         """The run ended: its last bytes to the sinks, the instance closed, ``ended`` sent once
@@ -252,6 +291,11 @@ class RunHost:
         self._arms: dict[str, ArmPoses] = {}
         self._send_lock = threading.Lock()
         self._aside: list[threading.Thread] = []
+        self._pipe = select.poll()  # one for the host's life (Connection.poll makes a selector every call)
+        self._pipe.register(conn.fileno(), select.POLLIN)
+        self._arrived: deque[tuple] = deque()
+        """The server's messages that came while the worker ran, not yet carried out."""
+        self._server_gone = False
 
     def send_frame(self, data: bytes) -> None:
         """One frame to the server (whole, also from a thread closing a recorder)."""
@@ -288,7 +332,7 @@ class RunHost:
         or it ended); raises ``RunError`` when it cannot start."""
         if self.worker is None or not self.worker.alive:
             self.closed()  # forked now: no other thread of the host runs
-            self.worker = BoardClient()
+            self.worker = BoardClient(share=HOST_SHARE)
         return BoardRun(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits, worker=self.worker)
 
     def arm_in(self, world: World) -> ArmPoses:
@@ -300,19 +344,20 @@ class RunHost:
 
     def serve(self) -> None:
         """Pace the runs and carry out the server's messages until it closes the pipe."""
-        pipe = select.poll()  # one for the host's life (Connection.poll makes a selector every call)
-        pipe.register(self.conn.fileno(), select.POLLIN)
+        pipe = self._pipe
         try:
-            while True:
+            while not self._server_gone:
                 wait_ms = -1
-                if self.sessions:
+                if self._arrived:
+                    wait_ms = 0
+                elif self.sessions:
                     wait_s = min(s.due_s for s in self.sessions.values()) - time.monotonic()
                     wait_ms = max(0, math.ceil(wait_s * 1000))
-                if pipe.poll(wait_ms):
-                    while True:
+                if pipe.poll(wait_ms) or self._arrived:
+                    while self._arrived:  # what came while the worker ran: in the order it came
+                        self.handle(self._arrived.popleft())
+                    while pipe.poll(0):
                         self.handle(self.conn.recv())
-                        if not pipe.poll(0):
-                            break
                 now = time.monotonic()
                 due = [s for s in self.sessions.values() if s.due_s <= now + BATCH_S]
                 if due:
@@ -326,6 +371,25 @@ class RunHost:
             self.closed()
             if self.worker is not None:
                 self.worker.close()
+
+    def _server_wrote(self) -> bool:
+        """While the worker runs the host's chunks: take what the server sent (it waits its turn
+        in :meth:`serve`), and stop at once the run a page's ``stop`` or ``close`` is for (its board
+        ends its chunk before the next tick, a call of its lab now: :meth:`SharedBlock.stop`), so
+        that it holds the worker no longer; False once the server went."""
+        try:
+            while self._pipe.poll(0):
+                msg = self.conn.recv()
+                self._arrived.append(msg)
+                kind, key = msg[0], msg[1]
+                stopping = kind == CLOSE or (kind == PAGE and msg[2].get("type") == "stop")
+                session = self.sessions.get(key) if stopping else None
+                if session is not None and session.sim is not None:
+                    session.sim.block.stop()
+        except (EOFError, OSError):
+            self._server_gone = True
+            return False
+        return True
 
     def handle(self, msg: tuple) -> None:
         """One message of the server's."""
@@ -387,7 +451,8 @@ class RunHost:
             worker = targets[runs[0]][0].board_client
             on_reply = None if each is None else (lambda k, ran, runs=runs: each(runs[k], ran))
             pairs = [(targets[i][0].board, targets[i][1]) for i in runs]
-            for i, reply in zip(runs, worker.run(pairs, on_reply)):
+            wake = Wake(self.conn.fileno(), self._server_wrote)
+            for i, reply in zip(runs, worker.run(pairs, on_reply, wake)):
                 replies[i] = reply
         return replies
 
@@ -440,7 +505,7 @@ def serve_host(conn: Connection) -> None:
     finally:
         out.close()
     host = RunHost(conn)
-    host.worker = BoardClient()  # ready before the first run comes
+    host.worker = BoardClient(share=HOST_SHARE)  # ready before the first run comes
     host.serve()
 
 

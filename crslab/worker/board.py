@@ -43,6 +43,7 @@ from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
 from crslab.worker.run_stats import RunStats
+from crslab.worker.share import Share
 from crslab.worker.wasm_runtime import (
     WasmImage,
     seal_compiled,
@@ -161,11 +162,13 @@ class Board:
     instances that never change theirs); None: its own, loaded here. ``image``: the firmware's bytes
     and digest, when the worker already read them (:class:`crslab.worker.main.Images`).
     ``time_lab`` False counts no lab() call's cost (measuring what timing costs:
-    :mod:`crslab.run.inprocess`)."""
+    :mod:`crslab.run.inprocess`). ``share``: what a WebAssembly firmware may take of a worker it
+    shares with other runs (:mod:`crslab.worker.share`; None: the worker is its own)."""
 
     def __init__(self, config: RunConfig, shared: mmap.mmap, keep_fds: Iterable[int] = (),
                  debug: DebugSetup | None = None, *, deadline_s: float | None = None,
-                 model: object | None = None, image: WasmImage | None = None, time_lab: bool = True) -> None:
+                 model: object | None = None, image: WasmImage | None = None, time_lab: bool = True,
+                 share: Share | None = None) -> None:
         import mujoco
 
         self.config = config
@@ -193,7 +196,8 @@ class Board:
 
             self.ffi, self.lib = ffi, lib
             block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
-            sim = self._load_wasm(config, block, deadline_s, image or WasmImage.read(config.build.image))
+            image = image or WasmImage.read(config.build.image)
+            sim = self._load_wasm(config, block, deadline_s, image, share)
             self.firmware = WasmMemory(ffi, lib, sim, config.build)
         self.sim = sim
         # the lab's globals as the board's MATLAB code sees them (C28x addresses)
@@ -281,9 +285,10 @@ class Board:
         return lib, sim
 
     def _load_wasm(self, config: RunConfig, block: object, deadline_s: float | None,
-                   image: WasmImage) -> object:
+                   image: WasmImage, share: Share | None) -> object:
         """The WebAssembly firmware, loaded into a new board (crslab._core): a store of its own, the
-        compiled module shared with every instance of the same firmware in this process; raises
+        compiled module shared with every instance of the same firmware in this process, with what
+        it may take of a worker it shares (``share``; None: a worker of its own); raises
         :class:`FirmwareStopped` when it cannot be loaded or stops in a constructor."""
         sim = self._new_sim(config, block)
         # a trap's backtrace names the lab's file and line (the firmware carries its DWARF)
@@ -299,7 +304,8 @@ class Board:
         options = self.ffi.new("crs_wasm_options *", {
             "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": MEMORY_BYTES,
             "stack_bytes": NATIVE_STACK_BYTES, "compiled_path": compiled, "module_key": key,
-            "deadline_ns": 0 if deadline_s is None else max(1, round(deadline_s * 1e9))})
+            "deadline_ns": 0 if deadline_s is None else max(1, round(deadline_s * 1e9)),
+            **(share.options() if share is not None else {})})
         self._keep += [library, wasm, compiled, key, options]
         block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
         code = self.lib.crs_fw_wasm_load(sim, options)
@@ -433,7 +439,7 @@ class Board:
             self._counters = self.ffi.new("int64_t[]", len(self._counter_names))
         self.lib.crs_board_counters(self.sim, self._counters)
         counters = dict(zip(self._counter_names, self.ffi.unpack(self._counters, len(self._counter_names))))
-        over = min(8, counters["over_budget"])
+        over = min(board_constants().CRS_FIRST_OVER_TICKS, counters["over_budget"])
         first_over = tuple(int(self.sim.first_over_tick[i]) for i in range(over))
         return RunStats(**counters, first_over_tick=first_over,
                         native=self.config.build.native, motor_board=self.config.motor_board_model)

@@ -28,6 +28,9 @@ int crs_fw_tick_begins(crs_board *board);
  * store and its watchdog (interrupts per store); the native port does nothing. */
 void crs_fw_chunk_begins(crs_board *board);
 void crs_fw_chunk_ends(crs_board *board);
+/* After each tick: 1 when the chunk has had its share of a worker its boards share (the
+ * WebAssembly port's crs_wasm_options.chunk_ns; the chunk ends, CRS_RUN_CUT), else 0. */
+int crs_fw_chunk_over(crs_board *board);
 
 /* What the firmware's serial_printf sends (firmware.h: crs_board_serial_send): `formatted`
  * characters, the first of them at `chars` (`available` of them readable). Queues them on SerialA's

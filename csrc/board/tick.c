@@ -146,6 +146,7 @@ static int run_ticks(crs_board *board, int64_t until_tick)
     crs_hand_plan(&board->hand, &hand_path);
     const int64_t log_every = board->log.capacity > 0 ? board->log_every_ticks : 0; /* 0: no log */
     while (board->tick < until_tick) {
+        if (sh->stop) return CRS_RUN_STOPPED;
         sh->tick = board->tick;
         if (crs_fw_tick_begins(board)) return CRS_RUN_BREAK;
         const int stop = framework_tick(board);
@@ -183,6 +184,7 @@ static int run_ticks(crs_board *board, int64_t until_tick)
             return CRS_RUN_SERIAL_FULL;
         }
         if (board->log.capacity > 0 && board->log.count >= board->log.capacity) return CRS_RUN_LOG_FULL;
+        if (crs_fw_chunk_over(board)) return CRS_RUN_CUT;
     }
     return CRS_RUN_DONE;
 }
