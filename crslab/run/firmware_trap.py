@@ -88,7 +88,7 @@ def where_stopped(text: str, lab_name: str, image: Path | None = None) -> str:
 
 def too_slow(kind: int, text: str, lab_name: str, func: str, at: str, stopped: str) -> str:
     """The line for a call a shared worker ended (``CRS_FW_TRAP_TOO_COSTLY``, ``_TOO_LONG``): the
-    board's first line of ``text`` says the limit it passed (``5000000 instructions``, ``20 ms``).
+    board's first line of ``text`` says the limit it passed (``15000000 instructions``, ``20 ms``).
 
     >>> line = too_slow(board_constants().CRS_FW_TRAP_TOO_COSTLY, "5000000 instructions\\n...", "slow.c",
     ...                 "lab()", "at tick 4100 (t = 4.100 s)", "at slow.c:12 in lab()")
@@ -106,7 +106,7 @@ def too_slow(kind: int, text: str, lab_name: str, func: str, at: str, stopped: s
         what = f"cost more than {number:,} instructions"
     else:
         board = ""
-        what = f"ran longer than {number} ms of the server's time"
+        what = f"used more than {number} ms of the server's CPU time"
     return (f"{lab_name} is too slow for a shared server: {func} {what} in one call {at}{was}{board} "
             "(crslab sim runs it on, slower than real time)")
 

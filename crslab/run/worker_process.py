@@ -51,7 +51,7 @@ CPU_S_PER_TICK = 1e-3
 WebAssembly firmware cannot write the phase the board reports, so its deadline alone holds."""
 INTERRUPT_GRACE_S = 2.0
 """How long a WebAssembly worker has to answer once its firmware's call ran past its deadline (its
-watchdog interrupts the call within 10 ms of it)."""
+watchdog interrupts the call within two of its periods of it, ``CRS_WATCH_PERIOD_NS``)."""
 READY_TIMEOUT_S = 60.0
 SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
 ABORT_ON_ERROR = ":abort_on_error=1"

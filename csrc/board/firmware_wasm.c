@@ -466,7 +466,8 @@ void crs_fw_chunk_begins(crs_board *board)
 {
     crs_wasm *w = board->firmware;
     if (w == NULL) return;
-    if (w->chunk_ns > 0) w->chunk_began_ns = crs_now_ns();
+    atomic_store(&w->cut, 0);
+    if (w->chunk_ns > 0) w->chunk_cpu_ns = crs_thread_cpu_ns();
     crs_watchdog_begin(w);
 }
 
@@ -478,8 +479,8 @@ void crs_fw_chunk_ends(crs_board *board)
 
 int crs_fw_chunk_over(crs_board *board)
 {
-    const crs_wasm *w = board->firmware;
-    return w != NULL && w->chunk_ns > 0 && crs_now_ns() - w->chunk_began_ns >= w->chunk_ns;
+    crs_wasm *w = board->firmware;
+    return w != NULL && atomic_load_explicit(&w->cut, memory_order_relaxed);
 }
 
 /* ---- what the board reads of the firmware ---------------------------------------------------- */

@@ -33,7 +33,7 @@ typedef struct {
 enum {
     CRS_WASM_IDLE_MODULES = 8,        /* compiled modules a worker keeps that no board uses (the
                                          last used): past them the oldest is freed */
-    CRS_WATCH_PERIOD_NS = 10000000    /* how often the watchdog looks at the running call: a call is
+    CRS_WATCH_PERIOD_NS = 5000000     /* how often the watchdog looks at the running call: a call is
                                          ended within this of its limit */
 };
 

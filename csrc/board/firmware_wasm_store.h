@@ -29,10 +29,11 @@ typedef struct {
     crs_wasm_module *shared;     /* the compiled module (shared) */
     wasmtime_module_t *module;   /* its wasmtime module */
     int64_t deadline_ns;         /* a call running longer is interrupted: hung (0: never) */
-    int64_t call_ns;             /* a shared worker's: a call running longer ends the run (0: never) */
-    int64_t chunk_ns;            /* a shared worker's: a chunk ends at the first tick after this long
-                                    (0: at its end tick) */
-    int64_t chunk_began_ns;      /* when the current chunk began (monotonic clock) */
+    int64_t call_ns;             /* a shared worker's: a call using more CPU time ends the run (0: never) */
+    int64_t chunk_ns;            /* a shared worker's: a chunk ends at the first tick after it used
+                                    this much CPU time (0: at its end tick) */
+    int64_t chunk_cpu_ns;        /* the CPU time of the worker's thread as the current chunk began */
+    atomic_int cut;              /* set by the watchdog: the chunk had its share (crs_fw_chunk_over) */
     uint64_t call_fuel;          /* the fuel each call starts with: the most it may cost plus one
                                     (CRS_WASM_FUEL when it may cost anything) */
     atomic_int interrupt;        /* CRS_FW_TRAP_* the running call ends with, set by the watchdog
@@ -98,10 +99,12 @@ void crs_wasm_module_release(crs_wasm_module *m);
 
 /* ---- firmware_wasm_watchdog.c: interrupts per store ---- */
 
+/* The CPU time the calling thread has used (ns). */
+int64_t crs_thread_cpu_ns(void);
 /* Start the process's watchdog thread (once; again in a forked child): 0, or -1. */
 int crs_watchdog_start(void);
-/* The firmware of `w` may run from now on (until crs_watchdog_end): its store's deadline is the next
- * epoch, and the watchdog times its calls. */
+/* The firmware of `w` may run from now on, in the calling thread (until crs_watchdog_end): its
+ * store's deadline is the next epoch, and the watchdog times its calls and its chunk. */
 void crs_watchdog_begin(crs_wasm *w);
 void crs_watchdog_end(void);
 /* A store's epoch-deadline callback (data: its crs_wasm): ends the running call when the watchdog
