@@ -54,7 +54,7 @@ from crslab.sinks.transcript_file import TranscriptSink
 from crslab.worker.board_ffi import board_constants
 from crslab.worker.config import RunConfig
 from crslab.worker.run_stats import RunStats
-from crslab.worker.share import HOST_SHARE, board_ms
+from crslab.worker.share import HOST_SHARE, Share, board_ms
 from crslab.worker.worker_messages import Ran
 from crslab.world.layout import World
 
@@ -281,10 +281,15 @@ class HostedSession:
 
 
 class RunHost:
-    """The host's runs by session key, and the loop that paces them (:meth:`serve`)."""
+    """The host's runs by session key, and the loop that paces them (:meth:`serve`). Each run may
+    take ``share`` of the host's worker (:mod:`crslab.worker.share`) and a call of its lab
+    ``deadline_s`` (None: no deadline)."""
 
-    def __init__(self, conn: Connection) -> None:
+    def __init__(self, conn: Connection, share: Share = HOST_SHARE,
+                 deadline_s: float | None = DEFAULT_DEADLINE_S) -> None:
         self.conn = conn
+        self.share = share
+        self.deadline_s = deadline_s
         self.sessions: dict[str, HostedSession] = {}
         self.worker: BoardClient | None = None
         """The board worker every run of this host is an instance of."""
@@ -332,8 +337,8 @@ class RunHost:
         or it ended); raises ``RunError`` when it cannot start."""
         if self.worker is None or not self.worker.alive:
             self.closed()  # forked now: no other thread of the host runs
-            self.worker = BoardClient(share=HOST_SHARE)
-        return BoardRun(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits, worker=self.worker)
+            self.worker = BoardClient(share=self.share)
+        return BoardRun(config, deadline_s=self.deadline_s, limits=limits, worker=self.worker)
 
     def arm_in(self, world: World) -> ArmPoses:
         """The arm's poses in ``world``'s scene (one per world, shared by the host's runs)."""
@@ -505,7 +510,7 @@ def serve_host(conn: Connection) -> None:
     finally:
         out.close()
     host = RunHost(conn)
-    host.worker = BoardClient(share=HOST_SHARE)  # ready before the first run comes
+    host.worker = BoardClient(share=host.share)  # ready before the first run comes
     host.serve()
 
 
