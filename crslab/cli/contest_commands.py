@@ -16,6 +16,7 @@ from pathlib import Path
 from crslab.cli import CliError
 from crslab.cli.run_options import add_run_options, config_from_args, run_to_end
 from crslab.contest.scorecard import Scorecard, ScorecardError, score
+from crslab.run.budget import budget_line
 from crslab.run.status import ExitStatus, RunStatus
 from crslab.scenario.event import seconds_to_tick
 from crslab.untrusted_text import for_terminal
@@ -96,6 +97,9 @@ def run_contest(args: argparse.Namespace) -> int:
     if args.output is not None:
         draw(args.output, result.log, world, card)
     say(args, card)
+    cost = budget_line(result.stats)  # what --budget counted
+    if cost is not None:
+        print(f"crslab contest: {cost}", file=sys.stderr)
     if not result.ok and result.status is not RunStatus.UNMET:
         print(f"crslab contest: the run ended early: {for_terminal(result.message or result.status)}",
               file=sys.stderr)
