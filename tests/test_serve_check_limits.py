@@ -55,4 +55,5 @@ def test_a_check_past_its_wall_time_ends_where_it_got_to(tmp_path, golden):
 def test_a_check_past_its_cpu_time_is_ended_by_its_limit(tmp_path, golden):
     msg = checked(tmp_path, golden, SessionLimits(check_wall_s=600.0, check_cpu_s=1.0, sandboxed=False))
     assert msg["type"] == "checked" and not msg["ok"]
-    assert msg["report"].splitlines()[0].startswith(f"{SLOW.name} used up its CPU-time limit (1 s) in lab() at tick ")
+    first = msg["report"].splitlines()[0]
+    assert first.startswith(f"{SLOW.name} used up its CPU-time limit (1 s) in lab() at tick ")
