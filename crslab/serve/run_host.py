@@ -70,9 +70,9 @@ SEND_BUFFER_BYTES = 4 << 20
 BATCH_S = 0.005
 """A wake-up runs every run due within this much of now (s), in one request to the worker."""
 CUT_REST_S = 0.08
-"""A run whose chunk had its share of the host (:mod:`crslab.worker.share`: it ended at 20 ms of the
-worker's time) gets its next chunk this long after (s): a run that costs more than real time takes
-at most a fifth of its host, and goes on slower than real time."""
+"""A run whose chunk had its share of the host (:mod:`crslab.worker.share`: it ended at 10 ms of the
+worker's CPU) and is behind its pace gets its next chunk this long after (s): a run that costs more
+than real time (x its speed) takes at most a fifth of its host, and goes on slower."""
 LEAD_S = 0.03
 """A run's chunk is due this long before the wall clock reaches its first tick (s): the page gets
 it ahead of its time, as its playout needs, though the host runs its other runs' chunks first."""
@@ -133,6 +133,8 @@ class HostedSession:
         self.due_s = 0.0
         self.cut = False
         """The last chunk ended at the run's share of the host (``CRS_RUN_CUT``)."""
+        self.before = RunStats()
+        """The run's counters before its last chunk."""
         self.slowed = False
 
     def send(self, data: bytes, tag: bytes = FORWARD) -> None:
@@ -199,12 +201,9 @@ class HostedSession:
         """Hand a chunk's reply to the sinks (its controls wait for :meth:`after`: the worker may
         still be running the host's other chunks); how the run ended, or None."""
         assert self.chunked is not None and self.sim is not None
-        before = self.sim.stats
+        self.before = self.sim.stats
         ending = self.chunked.took(reply, serve=False)  # type: ignore[arg-type]
         self.cut = isinstance(reply, Ran) and reply.code == board_constants().CRS_RUN_CUT
-        if self.cut and not self.slowed and ending is None:
-            self.slowed = True
-            self.slow_note(before, reply.stats)  # type: ignore[attr-defined]
         if ending is None and self.chunked.done:
             ending = Ending(RunStatus.OK, self.sim.tick)
         return ending
@@ -217,11 +216,16 @@ class HostedSession:
             self.finish(ending)
             return False
         self.chunked.serve_controls()
-        if self.cut:  # it had its share of the host: it goes on later, slower than real time
+        pacer = self.chunked.pacer
+        self.due_s = pacer.due_s(self.sim.tick) - LEAD_S
+        if self.cut and pacer.speed is not None and self.due_s <= time.monotonic():
+            # it had its share of the host and is behind its pace: it costs more than real time (x
+            # its speed), so it goes on later, slower (as fast as possible, it just goes on)
             self.due_s = time.monotonic() + CUT_REST_S
-            self.chunked.pacer.restart(self.sim.tick, at_s=self.due_s + LEAD_S)
-        else:
-            self.due_s = self.chunked.pacer.due_s(self.sim.tick) - LEAD_S
+            pacer.restart(self.sim.tick, at_s=self.due_s + LEAD_S)
+            if not self.slowed:
+                self.slowed = True
+                self.slow_note(self.before, self.sim.stats)
         return True
 
     def slow_note(self, before: RunStats, after: RunStats) -> None:
