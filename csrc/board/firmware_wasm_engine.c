@@ -22,14 +22,14 @@ struct crs_wasm_module {
     char key[96];                /* the module's digest (crs_wasm_options.module_key) */
     wasmtime_module_t *module;
     int32_t users;               /* boards using it */
-    uint64_t used;               /* when a board last took it (the count of takes so far) */
+    uint64_t used;               /* when a board last took or left it (the count of those so far) */
     struct crs_wasm_module *next;
 };
 
 static wasm_engine_t *engine;
 static uint64_t engine_memory_bytes, engine_stack_bytes;
 static crs_wasm_module *modules;
-static uint64_t takes; /* modules taken by boards so far: each one's `used` */
+static uint64_t uses; /* modules taken or left by boards so far: each one's `used` */
 
 /* A process forked from one that ran firmware (a benchmark's in-process run, then its workers)
  * has no use for the parent's engine and modules: it makes its own on its first load (what the
@@ -38,7 +38,7 @@ static void forget_after_fork(void)
 {
     engine = NULL;
     modules = NULL;
-    takes = 0;
+    uses = 0;
 }
 
 wasm_engine_t *crs_wasm_engine(void) { return engine; }
@@ -136,7 +136,7 @@ crs_wasm_module *crs_wasm_module_for(crs_board *board, const crs_wasm_options *o
         for (crs_wasm_module *m = modules; m != NULL; m = m->next) {
             if (strcmp(m->key, key) == 0) {
                 m->users++;
-                m->used = ++takes;
+                m->used = ++uses;
                 return m;
             }
         }
@@ -163,7 +163,7 @@ crs_wasm_module *crs_wasm_module_for(crs_board *board, const crs_wasm_options *o
         if (o->compiled_path != NULL) keep_compiled(m->module, o->compiled_path);
     }
     m->users = 1;
-    m->used = ++takes;
+    m->used = ++uses;
     m->next = modules;
     modules = m;
     return m;
@@ -175,7 +175,9 @@ int32_t crs_wasm_module_users(const crs_wasm_module *m) { return m != NULL ? m->
 
 void crs_wasm_module_release(crs_wasm_module *m)
 {
-    if (m == NULL || --m->users > 0) return;
+    if (m == NULL) return;
+    m->used = ++uses;
+    if (--m->users > 0) return;
     if (m->key[0] == '\0') { /* not shared: nobody can take it again */
         unlink_module(m);
         crs_wasmtime.module_delete(m->module);
