@@ -21,6 +21,7 @@ byte), the key, the tag (:data:`~crslab.serve.page_process.FORWARD`, ``RUN_START
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 import os
 import pickle
@@ -136,6 +137,10 @@ class HostedSession:
         self.before = RunStats()
         """The run's counters before its last chunk."""
         self.slowed = False
+        self.behind = False
+        """The last chunk was cut and left the run behind its pace: it goes on slowed."""
+        self.turn = 0
+        """The host's wake-up that last ran it (:func:`in_turn`)."""
 
     def send(self, data: bytes, tag: bytes = FORWARD) -> None:
         """A message for the page (no server path in it: :mod:`crslab.serve.page_text`)."""
@@ -218,7 +223,8 @@ class HostedSession:
         self.chunked.serve_controls()
         pacer = self.chunked.pacer
         self.due_s = pacer.due_s(self.sim.tick) - LEAD_S
-        if self.cut and pacer.speed is not None and self.due_s <= time.monotonic():
+        self.behind = self.cut and pacer.speed is not None and self.due_s <= time.monotonic()
+        if self.behind:
             # it had its share of the host and is behind its pace: it costs more than real time (x
             # its speed), so it goes on later, slower (as fast as possible, it just goes on)
             self.due_s = time.monotonic() + CUT_REST_S
@@ -227,6 +233,11 @@ class HostedSession:
                 self.slowed = True
                 self.slow_note(self.before, self.sim.stats)
         return True
+
+    @property
+    def background(self) -> bool:
+        """Whether the run goes in the background (:func:`in_turn`): as fast as possible, or slowed."""
+        return self.behind or self.chunked is None or self.chunked.pacer.speed is None
 
     def slow_note(self, before: RunStats, after: RunStats) -> None:
         """Tell the page, once, that its run goes slower than real time, and why: its lab (what a
@@ -302,6 +313,7 @@ class RunHost:
         self._aside: list[threading.Thread] = []
         self._pipe = select.poll()  # one for the host's life (Connection.poll makes a selector every call)
         self._pipe.register(conn.fileno(), select.POLLIN)
+        self._turns = itertools.count(1)  # each wake-up's number: a session's turn is its last
         self._arrived: deque[tuple] = deque()
         """The server's messages that came while the worker ran, not yet carried out."""
         self._server_gone = False
@@ -370,7 +382,7 @@ class RunHost:
                 now = time.monotonic()
                 due = [s for s in self.sessions.values() if s.due_s <= now + BATCH_S]
                 if due:
-                    self.step(due)
+                    self.step(in_turn(due))
         except (EOFError, OSError):
             pass
         finally:
@@ -421,6 +433,11 @@ class RunHost:
                 self._guarded(session, session.close)
 
     def step(self, due: list[HostedSession]) -> None:
+        for session in due:
+            session.turn = next(self._turns)
+        self._step(due)
+
+    def _step(self, due: list[HostedSession]) -> None:
         """Run each due session's next chunk (one request per worker), handing each on to its
         sinks as its reply comes (while the worker runs the next), then serve their controls."""
         targets = []
@@ -495,6 +512,24 @@ class RunHost:
             pass
         session.send(message("ended", status="crashed", exit_status=3,
                              message=f"crslab failed: {type(exc).__name__}: {exc}"), RUN_ENDED)
+
+
+def in_turn(due: list[HostedSession]) -> list[HostedSession]:
+    """What one wake-up runs of the ``due`` sessions: every one on its pace first (a page at real
+    time, x its speed), then one that runs in the background (as fast as possible, or slowed: it
+    costs more than its pace), the one whose turn was longest ago. A run on its pace then waits at
+    most for one other run's share of the worker (the background chunk running as it fell due),
+    however many runs go as fast as they can.
+
+    >>> from types import SimpleNamespace as S
+    >>> due = [S(name="fast1", background=True, turn=3), S(name="page", background=False, turn=3),
+    ...        S(name="fast2", background=True, turn=2)]
+    >>> [s.name for s in in_turn(due)]  # type: ignore[arg-type]
+    ['page', 'fast2']
+    """
+    paced = [s for s in due if not s.background]
+    background = [s for s in due if s.background]
+    return paced + sorted(background, key=lambda s: s.turn)[:1]
 
 
 def _terminated(signum: int, frame: object) -> None:

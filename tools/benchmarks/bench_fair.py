@@ -49,7 +49,7 @@ class Host:
 
     def run(self, key: str, lab: Path, speed: float | None, seconds: float, folder: Path) -> None:
         (folder / key / "out").mkdir(parents=True, exist_ok=True)
-        config = make_config(lab, "tour", startup_delay=False)
+        config = make_config(lab, "tour", log=True, startup_delay=False)  # as a page's session makes it
         run = HostedRun(config, round(seconds * 1000), speed, 0.5, (), folder / key)
         self.conn.send((RUN, key, pickle.dumps(run)))
 
@@ -79,6 +79,7 @@ def lags(host: Host, key: str, until: str) -> list[float]:
 
 def course_beside(others: dict[str, tuple[Path, float | None]], seconds: float, folder: Path) -> list[float]:
     """The course lab's lags at real time for ``seconds``, beside ``others`` (key: lab, speed)."""
+    folder.mkdir(parents=True, exist_ok=True)
     template = folder / "lab1.c"
     template.write_text(starter_text("lab1", "A"))
     host = Host()
@@ -96,6 +97,7 @@ def course_beside(others: dict[str, tuple[Path, float | None]], seconds: float, 
 
 def stop_latencies(stops: int, folder: Path) -> list[float]:
     """The time from a page's ``stop`` to its ``ended``, for the slow lab, ``stops`` times (s)."""
+    folder.mkdir(parents=True, exist_ok=True)
     host = Host()
     out = []
     try:
