@@ -16,7 +16,8 @@ from pathlib import Path
 from distinct_labs import DistinctLabs
 from waiting import GUARD_S
 
-from crslab.serve.run_host import RUN, HostedRun, serve_host, unframe
+from crslab.serve.run_host import HostedRun, serve_host
+from crslab.serve.wire import RUN, unhost_frame
 from crslab.worker.board_ffi import board_constants
 
 TESTS = Path(__file__).resolve().parent
@@ -124,7 +125,7 @@ def test_a_host_runs_a_thousand_distinct_labs_in_the_memory_of_its_first_hundred
             shown = b""
             while True:
                 assert ours.poll(GUARD_S), f"lab {i}: the host sent nothing"
-                key, _tag, body = unframe(ours.recv_bytes())
+                key, _tag, body = unhost_frame(ours.recv_bytes())
                 msg = json.loads(body)
                 assert key == str(i)
                 if msg["type"] == "chunk":

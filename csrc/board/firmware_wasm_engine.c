@@ -7,7 +7,8 @@
  * loads nothing) while fewer than CRS_WASM_IDLE_MODULES others no board uses were used since, and
  * freed after that: a worker that ran a thousand labs holds the modules of the labs it runs now
  * and of the last few, not of every one. A module is read from its compiled file in crslab's
- * build cache when there is one (written by the first board that compiled it), else compiled. */
+ * build cache when there is one (written by the first board that compiled it, or by
+ * crs_fw_wasm_compile: a lab's first compile, with an engine of its own made alike), else compiled. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <pthread.h>
@@ -43,6 +44,28 @@ static void forget_after_fork(void)
 
 wasm_engine_t *crs_wasm_engine(void) { return engine; }
 
+/* The engine configuration of every board, for the memory and stack of `o`: the process's engine
+ * (crs_wasm_engine_for) and crs_fw_wasm_compile's are made alike, so a module one compiled the
+ * other loads. */
+static wasm_config_t *engine_config(const crs_wasm_options *o)
+{
+    const crs_wasmtime_api *api = &crs_wasmtime;
+    wasm_config_t *config = api->config_new();
+    api->config_consume_fuel_set(config, true);
+    api->config_epoch_interruption_set(config, true);
+    api->config_parallel_compilation_set(config, false); /* the worker compiles in its main thread */
+    api->config_wasm_threads_set(config, false);
+    api->config_max_wasm_stack_set(config, (size_t)o->stack_bytes);
+    /* the memory grows (the lab's heap) up to the board's limit, within one reservation, so it never
+     * moves and needs no more address space than that (bounds are checked explicitly): a memory
+     * limit on the worker holds */
+    api->config_memory_reservation_set(config, o->memory_bytes);
+    api->config_memory_reservation_for_growth_set(config, 0);
+    api->config_memory_guard_size_set(config, 0);
+    api->config_memory_may_move_set(config, false);
+    return config;
+}
+
 int crs_wasm_engine_for(crs_board *board, const crs_wasm_options *o)
 {
     static int fork_handled;
@@ -58,21 +81,7 @@ int crs_wasm_engine_for(crs_board *board, const crs_wasm_options *o)
         crs_wasm_load_failed(board, "this worker's boards have other memory or stack limits", NULL, 0);
         return -1;
     }
-    const crs_wasmtime_api *api = &crs_wasmtime;
-    wasm_config_t *config = api->config_new();
-    api->config_consume_fuel_set(config, true);
-    api->config_epoch_interruption_set(config, true);
-    api->config_parallel_compilation_set(config, false); /* the worker compiles in its main thread */
-    api->config_wasm_threads_set(config, false);
-    api->config_max_wasm_stack_set(config, (size_t)o->stack_bytes);
-    /* the memory grows (the lab's heap) up to the board's limit, within one reservation, so it never
-     * moves and needs no more address space than that (bounds are checked explicitly): a memory
-     * limit on the worker holds */
-    api->config_memory_reservation_set(config, o->memory_bytes);
-    api->config_memory_reservation_for_growth_set(config, 0);
-    api->config_memory_guard_size_set(config, 0);
-    api->config_memory_may_move_set(config, false);
-    engine = api->engine_new_with_config(config);
+    engine = crs_wasmtime.engine_new_with_config(engine_config(o));
     if (engine == NULL) {
         crs_wasm_load_failed(board, "wasmtime cannot start", NULL, 0);
         return -1;
@@ -117,6 +126,42 @@ static void keep_compiled(const wasmtime_module_t *module, const char *path)
         }
     }
     crs_wasmtime.byte_vec_delete(&bytes);
+}
+
+int crs_fw_wasm_compile(const crs_wasm_options *o, char *error, size_t error_size)
+{
+    const crs_wasmtime_api *api = &crs_wasmtime;
+    if (crs_wasmtime_load(o->libwasmtime, error, error_size) != 0) return -1;
+    if (o->compiled_path == NULL) {
+        snprintf(error, error_size, "there is no place to keep the compiled module");
+        return -1;
+    }
+    wasm_engine_t *own = api->engine_new_with_config(engine_config(o));
+    if (own == NULL) {
+        snprintf(error, error_size, "wasmtime cannot start");
+        return -1;
+    }
+    wasmtime_module_t *module = NULL;
+    wasmtime_error_t *err = api->module_new(own, o->wasm, (size_t)o->wasm_len, &module);
+    int code = 0;
+    if (err != NULL) {
+        wasm_byte_vec_t m = {0, NULL};
+        api->error_message(err, &m);
+        snprintf(error, error_size, "not a WebAssembly module wasmtime can run: %.*s", (int)m.size,
+                 m.data != NULL ? m.data : "");
+        api->byte_vec_delete(&m);
+        api->error_delete(err);
+        code = -1;
+    } else {
+        keep_compiled(module, o->compiled_path);
+        api->module_delete(module);
+        if (access(o->compiled_path, R_OK) != 0) {
+            snprintf(error, error_size, "the compiled module could not be kept at %s", o->compiled_path);
+            code = -1;
+        }
+    }
+    api->engine_delete(own);
+    return code;
 }
 
 static void unlink_module(crs_wasm_module *m)

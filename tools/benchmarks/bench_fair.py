@@ -27,7 +27,8 @@ import time
 from pathlib import Path
 
 from crslab.run.assemble import make_config
-from crslab.serve.run_host import PAGE, RUN, HostedRun, serve_host, unframe
+from crslab.serve.run_host import HostedRun, serve_host
+from crslab.serve.wire import PAGE, RUN, unhost_frame
 from crslab.starters import starter_text
 from crslab.worker.share import HOST_SHARE, most_held_s
 
@@ -54,7 +55,7 @@ class Host:
         self.conn.send((RUN, key, pickle.dumps(run)))
 
     def receive(self) -> tuple[str, dict, float]:
-        key, _tag, body = unframe(self.conn.recv_bytes())
+        key, _tag, body = unhost_frame(self.conn.recv_bytes())
         return key, json.loads(body), time.monotonic()
 
     def close(self) -> None:
