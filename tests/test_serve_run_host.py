@@ -226,13 +226,13 @@ def test_a_course_lab_beside_a_slow_lab_and_an_iovec_flood_runs_as_it_runs_alone
 
 @pytest.mark.parametrize("how", ["stop", "close"])
 def test_stop_or_a_closed_page_ends_a_call_that_would_never_return(tmp_path, how):
-    """A lab whose 301st call never returns, on a host whose runs have no deadline and a minute of
-    CPU for one call: only the page's Stop, or its closing, can end that call before then. It ends
-    at once, and the host's last word on it is that it was stopped where it was (a host that only
-    read the server once its worker was done would end it a minute later as too slow)."""
+    """A lab whose 301st call never returns, on a host whose runs have no deadline and 10 s of CPU
+    for one call: only the page's Stop, or its closing, can end that call before then. It ends at
+    once, and the host's last word on it is that it was stopped where it was (a host that only
+    read the server once its worker was done would end it 10 s of CPU later as too slow)."""
     template = tmp_path / "lab1.c"
     template.write_text(starter_text("lab1", "A"))
-    share = Share(chunk_s=0.01, call_s=60.0, call_instructions=0)
+    share = Share(chunk_s=0.01, call_s=10.0, call_instructions=0)
     runs = {"spins": (SHARING / "spins_in_lab.c", None, 5000), "course": (template, None, 20_000)}
     host, ours, serving = start_host(tmp_path, runs, share=share, deadline_s=None)
     c = board_constants()
