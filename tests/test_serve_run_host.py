@@ -253,3 +253,44 @@ def test_stop_or_a_closed_page_ends_a_call_that_would_never_return(tmp_path, how
     # (after a close the server drops this: the run's page is gone)
     assert messages["spins"][-1] == messages["spins"][-1] | {
         "type": "ended", "status": "interrupted", "end_tick": 300, "message": "stopped at t = 0.300 s"}
+
+
+def test_a_contest_run_whose_chunks_are_cut_ends_where_crslab_contest_ends_it(tmp_path):
+    """A contest run at as fast as possible on a host whose share cuts its chunks every few ms of
+    CPU (anywhere, not at the page's 1000 ticks): it looks at the arm's motion only where
+    ``crslab contest`` looks (every CHUNK_TICKS), so it ends at the same tick, and none of its
+    chunks crosses such a tick."""
+    from crslab.contest.offsets import contest_rest
+    from crslab.contest.run import CHUNK_TICKS, CONTEST_SCENARIO, contest_config, run_contest
+    from crslab.world import load_world
+
+    text = starter_text("final", "B")
+    lab = tmp_path / "final.c"
+    lab.write_text(text)
+    rest = contest_rest(text, None)
+    config = contest_config(make_config(lab, CONTEST_SCENARIO, world=load_world("contest")), rest)
+    alone = run_contest(config)
+    assert alone.status == "ok" and alone.end_tick % CHUNK_TICKS == 0 and alone.end_tick < 60_000
+
+    share = Share(chunk_s=0.001, call_s=HOST_SHARE.call_s, call_instructions=HOST_SHARE.call_instructions)
+    worker = BoardClient(share=share)
+    ours, theirs = Pipe()
+    host = RunHost(theirs, share=share)
+    host.worker = worker
+    (tmp_path / "page" / "out").mkdir(parents=True)
+    ours.send((RUN, "page", pickle.dumps(HostedRun(config, 60_000, None, 0.5, (), tmp_path / "page",
+                                                   contest=rest, until_still=True))))
+    serving = threading.Thread(target=host.serve)
+    serving.start()
+    got: list[dict] = []
+    try:
+        while not got or got[-1]["type"] != "ended":
+            got.append(receive(ours)[1])
+    finally:
+        ours.close()
+        serving.join(30)
+    chunks = [m for m in got if m["type"] == "chunk"]
+    assert any(m["tick"] % CHUNK_TICKS for m in chunks)  # cut at its share, off the 1000s
+    assert all(m["first"] // CHUNK_TICKS == (m["tick"] - 1) // CHUNK_TICKS
+               for m in chunks if m["tick"] > m["first"])
+    assert (got[-1]["status"], got[-1]["end_tick"]) == ("ok", alone.end_tick)

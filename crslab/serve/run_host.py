@@ -42,6 +42,7 @@ from pathlib import Path
 from crslab import os_support
 from crslab.contest.offsets import Rest
 from crslab.contest.page_card import ContestCardSink
+from crslab.contest.run import CHUNK_TICKS as CONTEST_LOOK_TICKS
 from crslab.contest.run import MotionWatch
 from crslab.framework_facts import TICKS_PER_S
 from crslab.live.console import VarConsole
@@ -209,9 +210,20 @@ class HostedSession:
         self.before = self.sim.stats
         ending = self.chunked.took(reply, serve=False)  # type: ignore[arg-type]
         self.cut = isinstance(reply, Ran) and reply.code == board_constants().CRS_RUN_CUT
-        if ending is None and (self.chunked.done or (self.motion is not None and self.motion.ended)):
+        still = self.motion is not None and self.motion.ended and self.sim.tick % CONTEST_LOOK_TICKS == 0
+        if ending is None and (self.chunked.done or still):
             ending = Ending(RunStatus.OK, self.sim.tick)  # (a contest run: the arm has come to rest)
         return ending
+
+    def next_target(self) -> int:
+        """Where the run's next chunk ends: its pacer's, but a contest run's never past the next
+        tick ``crslab contest`` looks at the motion at (a chunk cut at the run's share ends
+        anywhere): it ends at the tick ``crslab contest`` ends it at."""
+        assert self.chunked is not None and self.sim is not None
+        target = self.chunked.next_chunk()[0]
+        if self.motion is not None:
+            target = min(target, (self.sim.tick // CONTEST_LOOK_TICKS + 1) * CONTEST_LOOK_TICKS)
+        return target
 
     def after(self, ending: Ending | None) -> bool:
         """After the worker's request: end the run (``ending``), or serve its control and say
@@ -468,8 +480,7 @@ class RunHost:
         sinks as its reply comes (while the worker runs the next), then serve their controls."""
         targets = []
         for session in due:
-            assert session.chunked is not None
-            targets.append(session.chunked.next_chunk()[0])
+            targets.append(session.next_target())
         taken: dict[int, Ending | None | Exception] = {}
 
         def each(i: int, reply: object) -> None:

@@ -103,12 +103,15 @@ def pack_log(log: dict[str, np.ndarray] | None) -> tuple | None:
     (3, (('tick', '<i8', 1), ('plot', '<f8', 4)))
     >>> {k: v.tolist() for k, v in unpack_log(packed).items()}["tick"]
     [[0], [1], [2]]
+    >>> unpack_log(pack_log({"plot": np.ones((0, 4))}))["plot"].shape  # a chunk that logged no row
+    (0, 4)
     """
     if log is None:
         return None
     rows = len(next(iter(log.values()))) if log else 0
-    # (a little-endian machine's arrays: crslab's, x86 and ARM alike)
-    columns = tuple((name, a.dtype.str, a.size // rows if rows else 1) for name, a in log.items())
+    # (a little-endian machine's arrays: crslab's, x86 and ARM alike; no rows: their own width)
+    columns = tuple((name, a.dtype.str, a.size // rows if rows else int(np.prod(a.shape[1:])))
+                    for name, a in log.items())
     return rows, columns, b"".join([a.tobytes() for a in log.values()])
 
 
