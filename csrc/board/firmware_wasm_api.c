@@ -61,7 +61,6 @@ int crs_wasmtime_load(const char *path, char *error, size_t cap)
     LOAD_SYMBOL(context_get_data, wasmtime_context_get_data);
     LOAD_SYMBOL(context_set_fuel, wasmtime_context_set_fuel);
     LOAD_SYMBOL(context_get_fuel, wasmtime_context_get_fuel);
-    LOAD_SYMBOL(context_set_epoch_deadline, wasmtime_context_set_epoch_deadline);
     LOAD_SYMBOL(linker_new, wasmtime_linker_new);
     LOAD_SYMBOL(linker_delete, wasmtime_linker_delete);
     LOAD_SYMBOL(linker_define_func_unchecked, wasmtime_linker_define_func_unchecked);

@@ -9,11 +9,10 @@
  * however busy the machine (a call that waited for a core meanwhile used nothing). It ends the
  * call past a limit, or when the crslab process asked the board to stop (crs_shared.stop: the
  * page's Stop, a page that closed): it says why in the store (crs_wasm.interrupt) and bumps the
- * engine's epoch. Only the running store has a deadline of
- * the current epoch (each store's is set again before its board runs a chunk), so only its call
- * reaches its epoch callback (crs_watchdog_on_epoch), at its next loop iteration or call, which
- * ends it with that reason; the others never see that epoch. No state a firmware can write takes
- * part. */
+ * engine's epoch. A store's call that reaches an epoch, at its next loop iteration or call, goes
+ * to its epoch callback (crs_watchdog_on_epoch): the running store's ends with the reason said in
+ * it; any other store (its next call after an epoch it did not run in) was told nothing, and goes
+ * on. One guard, the store's own reason: no state a firmware can write takes part. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <pthread.h>
@@ -43,7 +42,6 @@ void crs_watchdog_begin(crs_wasm *w)
     clockid_t clock;
     if (pthread_getcpuclockid(pthread_self(), &clock) != 0) clock = CLOCK_MONOTONIC;
     pthread_mutex_lock(&watch_lock);
-    crs_wasmtime.context_set_epoch_deadline(w->ctx, 1); /* this store's deadline: the next epoch */
     watch_running = w;
     watch_cpu = clock;
     pthread_cond_signal(&watch_wake);
@@ -95,7 +93,7 @@ static void *watchdog(void *unused)
             const int32_t why = why_end(w, sh, now - since_ns, cpu - since_cpu_ns);
             if (why != 0) {
                 atomic_store(&w->interrupt, why);
-                crs_wasmtime.engine_increment_epoch(crs_wasm_engine()); /* only the running store's deadline is this epoch */
+                crs_wasmtime.engine_increment_epoch(crs_wasm_engine()); /* every store's next check: only w's ends */
                 fired = 1;
             }
         }

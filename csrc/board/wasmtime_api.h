@@ -157,7 +157,6 @@ typedef struct {
     void *(*context_get_data)(const wasmtime_context_t *);
     wasmtime_error_t *(*context_set_fuel)(wasmtime_context_t *, uint64_t);
     wasmtime_error_t *(*context_get_fuel)(const wasmtime_context_t *, uint64_t *);
-    void (*context_set_epoch_deadline)(wasmtime_context_t *, uint64_t);
     wasmtime_linker_t *(*linker_new)(wasm_engine_t *);
     void (*linker_delete)(wasmtime_linker_t *);
     wasmtime_error_t *(*linker_define_func_unchecked)(wasmtime_linker_t *, const char *, size_t,
