@@ -14,13 +14,13 @@ from pathlib import Path
 import pytest
 from waiting import join, wait_until
 
+from crslab._bindings import constants
 from crslab.run.api import simulate
 from crslab.run.assemble import make_config
 from crslab.run.board_client import BoardClient
 from crslab.run.diagnosis import Ending
 from crslab.run.firmware_trap import diagnose
 from crslab.run.status import RunStatus
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.share import HOST_SHARE, Share
 
 SHARING = Path(__file__).resolve().parent / "labs" / "sharing"
@@ -46,13 +46,13 @@ def run_to(worker: BoardClient, handle: object, tick: int) -> list:
     while handle.tick < tick:  # type: ignore[attr-defined]
         ran = worker.run([(handle, tick)])[0]  # type: ignore[list-item]
         replies.append(ran)
-        if isinstance(ran, Ending) or ran.code not in (0, 1, board_constants().CRS_RUN_CUT):
+        if isinstance(ran, Ending) or ran.code not in (0, 1, constants.CRS_RUN_CUT):
             break
     return replies
 
 
 def test_a_chunk_ends_at_its_share_and_the_run_goes_on_where_it_was():
-    c = board_constants()
+    c = constants
     config = make_config(SLOW, "tour", startup_delay=False)
     worker = BoardClient(share=HOST_SHARE)
     printed = bytearray()
@@ -72,7 +72,7 @@ def test_a_chunk_ends_at_its_share_and_the_run_goes_on_where_it_was():
 
 
 def test_one_call_may_cost_the_share_s_instructions_and_not_one_more():
-    c = board_constants()
+    c = constants
     alone = simulate(SLOW, "tour", duration_s=0.005, startup_delay=False)
     most, at = alone.stats.lab_cost_max, alone.stats.lab_max_tick
     assert most > 1_000_000
@@ -97,7 +97,7 @@ def test_one_call_may_cost_the_share_s_instructions_and_not_one_more():
 def test_the_board_charges_a_call_one_instruction_for_each_iovec_it_walks(tmp_path):
     """The same lab with 65,000 iovecs per writev and with none costs 65,000 instructions more per
     writev: the board's walk, which costs the lab only its call. Past the share, its run ends."""
-    c = board_constants()
+    c = constants
     (tmp_path / "empty").mkdir()
     empty = variant(tmp_path / "empty", IOVECS, "writev(1, nothing, 65000)", "writev(1, nothing, 0)")
     cost = {}
@@ -120,7 +120,7 @@ def test_the_board_charges_a_call_one_instruction_for_each_iovec_it_walks(tmp_pa
 
 
 def test_a_stop_ends_the_chunk_before_its_next_tick():
-    c = board_constants()
+    c = constants
     worker = BoardClient(share=HOST_SHARE)
     try:
         handle = worker.open(make_config(SLOW, "tour", startup_delay=False))
@@ -138,7 +138,7 @@ def test_a_call_that_never_returns_ends_at_a_stop_or_its_share_long_before_its_d
     """The spinning call (tick 300) ends with the stop that came while it ran (kind STOPPED), or
     with the share's time for one call (TOO_LONG), not at its 60 s deadline (INTERRUPT): only
     those two could end it first."""
-    c = board_constants()
+    c = constants
     share = Share(chunk_s=60.0, call_s=60.0 if how == "stop" else 0.1, call_instructions=0)
     worker = BoardClient(share=share, deadline_s=60.0)
     try:

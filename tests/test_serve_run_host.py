@@ -12,12 +12,12 @@ from pathlib import Path
 import pytest
 from waiting import GUARD_S, wait_until
 
+from crslab._bindings import constants
 from crslab.run.api import make_config, simulate
 from crslab.run.board_client import BoardClient
 from crslab.serve.run_host import HostedRun, RunHost
 from crslab.serve.wire import CLOSE, PAGE, RUN, unhost_frame
 from crslab.starters import starter_text
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.share import HOST_SHARE, Share
 
 LABS = Path(__file__).parent / "labs"
@@ -235,7 +235,7 @@ def test_stop_or_a_closed_page_ends_a_call_that_would_never_return(tmp_path, how
     share = Share(chunk_s=0.01, call_s=10.0, call_instructions=0)
     runs = {"spins": (SHARING / "spins_in_lab.c", None, 5000), "course": (template, None, 20_000)}
     host, ours, serving = start_host(tmp_path, runs, share=share, deadline_s=None)
-    c = board_constants()
+    c = constants
     messages: dict[str, list[dict]] = {key: [] for key in runs}
     try:
         wait_until(lambda: "spins" in host.sessions, "the spinning lab's run opened")

@@ -16,9 +16,9 @@ from pathlib import Path
 from distinct_labs import DistinctLabs
 from waiting import GUARD_S
 
+from crslab._bindings import constants
 from crslab.serve.run_host import HostedRun, serve_host
 from crslab.serve.wire import RUN, unhost_frame
-from crslab.worker.board_ffi import board_constants
 
 TESTS = Path(__file__).resolve().parent
 
@@ -68,7 +68,7 @@ def test_a_worker_keeps_the_last_modules_no_instance_uses_and_frees_the_one_befo
     assert r.returncode == 0, r.stderr[-3000:]
     out = json.loads(r.stdout)
     kept, seen = out["kept"], {s["after"]: s for s in out["seen"]}
-    assert kept == board_constants().CRS_WASM_IDLE_MODULES == 8
+    assert kept == constants.CRS_WASM_IDLE_MODULES == 8
     # lab 1 in use all along; labs 2 .. 10 opened, run and stopped one after another
     for i in range(2, kept + 2):  # up to the number kept, every one stays
         assert seen[f"stop {i}"]["modules"] == i and seen[f"stop {i}"]["held"] == list(range(1, i + 1))

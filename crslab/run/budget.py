@@ -7,7 +7,7 @@ reads it from there, so none says another number than the one the calls were cou
 
 from __future__ import annotations
 
-from crslab.worker.board_ffi import board_constants
+from crslab._bindings import constants
 from crslab.worker.run_stats import RunStats
 
 NEAR_BUDGET = 0.8
@@ -24,7 +24,7 @@ def lab_cost(stats: RunStats) -> dict:
     ('us', 1.5, 500.0)
     """
     calls = stats.lab_calls
-    instructions = stats.cost_unit == board_constants().CRS_COST_INSTRUCTIONS
+    instructions = stats.cost_unit == constants.CRS_COST_INSTRUCTIONS
     scale = 1.0 if instructions else 1e-3  # ns to us
     return {
         "lab_cost_unit": "instructions" if instructions else "us",

@@ -24,11 +24,11 @@ from __future__ import annotations
 import re
 from pathlib import Path, PurePath
 
+from crslab._bindings import constants
 from crslab.framework_facts import TICKS_PER_S
 from crslab.run.status import RunStatus
 from crslab.run.wasm_lines import line_at
 from crslab.untrusted_text import for_terminal
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.share import board_ms
 
 _AT = re.compile(r"^\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
@@ -90,7 +90,7 @@ def too_slow(kind: int, text: str, lab_name: str, func: str, at: str, stopped: s
     """The line for a call a shared worker ended (``CRS_FW_TRAP_TOO_COSTLY``, ``_TOO_LONG``): the
     board's first line of ``text`` says the limit it passed (``15000000 instructions``, ``20 ms``).
 
-    >>> line = too_slow(board_constants().CRS_FW_TRAP_TOO_COSTLY, "5000000 instructions\\n...", "slow.c",
+    >>> line = too_slow(constants.CRS_FW_TRAP_TOO_COSTLY, "5000000 instructions\\n...", "slow.c",
     ...                 "lab()", "at tick 4100 (t = 4.100 s)", "at slow.c:12 in lab()")
     >>> line.split(": ", 1)[1].split("; ")[0]
     'lab() cost more than 5,000,000 instructions in one call at tick 4100 (t = 4.100 s)'
@@ -100,7 +100,7 @@ def too_slow(kind: int, text: str, lab_name: str, func: str, at: str, stopped: s
     limit = re.match(r"\s*(\d+)", text)
     number = int(limit.group(1)) if limit else 0
     was = f"; it was {stopped}" if stopped else ""
-    if kind == board_constants().CRS_FW_TRAP_TOO_COSTLY:
+    if kind == constants.CRS_FW_TRAP_TOO_COSTLY:
         board = (f"; the F28335 would need more than {board_ms(number):g} ms for that call, and the board "
                  f"calls {func} every {1000 / TICKS_PER_S:g} ms")
         what = f"cost more than {number:,} instructions"
@@ -113,7 +113,7 @@ def too_slow(kind: int, text: str, lab_name: str, func: str, at: str, stopped: s
 
 def _phase_words(phase: int) -> tuple[str, str]:
     """(the function it was in, where in the tick) for a phase."""
-    c = board_constants()
+    c = constants
     if phase == c.CRS_PHASE_PRINTING:
         return "printing()", "in printing()"
     if phase == c.CRS_PHASE_LOADING:
@@ -125,7 +125,7 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None,
              image: Path | None = None) -> tuple[RunStatus, str]:
     """How the run ends and the one line that says why (``image``: the firmware, whose line table
     says where a hung call was when wasmtime does not)."""
-    c = board_constants()
+    c = constants
     kind, phase, tick = int(trap.get("kind", 0)), int(trap.get("phase", 0)), int(trap.get("tick", 0))
     text = str(trap.get("text", ""))
     func, where = _phase_words(phase)

@@ -232,8 +232,8 @@ class Session:
     def check(self, msg: dict) -> None:
         """Run the page's lab as ``crslab check`` does and send ``checked``."""
         from crslab.regress.compare import compare
-        from crslab.regress.runner import run_lab
         from crslab.regress.transcript import GoldenError, read_golden, recorded_run, split_lines
+        from crslab.run.assemble import run_kept
         from crslab.world import WORLD_NAMES
 
         lab = self._write_lab(msg["lab"])
@@ -266,7 +266,7 @@ class Session:
             limits = Limits(memory_mb=self.limits.memory_mb, cpu_s=self.limits.check_cpu_s)
             result = None
             with WallLimit(self.limits.check_wall_s) as wall:
-                result = run_lab(config, end_tick, limits=limits)
+                result = run_kept(config, end_tick, limits=limits)
         except (GoldenError, LabBuildError, ScenarioError, ValueError, RunError) as exc:
             self.send(message("checked", ok=False, report=str(exc)), RUN_ENDED)
             return

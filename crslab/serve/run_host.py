@@ -40,6 +40,7 @@ from multiprocessing.connection import Connection
 from pathlib import Path
 
 from crslab import os_support
+from crslab._bindings import constants
 from crslab.contest.offsets import Rest
 from crslab.contest.page_card import ContestCardSink
 from crslab.contest.run import CHUNK_TICKS as CONTEST_LOOK_TICKS
@@ -60,7 +61,6 @@ from crslab.serve.stream import PageControl, Stopped
 from crslab.sinks.page_stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream, message
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.config import RunConfig
 from crslab.worker.run_stats import RunStats
 from crslab.worker.share import HOST_SHARE, Share, board_ms
@@ -209,7 +209,7 @@ class HostedSession:
         assert self.chunked is not None and self.sim is not None
         self.before = self.sim.stats
         ending = self.chunked.took(reply, serve=False)  # type: ignore[arg-type]
-        self.cut = isinstance(reply, Ran) and reply.code == board_constants().CRS_RUN_CUT
+        self.cut = isinstance(reply, Ran) and reply.code == constants.CRS_RUN_CUT
         still = self.motion is not None and self.motion.ended and self.sim.tick % CONTEST_LOOK_TICKS == 0
         if ending is None and (self.chunked.done or still):
             ending = Ending(RunStatus.OK, self.sim.tick)  # (a contest run: the arm has come to rest)

@@ -54,9 +54,9 @@ HOST_SHARE = Share()
 def watch_period_s() -> float:
     """How often the board's watchdog looks at the running call (s): a call is ended within this of
     its limit."""
-    from crslab.worker.board_ffi import board_constants
+    from crslab._bindings import constants
 
-    return board_constants().CRS_WATCH_PERIOD_NS / 1e9
+    return constants.CRS_WATCH_PERIOD_NS / 1e9
 
 
 def most_held_s(share: Share) -> float:

@@ -38,7 +38,7 @@ int crs_fw_chunk_over(crs_board *board);
  * format buffer is noted (board->overflow_tick) instead and nothing is queued. */
 int32_t crs_board_serial_out(crs_board *board, const char *chars, uint32_t available, uint32_t formatted);
 
-/* Count what one lab() call cost (in board->cost_unit) into the run's totals, its maximum and the
+/* Count what one lab() call cost (in board->config.cost_unit) into the run's totals, its maximum and the
  * calls over board->budget (the first few ticks of which are kept). */
 void crs_board_lab_cost(crs_board *board, int64_t cost);
 

@@ -383,18 +383,18 @@ static int start_firmware(crs_wasm *w)
                              "missing)", NULL, 0);
         return CRS_RUN_TRAPPED;
     }
-    board->cost_unit = CRS_COST_INSTRUCTIONS;
+    board->config.cost_unit = CRS_COST_INSTRUCTIONS;
     wasmtime_func_t initialize;
     wasmtime_val_raw_t a[1];
     int64_t cost = 0; /* the constructors' cost is not lab()'s */
     if (export_func(w, "_initialize", &initialize) == 0) { /* the C library's and the lab's constructors */
         if (call(w, &initialize, a, 0, CRS_PHASE_LOADING, &cost) != 0) return CRS_RUN_TRAPPED;
     }
-    a[0].i32 = board->generation;
+    a[0].i32 = board->config.generation;
     if (call(w, &start, a, 1, CRS_PHASE_LOADING, &cost) != 0) return CRS_RUN_TRAPPED;
     if (a[0].i32 == 0) {
         snprintf(error, sizeof error, "the firmware cannot run framework generation %d (its generations.c "
-                 "is not the board's)", (int)board->generation);
+                 "is not the board's)", (int)board->config.generation);
         crs_wasm_load_failed(board, error, NULL, 0);
         return CRS_RUN_TRAPPED;
     }

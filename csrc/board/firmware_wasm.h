@@ -37,7 +37,7 @@ enum {
                                          ended within this of its limit */
 };
 
-/* Load the firmware for board->generation into a store of its own, run its constructors (phase
+/* Load the firmware for board->config.generation into a store of its own, run its constructors (phase
  * CRS_PHASE_LOADING) and point board->fw at its variables. The first load of a process creates its
  * engine (with this memory and stack; later loads must ask for the same) and its watchdog thread.
  * `wasm` may be NULL when the process holds the module already (crs_fw_wasm_module_held).
