@@ -252,8 +252,8 @@ class HostedSession:
         return self.behind or self.chunked is None or self.chunked.pacer.speed is None
 
     def slow_note(self, before: RunStats, after: RunStats) -> None:
-        """Tell the page, once, that its run goes slower than real time, and why: its lab (what a
-        tick of it would take the board) or a busy server."""
+        """Tell the page, once, that its run goes slower than real time (x the speed it asked for),
+        and why: its lab (what a tick of it would take the board) or a busy server."""
         calls = after.lab_calls - before.lab_calls
         per_call = (after.lab_cost_total - before.lab_cost_total) / calls if calls else 0.0
         name = self.run.config.build.source.name
@@ -264,7 +264,9 @@ class HostedSession:
                    "the board would miss its timer ticks")
         else:
             why = "this server is busy"
-        note = f"{why}; the run goes on slower than real time, so that the server's other runs keep theirs"
+        speed = self.chunked.pacer.speed if self.chunked is not None else None
+        pace = "real time" if speed in (None, 1.0) else f"{speed:g}x real time"
+        note = f"{why}; the run goes on slower than {pace}, so that the server's other runs keep theirs"
         self.notes.append(note)
         self.send(message("note", tick=self.sim.tick if self.sim is not None else 0, text=note))
 
