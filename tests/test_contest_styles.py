@@ -4,11 +4,11 @@ beside it), complete the peg, the obstacle and the groove as that style did on a
 variants with the real mistakes teams made still fail the task they break, with the evidence the
 world's row gives (what touched the obstacle, what broke the egg, where the peg stopped).
 
-The egg: the position press (10 mm/s, 5 mm into the egg, no friction compensation while it
+The egg: the position press (15 mm/s, 5 mm into the egg, no friction compensation while it
 presses) holds the scale in the band. The soft-z press and the force feedforward do not yet (issue
 37, cause 3): from rest their 7-8 N is below the ~17 N that moves the stuck arm down at the egg,
 and moving (the compensation on) they strike at 24 mm/s and more, which the joints' static
-friction then holds at 1.7 times the band's top; docs/worlds.md, "What presses do on it".
+friction then holds at 1.3 times the band's top; docs/worlds.md, "What presses do on it".
 
 Each run is a whole contest run (26 simulated seconds, about 2 s of CPU); they run two at a
 time, once per module, through crslab's Python API (the lab compiled and run in a worker as
@@ -124,11 +124,11 @@ def test_the_styles_do_what_they_are_named_for(runs):
     assert deep.any() and off_axis.max() < hole.diameter_m / 2 - world.peg.diameter_m / 2 + 1e-3
 
 
-PRESS_SPEED_M_S = 0.010  # position_press.c's press: its target's speed down into the egg
+PRESS_SPEED_M_S = 0.015  # position_press.c's press: its target's speed down into the egg
 
 
 def test_the_position_press_holds_the_egg_in_the_band_at_its_speed(runs):
-    """A position press at a team's speed (10 mm/s) and gain (Kpress 800 units/m, 4.8 kN/m at the
+    """A position press at a team's speed (15 mm/s) and gain (Kpress 800 units/m, 4.8 kN/m at the
     tip), its target 5 mm into the egg: the peg touches down at the target's speed (no stick-slip),
     and the scale reads inside the world's band, never above it, for the rules' whole hold."""
     log, card = runs["position_press"]

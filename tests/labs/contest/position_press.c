@@ -1,8 +1,8 @@
-/* A position press at a set speed and gain: the target goes 5 mm into the egg at 10 mm/s with a
+/* A position press at a set speed and gain: the target goes 5 mm into the egg at 15 mm/s with a
  * stiff z axis (Kpress) and stays there 3 s; the Lab 3 friction compensation is off while it
- * presses, so the peg comes down at the target's speed (with it on, the joints' speeds here, 0.03-
- * 0.05 rad/s, straddle its minimum velocity: the arm sticks and slips and strikes the egg at 2-3
- * times that speed; docs/worlds.md, "the egg"). A Gen A ("CRSRobot") file.
+ * presses, so the peg comes down at the target's speed (with it on, the joints' speeds here, 0.04-
+ * 0.06 rad/s, straddle its minimum velocity: the arm sticks and slips and strikes the egg at more
+ * than twice that speed; docs/worlds.md, "the egg"). A Gen A ("CRSRobot") file.
  *
  * The final project in one run, on the bench position_press.toml (beside this file): the peg in the hole,
  * over the obstacle, along the zig-zag groove, the egg pressed. The path is a table of waypoints
@@ -98,7 +98,7 @@ waypoint path[NPOINTS] = {
     {G3X, G3Y, GROOVE_Z, 0.08, GROOVE, 0.1},     /* the exit */
     {G3X, G3Y, 0.330, 0.20, STIFF, 0.0},         /* out of the groove */
     {EGG_X, EGG_Y, EGG_TOP + 0.030, 0.30, STIFF, 0.2},   /* above the egg */
-    {EGG_X, EGG_Y, EGG_TOP - PRESS_DEPTH, 0.010, PRESS, 3.0}, /* the press, held */
+    {EGG_X, EGG_Y, EGG_TOP - PRESS_DEPTH, 0.015, PRESS, 3.0}, /* the press, held */
     {EGG_X, EGG_Y, 0.350, 0.10, STIFF, 1000.0}  /* off the egg, and stay */
 };
 
