@@ -6,9 +6,10 @@ world's row gives (what touched the obstacle, what broke the egg, where the peg 
 
 The egg: the position press (15 mm/s, 5 mm into the egg, no friction compensation while it
 presses) holds the scale in the band. The soft-z press and the force feedforward do not yet (issue
-37, cause 3): from rest their 7-8 N is below the ~17 N that moves the stuck arm down at the egg,
-and moving (the compensation on) they strike at 24 mm/s and more, which the joints' static
-friction then holds at 1.3 times the band's top; docs/worlds.md, "What presses do on it".
+37, cause 3): from rest their 7-8 N is below the ~17 N that moves the stuck arm down at the egg
+(the soft-z press stays 2.6 mm above it), and the force feedforward, arriving moving with the
+compensation on, strikes at 24 mm/s, which the joints' static friction then holds at 1.3 times
+the band's top; docs/worlds.md, "What presses do on it".
 
 Each run is a whole contest run (26 simulated seconds, about 2 s of CPU); they run two at a
 time, once per module, through crslab's Python API (the lab compiled and run in a worker as
