@@ -103,13 +103,13 @@ void crs_wasm_module_release(crs_wasm_module *m);
 int64_t crs_thread_cpu_ns(void);
 /* Start the process's watchdog thread (once; again in a forked child): 0, or -1. */
 int crs_watchdog_start(void);
-/* The firmware of `w` may run from now on, in the calling thread (until crs_watchdog_end): its
- * store's deadline is the next epoch, and the watchdog times its calls and its chunk. */
+/* The firmware of `w` may run from now on, in the calling thread (until crs_watchdog_end): the
+ * watchdog times its calls and its chunk. */
 void crs_watchdog_begin(crs_wasm *w);
 void crs_watchdog_end(void);
-/* A store's epoch-deadline callback (data: its crs_wasm): ends the running call when the watchdog
- * said why (a hang, a call too long for a shared worker, the crslab process's stop), else lets it go
- * on to the next epoch. */
+/* A store's epoch-deadline callback (data: its crs_wasm), for every epoch its calls reach: ends the
+ * call when the watchdog said why in this store (a hang, a call too long for a shared worker, the
+ * crslab process's stop), else lets it go on to the next epoch (an epoch meant for another store). */
 wasmtime_error_t *crs_watchdog_on_epoch(wasmtime_context_t *context, void *data, uint64_t *delta, uint8_t *kind);
 
 /* ---- firmware_wasm_wasi.c: WASI ---- */
