@@ -90,7 +90,7 @@ def test_a_default_golden_says_so_and_a_bad_plant_file_is_one_line(tmp_path):
     bad.write_text("[drive]\nstall_nm = 3\n")
     r = crslab("sim", "--fast", "--duration", "1", "--plant", bad)
     assert r.returncode == 2 and r.stderr.count("\n") == 1
-    assert str(bad) in r.stderr and "stall_nm must be three numbers" in r.stderr
+    assert f"{bad}:2: drive.stall_nm: must be three numbers" in r.stderr  # FILE:LINE: KEY: problem
 
 
 @pytest.mark.parametrize("make, args, words", [

@@ -6,15 +6,15 @@ is told which, in one line."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import subprocess
 import sys
-from multiprocessing import Pipe
 from pathlib import Path
 
 import pytest
 
-from crslab.serve.page_process import Session, SessionLimits
+from crslab.serve.page_process import SessionLimits
 from crslab.starters import starter_text
 
 SLOW = Path(__file__).resolve().parent / "labs" / "sharing" / "slow_every_call.c"
@@ -34,14 +34,30 @@ def golden(tmp_path_factory) -> Path:
     return path
 
 
+CHECK_IN_A_FRESH_PROCESS = """
+import json, sys
+from multiprocessing import Pipe
+from pathlib import Path
+from crslab.serve.page_process import Session, SessionLimits
+session_dir, lab, golden, limits = sys.argv[1:]
+ours, theirs = Pipe()
+session = Session(theirs, Path(session_dir), SessionLimits(**json.loads(limits)))
+session.check({"lab": {"name": Path(lab).name, "text": Path(lab).read_text()},
+               "golden": {"name": Path(golden).name, "text": Path(golden).read_text()}})
+sys.stdout.write(ours.recv_bytes()[1:].decode())
+"""
+
+
 def checked(tmp_path: Path, golden: Path, limits: SessionLimits) -> dict:
     """The page's ``checked`` message for the slow lab against ``golden``, in a session with
-    ``limits``."""
-    ours, theirs = Pipe()
-    session = Session(theirs, tmp_path / "session", limits)
-    session.check({"lab": {"name": SLOW.name, "text": SLOW.read_text()},
-                   "golden": {"name": golden.name, "text": golden.read_text()}})
-    return json.loads(ours.recv_bytes()[1:])
+    ``limits``. The session lives in a fresh process, as a page's does (forked from serve's small
+    fork server): the memory limit its worker inherits counts the address space of the process it
+    was forked from, and this test process's grows with the suite's earlier tests."""
+    fields = {f.name: getattr(limits, f.name) for f in dataclasses.fields(limits)}
+    r = subprocess.run([sys.executable, "-c", CHECK_IN_A_FRESH_PROCESS, str(tmp_path / "session"), str(SLOW),
+                        str(golden), json.dumps(fields)], capture_output=True, text=True, timeout=900)
+    assert r.returncode == 0, r.stderr
+    return json.loads(r.stdout)
 
 
 def test_a_check_past_its_wall_time_ends_where_it_got_to(tmp_path, golden):

@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from crslab.world.fixtures import LONGEST_RUN_S
+
 MOTION_M = 0.005
 """The first motion: the peg's tip this far (m) from where it was on the log's first row."""
 STILL_M = 0.002
@@ -33,9 +35,8 @@ the course's rules ask for (the egg's 2 s; the hole's is a moment), so that a la
 two tasks, or a press held longer than designed, does not end its run."""
 NO_MOTION_S = 15.0
 """How long (s) after its first ``lab()`` call a lab that never moves the arm is given."""
-LONGEST_S = 60.0
-"""The longest contest run (simulated s, the 4.1 s start-up included) unless ``--duration``: twice
-the 30 s crslab used to give every run, three times crslab's own starter's 21 s."""
+LONGEST_S = LONGEST_RUN_S
+"""The longest contest run (simulated s) unless ``--duration``: the world's (crslab.world.fixtures)."""
 
 
 def first_motion(t: np.ndarray, tip: np.ndarray) -> float | None:

@@ -138,6 +138,12 @@ class Contact:
     egg_damping_ratio: float = 0.2
 
 
+LONGEST_RUN_S = 60.0
+"""The longest contest run (simulated s, the 4.1 s start-up included) unless ``--duration``: twice
+the 30 s crslab used to give every run, three times crslab's own starter's 21 s. A world's holds
+last at most this long."""
+
+
 @dataclass(frozen=True)
 class ContestRules:
     """The final project's contest (``crslab contest``): the egg's force band (grams on the scale)

@@ -16,10 +16,10 @@ from dataclasses import MISSING, dataclass, fields, replace
 from pathlib import Path
 
 from crslab import resources
-from crslab.contest.motion import LONGEST_S as LONGEST_RUN_S
 from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.toml_file import Table, TomlFile
 from crslab.world.fixtures import (
+    LONGEST_RUN_S,
     Contact,
     ContestRules,
     Egg,

@@ -5,6 +5,8 @@
  *   firmware_wasm_engine.c    the process's engine and its compiled modules (one per firmware)
  *   firmware_wasm_watchdog.c  the watchdog thread: interrupts per store
  *   firmware_wasm_wasi.c      WASI, as the C library asks for it: answered or refused
+ *   firmware_wasm_store.c     the store's helpers below (notes, traps, memory, charges): the
+ *                             others call down to them, never back up to firmware_wasm.c
  * Internal to the board; not read by cffi. */
 #ifndef CRSLAB_FIRMWARE_WASM_STORE_H
 #define CRSLAB_FIRMWARE_WASM_STORE_H
