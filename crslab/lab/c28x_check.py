@@ -173,9 +173,10 @@ def lost_pointers(board: Sequence[Finding]) -> list[Finding]:
 
 
 def include_dirs() -> list[str]:
-    """The check's own headers (a math.h: no C library), then those a lab is built with."""
+    """The C library's headers as the lab's build with the C28x's widths sees them (no C library
+    behind them: nothing is linked), then those a lab is built with."""
     csrc = resources.path("csrc")
-    return ["-I", str(csrc / "firmware" / "c28x_check"), "-I", str(csrc / "firmware" / "include"),
+    return ["-I", str(csrc / "firmware" / "c28x"), "-I", str(csrc / "firmware" / "include"),
             "-I", str(csrc / "kin")]
 
 
@@ -262,7 +263,7 @@ def check_lab(lab: Path, *, sandboxed: bool = True, text: bytes | None = None,
 
 def _key(lab: Path) -> str:
     h = hashlib.sha256(Path(lab).read_bytes())
-    for header in [*sorted((resources.path("csrc") / "firmware" / "c28x_check").glob("*.h")),
+    for header in [*sorted((resources.path("csrc") / "firmware" / "c28x").rglob("*.h")),
                    *sorted((resources.path("csrc") / "firmware" / "include").glob("*.h"))]:
         h.update(header.read_bytes())
     h.update(" ".join([*BOARD_TARGET, *FLAGS]).encode())
