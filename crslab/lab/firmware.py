@@ -27,6 +27,7 @@ whose data does not fit the memory says how much it needs.
 
 from __future__ import annotations
 
+import importlib.resources
 import json
 import re
 import tempfile
@@ -104,8 +105,10 @@ KIN_SOURCES = sorted(KIN.glob("*.c"))
 """The kinematics, compiled with the lab's widths (:data:`KIN_FLAGS`)."""
 FIRMWARE_HEADERS = (sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h"))
                     + sorted(PORT.glob("*.h")) + sorted(C28X_INCLUDE.rglob("*.h")))
-IR_MOVER = Path(c28x_ir.__file__)
-"""The module that moves the lab's IR to wasm32: part of every build's name."""
+def ir_mover_text() -> bytes:
+    """The text of the module that moves the lab's IR to wasm32 (:mod:`crslab.lab.c28x_ir`), part of
+    every build's name (read as a resource: crslab may be imported from a zip)."""
+    return importlib.resources.files("crslab.lab").joinpath("c28x_ir.py").read_bytes()
 
 FRAMEWORK_VARIABLES = ("matlabLock", *(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, 8)))
 """The framework's globals in the firmware that the board's memory map holds (firmware.c)."""
@@ -187,8 +190,8 @@ def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - bu
     """The stand-ins compiled for wasm32 and the kinematics compiled with the lab's widths and moved to
     wasm32 (:mod:`crslab.lab.c28x_ir`), once per content, flags and zig."""
     digest = digest_of([zig.zig_version().encode(), " ".join(FIRMWARE_FLAGS + KIN_FLAGS + IR_FLAGS).encode()]
-                       + [p.read_bytes() for p in [*FIRMWARE_SOURCES, *KIN_SOURCES, *FIRMWARE_HEADERS,
-                                                   IR_MOVER]])
+                       + [p.read_bytes() for p in [*FIRMWARE_SOURCES, *KIN_SOURCES, *FIRMWARE_HEADERS]]
+                       + [ir_mover_text()])
     out_dir = cache / f"firmware-{digest}"
     sources = [*FIRMWARE_SOURCES, *KIN_SOURCES]
     objects = [out_dir / f"{p.parent.name}_{p.stem}.o" for p in sources]
