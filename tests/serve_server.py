@@ -16,6 +16,7 @@ from pathlib import Path
 from waiting import LineWatcher, wait_exit
 
 from crslab.serve.auth import hash_password
+from crslab.sinks.page_stream import unpacked_rows
 
 USERS = {
     "alice": ("alice-password", "student"),
@@ -100,7 +101,11 @@ class Client:
         self.ws.send(msg if isinstance(msg, str) else json.dumps(msg))
 
     def next(self, timeout_s: float = 120.0) -> dict:
-        return json.loads(self.ws.recv(timeout=timeout_s))
+        """The server's next message; a chunk's frames unpacked into rows, as the page unpacks them."""
+        msg = json.loads(self.ws.recv(timeout=timeout_s))
+        if msg.get("type") == "chunk" and "frames" in msg:
+            msg["frames"] = unpacked_rows(msg["frames"])
+        return msg
 
     def until(self, kind: str) -> list[dict]:
         """Every message up to and including the first of type ``kind`` (an ``error`` first fails)."""

@@ -98,6 +98,29 @@ def test_a_chunk_carries_the_arm_at_60_hz_and_the_scopes_every_5_ms(alice):
     assert frame0[0] == 0 and np.allclose(block[0, 4:7], frame0[4:7], atol=1e-5)
 
 
+def test_a_chunks_frames_travel_packed_and_unpack_into_the_arms_rows(alice):
+    """On the wire a chunk's frames are packed rows (base64 little-endian float64, as the page's
+    script unpacks them): each row the tick, the DH angles, the motor angles, the safety flag and the
+    motor board's state, equal to what the scope rows say of the same tick."""
+    import base64
+
+    alice.send(run_message(LAB_A, duration=1.0, scenario={"name": "hands_off"}))
+    raw = []
+    while not raw or raw[-1]["type"] != "ended":
+        raw.append(json.loads(alice.ws.recv(timeout=120)))
+    chunk = next(m for m in raw if m["type"] == "chunk")
+    packed = chunk["frames"]
+    assert set(packed) == {"columns", "rows", "data"} and packed["columns"] == 9
+    rows = np.frombuffer(base64.b64decode(packed["data"]), "<f8").reshape(packed["rows"], 9)
+    last = chunk["tick"] - 1 - (chunk["tick"] - 1) % 5  # the last row logged before the chunk's end
+    assert rows[0, 0] == 0 and rows[-1, 0] == last
+    scope = np.frombuffer(base64.b64decode(chunk["scope"]["data"]), "<f4").reshape(chunk["scope"]["rows"], 13)
+    at = {int(t): i for i, t in enumerate(chunk["scope"]["tick0"] + 5 * np.arange(chunk["scope"]["rows"]))}
+    for row in rows:
+        assert np.allclose(row[4:7], scope[at[int(row[0])], 4:7], atol=1e-6)  # float32 scopes: 1e-7 rad
+        assert row[7] in (0, 1) and row[8] in (0, 1)
+
+
 def test_writing_a_watched_variable_changes_what_the_lab_prints(alice):
     alice.send(run_message(LAB_A, duration=8.0, speed=1.0, no_startup_delay=True))
     first = alice.until("chunk")

@@ -13,7 +13,8 @@ from waiting import GUARD_S
 
 from crslab.run.api import make_config, simulate
 from crslab.run.board_client import BoardClient
-from crslab.serve.run_host import CLOSE, PAGE, RUN, HostedRun, RunHost, unframe
+from crslab.serve.run_host import HostedRun, RunHost
+from crslab.serve.wire import CLOSE, PAGE, RUN, unhost_frame
 from crslab.starters import starter_text
 
 LABS = Path(__file__).parent / "labs"
@@ -53,7 +54,7 @@ def test_a_host_runs_many_pages_labs_in_one_worker_as_crslab_sim_runs_them(tmp_p
     messages: dict[str, list[dict]] = {key: [] for key in labs}
     ended = 0
     while ended < len(labs):
-        key, _tag, body = unframe(ours.recv_bytes())
+        key, _tag, body = unhost_frame(ours.recv_bytes())
         msg = json.loads(body)
         messages[key].append(msg)
         if key == "stopped" and msg["type"] == "chunk" and len(messages[key]) == 2:  # started, chunk
@@ -117,7 +118,7 @@ def test_a_recorder_writing_its_files_holds_no_other_run_back(tmp_path, monkeypa
         while not any(key == "live" and m["type"] == "ended" for key, m, _ in seen):
             sent = [(k, m["type"]) for k, m, _ in seen]
             assert ours.poll(GUARD_S), f"no message from the host; it had sent {sent}"
-            key, _tag, body = unframe(ours.recv_bytes())
+            key, _tag, body = unhost_frame(ours.recv_bytes())
             held = closing.is_set() and not release.is_set()
             seen.append((key, json.loads(body), held))
             if held and sum(1 for k, m, h in seen if h and k == "live" and m["type"] == "chunk") >= 4:

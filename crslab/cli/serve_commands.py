@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import gc
 import getpass
 import ipaddress
 import secrets
@@ -216,6 +217,7 @@ def run_serve(args: argparse.Namespace) -> int:
         lifespan="off",
     )
     server = uvicorn.Server(config)
+    gc.freeze()  # what the imports made lives as long as the server: a full collection skips it
     try:
         server.run(sockets=[sock])
     finally:

@@ -18,9 +18,7 @@ from __future__ import annotations
 import asyncio
 import html
 import json
-import pickle
 import secrets
-import struct
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -36,11 +34,12 @@ from starlette.websockets import WebSocket, WebSocketDisconnect, WebSocketDiscon
 
 from crslab.framework_facts import TICKS_PER_S
 from crslab.generations import GENERATIONS, NEWEST
+from crslab.run.status import RunStatus
+from crslab.serve import wire
 from crslab.serve.auth import Backoff, CookieSigner, User, verify_secret
 from crslab.serve.page_messages import ProtocolError, parse_message
-from crslab.serve.page_process import HOST_RUN
 from crslab.serve.page_sessions import LimitError, PageSession, Sessions
-from crslab.serve.run_host import DOWNLOADS, RUN_ENDED, RUN_STARTED
+from crslab.serve.run_host import DOWNLOADS
 from crslab.starters import LABS, starter_text
 
 STATIC = Path(__file__).parent / "static"
@@ -50,6 +49,8 @@ USER_COOKIE = "crslab_user"
 LOCAL_USER = "you"
 RUN_COMMANDS = ("stop", "speed", "vars", "hand", "release")
 """What the page says to its running lab: its run host gets them."""
+SESSION_GONE = wire.ended(RunStatus.CRASHED, "crslab's session process ended unexpectedly")
+"""What the page is told when its session process ended during a build, run or check."""
 CSP = (
     "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
     "connect-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'self'"
@@ -299,10 +300,8 @@ class CrsServer:
     async def _relay(self, ws: WebSocket, session: PageSession) -> None:
         """Hand the page's checked messages to the session process (a running lab's commands to
         its run host) and the messages of both to the page, over the session's pipe as asyncio
-        streams (multiprocessing's framing: a 4-byte big-endian length, then the bytes; the
-        server's messages are pickled dicts, the session's JSON) and the host's
-        (:mod:`crslab.serve.run_hosts`). Every message for the page goes through one outbox, in
-        order."""
+        streams (:mod:`crslab.serve.wire`) and the host's (:mod:`crslab.serve.run_hosts`). Every
+        message for the page goes through one outbox, in order."""
         reader, writer = await asyncio.open_connection(sock=session.take_socket())
         outbox: asyncio.Queue[tuple[bytes, bytes] | None] = asyncio.Queue()
         hosts = self.sessions.hosts
@@ -315,19 +314,15 @@ class CrsServer:
             return pending
 
         async def to_session(msg: dict) -> None:
-            data = pickle.dumps(msg)
-            writer.write(struct.pack("!i", len(data)) + data)
+            writer.write(wire.pickled(msg))
             await writer.drain()
 
         async def from_session() -> None:
             try:
                 while True:
-                    (size,) = struct.unpack("!i", await reader.readexactly(4))
-                    if size == -1:
-                        (size,) = struct.unpack("!Q", await reader.readexactly(8))
-                    data = await reader.readexactly(size)
+                    data = await wire.read_frame(reader)
                     tag, body = data[:1], data[1:]
-                    if tag == HOST_RUN:  # a prepared run: a host runs it from now on
+                    if tag == wire.HOST_RUN:  # a prepared run: a host runs it from now on
                         await hosts.hand(session.id, body, post, take_pending)
                     else:
                         post(tag, body)
@@ -338,17 +333,15 @@ class CrsServer:
             try:
                 while (item := await outbox.get()) is not None:
                     tag, body = item
-                    if tag == RUN_ENDED:
+                    if tag == wire.RUN_ENDED:
                         session.running = None
                         for msg in take_pending():  # for a run that never started: the session answers
                             await to_session(msg)
-                    elif tag == RUN_STARTED:
+                    elif tag == wire.RUN_STARTED:
                         session.running = "run"
                     await ws.send_text(body.decode())
                 if session.running is not None:
-                    await ws.send_text(json.dumps({
-                        "type": "ended", "status": "crashed", "exit_status": 3,
-                        "message": "crslab's session process ended unexpectedly"}))
+                    await ws.send_text(SESSION_GONE.decode())
                 await ws.close(code=1011)
             except (WebSocketDisconnected, WebSocketDisconnect, ConnectionError):
                 pass  # the page had gone first: its going is what ended the session

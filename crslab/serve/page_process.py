@@ -5,8 +5,8 @@ The server starts it from a single-threaded fork server with crslab already impo
 ``crslab grade`` starts its jobs), so it may fork a check's sandboxed worker safely and run the
 sandboxed compiler; a crash in it touches no other session. It speaks to the server over one
 pipe: the server's checked messages in (:mod:`crslab.serve.page_messages`), messages for the page out,
-each prefixed with one byte saying what the server should note (:data:`FORWARD`,
-:data:`RUN_STARTED`, :data:`RUN_ENDED`), or :data:`HOST_RUN`: a prepared run for a run host.
+each prefixed with one byte saying what the server should note, or a prepared run for a run host
+(:mod:`crslab.serve.wire`).
 
 Every run is ``crslab sim``'s, put together by :mod:`crslab.run.assemble`: the same
 :func:`~crslab.run.assemble.make_config` here (the lab built in the compile sandbox, once: the build
@@ -38,16 +38,15 @@ from crslab.run.board_run import Limits, RunError
 from crslab.run.status import RunStatus
 from crslab.scenario.event import seconds_to_tick
 from crslab.scenario.load import ScenarioError
+from crslab.serve import wire
 from crslab.serve.page_messages import compile_diagnostics, habit_diagnostics
 from crslab.serve.page_text import SESSION_SUBFOLDERS, PageText
-from crslab.serve.run_host import DOWNLOADS, FORWARD, RUN_ENDED, HostedRun
+from crslab.serve.run_host import DOWNLOADS, HostedRun
 from crslab.serve.stream import Stopped
+from crslab.serve.wire import FORWARD, HOST_RUN, RUN_ENDED
 from crslab.sinks.page_stream import message
 from crslab.worker.config import RunConfig
 
-HOST_RUN = b"H"
-"""For the server: a prepared run (a pickled :class:`~crslab.serve.run_host.HostedRun`) to hand to a
-run host."""
 BAD_INPUT = "bad-input"
 """An ``ended`` status beside the run statuses: the scenario (or another input) could not be used."""
 
@@ -159,13 +158,8 @@ class Session:
         )
         return path, build
 
-    def _ended(self, status: RunStatus, message_text: str, **fields: object) -> None:
-        self.send(
-            message(
-                "ended", status=status.value, exit_status=status.exit_status, message=message_text, **fields
-            ),
-            RUN_ENDED,
-        )
+    def _ended(self, status: RunStatus, message_text: str) -> None:
+        self.send(wire.ended(status, message_text), RUN_ENDED)
 
     # -- a run ------------------------------------------------------------------------------
     def run(self, msg: dict) -> None:
@@ -281,21 +275,20 @@ class Session:
 
 def compile_module(config: RunConfig) -> None:
     """Have wasmtime compile the run's firmware into the build cache now, unless it is there
-    already (a lab's first run): here, in this session's own worker, the 0.1 s it takes costs the
+    already (a lab's first run): here, in this session's own process, the 0.1 s it takes costs the
     run host's other runs nothing; the host's worker then only loads it."""
-    from crslab.run.board_run import BoardRun
-    from crslab.worker.wasm_runtime import WasmImage
+    from crslab.worker.wasm_runtime import NotCompiled, WasmImage, compile_kept, unsealed_compiled_removed
 
     if config.build.native:
         return
-    kept = WasmImage.read(config.build.image).compiled_path()
-    if kept is None or kept.exists():
-        return
+    image = WasmImage.read(config.build.image)
+    kept = image.compiled_path()
+    if kept is None or unsealed_compiled_removed(kept) is not None:
+        return  # no cache to keep it in (the worker compiles it), or this user's board kept it already
     try:
-        with BoardRun(config):  # the board compiles the module and keeps it (sealed)
-            pass
-    except RunError:
-        pass  # the run host opens it again and says why
+        compile_kept(image, kept)
+    except (NotCompiled, OSError):
+        pass  # the run host's worker compiles it and says why it cannot
 
 
 def _terminated(signum: int, frame: object) -> None:
@@ -341,7 +334,7 @@ def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
                 traceback.print_exc()
                 text = f"crslab failed: {type(exc).__name__}: {exc}"
                 if kind in ("run", "check"):
-                    session.send(message("ended", status="crashed", exit_status=3, message=text), RUN_ENDED)
+                    session.send(wire.ended(RunStatus.CRASHED, text), RUN_ENDED)
                 elif kind == "build":
                     session.send(message("built", ok=False, message=text, diagnostics=[]), RUN_ENDED)
                 else:

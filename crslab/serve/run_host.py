@@ -12,15 +12,18 @@ reaches its first tick (the page plays it from then on), and one wake-up runs ev
 worker that is due (within :data:`BATCH_S`) in one request. The page's commands (stop, speed,
 vars, hand, release) reach the run between two chunks, as they arrive.
 
-The pipe to the server: in, pickled tuples (:data:`RUN`, key, a pickled :class:`HostedRun`), (:data:`PAGE`,
-key, message) and (:data:`CLOSE`, key); out, one frame per page message: the key's length (one
-byte), the key, the tag (:data:`~crslab.serve.page_process.FORWARD`, ``RUN_STARTED``,
-``RUN_ENDED``), the message's JSON (:func:`frame`).
+The pipe to the server (:mod:`crslab.serve.wire`): in, the server's requests (a run, a page's
+command, a page gone); out, one frame per page message (:func:`~crslab.serve.wire.host_frame`).
+The page messages of one wake-up go out together, in one write once the wake-up is done
+(:meth:`RunHost.flush`): the server is woken once for them, not once for each while the host is
+still running the others (on two cores, each write handed the core to the server, and the
+host's other runs waited for it).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import gc
 import math
 import os
 import pickle
@@ -43,6 +46,7 @@ from crslab.run.board_run import DEFAULT_DEADLINE_S, BoardRun, ChunkedRun, Limit
 from crslab.run.diagnosis import Ending
 from crslab.run.pacing import PAGE_CHUNKS, Pacer
 from crslab.run.status import RunResult, RunStatus
+from crslab.serve import wire
 from crslab.serve.page_text import PageText
 from crslab.serve.stream import PageControl, Stopped
 from crslab.sinks.page_stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream, message
@@ -51,17 +55,13 @@ from crslab.sinks.transcript_file import TranscriptSink
 from crslab.worker.config import RunConfig
 from crslab.world.layout import World
 
-RUN = "run"
-PAGE = "page"
-CLOSE = "close"
-FORWARD = b"F"
-RUN_STARTED = b"R"
-RUN_ENDED = b"E"
-"""The tags of a page message (as :mod:`crslab.serve.page_process`'s)."""
 SEND_BUFFER_BYTES = 4 << 20
 """The host's side of its pipe to the server buffers this much (as far as the system allows)."""
 BATCH_S = 0.005
 """A wake-up runs every run due within this much of now (s), in one request to the worker."""
+FLUSH_S = 0.005
+"""A page message waits at most this long (s) for the others of its wake-up before they are written
+to the server together."""
 LEAD_S = 0.03
 """A run's chunk is due this long before the wall clock reaches its first tick (s): the page gets
 it ahead of its time, as its playout needs, though the host runs its other runs' chunks first."""
@@ -88,24 +88,6 @@ class HostedRun:
     output_bytes: int = 16 * 1024 * 1024
 
 
-def frame(key: str, tag: bytes, data: bytes) -> bytes:
-    """One page message on the host's pipe, for the page of session ``key``.
-
-    >>> frame("ab", b"F", b'{"type": "x"}')
-    b'\\x02abF{"type": "x"}'
-    >>> unframe(frame("ab", b"F", b'{"type": "x"}'))
-    ('ab', b'F', b'{"type": "x"}')
-    """
-    key_bytes = key.encode()
-    return bytes([len(key_bytes)]) + key_bytes + tag + data
-
-
-def unframe(data: bytes) -> tuple[str, bytes, bytes]:
-    """The key, the tag and the message of a frame (:func:`frame`)."""
-    n = data[0]
-    return data[1:1 + n].decode(), data[1 + n:2 + n], data[2 + n:]
-
-
 class HostedSession:
     """One page's run in the host: its lab (a board instance), its sinks, its pacer and control."""
 
@@ -121,9 +103,9 @@ class HostedSession:
         self.notes = list(run.notes)
         self.due_s = 0.0
 
-    def send(self, data: bytes, tag: bytes = FORWARD) -> None:
+    def send(self, data: bytes, tag: bytes = wire.FORWARD) -> None:
         """A message for the page (no server path in it: :mod:`crslab.serve.page_text`)."""
-        self.host.send_frame(frame(self.key, tag, self.page_text.message(data)))
+        self.host.send_frame(wire.host_frame(self.key, tag, self.page_text.message(data)))
 
     def open(self) -> bool:
         """Open the lab as an instance, start the sinks and say ``started``; False when the run
@@ -159,7 +141,7 @@ class HostedSession:
         events = [{"tick": e.tick, "text": e.describe()} for e in config.scenario.events]
         self.send(message("started", end_tick=run.end_tick, scenario=config.scenario.name, speed=run.speed,
                           events=events, notes=self.notes, due_monotonic=pacer.wall0,
-                          watched=[v.name for v in config.build.watched]), RUN_STARTED)
+                          watched=[v.name for v in config.build.watched]), wire.RUN_STARTED)
         self.due_s = pacer.due_s(0) - LEAD_S
         return True
 
@@ -236,9 +218,9 @@ class HostedSession:
         failed = [line for e in result.failed_expectations for line in e.lines()]
         out_dir = self.run.folder / "out"
         downloads = [kind for kind, name in DOWNLOADS.items() if (out_dir / name).exists()]
-        self.send(message("ended", status=result.status.value, exit_status=result.status.exit_status,
-                          message=result.message, end_tick=result.end_tick, failed_expectations=failed,
-                          notes=self.notes, downloads=downloads), RUN_ENDED)
+        said = wire.ended(result.status, result.message, end_tick=result.end_tick, failed_expectations=failed,
+                          notes=self.notes, downloads=downloads)
+        self.send(said, wire.RUN_ENDED)
 
 
 class RunHost:
@@ -251,12 +233,36 @@ class RunHost:
         """The board worker every run of this host is an instance of."""
         self._arms: dict[str, ArmPoses] = {}
         self._send_lock = threading.Lock()
+        self._out: list[bytes] = []
+        """The page messages of this wake-up, framed, not yet written (:meth:`flush`)."""
+        self._held_since = 0.0
+        self._loop = threading.get_ident()
+        """The thread of :meth:`serve`'s loop: its messages wait for :meth:`flush`."""
         self._aside: list[threading.Thread] = []
 
     def send_frame(self, data: bytes) -> None:
-        """One frame to the server (whole, also from a thread closing a recorder)."""
+        """One page message to the server: written with the others of this wake-up
+        (:meth:`flush`), or once the first of them has waited :data:`FLUSH_S` (a long wake-up's
+        first chunks do not wait for its last), or at once when a thread of the host's sends it (a
+        recorder closing)."""
         with self._send_lock:
-            self.conn.send_bytes(data)
+            now = time.monotonic()
+            if not self._out:
+                self._held_since = now
+            self._out.append(wire.length_prefixed(data))
+            if threading.get_ident() != self._loop or now - self._held_since >= FLUSH_S:
+                self._write()
+
+    def flush(self) -> None:
+        """Write the page messages of this wake-up to the server, in one write."""
+        with self._send_lock:
+            self._write()
+
+    def _write(self) -> None:
+        if self._out:
+            data, self._out = memoryview(b"".join(self._out)), []
+            while data:  # a write may take part of it (a full pipe)
+                data = data[os.write(self.conn.fileno(), data):]
 
     def aside(self, work: Callable[[], None]) -> None:
         """Do ``work`` in a thread of its own (a recorder closing: writing its files): the host's
@@ -300,10 +306,12 @@ class RunHost:
 
     def serve(self) -> None:
         """Pace the runs and carry out the server's messages until it closes the pipe."""
+        self._loop = threading.get_ident()
         pipe = select.poll()  # one for the host's life (Connection.poll makes a selector every call)
         pipe.register(self.conn.fileno(), select.POLLIN)
         try:
             while True:
+                self.flush()  # what this wake-up made, before the host waits
                 wait_ms = -1
                 if self.sessions:
                     wait_s = min(s.due_s for s in self.sessions.values()) - time.monotonic()
@@ -330,19 +338,19 @@ class RunHost:
     def handle(self, msg: tuple) -> None:
         """One message of the server's."""
         kind, key = msg[0], msg[1]
-        if kind == RUN:
+        if kind == wire.RUN:
             session = HostedSession(self, key, pickle.loads(msg[2]))  # from crslab's own session process
             if self._guarded(session, session.open):
                 self.sessions[key] = session
-        elif kind == PAGE:
+        elif kind == wire.PAGE:
             session = self.sessions.get(key)
             if session is None:  # the run ended as the command came
                 if msg[2].get("type") == "vars":
-                    self.send_frame(frame(key, FORWARD, message(
+                    self.send_frame(wire.host_frame(key, wire.FORWARD, message(
                         "vars", ok=False, cmd=msg[2]["cmd"], reply="no run is going on: Run first")))
             elif not self._guarded(session, lambda: session.command(msg[2])):
                 self.sessions.pop(key, None)
-        elif kind == CLOSE:
+        elif kind == wire.CLOSE:
             session = self.sessions.pop(key, None)
             if session is not None:
                 self._guarded(session, session.close)
@@ -419,8 +427,8 @@ class RunHost:
             session.close()
         except Exception:  # noqa: BLE001
             pass
-        session.send(message("ended", status="crashed", exit_status=3,
-                             message=f"crslab failed: {type(exc).__name__}: {exc}"), RUN_ENDED)
+        failed = wire.ended(RunStatus.CRASHED, f"crslab failed: {type(exc).__name__}: {exc}")
+        session.send(failed, wire.RUN_ENDED)
 
 
 def _terminated(signum: int, frame: object) -> None:
@@ -441,6 +449,9 @@ def serve_host(conn: Connection) -> None:
         out.close()
     host = RunHost(conn)
     host.worker = BoardClient()  # ready before the first run comes
+    # what crslab's import made lives as long as the host: out of the collector's way, so that a full
+    # collection scans only the runs' own objects (one of all of them held every run some ms)
+    gc.freeze()
     host.serve()
 
 

@@ -12,18 +12,17 @@ ends its runs (``crashed``, one line each); the next run starts a new one.
 from __future__ import annotations
 
 import asyncio
-import json
 import os
-import pickle
 import socket
-import struct
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from crslab.serve.run_host import CLOSE, PAGE, RUN, RUN_ENDED, serve_host, unframe
+from crslab.run.status import RunStatus
+from crslab.serve import wire
+from crslab.serve.run_host import serve_host
 
-HOST_GONE = json.dumps({"type": "ended", "status": "crashed", "exit_status": 3,
-                        "message": "crslab's run host ended unexpectedly"}).encode()
+HOST_GONE = wire.ended(RunStatus.CRASHED, "crslab's run host ended unexpectedly")
+"""What the page of each run of a run host that ended unexpectedly is told."""
 
 Outbox = Callable[[bytes, bytes], None]
 """Where a session's page messages go: ``(tag, message)``."""
@@ -92,12 +91,9 @@ class RunHosts:
         """The host's page messages into their sessions' outboxes, until it ends."""
         try:
             while True:
-                (size,) = struct.unpack("!i", await reader.readexactly(4))
-                if size == -1:
-                    (size,) = struct.unpack("!Q", await reader.readexactly(8))
-                key, tag, body = unframe(await reader.readexactly(size))
+                key, tag, body = wire.unhost_frame(await wire.read_frame(reader))
                 outbox = host.runs.get(key)
-                if tag == RUN_ENDED:
+                if tag == wire.RUN_ENDED:
                     host.runs.pop(key, None)
                     if self.of.get(key) is host:
                         del self.of[key]
@@ -111,15 +107,14 @@ class RunHosts:
             for key, outbox in host.runs.items():
                 if self.of.get(key) is host:
                     del self.of[key]
-                outbox(RUN_ENDED, HOST_GONE)
+                outbox(wire.RUN_ENDED, HOST_GONE)
             host.runs.clear()
             host.writer.close()
             await asyncio.to_thread(_reap, host.process)
 
     @staticmethod
     def _write(host: Host, msg: tuple) -> None:
-        data = pickle.dumps(msg)
-        host.writer.write(struct.pack("!i", len(data)) + data)
+        host.writer.write(wire.pickled(msg))
 
     async def _send(self, host: Host, msg: tuple) -> None:
         self._write(host, msg)
@@ -132,9 +127,9 @@ class RunHosts:
         host = await self._host()
         host.runs[key] = outbox
         self.of[key] = host
-        self._write(host, (RUN, key, run))  # the run, then what came before it, in one go
+        self._write(host, (wire.RUN, key, run))  # the run, then what came before it, in one go
         for msg in pending():
-            self._write(host, (PAGE, key, msg))
+            self._write(host, (wire.PAGE, key, msg))
         await host.writer.drain()
 
     def hosts_run(self, key: str) -> bool:
@@ -145,7 +140,7 @@ class RunHosts:
         """A page's command for its hosted run."""
         host = self.of.get(key)
         if host is not None:
-            await self._send(host, (PAGE, key, msg))
+            await self._send(host, (wire.PAGE, key, msg))
 
     async def forget(self, key: str) -> None:
         """The page went: its run (if any) ends now, unseen."""
@@ -153,7 +148,7 @@ class RunHosts:
         if host is not None:
             host.runs.pop(key, None)
             try:
-                await self._send(host, (CLOSE, key))
+                await self._send(host, (wire.CLOSE, key))
             except ConnectionError:
                 pass
 

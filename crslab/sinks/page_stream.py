@@ -2,10 +2,11 @@
 :class:`~crslab.sinks.sink.Sink` that after every chunk of ticks sends one ``chunk`` message holding
 the serial bytes with the tick each left the board (what Tera Term shows, at the time the board
 sends it), the arm's pose at 60 Hz of simulated time (DH and motor angles, the safety flag,
-whether the motor board cut the outputs: the page poses its model of the arm from the DH angles),
-and the scope rows of every 5th tick (``Simulink_PlotVar1..4``, motor angles, commanded and applied
-torques: :data:`SCOPE_SIGNALS`; one row each 5 ms, as the course's Simulink model samples them:
-:data:`SCOPE_EVERY_TICKS`), packed as little-endian float32. What the page does to the run is
+whether the motor board cut the outputs: the page poses its model of the arm from the DH angles;
+packed as little-endian float64 rows, :func:`packed_rows`), and the scope rows of every 5th tick
+(``Simulink_PlotVar1..4``, motor angles, commanded and applied torques: :data:`SCOPE_SIGNALS`;
+one row each 5 ms, as the course's Simulink model samples them: :data:`SCOPE_EVERY_TICKS`), packed
+as little-endian float32. What the page does to the run is
 crslab/serve/stream.py's (:class:`~crslab.serve.stream.PageControl`).
 
 >>> frame_ticks(np.arange(0, 40))
@@ -131,25 +132,25 @@ class BrowserStream(Sink):
         """The chunk up to ``tick`` (what came since the last), as one ``chunk`` message."""
         if not self.blocks and not self.serial:
             return
-        fields: dict[str, object] = {"type": "chunk", "serial": self.serial}
-        scope = b""
+        # the message as message("chunk", ...) writes it, its packed fields put in as they are (JSON
+        # would copy and scan their base64 for characters to escape, of which base64 has none)
+        parts = [b'{"type": "chunk", "serial": ', json.dumps(self.serial).encode()]
         log = _scope_rows(self.blocks) if self.blocks else None
         if log is not None:
             self.pose.on_log(log)
-            fields.update(self._frames(log))
-            scope = b', "scope": ' + self._scope(log)
+            parts += [b', "frames": ', self._frames(log), b', "scope": ', self._scope(log)]
         sent = round(time.monotonic(), 4)  # the machine's monotonic clock: where lag arises
-        # the message as message("chunk", ...) writes it, its scope's base64 put in as it is (JSON
-        # would copy and scan it for characters to escape, of which base64 has none)
-        self.send(json.dumps(fields).encode()[:-1] + scope
-                  + b', "first": %d, "tick": %d, "sent": %s}' % (self.first_tick, tick,
+        parts.append(b', "first": %d, "tick": %d, "sent": %s}' % (self.first_tick, tick,
                                                                   json.dumps(sent).encode()))
+        self.send(b"".join(parts))
         self.first_tick = tick
         self.serial, self.blocks = [], []
 
-    def _frames(self, log: dict[str, np.ndarray]) -> dict[str, object]:
-        """The rows that start a new 1/60 s frame of simulated time, and the chunk's last (a
-        stopped run shows the latest pose)."""
+    def _frames(self, log: dict[str, np.ndarray]) -> bytes:
+        """The chunk's ``frames`` field, as JSON: the rows that start a new 1/60 s frame of
+        simulated time, and the chunk's last (a stopped run shows the latest pose), packed
+        (:func:`packed_rows`): ``tick, th1..3 (DH rad), theta1..3motor (rad), safety, motor
+        board off`` and in a world with fixtures ``egg force (N), scale (g), egg broken``."""
         ticks = log["tick"][:, 0]
         frame = (ticks * FRAME_HZ) // 1000
         keep = np.empty(len(ticks), dtype=bool)
@@ -157,16 +158,10 @@ class BrowserStream(Sink):
         keep[1:] = frame[1:] != frame[:-1]
         keep[-1] = True
         self._frame = int(frame[-1])
-        frames = np.concatenate(
-            [np.round(log["qpos_dh_rad"][keep], 5), np.round(log["enc_rad"][keep], 5)], axis=1
-        )
-        flags = np.concatenate([ticks[keep, None], log["safety"][keep], log["motor_board_off"][keep]], axis=1)
+        columns = [log["tick"], log["qpos_dh_rad"], log["enc_rad"], log["safety"], log["motor_board_off"]]
         if self.world and "egg_force" in log:
-            world = np.concatenate([np.round(log["egg_force"][keep], 3), np.round(log["scale_g"][keep], 1),
-                                    log["egg_broken"][keep]], axis=1).tolist()
-            return {"frames": [[f[0], *a, f[1], f[2], *w] for f, a, w in zip(flags.tolist(), frames.tolist(),
-                                                                            world)]}
-        return {"frames": [[f[0], *a, f[1], f[2]] for f, a in zip(flags.tolist(), frames.tolist())]}
+            columns += [log["egg_force"], log["scale_g"], log["egg_broken"]]
+        return packed_rows(np.concatenate(columns, axis=1, dtype="<f8")[keep])
 
     @staticmethod
     def _scope(log: dict[str, np.ndarray]) -> bytes:
@@ -176,6 +171,25 @@ class BrowserStream(Sink):
         data = base64.b64encode(rows.astype("<f4").tobytes())
         return b'{"tick0": %d, "every": %d, "rows": %d, "data": "%s"}' % (
             int(log["tick"][0, 0]), SCOPE_EVERY_TICKS, len(rows), data)
+
+
+def packed_rows(rows: np.ndarray) -> bytes:
+    """Rows of numbers as a JSON object: ``{"columns": ..., "rows": ..., "data": "<base64>"}``, the
+    data little-endian float64, row after row (the page decodes them as they come: app.js).
+
+    >>> packed_rows(np.array([[17.0, -0.5], [34.0, 1.25]]))
+    b'{"columns": 2, "rows": 2, "data": "AAAAAAAAMUAAAAAAAADgvwAAAAAAAEFAAAAAAAAA9D8="}'
+    >>> unpacked_rows({"columns": 2, "rows": 2, "data": "AAAAAAAAMUAAAAAAAADgvwAAAAAAAEFAAAAAAAAA9D8="})
+    [[17.0, -0.5], [34.0, 1.25]]
+    """
+    data = base64.b64encode(np.ascontiguousarray(rows, dtype="<f8").tobytes())
+    return b'{"columns": %d, "rows": %d, "data": "%s"}' % (rows.shape[1], rows.shape[0], data)
+
+
+def unpacked_rows(field: dict) -> list[list[float]]:
+    """The rows :func:`packed_rows` packed (what the page's script does with a chunk's frames)."""
+    rows = np.frombuffer(base64.b64decode(field["data"]), "<f8").reshape(field["rows"], field["columns"])
+    return rows.tolist()
 
 
 def _scope_rows(blocks: list[dict[str, np.ndarray]]) -> dict[str, np.ndarray] | None:

@@ -44,6 +44,7 @@ from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemo
 from crslab.worker.memory_table import fill_memory_table
 from crslab.worker.run_stats import RunStats
 from crslab.worker.wasm_runtime import (
+    ENGINE_ENVIRONMENT,
     WasmImage,
     seal_compiled,
     unsealed_compiled_removed,
@@ -286,8 +287,7 @@ class Board:
         compiled module shared with every instance of the same firmware in this process; raises
         :class:`FirmwareStopped` when it cannot be loaded or stops in a constructor."""
         sim = self._new_sim(config, block)
-        # a trap's backtrace names the lab's file and line (the firmware carries its DWARF)
-        os.environ["WASMTIME_BACKTRACE_DETAILS"] = "1"
+        os.environ.update(ENGINE_ENVIRONMENT)  # (a trap's backtrace names the lab's file and line)
         library = self.ffi.new("char[]", str(wasmtime_library()).encode())
         key = self.ffi.new("char[]", image.digest.encode())
         # the compiled module kept between runs: read (and its seal checked) only when this process

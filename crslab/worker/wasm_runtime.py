@@ -11,12 +11,19 @@ from __future__ import annotations
 
 import hashlib
 import importlib.util
+import os
 import platform
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 from crslab.cache import CacheError, cache_dir, is_sealed, seal
+
+ENGINE_ENVIRONMENT = {"WASMTIME_BACKTRACE_DETAILS": "1"}
+"""What wasmtime reads from the environment when it makes an engine, as every engine of crslab's
+has it (a trap's backtrace names the lab's file and line: the firmware carries its DWARF). It is part
+of the engine's configuration: a module compiled by an engine without it is not loaded by one with
+it (it is compiled again)."""
 
 
 class WasmtimeMissing(FileNotFoundError):
@@ -118,6 +125,30 @@ def seal_compiled(kept: Path, sealed_stamp: int | None = None) -> None:
             seal(kept)
     except (CacheError, OSError):
         kept.unlink(missing_ok=True)
+
+
+class NotCompiled(Exception):
+    """wasmtime could not compile a firmware, or its compilation could not be kept."""
+
+
+def compile_kept(image: WasmImage, kept: Path) -> None:
+    """Have wasmtime compile ``image`` now, in this process (an engine of its own, made as a
+    worker's is, freed before this returns: no worker, board or store), keep it at ``kept`` (its
+    :meth:`WasmImage.compiled_path`) and seal it: a worker that later loads the firmware only reads
+    it. Raises :class:`NotCompiled` saying why it could not."""
+    from crslab._core import ffi, lib
+
+    os.environ.update(ENGINE_ENVIRONMENT)
+    library = ffi.new("char[]", str(wasmtime_library()).encode())
+    path = ffi.new("char[]", str(kept).encode())
+    wasm = ffi.from_buffer("uint8_t[]", image.wasm)
+    options = ffi.new("crs_wasm_options *", {
+        "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": image.memory_bytes,
+        "stack_bytes": image.stack_bytes, "compiled_path": path})
+    error = ffi.new("char[]", 512)
+    if lib.crs_fw_wasm_compile(options, error, len(error)) != 0:
+        raise NotCompiled(ffi.string(error).decode(errors="replace"))
+    seal_compiled(kept)
 
 
 def preload() -> bool:

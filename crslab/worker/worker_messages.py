@@ -453,12 +453,19 @@ _FIELDS: dict[type[Message], tuple] = {
 
 
 def _trusted_stats(value: dict) -> RunStats:
-    """A trusted reply's counters, typed as they were sent."""
-    fields = dict(value)
-    fields["first_over_tick"] = tuple(fields.get("first_over_tick", ()))
-    events = fields.get("motor_board_events", ())
-    fields["motor_board_events"] = tuple((t, j, bool(off)) for t, j, off in events)
-    return RunStats(**fields)
+    """A trusted reply's counters, typed as they were sent: :meth:`RunStats.wire`'s table of every
+    field, taken as it is (not through ``__init__``'s keywords: a server reads some 400 a second).
+
+    >>> stats = RunStats(lab_calls=3, first_over_tick=(4100,), motor_board_events=((4600, 1, True),))
+    >>> _trusted_stats(stats.wire()) == stats
+    True
+    """
+    stats = object.__new__(RunStats)
+    fields = stats.__dict__
+    fields.update(value)
+    fields["first_over_tick"] = tuple(value["first_over_tick"])
+    fields["motor_board_events"] = tuple((t, j, bool(off)) for t, j, off in value["motor_board_events"])
+    return stats
 
 
 _TYPED: dict[type[Message], dict[int, Any]] = {

@@ -820,15 +820,10 @@ static void keep_compiled(const wasmtime_module_t *module, const char *path)
     api.byte_vec_delete(&bytes);
 }
 
-/* The process's engine, created with the board's limits by the first load; 0, or -1 with
- * board->trap saying why. */
-static int engine_for(crs_board *board, const crs_wasm_options *o)
+/* The engine configuration of every board, for the memory and stack of `o`: the process's engine
+ * (engine_for) and crs_fw_wasm_compile's are made alike, so a module one compiled the other loads. */
+static wasm_config_t *engine_config(const crs_wasm_options *o)
 {
-    if (engine != NULL) {
-        if (o->memory_bytes == engine_memory_bytes && o->stack_bytes == engine_stack_bytes) return 0;
-        load_failed(board, "this worker's boards have other memory or stack limits", NULL, 0);
-        return -1;
-    }
     wasm_config_t *config = api.config_new();
     api.config_consume_fuel_set(config, true);
     api.config_epoch_interruption_set(config, true);
@@ -842,6 +837,54 @@ static int engine_for(crs_board *board, const crs_wasm_options *o)
     api.config_memory_reservation_for_growth_set(config, 0);
     api.config_memory_guard_size_set(config, 0);
     api.config_memory_may_move_set(config, false);
+    return config;
+}
+
+int crs_fw_wasm_compile(const crs_wasm_options *o, char *error, size_t error_size)
+{
+    if (crs_wasmtime_api_load(&api, o->libwasmtime, error, error_size) != 0) return -1;
+    if (o->compiled_path == NULL) {
+        snprintf(error, error_size, "there is no place to keep the compiled module");
+        return -1;
+    }
+    wasm_engine_t *own = api.engine_new_with_config(engine_config(o));
+    if (own == NULL) {
+        snprintf(error, error_size, "wasmtime cannot start");
+        return -1;
+    }
+    wasmtime_module_t *module = NULL;
+    wasmtime_error_t *err = api.module_new(own, o->wasm, (size_t)o->wasm_len, &module);
+    int code = 0;
+    if (err != NULL) {
+        wasm_byte_vec_t m = {0, NULL};
+        api.error_message(err, &m);
+        snprintf(error, error_size, "not a WebAssembly module wasmtime can run: %.*s", (int)m.size,
+                 m.data != NULL ? m.data : "");
+        api.byte_vec_delete(&m);
+        api.error_delete(err);
+        code = -1;
+    } else {
+        keep_compiled(module, o->compiled_path);
+        api.module_delete(module);
+        if (access(o->compiled_path, R_OK) != 0) {
+            snprintf(error, error_size, "the compiled module could not be kept at %s", o->compiled_path);
+            code = -1;
+        }
+    }
+    api.engine_delete(own);
+    return code;
+}
+
+/* The process's engine, created with the board's limits by the first load; 0, or -1 with
+ * board->trap saying why. */
+static int engine_for(crs_board *board, const crs_wasm_options *o)
+{
+    if (engine != NULL) {
+        if (o->memory_bytes == engine_memory_bytes && o->stack_bytes == engine_stack_bytes) return 0;
+        load_failed(board, "this worker's boards have other memory or stack limits", NULL, 0);
+        return -1;
+    }
+    wasm_config_t *config = engine_config(o);
     engine = api.engine_new_with_config(config);
     if (engine == NULL) {
         load_failed(board, "wasmtime cannot start", NULL, 0);

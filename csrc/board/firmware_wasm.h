@@ -34,6 +34,13 @@ int crs_fw_wasm_load(crs_board *board, const crs_wasm_options *options);
 /* Load wasmtime's C library (`libwasmtime`, its path) into this process now, so that the processes
  * it forks later start with it loaded (crslab's fork servers); 0, or -1 when it cannot be loaded. */
 int crs_fw_wasm_preload(const char *libwasmtime);
+/* Compile the firmware `options->wasm` for boards with `options->memory_bytes` and `stack_bytes` (as
+ * crs_fw_wasm_load's engine would) and keep it at `options->compiled_path` (crslab's build cache),
+ * where a later load finds it: a lab's first run then compiles nothing in the worker its neighbours
+ * share. No board, store or watchdog: an engine of its own, deleted before it returns (the process
+ * holds nothing of wasmtime's afterwards but its loaded library). Returns 0; else -1 with `error`
+ * (`error_size` bytes) saying why. */
+int crs_fw_wasm_compile(const crs_wasm_options *options, char *error, size_t error_size);
 /* Free the firmware's store (board->firmware is NULL afterwards), and its compiled module when no
  * other board uses it. */
 void crs_fw_wasm_unload(crs_board *board);

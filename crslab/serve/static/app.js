@@ -100,6 +100,7 @@
       case "building": diagnose(m.message, false); break;
       case "started": started(m); break;
       case "chunk":
+        if (m.frames) m.frames = unpackRows(m.frames);
         state.playout.push(m);
         state.lastTick = m.tick;
         if (state.speed === null) drain(Infinity);
@@ -120,6 +121,14 @@
       case "error": diagnose(m.message, true); break;
       default: break;
     }
+  }
+  // A chunk's packed rows ({columns, rows, data: base64 little-endian float64}) as arrays of numbers.
+  function unpackRows(p) {
+    const bytes = Uint8Array.from(atob(p.data), (c) => c.charCodeAt(0));
+    const values = new Float64Array(bytes.buffer);
+    const rows = [];
+    for (let i = 0; i < p.rows; i++) rows.push(Array.from(values.subarray(i * p.columns, (i + 1) * p.columns)));
+    return rows;
   }
   function queueNote(tick, text) {
     state.notes.push({ tick, text });
