@@ -195,3 +195,20 @@ def firmware_addresses(image: Path) -> dict[str, int]:
                        timeout=120)
     assert r.returncode == 0, r.stderr
     return json.loads(r.stdout)
+
+
+def test_signed_overflow_is_computed_not_assumed_away(tmp_path):
+    """Built with the optimisation off, as on the board: ``count + 1 > count`` is computed, and at
+    32767 the 16-bit sum is -32768 (a compiler allowed to assume no overflow makes it always 1)."""
+    lab = tmp_path / "overflow.c"
+    lab.write_text('#include "F28335Serial.h"\nint UARTprint = 0;\nint count = 32766;\nint step = 0;\n'
+                   "int bigger[2];\n"
+                   "void lab(float a, float b, float c, float *t1, float *t2, float *t3, int e)\n{\n"
+                   "    if (step < 2) {\n        bigger[step] = count + 1 > count;\n"
+                   "        count = count + 1;\n        step = step + 1;\n        UARTprint = 1;\n    }\n}\n"
+                   'void printing(void)\n{\n    serial_printf(&SerialA, "%d %d %d\\n\\r", '
+                   "bigger[0], bigger[1], count);\n}\n")
+    run = simulate(lab, SCENARIO, duration_s=4.103)
+    assert run.status == "ok", run.message
+    # 32766 + 1 > 32766; then 32767 + 1 is -32768, not more than 32767
+    assert run.transcript == b"1 0 32767\n\r1 0 -32768\n\r"
