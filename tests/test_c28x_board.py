@@ -212,3 +212,19 @@ def test_signed_overflow_is_computed_not_assumed_away(tmp_path):
     assert run.status == "ok", run.message
     # 32766 + 1 > 32766; then 32767 + 1 is -32768, not more than 32767
     assert run.transcript == b"1 0 32767\n\r1 0 -32768\n\r"
+
+
+def test_a_struct_keeps_the_layout_its_sizes_were_computed_for(tmp_path):
+    """An int then a float: copied whole (the size the front end computed), indexed in an array and
+    measured with sizeof, each the same struct (crslab/lab/c28x_ir.py packs it as AVR lays it out)."""
+    lab = tmp_path / "gains.c"
+    lab.write_text('#include "F28335Serial.h"\nint UARTprint = 0;\n'
+                   "typedef struct { int mode; float gain; } setting;\n"
+                   "setting now = {3, 2.5}, saved[2];\nint size = 0;\n"
+                   "void lab(float a, float b, float c, float *t1, float *t2, float *t3, int e)\n{\n"
+                   "    saved[1] = now;\n    size = sizeof(setting);\n    UARTprint = 1;\n}\n"
+                   'void printing(void)\n{\n    serial_printf(&SerialA, "%d %.2f %d\\n\\r", saved[1].mode, '
+                   "saved[1].gain, size);\n}\n")
+    run = simulate(lab, SCENARIO, duration_s=4.101)
+    assert run.status == "ok", run.message
+    assert run.transcript == b"3 2.50 6\n\r"  # 2 bytes of int, 4 of float: sizeof counts bytes here
