@@ -116,7 +116,7 @@ def crslab_check(request: pytest.FixtureRequest) -> Callable[..., str]:
         from crslab.plant.plant_params import PlantParamsError
         from crslab.regress.transcript import GoldenError
         from crslab.scenario.load import ScenarioError
-        from crslab.world.layout import WorldError
+        from crslab.world import WorldError
 
         try:
             return check_against_golden(lab, golden=golden, scenario=scenario, base=base, record=record,

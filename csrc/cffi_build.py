@@ -29,7 +29,7 @@ PORT = HERE / "port"
 # The plant's headers, whose types the board's struct holds (board.h includes them; cffi reads no
 # #include, so they come before it).
 PLANT_TYPES = [PLANT / "drive.h", PLANT / "friction.h", PLANT / "hand.h", PLANT / "plant_faults.h",
-               PLANT / "push.h", PLANT / "world.h"]
+               PLANT / "push.h", PLANT / "world_facts.h", PLANT / "world.h"]
 # vector_math.h is internal (attributes, no API); every other header is the Python-visible API.
 HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [
     PORT / "framework_facts.h", PORT / "generations.h", PORT / "firmware_board.h", *PLANT_TYPES,

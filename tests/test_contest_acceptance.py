@@ -1,10 +1,14 @@
-"""Issue 30's acceptance: crslab's own final-project lab (``crslab new final``) completes all four
-tasks of the contest world, and each variant that breaks one task fails that task, named with
-its evidence: stiff in x-y at the hole with the hole 1 cm off, stiff across a groove 4 mm from the
-waypoints (which the starter, compliant across, follows), a press target deep enough to break
-the egg, a path through the obstacle. ``crslab grade --contest`` on a small class gives a column
-per task and a JUnit case per task. Each lab runs once (module-scoped), as a user runs it:
-``crslab contest --json`` in a process of its own."""
+"""``crslab contest`` and ``crslab grade --contest`` as a user runs them (issues 30 and 37):
+crslab's own final-project lab (``crslab new final``) completes all four tasks of the contest
+world, and each variant that breaks one task fails that task, named with its evidence: stiff in
+x-y at the hole with the hole 1 cm off (where the peg stopped), the groove followed above its
+plate's top (how high it stayed; the starter, compliant across, follows a groove 4 mm from its
+waypoints), a press that breaks the egg (what broke it, the peak before), a path through the
+obstacle (what touched it); the motor board's cut and a lab() call over the budget on the card. A
+lab that crashes gets its card up to the crash. ``crslab grade --contest`` grades a class of files
+and student folders: ranks (equal times equal), a detail for every result, each card, picture
+and transcript. Each lab runs once (module-scoped), in a process of its own: ``crslab contest
+--json``."""
 
 import csv
 import json
@@ -16,7 +20,7 @@ from pathlib import Path
 import pytest
 
 from crslab.starters import starter_text
-from crslab.world.layout import load_world, world_file
+from crslab.world import load_world, world_file
 
 LABS = Path(__file__).parent / "labs"
 
@@ -74,13 +78,13 @@ def world_with_groove_moved(folder, dy_m):
     return path
 
 
+ABOVE_THE_PLATE_Z = load_world("contest").groove.top_z_m + 0.010
+
+
 VARIANTS = {
     "starter": (STARTER, None),
     # the peg stiff in x and y over a hole 1 cm from where the waypoints put it: it cannot slide in
     "hole_stiff": (variant(STARTER, *((r, r.replace("HOLE", "XYZSTIFF")) for r in HOLE_ROWS)), "hole_off"),
-    # stiff across the groove (as along it) on a groove 4 mm from the waypoints: held on the
-    # waypoints' line, the peg jams against a wall and leaves the groove
-    "groove_stiff": (variant(STARTER, ("float Kgroove = 60.0;", "float Kgroove = 1000.0;")), "groove_off"),
     # the starter itself on that groove: compliant across, the walls guide it
     "starter_groove_off": (STARTER, "groove_off"),
     # a press past the egg's breaking force (20 N): 4 units, about 24 N, once the friction gives way
@@ -88,6 +92,18 @@ VARIANTS = {
     # from the hole to the groove 4 cm below the obstacle's top (0.30 m): through it
     "through_obstacle": (variant(STARTER, ("{0.200, 0.110, 0.380,", "{0.200, 0.110, 0.260,"),
                                  ("{HOLE_X, HOLE_Y, 0.380,", "{HOLE_X, HOLE_Y, 0.260,")), None),
+    # the groove's height taught 1 cm above the plate's top: the peg slides along the top, never in
+    "groove_high": (variant(STARTER, ("#define GROOVE_Z 0.213", f"#define GROOVE_Z {ABOVE_THE_PLATE_Z:.4f}")),
+                    None),
+    # joint 1 commanded 5 units (over the motor board's 4) from lab()'s call 3000 to 4000, and one
+    # call (2000, t = 6.1 s) that counts to 100,000: over the budget of 75,000 instructions
+    "cut_and_costly": (variant(
+        STARTER,
+        ("    *tau1 = saturate(*tau1);",
+         "    *tau1 = (mycount >= 3000 && mycount < 4000) ? 5.0f : saturate(*tau1);"),
+        ("    mycount++;\n}", "    if (mycount == 2000) {\n        long k;\n"
+         "        for (k = 0; k < 100000; k++) busy += 1.0f;\n    }\n    mycount++;\n}"),
+        ("long mycount = 0;", "long mycount = 0;\nvolatile float busy = 0;")), None),
 }
 
 
@@ -107,43 +123,67 @@ def cards(tmp_path_factory):
     return out
 
 
+RULES = {"peg_min_depth_m": 0.005, "peg_hold_s": 0.5, "band_g": (500.0, 1000.0), "hold_s": 2.0,
+         "hold_tolerance_s": 0.2, "groove_min_share": 0.9}
+"""The contest's rules (the world's [contest] defaults, csrc/plant/world_facts.h)."""
+
+
 def test_the_starter_completes_all_four_tasks(cards):
     card, status = cards["starter"]
     tasks = card["tasks"]
-    assert status == 0 and all(t["done"] for t in tasks.values()), card
-    contest = load_world("contest").contest
-    assert tasks["peg"]["depth_m"] >= contest.peg_min_depth_m and tasks["peg"]["held_s"] >= contest.peg_hold_s
-    assert not tasks["obstacle"]["touched"] and tasks["groove"]["left_at"] is None
-    lo, hi = contest.band_g
+    assert status == 0 and card["complete"] and all(t["done"] for t in tasks.values()), card
+    assert tasks["peg"]["depth_m"] >= RULES["peg_min_depth_m"]
+    assert tasks["peg"]["held_s"] >= RULES["peg_hold_s"]
+    assert not tasks["obstacle"]["touched"] and tasks["obstacle"]["passed"] == "over"
+    assert tasks["groove"]["left_at"] is None
+    lo, hi = RULES["band_g"]
     assert lo <= tasks["egg"]["peak_g"] <= hi and not tasks["egg"]["broken"]
-    assert tasks["egg"]["in_band_s"] >= contest.hold_s
+    assert tasks["egg"]["in_band_s"] >= RULES["hold_s"] - RULES["hold_tolerance_s"]
     assert card["time_s"] is not None and 0 < card["time_s"] < 30
+    # as a TA runs it: resting where the lab's offsets say, ended once the arm came to rest
+    assert card["rest"] == {"motor_rad": [0.0, -0.42, 0.24], "source": "lab"}
+    assert card["run"]["status"] == "ok" and card["run"]["still_since_s"] < card["run"]["end_s"] < 60
 
 
 def test_the_starter_follows_a_groove_4_mm_from_its_waypoints(cards):
     card, status = cards["starter_groove_off"]
     groove = card["tasks"]["groove"]
     assert status == 0 and groove["done"] and groove["left_at"] is None, card
-    assert groove["share"] >= load_world("contest").contest.groove_min_share
-
+    assert groove["share"] >= RULES["groove_min_share"]
 
 
 @pytest.mark.parametrize("name, task", [
     ("hole_stiff", "peg"),
-    ("groove_stiff", "groove"),
+    ("groove_high", "groove"),
     ("egg_deep", "egg"), ("through_obstacle", "obstacle")])
 def test_each_variant_fails_the_task_it_breaks(cards, name, task):
     card, status = cards[name]
-    assert status == 1 and not card["tasks"][task]["done"] and card["time_s"] is None, card
+    assert status == 1 and not card["complete"] and card["time_s"] is None, card
+    assert not card["tasks"][task]["done"], card
     evidence = card["tasks"][task]
     if task == "peg":
-        assert evidence["held_s"] < load_world("contest").contest.peg_hold_s
+        # on the block beside the hole (1 cm off): where it stopped, said
+        assert evidence["held_s"] < RULES["peg_hold_s"] and evidence["stopped_at"] is not None
+        assert 0.003 < evidence["off_axis_m"] < 0.03
     elif task == "groove":
-        assert evidence["left_at"] is not None and evidence["share"] < 0.9
+        # never below the plate's top: how high it stayed, the 1 cm it was told less what the tip
+        # sags under gravity on its stiffness
+        assert evidence["share"] == 0 and evidence["left_at"] is None
+        assert 0.001 < evidence["lowest_above_top_m"] < 0.010
     elif task == "egg":
-        assert evidence["broken"] and evidence["peak_g"] > 1000 * 20.0 / 9.80665 * 0.99
+        assert evidence["broken"] and evidence["broken_by"] == "the press"
+        assert evidence["peak_g"] > 1000 * 20.0 / 9.80665 * 0.99
+        assert evidence["peak_before_break_g"] < evidence["peak_g"]
     else:
-        assert evidence["touched"] and evidence["max_force_n"] > 0.05
+        assert evidence["touched"] and evidence["touched_by"] and evidence["max_force_n"] > 0.05
+
+
+def test_the_card_says_when_the_motor_board_cut_the_run_and_a_call_over_the_budget(cards):
+    card, _ = cards["cut_and_costly"]
+    run = card["run"]
+    # over 4 units from call 3000 (t = 7.1 s): cut 0.5 s later
+    assert run["motor_board_off_at_s"] == pytest.approx(7.6, abs=0.01)
+    assert run["over_budget"] == 1
 
 
 def test_the_card_s_lines_and_picture(tmp_path):
@@ -152,8 +192,10 @@ def test_the_card_s_lines_and_picture(tmp_path):
     r = crslab("contest", "--lab", lab, "-o", tmp_path / "pics" / "card.png")
     assert r.returncode == 0, r.stderr
     lines = r.stdout.splitlines()
-    assert [line.split()[:2] for line in lines] == [["peg", "done"], ["obstacle", "done"], ["groove", "done"],
-                                                   ["egg", "done"], ["time", lines[4].split()[1]]]
+    assert [line.split()[:2] for line in lines[:5]] == [["peg", "done"], ["obstacle", "done"],
+                                                       ["groove", "done"], ["egg", "done"],
+                                                       ["time", lines[4].split()[1]]]
+    assert [line.split()[0] for line in lines[5:]] == ["rest", "run"]
     assert (tmp_path / "pics" / "card.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
@@ -161,6 +203,7 @@ def test_the_card_s_lines_and_picture(tmp_path):
     (["--lab", "nowhere.c"], "nowhere.c: no such lab file"),
     (["--lab", LABS / "does_not_compile.c"], "does not compile"),
     (["--lab", "final.c", "--world", "atlantis"], "atlantis"),
+    (["--lab", "final.c", "--world", "none"], "world 'none' has no fixtures"),
 ])
 def test_bad_input_is_one_line(tmp_path, args, said):
     (tmp_path / "final.c").write_text(STARTER)
@@ -170,31 +213,75 @@ def test_bad_input_is_one_line(tmp_path, args, said):
     assert last.startswith("crslab contest: ") and said in last and "Traceback" not in r.stderr, r.stderr
 
 
-def test_grade_contest_gives_a_column_per_task_and_a_junit_case_per_task(tmp_path):
+# a student's mistake after the peg's task: a stray pointer written at lab()'s call 8000 (t = 12.1 s)
+CRASHING = variant(STARTER, ("long mycount = 0;", "long mycount = 0;\nfloat *stray = 0;"),
+                   ("    mycount++;\n}",
+                    "    if (mycount == 8000) {\n        *stray = 1.0f;\n    }\n    mycount++;\n}"))
+
+
+def test_a_crashed_lab_gets_its_card_up_to_the_crash(tmp_path):
+    lab = tmp_path / "final.c"
+    lab.write_text(CRASHING)
+    r = crslab("contest", "--lab", lab, "--json")
+    assert r.returncode == 3, r.stderr   # crslab sim's status for a crash, the card printed first
+    card = json.loads(r.stdout)
+    assert card["run"]["status"] == "crashed" and card["run"]["end_s"] == 12.1
+    assert "NULL pointer" in card["run"]["message"] and "final.c:" in card["run"]["message"]
+    # what it did before the crash counts: the peg was in the hole by then
+    assert card["tasks"]["peg"]["done"] and card["tasks"]["peg"]["done_at_s"] < 12.1
+    assert not card["tasks"]["egg"]["done"] and card["time_s"] is None
+
+
+def test_grade_contest_grades_a_class_as_grade_does(tmp_path):
     subs = tmp_path / "class"
-    subs.mkdir()
-    (subs / "alice.c").write_text(STARTER)
-    (subs / "bob.c").write_text(VARIANTS["egg_deep"][0])
+    (subs / "alice").mkdir(parents=True)
+    # alice: the starter in a folder of her own, its gains in a header of hers
+    (subs / "alice" / "gains.h").write_text("#define MY_KGROOVE 60.0\n")
+    alice = variant(STARTER, ("float Kgroove = 60.0;", "float Kgroove = MY_KGROOVE;"),
+                    ("long mycount = 0;", '#include "gains.h"\nlong mycount = 0;'))
+    (subs / "alice" / "final.c").write_text(alice)
+    (subs / "bob.c").write_text(STARTER)           # the same run as alice's: ranked equal
     (subs / "carol.c").write_text((LABS / "does_not_compile.c").read_text())
-    r = crslab("grade", subs, "--contest", "-o", tmp_path / "out", "--jobs", "2")
+    (subs / "dave.c").write_text(CRASHING)
+    # erin's bench rests elsewhere: her own offsets are where her arm rests
+    (subs / "erin.c").write_text(variant(VARIANTS["egg_deep"][0], ("float offset_Enc2_rad = -0.42;",
+                                                                   "float offset_Enc2_rad = -0.41;")))
+    out = tmp_path / "out"
+    r = crslab("grade", subs, "--contest", "-o", out, "--jobs", "2")
     assert r.returncode == 1, r.stderr
-    rows = {row["submission"]: row for row in csv.DictReader(open(tmp_path / "out" / "grades.csv"))}
-    assert rows["alice.c"]["result"] == "complete" and rows["alice.c"]["tasks_done"] == "4"
-    assert all(rows["alice.c"][f"{t}_done"] == "1" for t in ("peg", "obstacle", "groove", "egg"))
-    assert float(rows["alice.c"]["time_s"]) > 0
-    # the broken egg lets the push carry the arm down onto the obstacle too
-    bob = rows["bob.c"]
-    assert bob["result"] == f"{bob['tasks_done']} of 4" and bob["egg_done"] == "0"
-    assert rows["bob.c"]["egg_broken"] == "1" and rows["bob.c"]["time_s"] == ""
+    rows = {row["submission"]: row for row in csv.DictReader(open(out / "grades.csv"))}
+    assert set(rows) == {"alice/final.c", "bob.c", "carol.c", "dave.c", "erin.c"}
+    a, b = rows["alice/final.c"], rows["bob.c"]
+    assert a["result"] == b["result"] == "complete" and a["tasks_done"] == "4"
+    assert all(a[f"{t}_done"] == "1" for t in ("peg", "obstacle", "groove", "egg"))
+    assert float(a["time_s"]) > 0 and a["time_s"] == b["time_s"] and a["rank"] == b["rank"] == "1"
+    assert (a["rest_motor2_rad"], a["rest_motor3_rad"], a["rest_from"]) == ("-0.420000", "0.240000", "lab")
+    erin = rows["erin.c"]
+    assert (erin["rest_motor2_rad"], erin["rest_motor3_rad"], erin["rest_from"]) == ("-0.410000", "0.240000",
+                                                                                   "lab")
+    assert erin["result"] == f"{erin['tasks_done']} of 4" and erin["egg_done"] == "0"
+    assert erin["egg_broken_by"] == "the_press" and erin["time_s"] == "" and erin["rank"] == "3"
+    assert "BROKEN" in erin["detail"] and "by the press" in erin["detail"]
     assert rows["carol.c"]["result"] == "does not compile" and rows["carol.c"]["peg_done"] == ""
-    suite = ET.parse(tmp_path / "out" / "junit.xml").getroot()
+    assert "error:" in rows["carol.c"]["detail"]
+    dave = rows["dave.c"]
+    assert dave["status"] == "crashed" and dave["peg_done"] == "1" and "NULL pointer" in dave["detail"]
+    assert all(row["detail"] for row in rows.values())       # every result says why
+    # each submission's card (text, picture) and transcript, named as the reports name it
+    for name in rows:
+        assert (out / "cards" / f"{name}.txt").read_text().strip(), name
+        assert (out / "transcripts" / f"{name}.txt").is_file(), name
+        if name != "carol.c":
+            assert (out / "cards" / f"{name}.png").read_bytes()[:4] == b"\x89PNG", name
+    dave_card = (out / "cards" / "dave.c.txt").read_text().splitlines()
+    assert dave_card[6].startswith("run       crashed at t = 12.100 s")
+    suite = ET.parse(out / "junit.xml").getroot()
     cases = {(c.get("classname"), c.get("name")): c for c in suite.iter("testcase")}
-    assert len(cases) == 12
+    assert len(cases) == 20
     tasks = ("peg", "obstacle", "groove", "egg")
-    assert all(len(list(cases["crslab.contest.alice.c", t])) == 0 for t in tasks)
-    assert cases["crslab.contest.bob.c", "egg"].find("failure") is not None
-    assert "BROKEN" in cases["crslab.contest.bob.c", "egg"].find("failure").get("message")
-    assert cases["crslab.contest.bob.c", "peg"].find("failure") is None
+    assert all(len(list(cases["crslab.contest.alice/final.c", t])) == 0 for t in tasks)
+    assert "BROKEN" in cases["crslab.contest.erin.c", "egg"].find("failure").get("message")
     assert cases["crslab.contest.carol.c", "egg"].find("error") is not None
     board = r.stdout.splitlines()
-    assert board[1].split()[:3] == ["1", "alice.c", "complete"] and board[2].split()[:2] == ["2", "bob.c"]
+    assert [line.split()[:3] for line in board[1:3]] == [["1", "alice/final.c", "complete"],
+                                                         ["1", "bob.c", "complete"]]

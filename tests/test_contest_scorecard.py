@@ -1,49 +1,82 @@
-"""The contest's scorecard on hand-made scope logs: each expected score is worked out by hand from
-the trace's keyframes (1 ms rows) and the small layout below, not by the scorecard's code."""
+"""The contest's scorecard on hand-made scope logs: each expected score and reason is worked out by
+hand from the trace's keyframes (1 ms rows) and the small layout below, not by the scorecard's
+code. The world's own columns (the peg's depth, the groove's nearest point, the forces on each
+fixture, how the egg broke) are what the C world writes; here the trace writes them from the
+keyframes' geometry, so each test says what the world measured and checks what the card makes
+of it."""
 
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from crslab.contest.scorecard import DEPTH_SLACK_M, MOTION_M, TOUCH_N, Rules, ScorecardError, score
+from crslab.contest.motion import MOTION_M, STILL_S
+from crslab.contest.offsets import Rest
+from crslab.contest.scorecard import RunFacts, ScorecardError, score
+from crslab.run.status import RunStatus
+from crslab.worker.run_stats import RunStats
 
 MS = 0.001
+RULES = dict(band_g=(500.0, 1000.0), hold_s=2.0, hold_tolerance_s=0.2, peg_min_depth_m=0.005, peg_hold_s=0.5,
+             groove_min_share=0.9, obstacle_around=True)
+CORNERS = ((0.4, 0.1), (0.4, 0.0), (0.3, 0.0), (0.3, -0.1))
 
 
-def layout(**missing):
+def layout(*missing, **rules):
     """A small contest layout: the hole at (0, 0.3) with its top at z 0.15 (2 cm wide); an obstacle
     4 x 4 x 10 cm centred at (0.2, 0.1, 0.25) (top z 0.30); a Z groove of three 10 cm segments
-    (0.4, 0.1) -> (0.4, 0) -> (0.3, 0) -> (0.3, -0.1), top z 0.20, 2 cm wide, 1 cm deep; an egg."""
+    (0.4, 0.1) -> (0.4, 0) -> (0.3, 0) -> (0.3, -0.1), top z 0.20, 2 cm wide, 1 cm deep; an egg
+    4 cm across at (0.2, 0.2), its top at z 0.30."""
     world = SimpleNamespace(
         name="hand",
         hole=SimpleNamespace(center_xy_m=(0.0, 0.3), top_z_m=0.15, diameter_m=0.02, depth_m=0.04),
-        obstacle=SimpleNamespace(center_m=(0.2, 0.1, 0.25), size_m=(0.04, 0.04, 0.1)),
-        groove=SimpleNamespace(corners_xy_m=((0.4, 0.1), (0.4, 0.0), (0.3, 0.0), (0.3, -0.1)), top_z_m=0.2,
-                               width_m=0.02, depth_m=0.01),
-        egg=SimpleNamespace(center_xy_m=(0.2, 0.2), top_z_m=0.3),
-        contest=SimpleNamespace(band_g=(500.0, 1000.0), hold_s=2.0, peg_min_depth_m=0.01, peg_hold_s=0.5,
-                                groove_min_share=0.9),
+        obstacle=SimpleNamespace(center_xy_m=(0.2, 0.1), top_z_m=0.3, size_xy_m=(0.04, 0.04)),
+        groove=SimpleNamespace(corners_xy_m=CORNERS, top_z_m=0.2, width_m=0.02, depth_m=0.01),
+        egg=SimpleNamespace(center_xy_m=(0.2, 0.2), top_z_m=0.3, diameter_m=0.04),
+        contest=SimpleNamespace(**{**RULES, **rules}),
     )
     for k in missing:
         setattr(world, k, None)
     return world
 
 
-def trace(keys, end_s=None, **signals):
-    """A scope log at 1 ms from keyframes ``[(t_s, x, y, z), ...]`` (linear between them, held after
-    the last) and ``signals``: name -> function of t (s) or constant; missing world signals are 0."""
+def along_the_z(xy):
+    """The Z's nearest point to each x-y point: (distance from the centre line, length along it
+    from the entrance). The three legs are axis-aligned: legs 1 and 3 run along -y at x 0.4 and
+    0.3, leg 2 along -x at y 0."""
+    out = []
+    for x, y in xy:
+        legs = [(abs(x - 0.4) if 0.0 <= y <= 0.1 else np.hypot(x - 0.4, y - np.clip(y, 0.0, 0.1)),
+                 0.1 - np.clip(y, 0.0, 0.1)),
+                (np.hypot(x - np.clip(x, 0.3, 0.4), y), 0.1 + 0.4 - np.clip(x, 0.3, 0.4)),
+                (np.hypot(x - 0.3, y - np.clip(y, -0.1, 0.0)), 0.2 - np.clip(y, -0.1, 0.0))]
+        out.append(min(legs))
+    return np.asarray(out)
+
+
+def trace(keys, world=None, **signals):
+    """A scope log at 1 ms from keyframes ``[(t_s, x, y, z), ...]`` (linear between them) and
+    ``signals``: name -> function of t (s) or constant (0 when not given). The peg's depth and the
+    groove's nearest point are the world's measures of the tip."""
+    world = world or layout()
     keys = np.asarray(keys, float)
-    end = end_s if end_s is not None else keys[-1, 0]
-    tick = np.arange(0, int(round(end * 1000)) + 1)
+    tick = np.arange(0, int(round(keys[-1, 0] * 1000)) + 1)
     t = tick * MS
     tip = np.stack([np.interp(t, keys[:, 0], keys[:, k]) for k in (1, 2, 3)], axis=1)
     log = {"tick": tick[:, None].astype(np.int64), "peg_tip": tip}
-    for name in ("egg_force", "scale_g", "egg_broken", "hole_force", "obstacle_force", "groove_side_force",
-                 "groove_force", "table_force"):
+    hole = world.hole
+    inside = np.hypot(tip[:, 0] - 0.0, tip[:, 1] - 0.3) <= 0.01
+    log["peg_depth"] = np.where(inside, np.maximum(0.15 - tip[:, 2], 0.0), 0.0)[:, None] if hole else \
+        np.zeros((len(t), 1))
+    near = along_the_z(tip[:, :2])
+    log["groove_offset"], log["groove_along"] = near[:, :1], near[:, 1:]
+    parts = ("obstacle_peg_force", "obstacle_forearm_force", "obstacle_upper_arm_force")
+    for name in ("egg_force", "scale_g", "egg_broken", "egg_broken_by", "hole_force", *parts,
+                 "groove_side_force", "groove_force", "table_force", "safety", "motor_board_off"):
         f = signals.get(name, 0.0)
         values = np.asarray([f(v) for v in t], float) if callable(f) else np.full(len(t), float(f))
         log[name] = values[:, None]
+    log["obstacle_force"] = sum(log[p] for p in parts)
     return log
 
 
@@ -51,53 +84,99 @@ def trace(keys, end_s=None, **signals):
 
 def test_peg_in_the_hole_deep_enough_long_enough():
     # down the hole's axis from z 0.20 (t 1 s) to 0.13 (t 2 s: 2 cm below the top), held to 3 s,
-    # up again to 0.20 at 4 s. At least 1 cm deep means z <= 0.14: from t = 1 + 0.06/0.07 s to
-    # 3 + 0.01/0.07 s, 1.2857 s; done 0.5 s after it got there.
+    # up again to 0.20 at 4 s. At least 5 mm deep means z <= 0.145: from t = 1 + 0.055/0.07 s to
+    # 3 + 0.015/0.07 s; done 0.5 s after it got there.
     log = trace([(0, 0, 0.3, 0.2), (1, 0, 0.3, 0.2), (2, 0, 0.3, 0.13), (3, 0, 0.3, 0.13), (4, 0, 0.3, 0.2)])
     card = score(log, layout())
-    assert card.peg.done
+    assert card.peg.done and card.peg.stopped_at is None
     assert card.peg.depth_m == pytest.approx(0.02, abs=1e-9)
-    assert card.peg.held_s == pytest.approx((3 + 1 / 7) - (1 + 6 / 7), abs=0.002)
-    assert card.peg.done_at_s == pytest.approx(1 + 6 / 7 + 0.5, abs=0.002)
+    assert card.peg.held_s == pytest.approx((3 + 0.015 / 0.07) - (1 + 0.055 / 0.07), abs=0.002)
+    assert card.peg.done_at_s == pytest.approx(1 + 0.055 / 0.07 + 0.5, abs=0.002)
 
 
-def test_peg_beside_the_hole_has_no_depth_and_a_short_stay_is_not_enough():
-    off = trace([(0, 0.015, 0.3, 0.2), (1, 0.015, 0.3, 0.10), (3, 0.015, 0.3, 0.10)])  # 1.5 cm off: outside
-    card = score(off, layout())
-    assert (card.peg.done, card.peg.depth_m, card.peg.held_s) == (False, 0.0, 0.0)
-    # in the hole, 1.5 cm deep from t 1.0 to 1.3 s; at least 1 cm (z <= 0.14) from 0.06/0.065 s on the
-    # way down to 1.3 + 0.7 * 0.005/0.065 s on the way up: 0.43 s, short of 0.5 s
-    short = trace([(0, 0, 0.3, 0.2), (1, 0, 0.3, 0.135), (1.3, 0, 0.3, 0.135), (2, 0, 0.3, 0.2)])
+def test_a_peg_that_misses_the_hole_says_where_it_stopped():
+    # down 15 mm off the axis (outside the 10 mm radius) to 2 mm above the block's top, where it stays
+    card = score(trace([(0, 0.015, 0.3, 0.2), (1, 0.015, 0.3, 0.152), (3, 0.015, 0.3, 0.152)]), layout())
+    p = card.peg
+    assert (p.done, p.depth_m, p.held_s) == (False, 0.0, 0.0)
+    assert p.off_axis_m == pytest.approx(0.015) and p.above_top_m == pytest.approx(0.002)
+    assert p.stopped_at == pytest.approx((0.015, 0.3, 0.152))
+    assert card.lines()[0] == ("peg       FAIL  0.0 mm deep at most, held 0.00 s (needs 5 mm for 0.50 s); it "
+                               "stopped 15 mm from the hole's axis, 2 mm above the hole's top, at "
+                               "(0.015, 0.300, 0.152) m")
+    # one that never comes near the hole says how near it came
+    far = score(trace([(0, 0.1, 0.3, 0.2), (1, 0.1, 0.3, 0.1)]), layout()).lines()[0]
+    assert far.endswith("it never came within 30 mm of the hole's axis (nearest 100 mm, at (0.100, 0.300, "
+                        "0.100) m)")
+
+
+def test_a_short_stay_is_not_enough():
+    # in the hole, 1.5 cm deep from t 1.0 to 1.1 s; at least 5 mm (z <= 0.145) from 0.055/0.065 s on the
+    # way down to 1.1 + 0.9 * 0.01/0.065 s on the way up: 0.39 s, short of 0.5 s
+    short = trace([(0, 0, 0.3, 0.2), (1, 0, 0.3, 0.135), (1.1, 0, 0.3, 0.135), (2, 0, 0.3, 0.2)])
     card = score(short, layout())
-    held = 1.3 + 0.7 * 0.005 / 0.065 - 0.06 / 0.065
+    held = 1.1 + 0.9 * 0.01 / 0.065 - 0.055 / 0.065
     assert not card.peg.done and card.peg.held_s == pytest.approx(held, abs=0.002)
-    assert card.peg.depth_m == pytest.approx(0.015)
-    assert card.lines()[0] == (f"peg       FAIL  15.0 mm deep at most, held {held:.2f} s "
-                               "(needs 10 mm for 0.50 s)")
+    assert card.peg.off_axis_m == 0.0 and card.peg.above_top_m == pytest.approx(-0.015)
+    assert "it stopped 0 mm from the hole's axis, 15 mm below the hole's top" in card.lines()[0]
 
 
 # -- the obstacle -------------------------------------------------------------------------------
 
-def test_obstacle_passed_over_untouched_and_touched():
-    # from (0.2, 0.3, 0.35) straight along -y over the footprint (y 0.08..0.12) at z 0.35 > top 0.30
-    keys = [(0, 0.2, 0.3, 0.35), (2, 0.2, -0.1, 0.35)]
-    card = score(trace(keys), layout())
+# from the hole (0, 0.3) towards the groove's entrance (0.4, 0.1): the obstacle's line is across
+# that way, through its centre (0.2, 0.1)
+HOLE_TO_GROOVE_OVER = [(0, 0, 0.3, 0.35), (1, 0.2, 0.1, 0.35), (2, 0.4, 0.1, 0.35)]
+
+
+def test_passed_over_untouched():
+    o = score(trace(HOLE_TO_GROOVE_OVER), layout()).obstacle
+    assert o.done and o.passed == "over" and not o.touched
+    # it crosses the line when it is at the obstacle's centre, at t = 1 s
+    assert o.done_at_s == pytest.approx(1.0, abs=0.002)
+    assert o.passed_at == pytest.approx((0.2, 0.1, 0.35), abs=3e-4)
+
+
+def test_a_touch_names_the_part_of_the_arm():
+    log = trace(HOLE_TO_GROOVE_OVER, obstacle_forearm_force=lambda t: 30.0 if 0.9 <= t < 1.1 else 0.0,
+                obstacle_upper_arm_force=lambda t: 4.0 if 1.0 <= t < 1.05 else 0.0)
+    card = score(log, layout())
     o = card.obstacle
-    assert o.done and o.passed_over and not o.touched
-    # first row over it: y <= 0.12, at t = (0.3 - 0.12) / 0.2 s
-    assert o.done_at_s == pytest.approx(0.9, abs=0.002) and o.over_at[1] == pytest.approx(0.12, abs=0.0003)
-    touched = trace(keys, obstacle_force=lambda t: 3.0 if 1.0 <= t < 1.1 else 0.0)
-    o = score(touched, layout()).obstacle
-    assert o.touched and not o.done and o.max_force_n == 3.0 and o.touched_at_s == pytest.approx(1.0)
-    # a force at the threshold is no touch; just above it is
-    assert not score(trace(keys, obstacle_force=TOUCH_N), layout()).obstacle.touched
-    assert score(trace(keys, obstacle_force=TOUCH_N * 1.01), layout()).obstacle.touched
+    assert not o.done and [x.part for x in o.touches] == ["forearm", "upper arm"]
+    assert o.touches[0].first_s == pytest.approx(0.9) and o.touches[0].max_force_n == 30.0
+    assert o.max_force_n == 34.0   # both at once, 1.0 to 1.05 s
+    assert card.lines()[1].startswith("obstacle  FAIL  touched by the forearm at t = 0.90 s (up to 30.0 N), "
+                                      "the upper arm at t = 1.00 s (up to 4.0 N); passed over it")
+    assert card.as_dict()["tasks"]["obstacle"]["touched_by"] == ["forearm", "upper arm"]
+    # a force at the threshold (0.05 N, the world's) is no touch; just above it is
+    assert not score(trace(HOLE_TO_GROOVE_OVER, obstacle_peg_force=0.05), layout()).obstacle.touched
+    assert score(trace(HOLE_TO_GROOVE_OVER, obstacle_peg_force=0.0501), layout()).obstacle.touched
 
 
-def test_obstacle_not_passed_over_is_not_done_even_untouched():
-    low = trace([(0, 0.2, 0.3, 0.29), (2, 0.2, -0.1, 0.29)])   # below the top (an arm through it)
-    o = score(low, layout()).obstacle
-    assert not o.passed_over and not o.done and o.over_at is None
+def test_around_the_obstacle_counts_when_the_rules_allow_it():
+    # beside it: from the hole to (0.2, 0.2) and on to the entrance, at z 0.25 (below its top): the
+    # line is crossed at the obstacle's centre's projection; the tip there is 0.1 m from its
+    # centre across the way ... computed: crossing point where (p - c) . way = 0
+    way = np.array([0.4, -0.2]) / np.hypot(0.4, -0.2)
+    keys = [(0, 0, 0.3, 0.25), (1, 0.2, 0.2, 0.25), (2, 0.4, 0.1, 0.25)]
+    # on the first leg p = (0.2 s, 0.3 - 0.1 s): (p - c) . way = 0 at s with
+    # 0.4 (0.2 s - 0.2) - 0.2 (0.2 - 0.1 s) = 0
+    s = (0.08 + 0.04) / (0.08 + 0.02)
+    crossing = np.array([0.2 * s, 0.3 - 0.1 * s])
+    assert abs((crossing - (0.2, 0.1)) @ way) < 1e-12
+    beside = np.hypot(max(abs(crossing[0] - 0.2) - 0.02, 0), max(abs(crossing[1] - 0.1) - 0.02, 0))
+    o = score(trace(keys), layout()).obstacle
+    assert o.done and o.passed == "around" and o.beside_m == pytest.approx(beside, abs=3e-4)
+    assert score(trace(keys), layout()).lines()[1].startswith(
+        f"obstacle  done  not touched; passed around it, {1000 * beside:.0f} mm from its side")
+    strict = score(trace(keys), layout(obstacle_around=False)).obstacle
+    assert not strict.done and strict.passed is None
+
+
+def test_never_passing_it_is_not_done_even_untouched():
+    o = score(trace([(0, 0, 0.3, 0.35), (1, 0.05, 0.25, 0.35)]), layout()).obstacle
+    assert not o.done and o.passed is None
+    assert score(trace([(0, 0, 0.3, 0.35), (1, 0.05, 0.25, 0.35)]), layout()).lines()[1] == \
+        "obstacle  FAIL  not touched; never passed it on the way from the hole to the groove"
 
 
 # -- the groove ---------------------------------------------------------------------------------
@@ -108,11 +187,10 @@ GROOVE_Z = 0.195   # 5 mm below the plate's top, in the groove
 def test_groove_followed_corner_to_corner():
     keys = [(0, 0.4, 0.1, 0.25), (1, 0.4, 0.1, GROOVE_Z), (2, 0.4, 0.0, GROOVE_Z), (3, 0.3, 0.0, GROOVE_Z),
             (4, 0.3, -0.1, GROOVE_Z), (5, 0.3, -0.1, 0.25)]
-    side = trace(keys, groove_side_force=lambda t: 2.5 if 2.5 <= t < 2.6 else 0.5)
-    g = score(side, layout()).groove
+    card = score(trace(keys, groove_side_force=lambda t: 2.5 if 2.5 <= t < 2.6 else 0.5), layout())
+    g = card.groove
     assert g.done and g.share == pytest.approx(1.0) and g.left_at is None and g.reached_exit
-    assert "; in it to the exit;" in score(side, layout()).lines()[2]
-    assert g.max_side_force_n == 2.5
+    assert "; in it to the exit;" in card.lines()[2] and g.max_side_force_n == 2.5
     assert g.entered_at_s == pytest.approx(1 - 0.005 / 0.055, abs=0.002)  # z reaches the top 0.20
     assert g.done_at_s == pytest.approx(1 + 0.9 * 3, abs=0.002)  # 90 % of 0.3 m at 0.1 m/s from t 1 s
 
@@ -121,29 +199,36 @@ def test_groove_left_sideways_halfway_is_named_where():
     # along the first segment and half the second, then across it: out where |y| > 0.01 (half the width)
     keys = [(0, 0.4, 0.1, 0.25), (1, 0.4, 0.1, GROOVE_Z), (2, 0.4, 0.0, GROOVE_Z), (2.5, 0.35, 0.0, GROOVE_Z),
             (3.5, 0.35, 0.03, GROOVE_Z)]
-    g = score(trace(keys), layout()).groove
-    assert not g.done
-    assert g.share == pytest.approx(0.15 / 0.3, abs=0.001)   # 0.1 m + 0.05 m of 0.3 m
+    card = score(trace(keys), layout())
+    g = card.groove
+    assert not g.done and g.share == pytest.approx(0.15 / 0.3, abs=0.001)   # 0.1 m + 0.05 m of 0.3 m
     assert g.left_at == pytest.approx((0.35, 0.01), abs=0.0001)
-    line = score(trace(keys), layout()).lines()[2]
-    assert line.startswith("groove    FAIL  50 % of the path inside (needs 90 %); left at (0.350, 0.010) m")
+    assert card.lines()[2].startswith("groove    FAIL  50 % of the path inside (needs 90 %); left at "
+                                      "(0.350, 0.010) m")
 
 
-def test_groove_stuck_inside_to_the_end_of_the_run_did_not_leave_it():
+def test_a_peg_stuck_in_the_groove_says_where_it_stayed():
+    # in at the entrance at t 1 s, 5 cm along by 1.5 s, then still there to 3 s
     keys = [(0, 0.4, 0.1, 0.25), (1, 0.4, 0.1, GROOVE_Z), (1.5, 0.4, 0.05, GROOVE_Z),
             (3, 0.4, 0.05, GROOVE_Z)]
-    g = score(trace(keys), layout()).groove
+    card = score(trace(keys), layout())
+    g = card.groove
     assert not g.done and g.left_at is None and not g.reached_exit
     assert g.share == pytest.approx(0.05 / 0.3, abs=0.001)
-    assert "; still in it when the run ended;" in score(trace(keys), layout()).lines()[2]
+    # still (within 2 mm) from when it was 2 mm short of (0.4, 0.05): 1.5 - 0.002 / 0.1 s
+    assert g.stuck_at == pytest.approx((0.4, 0.05)) and g.stuck_from_s == pytest.approx(1.48, abs=0.26)
+    assert "; still in it when the run ended; it stayed at (0.400, 0.050) m from t = " in card.lines()[2]
 
 
-def test_groove_above_its_top_or_through_its_floor_is_not_inside():
-    above = trace([(0, 0.4, 0.1, 0.21), (3, 0.3, -0.1, 0.21)])
-    assert score(above, layout()).groove.share == 0.0 and score(above, layout()).groove.entered_at_s is None
-    floor = 0.2 - 0.01 - DEPTH_SLACK_M
-    below = trace([(0, 0.4, 0.1, floor - 0.001), (1, 0.4, 0.0, floor - 0.001)])
-    assert score(below, layout()).groove.entered_at_s is None
+def test_a_peg_that_never_goes_below_the_plate_s_top_says_how_high_it_stayed():
+    # along the Z's first leg 6 mm above the plate's top, never in it
+    card = score(trace([(0, 0.4, 0.1, 0.21), (1, 0.4, 0.0, 0.206), (2, 0.3, 0.0, 0.206)]), layout())
+    g = card.groove
+    assert g.share == 0.0 and g.entered_at_s is None and g.lowest_above_top_m == pytest.approx(0.006)
+    assert "never below the plate's top over it: the tip's lowest over the channel 6.0 mm above the top" \
+        in card.lines()[2]
+    away = score(trace([(0, 0.1, 0.1, 0.19), (1, 0.1, 0.0, 0.19)]), layout()).lines()[2]
+    assert "never over the channel: 200 mm from its centre line at the nearest" in away
 
 
 # -- the egg ------------------------------------------------------------------------------------
@@ -157,69 +242,124 @@ def ramp_hold(t, peak=800.0, hold=2.5):
     return peak if t < 2 + hold else 0.0
 
 
+OVER_THE_EGG = [(0, 0.2, 0.2, 0.3), (6, 0.2, 0.2, 0.3)]
+
+
 def test_egg_held_in_the_band():
-    log = trace([(0, 0.2, 0.2, 0.3), (6, 0.2, 0.2, 0.3)], scale_g=ramp_hold)
-    e = score(log, layout()).egg
-    # >= 500 g from t = 1 + 500/800 s to 4.5 s: 2.875 s; done 2 s after it entered the band
+    e = score(trace(OVER_THE_EGG, scale_g=ramp_hold, egg_force=1.0), layout()).egg
+    # >= 500 g from t = 1 + 500/800 s to 4.5 s: 2.875 s; done 1.8 s (2 s less a TA's 0.2 s) after it entered
     assert e.done and not e.broken and e.peak_g == 800.0
     assert e.in_band_s == pytest.approx(2.875, abs=0.002)
-    assert e.done_at_s == pytest.approx(1.625 + 2.0, abs=0.002)
+    assert e.done_at_s == pytest.approx(1.625 + 1.8, abs=0.002)
 
 
-def test_egg_too_short_too_hard_or_broken():
-    still = [(0, 0, 0, 0.3), (6, 0, 0, 0.3)]
-    short = score(trace(still, scale_g=lambda t: ramp_hold(t, hold=1.0)), layout()).egg
-    assert not short.done and short.in_band_s == pytest.approx(1.375, abs=0.002)
-    hard = score(trace(still, scale_g=lambda t: ramp_hold(t, peak=1200.0)), layout()).egg
-    # in the band only on the ramp, 500..1000 g: 500/1200 s
-    assert not hard.done and hard.peak_g == 1200.0 and hard.in_band_s == pytest.approx(500 / 1200, abs=0.002)
-    # in the band for 3 s, then crushed at t 5 s: the egg is broken, the task not done
-    crushed = trace([(0, 0, 0, 0.3), (6, 0, 0, 0.3)], scale_g=lambda t: 3000.0 if 5 <= t < 5.01 else
-                    (700.0 if 2 <= t < 5 else 0.0), egg_broken=lambda t: 1.0 if t >= 5 else 0.0)
-    e = score(crushed, layout()).egg
-    assert e.broken and not e.done and e.broken_at_s == pytest.approx(5.0) and e.peak_g == 3000.0
-    assert "BROKEN at t = 5.00 s" in score(crushed, layout()).lines()[3]
+def test_a_ta_allows_a_press_a_little_short_of_two_seconds():
+    # in the band from 1.625 s (500 g on the ramp) to 2 s + the hold: for 1.91 s (a real team's): done;
+    # for 1.7 s: not
+    for in_band, done in ((1.91, True), (1.7, False)):
+        hold = in_band - 0.375
+        log = trace(OVER_THE_EGG, scale_g=lambda t, h=hold: ramp_hold(t, hold=h), egg_force=1.0)
+        e = score(log, layout()).egg
+        assert e.done is done and e.in_band_s == pytest.approx(in_band, abs=0.002)
+    line = score(trace(OVER_THE_EGG, scale_g=ramp_hold, egg_force=1.0), layout()).lines()[3]
+    assert "(needs 2.00 s; a TA allows 1.80 s)" in line
+
+
+def test_a_broken_egg_says_what_broke_it_and_the_press_s_peak_before():
+    # in the band at 700 g from 2 s, then the press goes on up to 1500 g at 5 s, where it breaks
+    def grams(t):
+        return 0.0 if t < 2 else 700.0 if t < 4 else 700.0 + 800.0 * (t - 4) if t < 5 else 2500.0
+
+    crushed = trace(OVER_THE_EGG, scale_g=grams, egg_force=1.0, egg_broken=lambda t: 1.0 if t >= 5 else 0.0,
+                    egg_broken_by=lambda t: 1.0 if t >= 5 else 0.0)
+    card = score(crushed, layout())
+    e = card.egg
+    assert e.broken and not e.done and e.broken_at_s == pytest.approx(5.0) and e.broken_by == "the press"
+    assert e.peak_before_break_g == pytest.approx(700.0 + 800.0 * 0.999, abs=0.01)  # the row before 5 s
+    assert "BROKEN at t = 5.00 s by the press, the press's peak before it 1499 g" in card.lines()[3]
+    side = trace(OVER_THE_EGG, egg_force=1.0, egg_broken=lambda t: 1.0 if t >= 3 else 0.0,
+                 egg_broken_by=lambda t: 2.0 if t >= 3 else 0.0)
+    assert score(side, layout()).egg.broken_by == "a side hit"
+
+
+def test_an_egg_never_touched_says_how_high_the_peg_stayed():
+    card = score(trace([(0, 0.2, 0.2, 0.35), (1, 0.2, 0.2, 0.314)]), layout())
+    assert not card.egg.touched and card.egg.lowest_above_top_m == pytest.approx(0.014)
+    assert card.lines()[3].endswith("never touched: the tip's lowest over it 14.0 mm above its top")
 
 
 # -- the whole card -----------------------------------------------------------------------------
 
-def full_run():
+def full_run(end=13.0):
     """Every task done: still to 0.5 s, peg 1.5-2.5 s, over the obstacle at 3.25 s, the groove
-    5-8 s, the egg pressed 9-12 s."""
+    5-8 s, the egg pressed 9-12 s, still over the egg from 8.5 s to ``end``."""
     keys = [(0, 0.1, 0.1, 0.4), (0.5, 0.1, 0.1, 0.4), (1, 0, 0.3, 0.2), (1.5, 0, 0.3, 0.13),
             (2.5, 0, 0.3, 0.13), (3, 0, 0.3, 0.35), (3.25, 0.2, 0.1, 0.35), (3.5, 0.4, 0.1, 0.35),
             (4, 0.4, 0.1, 0.25), (5, 0.4, 0.1, GROOVE_Z),
             (6, 0.4, 0.0, GROOVE_Z), (7, 0.3, 0.0, GROOVE_Z), (8, 0.3, -0.1, GROOVE_Z), (8.5, 0.2, 0.2, 0.32),
-            (13, 0.2, 0.2, 0.32)]
-    return trace(keys, scale_g=lambda t: 700.0 if 9 <= t < 12 else 0.0)
+            (end, 0.2, 0.2, 0.32)]
+    return trace(keys, scale_g=lambda t: 700.0 if 9 <= t < 12 else 0.0, egg_force=1.0)
 
 
 def test_a_full_run_has_a_time_from_first_motion_to_last_task():
     card = score(full_run(), layout())
-    assert card.done == 4
+    assert card.complete and card.done == 4
     # first motion: 5 mm from (0.1, 0.1, 0.4) after t 0.5 s, moving at |(-0.1, 0.2, -0.2)| / 0.5 s = 0.6 m/s
     assert card.first_motion_s == pytest.approx(0.5 + MOTION_M / 0.6, abs=0.002)
-    # the last task is the egg: 2 s after 9 s
-    assert card.egg.done_at_s == pytest.approx(11.0, abs=0.002)
-    assert card.time_s == pytest.approx(11.0 - card.first_motion_s, abs=0.002)
+    # the last task is the egg: 1.8 s after 9 s
+    assert card.egg.done_at_s == pytest.approx(10.8, abs=0.002)
+    assert card.time_s == pytest.approx(10.8 - card.first_motion_s, abs=0.002)
     d = card.as_dict()
-    assert set(d) == {"tasks", "time_s"} and list(d["tasks"]) == ["peg", "obstacle", "groove", "egg"]
-    assert d["tasks"]["egg"] == {"done": True, "peak_g": 700.0, "in_band_s": 3.0, "broken": False}
-    assert d["tasks"]["groove"]["left_at"] is None and d["tasks"]["obstacle"]["touched"] is False
-    assert card.lines()[-1].startswith(f"time      {card.time_s:.2f} s from the first motion")
+    assert d["complete"] is True and list(d["tasks"]) == ["peg", "obstacle", "groove", "egg"]
+    assert d["tasks"]["egg"]["in_band_s"] == 3.0 and d["tasks"]["egg"]["broken_by"] is None
+    assert card.lines()[4].startswith(f"time      {card.time_s:.2f} s from the first motion")
+    # still over the egg from 8.5 s: the arm at rest since then, 4.5 s before the end: not yet for
+    # good (10 s); run to 19 s, it is
+    assert card.ended.still_since_s is None and card.lines()[-1] == "run       ended at t = 13.00 s"
+    # (within 2 mm of its end from 2 mm before it, at |(-0.1, 0.3, 0.125)| / 0.5 s)
+    speed = np.linalg.norm([-0.1, 0.3, 0.125]) / 0.5
+    still = score(full_run(19.0), layout()).ended.still_since_s
+    assert still == pytest.approx(8.5 - 0.002 / speed, abs=0.0015)
+    assert 19.0 - 8.5 >= STILL_S > 18.0 - 8.5
+    assert score(full_run(18.0), layout()).ended.still_since_s is None
 
 
 def test_no_time_unless_all_four_are_done():
     log = full_run()
     log["egg_broken"][12000:] = 1.0
+    log["egg_broken_by"][12000:] = 1.0
     card = score(log, layout())
-    assert card.done == 3 and card.time_s is None and card.as_dict()["time_s"] is None
-    assert card.lines()[-1] == "time      none: 3 of 4 tasks done"
+    assert card.done == 3 and not card.complete and card.time_s is None and card.as_dict()["time_s"] is None
+    assert card.lines()[4] == "time      none: 3 of 4 tasks done"
+
+
+def test_the_run_s_lines_say_where_it_rested_and_what_cut_it_short():
+    log = full_run()
+    log["safety"][7000:] = 1.0
+    log["motor_board_off"][9500:] = 1.0
+    stats = RunStats(over_budget=3, first_over_tick=(5123, 6000, 7000), motor_board_events=((9500, 2, True),))
+    run = RunFacts(RunStatus.CRASHED, "final.c used a NULL pointer at final.c:99 in lab() at tick 13000",
+                   13000, stats, Rest((0.0, -0.4, 0.26), "lab"), startup_ticks=4100)
+    lines = score(log, layout(), run).lines()
+    assert lines[5] == ("rest      -0.4000 0.2600 rad: the lab's own offset_Enc2_rad, offset_Enc3_rad (a lab "
+                        "is calibrated to its bench)")
+    assert lines[6] == ("run       crashed at t = 13.000 s: final.c used a NULL pointer at final.c:99 in "
+                        "lab() at tick 13000; the card covers the run up to t = 13.000 s")
+    assert lines[7] == ("safety    the arm left the safety envelope at t = 7.00 s: the framework's hold took "
+                        "over from the lab")
+    assert lines[8] == ("motors    the motor board cut every output at t = 9.50 s (joint 2 commanded over "
+                        "its limit)")
+    assert lines[9] == ("budget    3 lab() calls over the budget (the first at t = 5.123 s): on the board "
+                        "they would miss their ticks")
+    # before lab()'s first call the safety flag is the framework's own, not the lab's doing
+    log["safety"][:] = 0.0
+    log["safety"][1000:2000] = 1.0
+    assert not any(x.startswith("safety") for x in score(log, layout(), run).lines())
 
 
 def test_a_world_without_fixtures_scores_nothing_and_says_why():
-    card = score(full_run(), layout(hole=1, obstacle=1, groove=1, egg=1, contest=1))
-    assert card.done == 0 and card.rules == Rules()
+    card = score(full_run(), layout("hole", "obstacle", "groove", "egg"))
+    assert card.done == 0
     assert card.lines()[0] == "peg       FAIL  world 'hand' has no hole"
     assert card.lines()[3] == "egg       FAIL  world 'hand' has no egg"
 
@@ -230,20 +370,3 @@ def test_a_log_without_the_worlds_signals_is_one_line():
     with pytest.raises(ScorecardError) as err:
         score(log, layout())
     assert "\n" not in str(err.value) and "'scale_g'" in str(err.value)
-
-
-def test_the_contest_world_s_own_layout_and_rules():
-    """The same rules read from crslab/worlds/contest.toml: down the hole's axis to 3 cm below its
-    top, held 1 s; the rules ask 2 cm for 0.5 s (its [contest] table)."""
-    from crslab.world.layout import load_world
-
-    world = load_world("contest")
-    (x, y), top = world.hole.center_xy_m, world.hole.top_z_m
-    log = trace([(0, x, y, top + 0.05), (1, x, y, top - 0.03), (2, x, y, top - 0.03), (3, x, y, top + 0.05)])
-    card = score(log, world)
-    assert card.rules == Rules(band_g=(500.0, 1000.0), hold_s=2.0, peg_min_depth_m=0.02, peg_hold_s=0.5,
-                               groove_min_share=0.9)
-    assert card.peg.done and card.peg.depth_m == pytest.approx(0.03)
-    # at least 2 cm deep from 7/8 of the way down (t = 0.875 s) to 1/8 of the way up (t = 2.125 s)
-    assert card.peg.held_s == pytest.approx(1.25, abs=0.002)
-    assert not card.egg.done and card.egg.note == "" and not card.obstacle.passed_over

@@ -360,7 +360,7 @@ def collidable_pairs(m):
 
 
 def every_scene():
-    from crslab.world.layout import WORLD_NAMES, load_world
+    from crslab.world import WORLD_NAMES, load_world
     from crslab.world.scene import load_scene
 
     return {name: load_scene(load_world(name)) for name in WORLD_NAMES}
@@ -431,7 +431,7 @@ def test_the_free_air_arm_steps_bit_for_bit_as_without_skipping_through_limits_a
 
 
 def test_a_world_with_contacts_steps_bit_for_bit_as_without_skipping_islands():
-    from crslab.world.layout import load_world
+    from crslab.world import load_world
     from crslab.world.scene import PEG_BODY, PEG_TIP_SITE, load_scene, set_arm_pose
 
     world = load_world("contest")

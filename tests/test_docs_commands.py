@@ -88,7 +88,7 @@ def test_first_lab_own_file_offsets_record_check_and_ci(installed_wheel, student
     r = installed_wheel.shell(blocks[3], cwd=repo)  # the lab1_offsets scenario
     assert r.returncode == 0, r.stderr
     said = re.search(r"so at motor zero it reads `([-\d. ]+)`", doc)[1]
-    assert said == "0.00 2.86 1.72"
+    assert said == "0.00 2.86 1.71"
     held = motor_lines_between(r.stdout, 8.0, 11.0)  # "holds it there from 8 s", until 11 s
     assert held and set(held) == {said}
     dh_zero = motor_lines_between(r.stdout, 13.5, 15.0)  # DH zero, "there from 13 s" (settled by 13.5 s)
@@ -101,7 +101,7 @@ def test_first_lab_own_file_offsets_record_check_and_ci(installed_wheel, student
     r = installed_wheel.shell(blocks[3], cwd=repo)
     assert r.returncode == 0, r.stderr
     assert set(motor_lines_between(r.stdout, 8.0, 11.0)) == {right}
-    assert [abs(float(x)) for x in right.split()] == [0, 0, 0]
+    assert all(abs(float(x)) <= 0.01 for x in right.split())  # zero, to the hand's 0.007 deg
 
     assert not (repo / "golden").exists()
     r = installed_wheel.shell(blocks[4], cwd=repo)  # crslab record --lab lab1.c -o golden/lab1_tour.txt

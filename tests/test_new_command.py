@@ -35,7 +35,9 @@ def runs(tmp_path_factory):
             name = f"{lab}_{gen}.c"
             r = crslab("new", lab, "--gen", gen, name, cwd=folder)
             assert r.returncode == 0, r.stderr
-            assert f"run it with 'crslab sim --lab {name}'" in r.stderr
+            hint = {"lab4": f"crslab sim --lab {name} --scenario lab4_push",
+                    "final": f"crslab contest --lab {name}"}.get(lab, f"crslab sim --lab {name}")
+            assert f"run it with '{hint}'" in r.stderr
             text = (folder / name).read_text()
             out[lab, gen] = text, simulate(folder / name, "hands_off", duration_s=7.6)
     return out
@@ -80,8 +82,9 @@ def test_lab2_and_lab3_settle_on_their_reference_within_15_mrad(runs, lab, gen):
 def test_lab4_holds_the_hand_where_it_started(runs, gen):
     _, run = runs["lab4", gen]
     rows = [numbers(line) for line in run.lines()]
-    # the resting pose as the lab measures it (its offsets: motor angles 0, -0.37, 0.27 rad), held
-    rest = [10 * (math.cos(0.27) + math.sin(-0.37)), 0.0, 10 * (1 + math.cos(-0.37) - math.sin(0.27))]
+    # the resting pose as the lab measures it (its offsets, the simulated arm's rest: motor angles 0,
+    # -0.42, 0.24 rad: the course's forward kinematics, 10 in links, x = 10 (cos q3 + sin q2)), held
+    rest = [10 * (math.cos(0.24) + math.sin(-0.42)), 0.0, 10 * (1 + math.cos(-0.42) - math.sin(0.24))]
     for row in rows:
         assert row[:3] == pytest.approx(rest, abs=0.06) and max(map(abs, row[3:])) <= 0.05, row
 
@@ -97,3 +100,20 @@ def test_new_keeps_an_existing_file_and_writes_where_it_is_told(tmp_path):
     assert (tmp_path / "labs" / "three.c").read_text() == starter_text("lab3", "A")
     r = crslab("new", "lab2", "notes.txt", cwd=tmp_path)
     assert r.returncode == 2 and "a lab file is a .c file" in r.stderr
+
+
+@pytest.mark.parametrize("gen", list(GEN))
+def test_lab4_and_final_rest_where_the_simulated_arm_rests_and_say_how_to_run_them(gen):
+    from crslab.contest.offsets import lab_offsets
+    from crslab.plant.model_files import REST_MOTOR_RAD
+
+    for lab in ("lab4", "final"):
+        text = starter_text(lab, gen)
+        assert lab_offsets(text).rad == pytest.approx(REST_MOTOR_RAD[1:], abs=1e-7)
+    assert "crslab sim --lab lab4.c --scenario lab4_push" in starter_text("lab4", gen)
+
+
+def test_crslab_help_lists_new_final(tmp_path):
+    r = crslab("--help", cwd=tmp_path)
+    [line] = [x for x in r.stdout.splitlines() if x.split()[:1] == ["new"]]
+    assert "lab1..lab4, final" in line

@@ -4,6 +4,7 @@ to hold up the event loop) while the event loop reads it: no read sees it half c
 
 from __future__ import annotations
 
+import itertools
 import threading
 from pathlib import Path
 
@@ -17,11 +18,12 @@ def test_sessions_starting_and_ending_in_threads_while_the_loop_admits_runs(monk
     sessions = Sessions(UserLimits(compiles_per_minute=10**9, max_sessions=150, max_sessions_per_user=10**6),
                         SessionLimits())
     started = threading.Barrier(9)
+    numbers = itertools.count()  # next() on a count is atomic: every session gets a number of its own
 
     def fake_start(user: str) -> PageSession:
-        # a real start forks a process from the fork server: here, only what the table keeps
-        return table_session(f"{user}-{threading.get_ident()}-{len(sessions.all())}-{id(object())}", user,
-                             Path(tmp_path))
+        # a real start forks a process from the fork server: here, only what the table keeps (an id
+        # made of id(object()) would repeat, a freed object's address being reused at once)
+        return table_session(f"{user}-{next(numbers)}", user, Path(tmp_path))
 
     start_without_processes(monkeypatch, sessions, fake_start)
     outcomes: list[str] = []

@@ -1,14 +1,19 @@
-"""The world's contacts do what their materials say (docs/worlds.md), derived, not recorded.
+"""The world's contacts do what their materials say (docs/worlds.md), and every quantity the board's
+C world computes (csrc/plant/world.c) is what an independent computation gives, derived, not
+recorded.
 
 The scene is the contest world's own (crslab.world.scene), stepped by MuJoCo directly with the
 arm's joint friction and gravity taken out, so that the only forces are the ones each test
 applies and the contact's: a known force on a rigid block and on the egg stops the peg at the
 penetration the contact's solref/solimp give; a soft x-y impedance slides the peg into the
 chamfered hole from 7 mm off while a stiff one jams on the chamfer (and without the chamfer the
-soft one jams too); the scale, the board's C (csrc/plant/world.c), reads the egg's force in grams,
-equal to the contact force and to the force the motors' torques give through the course's
-Jacobian at rest (J^T F = tau). The board's path: a hand pressing past the breaking force breaks
-the egg for the rest of the run, and the scale says so.
+soft one jams too). The C world's row on those states is checked against MuJoCo's own contact
+forces (mj_contactForce, summed per fixture and per arm part: not the sensors C reads) and
+against the forces the test applied: each fixture's force, the obstacle's by part, the groove's
+side force (across its segment, never along it), the peg's depth, the scale's grams (also equal
+to the force the motors' torques give through the course's Jacobian at rest, J^T F = tau). The
+board's path: a hand pressing past the breaking force breaks the egg for the rest of the run, the
+scale says so, and what broke it is the press; a fall and a side hit are told apart.
 """
 
 from __future__ import annotations
@@ -21,11 +26,13 @@ import pytest
 from crslab._core import ffi, lib
 
 from crslab import crs
-from crslab.worker.board import STANDARD_GRAVITY, attach_world
-from crslab.world.layout import load_world
+from crslab.worker.board import split_world_row, world_config
+from crslab.world import load_world, world_file
 from crslab.world.scene import PEG_BODY, PEG_TIP_SITE, load_scene, set_arm_pose
+from crslab.world.world_facts import EGG_FALL_M_S, SCALE_GRAVITY_M_S2
 
 CONTEST = load_world("contest")
+CONTEST_FILE = world_file("contest")[0]
 
 
 def free_scene(world=CONTEST):
@@ -116,20 +123,35 @@ def test_a_soft_xy_impedance_slides_into_the_chamfered_hole_a_stiff_one_jams():
     assert insert(soft, flat) < 0.001  # no chamfer: the soft peg sits on the edge too
 
 
-def world_row(m, d, world=CONTEST):
-    """The board's C (crs_world_update) on this state's sensors: the scope row, by name."""
-    w = ffi.new("crs_world *")
-    lib.crs_world_init(w)
-    keep = attach_world(ffi, w, m, d, world)
+def world_row(m, d, world=CONTEST, state=None):
+    """The board's C (crs_world_update) on this state's sensors: the scope row, by name. ``state``: a
+    ``crs_world`` to go on updating (its latches and the tip's last place), else a new one."""
+    if state is None:
+        w = ffi.new("crs_world *")
+        config, keep = world_config(ffi, m, d, world)
+        lib.crs_world_attach(w, config)
+        state = (w, keep)  # what the world points at stays alive with it
+    w = state[0]
     lib.crs_world_update(w, 0)
-    row = list(w.row)
-    del keep
-    return {
-        "egg_force": row[lib.CRS_WORLD_ROW_EGG_FORCE],
-        "scale_g": row[lib.CRS_WORLD_ROW_SCALE_G],
-        "egg_broken": row[lib.CRS_WORLD_ROW_EGG_BROKEN],
-        "tip": row[0:3],
-    }
+    row = split_world_row([w.state.row[i] for i in range(lib.CRS_WORLD_ROW)])
+    return {k: (v.tolist() if len(v) == 3 else float(v[0])) for k, v in row.items()}, state
+
+
+def pressed_on(m, d, body):
+    """The force (N, world frame) the arm presses on ``body`` by MuJoCo's contacts (mj_contactForce),
+    not its sensors: the sum over every contact one of whose geoms is the body's."""
+    fixture = m.body(body).id
+    total = np.zeros(3)
+    for i in range(d.ncon):
+        c = d.contact[i]
+        f = np.zeros(6)
+        mujoco.mj_contactForce(m, d, i, f)
+        on_geom2 = c.frame.reshape(3, 3).T @ f[:3]  # the normal (frame's x) points from geom1 to geom2
+        if m.geom_bodyid[c.geom2] == fixture:
+            total += on_geom2
+        elif m.geom_bodyid[c.geom1] == fixture:
+            total -= on_geom2
+    return total
 
 
 def test_the_scale_reads_the_eggs_force_as_the_motors_torques_give_it_through_the_course_jacobian():
@@ -155,13 +177,14 @@ def test_the_scale_reads_the_eggs_force_as_the_motors_torques_give_it_through_th
     at_rest = crs.jacobian(crs.dh_to_motor(d.qpos[:3])) * crs.M_PER_IN  # where the peg came to rest
     from_torques = np.linalg.solve(at_rest.T, tau)
     # 3: the scale, as the board computes it
-    row = world_row(m, d)
+    row, _ = world_row(m, d)
     assert row["egg_force"] == pytest.approx(np.linalg.norm(f[:3]), rel=1e-6)
     assert row["egg_force"] == pytest.approx(np.linalg.norm(from_torques), rel=1e-4)
-    assert row["scale_g"] == pytest.approx(-from_torques[2] / STANDARD_GRAVITY * 1000, rel=1e-4)
-    assert row["scale_g"] == pytest.approx(normal / STANDARD_GRAVITY * 1000, rel=0.01)  # pressed from above
-    assert row["scale_g"] == pytest.approx(7.0 / STANDARD_GRAVITY * 1000, rel=0.01)
-    assert np.allclose(row["tip"], d.site_xpos[m.site(PEG_TIP_SITE).id])
+    assert row["scale_g"] == pytest.approx(-from_torques[2] / SCALE_GRAVITY_M_S2 * 1000, rel=1e-4)
+    assert row["scale_g"] == pytest.approx(normal / SCALE_GRAVITY_M_S2 * 1000, rel=0.01)  # pressed from above
+    assert row["scale_g"] == pytest.approx(7.0 / SCALE_GRAVITY_M_S2 * 1000, rel=0.01)
+    assert np.allclose(row["peg_tip"], d.site_xpos[m.site(PEG_TIP_SITE).id])
+    assert np.allclose(row["egg_force_xyz"], pressed_on(m, d, "egg"), rtol=1e-6, atol=1e-9)
     assert row["egg_broken"] == 0.0
 
 
@@ -185,16 +208,15 @@ def test_past_the_breaking_force_the_egg_is_broken_for_the_rest_of_the_run_and_t
     assert broken[first:].all() and not broken[:first].any()  # latched
     assert force[first] > e.breaking_force_n >= force[:first].max()  # it broke on the tick it passed
     # the scale shows the downward part of the force: all of it pressed from straight above
-    down_n = grams[first - 1] * STANDARD_GRAVITY / 1000
+    down_n = grams[first - 1] * SCALE_GRAVITY_M_S2 / 1000
     assert 0.5 * force[first - 1] < down_n <= force[first - 1] * (1 + 1e-12)
     assert (force[first + 1 :] == 0).all() and (grams[first + 1 :] == 0).all()  # nothing holds the peg up
 
 
-def test_the_peg_fits_along_the_whole_groove_its_walls_at_half_the_width_from_the_centre_line():
-    """Every groove wall and cap (boxes, in the compiled scene) is farther from the Z's centre line
-    than the peg's radius: a peg following the line touches nothing (walls 12 mm thick stuck out
-    into the other leg's channel at the sharp corners, 3.4 mm from the line); away from the corners,
-    and at the capped ends, the nearest wall is exactly half the groove's width away."""
+def test_the_peg_fits_along_the_whole_groove_the_plate_at_half_the_width_from_the_centre_line():
+    """No box of the groove plate's top (in the compiled scene) reaches into the channel: every one
+    is at least half the groove's width from the Z's centre line, and along the legs and at the
+    capped ends the nearest is exactly that far; a peg following the line touches nothing."""
     world = load_world("contest")
     model = load_scene(world)
     data = mujoco.MjData(model)
@@ -202,22 +224,233 @@ def test_the_peg_fits_along_the_whole_groove_its_walls_at_half_the_width_from_th
     g = world.groove
     corners = np.asarray(g.corners_xy_m)
     names = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, i) or "" for i in range(model.ngeom)]
-    walls = [i for i, name in enumerate(names) if name.startswith(("groove_wall", "groove_cap"))]
-    assert len(walls) == 8
+    tops = [i for i, name in enumerate(names) if name.startswith("groove_top")]
+    assert len(tops) >= 8 * 3  # every edge of the channel has its layers
 
-    def nearest_wall_m(point):
+    def nearest_top_m(point):
         out = []
-        for i in walls:
+        for i in tops:
             rot = data.geom_xmat[i].reshape(3, 3)[:2, :2]
             local = np.abs(rot.T @ (point - data.geom_xpos[i][:2])) - model.geom_size[i][:2]
             out.append(float(np.linalg.norm(np.maximum(local, 0.0))))
         return min(out)
 
-    line = [(i, t, corners[i] + t * (corners[i + 1] - corners[i]))
-            for i in range(3) for t in np.linspace(0, 1, 301)]
-    distances = [nearest_wall_m(p) for _, _, p in line]
-    assert min(distances) > world.peg.diameter_m / 2 + 0.001
+    line = [
+        (i, t, corners[i] + t * (corners[i + 1] - corners[i]))
+        for i in range(3)
+        for t in np.linspace(0, 1, 301)
+    ]
+    distances = [nearest_top_m(p) for _, _, p in line]
+    assert min(distances) >= g.width_m / 2 - 1e-9
     mids = [d for (_, t, _), d in zip(line, distances) if 0.4 <= t <= 0.6]
     assert mids == pytest.approx([g.width_m / 2] * len(mids), abs=1e-9)
-    assert nearest_wall_m(corners[0]) == pytest.approx(g.width_m / 2, abs=1e-9)
-    assert nearest_wall_m(corners[-1]) == pytest.approx(g.width_m / 2, abs=1e-9)
+    assert nearest_top_m(corners[0]) == pytest.approx(g.width_m / 2, abs=1e-9)
+    assert nearest_top_m(corners[-1]) == pytest.approx(g.width_m / 2, abs=1e-9)
+
+
+def rest_at(m, d, place, force_n, body=PEG_BODY, at=None, steps=3000):
+    """Put the tip at ``place``, then push ``body`` with ``force_n`` (world frame) at ``at`` (default:
+    the peg's tip) until everything rests; returns the C world's row there."""
+    place_tip(m, d, place)
+    point = None if at is None else np.asarray(at, float)
+    for _ in range(steps):
+        d.qfrc_applied[:] = 0.0
+        where = d.site_xpos[m.site(PEG_TIP_SITE).id].copy() if point is None else point
+        mujoco.mj_applyFT(
+            m, d, np.asarray(force_n, float), np.zeros(3), where, m.body(body).id, d.qfrc_applied
+        )
+        mujoco.mj_step(m, d)
+    assert np.abs(d.qvel).max() < 1e-5
+    return world_row(m, d)[0]
+
+
+@pytest.mark.parametrize(
+    "fixture, place, push",
+    [
+        (
+            "hole",
+            lambda w: (w.hole.center_xy_m[0] + 0.025, w.hole.center_xy_m[1], w.hole.top_z_m + 0.0005),
+            (0, 0, -6.0),
+        ),
+        ("groove", lambda w: (*w.groove.corners_xy_m[1], w.groove.floor_z_m + 0.0005), (0, 0, -4.0)),
+        ("obstacle", lambda w: (*w.obstacle.center_xy_m, w.obstacle.top_z_m + 0.0005), (0, 0, -5.0)),
+        (
+            "scale",
+            lambda w: (w.egg.center_xy_m[0] + 0.032, w.egg.center_xy_m[1], w.egg.scale_top_z_m + 0.0005),
+            (0, 0, -3.0),
+        ),
+    ],
+)
+def test_each_fixtures_force_is_the_force_the_arm_presses_on_it(fixture, place, push):
+    """A known force pressing the peg on each fixture: at rest the C row's force on that fixture is
+    the pushing force and MuJoCo's contact force on its body; every other fixture feels nothing."""
+    m, d = free_scene()
+    row = rest_at(m, d, place(CONTEST), push)
+    column = {"scale": "scale_g", "obstacle": "obstacle_peg_force"}.get(fixture, f"{fixture}_force")
+    by_contacts = pressed_on(m, d, fixture)
+    assert by_contacts == pytest.approx(np.asarray(push, float), abs=1e-6)
+    if fixture == "scale":  # grams: the platform pressed beside the egg counts on the scale, not the egg
+        assert row["scale_g"] == pytest.approx(-push[2] / SCALE_GRAVITY_M_S2 * 1000, rel=1e-6)
+        assert row["egg_force"] == 0.0
+    else:
+        assert row[column] == pytest.approx(np.linalg.norm(push), rel=1e-6)
+    others = {
+        "hole_force",
+        "groove_force",
+        "obstacle_force",
+        "obstacle_peg_force",
+        "egg_force",
+        "table_force",
+    }
+    others -= {column, "obstacle_force" if fixture == "obstacle" else ""}
+    assert all(row[k] == 0.0 for k in others), row
+    if fixture == "obstacle":  # the peg alone: the whole force on the obstacle is the peg's
+        assert row["obstacle_force"] == row["obstacle_peg_force"]
+        assert row["obstacle_forearm_force"] == row["obstacle_upper_arm_force"] == 0.0
+
+
+def test_the_obstacle_says_which_part_of_the_arm_presses_it(tmp_path):
+    """A post under the forearm, the forearm pushed down onto it: the whole force is the forearm's
+    (MuJoCo's contacts on the obstacle's forearm copy, and the push), none the peg's."""
+    from crslab.world.world_file import parse_world
+
+    peg = CONTEST_FILE.read_text().split("[peg]")[1].split("[hole]")[0]
+    place = (0.35, 0.0, 0.45)  # the tip there: the forearm reaches back over x 0.30 from its wrist
+    m, d = free_scene(load_world("contest"))
+    place_tip(m, d, place)
+    g, r = d.geom("forearm_link_collision"), m.geom("forearm_link_collision").size[0]
+    axis = g.xmat.reshape(3, 3)[:, 2]
+    under = g.xpos[2] + (0.30 - g.xpos[0]) / axis[0] * axis[2] - r  # the forearm's bottom over x 0.30
+    world = parse_world(
+        f"[peg]{peg}[obstacle]\ncenter_xy_m = [0.30, 0.0]\ntop_z_m = {under - 0.001:.4f}\n"
+        "size_xy_m = [0.03, 0.03]\n",
+        "under_forearm.toml",
+        rest_motor_rad=(np.pi / 2, -0.42, 0.24),
+    )
+    m, d = free_scene(world)
+    place_tip(m, d, place)
+    forearm = m.body("forearm").id
+    seen = 0
+    for _ in range(300):  # the forearm pushed down at its middle: it presses the post, the arm turning
+        d.qfrc_applied[:] = 0.0
+        mujoco.mj_applyFT(
+            m, d, np.array([0.0, 0.0, -8.0]), np.zeros(3), d.xipos[forearm].copy(), forearm, d.qfrc_applied
+        )
+        mujoco.mj_step(m, d)
+        row, _ = world_row(m, d, world)
+        by_contacts = pressed_on(m, d, "obstacle_forearm")
+        assert row["obstacle_forearm_force"] == pytest.approx(
+            np.linalg.norm(by_contacts), rel=1e-9, abs=1e-12
+        )
+        assert row["obstacle_peg_force"] == row["obstacle_upper_arm_force"] == 0.0
+        assert row["obstacle_force"] == pytest.approx(row["obstacle_forearm_force"], rel=1e-12)
+        seen += row["obstacle_forearm_force"] > 1.0
+    assert seen >= 20  # it pressed the post (harder than 1 N) for a while before the arm turned off it
+    assert pressed_on(m, d, "obstacle") == pytest.approx(np.zeros(3))  # nothing of the peg's
+
+
+def test_the_grooves_side_force_is_across_its_segment_never_along_it():
+    """The peg pushed against a wall of the groove's second segment (along -x from corner 1 to
+    corner 2): 5 N across it and 1.5 N along it (held by the wall's friction, 0.4 x 5 = 2 N). The
+    row's side force is the 5 N across, by the push and by MuJoCo's contact forces on the plate
+    resolved across the segment; the 1.5 N along it is not in it (an axis swapped in world.c
+    reports the along part, or 5.2 N)."""
+    m, d = free_scene()
+    g = CONTEST.groove
+    (x1, y1), (x2, y2) = g.corners_xy_m[1], g.corners_xy_m[2]
+    u = np.array([x2 - x1, y2 - y1]) / np.hypot(x2 - x1, y2 - y1)  # along the segment
+    n = np.array([-u[1], u[0]])  # across it (its left)
+    middle = (np.array([x1, y1]) + np.array([x2, y2])) / 2
+    place = (*(middle + n * 0.002), g.floor_z_m + 0.005)  # in the channel, 5 mm over its floor
+    push = np.array([*(5.0 * n + 1.5 * u), 0.0])
+    row = rest_at(m, d, place, push)
+    by_contacts = pressed_on(m, d, "groove")
+    # the wall takes the push (where it touches the peg, a little above the tip the push is at)
+    assert by_contacts == pytest.approx(push, rel=0.01, abs=0.01)
+    across = abs(by_contacts[:2] @ n)
+    assert row["groove_side_force"] == pytest.approx(across, rel=1e-9) == pytest.approx(5.0, rel=0.01)
+    assert row["groove_force"] == pytest.approx(np.linalg.norm(by_contacts), rel=1e-9)
+    assert abs(by_contacts[:2] @ u) == pytest.approx(
+        1.5, rel=0.01
+    )  # along the segment: not in the side force
+    assert row["groove_segment"] == 1.0
+    tip = np.asarray(row["peg_tip"])
+    # the peg rests against the left wall: its tip half the width less the peg's radius off the line
+    assert row["groove_offset"] == pytest.approx(g.width_m / 2 - CONTEST.peg.diameter_m / 2, abs=2e-4)
+    seg0 = np.hypot(*np.subtract(g.corners_xy_m[1], g.corners_xy_m[0]))
+    assert row["groove_along"] == pytest.approx(seg0 + (tip[:2] - (x1, y1)) @ u, abs=1e-9)
+
+
+def test_the_pegs_depth_is_below_the_holes_top_within_its_radius():
+    """Down the hole's axis, 1.5 mm off it, over its chamfer 1 mm below the top (8 mm off the axis:
+    past the hole's 7 mm radius, so not in it), and on the block beside it."""
+    m, d = free_scene()
+    h = CONTEST.hole
+    cases = ((0.0, 0.03, 0.03), (0.0015, 0.045, 0.045), (0.008, 0.001, 0.0), (0.012, -0.0005, 0.0))
+    for off, below, depth in cases:
+        z = h.top_z_m - below
+        place_tip(m, d, (h.center_xy_m[0] + off, h.center_xy_m[1], z))
+        row, _ = world_row(m, d)
+        assert row["peg_depth"] == pytest.approx(depth, abs=1e-9)
+        assert row["peg_tip"] == pytest.approx([h.center_xy_m[0] + off, h.center_xy_m[1], z], abs=1e-9)
+
+
+def break_egg(velocity, push, ramp_s=0.0, steps=3000):
+    """The peg 1 mm over (or beside) the egg, moving at ``velocity`` (m/s) and pushed by ``push``
+    (N; reached over ``ramp_s``) until the egg breaks; returns the C row at the break and the tip's
+    speed down when it first touched the egg (by MuJoCo's positions, not the row)."""
+    m, d = free_scene()
+    e = CONTEST.egg
+    start = np.array([*e.center_xy_m, e.top_z_m + 0.001])
+    if velocity[2] == 0:  # from the side, at the egg's widest
+        start = np.array(
+            [
+                e.center_xy_m[0] - e.diameter_m / 2 - CONTEST.peg.diameter_m / 2 - 0.001,
+                e.center_xy_m[1],
+                e.top_z_m - e.height_m / 2,
+            ]
+        )
+    place_tip(m, d, start)
+    tip = m.site(PEG_TIP_SITE).id
+    jac = np.zeros((3, m.nv))
+    mujoco.mj_jacSite(m, d, jac, None, tip)
+    d.qvel[:] = np.linalg.lstsq(jac, np.asarray(velocity, float), rcond=None)[0]
+    state, touch_speed, last_z = None, None, None
+    for k in range(steps):
+        share = min(1.0, k * m.opt.timestep / ramp_s) if ramp_s else 1.0
+        d.qfrc_applied[:] = 0.0
+        mujoco.mj_applyFT(
+            m,
+            d,
+            share * np.asarray(push, float),
+            np.zeros(3),
+            d.site_xpos[tip].copy(),
+            m.body(PEG_BODY).id,
+            d.qfrc_applied,
+        )
+        mujoco.mj_step(m, d)
+        z = d.site_xpos[tip][2]  # where this step started from: the row's state
+        row, state = world_row(m, d, state=state)
+        if touch_speed is None and row["egg_force"] > 0:
+            touch_speed = (last_z - z) / m.opt.timestep
+        last_z = z
+        if row["egg_broken"]:
+            return row, touch_speed
+    raise AssertionError("the egg did not break")
+
+
+def test_what_broke_the_egg_a_press_a_fall_a_side_hit():
+    """A press (the peg brought down at 1 cm/s, the push growing 40 N in 2 s), a fall (the peg
+    coming down at 0.6 m/s, nothing pushing) and a side hit (pushed sideways into the egg's widest):
+    the row says which, with the touch's speed MuJoCo's positions give."""
+    press, speed = break_egg((0.0, 0.0, -0.01), (0.0, 0.0, -40.0), ramp_s=2.0)
+    assert press["egg_broken_by"] == 1 and 0 <= press["egg_touch_speed"] < EGG_FALL_M_S
+    assert press["egg_touch_speed"] == pytest.approx(max(speed, 0.0), abs=1e-9)
+    fall, speed = break_egg((0.0, 0.0, -0.6), (0.0, 0.0, 0.0), steps=400)
+    assert fall["egg_broken_by"] == 3 and fall["egg_touch_speed"] > EGG_FALL_M_S
+    assert fall["egg_touch_speed"] == pytest.approx(speed, rel=1e-9)
+    f = np.asarray(fall["egg_force_xyz"])
+    assert np.hypot(*f[:2]) < -f[2]  # from above
+    side, _ = break_egg((0.05, 0.0, 0.0), (40.0, 0.0, 0.0), ramp_s=2.0)
+    f = np.asarray(side["egg_force_xyz"])
+    assert side["egg_broken_by"] == 2 and np.hypot(*f[:2]) > -f[2]

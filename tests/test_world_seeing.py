@@ -15,7 +15,7 @@ from rerun.chunk import RrdReader
 from crslab import crs
 from crslab.scopes.arm3d import ArmModel
 from crslab.scopes.signals import SIGNALS, WORLD_SIGNALS
-from crslab.world.layout import load_world
+from crslab.world import load_world
 
 ROOT = Path(__file__).resolve().parents[1]
 CONTEST = load_world("contest")
@@ -72,7 +72,7 @@ def test_the_recording_draws_the_fixtures_and_the_peg(pressed):
         "/arm/obstacle/shapes/box static",
         "/arm/groove/shapes/box static",
         "/arm/egg/shapes/ellipsoid static",
-        "/arm/scale/shapes/box static",
+        "/arm/scale/shapes/cylinder static",
         "/arm/peg",
     ):
         assert entity in entities, sorted(entities)
@@ -89,10 +89,12 @@ def test_the_egg_force_and_the_scale_are_scopes(pressed):
     tmp, entities = pressed
     names = entities["/scopes/world static"]["SeriesLines:names"].to_pylist()
     assert names == [
-        ["egg_force", "hole_force", "obstacle_force", "groove_side_force", "groove_force", "table_force"]
+        ["egg_force", "egg_force_xyz_x", "egg_force_xyz_y", "egg_force_xyz_z", "hole_force", "obstacle_force",
+         "obstacle_peg_force", "obstacle_forearm_force", "obstacle_upper_arm_force", "groove_force",
+         "groove_side_force", "table_force"]
     ]
     forces = np.array([v for v in entities["/scopes/world"]["Scalars:scalars"].to_pylist()], dtype=object)
-    egg = np.concatenate([np.asarray(row, float).reshape(-1, 6)[:, 0] for row in forces])
+    egg = np.concatenate([np.asarray(row, float).reshape(-1, 12)[:, 0] for row in forces])
     assert egg.max() > CONTEST.egg.breaking_force_n  # pressed until it broke
     header = (tmp / "run.csv").read_text().splitlines()[0].split(",")
     assert header[-len(WORLD_SIGNALS) :] == [s.csv_name for s in WORLD_SIGNALS]
@@ -131,6 +133,7 @@ def test_the_viewer_and_the_3d_views_draw_the_worlds_scene():
     arm = ArmModel(CONTEST)
     pos, _ = arm.poses(np.array([[0.0, 0.0, 0.0]]))
     peg = arm.body_index("peg")
-    assert np.allclose(pos[0, peg], [0.508, 0.0, 0.254])  # the peg's wrist at the FK point, DH zero
+    # the peg's wrist at the forearm's end, DH zero: the arm stands 10 cm higher, its tip at the FK point
+    assert np.allclose(pos[0, peg], [0.508, 0.0, 0.254 + CONTEST.arm_raised_m])
     assert np.allclose(pos[0, arm.body_index("hole")], [*CONTEST.hole.center_xy_m, 0.0])
     assert [b.name for b in ArmModel().moving] == ["waist", "upper_arm", "forearm"]

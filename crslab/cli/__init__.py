@@ -23,6 +23,7 @@ COMMANDS: dict[str, tuple[str, ...]] = {
     "crslab.cli.scenario_commands": ("scenarios",),
     "crslab.cli.regress_commands": ("record", "check", "grade"),
     "crslab.cli.contest_commands": ("contest",),
+    "crslab.cli.world_commands": ("world",),
     "crslab.cli.sweep_commands": ("sweep",),
     "crslab.cli.traj_commands": ("traj",),
     "crslab.cli.toolbox_commands": ("robots", "workspace", "rot"),
@@ -48,7 +49,8 @@ class CliError(Exception):
 
 
 GROUPS = {
-    "for students": ["sim", "debug", "record", "check", "new", "contest", "scenarios", "vars", "plot"],
+    "for students": ["sim", "debug", "record", "check", "new", "contest", "world", "scenarios", "vars",
+                     "plot"],
     "for TAs and instructors": ["grade", "sweep", "serve", "identify", "friction"],
     "the course's host tools (MATLAB, Simulink, Tera Term)": ["serial", "map"],
     "the kinematics toolbox": ["fk", "ik", "traj", "robots", "workspace", "rot"],

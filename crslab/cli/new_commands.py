@@ -11,15 +11,22 @@ from crslab.generations import GENERATIONS, NEWEST, named
 from crslab.output_paths import with_parent
 from crslab.starters import LABS, starter_text
 
+RUN_WITH = {"lab4": "crslab sim --lab {path} --scenario lab4_push",
+            "final": "crslab contest --lab {path}"}
+"""The command each starter is run with when plain ``crslab sim --lab FILE`` is not it: Lab 4 on
+the course's push at the end effector, the final project as the contest judges it."""
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``new`` subcommand."""
     names = [g.name for g in GENERATIONS]
     p = sub.add_parser(
-        "new", help=f"write a starting lab file (lab1..lab4, Gen {' or '.join(names)}) to begin a lab from",
+        "new",
+        help=f"write a starting lab file (lab1..lab4, final; Gen {' or '.join(names)}) to begin a lab from",
         description="Write a starting file for one of the course's labs, with the structure of the "
         "course's template (the encoder offsets, mycount, watched variables, printing from printing(), "
-        "the Simulink PlotVars, the generation's includes), ready for 'crslab sim --lab FILE'. "
+        "the Simulink PlotVars, the generation's includes), ready for 'crslab sim --lab FILE' (the "
+        "final project's for 'crslab contest --lab FILE'). "
         + " ".join(f"{k}: {v}." for k, v in LABS.items()))
     p.add_argument("lab", choices=list(LABS), help="which lab")
     p.add_argument("file", type=Path, metavar="FILE", nargs="?",
@@ -50,5 +57,5 @@ def run_new(args: argparse.Namespace) -> int:
     except OSError as exc:
         raise CliError(f"{path}: cannot write it ({exc.strerror})") from None
     print(f"crslab new: {path}: {LABS[args.lab]} for {named(args.gen).title}; run it with "
-          f"'crslab sim --lab {path}'", file=sys.stderr)
+          f"'{RUN_WITH.get(args.lab, 'crslab sim --lab {path}').format(path=path)}'", file=sys.stderr)
     return 0

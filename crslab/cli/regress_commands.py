@@ -16,13 +16,7 @@ from typing import TYPE_CHECKING
 
 from crslab.cli import CliError
 from crslab.cli.autograder_report import add_report_options, run_report
-from crslab.cli.contest_commands import (
-    CONTEST_DURATION_S,
-    CONTEST_SCENARIO,
-    CONTEST_WORLD,
-    contest_config,
-    load_contest_world,
-)
+from crslab.cli.contest_commands import DURATION_DEFAULT, OFFSETS_DEFAULT
 from crslab.cli.executor_options import add_executor_options, executor_from_args
 from crslab.cli.run_options import (
     add_c28x_option,
@@ -32,6 +26,8 @@ from crslab.cli.run_options import (
     run_to_end,
 )
 from crslab.cli.run_report import notices
+from crslab.contest.offsets import Rest
+from crslab.contest.run import CONTEST_SCENARIO, CONTEST_WORLD
 from crslab.executors.job import Executor
 from crslab.framework_facts import TICKS_PER_S
 from crslab.lab.c28x_check import C28xReport, check_lab
@@ -121,17 +117,26 @@ def register(sub: argparse._SubParsersAction) -> None:
     against.add_argument("--reference", type=Path, metavar="FILE",
                          help="the reference lab file (or --contest)")
     against.add_argument("--contest", action="store_true",
-                   help="grade by the final project's scorecard instead of a reference: each submission runs "
-                   "in the contest world (--world, default contest) on hands_off for "
-                   f"{CONTEST_DURATION_S:g} s unless --duration; grades.csv has a column per task and the "
-                   "time, junit.xml a case per submission and task (docs/contest.md)")
+                         help="grade by the final project's scorecard instead of a reference "
+                         "(docs/contest.md): each submission runs as 'crslab contest' runs it; grades.csv "
+                         "has a column per task's evidence, its rank, its resting pose and a detail, "
+                         "junit.xml a case per submission and task, cards/ each card (text and picture). "
+                         "--contest changes these "
+                         f"defaults: --world {CONTEST_WORLD} (not none), --scenario {CONTEST_SCENARIO} (not "
+                         "tour), --duration until each arm comes to rest (not the scenario's end), --offsets "
+                         "each lab's own offset_Enc2_rad and offset_Enc3_rad (not crslab's arm's)")
     add_run_options(p)
     for action in p._actions:  # the reference is the lab here
         if action.dest == "lab":
             action.help = argparse.SUPPRESS
-    if not any(a.dest == "world" for a in p._actions):
-        p.add_argument("--world", metavar="NAME|FILE",
-                       help="with --contest: the world, a built-in name or a layout file (default: contest)")
+        elif action.dest == "world":
+            action.help += f"; with --contest: default {CONTEST_WORLD}"
+        elif action.dest == "scenario":
+            action.help += f"; with --contest: default {CONTEST_SCENARIO}"
+        elif action.dest == "duration":
+            action.help += f"; with --contest: default {DURATION_DEFAULT}"
+        elif action.dest == "offsets":
+            action.help += f"; with --contest: default {OFFSETS_DEFAULT}"
     add_tolerance_options(p)
     p.add_argument("-o", "--out", type=Path, default=Path("crslab-grade"), metavar="DIR",
                    help="where the reports go (default: %(default)s)")
@@ -379,7 +384,7 @@ def c28x_reports(subs: list[Path], *, sandboxed: bool, jobs: int) -> dict[Path, 
 
 
 def run_grade_contest(args: argparse.Namespace) -> int:
-    """``crslab grade DIR --contest``: every submission scored by the contest's scorecard."""
+    """``crslab grade DIR --contest``: every submission run as a contest run and scored by its card."""
     from crslab.regress import contest_grade as cg
     from crslab.regress import grade as g
 
@@ -388,44 +393,81 @@ def run_grade_contest(args: argparse.Namespace) -> int:
         raise CliError(f"{folder}: no such folder of submissions")
     if args.jobs is not None and args.jobs < 1:
         raise CliError(f"--jobs must be at least 1, got {args.jobs}")
-    if getattr(args, "world", None) in (None, "none"):
-        args.world = CONTEST_WORLD
+    args.world = args.world or CONTEST_WORLD
     args.scenario = args.scenario or CONTEST_SCENARIO
-    world = load_contest_world(args.world)
     args.lab = None   # the configuration is built once with crslab's own lab; each submission is rebuilt
-    config = contest_config(args, world)
-    end_tick = seconds_to_tick(args.duration or CONTEST_DURATION_S)
-    subs = g.find_submissions(folder)
+    config = config_from_args(args, log=True)   # the world read once: every run takes it as it is
+    world = config.world
+    if world.is_free_air:
+        raise CliError(f"{args.world}: world {world.name!r} has no fixtures: the contest needs the hole, the "
+                       "obstacle, the groove and the egg (the contest world has them)")
+    found = g.find_class(folder)
+    subs = found.labs
     if not subs:
-        raise CliError(f"{folder}: no lab files (.c, .cpp) to grade")
+        raise CliError(f"{folder}: no lab files (.c, .cpp) to grade, directly in it or in a folder per "
+                       "student")
+    out = args.out
     try:
-        made_folder(args.out)
+        for sub_dir in ("cards", "transcripts"):
+            made_folder(out / sub_dir)
     except OSError as exc:
-        raise CliError(f"{args.out}: cannot write the reports there ({exc.strerror})") from None
+        raise CliError(f"{out}: cannot write the reports there ({exc.strerror})") from None
+    runner = cg.ContestRunner(tuple(args.offsets) if args.offsets else None, args.duration)
     executor = executor_from_args(args)
-    print(f"crslab grade: {len(subs)} submissions in the {args.world} world on {config.scenario.name} "
-          f"({end_tick / TICKS_PER_S:.3f} s), by the contest's scorecard, {executor.description}",
-          file=sys.stderr)
+    long = f"{args.duration:g} s" if args.duration else "until each arm comes to rest"
+    print(f"crslab grade: {found.summary()}", file=sys.stderr)
+    print(f"crslab grade: {len(subs)} submissions in the {world.source} world on {config.scenario.name} "
+          f"({long}, each resting where its own offsets say), by the contest's scorecard, "
+          f"{executor.description}", file=sys.stderr)
     progress = g.Progress(len(subs))
     grades: dict[Path, cg.ContestGrade] = {}
 
     def on_done(result: RunResult) -> None:
-        grade = cg.grade_contest(result, world)
-        grades[grade.path] = grade
-        progress.update(grade.path.name, grade.result_word)
+        path = result.lab_file or Path("?")
+        name = g.submission_name(path, found.folders.get(path))
+        try:
+            rest: Rest | None = runner.rest(g.read_submission(path).decode("utf-8", "replace"))
+        except OSError:
+            rest = None
+        grade = cg.grade_contest(result, world, config, rest, name)
+        write_contest_files(out, grade, result, world)
+        grades[path] = grade
+        progress.update(grade.label, grade.result_word)
 
     try:
-        g.run_many(subs, config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args),
-                   on_done=on_done, executor=executor)
+        g.run_many(subs, config, 0, deadline_s=args.deadline, limits=limits_from_args(args), on_done=on_done,
+                   executor=executor, folders=found.folders, runner=runner)
     finally:
         executor.close()
     ordered = [grades[p] for p in subs]
-    out = args.out
     cg.write_csv(out / "grades.csv", ordered)
     cg.write_junit_tasks(out / "junit.xml", ordered, "crslab.contest")
     with (out / "summary.txt").open("w") as f:
         cg.summary_table(ordered, f)
     cg.summary_table(ordered, sys.stdout)
-    print(f"crslab grade: reports in {out}/ (summary.txt, grades.csv, junit.xml)", file=sys.stderr)
-    complete = all(x.card is not None and x.card.done == 4 for x in ordered)
+    print(f"crslab grade: reports in {out}/ (summary.txt, grades.csv, junit.xml, cards/, transcripts/)",
+          file=sys.stderr)
+    complete = all(x.card is not None and x.card.complete for x in ordered)
     return ExitStatus.OK if complete else ExitStatus.MISMATCH
+
+
+def write_contest_files(out: Path, grade: object, result: RunResult, world: object) -> None:
+    """One submission's card (``cards/NAME.txt``, and ``cards/NAME.png`` when it ran), its
+    transcript (``transcripts/NAME.txt``), named as the reports name it (``alice/final.c``)."""
+    from crslab.regress.contest_grade import ContestGrade
+
+    assert isinstance(grade, ContestGrade)
+    card_text = out / "cards" / f"{grade.label}.txt"
+    transcript = out / "transcripts" / f"{grade.label}.txt"
+    for made in (card_text.parent, transcript.parent):
+        made.mkdir(parents=True, exist_ok=True)
+    transcript.write_bytes(result.transcript)
+    if grade.card is None:
+        details = f"\n{result.details}\n" if result.details else "\n"
+        card_text.write_text(for_text(f"{grade.result_word}: {grade.why}{details}"))
+        return
+    card_text.write_text(for_text("\n".join(grade.card.lines()) + "\n"))
+    from crslab.contest.card_plot import draw_card
+
+    assert result.log is not None
+    draw_card(result.log, world, grade.card, card_text.with_suffix(".png"))

@@ -26,7 +26,7 @@ from crslab.sandbox import missing as sandbox_missing
 from crslab.scenario.load import ScenarioError
 from crslab.untrusted_text import for_text
 from crslab.worker.config import RunConfig
-from crslab.world.layout import WorldError
+from crslab.world import WorldError
 
 
 def positive_int(text: str) -> int:
@@ -53,7 +53,8 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lab", type=Path, metavar="FILE",
                    help="the lab file (.c, or a .cpp holding C); default: crslab's Lab 1 kinematics lab")
     p.add_argument("--scenario", metavar="NAME|FILE",
-                   help="built-in scenario name or TOML file (default: tour; see 'crslab scenarios')")
+                   help="built-in scenario name or TOML file (default: tour, or hands_off in a --world with "
+                   "fixtures; see 'crslab scenarios')")
     p.add_argument("--duration", type=positive, metavar="SECONDS",
                    help="simulated seconds to run (default: until the scenario ends)")
     p.add_argument("--offsets", type=float, nargs=2, metavar=("O2", "O3"),

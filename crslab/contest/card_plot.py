@@ -32,7 +32,7 @@ def draw_card(log: Mapping[str, np.ndarray], world: Any, card: Scorecard, path: 
         top.add_patch(Circle(hole.center_xy_m, hole.diameter_m / 2, color="tab:blue", alpha=0.5,
                              label="hole"))
     if ob is not None:
-        (x, y, _), (sx, sy, _) = ob.center_m, ob.size_m
+        (x, y), (sx, sy) = ob.center_xy_m, ob.size_xy_m
         top.add_patch(Rectangle((x - sx / 2, y - sy / 2), sx, sy, color="tab:red", alpha=0.35,
                                 label="obstacle"))
     if gr is not None:

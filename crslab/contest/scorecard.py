@@ -1,125 +1,87 @@
-"""The final project's scorecard: what one run of a lab did in the contest world, task by task.
+"""The final project's scorecard: what one run of a lab did in the contest world, task by task, and
+how the run went (where the arm rested, how the run ended, what cut it short).
 
-:func:`score` is pure: it reads a run's scope log (one row per tick; the world's signals of
-:mod:`crslab.scopes.signals`: ``peg_tip``, ``egg_force``, ``scale_g``, ``egg_broken``,
-``obstacle_force``, ``groove_side_force``) and the world's layout (where each fixture is, the
-contest's rules), and returns a :class:`Scorecard`. Nothing here runs a lab.
-
-How each task is scored (docs/contest.md says the same for students):
-
-- **peg**: the peg's depth is how far its tip is below the hole block's top while the tip is
-  within the hole's radius of the hole's axis (0 elsewhere); the task is done when the depth
-  stays at least ``peg_min_depth_m`` for ``peg_hold_s`` without a break.
-- **obstacle**: touched when the contact force between the arm and the obstacle ever exceeds
-  :data:`TOUCH_N`; passed over when the peg's tip is ever above the obstacle's top inside its
-  footprint; done when passed over and never touched.
-- **groove**: the tip is inside the groove while it is within half the groove's width of the Z's
-  centre line and below the plate's top (at most the groove's depth, plus :data:`DEPTH_SLACK_M`).
-  From the first row inside, the stay lasts while the tip is inside; the share is how much of
-  the Z's length (along its centre line) the tip covered in that stay. Leaving before the last
-  corner's end (farther than half a width from the exit) is where it left. Done when the share is
-  at least ``groove_min_share``.
-- **egg**: the scale's reading in grams; the longest unbroken time within the band
-  ``band_g`` (inclusive); done when that is at least ``hold_s`` and the egg is not broken.
-- **time**: from the first motion (the tip :data:`MOTION_M` from where it was on the first row)
-  to the moment the last task was complete; only when all four are done.
-
->>> import numpy as np
->>> longest_run(np.array([1, 1, 0, 1, 1, 1, 0], bool))
-(3, 3)
->>> longest_run(np.zeros(4, bool))
-(0, -1)
+:func:`score` is pure: it reads a run's scope log (one row per logged tick: the world's row of
+docs/worlds.md and the board's safety flag and motor board), the world (its fixtures and its
+rules, ``world.contest``) and what the run reported (:class:`RunFacts`), and returns a
+:class:`Scorecard`. The tasks are judged in :mod:`crslab.contest.tasks`, the motion's start and end
+in :mod:`crslab.contest.motion`; docs/contest.md says the same for students.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from crslab.contest.motion import LONGEST_S, first_motion, still_since
+from crslab.contest.offsets import Rest
+from crslab.contest.tasks import (
+    NEAR_HOLE_M,
+    Egg,
+    Groove,
+    Obstacle,
+    Peg,
+    ScorecardError,
+    Trace,
+    column,
+    judge_egg,
+    judge_groove,
+    judge_obstacle,
+    judge_peg,
+)
 from crslab.framework_facts import TICKS_PER_S
+from crslab.run.status import RunStatus
+from crslab.worker.run_stats import RunStats
 
-TOUCH_N = 0.05
-"""A contact force above this (N) counts as a touch: MuJoCo reports exactly 0 without contact."""
-MOTION_M = 0.005
-"""The first motion: the peg's tip this far (m) from where it was on the log's first row."""
-DEPTH_SLACK_M = 0.005
-"""Below the groove's floor by this much (m) still counts as inside (the contact's penetration)."""
+__all__ = ["RunFacts", "Scorecard", "ScorecardError", "score"]
 
-
-@dataclass(frozen=True)
-class Rules:
-    """What each task asks (the world's ``[contest]`` table; these defaults when it has none)."""
-
-    band_g: tuple[float, float] = (500.0, 1000.0)
-    hold_s: float = 2.0
-    peg_min_depth_m: float = 0.01
-    peg_hold_s: float = 0.5
-    groove_min_share: float = 0.9
-
-    @classmethod
-    def of(cls, world: Any) -> Rules:
-        """The world's rules (``world.contest``), else the defaults."""
-        got = getattr(world, "contest", None)
-        if got is None:
-            return cls()
-        return cls(**{k: getattr(got, k, getattr(cls(), k)) for k in cls.__dataclass_fields__})
-
-
-class ScorecardError(ValueError):
-    """The scope log cannot be scored (a signal missing, no rows); its str is one line."""
+TASKS = ("peg", "obstacle", "groove", "egg")
 
 
 @dataclass(frozen=True)
-class Peg:
-    done: bool
-    depth_m: float          # deepest the tip went below the hole's top, in the hole
-    held_s: float           # longest stay at least peg_min_depth_m deep
-    done_at_s: float | None
-    note: str = ""          # why it cannot be scored (no hole in the world)
+class RunFacts:
+    """What the run itself reported: how it ended (its status and one-line message), its counters
+    (lab()'s cost against the budget, the motor board's cut-outs), where the arm rested, and the
+    tick lab() was first called."""
+
+    status: RunStatus = RunStatus.OK
+    message: str = ""
+    end_tick: int | None = None
+    """The tick the run ended at (None: after the log's last row)."""
+    stats: RunStats = field(default_factory=RunStats)
+    rest: Rest | None = None
+    startup_ticks: int = 0
+    budget: int = 0
 
 
 @dataclass(frozen=True)
-class Obstacle:
-    done: bool
-    touched: bool
-    max_force_n: float
-    touched_at_s: float | None
-    passed_over: bool
-    over_at: tuple[float, float, float] | None   # where the tip first was above it (m)
-    done_at_s: float | None
-    note: str = ""
+class Ended:
+    """How the run ended, as the card says it."""
 
+    end_s: float
+    logged_s: float                 # the log's last row (the card covers the run up to there)
+    status: RunStatus
+    message: str
+    still_since_s: float | None     # the arm came to rest for good then (s)
+    moved: bool                     # the arm moved at all (the first motion)
+    safety_at_s: float | None       # the framework's safety envelope first tripped (s)
+    motor_board_off_at_s: float | None
+    motor_board_joint: int | None   # which joint's command cut it (0: no command came)
+    over_budget: int                # lab() calls over the budget
+    first_over_s: float | None
 
-@dataclass(frozen=True)
-class Groove:
-    done: bool
-    share: float            # of the Z's centre line covered in the first stay inside (0..1)
-    max_side_force_n: float
-    left_at: tuple[float, float] | None   # where the tip left before the exit (m), None if it did not
-    entered_at_s: float | None
-    done_at_s: float | None
-    note: str = ""
-    reached_exit: bool = False   # the stay reached the exit's last half width
-
-
-@dataclass(frozen=True)
-class Egg:
-    done: bool
-    peak_g: float
-    in_band_s: float        # longest unbroken time within the band
-    broken: bool
-    broken_at_s: float | None
-    done_at_s: float | None
-    note: str = ""
+    @property
+    def cut_short(self) -> bool:
+        """The lab did not run to its own end: it crashed, hung, or was stopped."""
+        return self.status not in (RunStatus.OK, RunStatus.UNMET)
 
 
 @dataclass(frozen=True)
 class Scorecard:
-    """A run's four tasks and its time (None unless all four are done)."""
+    """A run's four tasks, its time (None unless all four are done), and how the run went."""
 
     peg: Peg
     obstacle: Obstacle
@@ -127,238 +89,236 @@ class Scorecard:
     egg: Egg
     time_s: float | None
     first_motion_s: float | None
-    rules: Rules
+    rules: Any
+    ended: Ended
+    rest: Rest | None = None
 
-    TASKS = ("peg", "obstacle", "groove", "egg")
+    TASKS = TASKS
 
     @property
     def done(self) -> int:
         """How many of the four tasks are done."""
         return sum(getattr(self, t).done for t in self.TASKS)
 
+    @property
+    def complete(self) -> bool:
+        """Whether all four tasks are done: the contest completed."""
+        return self.done == len(self.TASKS)
+
     def as_dict(self) -> dict:
         """The JSON shape of docs/contest.md."""
-        def r(v: float | None, nd: int = 4) -> float | None:
-            return None if v is None else round(float(v), nd)
-        p, o, g, e = self.peg, self.obstacle, self.groove, self.egg
-        return {
-            "tasks": {
-                "peg": {"done": p.done, "depth_m": r(p.depth_m), "held_s": r(p.held_s, 3)},
-                "obstacle": {"done": o.done, "touched": o.touched, "max_force_n": r(o.max_force_n, 3),
-                             "passed_over": o.passed_over},
-                "groove": {"done": g.done, "share": r(g.share, 3),
-                           "max_side_force_n": r(g.max_side_force_n, 3),
-                           "left_at": None if g.left_at is None else [r(v) for v in g.left_at]},
-                "egg": {"done": e.done, "peak_g": r(e.peak_g, 1), "in_band_s": r(e.in_band_s, 3),
-                        "broken": e.broken},
-            },
-            "time_s": r(self.time_s, 3),
-        }
+        return card_dict(self)
 
     def lines(self) -> list[str]:
-        """One line per task with its evidence, then the time."""
-        ru = self.rules
-        p, o, g, e = self.peg, self.obstacle, self.groove, self.egg
-
-        def mark(done: bool) -> str:
-            return "done" if done else "FAIL"
-
-        def at(t: float | None) -> str:
-            return "" if t is None else f" at t = {t:.2f} s"
-
-        out = []
-        need = f"(needs {1000 * ru.peg_min_depth_m:.0f} mm for {ru.peg_hold_s:.2f} s)"
-        out.append(f"peg       {mark(p.done)}  " + (p.note or
-                   f"{1000 * p.depth_m:.1f} mm deep at most, held {p.held_s:.2f} s {need}"))
-        if o.note:
-            ob = o.note
-        else:
-            ob = (f"touched{at(o.touched_at_s)}, up to {o.max_force_n:.1f} N" if o.touched else "not touched")
-            ob += ("; passed over at (" + ", ".join(f"{v:.3f}" for v in o.over_at) + f") m{at(o.done_at_s)}"
-                   if o.over_at is not None else "; never passed over it")
-        out.append(f"obstacle  {mark(o.done)}  {ob}")
-        if g.note:
-            gr = g.note
-        else:
-            gr = f"{100 * g.share:.0f} % of the path inside (needs {100 * ru.groove_min_share:.0f} %)"
-            if g.entered_at_s is not None:
-                if g.left_at is not None:
-                    gr += "; left at (" + ", ".join(f"{v:.3f}" for v in g.left_at) + ") m"
-                else:
-                    gr += "; in it to the exit" if g.reached_exit else "; still in it when the run ended"
-            gr += f"; largest side force {g.max_side_force_n:.1f} N"
-        out.append(f"groove    {mark(g.done)}  {gr}")
-        lo, hi = ru.band_g
-        eg = e.note or (f"peak {e.peak_g:.0f} g, {e.in_band_s:.2f} s in {lo:.0f}-{hi:.0f} g "
-                        f"(needs {ru.hold_s:.2f} s); "
-                        + (f"BROKEN{at(e.broken_at_s)}" if e.broken else "not broken"))
-        out.append(f"egg       {mark(e.done)}  {eg}")
-        if self.time_s is not None:
-            out.append(f"time      {self.time_s:.2f} s from the first motion "
-                       f"(t = {self.first_motion_s:.2f} s) to the last task")
-        else:
-            out.append(f"time      none: {self.done} of 4 tasks done")
-        return out
+        """One line per task with its evidence, the time, then the run's lines."""
+        return card_lines(self)
 
 
-def longest_run(mask: np.ndarray) -> tuple[int, int]:
-    """The longest stretch of True in ``mask``: (its length, its first index; -1 when none)."""
-    m = np.asarray(mask, bool)
-    if not m.any():
-        return 0, -1
-    edges = np.diff(np.concatenate([[0], m.astype(np.int8), [0]]))
-    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    k = int(np.argmax(ends - starts))
-    return int(ends[k] - starts[k]), int(starts[k])
-
-
-def first_run_reaching(mask: np.ndarray, rows: int) -> int:
-    """The index at which ``mask`` has first been True ``rows`` rows in a row (-1 when never).
-
-    >>> first_run_reaching(np.array([1, 0, 1, 1, 1], bool), 2)
-    3
-    """
-    run = 0
-    m = np.asarray(mask, bool)
-    if rows <= 0:
-        return 0 if len(m) else -1
-    edges = np.diff(np.concatenate([[0], m.astype(np.int8), [0]]))
-    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    for s, e in zip(starts, ends):
-        run = e - s
-        if run >= rows:
-            return int(s + rows - 1)
-    return -1
-
-
-def column(log: Mapping[str, np.ndarray], name: str, width: int = 1) -> np.ndarray:
-    """A log column as floats: shape (n,) for width 1, (n, width) else."""
-    if name not in log:
-        raise ScorecardError(f"the run's scope log has no {name!r} signal (was it run in a world with "
-                             "contacts?)")
-    a = np.asarray(log[name], dtype=np.float64)
-    if width == 1:
-        return a.reshape(len(a), -1)[:, 0]
-    return a.reshape(len(a), -1)[:, :width]
-
-
-def _segments_distance(p: np.ndarray, corners: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
-    """Each point's distance (m) to the polyline through ``corners`` and its arc length along it.
-
-    >>> d, s, total = _segments_distance(np.array([[1.0, 0.5], [2.0, 1.5]]),
-    ...                                  np.array([[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]]))
-    >>> d.tolist(), s.tolist(), total
-    ([0.5, 0.0], [1.0, 3.5], 4.0)
-    """
-    best_d = np.full(len(p), np.inf)
-    best_s = np.zeros(len(p))
-    s0 = 0.0
-    for a, b in zip(corners[:-1], corners[1:]):
-        ab = b - a
-        length = float(np.hypot(*ab))
-        u = np.clip(((p - a) @ ab) / (length * length), 0.0, 1.0)
-        d = np.hypot(*(p - (a + u[:, None] * ab)).T)
-        closer = d < best_d
-        best_d = np.where(closer, d, best_d)
-        best_s = np.where(closer, s0 + u * length, best_s)
-        s0 += length
-    return best_d, best_s, s0
-
-
-def score(log: Mapping[str, np.ndarray], world: Any) -> Scorecard:
-    """Score one run: its scope log (one row per tick) in ``world`` (a
-    :class:`crslab.world.layout.World`). Raises :class:`ScorecardError` when a signal is missing."""
+def score(log: Mapping[str, np.ndarray], world: Any, run: RunFacts | None = None) -> Scorecard:
+    """Score one run: its scope log (one row per logged tick) in ``world`` (a
+    :class:`crslab.world.World` with fixtures), what the run reported (``run``; None: a run
+    that reached its end). Raises :class:`ScorecardError` when a signal is missing."""
+    run = run if run is not None else RunFacts()
     tick = column(log, "tick")
     if len(tick) == 0:
         raise ScorecardError("the run's scope log has no rows")
     t = tick / TICKS_PER_S
-    dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.001
-    tip = column(log, "peg_tip", 3)
-    rules = Rules.of(world)
-
-    peg = _peg(world, rules, t, dt, tip)
-    obstacle = _obstacle(world, log, t, tip)
-    groove = _groove(world, rules, log, t, tip)
-    egg = _egg(world, rules, log, t, dt)
-
-    moved = np.linalg.norm(tip - tip[0], axis=1) > MOTION_M
-    first = float(t[np.argmax(moved)]) if moved.any() else None
+    dt = float(np.median(np.diff(t))) if len(t) > 1 else 1.0 / TICKS_PER_S
+    tr = Trace(t, column(log, "peg_tip", 3), dt)
+    peg, obstacle = judge_peg(log, world, tr), judge_obstacle(log, world, tr)
+    groove, egg = judge_groove(log, world, tr), judge_egg(log, world, tr)
+    first = first_motion(t, tr.tip)
     ends = [peg.done_at_s, obstacle.done_at_s, groove.done_at_s, egg.done_at_s]
     all_done = peg.done and obstacle.done and groove.done and egg.done
     time_s = (max(ends) - first) if all_done and first is not None and None not in ends else None  # type: ignore[type-var]
-    return Scorecard(peg, obstacle, groove, egg, time_s, first, rules)
+    return Scorecard(peg, obstacle, groove, egg, time_s, first, world.contest, _ended(log, t, tr, first, run),
+                     run.rest)
 
 
-def _peg(world: Any, rules: Rules, t: np.ndarray, dt: float, tip: np.ndarray) -> Peg:
-    hole = getattr(world, "hole", None)
-    if hole is None:
-        return Peg(False, 0.0, 0.0, None, note=f"world {world.name!r} has no hole")
-    cx, cy = hole.center_xy_m
-    inside = np.hypot(tip[:, 0] - cx, tip[:, 1] - cy) <= hole.diameter_m / 2
-    depth = np.where(inside, np.maximum(hole.top_z_m - tip[:, 2], 0.0), 0.0)
-    deep = depth >= rules.peg_min_depth_m
-    rows, _ = longest_run(deep)
-    need = max(1, math.ceil(rules.peg_hold_s / dt - 1e-9))
-    k = first_run_reaching(deep, need)
-    return Peg(k >= 0, float(depth.max()), rows * dt, float(t[k]) if k >= 0 else None)
+def _ended(log: Mapping[str, np.ndarray], t: np.ndarray, tr: Trace, first: float | None,
+           run: RunFacts) -> Ended:
+    started = t >= run.startup_ticks / TICKS_PER_S
+    safety = (column(log, "safety") > 0.5) & started if "safety" in log else np.zeros(len(t), bool)
+    off = column(log, "motor_board_off") > 0.5 if "motor_board_off" in log else np.zeros(len(t), bool)
+    cuts = [e for e in run.stats.motor_board_events if e[2]]
+    st = run.stats
+    return Ended(
+        end_s=run.end_tick / TICKS_PER_S if run.end_tick is not None else float(t[-1]) + tr.dt,
+        logged_s=float(t[-1]), status=run.status, message=run.message,
+        still_since_s=still_since(t, tr.tip, first), moved=first is not None,
+        safety_at_s=float(t[np.argmax(safety)]) if safety.any() else None,
+        motor_board_off_at_s=float(t[np.argmax(off)]) if off.any() else None,
+        motor_board_joint=int(cuts[0][1]) if cuts else None,
+        over_budget=st.over_budget,
+        first_over_s=st.first_over_tick[0] / TICKS_PER_S if st.first_over_tick else None)
 
 
-def _obstacle(world: Any, log: Mapping[str, np.ndarray], t: np.ndarray, tip: np.ndarray) -> Obstacle:
-    ob = getattr(world, "obstacle", None)
-    if ob is None:
-        return Obstacle(False, False, 0.0, None, False, None, None,
-                        note=f"world {world.name!r} has no obstacle")
-    force = column(log, "obstacle_force")
-    touch = force > TOUCH_N
-    (x, y, z), (sx, sy, sz) = ob.center_m, ob.size_m
-    over = ((np.abs(tip[:, 0] - x) <= sx / 2) & (np.abs(tip[:, 1] - y) <= sy / 2) & (tip[:, 2] > z + sz / 2))
-    k = int(np.argmax(over)) if over.any() else -1
-    touched = bool(touch.any())
-    over_at = tuple(float(v) for v in tip[k]) if k >= 0 else None
-    return Obstacle(k >= 0 and not touched, touched, float(force.max()),
-                    float(t[np.argmax(touch)]) if touched else None, k >= 0, over_at,  # type: ignore[arg-type]
-                    float(t[k]) if k >= 0 else None)
+# -- the card's text and JSON ------------------------------------------------------------------
+
+def _at(t: float | None) -> str:
+    return "" if t is None else f" at t = {t:.2f} s"
 
 
-def _groove(world: Any, rules: Rules, log: Mapping[str, np.ndarray], t: np.ndarray,
-            tip: np.ndarray) -> Groove:
-    gr = getattr(world, "groove", None)
-    if gr is None:
-        return Groove(False, 0.0, 0.0, None, None, None, note=f"world {world.name!r} has no groove")
-    side = np.abs(column(log, "groove_side_force"))
-    corners = np.asarray(gr.corners_xy_m, dtype=np.float64)
-    dist, arc, total = _segments_distance(tip[:, :2], corners)
-    inside = ((dist <= gr.width_m / 2) & (tip[:, 2] <= gr.top_z_m)
-              & (tip[:, 2] >= gr.top_z_m - gr.depth_m - DEPTH_SLACK_M))
-    if not inside.any():
-        return Groove(False, 0.0, float(side.max()), None, None, None)
-    k0 = int(np.argmax(inside))
-    outside_after = np.flatnonzero(~inside[k0:])
-    k1 = k0 + int(outside_after[0]) if len(outside_after) else len(inside)   # first row out again
-    stay_arc = arc[k0:k1]
-    share = float(np.clip((stay_arc.max() - arc[k0]) / total, 0.0, 1.0))
-    reached_end = stay_arc.max() >= total - gr.width_m / 2
-    left = k1 < len(inside) and not reached_end
-    left_at = (float(tip[k1, 0]), float(tip[k1, 1])) if left else None
-    done = share >= rules.groove_min_share
-    done_at = None
-    if done:
-        need_arc = arc[k0] + rules.groove_min_share * total
-        done_at = float(t[k0 + int(np.argmax(stay_arc >= need_arc - 1e-12))])
-    return Groove(done, share, float(side[k0:k1].max()), left_at, float(t[k0]), done_at,
-                  reached_exit=bool(reached_end))
+def _point(p: tuple[float, ...]) -> str:
+    return "(" + ", ".join(f"{v:.3f}" for v in p) + ") m"
 
 
-def _egg(world: Any, rules: Rules, log: Mapping[str, np.ndarray], t: np.ndarray, dt: float) -> Egg:
-    if getattr(world, "egg", None) is None:
-        return Egg(False, 0.0, 0.0, False, None, None, note=f"world {world.name!r} has no egg")
-    grams = column(log, "scale_g")
-    broken_rows = column(log, "egg_broken") > 0.5
-    lo, hi = rules.band_g
-    band = (grams >= lo) & (grams <= hi) & ~broken_rows
-    rows, _ = longest_run(band)
-    need = max(1, math.ceil(rules.hold_s / dt - 1e-9))
-    k = first_run_reaching(band, need)
-    broken = bool(broken_rows.any())
-    return Egg(k >= 0 and not broken, float(grams.max()), rows * dt, broken,
-               float(t[np.argmax(broken_rows)]) if broken else None, float(t[k]) if k >= 0 else None)
+def _mark(done: bool) -> str:
+    return "done" if done else "FAIL"
+
+
+def _peg_line(p: Peg, ru: Any) -> str:
+    if p.note:
+        return p.note
+    need = f"(needs {1000 * ru.peg_min_depth_m:.0f} mm for {ru.peg_hold_s:.2f} s)"
+    text = f"{1000 * p.depth_m:.1f} mm deep at most, held {p.held_s:.2f} s {need}"
+    if not p.done and p.stopped_at is not None and not p.came_near:
+        text += (f"; it never came within {1000 * NEAR_HOLE_M:.0f} mm of the hole's axis (nearest "
+                 f"{1000 * p.off_axis_m:.0f} mm, at {_point(p.stopped_at)})")
+    elif not p.done and p.stopped_at is not None:
+        where = f"{1000 * p.above_top_m:.0f} mm above the hole's top" if p.above_top_m >= 0 else \
+            f"{-1000 * p.above_top_m:.0f} mm below the hole's top"
+        text += (f"; it stopped {1000 * p.off_axis_m:.0f} mm from the hole's axis, {where}, at "
+                 f"{_point(p.stopped_at)}")
+    return text
+
+
+def _obstacle_line(o: Obstacle) -> str:
+    if o.note:
+        return o.note
+    if o.touches:
+        text = "touched by " + ", ".join(f"the {x.part}{_at(x.first_s)} (up to {x.max_force_n:.1f} N)"
+                                          for x in o.touches)
+    else:
+        text = "not touched"
+    if o.passed == "over":
+        text += f"; passed over it at {_point(o.passed_at)}"  # type: ignore[arg-type]
+    elif o.passed == "around":
+        text += f"; passed around it, {1000 * o.beside_m:.0f} mm from its side, at {_point(o.passed_at)}"  # type: ignore[arg-type,operator]
+    else:
+        text += "; never passed it on the way from the hole to the groove"
+    return text + _at(o.done_at_s)
+
+
+def _groove_line(g: Groove, ru: Any) -> str:
+    if g.note:
+        return g.note
+    text = f"{100 * g.share:.0f} % of the path inside (needs {100 * ru.groove_min_share:.0f} %)"
+    if g.entered_at_s is None:
+        if g.lowest_above_top_m is not None:
+            text += (f"; never below the plate's top over it: the tip's lowest over the channel "
+                     f"{1000 * g.lowest_above_top_m:.1f} mm above the top")
+        elif g.nearest_m is not None:
+            text += f"; never over the channel: {1000 * g.nearest_m:.0f} mm from its centre line at the " \
+                "nearest"
+    else:
+        if g.left_at is not None:
+            text += "; left at " + _point(g.left_at)
+        elif g.reached_exit:
+            text += "; in it to the exit"
+        else:
+            text += "; still in it when the run ended"
+        if g.stuck_at is not None:
+            text += f"; it stayed at {_point(g.stuck_at)} from t = {g.stuck_from_s:.2f} s"
+    return text + f"; largest side force {g.max_side_force_n:.1f} N"
+
+
+def _egg_line(e: Egg, ru: Any) -> str:
+    if e.note:
+        return e.note
+    lo, hi = ru.band_g
+    need = ru.hold_s - ru.hold_tolerance_s
+    text = (f"peak {e.peak_g:.0f} g, {e.in_band_s:.2f} s in {lo:.0f}-{hi:.0f} g (needs {ru.hold_s:.2f} s; "
+            f"a TA allows {need:.2f} s)")
+    if e.broken:
+        text += (f"; BROKEN{_at(e.broken_at_s)} by {e.broken_by}, the press's peak before it "
+                 f"{e.peak_before_break_g:.0f} g")
+    elif not e.touched:
+        if e.lowest_above_top_m is not None:
+            text += (f"; never touched: the tip's lowest over it {1000 * e.lowest_above_top_m:.1f} mm above "
+                     "its top")
+        else:
+            text += "; never touched: the tip never came over it"
+    else:
+        text += "; not broken"
+    return text
+
+
+def card_lines(card: Scorecard) -> list[str]:
+    """The card's text: see :meth:`Scorecard.lines`."""
+    ru = card.rules
+    out = [
+        f"peg       {_mark(card.peg.done)}  {_peg_line(card.peg, ru)}",
+        f"obstacle  {_mark(card.obstacle.done)}  {_obstacle_line(card.obstacle)}",
+        f"groove    {_mark(card.groove.done)}  {_groove_line(card.groove, ru)}",
+        f"egg       {_mark(card.egg.done)}  {_egg_line(card.egg, ru)}",
+    ]
+    if card.time_s is not None:
+        out.append(f"time      {card.time_s:.2f} s from the first motion (t = {card.first_motion_s:.2f} s) "
+                   "to the last task")
+    else:
+        out.append(f"time      none: {card.done} of 4 tasks done")
+    if card.rest is not None:
+        out.append(card.rest.line())
+    out.extend(_run_lines(card.ended))
+    return out
+
+
+def _run_lines(e: Ended) -> list[str]:
+    out = []
+    if e.cut_short:
+        out.append(f"run       {e.status} at t = {e.end_s:.3f} s: {e.message}; the card covers the run up to "
+                   f"t = {e.logged_s:.3f} s")
+    elif not e.moved:
+        out.append(f"run       ended at t = {e.end_s:.2f} s: the arm never moved")
+    elif e.still_since_s is not None:
+        out.append(f"run       ended at t = {e.end_s:.2f} s: the arm at rest since t = "
+                   f"{e.still_since_s:.2f} s")
+    elif e.end_s >= LONGEST_S - 1e-9:
+        out.append(f"run       ended at t = {e.end_s:.2f} s, the longest contest run: the arm still moving")
+    else:
+        out.append(f"run       ended at t = {e.end_s:.2f} s")
+    if e.safety_at_s is not None:
+        out.append(f"safety    the arm left the safety envelope at t = {e.safety_at_s:.2f} s: the "
+                   "framework's hold took over from the lab")
+    if e.motor_board_off_at_s is not None:
+        why = {None: "", 0: " (no command came)"}.get(
+            e.motor_board_joint, f" (joint {e.motor_board_joint} commanded over its limit)")
+        out.append(f"motors    the motor board cut every output at t = {e.motor_board_off_at_s:.2f} s{why}")
+    if e.over_budget:
+        out.append(f"budget    {e.over_budget} lab() calls over the budget (the first at t = "
+                   f"{e.first_over_s:.3f} s): on the board they would miss their ticks")
+    return out
+
+
+def card_dict(card: Scorecard) -> dict:
+    """The card as one JSON object (docs/contest.md)."""
+    def r(v: float | None, nd: int = 4) -> float | None:
+        return None if v is None else round(float(v), nd)
+
+    def pt(p: tuple[float, ...] | None) -> list | None:
+        return None if p is None else [r(v) for v in p]
+
+    p, o, g, e, end = card.peg, card.obstacle, card.groove, card.egg, card.ended
+    return {
+        "complete": card.complete,
+        "tasks": {
+            "peg": {"done": p.done, "done_at_s": r(p.done_at_s, 3), "depth_m": r(p.depth_m),
+                    "held_s": r(p.held_s, 3), "stopped_at": pt(p.stopped_at), "off_axis_m": r(p.off_axis_m)},
+            "obstacle": {"done": o.done, "done_at_s": r(o.done_at_s, 3), "touched": o.touched,
+                         "touched_by": [x.part for x in o.touches], "max_force_n": r(o.max_force_n, 3),
+                         "passed": o.passed, "passed_at": pt(o.passed_at)},
+            "groove": {"done": g.done, "done_at_s": r(g.done_at_s, 3), "share": r(g.share, 3),
+                       "max_side_force_n": r(g.max_side_force_n, 3), "left_at": pt(g.left_at),
+                       "stuck_at": pt(g.stuck_at), "lowest_above_top_m": r(g.lowest_above_top_m)},
+            "egg": {"done": e.done, "done_at_s": r(e.done_at_s, 3), "peak_g": r(e.peak_g, 1),
+                    "in_band_s": r(e.in_band_s, 3), "broken": e.broken, "broken_by": e.broken_by,
+                    "peak_before_break_g": r(e.peak_before_break_g, 1)},
+        },
+        "time_s": r(card.time_s, 3),
+        "rest": None if card.rest is None else {"motor_rad": [r(v, 6) for v in card.rest.motor_rad],
+                                                "source": card.rest.source},
+        "run": {"status": str(end.status), "end_s": r(end.end_s, 3), "message": end.message,
+                "still_since_s": r(end.still_since_s, 3), "safety_at_s": r(end.safety_at_s, 3),
+                "motor_board_off_at_s": r(end.motor_board_off_at_s, 3), "over_budget": end.over_budget},
+    }

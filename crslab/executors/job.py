@@ -27,9 +27,10 @@ class Job(Protocol):
         """Do the work (in a process of its own) and return its result (picklable)."""
         ...
 
-    def lost(self, status: RunStatus, message: str) -> Any:
+    def lost(self, status: RunStatus, message: str, elapsed_s: float = 0.0) -> Any:
         """The result of a job that never returned one: its process died (``crashed``), it took
-        longer than allowed (``timeout``), or the Dask worker running it was lost."""
+        longer than allowed (``timeout``), or the Dask worker running it was lost; ``elapsed_s``:
+        how long it had run when that was seen (0: not known)."""
         ...
 
 

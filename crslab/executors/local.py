@@ -4,8 +4,8 @@ Each job runs in a fresh process forked from a single-threaded fork server that 
 already imported, so starting one costs a few milliseconds, the process may then fork the lab's
 own worker safely, and one job's crash (or a crslab bug it triggers) never touches another. A
 process that dies without answering is its job's ``lost(crashed)``; one that takes longer than
-``timeout_s`` in all is killed and is its job's ``lost(timeout)``. Ctrl-C kills every process
-still running and propagates as KeyboardInterrupt, between two jobs' results.
+``timeout_s`` in all is killed and is its job's ``lost(timeout)``, with the time it ran. Ctrl-C
+kills every process still running and propagates as KeyboardInterrupt, between two jobs' results.
 """
 
 from __future__ import annotations
@@ -125,8 +125,9 @@ class LocalExecutor:
                     except (EOFError, OSError):
                         proc.join(1.0)
                         job = jobs[index]
+                        ran_s = time.monotonic() - running[conn][2]
                         result = job.lost(RunStatus.CRASHED, f"{job.name}: its process died "
-                                          f"(exit status {proc.exitcode})")
+                                          f"(exit status {proc.exitcode})", ran_s)
                     finish(conn, result)
                 now = time.monotonic()
                 for conn, (index, proc, started) in list(running.items()):
@@ -134,7 +135,8 @@ class LocalExecutor:
                         proc.kill()
                         job = jobs[index]
                         finish(conn, job.lost(RunStatus.TIMEOUT, f"{job.name} took longer than "
-                                              f"{self.timeout_s:g} s in all and was stopped"))
+                                              f"{self.timeout_s:g} s in all and was stopped",
+                                              time.monotonic() - started))
         finally:
             for conn, (_, proc, _) in running.items():
                 if proc.pid is not None:

@@ -20,7 +20,7 @@ import numpy as np
 
 from crslab.run.running import RunningLab
 from crslab.sinks.latest_pose import LatestPose
-from crslab.world.layout import FREE_AIR, World
+from crslab.world import FREE_AIR, World
 from crslab.world.scene import flatten_egg, load_scene, set_arm_pose
 
 CAMERA_AZIMUTH_DEG = 135.0

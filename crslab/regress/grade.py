@@ -23,7 +23,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TextIO
+from typing import Protocol, TextIO
 
 from crslab.executors.job import Executor
 from crslab.executors.local import DEFAULT_TIMEOUT_S
@@ -232,18 +232,28 @@ def read_submission(path: Path) -> bytes:
     return path.read_bytes()
 
 
+class Runner(Protocol):
+    """How a built submission is run instead of to a fixed tick (``grade --contest``: as a contest
+    run, :class:`crslab.regress.contest_grade.ContestRunner`): given its configuration (its build
+    in it) and its text. Picklable: it travels with the job."""
+
+    def __call__(self, config: RunConfig, text: str, deadline_s: float, limits: Limits) -> RunResult:
+        ...
+
+
 def run_one(path: Path, config: RunConfig, end_tick: int, deadline_s: float, limits: Limits,
             source: bytes | None = None, files: tuple[tuple[str, bytes], ...] = (),
-            where: str = "") -> RunResult:
+            where: str = "", runner: Runner | None = None) -> RunResult:
     """Build the lab and run it on ``config``'s scenario with ``config``'s flags (in this process;
     the lab itself runs in a worker process of its own). ``wall_s`` counts the build too.
     ``source``: the submission's text, built from a private copy alone in a folder of its own,
     never the folder it came from; None builds ``path`` where it is (the trusted reference).
     ``files``: the rest of the student's folder (each by its path inside it), copied beside the
-    lab, which goes at ``where`` inside it (default: its name)."""
+    lab, which goes at ``where`` inside it (default: its name). ``runner``: how to run it once built
+    (None: to ``end_tick``)."""
     start = time.monotonic()
     if source is None:
-        return _build_and_run(path, path, config, end_tick, deadline_s, limits, start)
+        return _build_and_run(path, path, config, end_tick, deadline_s, limits, start, runner=runner)
     with tempfile.TemporaryDirectory(prefix="crslab-submission-") as folder:
         for name, data in files:
             copied = Path(folder) / name
@@ -253,7 +263,7 @@ def run_one(path: Path, config: RunConfig, end_tick: int, deadline_s: float, lim
         copy.parent.mkdir(parents=True, exist_ok=True)
         copy.write_bytes(source)
         return _build_and_run(path, copy, config, end_tick, deadline_s, limits, start, alone=not files,
-                              root=Path(folder))
+                              root=Path(folder), runner=runner)
 
 
 def _alone_note(path: Path, diagnostics: str) -> str:
@@ -268,7 +278,8 @@ def _alone_note(path: Path, diagnostics: str) -> str:
 
 
 def _build_and_run(path: Path, source: Path, config: RunConfig, end_tick: int, deadline_s: float,
-                   limits: Limits, start: float, alone: bool = False, root: Path | None = None) -> RunResult:
+                   limits: Limits, start: float, alone: bool = False, root: Path | None = None,
+                   runner: Runner | None = None) -> RunResult:
     from crslab.lab.build import LabBuildError, LabForbidden, build_lab
     from crslab.regress.runner import run_lab
     from crslab.run.board_run import RunError
@@ -298,8 +309,11 @@ def _build_and_run(path: Path, source: Path, config: RunConfig, end_tick: int, d
     except ScenarioError as exc:
         return ended(RunStatus.UNFIT, str(exc))
     try:
-        result = run_lab(dataclasses.replace(config, build=build), end_tick, deadline_s=deadline_s,
-                         limits=limits)
+        built = dataclasses.replace(config, build=build)
+        if runner is None:
+            result = run_lab(built, end_tick, deadline_s=deadline_s, limits=limits)
+        else:
+            result = runner(built, source.read_text(errors="replace"), deadline_s, limits)
     except RunError as exc:
         return ended(exc.status, str(exc))
     return dataclasses.replace(result, lab_file=path, wall_s=time.monotonic() - start, habits=habits)
@@ -321,6 +335,8 @@ class GradeJob:
     """The rest of its student's folder, by path inside it (empty for a lab file graded alone)."""
     where: str = ""
     """The lab's path inside its student's folder (empty: its file's name)."""
+    runner: Runner | None = None
+    """How to run it once built (None: to ``end_tick``)."""
 
     @property
     def name(self) -> str:
@@ -328,10 +344,10 @@ class GradeJob:
 
     def run(self) -> RunResult:
         return run_one(self.path, self.config, self.end_tick, self.deadline_s, self.limits, self.source,
-                       self.files, self.where)
+                       self.files, self.where, self.runner)
 
-    def lost(self, status: RunStatus, message: str) -> RunResult:
-        return RunResult(status, message=message, lab_file=self.path)
+    def lost(self, status: RunStatus, message: str, elapsed_s: float = 0.0) -> RunResult:
+        return RunResult(status, message=message, lab_file=self.path, wall_s=elapsed_s)
 
 
 def run_many(paths: Sequence[Path], config: RunConfig, end_tick: int, *, jobs: int = 1,
@@ -339,15 +355,17 @@ def run_many(paths: Sequence[Path], config: RunConfig, end_tick: int, *, jobs: i
              timeout_s: float = DEFAULT_TIMEOUT_S, private: bool = True,
              on_done: Callable[[RunResult], None] | None = None,
              executor: Executor | None = None,
-             folders: dict[Path, Path] | None = None) -> list[RunResult]:
+             folders: dict[Path, Path] | None = None, runner: Runner | None = None) -> list[RunResult]:
     """Run every lab file in ``paths`` on ``executor`` (default: ``jobs`` local processes at a
     time); results in ``paths`` order, each naming its file (``lab_file``) and how long it took in
     all (``wall_s``). ``private``: each from a private copy of that one file's text (read here, so
     it runs anywhere; see :func:`run_one`), else built where it is (this machine only).
     ``folders``: for a lab that came in a student's folder, that folder (its files come too).
+    ``runner``: how each is run once built (None: to ``end_tick``).
 
     A process that dies without answering counts as crashed; one that takes longer than
-    ``timeout_s`` in all (building included) is killed and counts as hung.
+    ``timeout_s`` in all (building included) is killed and counts as hung, its ``wall_s`` the time
+    it had run.
     """
     from crslab.executors.local import LocalExecutor
 
@@ -356,8 +374,6 @@ def run_many(paths: Sequence[Path], config: RunConfig, end_tick: int, *, jobs: i
     batch: list[tuple[int, GradeJob]] = []
 
     def done(index: int, result: RunResult) -> None:
-        if result.status is RunStatus.TIMEOUT and not result.wall_s:
-            result = dataclasses.replace(result, wall_s=timeout_s)  # stopped once it had run that long
         results[index] = result
         if on_done is not None:
             on_done(result)
@@ -377,7 +393,7 @@ def run_many(paths: Sequence[Path], config: RunConfig, end_tick: int, *, jobs: i
                 why = f"{path.name} cannot be read ({exc.strerror})"
                 done(i, RunResult(RunStatus.BUILD_ERROR, message=why, lab_file=path))
                 continue
-        batch.append((i, GradeJob(path, config, end_tick, deadline_s, limits, source, files, where)))
+        batch.append((i, GradeJob(path, config, end_tick, deadline_s, limits, source, files, where, runner)))
     executor.run([job for _, job in batch], lambda k, result: done(batch[k][0], result))
     return [results[i] for i in range(len(paths))]
 

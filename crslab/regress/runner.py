@@ -12,7 +12,7 @@ from crslab.run.assemble import run_kept
 from crslab.run.board_run import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
 from crslab.run.status import RunResult
 from crslab.worker.config import RunConfig
-from crslab.world.layout import WORLD_NAMES
+from crslab.world import WORLD_NAMES
 
 
 def run_lab(config: RunConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEADLINE_S,

@@ -43,7 +43,7 @@ MAGIC = b"# crslab transcript"
 DEFAULT_PLANT = "default"
 """A golden header's ``plant`` for crslab's own arm."""
 DEFAULT_WORLD = "none"
-"""A golden header's ``world`` for free air (crslab.world.layout.DEFAULT_WORLD)."""
+"""A golden header's ``world`` for free air (world ``none``)."""
 HEADER_END = b"# ----\n"
 
 

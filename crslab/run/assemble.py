@@ -35,9 +35,11 @@ from crslab.sinks.memory import MemorySink
 from crslab.sinks.sink import FanOut, Sink
 from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
-from crslab.world.layout import FREE_AIR, World, load_world
+from crslab.world import FREE_AIR, World, load_world
 
 DEFAULT_REST_MOTOR_RAD = REST_MOTOR_RAD
+IN_A_WORLD_SCENARIO = "hands_off"
+"""The scenario of a run in a world with fixtures when none is named: nobody touches the arm."""
 
 __all__ = ["DEFAULT_DEADLINE_S", "DEFAULT_REST_MOTOR_RAD", "NO_LIMITS", "Limits", "NoLab", "make_config",
            "run_kept", "started"]
@@ -72,7 +74,9 @@ def make_config(
 ) -> RunConfig:
     """Build the lab (cached) and load the scenario into one run's configuration.
 
-    The arm's true resting pose is ``rest_motor_rad``, else the scenario's, else the default.
+    The scenario is ``scenario`` (a name, a file or a loaded one); None: the tour, or in a world
+    with fixtures :data:`IN_A_WORLD_SCENARIO` (nobody touches the arm). The arm's true resting pose
+    is ``rest_motor_rad``, else the scenario's, else the default.
     ``budget`` is what one lab() call may cost (WebAssembly instructions); ``native`` builds the
     lab with the host's compiler instead of as WebAssembly. ``sandbox``: True requires the sandbox,
     False turns it off, None (default) uses it when
@@ -80,7 +84,7 @@ def make_config(
     ``piccolo``; None takes the lab's generation's (Gen A: none, Gen B: piccolo). ``debug`` and
     ``break_when`` build the lab for a debugger (:func:`crslab.lab.build.build_lab`). ``plant`` is
     the arm's plant parameters or a plant file (``crslab identify`` writes one); None: crslab's arm.
-    ``world`` is what the arm can touch: a :class:`~crslab.world.layout.World`, a built-in world's
+    ``world`` is what the arm can touch: a :class:`~crslab.world.World`, a built-in world's
     name (``none``, ``contest``) or a world file; None: free air (``none``). ``build``: the lab
     already built (then ``lab`` and the build options are not used again).
     Raises ``ScenarioError`` when the scenario writes a variable the lab does not watch,
@@ -93,6 +97,8 @@ def make_config(
         plant = PlantParams.defaults()
     elif not isinstance(plant, PlantParams):
         plant = PlantParams.load(plant)
+    if scenario is None and not _free_air(world):
+        scenario = IN_A_WORLD_SCENARIO  # the tour's hand would drag the arm through the fixtures
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     rest = tuple(float(v) for v in (rest_motor_rad or sc.rest_motor_rad or DEFAULT_REST_MOTOR_RAD))
     if world is None:
@@ -117,6 +123,17 @@ def make_config(
         plant=plant,
         world=world,
     )
+
+
+def _free_air(world: World | str | Path | None) -> bool:
+    """Whether ``world`` is free air (None, ``none``, or a world without fixtures).
+
+    >>> _free_air(None), _free_air("none"), _free_air("contest")
+    (True, True, False)
+    """
+    if isinstance(world, World):
+        return world.is_free_air
+    return world is None or str(world) == FREE_AIR.name
 
 
 @contextmanager

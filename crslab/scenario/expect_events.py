@@ -69,7 +69,7 @@ class Observation:
     """The watched variable the expectation names (None when it names none)."""
     world: Mapping[str, float] | None = None
     """The world's quantities of the last step (``egg_force``, ``scale_g``, ``egg_broken``,
-    ``peg_depth``, ``hole_force``...; crslab.worker.main.WORLD_COLUMNS); None in free air."""
+    ``peg_depth``, ``hole_force``...; crslab.world.world_facts.WORLD_COLUMNS); None in free air."""
 
 
 def _joints_text(joints: tuple[int, ...], what: str) -> str:

@@ -49,11 +49,11 @@ def _wxyz_to_xyzw(q: np.ndarray) -> np.ndarray:
 
 class ArmModel:
     """The CRS arm's MuJoCo model, read for drawing (a private MjData: nothing is simulated); with
-    a world (:class:`crslab.world.layout.World`), its scene: the peg and the fixtures too (a
+    a world (:class:`crslab.world.World`), its scene: the peg and the fixtures too (a
     fixture is a body that never moves). Geoms drawn invisible (the arm's collision capsules) are
     left out.
 
-    >>> from crslab.world.layout import load_world
+    >>> from crslab.world import load_world
     >>> [b.name for b in ArmModel(load_world("contest")).moving][3:]
     ['peg', 'table', 'hole', 'obstacle', 'groove', 'egg', 'scale', 'stands']
     """
@@ -61,7 +61,7 @@ class ArmModel:
     def __init__(self, world: object | None = None) -> None:
         import mujoco
 
-        from crslab.world.layout import FREE_AIR
+        from crslab.world import FREE_AIR
         from crslab.world.scene import load_scene
 
         self._mj = mujoco

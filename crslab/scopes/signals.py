@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from crslab.framework_facts import SIMULINK_PERIOD_MS, SIMULINK_SCALE
+from crslab.world.world_facts import COLUMNS as WORLD_ROW
 
 SIMULINK_PERIOD_TICKS = SIMULINK_PERIOD_MS
 """The board sends the four ``Simulink_PlotVar`` to Simulink every 5 ms (docs/framework.md section 8), as
@@ -81,24 +82,22 @@ SIGNALS: tuple[Signal, ...] = (
 """Every signal, in CSV column order (after ``tick`` and ``t [s]``)."""
 
 WORLD = Group("world", "world contacts", "N")
-PEG_TIP = Group("peg_tip", "peg tip", "m")
+PEG_TIP = Group("peg_tip", "peg tip, its depth in the hole and its place in the groove", "m")
 SCALE = Group("scale", "the egg's scale", "g")
 EGG = Group("egg", "the egg", "0/1")
-WORLD_GROUPS: tuple[Group, ...] = (WORLD, PEG_TIP, SCALE, EGG)
-WORLD_SIGNALS: tuple[Signal, ...] = (
-    *(Signal(f"peg_tip_{a}", "peg_tip", j, PEG_TIP) for j, a in enumerate("xyz")),
-    Signal("egg_force", "egg_force", 0, WORLD),
-    Signal("scale_g", "scale_g", 0, SCALE),
-    Signal("egg_broken", "egg_broken", 0, EGG),
-    Signal("hole_force", "hole_force", 0, WORLD),
-    Signal("obstacle_force", "obstacle_force", 0, WORLD),
-    Signal("groove_side_force", "groove_side_force", 0, WORLD),
-    Signal("groove_force", "groove_force", 0, WORLD),
-    Signal("table_force", "table_force", 0, WORLD),
-)
-"""What a world with fixtures adds to the scope log (docs/worlds.md): the peg's tip, the force
-the arm presses on each fixture, the scale's grams and whether the egg broke. A free-air run
-(world ``none``) has none of these columns."""
+_WORLD_UNIT_GROUPS = {g.unit: g for g in (
+    WORLD, PEG_TIP, SCALE, EGG,
+    Group("egg_touch", "how fast the peg came down onto the egg", "m/s", always=False),
+    Group("egg_break", "what broke the egg (1 the press, 2 a side hit, 3 a fall)", "code", always=False),
+    Group("groove_segment", "the groove's segment nearest the peg", "index", always=False))}
+WORLD_GROUPS: tuple[Group, ...] = tuple(_WORLD_UNIT_GROUPS.values())
+WORLD_SIGNALS: tuple[Signal, ...] = tuple(
+    Signal(c.name if c.width == 1 else f"{c.name}_{'xyz'[j]}", c.name, j, _WORLD_UNIT_GROUPS[c.unit])
+    for c in WORLD_ROW for j in range(c.width))
+"""What a world with fixtures adds to the scope log (docs/worlds.md): the world row's columns, as C
+names them (:data:`crslab.world.world_facts.COLUMNS`): the peg's tip and depth, the force the
+arm presses on each fixture, the scale's grams, the egg's break, the peg's place in the groove. A
+free-air run (world ``none``) has none of these columns."""
 
 
 def signals_of(log: dict[str, np.ndarray] | None) -> tuple[Signal, ...]:
@@ -106,7 +105,7 @@ def signals_of(log: dict[str, np.ndarray] | None) -> tuple[Signal, ...]:
     world's columns.
 
     >>> len(signals_of({})), len(signals_of({"egg_force": np.zeros((0, 1))})) - len(SIGNALS)
-    (26, 11)
+    (26, 23)
     """
     return SIGNALS + WORLD_SIGNALS if log is not None and "egg_force" in log else SIGNALS
 

@@ -23,6 +23,7 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 from urllib.parse import urlparse
 
 from starlette.applications import Starlette
@@ -41,6 +42,9 @@ from crslab.serve.page_messages import ProtocolError, parse_message
 from crslab.serve.page_sessions import LimitError, PageSession, Sessions
 from crslab.serve.run_host import DOWNLOADS
 from crslab.starters import LABS, starter_text
+
+if TYPE_CHECKING:
+    import numpy as np
 
 STATIC = Path(__file__).parent / "static"
 COOKIE = "crslab_session"
@@ -227,7 +231,7 @@ class CrsServer:
         return JSONResponse(self._scenarios)
 
     async def arm(self, request: Request) -> Response:
-        from crslab.world.layout import WORLD_NAMES
+        from crslab.world import WORLD_NAMES
 
         world = request.query_params.get("world", "none")
         if world not in WORLD_NAMES:
@@ -237,7 +241,7 @@ class CrsServer:
         return JSONResponse(self._arm[world], headers={"Cache-Control": "max-age=3600"})
 
     async def worlds(self, request: Request) -> Response:
-        from crslab.world.layout import WORLD_NAMES, load_world
+        from crslab.world import WORLD_NAMES, load_world
 
         described = {"none": "free air (no fixtures)",
                      "contest": "the final project: peg and hole, obstacle, groove, egg on a scale"}
@@ -407,13 +411,15 @@ def arm_shapes(world: str = "none") -> dict:
     parent, its frame in the parent's (metres; quaternions ``x y z w``), its hinge (axis and anchor
     in its own frame, and which DH angle turns it: ``q``; the peg's wrist, held at minus the sum of
     two, has ``minus_sum``) and its shapes in its frame; in a ``world`` (a built-in's name) its
-    fixtures too, which never move (only the arm's links are ``moving``: a hand may drag them)."""
+    fixtures too, which never move (only the arm's links are ``moving``: a hand may drag them), and
+    the ``view`` that frames them (:func:`fixtures_view`; None in free air)."""
     from crslab.plant.model import LINK_BODIES
     from crslab.scopes.arm3d import ArmModel
-    from crslab.world.layout import load_world
+    from crslab.world import load_world
     from crslab.world.scene import WRIST_JOINT
 
-    arm = ArmModel(load_world(world))
+    loaded = load_world(world)
+    arm = ArmModel(loaded)
     m = arm.model
     shapes = {b.id: b.shapes for b in arm.bodies}
     out = []
@@ -450,7 +456,57 @@ def arm_shapes(world: str = "none") -> dict:
                 ],
             }
         )
-    return {"bodies": out}
+    return {"bodies": out, "view": fixtures_view(loaded)}
+
+
+VIEW_FOV_DEG = 40.0
+"""The page's camera's vertical field of view (arm3d.js's PerspectiveCamera)."""
+VIEW_PHI, VIEW_THETA = 1.15, 0.9
+"""The page's camera's direction: three.js's spherical angles from its y axis (MuJoCo's z, up)
+and about it (arm3d.js turns them into MuJoCo's frame): from above and in front, to the side."""
+
+
+def fixtures_view(world: object) -> dict | None:
+    """Where the page's camera looks from to frame every fixture of ``world`` (a
+    :class:`~crslab.world.World`; its solids, the table left out) with the arm's base: the
+    middle of their bounding box, at the distance from which the sphere around that box fits the
+    field of view (:data:`VIEW_FOV_DEG`, on a square view, 5 % to spare); None in free air.
+
+    >>> from crslab.world import load_world
+    >>> fixtures_view(load_world("none")) is None
+    True
+    """
+    import math
+
+    import numpy as np
+
+    from crslab.world.layout_checks import fixture_solids
+
+    solids = [shape for _, shape in fixture_solids(world)]  # type: ignore[arg-type]
+    if not solids:
+        return None
+    corners = np.concatenate([solid_corners(s) for s in solids] + [np.zeros((1, 3))])
+    lo, hi = corners.min(axis=0), corners.max(axis=0)
+    radius = float(np.linalg.norm(hi - lo)) / 2
+    distance = 1.05 * radius / math.sin(math.radians(VIEW_FOV_DEG / 2))
+    return {"target": ((lo + hi) / 2).round(4).tolist(), "distance": round(distance, 4), "phi": VIEW_PHI,
+            "theta": VIEW_THETA, "fov_deg": VIEW_FOV_DEG}
+
+
+def solid_corners(shape: object) -> np.ndarray:
+    """The corners (rows, m) of a fixture's solid (:mod:`crslab.world.shapes`): a box's eight, or
+    those of the box around an upright cylinder."""
+    import numpy as np
+
+    from crslab.world.shapes import Box
+
+    z0, z1 = shape.z_range  # type: ignore[attr-defined]
+    if isinstance(shape, Box):
+        xy = shape.corners_xy()
+    else:
+        (x, y), r = shape.center_xy, shape.radius  # type: ignore[attr-defined]
+        xy = np.array([[x - r, y - r], [x + r, y - r], [x + r, y + r], [x - r, y + r]])
+    return np.array([[*p, z] for p in xy for z in (z0, z1)])
 
 
 def make_app(settings: ServeSettings, sessions: Sessions,

@@ -8,7 +8,10 @@ Every message is one JSON object with a ``type``. The browser sends:
                ``speed`` (1, 2, 10, ... or null: as fast as possible), ``offsets`` ([O2, O3] rad or
                null), ``no_startup_delay``, ``duration`` (simulated s or null), ``record``
                (``{"csv": bool, "rrd": bool}``), ``world`` (a built-in world's name: ``none``, the
-               default, or ``contest``): build, then run, streaming ``chunk`` messages
+               default, or ``contest``), ``contest`` (true: run it as ``crslab contest`` does, in
+               the contest world unless ``world`` names another with fixtures, hands off, resting
+               where the lab's offsets say, until the arm comes to rest unless ``duration``; a
+               ``scorecard`` before ``ended``): build, then run, streaming ``chunk`` messages
 ``stop``       end the run now
 ``speed``      ``speed``: change the pace of the running lab
 ``vars``       ``cmd`` (``list``, ``get``, ``set``), ``name``, ``index``, ``value``: the lab's
@@ -20,10 +23,10 @@ Every message is one JSON object with a ``type``. The browser sends:
                compare with the golden file (the answer is ``checked``)
 =============  =====================================================================================
 
-The server answers with ``hello``, ``building``, ``built``, ``started``, ``chunk``, ``event``, ``ended``,
-``vars``, ``checked`` and ``error`` (docs/serve.md lists their fields). A message that is not one
-of the above, or whose fields are wrong, gets one ``error`` naming the problem, and nothing else
-happens.
+The server answers with ``hello``, ``building``, ``built``, ``started``, ``chunk``, ``event``,
+``scorecard``, ``ended``, ``vars``, ``checked`` and ``error`` (docs/serve.md lists their fields). A
+message that is not one of the above, or whose fields are wrong, gets one ``error`` naming the
+problem, and nothing else happens.
 
 >>> parse_message('{"type": "stop"}')
 {'type': 'stop'}
@@ -44,7 +47,7 @@ import math
 import re
 from typing import Any
 
-from crslab.world.layout import WORLD_NAMES
+from crslab.world import WORLD_NAMES
 
 MAX_MESSAGE_BYTES = 1_000_000
 """The largest message the page may send (a lab file or a golden file with room to spare)."""
@@ -131,7 +134,8 @@ def _only(msg: dict, allowed: set[str]) -> None:
 
 
 def _run(msg: dict) -> dict:
-    _only(msg, {"lab", "scenario", "speed", "offsets", "no_startup_delay", "duration", "record", "world"})
+    _only(msg, {"lab", "scenario", "speed", "offsets", "no_startup_delay", "duration", "record", "world",
+                "contest"})
     out: dict[str, Any] = {"type": "run", "lab": file_field(msg.get("lab"), "lab", (".c", ".cpp"))}
     scenario = msg.get("scenario", {"name": "tour"})
     if not isinstance(scenario, dict) or len(scenario) != 1 or not ({"name", "file"} & set(scenario)):
@@ -176,6 +180,10 @@ def _run(msg: dict) -> dict:
     if world not in WORLD_NAMES:
         raise ProtocolError(f"world: must be one of {', '.join(WORLD_NAMES)}")
     out["world"] = world
+    contest = msg.get("contest", False)
+    if not isinstance(contest, bool):
+        raise ProtocolError("contest: must be true or false")
+    out["contest"] = contest
     return out
 
 

@@ -30,6 +30,9 @@ from multiprocessing.connection import Connection
 from pathlib import Path
 
 from crslab import os_support
+from crslab.contest.motion import LONGEST_S
+from crslab.contest.offsets import contest_rest
+from crslab.contest.run import CONTEST_SCENARIO, CONTEST_WORLD, contest_config
 from crslab.lab.build import LabBuild, LabBuildError, LabForbidden, build_lab
 from crslab.lab.firmware import is_zig_prepared, prepare_zig
 from crslab.plant.plant_params import PlantParamsError
@@ -176,6 +179,11 @@ class Session:
             scenario["name"] if "name" in scenario else str(self._write("scenario", scenario["file"]))
         )
         rest = (DEFAULT_REST_MOTOR_RAD[0], *msg["offsets"]) if msg["offsets"] else None
+        contest = contest_rest(msg["lab"]["text"], msg["offsets"]) if msg["contest"] else None
+        world = msg["world"]
+        if contest is not None:  # as crslab contest runs it: hands off, resting where the lab says
+            scenario_arg, rest = CONTEST_SCENARIO, contest.motor_rad
+            world = CONTEST_WORLD if world == "none" else world
         record = msg["record"]
         try:
             config = make_config(
@@ -185,9 +193,11 @@ class Session:
                 rest_motor_rad=rest,
                 log=True,
                 sandbox=self.limits.sandboxed,
-                world=msg["world"],
+                world=world,
                 build=build,
             )
+            if contest is not None:
+                config = contest_config(config, contest)
         except (LabBuildError, ScenarioError, PlantParamsError, ValueError) as exc:
             # what crslab sim turns into one line and exit status 2 (bad input): nothing ran
             line = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
@@ -195,6 +205,9 @@ class Session:
             self.send(ended, RUN_ENDED)
             return
         end_tick = seconds_to_tick(msg["duration"]) if msg["duration"] else config.scenario.end_tick
+        until_still = contest is not None and not msg["duration"]
+        if until_still:
+            end_tick = seconds_to_tick(LONGEST_S)
         notes = []
         if end_tick > seconds_to_tick(self.limits.max_run_s):
             end_tick = seconds_to_tick(self.limits.max_run_s)
@@ -202,7 +215,8 @@ class Session:
         compile_module(config)
         self.hand_over(HostedRun(config, end_tick, msg["speed"], msg.get("phase", 0.0), tuple(notes),
                                  self.folder.resolve(), record_csv=record["csv"], record_rrd=record["rrd"],
-                                 output_bytes=int(self.limits.output_mb * 1e6)))
+                                 output_bytes=int(self.limits.output_mb * 1e6), contest=contest,
+                                 until_still=until_still))
 
     def hand_over(self, run: HostedRun) -> None:
         """The prepared run, for the server to hand to a run host (:mod:`crslab.serve.run_host`),
@@ -215,7 +229,7 @@ class Session:
         from crslab.regress.compare import compare
         from crslab.regress.runner import run_lab
         from crslab.regress.transcript import GoldenError, read_golden, recorded_run, split_lines
-        from crslab.world.layout import WORLD_NAMES
+        from crslab.world import WORLD_NAMES
 
         lab = self._write_lab(msg["lab"])
         golden_path = self._write("golden", msg["golden"])

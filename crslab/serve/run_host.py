@@ -38,6 +38,9 @@ from multiprocessing.connection import Connection
 from pathlib import Path
 
 from crslab import os_support
+from crslab.contest.offsets import Rest
+from crslab.contest.page_card import ContestCardSink
+from crslab.contest.run import MotionWatch
 from crslab.framework_facts import TICKS_PER_S
 from crslab.live.console import VarConsole
 from crslab.run.assemble import NoLab
@@ -53,7 +56,7 @@ from crslab.sinks.page_stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream,
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
 from crslab.worker.config import RunConfig
-from crslab.world.layout import World
+from crslab.world import World
 
 SEND_BUFFER_BYTES = 4 << 20
 """The host's side of its pipe to the server buffers this much (as far as the system allows)."""
@@ -86,6 +89,10 @@ class HostedRun:
     record_csv: bool = False
     record_rrd: bool = False
     output_bytes: int = 16 * 1024 * 1024
+    contest: Rest | None = None
+    """A contest run (the page's ``contest``), resting there: it sends its scorecard before
+    ``ended`` (crslab/contest/) and, ``until_still``, ends once the arm's motion has."""
+    until_still: bool = False
 
 
 class HostedSession:
@@ -102,6 +109,8 @@ class HostedSession:
         self.out = FanOut()
         self.notes = list(run.notes)
         self.due_s = 0.0
+        self.motion: MotionWatch | None = None
+        """A contest run's watch on the arm's motion (it ends the run once the motion has)."""
 
     def send(self, data: bytes, tag: bytes = wire.FORWARD) -> None:
         """A message for the page (no server path in it: :mod:`crslab.serve.page_text`)."""
@@ -128,6 +137,12 @@ class HostedSession:
         stream = BrowserStream(self.send, self.host.arm_in(config.world), world=not config.world.is_free_air)
         self.out.add(stream)
         self.out.add(TranscriptSink(out_dir / DOWNLOADS["transcript"]))
+        if run.until_still:
+            self.motion = MotionWatch(config.startup_ticks)
+            self.out.add(self.motion)
+        if run.contest is not None:
+            self.out.add(ContestCardSink(self.send, config.world, run.contest, config.startup_ticks,
+                                         config.budget_instructions))
         if run.record_csv or run.record_rrd:
             from crslab.sinks.rerun_writer import RecorderSink
 
@@ -139,9 +154,12 @@ class HostedSession:
         self.control = PageControl(self.send, stream, VarConsole(config.build.watched), pacer, self._busy)
         self.chunked = self.sim.start(run.end_tick, self.out, pacer, [self.control])
         events = [{"tick": e.tick, "text": e.describe()} for e in config.scenario.events]
+        contest = None if run.contest is None else {"band_g": list(config.world.contest.band_g),
+                                                    "rest_motor_rad": list(run.contest.motor_rad),
+                                                    "rest": run.contest.line()}
         self.send(message("started", end_tick=run.end_tick, scenario=config.scenario.name, speed=run.speed,
                           events=events, notes=self.notes, due_monotonic=pacer.wall0,
-                          watched=[v.name for v in config.build.watched]), wire.RUN_STARTED)
+                          watched=[v.name for v in config.build.watched], contest=contest), wire.RUN_STARTED)
         self.due_s = pacer.due_s(0) - LEAD_S
         return True
 
@@ -169,8 +187,8 @@ class HostedSession:
         still be running the host's other chunks); how the run ended, or None."""
         assert self.chunked is not None and self.sim is not None
         ending = self.chunked.took(reply, serve=False)  # type: ignore[arg-type]
-        if ending is None and self.chunked.done:
-            ending = Ending(RunStatus.OK, self.sim.tick)
+        if ending is None and (self.chunked.done or (self.motion is not None and self.motion.ended)):
+            ending = Ending(RunStatus.OK, self.sim.tick)  # (a contest run: the arm has come to rest)
         return ending
 
     def after(self, ending: Ending | None) -> bool:

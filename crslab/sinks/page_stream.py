@@ -48,6 +48,9 @@ SCOPE_SIGNALS = (
     "tau3_applied",
 )
 """The scope columns of a chunk, in order (float32 each, one row per :data:`SCOPE_EVERY_TICKS`)."""
+WORLD_SCOPE_SIGNALS = ("scale_g",)
+"""In a world with fixtures, the columns after :data:`SCOPE_SIGNALS`: the egg's force as its scale
+shows it (g), the contest's band drawn over it on the page."""
 
 Send = Callable[[bytes], None]
 """Where a page's messages go."""
@@ -138,7 +141,8 @@ class BrowserStream(Sink):
         log = _scope_rows(self.blocks) if self.blocks else None
         if log is not None:
             self.pose.on_log(log)
-            parts += [b', "frames": ', self._frames(log), b', "scope": ', self._scope(log)]
+            parts += [b', "frames": ', self._frames(log), b', "scope": ',
+                      self._scope(log, self.world and "scale_g" in log)]
         sent = round(time.monotonic(), 4)  # the machine's monotonic clock: where lag arises
         parts.append(b', "first": %d, "tick": %d, "sent": %s}' % (self.first_tick, tick,
                                                                   json.dumps(sent).encode()))
@@ -164,13 +168,17 @@ class BrowserStream(Sink):
         return packed_rows(np.concatenate(columns, axis=1, dtype="<f8")[keep])
 
     @staticmethod
-    def _scope(log: dict[str, np.ndarray]) -> bytes:
+    def _scope(log: dict[str, np.ndarray], world: bool = False) -> bytes:
         """The chunk's ``scope`` field, as JSON: ``{"tick0": ..., "every": ..., "rows": ...,
-        "data": "<base64>"}`` (row ``i`` is tick ``tick0 + i * every``)."""
-        rows = np.concatenate([log["plot"], log["enc_rad"], log["tau_lab"], log["tau_applied"]], axis=1)
+        "columns": ..., "data": "<base64>"}`` (row ``i`` is tick ``tick0 + i * every``; its columns
+        :data:`SCOPE_SIGNALS`, and in a ``world`` with fixtures :data:`WORLD_SCOPE_SIGNALS`)."""
+        parts = [log["plot"], log["enc_rad"], log["tau_lab"], log["tau_applied"]]
+        if world:
+            parts += [np.asarray(log[n]).reshape(len(log["tick"]), -1)[:, :1] for n in WORLD_SCOPE_SIGNALS]
+        rows = np.concatenate(parts, axis=1)
         data = base64.b64encode(rows.astype("<f4").tobytes())
-        return b'{"tick0": %d, "every": %d, "rows": %d, "data": "%s"}' % (
-            int(log["tick"][0, 0]), SCOPE_EVERY_TICKS, len(rows), data)
+        return b'{"tick0": %d, "every": %d, "rows": %d, "columns": %d, "data": "%s"}' % (
+            int(log["tick"][0, 0]), SCOPE_EVERY_TICKS, len(rows), rows.shape[1], data)
 
 
 def packed_rows(rows: np.ndarray) -> bytes:

@@ -57,7 +57,7 @@ from crslab.scopes.signals import (
 )
 from crslab.serial_lines import SerialLines
 from crslab.sinks.sink import Sink
-from crslab.world.layout import World
+from crslab.world import World
 
 TIMELINE = "sim_time"
 FLUSH_TIMEOUT_S = 10.0

@@ -49,7 +49,7 @@ from typing import TYPE_CHECKING, BinaryIO
 from crslab.sinks.sink import Sink, SinkError, forwarding
 
 if TYPE_CHECKING:  # not imported at run time: the writer is forked before numpy is loaded
-    from crslab.world.layout import World
+    from crslab.world import World
 
 CLOSE_TIMEOUT_S = 120.0
 """How long :meth:`WriterSink.close` waits for the writer to finish its files before ending it."""

@@ -101,7 +101,7 @@ class SweepJob:
     def name(self) -> str:
         return f"sample {self.sample}"
 
-    def lost(self, status: RunStatus, message: str) -> Row:
+    def lost(self, status: RunStatus, message: str, elapsed_s: float = 0.0) -> Row:
         return self.spec.row(self.sample, self.values, status, message)
 
     def run(self) -> Row:

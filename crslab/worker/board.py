@@ -50,8 +50,9 @@ from crslab.worker.wasm_runtime import (
     unsealed_compiled_removed,
     wasmtime_library,
 )
-from crslab.world.layout import World, peg_depth_m
+from crslab.world import World
 from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
+from crslab.world.world_facts import WORLD_COLUMNS, WORLD_ROW_WIDTH
 
 LOG_ROWS = 2000  # rows per scope-log block
 
@@ -61,13 +62,6 @@ _LOG_COLUMNS = {  # name: (width, dtype)
     "leds": (1, np.uint32), "motor_board_off": (1, np.int32), "qpos_dh_rad": (3, np.float64),
     "ee": (3, np.float64), "push_force": (3, np.float64),
 }
-WORLD_COLUMNS = {  # the C log's "world" row (csrc/plant/world.h CRS_WORLD_ROW_*), split by name: width
-    "peg_tip": 3, "egg_force": 1, "scale_g": 1, "egg_broken": 1, "hole_force": 1, "obstacle_force": 1,
-    "groove_side_force": 1, "groove_force": 1, "table_force": 1,
-}
-"""The scope log's world columns (docs/worlds.md), in a run whose world has fixtures."""
-STANDARD_GRAVITY = 9.80665
-"""What a scale divides a force by to show grams (m/s^2): scales are calibrated to it."""
 _C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
 
 
@@ -80,14 +74,15 @@ def counter_names(ffi: FFI) -> list[str]:
 
 
 def split_world_row(row: object) -> dict:
-    """The world's row (``CRS_WORLD_ROW`` values, or rows of them) split into named columns.
+    """The world's row (``CRS_WORLD_ROW`` values, or rows of them) split into named columns
+    (:data:`crslab.world.world_facts.WORLD_COLUMNS`, C's order).
 
-    >>> split_world_row(np.arange(11.0))["scale_g"], split_world_row(np.zeros((2, 11)))["peg_tip"].shape
-    (array([4.]), (2, 3))
+    >>> split_world_row(np.arange(23.0))["scale_g"], split_world_row(np.zeros((2, 23)))["peg_tip"].shape
+    (array([8.]), (2, 3))
     """
     a = np.asarray(row, dtype=float)
     flat = a.ndim == 1
-    a = a.reshape(-1, sum(WORLD_COLUMNS.values()))
+    a = a.reshape(-1, WORLD_ROW_WIDTH)
     out, i = {}, 0
     for name, width in WORLD_COLUMNS.items():
         out[name] = a[0, i:i + width] if flat else a[:, i:i + width].copy()
@@ -95,38 +90,43 @@ def split_world_row(row: object) -> dict:
     return out
 
 
-def attach_world(ffi: FFI, w: object, model: object, data: object, world: World) -> list[object]:
-    """Set the C world ``w`` (a ``crs_world *``; csrc/plant/world.h) for ``world``'s compiled scene
-    ``model`` and its ``data``: the sensors' places in ``data.sensordata``, the egg's breaking force
-    and geom, the groove's corners. Returns what must stay alive as long as ``w`` is used."""
-    if world.is_free_air:
-        return []
-    keep: list[object] = [model, data]
+def world_config(ffi: FFI, model: object, data: object, world: World) -> tuple[object, list[object]]:
+    """The C world's configuration (a ``crs_world_config *``; csrc/plant/world.h) for ``world``'s
+    compiled scene ``model`` and its ``data``: the sensors' places in ``data.sensordata``, the
+    hole, the groove's centre line, the egg's breaking force and geom. Returns it and what must
+    stay alive as long as it is used."""
+    config = ffi.new("crs_world_config *")
+    keep: list[object] = [model, data, config]
 
     def ptr(ctype: str, arr: np.ndarray, offset: int = 0) -> object:
         keep.append(arr)
         return ffi.cast(ctype, arr.ctypes.data) + offset
 
-    w.enabled = 1  # type: ignore[attr-defined]
-    w.sensordata = ptr("double *", data.sensordata)  # type: ignore[attr-defined]
+    c = config
+    c.sensordata = ptr("double *", data.sensordata)  # type: ignore[attr-defined]
+    c.peg_tip_adr = -1
     names = [model.sensor(i).name for i in range(model.nsensor)]  # type: ignore[attr-defined]
     if PEG_TIP_SITE in names:
-        w.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])  # type: ignore[attr-defined]
+        c.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])  # type: ignore[attr-defined]
     for i, fixture in enumerate(FIXTURE_SENSORS):
-        if f"{fixture}_force" in names:
-            w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")])  # type: ignore[attr-defined]
-    w.gravity_m_s2 = STANDARD_GRAVITY  # type: ignore[attr-defined]
+        found = f"{fixture}_force" in names
+        c.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")]) if found else -1  # type: ignore[attr-defined]
+    c.timestep_s = float(model.opt.timestep)  # type: ignore[attr-defined]
+    if (h := world.hole) is not None:
+        c.has_hole = 1
+        c.hole_xy_m = list(h.center_xy_m)
+        c.hole_top_z_m, c.hole_radius_m = h.top_z_m, h.diameter_m / 2
     if world.groove is not None:
-        for i, (x, y) in enumerate(world.groove.corners_xy_m):
-            w.groove_xy_m[2 * i], w.groove_xy_m[2 * i + 1] = x, y  # type: ignore[attr-defined]
+        c.has_groove = 1
+        c.groove_xy_m = [v for corner in world.groove.corners_xy_m for v in corner]
     if world.egg is not None:
-        w.breaking_force_n = world.egg.breaking_force_n  # type: ignore[attr-defined]
+        c.breaking_force_n = world.egg.breaking_force_n
         egg = model.geom("egg").id  # type: ignore[attr-defined]
-        w.egg_contype = ptr("int32_t *", model.geom_contype, egg)  # type: ignore[attr-defined]
-        w.egg_conaffinity = ptr("int32_t *", model.geom_conaffinity, egg)  # type: ignore[attr-defined]
-        w.egg_size_m = ptr("double *", model.geom_size, 3 * egg)  # type: ignore[attr-defined]
-        w.egg_pos_m = ptr("double *", model.geom_pos, 3 * egg)  # type: ignore[attr-defined]
-    return keep
+        c.egg_contype = ptr("int32_t *", model.geom_contype, egg)  # type: ignore[attr-defined]
+        c.egg_conaffinity = ptr("int32_t *", model.geom_conaffinity, egg)  # type: ignore[attr-defined]
+        c.egg_size_m = ptr("double *", model.geom_size, 3 * egg)  # type: ignore[attr-defined]
+        c.egg_pos_m = ptr("double *", model.geom_pos, 3 * egg)  # type: ignore[attr-defined]
+    return config, keep
 
 
 def plant_model(config: RunConfig) -> object:
@@ -216,17 +216,20 @@ class Board:
         self.log_blocks: list[dict[str, np.ndarray]] = []
         self._columns = dict(_LOG_COLUMNS)
         if sim.world.enabled:
-            self._columns["world"] = (sum(WORLD_COLUMNS.values()), np.float64)
+            self._columns["world"] = (WORLD_ROW_WIDTH, np.float64)
         if config.log_signals:
             self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in self._columns.items()}
             log = {k: self._ptr(_C_TYPE[self._columns[k][1]], arr) for k, arr in self._log_arrays.items()}
             self.lib.crs_board_attach_log(sim, ffi.new("crs_log *", {"capacity": LOG_ROWS, **log}))
 
     def _set_world(self, world: World) -> None:
-        """Point the board's world (csrc/plant/world.h) at the scene's sensors and the egg's geom."""
-        fixtures = self.ffi.new("crs_world *")
-        self._keep += attach_world(self.ffi, fixtures, self.model, self.data, world)
-        self.lib.crs_board_attach_world(self.sim, fixtures)
+        """Configure the board's world (csrc/plant/world.h) with the scene's sensors and the egg's
+        geom; world ``none`` leaves it off."""
+        if world.is_free_air:
+            return
+        config, keep = world_config(self.ffi, self.model, self.data, world)
+        self._keep += keep
+        self.lib.crs_board_attach_world(self.sim, config)
 
     def board_event(self, fields: dict) -> None:
         """Have the board apply one ``crs_board_event`` (csrc/board/board_config.h) now."""
@@ -234,22 +237,19 @@ class Board:
             raise ValueError(f"the board knows no event of kind {fields.get('kind')}")
 
     def world_values(self) -> dict[str, float] | None:
-        """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...),
-        and ``peg_depth``: how far the peg's tip is below the hole's top while inside its radius (m,
-        else 0). None in a world without fixtures."""
+        """The world's quantities of the last step, by name (the peg tip's as ``peg_tip_x`` ...;
+        every column of :data:`~crslab.world.world_facts.WORLD_COLUMNS`). None in a world without
+        fixtures."""
         w = self.sim.world
         if not w.enabled:
             return None
         values = {}
-        row = [float(w.row[i]) for i in range(sum(WORLD_COLUMNS.values()))]
+        row = [float(w.state.row[i]) for i in range(WORLD_ROW_WIDTH)]
         for name, value in split_world_row(row).items():
             if len(value) == 3:
                 values.update({f"{name}_{a}": float(v) for a, v in zip("xyz", value)})
             else:
                 values[name] = float(value[0])
-        values["peg_depth"] = peg_depth_m(self.config.world, (values.get("peg_tip_x", 0.0),
-                                                               values.get("peg_tip_y", 0.0),
-                                                               values.get("peg_tip_z", 0.0)))
         return values
 
     def _new_sim(self, config: RunConfig, block: object) -> object:

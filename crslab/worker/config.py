@@ -9,7 +9,7 @@ from crslab.lab.build import LabBuild
 from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.plant.plant_params import PlantParams
 from crslab.scenario.load import Scenario
-from crslab.world.layout import FREE_AIR, World
+from crslab.world import FREE_AIR, World
 
 
 @dataclass(frozen=True)

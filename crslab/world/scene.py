@@ -4,14 +4,18 @@ disagree. docs/worlds.md says why each contact parameter is what it is.
 
 - World ``none`` is the arm's scene file itself (``models/crs_arm/scene.xml``), untouched: the
   same physics, bit for bit, as before worlds existed.
-- Any other world: the arm, plus the peg on a wrist joint at the end-effector point (an equality
-  keeps it vertical: the forearm's absolute angle plus the wrist's is constant, as a parallel
-  link would), collision capsules on the upper arm and forearm (they touch the obstacle only),
-  and each fixture as a static body of boxes (the hole block: a ring of staves around a 16-sided
-  hole, a ring of inclined boxes for the chamfer; the groove plate: a floor and walls along the
-  Z; the egg: an ellipsoid on a box scale), each with a force sensor, and a site at the peg's tip.
+- Any other world: the arm, raised by :attr:`~crslab.world.fixtures.World.arm_raised_m` (the
+  world file's frame is the lab's: the course's forward kinematics names the peg's tip, and the
+  wrist is that far above it); the peg and its gripper hanging from a wrist joint at the forearm's
+  end (an equality keeps them vertical: the forearm's absolute angle plus the wrist's is
+  constant, as a parallel link would); collision capsules on the upper arm and the forearm (each
+  touches the obstacle only, through a copy of the obstacle of its own: collision bits); and each
+  fixture as a static body of boxes and cylinders (:func:`crslab.world.layout_checks.fixture_solids`;
+  the hole block: a ring of staves around a 16-sided hole, a ring of inclined boxes for the
+  chamfer), each with a force sensor (:data:`crslab.world.world_facts.FIXTURES`), and a site at the
+  peg's tip.
 
->>> from crslab.world.layout import load_world
+>>> from crslab.world.world_file import load_world
 >>> model = load_scene(load_world("contest"))
 >>> model.nq, model.nu, model.joint(3).name
 (4, 3, 'peg_wrist')
@@ -30,7 +34,10 @@ import numpy as np
 
 from crslab import crs
 from crslab.plant.model_files import ARM_XML, SCENE_XML
-from crslab.world.layout import World, stands
+from crslab.world.fixtures import World
+from crslab.world.layout_checks import fixture_solids
+from crslab.world.shapes import Box, Cylinder, Shape
+from crslab.world.world_facts import FIXTURES, OBSTACLE_BODIES, flatten_egg_geom
 
 WRIST_JOINT = "peg_wrist"
 """The peg's wrist joint (world scenes only): kept at minus the forearm's absolute angle."""
@@ -38,11 +45,19 @@ PEG_BODY, PEG_TIP_SITE = "peg", "peg_tip"
 HOLE_STAVES = 16
 """Sides of the polygon that stands for the round hole (its faces lie 0.2 % of the radius inside
 the circle through its corners)."""
-FIXTURE_SENSORS = ("table", "hole", "obstacle", "groove", "egg", "scale")
-"""The bodies with a force sensor, in sensor order after the peg tip's position."""
-FIXTURE_AFFINITY, ARM_LINK_TYPE = 1, 2
-"""Collision bits: the peg (contype 1) touches every fixture; the arm's links (contype 2) only the
-obstacle, whose conaffinity has both bits."""
+FIXTURE_SENSORS = FIXTURES
+"""The bodies with a force sensor, in sensor order after the peg tip's position (C's order)."""
+PEG_TYPE, FOREARM_TYPE, UPPER_ARM_TYPE = 1, 2, 4
+"""Collision bits: the peg and its gripper (contype 1) touch every fixture; the forearm (2) and
+the upper arm (4) only the obstacle's copy that has their bit."""
+OBSTACLE_COPIES = {
+    OBSTACLE_BODIES["peg"]: PEG_TYPE,
+    OBSTACLE_BODIES["forearm"]: FOREARM_TYPE,
+    OBSTACLE_BODIES["upper_arm"]: UPPER_ARM_TYPE,
+}
+"""The obstacle's three bodies, at one place, each touched by one part of the arm: each one's force
+sensor says what that part presses on it (only the first is drawn)."""
+ARM_COLLISION = {"upper_arm_link": UPPER_ARM_TYPE, "forearm_link": FOREARM_TYPE}
 EGG_IMPEDANCE = 0.99
 
 
@@ -72,7 +87,7 @@ class _Materials:
             "solref": _f(c.rigid_timeconst_s, 1.0),
             "solimp": _f(d, d, 0.001, 0.5, 2),
             "contype": "0",
-            "conaffinity": str(FIXTURE_AFFINITY),
+            "conaffinity": str(PEG_TYPE),
         }
         self.egg = dict(
             self.rigid, solref=_f(*egg_solref), solimp=_f(EGG_IMPEDANCE, EGG_IMPEDANCE, 0.001, 0.5, 2)
@@ -94,6 +109,32 @@ def _box(
     )
 
 
+def _solid(body: ET.Element, shape: Shape, attrs: dict, rgba: str) -> None:
+    """A geom for one of :func:`fixture_solids`' shapes (world coordinates: the body sits at 0)."""
+    if isinstance(shape, Box):
+        axes = (
+            math.cos(shape.yaw_rad),
+            math.sin(shape.yaw_rad),
+            0.0,
+            -math.sin(shape.yaw_rad),
+            math.cos(shape.yaw_rad),
+            0.0,
+        )
+        _box(body, shape.name, shape.center, shape.half, attrs, rgba, axes if shape.yaw_rad else None)
+    else:
+        assert isinstance(shape, Cylinder)
+        ET.SubElement(
+            body,
+            "geom",
+            name=shape.name,
+            type="cylinder",
+            pos=_f(*shape.center_xy, (shape.z_lo + shape.z_hi) / 2),
+            size=_f(shape.radius, (shape.z_hi - shape.z_lo) / 2),
+            rgba=rgba,
+            **attrs,
+        )
+
+
 WOOD, STEEL, EGG, SCALE = "0.72 0.55 0.36 1", "0.55 0.57 0.6 1", "0.96 0.91 0.80 1", "0.3 0.3 0.32 1"
 
 
@@ -102,8 +143,8 @@ def _hole_block(parent: ET.Element, world: World, mat: _Materials) -> None:
     assert h is not None
     cx, cy = h.center_xy_m
     top, r, c = h.top_z_m, h.diameter_m / 2, h.chamfer_m
-    bx, by, bz = (s / 2 for s in h.block_size_m)
-    bottom, floor = top - 2 * bz, top - h.depth_m
+    bx, by = (s / 2 for s in h.block_size_xy_m)
+    bottom, floor = world.floor_z_m, top - h.depth_m
     body = _body(parent, "hole", pos=_f(cx, cy, 0.0))
     _site(body, "hole_site")
     a = mat.rigid
@@ -162,114 +203,64 @@ def _hole_block(parent: ET.Element, world: World, mat: _Materials) -> None:
         )
 
 
-def _offset_polyline(points: np.ndarray, offset: float) -> np.ndarray:
-    """The polyline ``points`` shifted ``offset`` to its left, corners mitred."""
-    d = np.diff(points, axis=0)
-    u = d / np.linalg.norm(d, axis=1)[:, None]
-    left = np.stack([-u[:, 1], u[:, 0]], axis=1)
-    out = [points[0] + offset * left[0]]
-    for i in range(1, len(points) - 1):
-        bis = left[i - 1] + left[i]
-        bis = bis / np.linalg.norm(bis)
-        out.append(points[i] + bis * offset / float(bis @ left[i]))
-    out.append(points[-1] + offset * left[-1])
-    return np.array(out)
-
-
-def _groove_plate(parent: ET.Element, world: World, mat: _Materials) -> None:
-    g = world.groove
-    assert g is not None
-    px, py = g.plate_center_xy_m
-    sx, sy, sz = (s / 2 for s in g.plate_size_m)
-    top, floor, w = g.top_z_m, g.top_z_m - g.depth_m, g.width_m
-    body = _body(parent, "groove", pos=_f(px, py, 0.0))
-    _site(body, "groove_site")
-    a = mat.rigid
-    bottom = top - 2 * sz
-    _box(body, "groove_floor", (0, 0, (bottom + floor) / 2), (sx, sy, (floor - bottom) / 2), a, STEEL)
-    corners = np.asarray(g.corners_xy_m) - (px, py)
-    # thin walls: at the Z's sharp corners (over 90 degrees) a wall's box, running from the inner
-    # corner's mitre point, sticks out of its side into the other leg's channel as far as it is
-    # thick; 3 mm keeps every wall more than the peg's radius from the centre line (12 mm walls
-    # stood 3.4 mm from it, and a peg following the groove jammed on them)
-    thick, zc, zh = 0.003, (floor + top) / 2, (top - floor) / 2
-    # each wall runs on past the Z's two ends to the caps' outer faces (w / 2 + thick beyond the
-    # end): the channel is closed there, no gap between a wall's end and a cap for the peg to enter
-    ends = np.array(corners)
-    for a_, b_ in ((0, 1), (-1, -2)):
-        ends[a_] = corners[a_] + (corners[a_] - corners[b_]) / np.linalg.norm(corners[a_] - corners[b_]) * (
-            w / 2 + thick)
-    for side, sign in (("left", 1.0), ("right", -1.0)):
-        line = _offset_polyline(ends, sign * w / 2)
-        for i in range(3):
-            p, q = line[i], line[i + 1]
-            u = (q - p) / np.linalg.norm(q - p)
-            out = sign * np.array([-u[1], u[0]])  # away from the channel
-            mid = (p + q) / 2 + out * thick / 2
-            _box(
+def _fixture_bodies(worldbody: ET.Element, world: World, mat: _Materials) -> None:
+    """The obstacle (three copies), the groove plate and its stands, the egg, the scale and its stand,
+    from :func:`fixture_solids`."""
+    solids = fixture_solids(world)
+    if (o := world.obstacle) is not None:
+        post = next(s for t, s in solids if t == "obstacle")
+        top = (*o.center_xy_m, o.top_z_m)
+        for name, bit in OBSTACLE_COPIES.items():
+            body = _body(worldbody, name)
+            _site(body, f"{name}_site", top)
+            drawn = name == OBSTACLE_BODIES["peg"]
+            _solid(
                 body,
-                f"groove_wall_{side}{i}",
-                (mid[0], mid[1], zc),
-                (float(np.linalg.norm(q - p)) / 2, thick / 2, zh),
-                a,
-                STEEL,
-                (u[0], u[1], 0.0, -u[1], u[0], 0.0),
+                Box(post.center, post.half, 0.0, name if drawn else f"{name}_copy"),  # type: ignore[union-attr]
+                dict(mat.rigid, conaffinity=str(bit), group="0" if drawn else "3"),
+                "0.75 0.25 0.2 1" if drawn else "0 0 0 0",
             )
-    for name, end, nxt in (
-        ("groove_cap_in", corners[0], corners[1]),
-        ("groove_cap_out", corners[3], corners[2]),
-    ):
-        u = (end - nxt) / np.linalg.norm(end - nxt)  # out of the channel, past its end
-        mid = end + u * (w / 2 + thick / 2)
-        _box(
-            body,
-            name,
-            (mid[0], mid[1], zc),
-            (thick / 2, w / 2 + thick, zh),
-            a,
-            STEEL,
-            (u[0], u[1], 0.0, -u[1], u[0], 0.0),
+    if (g := world.groove) is not None:
+        body = _body(worldbody, "groove")
+        _site(body, "groove_site", (*g.corners_xy_m[0], g.top_z_m))
+        for table, shape in solids:
+            if table == "groove":
+                _solid(body, shape, mat.rigid, WOOD if "stand" in shape.name else STEEL)
+    if (e := world.egg) is not None:
+        egg = _body(worldbody, "egg", pos=_f(*e.center_xy_m, 0.0))
+        _site(egg, "egg_site")
+        ET.SubElement(
+            egg,
+            "geom",
+            name="egg",
+            type="ellipsoid",
+            pos=_f(0, 0, e.top_z_m - e.height_m / 2),
+            size=_f(e.diameter_m / 2, e.diameter_m / 2, e.height_m / 2),
+            rgba=EGG,
+            **mat.egg,
         )
-
-
-def _egg_and_scale(parent: ET.Element, world: World, mat: _Materials) -> None:
-    e = world.egg
-    assert e is not None
-    ex, ey = e.center_xy_m
-    egg = _body(parent, "egg", pos=_f(ex, ey, 0.0))
-    _site(egg, "egg_site")
-    ET.SubElement(
-        egg,
-        "geom",
-        name="egg",
-        type="ellipsoid",
-        pos=_f(0, 0, e.top_z_m - e.height_m / 2),
-        size=_f(e.diameter_m / 2, e.diameter_m / 2, e.height_m / 2),
-        rgba=EGG,
-        **mat.egg,
-    )
-    scale = _body(parent, "scale", pos=_f(ex, ey, 0.0))
-    _site(scale, "scale_site")
-    sx, sy, sz = (s / 2 for s in e.scale_size_m)
-    _box(scale, "scale", (0, 0, e.scale_top_z_m - sz), (sx, sy, sz), mat.rigid, SCALE)
-
-
-def _stands(parent: ET.Element, world: World, mat: _Materials) -> None:
-    body = _body(parent, "stands")
-    for stand in stands(world).values():
-        _box(body, stand.name, stand.center_m, np.asarray(stand.size_m) / 2, mat.rigid, WOOD)
+        scale = _body(worldbody, "scale")
+        _site(scale, "scale_site", (*e.center_xy_m, e.scale_top_z_m))
+        stands = None
+        for table, shape in solids:
+            if table == "egg" and shape.name == "scale":
+                _solid(scale, shape, mat.rigid, SCALE)
+            elif table == "egg" and shape.name == "scale_stand":
+                stands = stands if stands is not None else _body(worldbody, "stands")
+                _solid(stands, shape, mat.rigid, WOOD)
 
 
 def _peg(forearm: ET.Element, world: World) -> None:
-    """The peg on its wrist at the end-effector point, in the forearm's frame: at DH zero (the
-    frame the wrist's angle 0 is defined in) its axis is the world's vertical."""
+    """The peg and its gripper on the wrist at the forearm's end, in the forearm's frame: at DH zero
+    (the frame the wrist's angle 0 is defined in) their axis is the world's vertical, the tip
+    ``wrist_above_tip_m`` below the wrist."""
     p = world.peg
     assert p is not None
     ee = np.array([crs.FOREARM_IN * crs.M_PER_IN, 0.0, 0.0])
     rot = crs.fk_pose_dh(np.zeros(3))[:3, :3]  # the forearm's frame at DH zero, in the world
     up = rot.T @ np.array([0.0, 0.0, 1.0])
-    tip = rot.T @ np.asarray(p.tip_offset_m)
-    r, length = p.diameter_m / 2, p.length_m
+    tip = -up * p.wrist_above_tip_m
+    r, length, rg = p.diameter_m / 2, p.length_m, p.gripper_diameter_m / 2
     body = _body(forearm, PEG_BODY, pos=_f(*ee))
     ET.SubElement(
         body,
@@ -281,7 +272,8 @@ def _peg(forearm: ET.Element, world: World) -> None:
         frictionloss="0",
         armature="0.001",
     )
-    # a solid cylinder: inertia about its centre, axis along "up"
+    # a solid cylinder (the peg; the gripper's mass is the forearm's): inertia about its centre,
+    # axis along "up"
     axial, across = p.mass_kg * r * r / 2, p.mass_kg * (3 * r * r + length * length) / 12
     com = tip + up * length / 2
     ET.SubElement(
@@ -295,6 +287,7 @@ def _peg(forearm: ET.Element, world: World) -> None:
             ]
         ),
     )
+    collides = {"contype": str(PEG_TYPE), "conaffinity": "0", "group": "1"}
     ET.SubElement(
         body,
         "geom",
@@ -303,19 +296,28 @@ def _peg(forearm: ET.Element, world: World) -> None:
         fromto=_f(*(tip + up * r), *(tip + up * (length - r))),
         size=_f(r),
         rgba=STEEL,
-        contype="1",
-        conaffinity="0",
-        group="1",
+        **collides,
+    )
+    # the gripper: from the peg's top up to the wrist (its lower end's round sits on the peg's top)
+    ET.SubElement(
+        body,
+        "geom",
+        name="gripper",
+        type="capsule",
+        fromto=_f(*(tip + up * (length + rg)), 0.0, 0.0, 0.0),
+        size=_f(rg),
+        rgba="0.25 0.25 0.28 1",
+        **collides,
     )
     ET.SubElement(body, "site", name=PEG_TIP_SITE, pos=_f(*tip), size="0.003", group="4")
 
 
 def _arm_collision(root: ET.Element) -> None:
-    """Collision capsules on the upper arm and the forearm, as their visual capsules: they touch the
-    obstacle only (collision bits), never the fixtures the peg works in."""
+    """Collision capsules on the upper arm and the forearm, as their visual capsules: each touches its
+    own copy of the obstacle only (collision bits), never the fixtures the peg works in."""
     for body in root.iter("body"):
         for g in list(body.findall("geom")):
-            if g.get("name") in ("upper_arm_link", "forearm_link"):
+            if (bit := ARM_COLLISION.get(g.get("name", ""))) is not None:
                 body.append(
                     ET.Element(
                         "geom",
@@ -324,11 +326,24 @@ def _arm_collision(root: ET.Element) -> None:
                         fromto=g.get("fromto"),
                         size=g.get("size"),
                         group="3",
-                        contype=str(ARM_LINK_TYPE),
+                        contype=str(bit),
                         conaffinity="0",
                         rgba="0 0 0 0",
                     )
                 )
+
+
+def _raise_arm(root: ET.Element, raised_m: float) -> None:
+    """Stand the arm ``raised_m`` higher: its pedestal and its waist (and everything on it)."""
+    worldbody = root.find("worldbody")
+    assert worldbody is not None
+    for child in worldbody:
+        if child.tag == "geom" and child.get("name") == "pedestal":
+            a = [float(v) for v in (child.get("fromto") or "").split()]
+            child.set("fromto", _f(a[0], a[1], a[2] + raised_m, a[3], a[4], a[5] + raised_m))
+        elif child.tag == "body" and child.get("name") == "waist":
+            pos = [float(v) for v in child.get("pos", "0 0 0").split()]
+            child.set("pos", _f(pos[0], pos[1], pos[2] + raised_m))
 
 
 def _world_root(world: World, egg_solref: tuple[float, float]) -> ET.Element:
@@ -337,6 +352,7 @@ def _world_root(world: World, egg_solref: tuple[float, float]) -> ET.Element:
     root = ET.Element("mujoco", model=f"crs_arm in world {world.name}")
     for child in arm:
         root.append(copy.deepcopy(child))
+    _raise_arm(root, world.arm_raised_m)
     worldbody = root.find("worldbody")
     assert worldbody is not None
     for child in scene:
@@ -387,23 +403,7 @@ def _world_root(world: World, egg_solref: tuple[float, float]) -> ET.Element:
         )
     if world.hole is not None:
         _hole_block(worldbody, world, mat)
-    if (o := world.obstacle) is not None:
-        body = _body(worldbody, "obstacle")
-        _site(body, "obstacle_site", o.center_m)
-        _box(
-            body,
-            "obstacle",
-            o.center_m,
-            np.asarray(o.size_m) / 2,
-            dict(mat.rigid, conaffinity=str(FIXTURE_AFFINITY | ARM_LINK_TYPE)),
-            "0.75 0.25 0.2 1",
-        )
-    if world.groove is not None:
-        _groove_plate(worldbody, world, mat)
-    if world.egg is not None:
-        _egg_and_scale(worldbody, world, mat)
-    if world.groove is not None or world.egg is not None:
-        _stands(worldbody, world, mat)
+    _fixture_bodies(worldbody, world, mat)
     sensor = ET.SubElement(root, "sensor")
     if world.peg is not None:
         ET.SubElement(sensor, "framepos", name="peg_tip", objtype="site", objname=PEG_TIP_SITE)
@@ -416,7 +416,8 @@ def _world_root(world: World, egg_solref: tuple[float, float]) -> ET.Element:
 
 def egg_solref(world: World, peg_invweight: float) -> tuple[float, float]:
     """The egg contact's ``solref`` in MuJoCo's direct form ``(-stiffness, -damping)`` that makes it a
-    spring of ``world.egg.stiffness_n_per_m`` N/m against the peg (docs/worlds.md derives it).
+    spring of ``world.egg.stiffness_n_per_m`` N/m (shell and scale in series) against the peg
+    (docs/worlds.md derives it).
 
     At rest a soft contact's force f and penetration r satisfy ``R f = K imp r`` (MuJoCo's
     reference acceleration), with ``R = (1 - imp) / imp * A`` (``A``: the contact's approximate
@@ -460,17 +461,11 @@ def set_arm_pose(model: mujoco.MjModel, data: mujoco.MjData, dh_rad: object) -> 
         data.qpos[model.jnt_qposadr[model.joint(WRIST_JOINT).id]] = -(q[1] + q[2])
 
 
-EGG_FLAT = 0.2
-"""A broken egg keeps this share of its height (csrc/plant/world.c, CRS_EGG_FLAT_PERCENT)."""
-
-
 def flatten_egg(model: mujoco.MjModel) -> None:
     """Draw the egg broken, as the board does when it breaks (csrc/plant/world.c): flat on the scale,
     no longer colliding. Doing it twice changes nothing more."""
     egg = model.geom("egg").id
     if model.geom_conaffinity[egg] == 0:
         return
-    bottom = model.geom_pos[egg][2] - model.geom_size[egg][2]
-    model.geom_size[egg][2] *= EGG_FLAT
-    model.geom_pos[egg][2] = bottom + model.geom_size[egg][2]
+    flatten_egg_geom(model.geom_size[egg], model.geom_pos[egg])
     model.geom_contype[egg] = model.geom_conaffinity[egg] = 0

@@ -73,20 +73,9 @@ void crs_board_attach_memory(crs_board *board, crs_mem_var *vars, uint32_t count
     board->memory.count = count;
 }
 
-void crs_board_attach_world(crs_board *board, const crs_world *world)
+void crs_board_attach_world(crs_board *board, const crs_world_config *config)
 {
-    crs_world *w = &board->world;
-    w->enabled = world->enabled;
-    w->peg_tip_adr = world->peg_tip_adr;
-    memcpy(w->sensor_adr, world->sensor_adr, sizeof w->sensor_adr);
-    w->sensordata = world->sensordata;
-    w->breaking_force_n = world->breaking_force_n;
-    w->gravity_m_s2 = world->gravity_m_s2;
-    memcpy(w->groove_xy_m, world->groove_xy_m, sizeof w->groove_xy_m);
-    w->egg_contype = world->egg_contype;
-    w->egg_conaffinity = world->egg_conaffinity;
-    w->egg_size_m = world->egg_size_m;
-    w->egg_pos_m = world->egg_pos_m;
+    crs_world_attach(&board->world, config);
 }
 
 void crs_board_counters(const crs_board *board, int64_t *out)

@@ -103,8 +103,9 @@ int64_t crs_board_take_log(crs_board *board);
 uint32_t crs_board_take_motor_board_events(crs_board *board);
 /* The lab's variables in C28x memory: `count` entries of `vars` (kept by the caller). */
 void crs_board_attach_memory(crs_board *board, crs_mem_var *vars, uint32_t count);
-/* The world's configuration: the fields of `world` above its state (crs_world, world.h). */
-void crs_board_attach_world(crs_board *board, const crs_world *world);
+/* The world's configuration (world.h): the board's world works out the fixtures' quantities after
+ * every physics step from then on. */
+void crs_board_attach_world(crs_board *board, const crs_world_config *config);
 /* The board's counters now, into out[CRS_COUNTERS] (crs_counter's order): one call, however many. */
 void crs_board_counters(const crs_board *board, int64_t *out);
 /* Apply `event` now (before the tick board->tick runs): 0, or -1 for a kind the board does not know. */

@@ -169,8 +169,8 @@ static int run_ticks(crs_board *board, int64_t until_tick)
             /* the contact forces of the step just taken, logged with the state it started from */
             crs_world_update(&board->world, board->tick);
             if (logged && board->log.world != NULL) {
-                memcpy(&board->log.world[CRS_WORLD_ROW * (board->log.count - 1)], board->world.row,
-                       sizeof board->world.row);
+                memcpy(&board->log.world[CRS_WORLD_ROW * (board->log.count - 1)], board->world.state.row,
+                       sizeof board->world.state.row);
             }
         }
         board->tick++;

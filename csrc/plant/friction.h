@@ -17,7 +17,8 @@
  *
  * It is explicit in time (the speed of the tick, before the step), which is stable while
  * 0.001 s x its steepest slope, |C - S| / w_t + V (N.m s/rad), stays well under twice the motor's
- * inertia (kg.m^2): crslab's arm has at most about 15 N.m s/rad against at least 0.2 kg.m^2. */
+ * inertia (kg.m^2): crslab's arm has at most about 25 N.m s/rad (motor 3 moving negative)
+ * against at least 0.2 kg.m^2. */
 #ifndef CRSLAB_FRICTION_H
 #define CRSLAB_FRICTION_H
 

@@ -19,13 +19,16 @@ import json
 import subprocess
 import sys
 import tempfile
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
+import mujoco
+import numpy as np
 from baselines import build_bare_loop, record_run, run_bare_loop, same_physics
 
 from crslab import crs
 from crslab.run.api import make_config, simulate
-from crslab.world.layout import load_world
+from crslab.world import load_world
 from crslab.world.scene import scene_xml
 
 REPEATS = 3
@@ -81,7 +84,11 @@ def run() -> list[str]:
         touching = (logged["hole_force"][:, 0] > 0) | (logged["groove_force"][:, 0] > 0)
         exe = build_bare_loop(tmp)
         controls = rec.save(tmp / "controls.bin")
-        sims, sims_cpu, bare, bare_cpu = [], [], [], []
+        no_contacts = tmp / "contest_scene_no_contacts.xml"
+        no_contacts.write_text(without_collisions(scene_xml(load_world("contest"))))
+        model = mujoco.MjModel.from_xml_path(str(scene))
+        contacts = contacts_per_step(model, rec)
+        sims, sims_cpu, bare, bare_cpu, free_cpu = [], [], [], [], []
         for _ in range(REPEATS):  # interleaved: both sides see the same machine load
             for _ in range(2):
                 wall, cpu = rates_in_a_new_process(scenario)["wasm"]
@@ -92,6 +99,8 @@ def run() -> list[str]:
             same_physics(rec, loop.qpos_end, loop.qvel_end, "the bare C loop on the contest scene")
             bare += [ticks / s for s in loop.pass_s]
             bare_cpu += [ticks / s for s in loop.cpu_s]
+            no_cd = run_bare_loop(exe, controls, passes=2, model_xml=no_contacts)
+            free_cpu += [ticks / s for s in no_cd.cpu_s]
     sim, c_loop = max(sims), max(bare)
     lines = [
         f"same physics on both sides: Lab 1 in the contest world, {ticks} ticks, a hand pressing the peg "
@@ -109,4 +118,35 @@ def run() -> list[str]:
             f"  by CPU time: crslab's worker {max(sims_cpu):,.0f} ticks/s, the bare loop "
             f"{max(bare_cpu):,.0f} steps/s: ratio {max(sims_cpu) / max(bare_cpu):.2f}"
         )
+    lines.append(
+        f"what contacts cost: the scene has {model.ngeom} geoms; {contacts[0]:.1f} contacts a step on "
+        f"average, {contacts[1]} at most; the bare loop by CPU time with collision detection off "
+        f"{max(free_cpu):,.0f} steps/s: contacts and their constraints take "
+        f"{1 - max(bare_cpu) / max(free_cpu):.0%} of a step in this run"
+    )
     return lines
+
+
+def without_collisions(xml: str) -> str:
+    """The scene with MuJoCo's collision detection off (its option's flag ``contact``)."""
+    root = ET.fromstring(xml)
+    option = root.find("option")
+    assert option is not None
+    flag = option.find("flag")
+    if flag is None:
+        flag = ET.SubElement(option, "flag")
+    flag.set("contact", "disable")
+    return ET.tostring(root, encoding="unicode")
+
+
+def contacts_per_step(model: object, rec: object) -> tuple[float, int]:
+    """The mean and the largest number of contacts per step, replaying the recorded controls."""
+    data = mujoco.MjData(model)
+    data.qpos[:] = rec.qpos0
+    counts = []
+    for ctrl, qfrc in zip(rec.ctrl, rec.qfrc_applied):
+        data.ctrl[:] = ctrl
+        data.qfrc_applied[:] = qfrc
+        mujoco.mj_step(model, data)
+        counts.append(data.ncon)
+    return float(np.mean(counts)), int(max(counts))

@@ -10,7 +10,9 @@ and 23), and a full joint ``crslab identify``.
    recording (start, phase and clock drift fitted, nothing of the plant). Per joint, real beside
    each: RMS and max of (sim - real), 10-90 % rise time, overshoot, steady-state error and peak
    speed of the rising and falling steps, with the targets.
-3. Resting creep: the arm left alone at its resting pose for 10 minutes, in encoder counts.
+3. Resting creep: the arm left alone at its resting pose for 10 minutes, in encoder counts; and the
+   real arm at rest: where the recording's joints held still and slid slowly, with the torque on
+   them (recording_holds.py), beside crslab's static values.
 4. The end mass: gravity against the course's p vector with the end mass over the workspace, and a
    Lab 3 inverse-dynamics lab holding the mass with the course's p vector for it and sagging with
    the bare arm's.
@@ -35,6 +37,7 @@ from real_recording import (
     TARGET_RISE_SHARE,
     TARGET_RMS_RAD,
 )
+from recording_holds import RESOLUTION_NM, levels
 
 from crslab import crs
 from crslab.identify import metrics
@@ -169,6 +172,29 @@ def creep() -> list[str]:
             f"10 minutes (target: under 1): {_ok(worst < 1.0)}"]
 
 
+def at_rest() -> list[str]:
+    """The recording's holds and slow slides per joint, direction and pose, beside crslab's static
+    value (models/crs_arm/README.md, "Friction at rest")."""
+    plant = PlantParams.defaults()
+    found = levels()
+    lines = ["the real arm at rest (recording_holds.py): per joint, direction and pose, the largest torque "
+             "it held still against and the median it slid slowly under (N.m, +- "
+             f"{RESOLUTION_NM:g}), beside crslab's static value"]
+    for lv in found:
+        value = plant.static_pos_nm[lv.joint - 1] if lv.direction > 0 else -plant.static_neg_nm[lv.joint - 1]
+        word = "positive" if lv.direction > 0 else "negative"
+        lines.append(f"  joint {lv.joint} pushed {word} at {lv.pose_rad:+.1f} rad: held {lv.held_nm:.2f} "
+                     f"({lv.holds} holds), slid {lv.slid_nm:.2f} ({lv.slides} slides); crslab {value:.2f}")
+    for joint, direction in sorted({(lv.joint, lv.direction) for lv in found}):
+        held = [lv.held_nm for lv in found if (lv.joint, lv.direction) == (joint, direction)]
+        value = plant.static_pos_nm[joint - 1] if direction > 0 else -plant.static_neg_nm[joint - 1]
+        ok = min(held) - RESOLUTION_NM <= value <= max(held) + RESOLUTION_NM
+        name = "Spos" if direction > 0 else "Sneg"
+        lines.append(f"  joint {joint} {name}: crslab {value:.2f} within the real levels "
+                     f"{min(held):.2f}-{max(held):.2f} (+- {RESOLUTION_NM:g}): {_ok(ok)}")
+    return lines
+
+
 def end_mass() -> list[str]:
     grid = [(0.0, t2, t3) for t2 in np.linspace(-0.7, 1.6, 24) for t3 in np.linspace(-1.9, 1.2, 24)]
     inside = [m for m in grid if not crs.outside_envelope(np.array(m))]
@@ -238,5 +264,5 @@ def joint_identification(src: Source) -> list[str]:
 
 def run() -> list[str]:
     src = source()
-    return friction_table() + recording(src) + creep() + end_mass() + joint_identification(src)
+    return friction_table() + recording(src) + creep() + at_rest() + end_mass() + joint_identification(src)
 

@@ -112,6 +112,7 @@
       case "motor_board":
         queueNote(m.tick, `${at(m.tick)}: motor board ${m.off ? `cut every output (joint ${m.joint})` : "outputs back"}`);
         break;
+      case "scorecard": state.card = m; break; // shown with the run's end (showEnd)
       case "ended": ended(m); break;
       case "vars": varsReply(m); break;
       case "checked":
@@ -150,6 +151,7 @@
       duration: duration > 0 ? duration : null,
       record: { csv: $("record-csv").checked, rrd: $("record-rrd").checked },
       world: $("world").value || "none",
+      contest: $("contest").checked,
     };
   }
   function run() {
@@ -183,12 +185,20 @@
     $("sim-time").textContent = at(0);
     if (state.arm && state.restFrame) state.arm.pose(state.restFrame);
     state.scopes.clear();
+    state.scopes.setBand(null);
+    state.card = null;
+    $("scorecard").textContent = "";
+    $("scorecard-panel").hidden = true;
     ["transcript", "csv", "rrd"].forEach((k) => $(`dl-${k}`).classList.add("disabled"));
   }
   function started(m) {
     diagnose(`running ${state.labName} on ${m.scenario}`);
     for (const e of m.events) if (!e.text.startsWith("expect ")) queueNote(e.tick, `${at(e.tick)}: ${e.text}`);
     for (const n of m.notes) note(n);
+    if (m.contest) { // the contest: where the arm rests, and the egg's band on its scope
+      note(m.contest.rest.replace(/^rest +/, "the arm rests at "));
+      state.scopes.setBand(m.contest.band_g);
+    }
     setWatched(m.watched);
   }
   function ended(m) {
@@ -204,6 +214,11 @@
     if (m.status === "ok") diagnose(`run finished at ${at(m.end_tick)}${notes}`, false);
     else if (m.status === "build-error" && !m.bad_input) { /* the build's own message stays */ }
     else diagnose(`${m.status}: ${m.message}${fails}${notes}`, true);
+    if (state.card) { // the contest's card, once the run's end is shown
+      $("scorecard").textContent = state.card.lines.join("\n");
+      $("scorecard-panel").hidden = false;
+      state.card = null;
+    }
     for (const kind of m.downloads || []) {
       const a = $(`dl-${kind}`);
       a.href = `/api/download/${kind}?session=${encodeURIComponent(state.session)}`;
@@ -397,6 +412,11 @@
     showArm(shapes);
     $("world").onchange = async () => {  // the 3D view draws the chosen world's fixtures
       showArm(await fetch(`/api/arm?world=${encodeURIComponent($("world").value)}`).then((r) => r.json()));
+    };
+    $("contest").onchange = () => { // the contest is run in a world with its fixtures, hands off
+      const contest = $("contest").checked;
+      $("scenario").disabled = contest;
+      if (contest && $("world").value === "none") { $("world").value = "contest"; $("world").onchange(); }
     };
     wire();
     connect();

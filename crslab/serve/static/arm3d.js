@@ -16,6 +16,11 @@ window.CrsArm = (function () {
     this.camera.up.set(0, 0, 1); // MuJoCo's z is up
     this.target = new T.Vector3(0.15, 0, 0.25);
     this.orbit = new T.Spherical(1.6, 1.15, 0.9);
+    if (shapes.view) { // a world's fixtures, all in view (crslab/serve/app.py's fixtures_view)
+      this.target.set(...shapes.view.target);
+      this.orbit = new T.Spherical(shapes.view.distance, shapes.view.phi, shapes.view.theta);
+      this.camera.fov = shapes.view.fov_deg;
+    }
     this.renderer = new T.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
     host.appendChild(this.renderer.domElement);
     this.scene.add(new T.AmbientLight(0xffffff, 0.7));

@@ -1,10 +1,11 @@
 // crslab serve: the scopes. Four panels (Simulink_PlotVar1..4, motor angles, commanded torques, applied
-// torques), a rolling window of simulated time, pause (the window stops following the run) and zoom (the
+// torques), and in a world with fixtures a fifth, the egg's force as its scale shows it (with the contest's
+// band); a rolling window of simulated time, pause (the window stops following the run) and zoom (the
 // wheel widens or narrows the window; with the run paused, shift + wheel moves it in time).
 "use strict";
 
 window.CrsScopes = (function () {
-  const COLUMNS = 13; // the order of crslab/sinks/page_stream.py's SCOPE_SIGNALS
+  const COLUMNS = 13; // the order of crslab/sinks/page_stream.py's SCOPE_SIGNALS (then WORLD_SCOPE_SIGNALS)
   const PANELS = [
     { title: "Simulink_PlotVar1..4", unit: "lab units", cols: [0, 1, 2, 3],
       names: ["PlotVar1", "PlotVar2", "PlotVar3", "PlotVar4"] },
@@ -13,6 +14,8 @@ window.CrsScopes = (function () {
     { title: "torques applied", unit: "command units", cols: [10, 11, 12],
       names: ["tau1 applied", "tau2 applied", "tau3 applied"] },
   ];
+  const EGG_PANEL = { title: "the egg's force, as its scale shows it", unit: "g", cols: [13], names: ["scale"],
+    band: true };
   const COLORS = ["#0b63b6", "#d0531f", "#1e7a34", "#7b3fa0"];
   const MAX_ROWS = 120000; // ten minutes of simulated time at a row every 5 ms
   const TITLE_H = 16; // px: the title's band; the traces are drawn below it
@@ -36,21 +39,36 @@ window.CrsScopes = (function () {
 
   function Scopes(host) {
     this.host = host;
-    this.canvases = PANELS.map((p) => {
-      const c = document.createElement("canvas");
-      c.setAttribute("aria-label", `${p.title} (${p.unit})`);
-      host.appendChild(c);
-      return c;
-    });
+    this.panels = [];
+    this.canvases = [];
+    PANELS.forEach((p) => this.addPanel(p));
+    this.band = null;
     this.clear();
     this.windowS = 5;
     this.paused = false;
     this.endTick = 0;
     this.dirty = true;
-    this.canvases.forEach((c) => c.addEventListener("wheel", (e) => this.wheel(e), { passive: false }));
   }
 
+  Scopes.prototype.addPanel = function (p) {
+    const c = document.createElement("canvas");
+    c.setAttribute("aria-label", `${p.title} (${p.unit})`);
+    if (p === EGG_PANEL) c.dataset.testid = "scope-egg";
+    this.host.appendChild(c);
+    c.addEventListener("wheel", (e) => this.wheel(e), { passive: false });
+    this.panels.push(p);
+    this.canvases.push(c);
+  };
+
+  // The contest's band [low, high] drawn over the egg's scope (null: none).
+  Scopes.prototype.setBand = function (band) { this.band = band; this.dirty = true; };
+
   Scopes.prototype.clear = function () {
+    if (this.panels.length > PANELS.length) { // the egg's panel goes with its run
+      this.canvases.pop().remove();
+      this.panels.pop();
+    }
+    this.columns = COLUMNS;
     this.data = new Float32Array(MAX_ROWS * COLUMNS);
     this.tick0 = 0; // tick of row 0
     this.every = 1; // ticks from one row to the next (the server sends a row every 5 ms)
@@ -64,14 +82,21 @@ window.CrsScopes = (function () {
     const bytes = Uint8Array.from(atob(scope.data), (c) => c.charCodeAt(0));
     const rows = new Float32Array(bytes.buffer);
     const n = scope.rows;
-    if (this.rows === 0) { this.tick0 = scope.tick0; this.every = scope.every || 1; }
+    if (this.rows === 0) {
+      this.tick0 = scope.tick0;
+      this.every = scope.every || 1;
+      const columns = scope.columns || COLUMNS;
+      if (columns !== this.columns) { this.columns = columns; this.data = new Float32Array(MAX_ROWS * columns); }
+      if (columns > COLUMNS && this.panels.length === PANELS.length) this.addPanel(EGG_PANEL);
+    }
+    const width = this.columns;
     if (this.rows + n > MAX_ROWS) { // drop the oldest half
       const keep = Math.floor(MAX_ROWS / 2);
-      this.data.copyWithin(0, (this.rows - keep) * COLUMNS, this.rows * COLUMNS);
+      this.data.copyWithin(0, (this.rows - keep) * width, this.rows * width);
       this.tick0 += (this.rows - keep) * this.every;
       this.rows = keep;
     }
-    this.data.set(rows.subarray(0, n * COLUMNS), this.rows * COLUMNS);
+    this.data.set(rows.subarray(0, n * width), this.rows * width);
     this.rows += n;
     this.dirty = true;
   };
@@ -97,7 +122,7 @@ window.CrsScopes = (function () {
     const span = Math.round(this.windowS * 1000);
     const end = this.endTick;
     const start = end - span;
-    PANELS.forEach((panel, k) => this.drawPanel(this.canvases[k], panel, start, end));
+    this.panels.forEach((panel, k) => this.drawPanel(this.canvases[k], panel, start, end));
   };
 
   Scopes.prototype.drawPanel = function (canvas, panel, start, end) {
@@ -109,10 +134,12 @@ window.CrsScopes = (function () {
     const e = this.every;
     const first = Math.max(0, Math.ceil((start - this.tick0) / e));
     const last = Math.min(this.rows, Math.ceil((end - this.tick0) / e));
-    let lo = Infinity, hi = -Infinity;
+    const width = this.columns;
+    const band = panel.band && this.band ? this.band : null;
+    let lo = band ? band[0] : Infinity, hi = band ? band[1] : -Infinity;
     for (let r = first; r < last; r++) {
       for (const c of panel.cols) {
-        const v = this.data[r * COLUMNS + c];
+        const v = this.data[r * width + c];
         if (v < lo) lo = v;
         if (v > hi) hi = v;
       }
@@ -140,7 +167,7 @@ window.CrsScopes = (function () {
         // min and max of each pixel column, so a spike narrower than a pixel still shows
         let mn = Infinity, mx = -Infinity;
         for (let q = r; q < Math.min(last, r + step); q++) {
-          const v = this.data[q * COLUMNS + c];
+          const v = this.data[q * width + c];
           if (v < mn) mn = v;
           if (v > mx) mx = v;
         }
@@ -150,6 +177,12 @@ window.CrsScopes = (function () {
       }
       g.stroke();
     });
+    if (band) { // the contest's band, dashed
+      g.strokeStyle = "#1e7a34";
+      g.setLineDash([4, 4]);
+      for (const v of band) { g.beginPath(); g.moveTo(left, y(v)); g.lineTo(w, y(v)); g.stroke(); }
+      g.setLineDash([]);
+    }
     g.restore();
     panel.cols.forEach((c, i) => {
       g.fillStyle = COLORS[i];
@@ -157,5 +190,5 @@ window.CrsScopes = (function () {
     });
   };
 
-  return { Scopes, PANELS, shownRange, label, TITLE_H };
+  return { Scopes, PANELS, EGG_PANEL, shownRange, label, TITLE_H };
 })();

@@ -1,0 +1,160 @@
+"""The contest's style labs (tests/labs/contest/, our own, in the course's style: one per way the
+real teams did a task), each on a bench of its own laid out from the teams' spreads (the .toml
+beside it), complete the peg, the obstacle and the groove as that style did on a real bench; and
+variants with the real mistakes teams made still fail the task they break, with the evidence the
+world's row gives (what touched the obstacle, what broke the egg, where the peg stopped).
+
+The egg is not asserted here: with crslab's plant today (issue 37, cause 3) a press at the teams'
+speeds and gains either stops above the egg, held by the joints' static friction, or strikes it
+and is held pressing it at 1.5-2 times the band's top; see docs/worlds.md, "the egg".
+
+Each run is a whole contest run (26 simulated seconds, about 2 s of CPU); they run two at a
+time, once per module, through crslab's Python API (the lab compiled and run in a worker as
+``crslab contest`` runs it), and each is scored by the contest's scorecard."""
+
+from __future__ import annotations
+
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from crslab.contest.scorecard import score
+from crslab.run.api import simulate
+from crslab.world import load_world
+from crslab.world.world_facts import TOUCH_N
+
+CONTEST = Path(__file__).parent / "labs" / "contest"
+DURATION_S = 26.0
+STYLES = (
+    "position_press",
+    "soft_z_press",
+    "force_feedforward",
+    "slanted_groove",
+    "via_post",
+    "insert_10mm",
+    "soft_xy_descent",
+)
+
+
+def mistake(style: str, *swaps: tuple[str, str]) -> tuple[str, str]:
+    """A style lab's text with each (old, new) swapped once (old must be in it once: the test breaks
+    loudly when the lab changes under it)."""
+    text = (CONTEST / f"{style}.c").read_text()
+    for old, new in swaps:
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    return style, text
+
+
+MISTAKES = {
+    # from 3 cm over the hole the target jumps 7 cm down into it at once (no stop 4 mm over it, no
+    # speed): the soft x-y arm swings off the hole's axis on the way and lands on the block
+    "jump_into_hole": mistake(
+        "position_press",
+        ("#define NPOINTS 16", "#define NPOINTS 15"),
+        ("    {HOLE_X, HOLE_Y, HOLE_TOP + 0.004, 0.05, STIFF, 0.2},   /* 4 mm over its top */\n", ""),
+        (
+            "{HOLE_X, HOLE_Y, HOLE_TOP - INSERT, 0.05, SOFTXY, 0.8}",
+            "{HOLE_X, HOLE_Y, HOLE_TOP - INSERT, 40.0, SOFTXY, 0.8}",
+        ),
+    ),
+    # the press's target goes on down 5 cm into the egg
+    "press_never_stops": mistake(
+        "position_press", ("#define PRESS_DEPTH 0.0015", "#define PRESS_DEPTH 0.05")
+    ),
+    # the feedforward's torques from the z column of J, not the z row (J^T F)
+    "column_of_j": mistake(
+        "force_feedforward", ("tau_ff[j] = J[2][j] * -Fpress;", "tau_ff[j] = J[j][2] * -Fpress;")
+    ),
+    # the via point 4 cm below the post's top: through it
+    "through_the_post": mistake(
+        "via_post", ("{POST_X, POST_Y, POST_TOP + 0.010,", "{POST_X, POST_Y, POST_TOP - 0.040,")
+    ),
+}
+
+
+def run(name: str, style: str, text: str, folder: Path) -> tuple[dict, object]:
+    lab = folder / f"{name}.c"
+    lab.write_text(text)
+    world = load_world(CONTEST / f"{style}.toml")
+    result = simulate(lab, "hands_off", world=world, log=True, duration_s=DURATION_S)
+    assert result.ok, result.diagnosis()
+    return result.log, score(result.log, world)
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("styles")
+    jobs = {name: (name, (CONTEST / f"{name}.c").read_text()) for name in STYLES} | MISTAKES
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        futures = {name: pool.submit(run, name, style, text, folder) for name, (style, text) in jobs.items()}
+        return {name: f.result() for name, f in futures.items()}
+
+
+@pytest.mark.parametrize("style", STYLES)
+def test_each_style_completes_the_peg_the_obstacle_and_the_groove_on_its_bench(runs, style):
+    log, card = runs[style]
+    assert card.peg.done and card.obstacle.done and card.groove.done, "\n".join(card.lines())
+    assert not card.obstacle.touched and card.groove.left_at is None
+
+
+def test_the_styles_do_what_they_are_named_for(runs):
+    """The 10 mm insertion is 5-10 mm deep; the via point passes 1 cm over the post; the slanted
+    entry lands on the plate's top before the entrance and slides in; the soft x-y descent, taught
+    5 mm off, ends on the hole's axis."""
+    world = load_world(CONTEST / "insert_10mm.toml")
+    assert 0.005 <= runs["insert_10mm"][1].peg.depth_m <= 0.0105
+    log, card = runs["via_post"]
+    post = load_world(CONTEST / "via_post.toml").obstacle
+    assert card.obstacle.passed == "over" and post.top_z_m < card.obstacle.passed_at[2] < post.top_z_m + 0.02
+    log, card = runs["slanted_groove"]
+    g = load_world(CONTEST / "slanted_groove.toml").groove
+    on_top = (log["groove_force"][:, 0] > TOUCH_N) & (log["peg_tip"][:, 2] > g.top_z_m - 0.002)
+    assert on_top.any()  # it touched down on the plate's top ...
+    assert card.groove.done  # ... and slid into the channel
+    log, card = runs["soft_xy_descent"]
+    hole = load_world(CONTEST / "soft_xy_descent.toml").hole
+    deep = log["peg_depth"][:, 0] > 0.02
+    off_axis = np.hypot(*(log["peg_tip"][deep, :2] - hole.center_xy_m).T)
+    assert deep.any() and off_axis.max() < hole.diameter_m / 2 - world.peg.diameter_m / 2 + 1e-3
+
+
+def test_a_target_that_jumps_into_the_hole_fails_the_peg(runs):
+    """The peg never gets in: it struck the hole block and stopped on its top, off the hole's axis
+    by more than the chamfer can take back."""
+    log, card = runs["jump_into_hole"]
+    assert not card.peg.done and card.peg.depth_m == 0.0, "\n".join(card.lines())
+    hole = load_world(CONTEST / "position_press.toml").hole
+    struck = int(np.argmax(log["hole_force"][:, 0] > TOUCH_N))
+    assert log["hole_force"].max() > 100.0  # it struck the block
+    tip = log["peg_tip"][struck]
+    assert np.hypot(*(tip[:2] - hole.center_xy_m)) > hole.diameter_m / 2 + hole.chamfer_m - 0.005
+    assert tip[2] > hole.top_z_m - 0.001  # on the block's top
+    # the card says where it stopped: off the hole's radius, on the block's top or its countersink
+    assert card.peg.off_axis_m > hole.diameter_m / 2 and card.peg.above_top_m > -hole.chamfer_m
+
+
+def test_a_press_that_never_stops_breaks_the_egg_by_the_press(runs):
+    log, card = runs["press_never_stops"]
+    assert not card.egg.done and card.egg.broken, "\n".join(card.lines())
+    broken_by = log["egg_broken_by"][:, 0]
+    assert broken_by.max() == 1  # the press
+    assert card.egg.broken_by == "the press" and card.egg.peak_before_break_g > 0  # as the card says it
+    k = int(np.argmax(log["egg_broken"][:, 0] > 0))
+    assert (
+        log["egg_force"][:k, 0].max() > 0.5 * load_world(CONTEST / "position_press.toml").egg.breaking_force_n
+    )
+
+
+def test_a_column_of_j_for_j_transpose_f_fails_the_egg(runs):
+    log, card = runs["column_of_j"]
+    assert not card.egg.done, "\n".join(card.lines())
+
+
+def test_a_path_through_the_post_touches_it_with_the_peg(runs):
+    log, card = runs["through_the_post"]
+    assert not card.obstacle.done and card.obstacle.touched, "\n".join(card.lines())
+    assert log["obstacle_peg_force"].max() > TOUCH_N  # the peg ran into it
+    assert "peg" in [t.part for t in card.obstacle.touches]  # and the card names it
