@@ -1,10 +1,8 @@
-"""Helpers that move numpy arrays across the cffi boundary as whole buffers."""
+"""numpy arrays as the C core takes them (crslab/_bindings.py): C-contiguous float64 rows."""
 
 from __future__ import annotations
 
 import numpy as np
-
-from crslab._core import ffi
 
 
 def as_rows(values: object, width: int, name: str) -> np.ndarray:
@@ -17,13 +15,3 @@ def as_rows(values: object, width: int, name: str) -> np.ndarray:
     if arr.ndim == 0 or arr.shape[-1] != width:
         raise ValueError(f"{name} must have shape (..., {width}), got {arr.shape}")
     return arr
-
-
-def dptr(arr: np.ndarray) -> object:
-    """A ``double *`` onto a C-contiguous float64 array (no copy)."""
-    return ffi.cast("double *", ffi.from_buffer(arr))
-
-
-def iptr(arr: np.ndarray) -> object:
-    """An ``int *`` onto a C-contiguous int32 array (no copy)."""
-    return ffi.cast("int *", ffi.from_buffer(arr))

@@ -19,23 +19,24 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from crslab._core import ffi, lib
-from crslab.arrays import as_rows, dptr
+from crslab import _bindings
+from crslab._bindings import constants
+from crslab.arrays import as_rows
 
 STANDARD = "standard"
 MODIFIED = "modified"
-CONVENTIONS = {STANDARD: lib.CHAIN_STANDARD, MODIFIED: lib.CHAIN_MODIFIED}
+CONVENTIONS = {STANDARD: constants.CHAIN_STANDARD, MODIFIED: constants.CHAIN_MODIFIED}
 REVOLUTE = "revolute"
 FIXED = "fixed"
-JOINT_TYPES = {REVOLUTE: lib.CHAIN_REVOLUTE, FIXED: lib.CHAIN_FIXED}
-MAX_ROWS: int = lib.CHAIN_MAX_ROWS
+JOINT_TYPES = {REVOLUTE: constants.CHAIN_REVOLUTE, FIXED: constants.CHAIN_FIXED}
+MAX_ROWS: int = constants.CHAIN_MAX_ROWS
 
 _STATUS_TEXT = {
-    lib.CHAIN_BAD_ROW_COUNT: f"a DH table needs 1 to {lib.CHAIN_MAX_ROWS} rows",
-    lib.CHAIN_BAD_CONVENTION: "unknown DH convention",
-    lib.CHAIN_BAD_JOINT_TYPE: "unknown joint type",
-    lib.CHAIN_NOT_FINITE: "a DH entry, the base or the tool is not a finite number",
-    lib.CHAIN_NULL_TABLE: "a DH column is missing",
+    constants.CHAIN_BAD_ROW_COUNT: f"a DH table needs 1 to {constants.CHAIN_MAX_ROWS} rows",
+    constants.CHAIN_BAD_CONVENTION: "unknown DH convention",
+    constants.CHAIN_BAD_JOINT_TYPE: "unknown joint type",
+    constants.CHAIN_NOT_FINITE: "a DH entry, the base or the tool is not a finite number",
+    constants.CHAIN_NULL_TABLE: "a DH column is missing",
 }
 
 
@@ -100,16 +101,9 @@ class Chain:
         if np.any(self.lower > self.upper):
             j = int(np.flatnonzero(self.lower > self.upper)[0])
             raise ValueError(f"joint {j + 1}: lower limit {self.lower[j]:g} is above upper {self.upper[j]:g}")
-        self._c = ffi.new("dh_chain *")
-        self._c.n_rows = n
-        self._c.convention = CONVENTIONS[convention]
-        self._c.a, self._c.alpha_rad, self._c.d = dptr(self.a), dptr(self.alpha_rad), dptr(self.d)
-        self._c.theta_rad = dptr(self.theta_rad)
-        self._c.joint_type = ffi.cast("int *", ffi.from_buffer(self._types))
-        self._c.base = dptr(self.base) if self.base is not None else ffi.NULL
-        self._c.tool = dptr(self.tool) if self.tool is not None else ffi.NULL
-        status = lib.chain_check(self._c)
-        if status != lib.CHAIN_OK:
+        self._c, status = _bindings.chain_new(CONVENTIONS[convention], self.a, self.alpha_rad, self.d,
+                                              self.theta_rad, self._types, self.base, self.tool)
+        if status != constants.CHAIN_OK:
             raise ValueError(_STATUS_TEXT[status])
 
     def _limit(self, values: Sequence[float] | None, default: float, name: str) -> np.ndarray:
@@ -123,7 +117,7 @@ class Chain:
 
     @property
     def c_chain(self) -> object:
-        """The ``dh_chain *`` for the C core (valid while this object lives)."""
+        """The chain as the C core holds it (crslab/_bindings.py; valid while this object lives)."""
         return self._c
 
     def with_tool(self, tool: object) -> Chain:
@@ -143,14 +137,14 @@ class Chain:
         """End-effector pose (tool applied), shape ``(..., 4, 4)``."""
         q = self._q(q_rad)
         out = np.empty(q.shape[:-1] + (4, 4))
-        lib.chain_fk_batch(self._c, dptr(q), dptr(out), q.size // max(self.n_joints, 1))
+        _bindings.chain_fk(self._c, q, out, q.size // max(self.n_joints, 1))
         return out
 
     def frames(self, q_rad: object) -> np.ndarray:
         """World poses of DH frames 0 (base) to n, then the end effector: ``(..., n + 2, 4, 4)``."""
         q = self._q(q_rad)
         out = np.empty(q.shape[:-1] + (self.n_rows + 2, 4, 4))
-        lib.chain_frames_batch(self._c, dptr(q), dptr(out), q.size // max(self.n_joints, 1))
+        _bindings.chain_frames(self._c, q, out, q.size // max(self.n_joints, 1))
         return out
 
     def points(self, q_rad: object, local_point: object) -> np.ndarray:
@@ -163,7 +157,7 @@ class Chain:
         if local.shape != (self.n_rows, 3):
             raise ValueError(f"local_point must have shape ({self.n_rows}, 3), got {local.shape}")
         out = np.empty(q.shape[:-1] + (self.n_rows, 3))
-        lib.chain_points_batch(self._c, dptr(q), dptr(local), dptr(out), q.size // max(self.n_joints, 1))
+        _bindings.chain_points(self._c, q, local, out, q.size // max(self.n_joints, 1))
         return out
 
     def jacobian(self, q_rad: object) -> np.ndarray:
@@ -173,5 +167,5 @@ class Chain:
         """
         q = self._q(q_rad)
         out = np.empty(q.shape[:-1] + (6, self.n_joints))
-        lib.chain_jacobian_batch(self._c, dptr(q), dptr(out), ffi.NULL, q.size // max(self.n_joints, 1))
+        _bindings.chain_jacobian(self._c, q, out, q.size // max(self.n_joints, 1))
         return out

@@ -20,8 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crslab._core import ffi, lib
-from crslab.arrays import dptr, iptr
+from crslab import _bindings
 from crslab.chain import Chain
 
 
@@ -85,23 +84,19 @@ def ik(
         raise ValueError("max_iterations must be >= 1 and max_restarts >= 0")
     nj = chain.n_joints
     n = int(np.prod(lead, dtype=np.int64))
-    start = ffi.NULL
+    start = None
     if q0 is not None:
-        q0_arr = np.ascontiguousarray(np.broadcast_to(np.asarray(q0, dtype=np.float64), lead + (nj,)))
-        start = dptr(q0_arr)
-    opt = ffi.new("chain_ik_options *")
-    opt.max_iterations = int(max_iterations)
-    opt.max_restarts = int(max_restarts)
-    opt.tolerance = float(tolerance)
-    opt.position_only = 1 if position_only else 0
-    opt.seed = int(seed) & 0xFFFFFFFFFFFFFFFF
+        start = np.ascontiguousarray(np.broadcast_to(np.asarray(q0, dtype=np.float64), lead + (nj,)))
+    options = {"max_iterations": int(max_iterations), "max_restarts": int(max_restarts),
+               "tolerance": float(tolerance), "position_only": 1 if position_only else 0,
+               "seed": int(seed) & 0xFFFFFFFFFFFFFFFF}
     q = np.empty(lead + (nj,))
     success = np.empty(lead, dtype=np.int32)
     iterations = np.empty(lead, dtype=np.int32)
     restarts = np.empty(lead, dtype=np.int32)
     residual = np.empty(lead)
-    lower = dptr(chain.lower) if limits else ffi.NULL
-    upper = dptr(chain.upper) if limits else ffi.NULL
-    lib.chain_ik_batch(chain.c_chain, lower, upper, opt, dptr(poses), start, dptr(q), iptr(success),
-                       iptr(iterations), iptr(restarts), dptr(residual), n)
+    lower, upper = (chain.lower, chain.upper) if limits else (None, None)
+    poses = np.ascontiguousarray(poses, dtype=np.float64)
+    _bindings.chain_ik(chain.c_chain, lower, upper, options, poses, start, q, success, iterations, restarts,
+                       residual, n)
     return IKResult(q, success.astype(bool), iterations, restarts, residual)

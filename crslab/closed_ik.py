@@ -23,14 +23,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crslab._core import ffi, lib
-from crslab.arrays import as_rows, dptr, iptr
+from crslab import _bindings
+from crslab._bindings import constants
+from crslab.arrays import as_rows
 
-OK: int = lib.IK_SLOT_OK
-OUT_OF_LIMITS: int = lib.IK_SLOT_OUT_OF_LIMITS
-UNREACHABLE: int = lib.IK_SLOT_UNREACHABLE
-SINGULAR_BASE: int = lib.IK_SINGULAR_BASE
-SINGULAR_CENTRE: int = lib.IK_SINGULAR_CENTRE
+OK: int = constants.IK_SLOT_OK
+OUT_OF_LIMITS: int = constants.IK_SLOT_OUT_OF_LIMITS
+UNREACHABLE: int = constants.IK_SLOT_UNREACHABLE
+SINGULAR_BASE: int = constants.IK_SINGULAR_BASE
+SINGULAR_CENTRE: int = constants.IK_SINGULAR_CENTRE
 STATUS_TEXT = {OK: "ok", OUT_OF_LIMITS: "outside the joint limits", UNREACHABLE: "out of reach"}
 RRR_SLOTS = ("front, q3 >= 0", "front, q3 <= 0", "back, q3 >= 0", "back, q3 <= 0")
 PLANAR3R_SLOTS = ("q2 >= 0", "q2 <= 0")
@@ -51,19 +52,13 @@ class Solutions:
         return self.status == OK
 
 
-def _limits(lower: object, upper: object) -> tuple[object, object, list[np.ndarray]]:
-    keep = []
-    ptrs = []
-    for values in (lower, upper):
-        if values is None:
-            ptrs.append(ffi.NULL)
-            continue
-        arr = np.ascontiguousarray(values, dtype=np.float64)
-        if arr.shape != (3,):
-            raise ValueError(f"limits need 3 values, got shape {arr.shape}")
-        keep.append(arr)
-        ptrs.append(dptr(arr))
-    return ptrs[0], ptrs[1], keep
+def _limit(values: object) -> np.ndarray | None:
+    if values is None:
+        return None
+    arr = np.ascontiguousarray(values, dtype=np.float64)
+    if arr.shape != (3,):
+        raise ValueError(f"limits need 3 values, got shape {arr.shape}")
+    return arr
 
 
 def _positive(values: object, count: int, name: str) -> np.ndarray:
@@ -78,12 +73,12 @@ def _solve(batch: Callable[..., None], params: np.ndarray, src: np.ndarray, lowe
     """Every target row of ``src`` (``(..., 3)``) through one of the C core's closed-form batch
     solvers (``params``, the limits, the targets in; each slot's joint angles, status and the
     singular flag out)."""
-    lo, hi, _keep = _limits(lower, upper)
+    lo, hi = _limit(lower), _limit(upper)
     lead = src.shape[:-1]
     q = np.empty(lead + (len(slots), 3))
     status = np.empty(lead + (len(slots),), dtype=np.int32)
     singular = np.empty(lead, dtype=np.int32)
-    batch(dptr(params), lo, hi, dptr(src), dptr(q), iptr(status), iptr(singular), src.size // 3)
+    batch(params, lo, hi, src, q, status, singular, src.size // 3)
     return Solutions(q, status, singular, slots)
 
 
@@ -102,7 +97,7 @@ def rrr_ik(dims: object, xyz: object, lower: object = None, upper: object = None
     d = _positive(dims, 4, "dims (d1, a1, a2, a3)")
     if not (d[2] > 0 and d[3] > 0):
         raise ValueError("rrr_ik needs a2 > 0 and a3 > 0")
-    return _solve(lib.rrr_ik_batch, d, as_rows(xyz, 3, "xyz"), lower, upper, RRR_SLOTS)
+    return _solve(_bindings.rrr_ik, d, as_rows(xyz, 3, "xyz"), lower, upper, RRR_SLOTS)
 
 
 def planar3r_ik(links: object, target: object, lower: object = None, upper: object = None) -> Solutions:
@@ -120,4 +115,4 @@ def planar3r_ik(links: object, target: object, lower: object = None, upper: obje
     a = _positive(links, 3, "links (a1, a2, a3)")
     if not (a[0] > 0 and a[1] > 0):
         raise ValueError("planar3r_ik needs a1 > 0 and a2 > 0")
-    return _solve(lib.planar3r_ik_batch, a, as_rows(target, 3, "target"), lower, upper, PLANAR3R_SLOTS)
+    return _solve(_bindings.planar3r_ik, a, as_rows(target, 3, "target"), lower, upper, PLANAR3R_SLOTS)

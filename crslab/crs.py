@@ -17,32 +17,37 @@ array([20.,  0., 10.])
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
-from crslab._core import ffi, lib
-from crslab.arrays import as_rows, dptr, iptr
+from crslab import _bindings
+from crslab._bindings import constants
+from crslab.arrays import as_rows
 
-BASE_HEIGHT_IN: float = lib.CRS_BASE_HEIGHT_IN
+BASE_HEIGHT_IN: float = constants.CRS_BASE_HEIGHT_IN
 """Height of the shoulder axis above the DH base frame (in)."""
-UPPER_ARM_IN: float = lib.CRS_UPPER_ARM_IN
+UPPER_ARM_IN: float = constants.CRS_UPPER_ARM_IN
 """Shoulder axis to elbow axis (in)."""
-FOREARM_IN: float = lib.CRS_FOREARM_IN
+FOREARM_IN: float = constants.CRS_FOREARM_IN
 """Elbow axis to the end-effector point (in)."""
-M_PER_IN: float = lib.CRS_M_PER_IN
+M_PER_IN: float = constants.CRS_M_PER_IN
 """Metres per inch (exact)."""
 
-ENVELOPE_TH1_MAX_RAD: float = lib.CRS_ENVELOPE_TH1_MAX_RAD
+ENVELOPE_TH1_MAX_RAD: float = constants.CRS_ENVELOPE_TH1_MAX_RAD
 """The framework's safety envelope: |th1 DH| at most this (rad), ..."""
-ENVELOPE_TH2_RAD: tuple[float, float] = (lib.CRS_ENVELOPE_TH2_MIN_RAD, lib.CRS_ENVELOPE_TH2_MAX_RAD)
+ENVELOPE_TH2_RAD: tuple[float, float] = (constants.CRS_ENVELOPE_TH2_MIN_RAD,
+                                         constants.CRS_ENVELOPE_TH2_MAX_RAD)
 """... th2 DH within this range (rad), ..."""
-ENVELOPE_TH3_RAD: tuple[float, float] = (lib.CRS_ENVELOPE_TH3_MIN_RAD, lib.CRS_ENVELOPE_TH3_MAX_RAD)
+ENVELOPE_TH3_RAD: tuple[float, float] = (constants.CRS_ENVELOPE_TH3_MIN_RAD,
+                                         constants.CRS_ENVELOPE_TH3_MAX_RAD)
 """... th3 DH within this range (rad), ..."""
-ENVELOPE_Z_MIN_IN: float = lib.CRS_ENVELOPE_Z_MIN_IN
+ENVELOPE_Z_MIN_IN: float = constants.CRS_ENVELOPE_Z_MIN_IN
 """... and the end effector at least this high (in)."""
 
-IK_OK = lib.CRS_IK_OK
-IK_UNREACHABLE = lib.CRS_IK_UNREACHABLE
-IK_SHOULDER = lib.CRS_IK_SHOULDER
+IK_OK = constants.CRS_IK_OK
+IK_UNREACHABLE = constants.CRS_IK_UNREACHABLE
+IK_SHOULDER = constants.CRS_IK_SHOULDER
 IK_STATUS_TEXT = {
     IK_OK: "ok",
     IK_UNREACHABLE: f"out of reach (farther than {UPPER_ARM_IN + FOREARM_IN:g} in from the shoulder)",
@@ -61,10 +66,10 @@ class UnreachableError(ValueError):
         self.status = status
 
 
-def _map3(func: object, values: object, name: str) -> np.ndarray:
+def _map3(func: Callable[[np.ndarray, np.ndarray, int], None], values: object, name: str) -> np.ndarray:
     src = as_rows(values, 3, name)
     out = np.empty_like(src)
-    func(dptr(src), dptr(out), src.size // 3)
+    func(src, out, src.size // 3)
     return out
 
 
@@ -74,7 +79,7 @@ def motor_to_dh(motor_rad: object) -> np.ndarray:
     >>> motor_to_dh([0.0, np.pi / 2, 0.0])
     array([0., 0., 0.])
     """
-    return _map3(lib.crs_motor_to_dh_batch, motor_rad, "motor_rad")
+    return _map3(_bindings.arm_motor_to_dh, motor_rad, "motor_rad")
 
 
 def dh_to_motor(dh_rad: object) -> np.ndarray:
@@ -83,7 +88,7 @@ def dh_to_motor(dh_rad: object) -> np.ndarray:
     >>> np.degrees(dh_to_motor(np.radians([0, -90, 90]))) + 0.0
     array([0., 0., 0.])
     """
-    return _map3(lib.crs_dh_to_motor_batch, dh_rad, "dh_rad")
+    return _map3(_bindings.arm_dh_to_motor, dh_rad, "dh_rad")
 
 
 def fk(motor_rad: object) -> np.ndarray:
@@ -92,7 +97,7 @@ def fk(motor_rad: object) -> np.ndarray:
     >>> np.round(fk(np.radians([0, 0, -90])), 12) + 0.0     # straight up
     array([ 0.,  0., 30.])
     """
-    return _map3(lib.crs_fk_motor_batch, motor_rad, "motor_rad")
+    return _map3(_bindings.arm_fk_motor, motor_rad, "motor_rad")
 
 
 def fk_dh(dh_rad: object) -> np.ndarray:
@@ -101,7 +106,7 @@ def fk_dh(dh_rad: object) -> np.ndarray:
     >>> fk_dh([0.0, 0.0, 0.0])
     array([20.,  0., 10.])
     """
-    return _map3(lib.crs_fk_dh_batch, dh_rad, "dh_rad")
+    return _map3(_bindings.arm_fk_dh, dh_rad, "dh_rad")
 
 
 def fk_pose_dh(dh_rad: object) -> np.ndarray:
@@ -115,20 +120,18 @@ def fk_pose_dh(dh_rad: object) -> np.ndarray:
     src = as_rows(dh_rad, 3, "dh_rad")
     rows = src.reshape(-1, 3)
     out = np.empty((rows.shape[0], 16))
-    pose = ffi.new("double[16]")
     for i, q in enumerate(rows):  # the 4x4 form is for inspection, not for batches
-        lib.crs_fk_pose_dh(dptr(np.ascontiguousarray(q)), pose)
-        out[i] = ffi.unpack(pose, 16)
+        _bindings.arm_fk_pose_dh(np.ascontiguousarray(q), out[i])
     return out.reshape(src.shape[:-1] + (4, 4))
 
 
-def _ik(func: object, xyz_in: object, elbow: str) -> tuple[np.ndarray, np.ndarray]:
+def _ik(func: Callable[..., None], xyz_in: object, elbow: str) -> tuple[np.ndarray, np.ndarray]:
     if elbow not in ("up", "down"):
         raise ValueError(f"elbow must be 'up' or 'down', got {elbow!r}")
     src = as_rows(xyz_in, 3, "xyz_in")
     out = np.empty_like(src)
     status = np.empty(src.shape[:-1], dtype=np.int32)
-    func(dptr(src), 1 if elbow == "up" else 0, dptr(out), iptr(status), src.size // 3)
+    func(src, elbow == "up", out, status, src.size // 3)
     return out, status
 
 
@@ -160,7 +163,7 @@ def ik_with_status(xyz_in: object, elbow: str = "up") -> tuple[np.ndarray, np.nd
     array([[10.,  0., 20.],
            [20.,  0., 10.]])
     """
-    return _ik(lib.crs_ik_motor_batch, xyz_in, elbow)
+    return _ik(_bindings.arm_ik_motor, xyz_in, elbow)
 
 
 def ik(xyz_in: object, elbow: str = "up") -> np.ndarray:
@@ -188,7 +191,7 @@ def ik_dh(xyz_in: object, elbow: str = "up") -> np.ndarray:
     >>> np.degrees(ik_dh([20.0, 0.0, 10.0])) + 0.0
     array([0., 0., 0.])
     """
-    out, status = _ik(lib.crs_ik_dh_batch, xyz_in, elbow)
+    out, status = _ik(_bindings.arm_ik_dh, xyz_in, elbow)
     _raise_if_bad(xyz_in, status)
     return out
 
@@ -201,7 +204,7 @@ def outside_envelope(motor_rad: object) -> np.ndarray:
     """
     src = as_rows(motor_rad, 3, "motor_rad")
     out = np.empty(src.shape[:-1], dtype=np.int32)
-    lib.crs_outside_envelope_motor_batch(dptr(src), iptr(out), src.size // 3)
+    _bindings.arm_outside_envelope(src, out, src.size // 3)
     return out.astype(bool)
 
 
@@ -215,5 +218,5 @@ def jacobian(motor_rad: object) -> np.ndarray:
     """
     src = as_rows(motor_rad, 3, "motor_rad")
     out = np.empty(src.shape[:-1] + (3, 3))
-    lib.crs_jacobian_motor_batch(dptr(src), dptr(out), src.size // 3)
+    _bindings.arm_jacobian_motor(src, out, src.size // 3)
     return out

@@ -21,7 +21,7 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-from crslab._core import ffi, lib
+from crslab._bindings import constants, generation_rows
 from crslab.framework_facts import MOTOR_BOARDS
 
 
@@ -75,36 +75,31 @@ class Generation:
     @property
     def matlab_lock(self) -> bool:
         """Every MATLAB read sets the framework's ``matlabLock`` (a float in ``.my_vars``)."""
-        return bool(self.matlab & lib.CRS_MATLAB_LOCK)
+        return bool(self.matlab & constants.CRS_MATLAB_LOCK)
 
 
-_PRINT_CALLS = {lib.CRS_PRINT_SWI_POST: "SWI_post(&SWI_printf)", lib.CRS_PRINT_UARTPRINT: "UARTprint = 1"}
+_PRINT_CALLS = {constants.CRS_PRINT_SWI_POST: "SWI_post(&SWI_printf)",
+                constants.CRS_PRINT_UARTPRINT: "UARTprint = 1"}
 _BOARD_NAMES = {number: name for name, number in MOTOR_BOARDS.items()}
 
 
-def _text(p: Any) -> str:
-    return ffi.string(p).decode()
-
-
-def _row(r: Any) -> Generation:
+def _row(r: dict[str, Any]) -> Generation:
     return Generation(
-        id=int(r.id), name=_text(r.name), title=_text(r.title), include=_text(r.include),
-        starter_includes=_text(r.starter_includes), formatter=int(r.formatter),
-        print_trigger=int(r.print_trigger), printf_buffer_chars=int(r.printf_buffer_chars),
-        tx_ring_chars=int(r.tx_ring_chars), scib_tx_ring_chars=int(r.scib_tx_ring_chars),
-        scic_tx_ring_chars=int(r.scic_tx_ring_chars), matlab=int(r.matlab),
-        default_motor_board=_BOARD_NAMES[int(r.motor_board)],
-        framework_object=_text(r.framework_object), map_folder=_text(r.map_folder),
-        section_origins={".ebss": int(r.ebss_origin), ".my_vars": int(r.my_vars_origin),
-                         ".my_arrs": int(r.my_arrs_origin)})
+        id=r["id"], name=r["name"], title=r["title"], include=r["include"],
+        starter_includes=r["starter_includes"], formatter=r["formatter"], print_trigger=r["print_trigger"],
+        printf_buffer_chars=r["printf_buffer_chars"], tx_ring_chars=r["tx_ring_chars"],
+        scib_tx_ring_chars=r["scib_tx_ring_chars"], scic_tx_ring_chars=r["scic_tx_ring_chars"],
+        matlab=r["matlab"], default_motor_board=_BOARD_NAMES[r["motor_board"]],
+        framework_object=r["framework_object"], map_folder=r["map_folder"],
+        section_origins={".ebss": r["ebss_origin"], ".my_vars": r["my_vars_origin"],
+                         ".my_arrs": r["my_arrs_origin"]})
 
 
-GENERATIONS: tuple[Generation, ...] = tuple(_row(lib.crs_generation_at(i))
-                                            for i in range(lib.crs_generation_count()))
+GENERATIONS: tuple[Generation, ...] = tuple(_row(r) for r in generation_rows())
 """Every row, in the order the course used them."""
-GEN_A: Generation = next(g for g in GENERATIONS if g.id == lib.CRS_GEN_A)
+GEN_A: Generation = next(g for g in GENERATIONS if g.id == constants.CRS_GEN_A)
 """Gen A, "CRSRobot" (DSP/BIOS): SWI_post(&SWI_printf), the course's small printf."""
-GEN_B: Generation = next(g for g in GENERATIONS if g.id == lib.CRS_GEN_B)
+GEN_B: Generation = next(g for g in GENERATIONS if g.id == constants.CRS_GEN_B)
 """Gen B, "me446 starter" (C2000Ware): UARTprint, TI's rounding vsprintf."""
 NEWEST: Generation = GENERATIONS[-1]
 """The last row: what ``crslab new`` writes unless told otherwise."""

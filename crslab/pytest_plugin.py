@@ -52,7 +52,7 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
     ``GoldenError`` for a malformed one.
     """
     from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
-    from crslab.regress.runner import run_header, run_lab
+    from crslab.regress.runner import run_header
     from crslab.regress.transcript import (
         RecordedRun,
         find_scenario,
@@ -62,6 +62,7 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
         write_golden,
     )
     from crslab.run.api import make_config
+    from crslab.run.assemble import run_kept
     from crslab.run.board_run import DEFAULT_DEADLINE_S
     from crslab.scenario.event import seconds_to_tick
 
@@ -84,7 +85,7 @@ def check_against_golden(lab: str | Path, *, golden: str | Path, scenario: str |
                          rest_motor_rad=options.rest_motor_rad, motor_board=options.motor_board,
                          plant=options.plant, world=options.world)
     end_tick = config.scenario.end_tick if options.duration_s is None else seconds_to_tick(options.duration_s)
-    result = run_lab(config, end_tick, deadline_s=deadline_s or DEFAULT_DEADLINE_S)
+    result = run_kept(config, end_tick, deadline_s=deadline_s or DEFAULT_DEADLINE_S)
     if not result.ok:  # a crash, a hang, a failed expectation of the scenario: never recorded
         raise CrslabCheckFailed(f"{lab_path.name} on {config.scenario.name}: {result.diagnosis()}")
     if record:

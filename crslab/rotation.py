@@ -24,12 +24,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from crslab._core import lib
-from crslab.arrays import as_rows, dptr, iptr
+from crslab import _bindings
+from crslab._bindings import constants
+from crslab.arrays import as_rows
 
-CHECK_TOL: float = lib.ROT_CHECK_TOL
+CHECK_TOL: float = constants.ROT_CHECK_TOL
 """Default tolerance on the entries of ``R R^T - I``."""
-EULER_SINGULAR_COS: float = lib.ROT_EULER_SINGULAR_COS
+EULER_SINGULAR_COS: float = constants.ROT_EULER_SINGULAR_COS
 """``cos(beta)`` below this is gimbal lock (see :func:`matrix_to_euler_zyx`)."""
 
 
@@ -45,11 +46,11 @@ def _matrices(r: object, name: str) -> np.ndarray:
 
 
 def rotation_status(r: object, tol: float = CHECK_TOL) -> tuple[np.ndarray, np.ndarray]:
-    """Per matrix: the C status (``lib.ROT_OK`` ...) and ``max |R R^T - I|``."""
+    """Per matrix: the C status (``ROT_OK`` ...) and ``max |R R^T - I|``."""
     arr = _matrices(r, "R")
     status = np.empty(arr.shape[:-2], dtype=np.int32)
     deviation = np.empty(arr.shape[:-2])
-    lib.rot_check_batch(dptr(arr), float(tol), iptr(status), dptr(deviation), arr.size // 9)
+    _bindings.rotation_check(arr, tol, status, deviation, arr.size // 9)
     return status, deviation
 
 
@@ -67,16 +68,16 @@ def check_rotation(r: object, tol: float = CHECK_TOL) -> np.ndarray:
     """
     arr = _matrices(r, "R")
     status, deviation = rotation_status(arr, tol)
-    bad = np.flatnonzero(status.ravel() != lib.ROT_OK)
+    bad = np.flatnonzero(status.ravel() != constants.ROT_OK)
     if bad.size:
         i = int(bad[0])
         where = f" (matrix {i} of {status.size})" if status.size > 1 else ""
         code = int(status.ravel()[i])
         why = {
-            lib.ROT_NOT_FINITE: "an entry is not a finite number",
-            lib.ROT_NOT_ORTHONORMAL: f"R R^T differs from I by {deviation.ravel()[i]:.3g} "
+            constants.ROT_NOT_FINITE: "an entry is not a finite number",
+            constants.ROT_NOT_ORTHONORMAL: f"R R^T differs from I by {deviation.ravel()[i]:.3g} "
             f"(tolerance {tol:g})",
-            lib.ROT_REFLECTION: "det = -1 (a reflection)",
+            constants.ROT_REFLECTION: "det = -1 (a reflection)",
         }[code]
         raise RotationError(f"not a rotation matrix{where}: {why}")
     return arr
@@ -86,7 +87,7 @@ def euler_zyx_to_matrix(zyx_rad: object) -> np.ndarray:
     """``Rot_z(alpha) Rot_y(beta) Rot_x(gamma)`` for Euler ZYX angles (rad), ``(..., 3, 3)``."""
     src = as_rows(zyx_rad, 3, "zyx_rad")
     out = np.empty(src.shape[:-1] + (3, 3))
-    lib.rot_euler_zyx_to_matrix_batch(dptr(src), dptr(out), src.size // 3)
+    _bindings.rotation_from_euler_zyx(src, out, src.size // 3)
     return out
 
 
@@ -106,7 +107,7 @@ def matrix_to_euler_zyx(r: object, tol: float = CHECK_TOL, *, return_singular: b
     arr = check_rotation(r, tol)
     out = np.empty(arr.shape[:-2] + (3,))
     singular = np.empty(arr.shape[:-2], dtype=np.int32)
-    lib.rot_matrix_to_euler_zyx_batch(dptr(arr), dptr(out), iptr(singular), arr.size // 9)
+    _bindings.rotation_to_euler_zyx(arr, out, singular, arr.size // 9)
     return (out, singular.astype(bool)) if return_singular else out
 
 
@@ -122,8 +123,8 @@ def axis_angle_to_matrix(axis: object, angle_rad: object) -> np.ndarray:
     ang = np.ascontiguousarray(np.broadcast_to(np.asarray(angle_rad, dtype=np.float64), ax.shape[:-1]))
     out = np.empty(ax.shape[:-1] + (3, 3))
     status = np.empty(ax.shape[:-1], dtype=np.int32)
-    lib.rot_axis_angle_to_matrix_batch(dptr(ax), dptr(ang), dptr(out), iptr(status), ax.size // 3)
-    if np.any(status != lib.ROT_OK):
+    _bindings.rotation_from_axis_angle(ax, ang, out, status, ax.size // 3)
+    if np.any(status != constants.ROT_OK):
         raise RotationError("axis-angle needs a non-zero, finite axis and a finite angle")
     return out
 
@@ -138,5 +139,5 @@ def matrix_to_axis_angle(r: object, tol: float = CHECK_TOL) -> tuple[np.ndarray,
     arr = check_rotation(r, tol)
     axis = np.empty(arr.shape[:-2] + (3,))
     angle = np.empty(arr.shape[:-2])
-    lib.rot_matrix_to_axis_angle_batch(dptr(arr), dptr(axis), dptr(angle), arr.size // 9)
+    _bindings.rotation_to_axis_angle(arr, axis, angle, arr.size // 9)
     return axis, angle

@@ -66,8 +66,3 @@ def for_xml(text: str) -> str:
     """Text XML 1.0 can hold, every control but newlines and tabs escaped (ElementTree escapes
     the markup characters)."""
     return _escaped(text, keep_newlines=True)
-
-
-def bytes_for_text(data: bytes) -> str:
-    """Bytes a lab printed, as text for a report: UTF-8 where it is, each other byte escaped."""
-    return for_text(data.decode("utf-8", "backslashreplace"))

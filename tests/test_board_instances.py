@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from crslab._bindings import constants
 from crslab.plant.plant_params import PlantParams
 from crslab.run.api import simulate
 from crslab.run.assemble import make_config
 from crslab.run.board_client import BoardClient, InstanceNotOpened
 from crslab.run.diagnosis import Ending
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.board_settings import board_settings, event_struct
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -106,7 +106,7 @@ def twenty_in_one_worker(hostile_labs):
                 h.block.drain(lambda t, c: None, lambda t, data, out=printed[lab]: out.extend(data))
                 if isinstance(ran, Ending):
                     ended[lab] = ("the worker ended", ran.message)
-                elif ran.code not in (0, board_constants().CRS_RUN_SERIAL_FULL):
+                elif ran.code not in (0, constants.CRS_RUN_SERIAL_FULL):
                     ended[lab] = (ran.code, ran.trap)
             for lab, h in handles.items():  # the worker itself ended: every instance of it did
                 if h.ending is not None and lab not in ended:
@@ -124,7 +124,7 @@ def twenty_in_one_worker(hostile_labs):
 def test_a_hostile_lab_among_twenty_ends_only_its_own_run(twenty_in_one_worker, hostile_labs):
     printed, ended, alive = twenty_in_one_worker
     assert alive
-    c = board_constants()
+    c = constants
     by_name = {lab.name: result for lab, result in ended.items()}
     assert set(by_name) == set(HOSTILE), by_name  # the three hostile labs, and no other
     code, trap = by_name["null_write.c"]
@@ -149,7 +149,7 @@ def test_each_neighbour_prints_what_it_prints_alone(twenty_in_one_worker, lab):
 
 SHARING = """
 import json, sys
-from crslab._core import lib
+from crslab._core import lib  # (the test of the C core itself may reach past crslab._bindings)
 from crslab.scenario.load import load_scenario
 from crslab.run.assemble import make_config
 from crslab.run.shared_block import SharedBlock
@@ -200,7 +200,7 @@ def test_instances_of_one_lab_share_one_compiled_module_and_other_labs_get_their
 def configured():
     """A board of crslab's core (no firmware loaded: its cost unit is the native one, ns) given the
     settings of a run with a plant and options of its own."""
-    from crslab._core import ffi, lib
+    from crslab._bindings import compiled_board
 
     plant = dataclasses.replace(PlantParams.defaults(), motor_gain=6.0, stall_nm=(12.0, 24.0, 36.0),
                                 backemf_nm_s_per_rad=(0.6, 1.2, 1.8), drive_lag_s=0.004,
@@ -208,62 +208,62 @@ def configured():
     config = make_config(ROOT / "csrc" / "labs" / "lab1_kinematics.c", "tour", strict=True,
                          budget=30000, motor_board="piccolo", plant=plant, startup_delay=False,
                          rest_motor_rad=(0.1, -0.4, 0.3))
-    sim = ffi.new("crs_board *")
-    lib.crs_board_init(sim, config.build.generation.id, ffi.NULL)
-    lib.crs_board_configure(sim, ffi.new("crs_board_config *", board_settings(config)))
+    board = compiled_board()
+    sim = board.new_board(config.build.generation.id, board.pointer("crs_shared *", 0))
+    board.configure(sim, board_settings(config))
     qpos = np.array([0.25, -0.5, 0.75])
     keep = [qpos]  # alive as long as the board points at it
-    plant_arrays = ffi.new("crs_board_plant *", {"qpos": ffi.cast("double *", qpos.ctypes.data)})
-    lib.crs_board_attach_plant(sim, plant_arrays)
-    return ffi, lib, sim, config, keep
+    board.attach_plant(sim, {"qpos": board.pointer("double *", qpos.ctypes.data)})
+    return board, sim, config, keep
 
 
 def test_the_boards_counters_are_the_run_statistics_it_reports_by_name(configured):
-    from crslab.worker.board import counter_names
     from crslab.worker.run_stats import BOARD_COUNTERS
 
-    ffi, lib, sim, _, _ = configured
-    names = counter_names(ffi)
-    assert names == [*BOARD_COUNTERS, "tick", "motor_board_cutouts"]
-    out = ffi.new("int64_t[]", len(names))
-    sim.lab_calls, sim.overflow_chars, sim.motor_board.cutouts = 321, 77, 4
-    lib.crs_board_counters(sim, out)
-    read = dict(zip(names, ffi.unpack(out, len(names))))
-    fields = [*BOARD_COUNTERS, "tick"]
-    assert {n: getattr(sim, n) for n in fields} == {n: read[n] for n in fields}
+    board, sim, _, _ = configured
+    sim.lab_calls, sim.overflow_chars, sim.motor_board.cutouts, sim.safety_first_tick = 321, 77, 4, 4321
+    read = board.counters(sim)
+    assert list(read) == [*BOARD_COUNTERS, "tick", "motor_board_cutouts"]
+    configured_as = {"cost_unit", "budget"}  # the board's configuration's, the rest its own
+    assert {n: getattr(sim.config if n in configured_as else sim, n) for n in [*BOARD_COUNTERS, "tick"]} == {
+        n: read[n] for n in [*BOARD_COUNTERS, "tick"]}
     assert (read["lab_calls"], read["overflow_chars"], read["motor_board_cutouts"]) == (321, 77, 4)
+    assert read["safety_first_tick"] == 4321
 
 
 def test_what_the_board_holds_is_what_the_run_asked(configured):
-    ffi, lib, sim, config, _ = configured
-    c = board_constants()
-    assert sim.generation == config.build.generation.id
-    assert sim.strict_nan == 1 and sim.startup_ticks == 0
-    assert sim.motor_board.model == lib.CRS_MOTOR_BOARD_PICCOLO
+    _, sim, config, _ = configured
+    c = constants
+    held = sim.config  # what the run is configured with: set once
+    assert held.generation == config.build.generation.id
+    assert held.strict_nan == 1 and held.startup_ticks == 0
+    assert held.motor_board == c.CRS_MOTOR_BOARD_PICCOLO
     # 30,000 instructions at 150 MHz take 0.2 ms: the native cost unit's budget is 200,000 ns
-    assert sim.cost_unit == c.CRS_COST_NS and sim.budget == 200_000
-    assert list(sim.rest_motor_rad) == [0.1, -0.4, 0.3]
+    assert held.cost_unit == c.CRS_COST_NS and held.budget == 200_000
+    assert list(held.rest_motor_rad) == [0.1, -0.4, 0.3]
     # the drive in command units: N.m over the 6 N.m a unit gives
-    assert list(sim.drive.stall_units) == pytest.approx([2.0, 4.0, 6.0])
-    assert list(sim.drive.backemf_units_s_per_rad) == pytest.approx([0.1, 0.2, 0.3])
-    assert sim.drive.lag_s == 0.004
+    assert list(held.drive.stall_units) == pytest.approx([2.0, 4.0, 6.0])
+    assert list(held.drive.backemf_units_s_per_rad) == pytest.approx([0.1, 0.2, 0.3])
+    assert held.drive.lag_s == 0.004
     assert list(sim.faults.noise_counts) == [2.5, 2.5, 2.5]
-    assert (sim.hand.kp_nm_per_rad, sim.hand.max_nm) == (config.hand.kp, config.hand.max_nm)
+    assert (held.hand.kp_nm_per_rad, held.hand.max_nm) == (config.hand.kp, config.hand.max_nm)
     units = config.plant.sliding_units()
     for field in ("slide_pos_units", "slide_neg_units", "viscous_pos_units_s_per_rad"):
-        assert list(getattr(sim.friction, field)) == pytest.approx(list(units[field]))
-    assert sim.debug.break_when == 0 and sim.time_lab == 1
+        assert list(getattr(held.friction, field)) == pytest.approx(list(units[field]))
+    assert held.debug.break_when == 0 and held.time_lab == 1
+    # the run's scope log is off: it logs no signals
+    assert held.log_every_ticks == 0 and not config.log_signals
 
 
 def test_the_board_applies_a_scenarios_event_itself(configured):
-    ffi, lib, sim, config, _ = configured
-    c = board_constants()
+    board, sim, config, _ = configured
+    c = constants
     from crslab.scenario.fault_events import EncoderGlitch, JointFault
     from crslab.scenario.hand_events import HandMove
 
     def apply(event):
         for fields in event_struct(c, event, np.zeros(3)):
-            assert lib.crs_board_apply_event(sim, ffi.new("crs_board_event *", fields)) == 0
+            assert board.apply_event(sim, fields)
 
     sim.tick = 7000
     apply(HandMove(tick=7000, target_dh_rad=(0.1, 0.2, 0.3), duration_ticks=500))
@@ -277,7 +277,7 @@ def test_the_board_applies_a_scenarios_event_itself(configured):
     assert list(sim.faults.dead_motor) == [1, 0, 1]
     apply(JointFault(tick=7000, fault="dead_motor", joints=(3,), on=False))
     assert list(sim.faults.dead_motor) == [1, 0, 0]
-    assert lib.crs_board_apply_event(sim, ffi.new("crs_board_event *", {"kind": 99})) == -1
+    assert not board.apply_event(sim, {"kind": 99})
 
 
 def test_a_board_logging_every_5th_tick_logs_those_rows_of_the_every_tick_log():
@@ -291,8 +291,9 @@ def test_a_board_logging_every_5th_tick_logs_those_rows_of_the_every_tick_log():
         every, sparse = worker.open(full), worker.open(fifth)
         logs: dict[int, list] = {every.id: [], sparse.id: []}
         for until in (3, 250, 251, 503, 1000, 1012):  # chunks that start and end off the 5 ms grid
-            for ran in worker.run([(every, until), (sparse, until)]):
-                logs[ran.instance].append(ran.log)
+            worker.run([(every, until), (sparse, until)])
+            for handle in (every, sparse):  # the rows wait in each instance's shared block
+                logs[handle.id].append(handle.block.take_log(world=True))
     finally:
         worker.close()
     full_log = {k: np.concatenate([b[k] for b in logs[every.id]]) for k in logs[every.id][0]}

@@ -14,27 +14,33 @@ TABLE_AT, VARIABLE_AT = 8, 48
 """The size table (a count, then one size per sized global) and the variable, by offset."""
 
 
-class FakeFirmware:
-    """``crs_fw_wasm_memory`` and ``crs_fw_wasm_variable`` over a 64-byte memory of our own."""
+class FakeBoard:
+    """The board's firmware memory (``BoardLibrary.wasm_memory``, ``wasm_variable``) over a 64-byte
+    memory of our own."""
 
-    def __init__(self, ffi: FFI, claimed_size: int) -> None:
-        self.memory = ffi.new(f"uint8_t[{MEMORY_BYTES}]")
-        table = ffi.cast("uint32_t *", self.memory + TABLE_AT)
+    def __init__(self, claimed_size: int) -> None:
+        self.ffi = FFI()
+        self.memory = self.ffi.new(f"uint8_t[{MEMORY_BYTES}]")
+        table = self.ffi.cast("uint32_t *", self.memory + TABLE_AT)
         table[0], table[1] = 1, claimed_size
         self.offsets = {SIZES_SYMBOL: TABLE_AT, "big": VARIABLE_AT}
 
-    def crs_fw_wasm_memory(self, sim: object, size: object) -> object:
-        size[0] = MEMORY_BYTES  # type: ignore[index]
-        return self.memory
+    def wasm_memory(self, sim: object) -> tuple[int, int]:
+        return int(self.ffi.cast("uintptr_t", self.memory)), MEMORY_BYTES
 
-    def crs_fw_wasm_variable(self, sim: object, name: bytes) -> int:
-        return self.offsets.get(name.decode(), 0)
+    def wasm_variable(self, sim: object, name: str) -> int:
+        return self.offsets.get(name, 0)
+
+    def pointer(self, ctype: str, address: int) -> object:
+        return self.ffi.cast(ctype, address)
+
+    def unpack(self, pointer: object, n: int) -> list:
+        return self.ffi.unpack(pointer, n)  # type: ignore[arg-type]
 
 
 def memory(claimed_size: int) -> WasmMemory:
-    ffi = FFI()
     build = SimpleNamespace(image_name=lambda name: name, sized=["big"])
-    return WasmMemory(ffi, FakeFirmware(ffi, claimed_size), object(), build)  # type: ignore[arg-type]
+    return WasmMemory(FakeBoard(claimed_size), object(), build)  # type: ignore[arg-type]
 
 
 def test_a_variable_that_ends_past_the_memory_is_refused_whatever_its_table_says():

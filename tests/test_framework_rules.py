@@ -26,7 +26,7 @@ from crslab.run.api import make_config
 from crslab.run.inprocess import InProcessRun
 from crslab.scenario.fault_events import WristEstop
 from crslab.scenario.load import load_scenario
-from crslab.worker.board_ffi import BOARD_HEADERS
+from crslab.worker.board_ffi import BOARD_HEADERS, native_board_ffi
 
 LAB = Path(__file__).parent / "labs" / "framework_rules.c"
 LAB_GEN_B = Path(__file__).parent / "labs" / "framework_rules_gen_b.c"
@@ -48,8 +48,8 @@ MB_COUNTS_PER_UNIT, MB_REJECT_COUNTS, MB_LIMIT_COUNTS = 300, 1500, 1200
 MB_OVER_LIMIT_MS, MB_TIMEOUT_MS = 500, 100
 
 BOARD_FUNCTIONS = """
-void crs_motor_board_init(crs_motor_board *mb, int32_t model);
-int crs_motor_board_step(crs_motor_board *mb, int64_t tick, const double *command_units);
+void crs_motor_board_init(crs_motor_board *mb);
+int crs_motor_board_step(int32_t model, crs_motor_board *mb, int64_t tick, const double *command_units);
 extern long rule_calls;
 extern int rule_post;
 """
@@ -78,7 +78,8 @@ class Board:
         """A fresh board (``crs_board_defaults``) that sees the worker's firmware (its variables)."""
         sim = self.ffi.new("crs_board *")
         self.lib.crs_board_defaults(sim)
-        worker_fw = int(self.worker.ffi.cast("uintptr_t", self.worker.ffi.addressof(self.sim, "fw")))
+        worker_ffi = native_board_ffi()  # the worker's board's declarations
+        worker_fw = int(worker_ffi.cast("uintptr_t", worker_ffi.addressof(self.sim, "fw")))
         self.ffi.memmove(self.ffi.addressof(sim, "fw"), self.ffi.cast("void *", worker_fw),
                          self.ffi.sizeof("crs_fw_view"))
         return sim
@@ -357,7 +358,7 @@ def test_encoders_are_whole_counts_plus_the_offset_rounded_to_float32(board):
     sim = board.new_sim()
     rest = (0.0, -0.42, 0.24)
     for j in range(3):
-        sim.rest_motor_rad[j] = rest[j]
+        sim.config.rest_motor_rad[j] = rest[j]
     # 5659.7 counts on joint 1, -1234.6 on joint 2, 11936.5 + a little on joint 3: rounded to the
     # nearest count (5660, -1235, 11937), not truncated
     counts_want = (5660, -1235, 11937)
@@ -381,21 +382,21 @@ def test_the_hand_moves_along_a_minimum_jerk_path_for_the_scenarios_duration(boa
                         'duration = 0.4\n')
     (move,) = load_scenario(str(scenario)).events
     assert (move.tick, move.duration_ticks) == (500, 400)
-    hand = board.ffi.new("crs_hand *")
+    hand, gains = board.ffi.new("crs_hand *"), board.ffi.new("crs_hand_config *")
     q, qd = board.ffi.new("double[3]"), board.ffi.new("double[3]")
     h = hand[0]
     h.active, h.start_tick, h.duration_ticks = 1, 500, 400
     target = np.radians([20.0, -40.0, 60.0])
     for j in range(3):
         h.target_dh_rad[j] = target[j]
-    h.max_nm = 1e9
+    gains.max_nm = 1e9
 
     path = board.ffi.new("crs_hand_path *")
     board.lib.crs_hand_plan(hand, path)  # as the tick loop does per chunk
 
     def force(tick: int, kp: float, kd: float) -> np.ndarray:
-        h.kp_nm_per_rad, h.kd_nm_s_per_rad = kp, kd
-        board.lib.crs_hand_step_along(hand, path, tick, q, qd)
+        gains.kp_nm_per_rad, gains.kd_nm_s_per_rad = kp, kd
+        board.lib.crs_hand_step_along(gains, hand, path, tick, q, qd)
         return np.array(list(h.force_nm))
 
     # with the arm at 0, a force of kp * error is the path itself: L (10 s^3 - 15 s^4 + 6 s^5)
@@ -409,19 +410,22 @@ def test_the_hand_moves_along_a_minimum_jerk_path_for_the_scenarios_duration(boa
 
 # -- the motor board ----------------------------------------------------------------------------
 
+PICCOLO = framework_facts.MOTOR_BOARDS["piccolo"]
+
+
 def motor_board(board: Board):
     mb = board.ffi.new("crs_motor_board *")
-    board.lib.crs_motor_board_init(mb, framework_facts.MOTOR_BOARDS["piccolo"])
+    board.lib.crs_motor_board_init(mb)
     return mb
 
 
 def test_the_motor_board_rejects_a_command_beyond_1500_counts_on_either_side(board):
     for sign in (1, -1):
         mb = motor_board(board)
-        board.lib.crs_motor_board_step(mb, 0, [sign * 2.0, 0.0, 0.0])
-        board.lib.crs_motor_board_step(mb, 1, [sign * 5.0, 0.0, 0.0])  # 1500 counts: taken
+        board.lib.crs_motor_board_step(PICCOLO, mb, 0, [sign * 2.0, 0.0, 0.0])
+        board.lib.crs_motor_board_step(PICCOLO, mb, 1, [sign * 5.0, 0.0, 0.0])  # 1500 counts: taken
         assert mb.out_units[0] == sign * 5.0
-        board.lib.crs_motor_board_step(mb, 2, [sign * 5.004, 0.0, 0.0])  # 1501.2: rejected
+        board.lib.crs_motor_board_step(PICCOLO, mb, 2, [sign * 5.004, 0.0, 0.0])  # 1501.2: rejected
         assert mb.out_units[0] == sign * 5.0 and mb.since_command == 1  # as if nothing arrived
 
 
@@ -429,25 +433,25 @@ def test_the_motor_board_cuts_out_after_500_ms_beyond_1200_counts_on_either_side
     for sign in (1, -1):
         mb = motor_board(board)
         for t in range(2000):  # 1200 counts is within the limit
-            board.lib.crs_motor_board_step(mb, t, [sign * 4.0, 0.0, 0.0])
+            board.lib.crs_motor_board_step(PICCOLO, mb, t, [sign * 4.0, 0.0, 0.0])
         assert mb.off == 0 and mb.out_units[0] == sign * 4.0
         over = [0.0, sign * 4.004, 0.0]  # 1201.2 counts on joint 2
         for t in range(MB_OVER_LIMIT_MS):
-            board.lib.crs_motor_board_step(mb, 2000 + t, over)
+            board.lib.crs_motor_board_step(PICCOLO, mb, 2000 + t, over)
         assert mb.off == 0 and mb.out_units[1] == sign * 1201 / 300
-        board.lib.crs_motor_board_step(mb, 2500, over)  # the 501st over the limit
+        board.lib.crs_motor_board_step(PICCOLO, mb, 2500, over)  # the 501st over the limit
         assert mb.off == 1 and list(mb.out_units) == [0.0, 0.0, 0.0]
         assert (mb.event_tick[0], mb.event_joint[0], mb.event_off[0]) == (2500, 2, 1)
-        board.lib.crs_motor_board_step(mb, 2501, [0.0, sign * 4.0, 0.0])  # within: back on at once
+        board.lib.crs_motor_board_step(PICCOLO, mb, 2501, [0.0, sign * 4.0, 0.0])  # within: back on at once
         assert mb.off == 0 and mb.over_ticks[1] == 0
 
 
 def test_the_motor_board_cuts_out_after_100_ms_without_a_command(board):
     mb = motor_board(board)
-    board.lib.crs_motor_board_step(mb, 0, [1.0, -1.0, 0.5])
+    board.lib.crs_motor_board_step(PICCOLO, mb, 0, [1.0, -1.0, 0.5])
     for t in range(1, MB_TIMEOUT_MS):
-        board.lib.crs_motor_board_step(mb, t, board.ffi.NULL)
+        board.lib.crs_motor_board_step(PICCOLO, mb, t, board.ffi.NULL)
     assert mb.off == 0 and list(mb.out_units) == [1.0, -1.0, 0.5]  # 99 ms: the outputs hold
-    board.lib.crs_motor_board_step(mb, MB_TIMEOUT_MS, board.ffi.NULL)
+    board.lib.crs_motor_board_step(PICCOLO, mb, MB_TIMEOUT_MS, board.ffi.NULL)
     assert mb.off == 1 and list(mb.out_units) == [0.0, 0.0, 0.0]
     assert (mb.event_tick[0], mb.event_joint[0]) == (MB_TIMEOUT_MS, 0)

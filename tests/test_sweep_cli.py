@@ -140,10 +140,13 @@ def test_crashes_and_hangs_are_rows_and_the_sweep_finishes(tmp_path, capsys):
     )
     [row] = rows_of(out)
     assert row["status"] == "hung" and "lab() did not return within 0.5 s at tick 5100" in row["message"]
-    # the plot: the hung run measured no metric, so one panel (its end time against the mass,
-    # 4.0 by 3.1 in at 100 dpi) whose one point, a failed run's red x, sits in the middle (a lone
-    # point is centred); the legend's red x is elsewhere
-    assert shown_metrics([row]) == []
+    # the hung run keeps the metrics of the 5.1 s it ran (docs/sweep.md): still, with no torque, its
+    # motor angles as the encoders read them at its last tick, nothing else
+    assert shown_metrics([row]) == ["theta2motor_final_rad", "theta3motor_final_rad"]
+    assert float(row["end_s"]) == 5.1 and float(row["safety_trips"]) == 0
+    # the plot: none of the metrics it shows unless asked, so one panel (its end time against the
+    # mass, 4.0 by 3.1 in at 100 dpi) whose one point, a failed run's red x, sits in the middle (a
+    # lone point is centred); the legend's red x is elsewhere
     image = matplotlib.image.imread(tmp_path / "p.png")
     assert image.shape[:2] == (310, 400)
     red = (image[..., 0] > 0.7) & (image[..., 1] < 0.35) & (image[..., 2] < 0.35)  # tab:red

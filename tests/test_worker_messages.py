@@ -5,7 +5,6 @@ kind, is one UnreadableReply naming it (a native lab may write anything into the
 import dataclasses
 import pickle
 
-import numpy as np
 import pytest
 
 from crslab.scenario.expect_events import Observation
@@ -44,15 +43,14 @@ REPLIES = [
     Ran(instance=0, code=0, tick=5000,
         stats=RunStats(over_budget=2, first_over_tick=(4100, 4200), cost_unit=1, native=True,
                        motor_board="piccolo", motor_board_events=((4500, 2, True),)),
-        log=None, motor_board_events=(MotorBoardEvent(4500, 2, True), MotorBoardEvent(4800, 0, False)),
+        motor_board_events=(MotorBoardEvent(4500, 2, True), MotorBoardEvent(4800, 0, False)),
         observations=(OBSERVATION,), trap=None),
-    Ran(instance=12, code=3, tick=5123, stats=RunStats(), log=None, motor_board_events=(), observations=(),
-        trap=TRAP),
+    Ran(instance=12, code=3, tick=5123, stats=RunStats(), motor_board_events=(), observations=(), trap=TRAP),
     Value(value=1.5),
     Value(value=[1.0, 2.5]),
     Value(value=None),
     Error(message="no watched variable Kp"),
-    Stopped(instance=0, stats=RunStats(tick=5000, lab_calls=900), log=None),
+    Stopped(instance=0, stats=RunStats(tick=5000, lab_calls=900)),
 ]
 REQUESTS = [Run(0, 5000), RunMany([[0, 5000], [4, 4200]]), Get(0, "mycount"), Set(2, "Kp", None, 2.0),
             Set(0, "gains", 1, 0.5), Push(0, [[0.0] * 6, [1.0, 0, 0, 0, 0, 0]]), Break(0), Stop(7), End(),
@@ -71,34 +69,6 @@ def test_each_request_reads_back_as_itself(request_):
     assert read_request(pickle.loads(pickle.dumps(request_.wire()))) == request_
 
 
-def test_scope_rows_travel_as_numeric_arrays():
-    """Packed in one buffer (one object on the pipe, not one array per column), read back as the
-    same columns, also when the reply is not trusted; a packing that lies about its columns is refused."""
-    log = {"tick": np.arange(3, dtype=np.int64).reshape(3, 1),
-           "plot": np.arange(12, dtype=np.float32).reshape(3, 4) / 7,
-           "safety": np.array([[0], [1], [-1]], np.int32),
-           "qpos": np.arange(9, dtype=np.float64).reshape(3, 3) / 3}
-    for trusted in (False, True):
-        wire = pickle.loads(pickle.dumps(Stopped(instance=0, stats=RunStats(), log=log).wire()))
-        assert isinstance(wire[3][2], bytes)
-        back = read_reply(wire, Stopped, trusted=trusted).log
-        assert list(back) == list(log)
-        for name, column in log.items():
-            assert back[name].dtype == column.dtype and np.array_equal(back[name], column)
-        back["tick"][0, 0] = 5  # writable, as the worker's arrays were
-        # every column aligned though "plot" (48 bytes) puts "safety" and what follows it off 8:
-        # numpy sums a misaligned column in another order (a run's statistics not bit for bit)
-        assert all(column.flags.aligned and column.flags.owndata for column in back.values())
-    with pytest.raises(UnreadableReply, match="log is not packed scope rows"):
-        read_reply(("stopped", 0, {}, {"tick": [1, 2, 3]}), Stopped)
-    with pytest.raises(UnreadableReply, match=r"log\['tick'\] is not a column of numbers"):
-        read_reply(("stopped", 0, {}, (3, (("tick", "|O", 1),), b"")), Stopped)
-    with pytest.raises(UnreadableReply, match=r"log\['tick'\] is not a column of numbers"):
-        read_reply(("stopped", 0, {}, (4, (("tick", "<i8", 1),), bytes(24))), Stopped)
-    with pytest.raises(UnreadableReply, match="log's bytes are not its columns'"):
-        read_reply(("stopped", 0, {}, (2, (("tick", "<i8", 1),), bytes(24))), Stopped)
-
-
 def test_every_reply_has_a_reader_for_each_of_its_fields():
     for cls in (Ready, Failed, Trapped, Ran, Value, Error, Stopped):
         assert len(worker_messages._FIELDS[cls]) == len(dataclasses.fields(cls)), cls.KIND
@@ -108,7 +78,7 @@ def test_every_reply_has_a_reader_for_each_of_its_fields():
 def test_run_statistics_read_back_typed_from_the_pipe():
     stats = RunStats(lab_calls=900, first_over_tick=(4100, 4200), native=True, motor_board="piccolo",
                      motor_board_events=((4600, 1, True), (6100, 1, False)))
-    back = read_reply(pickle.loads(pickle.dumps(Stopped(0, stats, None).wire())), Stopped).stats
+    back = read_reply(pickle.loads(pickle.dumps(Stopped(0, stats).wire())), Stopped).stats
     assert back == stats and back.lab_calls == 900 and back.nan_first_tick == -1
     assert back.motor_board_events[0] == (4600, 1, True) and back.motor_board_events[1][2] is False
 
@@ -116,16 +86,16 @@ def test_run_statistics_read_back_typed_from_the_pipe():
 @pytest.mark.parametrize(("raw", "due", "words"), [
     ("ran", Ran, "it sent str where ran was due"),
     (("value", 1.5), Ran, "it sent a value reply where ran was due"),
-    (("ran", 0, 0, 5000, {}), Ran, "its ran reply has 4 fields, not 8"),
-    (("ran", 0, 0, True, {}, None, [], [], None), Ran, "tick = True, not a whole number"),
-    (("ran", 0, 0, 5000, {"x": object()}, None, [], [], None), Ran, "stats holds 'x', which crslab does not"),
-    (("ran", 0, 0, 5000, {"lab_calls": "9"}, None, [], [], None), Ran, r"\['lab_calls'\] = '9', not a whole"),
-    (("ran", 0, 0, 5000, {"native": 1}, None, [], [], None), Ran, r"stats\['native'\] = 1, not a flag"),
-    (("ran", 0, 0, 5000, {"first_over_tick": [1.5]}, None, [], [], None), Ran, r"first_over_tick'\]\[...\]"),
-    (("ran", 0, 0, 5000, {}, None, [(1, 2)], [], None), Ran, r"not \(tick, joint, off\)"),
-    (("ran", 0, 0, 5000, {}, None, [], [{"tick": 1}], None), Ran, "an observation crslab cannot read"),
-    (("ran", 1, 0, 5000, {}, None, [], [], None), Ran, "its ran reply is about instance 1, not 0"),
-    (("ran", "0", 0, 5000, {}, None, [], [], None), Ran, "instance = '0', not a whole number"),
+    (("ran", 0, 0, 5000, {}), Ran, "its ran reply has 4 fields, not 7"),
+    (("ran", 0, 0, True, {}, [], [], None), Ran, "tick = True, not a whole number"),
+    (("ran", 0, 0, 5000, {"x": object()}, [], [], None), Ran, "stats holds 'x', which crslab does not"),
+    (("ran", 0, 0, 5000, {"lab_calls": "9"}, [], [], None), Ran, r"\['lab_calls'\] = '9', not a whole"),
+    (("ran", 0, 0, 5000, {"native": 1}, [], [], None), Ran, r"stats\['native'\] = 1, not a flag"),
+    (("ran", 0, 0, 5000, {"first_over_tick": [1.5]}, [], [], None), Ran, r"first_over_tick'\]\[...\]"),
+    (("ran", 0, 0, 5000, {}, [(1, 2)], [], None), Ran, r"not \(tick, joint, off\)"),
+    (("ran", 0, 0, 5000, {}, [], [{"tick": 1}], None), Ran, "an observation crslab cannot read"),
+    (("ran", 1, 0, 5000, {}, [], [], None), Ran, "its ran reply is about instance 1, not 0"),
+    (("ran", "0", 0, 5000, {}, [], [], None), Ran, "instance = '0', not a whole number"),
     (("trapped", 0, {**TRAP, "line": "27"}), Trapped, r"trap\['line'\]"),
     (("value", ["1.0"]), Value, r"value\[...\] = '1.0', not a number"),
     (("ready", 0, 1, 2), Ready, "its ready reply has 3 fields, not 2"),

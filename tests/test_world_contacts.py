@@ -26,10 +26,11 @@ import pytest
 from crslab._core import ffi, lib
 
 from crslab import crs
-from crslab.worker.board import split_world_row, world_config
+from crslab._bindings import compiled_board
+from crslab.worker.board import world_config
 from crslab.world import load_world, world_file
 from crslab.world.scene import PEG_BODY, PEG_TIP_SITE, load_scene, set_arm_pose
-from crslab.world.world_facts import EGG_FALL_M_S, SCALE_GRAVITY_M_S2
+from crslab.world.world_facts import EGG_FALL_M_S, SCALE_GRAVITY_M_S2, split_world_row
 
 CONTEST = load_world("contest")
 CONTEST_FILE = world_file("contest")[0]
@@ -128,7 +129,7 @@ def world_row(m, d, world=CONTEST, state=None):
     ``crs_world`` to go on updating (its latches and the tip's last place), else a new one."""
     if state is None:
         w = ffi.new("crs_world *")
-        config, keep = world_config(ffi, m, d, world)
+        config, keep = world_config(compiled_board(), m, d, world)
         lib.crs_world_attach(w, config)
         state = (w, keep)  # what the world points at stays alive with it
     w = state[0]

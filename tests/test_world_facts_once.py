@@ -122,7 +122,7 @@ def test_c_holds_each_fact_in_one_file():
 
 
 # The copies crslab had before the world's facts moved to C (crslab/contest/scorecard.py,
-# crslab/worker/board.py, crslab/world/scene.py, crslab/world/layout.py): each is found.
+# crslab/worker/board.py, crslab/world/scene.py, and the world's layout.py before its split): each is found.
 OLD_COPIES = {
     "the contest's rules": '''
 @dataclass(frozen=True)

@@ -161,10 +161,10 @@ def run_to_end(config: RunConfig, end_tick: int, args: argparse.Namespace) -> Ru
     """``config`` run to ``end_tick`` at full speed, with the deadline and limits of ``args``, every
     serial call and the scope log kept (``record``, ``check``, ``contest``): a worker that cannot
     start, or a lab without ``lab()``, is a one-line error with its exit status."""
-    from crslab.regress.runner import run_lab
+    from crslab.run.assemble import run_kept
 
     try:
-        result = run_lab(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
+        result = run_kept(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
     except RunError as exc:
         raise CliError(str(exc), status=exc.status.exit_status) from None
     if result.status is RunStatus.NO_LAB:

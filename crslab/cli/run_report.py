@@ -1,7 +1,8 @@
 """What ``crslab sim`` and ``crslab debug`` say on stderr once a run has ended (``record`` and
 ``check`` say its notices too): the summary line (or ``--json``), lab()'s cost against its
-budget, and one line per thing the user should know (a NaN torque, a transmit ring that
-overflowed, printf that went nowhere, a failed expectation).
+budget, the motor board's cut-outs and the safety envelope's trips (the framework's hold taking
+over from the lab), and one line per thing the user should know (a NaN torque, a transmit ring
+that overflowed, printf that went nowhere, a failed expectation).
 """
 
 from __future__ import annotations
@@ -9,13 +10,13 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from crslab._bindings import constants
 from crslab.framework_facts import CPU_CYCLES_PER_TICK, SCI_TX_FIFO_CHARS, SERIAL_CHARS_PER_MS, TICKS_PER_S
 from crslab.generations import Generation
 from crslab.lab.print_trigger import missing_printing_notice
 from crslab.run.status import RunResult, RunStatus
 from crslab.scenario.expect_events import summary_text
 from crslab.untrusted_text import for_terminal
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.run_stats import RunStats
 
 NEAR_BUDGET = 0.8  # warn when a lab() call took this share of the budget
@@ -26,7 +27,7 @@ def lab_cost(stats: RunStats, budget: int) -> dict:
     microseconds it took, with the budget in the same unit (``budget`` is in instructions, one per cycle
     of the 150 MHz F28335)."""
     calls = stats.lab_calls
-    instructions = stats.cost_unit == board_constants().CRS_COST_INSTRUCTIONS
+    instructions = stats.cost_unit == constants.CRS_COST_INSTRUCTIONS
     scale = 1.0 if instructions else 1e-3  # ns to us
     return {
         "lab_cost_unit": "instructions" if instructions else "us",
@@ -61,6 +62,9 @@ def summary(result: RunResult, wall_s: float, budget: int) -> dict:
         "console_bytes": st.console_bytes,
         "motor_board": st.motor_board,
         "motor_board_cutouts": st.motor_board_cutouts,
+        "safety_trips": st.safety_trips,
+        "safety_first_tick": st.safety_first_tick,
+        "safety_ticks": st.safety_ticks,
         "expectations_met": sum(e.met for e in result.expectations),
         "expectations_failed": len(result.failed_expectations),
         "expectations_not_reached": sum(not e.reached for e in result.expectations),
@@ -93,6 +97,10 @@ def summary_line(info: dict) -> str:
     ...               "motor_board_cutouts": 2, "expectations_met": 1, "expectations_failed": 1,
     ...               "expectations_not_reached": 0, "expectations": [{}, {}]})
     '1.000 s simulated in 0.10 s; motor board: 2 cut-outs; expectations: 1 met, 1 failed'
+    >>> summary_line({"simulated_s": 15.0, "wall_s": 1.0, "lab_calls": 0, "safety_trips": 1,
+    ...               "safety_first_tick": 5123, "safety_ticks": 9877}).split("; ")[1].split(": ")
+    ['the arm left the safety envelope at tick 5123 (t = 5.123 s)', "the framework's hold took over \
+from lab() (once, 9,877 ticks in all)"]
 
     """
     line = f"{info['simulated_s']:.3f} s simulated in {info['wall_s']:.2f} s"
@@ -111,6 +119,11 @@ def summary_line(info: dict) -> str:
     if info.get("motor_board", "none") != "none":
         n = info.get("motor_board_cutouts", 0)
         line += f"; motor board: {n} cut-out{'' if n == 1 else 's'}"
+    if info.get("safety_trips"):
+        n, t = info["safety_trips"], info["safety_first_tick"]
+        times = "once" if n == 1 else f"{n} times"
+        line += (f"; the arm left the safety envelope at tick {t} (t = {t / TICKS_PER_S:.3f} s): the "
+                 f"framework's hold took over from lab() ({times}, {info['safety_ticks']:,} ticks in all)")
     if info.get("expectations"):
         line += "; " + summary_text(info["expectations_met"], info["expectations_failed"],
                                     info["expectations_not_reached"])
@@ -126,7 +139,7 @@ def lost_serial_notice(lab_name: str, stats: RunStats) -> str | None:
     dropped = stats.serial_dropped
     if not dropped:
         return None
-    c = board_constants()
+    c = constants
     return (f"warning: {lab_name}'s serial line carried more within one chunk of ticks than crslab keeps "
             f"({c.CRS_SERIAL_CAPACITY} bytes or {c.CRS_MARK_CAPACITY} ticks); "
             f"the {dropped} bytes after that are missing from the transcript")
@@ -162,7 +175,7 @@ def notices(lab_name: str, stats: RunStats, generation: Generation, source: Path
         except OSError:
             text = ""
         missing = missing_printing_notice(
-            lab_name, text, has_printing=bool(stats.lab_symbols & board_constants().CRS_LAB_HAS_PRINTING),
+            lab_name, text, has_printing=bool(stats.lab_symbols & constants.CRS_LAB_HAS_PRINTING),
             triggers=stats.print_triggers, generation=generation)
         if missing:
             out.append(missing)
@@ -176,7 +189,7 @@ def notices(lab_name: str, stats: RunStats, generation: Generation, source: Path
     if stats.nan_first_tick >= 0:
         t = stats.nan_first_tick
         out.append(f"warning: {lab_name} returned a NaN or Inf in tau{stats.nan_first_joint} at tick {t} "
-                   f"(t = {t / 1000:.3f} s); no torque was applied on that joint for that tick "
+                   f"(t = {t / TICKS_PER_S:.3f} s); no torque was applied on that joint for that tick "
                    f"({stats.nan_count} such torques in all)")
     if stats.tx_dropped > 0:
         t = stats.tx_first_drop_tick
@@ -184,7 +197,7 @@ def notices(lab_name: str, stats: RunStats, generation: Generation, source: Path
                    f"({SERIAL_CHARS_PER_MS:g} characters per ms): {stats.tx_dropped} characters did not "
                    f"fit the board's {generation.tx_ring_chars}-byte transmit ring (and "
                    f"{SCI_TX_FIFO_CHARS}-byte FIFO) and were dropped, as on the real board; the first at "
-                   f"tick {t} (t = {t / 1000:.3f} s)")
+                   f"tick {t} (t = {t / TICKS_PER_S:.3f} s)")
     return out
 
 

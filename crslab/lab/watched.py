@@ -40,13 +40,6 @@ class WatchedVar:
     line: int
 
     @property
-    def cdecl(self) -> str:
-        """A cffi declaration of the variable, in host types."""
-        base = HOST_TYPES.get(self.ctype, self.ctype)
-        dims = f"[{self.length}]" if self.length is not None else ""
-        return f"extern {base} {self.name}{dims};"
-
-    @property
     def is_integer(self) -> bool:
         """True for integer types (values are rounded when written)."""
         return self.ctype not in ("float", "double", "float32", "Float32", "long double", "float64")

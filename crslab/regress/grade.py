@@ -281,7 +281,7 @@ def _build_and_run(path: Path, source: Path, config: RunConfig, end_tick: int, d
                    limits: Limits, start: float, alone: bool = False, root: Path | None = None,
                    runner: Runner | None = None) -> RunResult:
     from crslab.lab.build import LabBuildError, LabForbidden, build_lab
-    from crslab.regress.runner import run_lab
+    from crslab.run.assemble import run_kept
     from crslab.run.board_run import RunError
     from crslab.scenario.load import ScenarioError, check_lab
 
@@ -311,7 +311,7 @@ def _build_and_run(path: Path, source: Path, config: RunConfig, end_tick: int, d
     try:
         built = dataclasses.replace(config, build=build)
         if runner is None:
-            result = run_lab(built, end_tick, deadline_s=deadline_s, limits=limits)
+            result = run_kept(built, end_tick, deadline_s=deadline_s, limits=limits)
         else:
             result = runner(built, source.read_text(errors="replace"), deadline_s, limits)
     except RunError as exc:

@@ -1,5 +1,6 @@
-"""Run one prepared lab configuration as fast as possible and keep what it printed, for the
-regression commands (record, check, grade) and the pytest plugin."""
+"""What a golden file's header says produced its transcript (crslab's version, the lab, the
+scenario, the plant, the world), for the regression commands (record, check, grade) and the pytest
+plugin; they run the lab with :func:`crslab.run.assemble.run_kept`."""
 
 from __future__ import annotations
 
@@ -8,19 +9,8 @@ from pathlib import Path
 from crslab import __version__
 from crslab.framework_facts import TICKS_PER_S
 from crslab.regress.transcript import DEFAULT_PLANT, DEFAULT_WORLD, sha256_of
-from crslab.run.assemble import run_kept
-from crslab.run.board_run import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
-from crslab.run.status import RunResult
 from crslab.worker.config import RunConfig
 from crslab.world import WORLD_NAMES
-
-
-def run_lab(config: RunConfig, end_tick: int, *, deadline_s: float = DEFAULT_DEADLINE_S,
-            limits: Limits = NO_LIMITS) -> RunResult:
-    """Run ``config`` to ``end_tick`` at full speed, keeping every serial call (and the scope log
-    when ``config.log_signals``). Raises ``RunError`` when the worker cannot start; a lab without
-    ``lab()`` ends as ``no-lab`` before any tick."""
-    return run_kept(config, end_tick, deadline_s=deadline_s, limits=limits)
 
 
 def run_header(config: RunConfig, end_tick: int, scenario_arg: str | None,

@@ -51,7 +51,8 @@ class InstanceNotOpened(Exception):
 
 class BoardHandle:
     """One board instance of a :class:`BoardClient`: ``id`` (its number in the worker), ``config``,
-    ``block`` (its shared block: its serial bytes, its host ports, where it is), ``symbols`` (the
+    ``block`` (its shared block: its serial bytes, its scope rows, its host ports, where it is),
+    ``symbols`` (the
     lab's ``CRS_LAB_HAS_*`` bits), and, as its runs come back, ``tick`` and ``stats``. ``ending``
     is set once the worker process it lived in ended (every later request of it is refused)."""
 

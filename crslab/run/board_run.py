@@ -25,6 +25,7 @@ from contextlib import AbstractContextManager, contextmanager, nullcontext
 
 import numpy as np
 
+from crslab._bindings import constants
 from crslab.framework_facts import TICKS_PER_S
 from crslab.run import diagnosis, termination
 from crslab.run.board_client import DEFAULT_DEADLINE_S, BoardClient, BoardHandle, InstanceNotOpened
@@ -38,7 +39,6 @@ from crslab.run.worker_process import NO_LIMITS, Limits
 from crslab.scenario.expect_events import Judge
 from crslab.sinks.sink import FanOut, Sink
 from crslab.worker import worker_messages
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.run_stats import RunStats
@@ -211,7 +211,7 @@ class BoardRun:
     @property
     def defines_lab(self) -> bool:
         """Whether the lab file defines ``lab()`` (the board would not link without one)."""
-        return bool(self.symbols & board_constants().CRS_LAB_HAS_LAB)
+        return bool(self.symbols & constants.CRS_LAB_HAS_LAB)
 
     # -- lifecycle ---------------------------------------------------------------------------
     def __enter__(self) -> BoardRun:
@@ -322,7 +322,7 @@ class BoardRun:
             ending = run.took(reply, ctrl_c.held)
             if ending is not None:
                 return ending
-            broke = reply.code == board_constants().CRS_RUN_BREAK  # (took returned: reply is a Ran)
+            broke = reply.code == constants.CRS_RUN_BREAK  # (took returned: reply is a Ran)
             if pacer.debugger is not None and (broke or self.tick == pause):
                 pacer.debugger.paused(self, broke)
             waited = pacer.wait(self.tick)
@@ -338,87 +338,17 @@ class BoardRun:
         """Have the worker run the lab to ``target``: its reply, or how the worker ended."""
         return self.board_client.run([(self.board, target)])[0]
 
-    def _took(self, reply: worker_messages.Ran | Ending, run: ChunkedRun,
-              held: Callable[[], AbstractContextManager[None]], serve: bool = True) -> Ending | None:
-        """Hand a chunk's reply to the run's sink and serve its controls (unless ``serve`` is
-        False: the caller serves them later, :meth:`ChunkedRun.serve_controls`): None, or how the
-        run ended (a trap, the output limit, a strict NaN, a printf overflow, the worker gone)."""
-        c = board_constants()
-        sink, printed = run.sink, run.printed
-        if isinstance(reply, Ending):
-            return reply
-        self.tick, self.stats = reply.tick, reply.stats
-        if reply.code == c.CRS_RUN_TRAPPED:
-            return _trapped(reply.trap or {}, self.lab_name, self.deadline_s, self.tick,
-                            self.config.build.image)
-        try:
-            judged = [self.judge.observed(seen) for seen in reply.observations]
-        except ValueError as exc:
-            return self.worker.tampered(f"it sent an observation crslab cannot read: {exc}")
-        for event in reply.motor_board_events:
-            self.motor_board_events.append(event)
-            sink.on_motor_board(*event)
-        for outcome in judged:
-            if outcome is not None:
-                sink.on_expectation(outcome)
-        with held():  # every sink gets all of the chunk, or none of it
-            lost = self._drain(sink, printed)
-            printed.bytes += lost  # what was lost counts toward the limit too
-            # printf: counted, never shown (the board's count, or what a native lab wrote)
-            printed.console(self._console_bytes())
-            if not printed.over:
-                if reply.log is not None:
-                    sink.on_log(reply.log)
-                sink.flush()
-                sink.on_reached(self.tick)
-        if printed.over:
-            return diagnosis.output_limit(self.lab_name, self.tick, printed.cap)
-        if serve:
-            run.serve_controls()
-        if reply.code == c.CRS_RUN_NAN_STRICT:
-            return diagnosis.nan_strict(self.lab_name, self.stats, self.tick)
-        if reply.code == c.CRS_RUN_PRINTF_OVERFLOW:
-            return diagnosis.print_overflow(self.lab_name, self.stats, self.tick,
-                                            self.config.build.printf_buffer_chars)
-        return None
-
-    def _drain(self, sink: Sink, printed: _Printed) -> int:
-        """Hand what the board printed since the last drain to ``sink`` (through the output
-        limit); returns how many bytes could not be kept (also counted in :attr:`serial_dropped`)."""
-        dropped = self.block.drain(sink.on_print, printed.serial)
-        self.serial_dropped += dropped
-        return dropped
-
-    def _console_bytes(self) -> int:
-        return max(self.stats.console_bytes, self.worker.console_bytes)
-
-    def _ended(self, ending: Ending, sink: Sink, printed: _Printed, pacer: Pacer) -> RunResult:
-        """The run's result: the last bytes handed on (those still on the serial line marked with
-        the tick the run ended at), the counters, the expectations (a run that reached its end
-        with one failed is ``unmet``)."""
-        self._drain(sink, printed)
-        line = self.block.take_line()
-        if line:
-            printed.serial(ending.tick, line)
-        stats = dataclasses.replace(self.stats, serial_dropped=self.serial_dropped, lab_symbols=self.symbols,
-                                    motor_board_events=tuple(self.motor_board_events),
-                                    console_bytes=self._console_bytes())
-        expectations = self.judge.results()
-        failed = sum(bool(e.failures) for e in expectations)
-        status, message = ending.status, ending.message
-        if status is RunStatus.OK and failed:
-            status = RunStatus.UNMET
-            scenario = self.config.scenario.name
-            message = f"{failed} of {len(expectations)} expectations of scenario {scenario} failed"
-        return RunResult(status, ending.tick, message, stats, lab_file=self.config.build.source,
-                         wall_s=pacer.elapsed_s(), expectations=expectations)
-
 
 class ChunkedRun:
     """One run of a :class:`BoardRun`, taken chunk by chunk: where the next chunk ends
     (:meth:`next_chunk`), what a chunk's reply hands to the sink and the controls (:meth:`took`),
     and the result once it ended (:meth:`ended`). The worker is asked by the caller, so a server
-    may run many labs of one worker forward in one request (crslab/serve/run_host.py)."""
+    may run many labs of one worker forward in one request (crslab/serve/run_host.py).
+
+    However a run ends (its end tick, a trap, the output limit, a Stop, Ctrl-C, a worker that
+    died or was killed), the sink gets every tick it ran: the board writes each tick's scope row
+    and serial bytes into the shared block, which outlives the worker, and :meth:`ended` takes what
+    is left there."""
 
     def __init__(self, sim: BoardRun, end_tick: int, sink: Sink, pacer: Pacer,
                  controls: Sequence[LiveControl]) -> None:
@@ -428,6 +358,8 @@ class ChunkedRun:
         self.pacer = pacer
         self.controls = controls
         self.printed = _Printed(sink, sim.limits.output_bytes)
+        self._logs = sim.config.log_signals
+        self._world = not sim.config.world.is_free_air
 
     @property
     def done(self) -> bool:
@@ -442,10 +374,42 @@ class ChunkedRun:
              held: Callable[[], AbstractContextManager[None]] = nullcontext, *,
              serve: bool = True) -> Ending | None:
         """Hand a chunk's reply (or the worker's end) on: None while the run goes on, else how it
-        ended. ``held`` holds a Ctrl-C back while the sinks take the chunk. ``serve`` False leaves
-        the controls to :meth:`serve_controls` (a caller still reading its worker's other
-        replies, whose controls must not ask the worker meanwhile)."""
-        return self.sim._took(reply, self, held, serve)
+        ended (a trap, the output limit, a strict NaN, a printf overflow, the worker gone). ``held``
+        holds a Ctrl-C back while the sinks take the chunk. ``serve`` False leaves the controls to
+        :meth:`serve_controls` (a caller still reading its worker's other replies, whose controls
+        must not ask the worker meanwhile)."""
+        sim, sink = self.sim, self.sink
+        if isinstance(reply, Ending):
+            return reply  # (what the worker left in the shared block: :meth:`ended`)
+        sim.tick, sim.stats = reply.tick, reply.stats
+        if reply.code == constants.CRS_RUN_TRAPPED:
+            return _trapped(reply.trap or {}, sim.lab_name, sim.deadline_s, sim.tick, sim.config.build.image)
+        try:
+            judged = [sim.judge.observed(seen) for seen in reply.observations]
+        except ValueError as exc:
+            return sim.worker.tampered(f"it sent an observation crslab cannot read: {exc}")
+        for event in reply.motor_board_events:
+            sim.motor_board_events.append(event)
+            sink.on_motor_board(*event)
+        for outcome in judged:
+            if outcome is not None:
+                sink.on_expectation(outcome)
+        with held():  # every sink gets all of the chunk, or none of it
+            self._take_log()
+            self._take_printed()
+            if not self.printed.over:
+                sink.flush()
+                sink.on_reached(sim.tick)
+        if self.printed.over:
+            return diagnosis.output_limit(sim.lab_name, sim.tick, self.printed.cap)
+        if serve:
+            self.serve_controls()
+        if reply.code == constants.CRS_RUN_NAN_STRICT:
+            return diagnosis.nan_strict(sim.lab_name, sim.stats, sim.tick)
+        if reply.code == constants.CRS_RUN_PRINTF_OVERFLOW:
+            return diagnosis.print_overflow(sim.lab_name, sim.stats, sim.tick,
+                                            sim.config.build.printf_buffer_chars)
+        return None
 
     def serve_controls(self) -> None:
         """Serve each control once (the worker is idle: they may ask it)."""
@@ -453,11 +417,53 @@ class ChunkedRun:
             control.serve(self.sim)
 
     def ended(self, ending: Ending) -> RunResult:
-        """The run's result, the last bytes handed on first, then the result to the sinks
-        (``on_end``: the end-of-run report, among others)."""
-        result = self.sim._ended(ending, self.sink, self.printed, self.pacer)
+        """The run's result, the last of what it left in the shared block handed on first (the
+        scope rows of every tick it ran; the bytes still on the serial line, marked with the tick
+        the run ended at), the counters, the expectations (a run that reached its end with one
+        failed is ``unmet``); then the result to the sinks (``on_end``: the end-of-run report,
+        among others)."""
+        sim, printed = self.sim, self.printed
+        self._take_log(only_rows=True)  # the rows the last chunk left, whether the worker answered or not
+        self._take_printed()
+        line = sim.block.take_line()
+        if line:
+            printed.serial(ending.tick, line)
+        stats = dataclasses.replace(sim.stats, serial_dropped=sim.serial_dropped, lab_symbols=sim.symbols,
+                                    motor_board_events=tuple(sim.motor_board_events),
+                                    console_bytes=self._console_bytes())
+        expectations = sim.judge.results()
+        failed = sum(bool(e.failures) for e in expectations)
+        status, message = ending.status, ending.message
+        if status is RunStatus.OK and failed:
+            status = RunStatus.UNMET
+            scenario = sim.config.scenario.name
+            message = f"{failed} of {len(expectations)} expectations of scenario {scenario} failed"
+        result = RunResult(status, ending.tick, message, stats, lab_file=sim.config.build.source,
+                           wall_s=self.pacer.elapsed_s(), expectations=expectations)
         self.sink.on_end(result)
         return result
+
+    def _take_log(self, *, only_rows: bool = False) -> None:
+        """Hand the scope rows the board wrote since the last time to the sink (when the run logs
+        them): after a chunk, as many as it left (none, perhaps); ``only_rows``: only if there
+        are any (a run that ended after its last chunk was handed on has none)."""
+        if self._logs:
+            rows = self.sim.block.take_log(world=self._world)
+            if len(rows["tick"]) or not only_rows:
+                self.sink.on_log(rows)
+
+    def _take_printed(self) -> None:
+        """Hand what the board printed since the last time to the sink, through the output limit
+        (what was lost counts toward the limit too, and so do the bytes the lab's printf wrote:
+        counted, never shown)."""
+        sim = self.sim
+        dropped = sim.block.drain(self.sink.on_print, self.printed.serial)
+        sim.serial_dropped += dropped  # more in one chunk than the shared block holds
+        self.printed.bytes += dropped
+        self.printed.console(self._console_bytes())
+
+    def _console_bytes(self) -> int:
+        return max(self.sim.stats.console_bytes, self.sim.worker.console_bytes)
 
 
 def _trapped(trap: dict, lab_name: str, deadline_s: float | None, tick: int,

@@ -17,12 +17,12 @@ import signal
 from pathlib import Path
 from typing import NamedTuple
 
+from crslab._bindings import constants
 from crslab.framework_facts import TICKS_PER_S
 from crslab.run.sanitizer import summarize_sanitizer_report
 from crslab.run.shared_block import SharedBlock
 from crslab.run.status import RunStatus
 from crslab.untrusted_text import for_terminal
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.run_stats import RunStats
 
 
@@ -46,10 +46,10 @@ def at_tick(tick: int) -> str:
 def phase_where(phase: int) -> str:
     """Where the worker was, from the phase it wrote (``CRS_PHASE_*``).
 
-    >>> phase_where(board_constants().CRS_PHASE_PRINTING)
+    >>> phase_where(constants.CRS_PHASE_PRINTING)
     'in printing()'
     """
-    c = board_constants()
+    c = constants
     return {c.CRS_PHASE_IDLE: "between ticks", c.CRS_PHASE_LAB: "in lab()",
             c.CRS_PHASE_PRINTING: "in printing()", c.CRS_PHASE_PHYSICS: "in the physics step",
             c.CRS_PHASE_LOADING: "in a constructor or static initializer"}.get(phase, "")
@@ -58,10 +58,10 @@ def phase_where(phase: int) -> str:
 def phase_function(phase: int) -> str:
     """The lab's function a deadline was running out in.
 
-    >>> phase_function(board_constants().CRS_PHASE_LAB)
+    >>> phase_function(constants.CRS_PHASE_LAB)
     'lab()'
     """
-    return "printing()" if phase == board_constants().CRS_PHASE_PRINTING else "lab()"
+    return "printing()" if phase == constants.CRS_PHASE_PRINTING else "lab()"
 
 
 class WorkerDeath(NamedTuple):
@@ -89,9 +89,9 @@ def refused(death: WorkerDeath) -> Ending | None:
     block = death.block
     phase = int(record.phase) if record.refused else block.phase
     tick = int(record.tick) if record.refused else block.tick
-    what = for_terminal(tried(record, block.ffi, parent_pid=os.getpid())) if record.refused else \
+    what = for_terminal(tried(record, parent_pid=os.getpid())) if record.refused else \
         "make a system call the sandbox refuses"
-    at = "before the first tick" if phase == board_constants().CRS_PHASE_LOADING else at_tick(tick)
+    at = "before the first tick" if phase == constants.CRS_PHASE_LOADING else at_tick(tick)
     return Ending(RunStatus.FORBIDDEN, tick, f"{death.lab_name} was stopped by the sandbox: it tried "
                   f"to {what} {phase_where(phase)} {at}")
 

@@ -24,11 +24,11 @@ from __future__ import annotations
 import re
 from pathlib import Path, PurePath
 
+from crslab._bindings import constants
 from crslab.framework_facts import TICKS_PER_S
 from crslab.run.status import RunStatus
 from crslab.run.wasm_lines import line_at
 from crslab.untrusted_text import for_terminal
-from crslab.worker.board_ffi import board_constants
 
 _AT = re.compile(r"^\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
 _FRAME = re.compile(r"^\s*\d+:\s+0x[0-9a-f]+ - (\S+)", re.MULTILINE)
@@ -87,7 +87,7 @@ def where_stopped(text: str, lab_name: str, image: Path | None = None) -> str:
 
 def _phase_words(phase: int) -> tuple[str, str]:
     """(the function it was in, where in the tick) for a phase."""
-    c = board_constants()
+    c = constants
     if phase == c.CRS_PHASE_PRINTING:
         return "printing()", "in printing()"
     if phase == c.CRS_PHASE_LOADING:
@@ -99,7 +99,7 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None,
              image: Path | None = None) -> tuple[RunStatus, str]:
     """How the run ends and the one line that says why (``image``: the firmware, whose line table
     says where a hung call was when wasmtime does not)."""
-    c = board_constants()
+    c = constants
     kind, phase, tick = int(trap.get("kind", 0)), int(trap.get("phase", 0)), int(trap.get("tick", 0))
     text = str(trap.get("text", ""))
     func, where = _phase_words(phase)

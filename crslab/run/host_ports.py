@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from crslab.worker.board_ffi import board_constants
+from crslab._bindings import constants, read_bytes, write_bytes
 
 HOST_PORTS = ("SerialB", "SerialC")
 """The ports a host program talks to, in the block's order (``CRS_HOST_PORT_B``, ``_C``)."""
@@ -17,10 +17,10 @@ HOST_PORTS = ("SerialB", "SerialC")
 def port_index(name: str) -> int:
     """The block's index of host port ``name``.
 
-    >>> port_index("SerialC") == board_constants().CRS_HOST_PORT_C
+    >>> port_index("SerialC") == constants.CRS_HOST_PORT_C
     True
     """
-    c = board_constants()
+    c = constants
     return {"SerialB": c.CRS_HOST_PORT_B, "SerialC": c.CRS_HOST_PORT_C}[name]
 
 
@@ -39,17 +39,17 @@ class PortExchange:
     tx_first_drop_tick: int
 
 
-def exchange(ffi: object, port: object, incoming: bytes) -> PortExchange:
+def exchange(port: object, incoming: bytes) -> PortExchange:
     """Take what left the board on ``port`` (a ``crs_host_port``) and queue ``incoming`` (as much
     as its inbox holds)."""
-    c = board_constants()
+    c = constants
     n = min(max(0, int(port.out_len)), c.CRS_HOST_OUT_CAPACITY)  # type: ignore[attr-defined]
-    sent = bytes(ffi.buffer(port.out, n)) if n else b""  # type: ignore[attr-defined]
+    sent = read_bytes(port.out, n) if n else b""  # type: ignore[attr-defined]
     port.out_len = 0  # type: ignore[attr-defined]
     waiting = min(max(0, int(port.inbox_len)), c.CRS_HOST_INBOX_CAPACITY)  # type: ignore[attr-defined]
     taken = min(len(incoming), c.CRS_HOST_INBOX_CAPACITY - waiting)
     if taken:
-        ffi.memmove(port.inbox + waiting, incoming[:taken], taken)  # type: ignore[attr-defined]
+        write_bytes(port.inbox + waiting, incoming[:taken])  # type: ignore[attr-defined]
     port.inbox_len = waiting + taken  # type: ignore[attr-defined]
     wedged = int(port.wedged_tick) if port.wedged else None  # type: ignore[attr-defined]
     return PortExchange(sent, taken, wedged, max(0, int(port.tx_dropped)),  # type: ignore[attr-defined]

@@ -39,12 +39,14 @@ class InProcessRun:
 
     def run(self, end_tick: int, chunk_ticks: int = 20_000) -> bytes:
         """Run to ``end_tick`` in chunks as ``crslab sim --fast`` does; returns the serial bytes
-        (what is still on the serial line at the end included, as a run hands it on)."""
+        (what is still on the serial line at the end included, as a run hands it on). The scope
+        rows, if the run logs them, are taken and dropped after each chunk."""
         out = bytearray()
         worker = self.worker
         while worker.sim.tick < end_tick:
             worker.run(min(end_tick, worker.sim.tick + chunk_ticks))
             self.block.drain(lambda tick, chars: None, lambda tick, data: out.extend(data))
+            self.block.take_log(world=False)
         return bytes(out + self.block.take_line())
 
 

@@ -1,7 +1,7 @@
 """The memory the board and the crslab process share (``crs_shared``, csrc/board/board.h), and its one
 reader: what the board printed (the print marks, the bytes that left it with their ticks, what is
-still on the serial line when a run ends), where the worker is (tick and phase), what the sandbox
-refused, and the host ports.
+still on the serial line when a run ends), the scope log's rows, where the worker is (tick and
+phase), what the sandbox refused, and the host ports.
 
 The board writes the block inside a chunk of ticks; the reader takes what it holds between chunks,
 when the worker is idle, and also after the worker died (the block outlives it). It is the lab's to
@@ -11,6 +11,8 @@ the block, so nothing but the block is ever read.
 >>> block = SharedBlock.new()
 >>> block.drain(lambda tick, chars: None, lambda tick, data: None), block.take_line()
 (0, b'')
+>>> block.take_log(world=False)["enc_rad"].shape
+(0, 3)
 >>> block.close()
 """
 
@@ -21,9 +23,12 @@ import os
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 from crslab import os_support
+from crslab._bindings import constants, read_bytes, scope_log_columns, shared_view, size_of
 from crslab.run.host_ports import PortExchange, exchange, port_index
-from crslab.worker.board_ffi import board_ffi, shared_size
+from crslab.world.world_facts import split_world_row
 
 TakePrint = Callable[[int, int], None]
 """``(tick, chars)``: a serial_printf during ``tick`` put ``chars`` bytes on the line."""
@@ -39,13 +44,13 @@ class SharedBlock:
     def __init__(self, fd: int) -> None:
         self.fd = fd
         self.memory = mmap.mmap(fd, 0)
-        self.ffi = board_ffi()
-        self.view = self.ffi.cast("crs_shared *", self.ffi.from_buffer(self.memory))
+        self.view = shared_view(self.memory)
+        self._log_columns = scope_log_columns()
 
     @classmethod
     def new(cls) -> SharedBlock:
         """A fresh block, zeroed."""
-        return cls(os_support.anonymous_shared_file("crslab-shared", shared_size()))
+        return cls(os_support.anonymous_shared_file("crslab-shared", size_of("crs_shared")))
 
     def close(self) -> None:
         """Close the descriptor (the mapping goes with the last reference to it)."""
@@ -84,7 +89,7 @@ class SharedBlock:
         n_bytes = min(int(sh.serial_len), len(sh.serial))
         n_marks = min(int(sh.mark_count), len(sh.mark_offset))
         if n_bytes:
-            raw = bytes(self.ffi.buffer(sh.serial, n_bytes))
+            raw = read_bytes(sh.serial, n_bytes)
             offsets = [min(int(sh.mark_offset[i]), n_bytes) for i in range(n_marks)] + [n_bytes]
             for i in range(n_marks):
                 on_serial(int(sh.mark_tick[i]), raw[offsets[i]:max(offsets[i], offsets[i + 1])])
@@ -96,16 +101,31 @@ class SharedBlock:
         """What is still on the board's serial line (queued, not yet sent), taken off it: read
         once a run has ended, so nothing the lab printed is lost."""
         line = self.view.line
-        size = self.ffi.sizeof(line.queue)
+        size = size_of(line.queue)
         n, first = min(int(line.len), size), int(line.first) % size
         line.len = 0
         if not n:
             return b""
-        queue = bytes(self.ffi.buffer(line.queue, size))
+        queue = read_bytes(line.queue, size)
         return (queue[first:] + queue[:first])[:n]
+
+    # -- the scope log -------------------------------------------------------------------------
+    def take_log(self, *, world: bool) -> dict[str, np.ndarray]:
+        """The scope rows the board wrote since the last call, taken off the block (its count back
+        to 0): each column a ``(rows, width)`` array of its own, the world's row split into its
+        quantities when the run is in a ``world`` with fixtures (else left out). Read once a chunk
+        has ended, or the worker has (the rows of every tick it finished are there)."""
+        sh = self.view
+        n = min(max(0, int(sh.log.count)), constants.CRS_LOG_CAPACITY)
+        sh.log.count = 0
+        log = {name: np.frombuffer(self.memory, np.dtype(kind), n * width, offset).reshape(n, width).copy()
+               for name, offset, kind, width in self._log_columns if name != "world" or world}
+        if world:
+            log.update(split_world_row(log.pop("world")))
+        return log
 
     # -- the host ports ------------------------------------------------------------------------
     def exchange(self, port: str, incoming: bytes) -> PortExchange:
         """What left the board on host port ``port`` (``SerialB``, ``SerialC``) since the last
         call; ``incoming`` goes to its receiver from the next tick on (as much as its inbox takes)."""
-        return exchange(self.ffi, self.view.host_ports[port_index(port)], incoming)
+        return exchange(self.view.host_ports[port_index(port)], incoming)

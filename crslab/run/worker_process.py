@@ -32,12 +32,12 @@ from pathlib import Path
 from typing import Any
 
 from crslab import os_support
+from crslab._bindings import constants
 from crslab.run import diagnosis
 from crslab.run.diagnosis import Ending, WorkerDeath
 from crslab.run.sanitizer import asan_runtime
 from crslab.run.shared_block import SharedBlock
 from crslab.run.status import RunStatus
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.worker_messages import End, Message, read_reply
@@ -236,7 +236,7 @@ class WorkerProcess:
 
     def _watch(self, deadline_s: float | None, timeout_s: float | None, during_setup: bool,
                cpu_allowance_s: float | None, blocks: list[SharedBlock]) -> object:
-        c = board_constants()
+        c = constants
         start = time.monotonic()
         cpu0 = self._cpu_s() if cpu_allowance_s is not None else None
         # when this poll first saw the lab() or printing() call now running, per block: the tick

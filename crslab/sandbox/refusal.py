@@ -16,6 +16,7 @@ from __future__ import annotations
 import os
 import signal
 
+from crslab._bindings import text_of
 from crslab.sandbox import seccomp
 from crslab.sandbox.syscalls import MAX_MAPPING_BYTES
 
@@ -111,11 +112,11 @@ def describe(syscall: str, args: list[int], path: str, *, parent_pid: int | None
     return f"make the system call {syscall}"
 
 
-def tried(record: object, ffi: object, *, parent_pid: int | None = None) -> str:
-    """:func:`describe` of a ``crs_refusal`` record read through cffi (``ffi``)."""
+def tried(record: object, *, parent_pid: int | None = None) -> str:
+    """:func:`describe` of a ``crs_refusal`` record (the shared block's)."""
     nr, arch = int(record.syscall_nr), int(record.arch)  # type: ignore[attr-defined]
     args = [int(record.args[i]) for i in range(6)]  # type: ignore[attr-defined]
-    path = ffi.string(record.text).decode("utf-8", "replace")  # type: ignore[attr-defined]
+    path = text_of(record.text)  # type: ignore[attr-defined]
     if arch and arch != seccomp.native_arch():
         return f"make the {seccomp.name(nr, arch)} system call of another architecture (a 32-bit call)"
     return describe(seccomp.name(nr), args, path, parent_pid=parent_pid)

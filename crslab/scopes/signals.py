@@ -110,11 +110,6 @@ def signals_of(log: dict[str, np.ndarray] | None) -> tuple[Signal, ...]:
     return SIGNALS + WORLD_SIGNALS if log is not None and "egg_force" in log else SIGNALS
 
 
-def groups_of(log: dict[str, np.ndarray] | None) -> tuple[Group, ...]:
-    """The panels of a scope log's signals (:func:`signals_of`)."""
-    return GROUPS + WORLD_GROUPS if log is not None and "egg_force" in log else GROUPS
-
-
 C_FLOAT_COLUMNS = frozenset({"enc_rad", "tau_lab", "plot"})
 """Log columns that are C ``float`` variables in the lab (logged widened to double)."""
 

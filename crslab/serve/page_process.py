@@ -227,8 +227,8 @@ class Session:
     def check(self, msg: dict) -> None:
         """Run the page's lab as ``crslab check`` does and send ``checked``."""
         from crslab.regress.compare import compare
-        from crslab.regress.runner import run_lab
         from crslab.regress.transcript import GoldenError, read_golden, recorded_run, split_lines
+        from crslab.run.assemble import run_kept
         from crslab.world import WORLD_NAMES
 
         lab = self._write_lab(msg["lab"])
@@ -258,7 +258,7 @@ class Session:
             )
             end_tick = seconds_to_tick(run.duration_s) if run.duration_s else config.scenario.end_tick
             end_tick = min(end_tick, seconds_to_tick(self.limits.max_run_s))
-            result = run_lab(config, end_tick, limits=Limits(memory_mb=self.limits.memory_mb))
+            result = run_kept(config, end_tick, limits=Limits(memory_mb=self.limits.memory_mb))
         except (GoldenError, LabBuildError, ScenarioError, ValueError, RunError) as exc:
             self.send(message("checked", ok=False, report=str(exc)), RUN_ENDED)
             return

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from importlib import resources
 
-from crslab._core import lib
+from crslab._bindings import constants
 from crslab.generations import named
 
 LABS = {"lab1": "Lab 1 (kinematics)", "lab2": "Lab 2 (PD control)", "lab3": "Lab 3 (friction compensation)",
@@ -28,9 +28,9 @@ LABS = {"lab1": "Lab 1 (kinematics)", "lab2": "Lab 2 (PD control)", "lab3": "Lab
         "final": "the final project (the contest: peg, obstacle, groove, egg)"}
 
 _BY_TRIGGER = {  # print trigger -> what the file declares, how lab() asks to print, its main()
-    lib.CRS_PRINT_SWI_POST: ("", "SWI_post(&SWI_printf);   /* printing() runs once, after lab() returns */",
-                             ""),
-    lib.CRS_PRINT_UARTPRINT: (
+    constants.CRS_PRINT_SWI_POST: (
+        "", "SWI_post(&SWI_printf);   /* printing() runs once, after lab() returns */", ""),
+    constants.CRS_PRINT_UARTPRINT: (
         "int UARTprint = 0;   /* set to 1 in lab(): printing() runs once, after lab() */\n",
         "UARTprint = 1;   /* printing() runs once, after lab() returns */",
         "\nvoid main(void)\n{\n    mains_code();   /* the framework: lab() every 1 ms */\n}\n"),

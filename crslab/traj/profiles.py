@@ -34,14 +34,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from crslab._core import ffi, lib
-from crslab.arrays import dptr
+from crslab import _bindings
+from crslab._bindings import constants
 
 PROFILES: dict[str, int] = {
-    "li": lib.TRAJ_LI,
-    "quintic": lib.TRAJ_QUINTIC,
-    "cubic": lib.TRAJ_CUBIC,
-    "trapezoid": lib.TRAJ_TRAPEZOID,
+    "li": constants.TRAJ_LI,
+    "quintic": constants.TRAJ_QUINTIC,
+    "cubic": constants.TRAJ_CUBIC,
+    "trapezoid": constants.TRAJ_TRAPEZOID,
 }
 """Profile names (as ``crslab traj --profile`` takes them) and their ``traj_kind`` values."""
 
@@ -103,12 +103,10 @@ def min_duration(profile: str, q0: object, qf: object, vmax: object = None,
     b = np.atleast_1d(np.asarray(qf, dtype=np.float64))
     v, acc = _limits(vmax, a.size, "vmax"), _limits(amax, a.size, "amax")
     out = np.empty(a.size)
-    t = ffi.new("double *")
     for j in range(a.size):  # one call per joint: planning is not the hot path
-        status = lib.traj_min_duration(kind, a[j], b[j], v[j], acc[j], t)
-        if status != lib.TRAJ_OK:
+        status, out[j] = _bindings.traj_min_duration(kind, a[j], b[j], v[j], acc[j])
+        if status != constants.TRAJ_OK:
             raise TrajectoryError(f"joint {j + 1}: positions must be finite ({a[j]} to {b[j]})", joint=j)
-        out[j] = t[0]
     return out
 
 
@@ -141,7 +139,7 @@ class Trajectory:
 
     @property
     def c_segments(self) -> object:
-        """The planned ``traj_profile[n_segments * n_joints]`` (cffi), to hand to C functions."""
+        """The planned ``traj_profile[n_segments * n_joints]`` (:func:`crslab._bindings.traj_segments`)."""
         return self._segments
 
     def evaluate(self, t_s: object) -> Samples:
@@ -153,8 +151,7 @@ class Trajectory:
         """
         t = np.ascontiguousarray(np.atleast_1d(np.asarray(t_s, dtype=np.float64)).ravel())
         out = [np.empty((t.size, self.n_joints)) for _ in range(4)]
-        lib.traj_path_eval_many(self._segments, dptr(self.start_s), self.start_s.size, self.n_joints,
-                                dptr(t), t.size, *(dptr(o) for o in out))
+        _bindings.traj_evaluate(self._segments, self.start_s, self.n_joints, t, *out)
         return Samples(*out)
 
     def sample(self, rate_hz: int = 1000) -> tuple[np.ndarray, Samples]:
@@ -174,23 +171,21 @@ def _plan_segment(kind: int, segments: object, offset: int, q0: np.ndarray, qf: 
                   duration_s: float, vmax: np.ndarray, amax: np.ndarray, profile: str,
                   exact: bool, segment: int) -> None:
     n = q0.size
-    failed = ffi.new("size_t *")
-    status = lib.traj_plan_synchronized(segments + offset, n, kind, dptr(q0), dptr(qf), duration_s,
-                                        dptr(vmax), dptr(amax), failed)
+    status, failed = _bindings.traj_plan_synchronized(segments, offset, n, kind, q0, qf, duration_s, vmax,
+                                                      amax)
     where = f"segment {segment + 1}: " if segment is not None else ""
-    if status == lib.TRAJ_BAD_ARGUMENT:
-        j = int(failed[0])
+    if status == constants.TRAJ_BAD_ARGUMENT:
+        j = failed
         what = f"joint {j + 1} from {q0[j]} to {qf[j]}" if j < n else f"duration {duration_s}"
         raise TrajectoryError(f"{where}cannot plan {what}: positions must be finite and durations "
                               "finite and >= 0", segment, j if j < n else None)
-    if status == lib.TRAJ_TOO_FAST:  # only without limits: a move in no time
-        j = int(failed[0])
+    if status == constants.TRAJ_TOO_FAST:  # only without limits: a move in no time
+        j = failed
         raise TrajectoryError(f"{where}joint {j + 1} cannot move from {q0[j]:.6g} to {qf[j]:.6g} in "
                               f"{duration_s:g} s (give a duration or a speed limit)", segment, j)
     if exact and segments[offset].duration_s != duration_s:  # stretched: some joint cannot
-        check = ffi.new("traj_profile *")
-        j = next(j for j in range(n)
-                 if lib.traj_plan(check, kind, q0[j], qf[j], duration_s, vmax[j], amax[j]) != lib.TRAJ_OK)
+        j = next(j for j in range(n) if _bindings.traj_plan_status(
+            kind, q0[j], qf[j], duration_s, vmax[j], amax[j]) != constants.TRAJ_OK)
         limits = [f"{vmax[j]:g} rad/s"] if vmax[j] > 0 else []
         limits += [f"{amax[j]:g} rad/s^2"] if amax[j] > 0 else []
         if profile in ("li", "trapezoid") and amax[j] == 0:  # can cruise at vmax, so any T > L/vmax
@@ -232,7 +227,7 @@ def plan_path(profile: str, waypoints: object, durations_s: object = None, vmax:
         if durations.size != n_seg:
             raise ValueError(f"durations_s needs {n_seg} values (one per segment), got {durations.size}")
     v, a = _limits(vmax, n, "vmax"), _limits(amax, n, "amax")
-    segments = ffi.new("traj_profile[]", n_seg * n)
+    segments = _bindings.traj_segments(n_seg * n)
     start = np.zeros(n_seg)
     for i in range(n_seg):
         given = not math.isnan(durations[i])

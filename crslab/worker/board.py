@@ -1,11 +1,12 @@
 """One board instance in the worker: one lab's MuJoCo data, its board (``crs_board``: the framework's
-state), its firmware and its outputs (its own shared block, its scope log), stepped in chunks on
-request. A worker process holds many (:mod:`crslab.worker.main`).
+state), its firmware and its outputs (its own shared block), stepped in chunks on request. A worker
+process holds many (:mod:`crslab.worker.main`). The board's C is called through
+:class:`crslab._bindings.BoardLibrary`.
 
-Serial bytes never travel through the pipe: the board writes them into the instance's shared
-block, where the crslab process reads them even if this process dies.
+Serial bytes and scope rows never travel through the pipe: the board writes them into the
+instance's shared block, where the crslab process reads them even if this process dies.
 
-The lab's firmware is a WebAssembly module by default: the board (crslab._core) runs it in a
+The lab's firmware is a WebAssembly module by default: the board (the C core's) runs it in a
 store of its own, and it can reach nothing of this process (csrc/board/firmware_wasm.c); the
 instances of a worker share one wasmtime engine and one compiled module per distinct firmware,
 and a trap or a hang ends only the instance whose firmware did it. A native
@@ -25,9 +26,9 @@ import os
 from collections.abc import Iterable
 
 import numpy as np
-from cffi import FFI
 
 from crslab import crs, os_support
+from crslab._bindings import BoardLibrary, compiled_board, constants
 from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
 from crslab.lab.watched import WatchedError, WatchedVar, watched_var
 from crslab.plant.model import apply_friction, apply_plant, motor_to_qpos
@@ -35,7 +36,7 @@ from crslab.plant.mujoco_c import mj_step_address, stop_stage_timers
 from crslab.plant.plant_params import PlantParams
 from crslab.scenario.expect_events import Observation
 from crslab.worker import worker_messages
-from crslab.worker.board_ffi import board_constants, native_board_ffi
+from crslab.worker.board_ffi import native_board_ffi
 from crslab.worker.board_settings import board_settings, friction
 from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
@@ -52,80 +53,45 @@ from crslab.worker.wasm_runtime import (
 )
 from crslab.world import World
 from crslab.world.scene import FIXTURE_SENSORS, PEG_TIP_SITE, load_scene, set_arm_pose
-from crslab.world.world_facts import WORLD_COLUMNS, WORLD_ROW_WIDTH
-
-LOG_ROWS = 2000  # rows per scope-log block
-
-_LOG_COLUMNS = {  # name: (width, dtype)
-    "tick": (1, np.int64), "enc_rad": (3, np.float64), "tau_lab": (3, np.float64),
-    "tau_applied": (3, np.float64), "plot": (4, np.float64), "safety": (1, np.int32),
-    "leds": (1, np.uint32), "motor_board_off": (1, np.int32), "qpos_dh_rad": (3, np.float64),
-    "ee": (3, np.float64), "push_force": (3, np.float64),
-}
-_C_TYPE = {np.int64: "int64_t *", np.float64: "double *", np.int32: "int32_t *", np.uint32: "uint32_t *"}
+from crslab.world.world_facts import WORLD_ROW_WIDTH, split_world_row
 
 
-def counter_names(ffi: FFI) -> list[str]:
-    """The names of the board's counters in the order ``crs_board_counters`` writes them (its enum
-    ``crs_counter``, csrc/board/board_config.h: ``CRS_COUNTER_LAB_CALLS`` is ``lab_calls``)."""
-    elements = ffi.typeof("crs_counter").elements
-    return [elements[i].removeprefix("CRS_COUNTER_").lower() for i in range(len(elements)) if i in elements
-            and elements[i] != "CRS_COUNTERS"]
-
-
-def split_world_row(row: object) -> dict:
-    """The world's row (``CRS_WORLD_ROW`` values, or rows of them) split into named columns
-    (:data:`crslab.world.world_facts.WORLD_COLUMNS`, C's order).
-
-    >>> split_world_row(np.arange(23.0))["scale_g"], split_world_row(np.zeros((2, 23)))["peg_tip"].shape
-    (array([8.]), (2, 3))
-    """
-    a = np.asarray(row, dtype=float)
-    flat = a.ndim == 1
-    a = a.reshape(-1, WORLD_ROW_WIDTH)
-    out, i = {}, 0
-    for name, width in WORLD_COLUMNS.items():
-        out[name] = a[0, i:i + width] if flat else a[:, i:i + width].copy()
-        i += width
-    return out
-
-
-def world_config(ffi: FFI, model: object, data: object, world: World) -> tuple[object, list[object]]:
-    """The C world's configuration (a ``crs_world_config *``; csrc/plant/world.h) for ``world``'s
-    compiled scene ``model`` and its ``data``: the sensors' places in ``data.sensordata``, the
-    hole, the groove's centre line, the egg's breaking force and geom. Returns it and what must
-    stay alive as long as it is used."""
-    config = ffi.new("crs_world_config *")
+def world_config(c: BoardLibrary, model: object, data: object, world: World) -> tuple[object, list[object]]:
+    """The C world's configuration (a ``crs_world_config *`` of ``c``'s; csrc/plant/world.h) for
+    ``world``'s compiled scene ``model`` and its ``data``: the sensors' places in
+    ``data.sensordata``, the hole, the groove's centre line, the egg's breaking force and geom.
+    Returns it and what must stay alive as long as it is used."""
+    config = c.new("crs_world_config *")
     keep: list[object] = [model, data, config]
 
     def ptr(ctype: str, arr: np.ndarray, offset: int = 0) -> object:
         keep.append(arr)
-        return ffi.cast(ctype, arr.ctypes.data) + offset
+        return c.pointer(ctype, arr.ctypes.data) + offset
 
-    c = config
-    c.sensordata = ptr("double *", data.sensordata)  # type: ignore[attr-defined]
-    c.peg_tip_adr = -1
+    w = config
+    w.sensordata = ptr("double *", data.sensordata)  # type: ignore[attr-defined]
+    w.peg_tip_adr = -1
     names = [model.sensor(i).name for i in range(model.nsensor)]  # type: ignore[attr-defined]
     if PEG_TIP_SITE in names:
-        c.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])  # type: ignore[attr-defined]
+        w.peg_tip_adr = int(model.sensor_adr[names.index(PEG_TIP_SITE)])  # type: ignore[attr-defined]
     for i, fixture in enumerate(FIXTURE_SENSORS):
         found = f"{fixture}_force" in names
-        c.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")]) if found else -1  # type: ignore[attr-defined]
-    c.timestep_s = float(model.opt.timestep)  # type: ignore[attr-defined]
+        w.sensor_adr[i] = int(model.sensor_adr[names.index(f"{fixture}_force")]) if found else -1  # type: ignore[attr-defined]
+    w.timestep_s = float(model.opt.timestep)  # type: ignore[attr-defined]
     if (h := world.hole) is not None:
-        c.has_hole = 1
-        c.hole_xy_m = list(h.center_xy_m)
-        c.hole_top_z_m, c.hole_radius_m = h.top_z_m, h.diameter_m / 2
+        w.has_hole = 1
+        w.hole_xy_m = list(h.center_xy_m)
+        w.hole_top_z_m, w.hole_radius_m = h.top_z_m, h.diameter_m / 2
     if world.groove is not None:
-        c.has_groove = 1
-        c.groove_xy_m = [v for corner in world.groove.corners_xy_m for v in corner]
+        w.has_groove = 1
+        w.groove_xy_m = [v for corner in world.groove.corners_xy_m for v in corner]
     if world.egg is not None:
-        c.breaking_force_n = world.egg.breaking_force_n
+        w.breaking_force_n = world.egg.breaking_force_n
         egg = model.geom("egg").id  # type: ignore[attr-defined]
-        c.egg_contype = ptr("int32_t *", model.geom_contype, egg)  # type: ignore[attr-defined]
-        c.egg_conaffinity = ptr("int32_t *", model.geom_conaffinity, egg)  # type: ignore[attr-defined]
-        c.egg_size_m = ptr("double *", model.geom_size, 3 * egg)  # type: ignore[attr-defined]
-        c.egg_pos_m = ptr("double *", model.geom_pos, 3 * egg)  # type: ignore[attr-defined]
+        w.egg_contype = ptr("int32_t *", model.geom_contype, egg)  # type: ignore[attr-defined]
+        w.egg_conaffinity = ptr("int32_t *", model.geom_conaffinity, egg)  # type: ignore[attr-defined]
+        w.egg_size_m = ptr("double *", model.geom_size, 3 * egg)  # type: ignore[attr-defined]
+        w.egg_pos_m = ptr("double *", model.geom_pos, 3 * egg)  # type: ignore[attr-defined]
     return config, keep
 
 
@@ -146,12 +112,12 @@ class FirmwareStopped(Exception):
         self.trap = trap
 
 
-def trap_info(ffi: FFI, sim: object) -> dict:
+def trap_info(c: BoardLibrary, sim: object) -> dict:
     """How the firmware stopped (``crs_board.trap``), as plain data: kind, phase, tick, exit code and
     wasmtime's text (the firmware's frames included)."""
     t = sim.trap  # type: ignore[attr-defined]
     return {"kind": int(t.kind), "phase": int(t.phase), "tick": int(t.tick), "exit_code": int(t.exit_code),
-            "line": int(t.line), "text": ffi.string(t.text).decode("utf-8", "replace")}
+            "line": int(t.line), "text": c.string(t.text)}
 
 
 class Board:
@@ -184,56 +150,48 @@ class Board:
         self.sandbox = None
         self._keep: list[object] = [shared]
         if config.build.native:
-            ffi = self.ffi = native_board_ffi()
+            ffi = native_board_ffi()
             block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
-            self.lib, sim = self._load_native(config, block, keep_fds, debug)
+            self.c = BoardLibrary(ffi, self._load_native(config, block, keep_fds, debug))
+            sim = self.c.new_board(config.build.generation.id, block)
+            if self.c.native_attach(sim) != 0:
+                raise FirmwareStopped(trap_info(self.c, sim))
             names = [v.name for v in config.build.variables]
             self.firmware: FirmwareMemory = NativeMemory(config.build.image, names)
         else:
-            from crslab._core import ffi, lib
-
-            self.ffi, self.lib = ffi, lib
-            block = ffi.cast("crs_shared *", ffi.from_buffer(shared))
+            self.c = compiled_board()
+            block = self.c.shared(shared)
             sim = self._load_wasm(config, block, deadline_s, image or WasmImage.read(config.build.image))
-            self.firmware = WasmMemory(ffi, lib, sim, config.build)
+            self.firmware = WasmMemory(self.c, sim, config.build)
         self.sim = sim
+        c = self.c
         # the lab's globals as the board's MATLAB code sees them (C28x addresses)
-        self._keep += fill_memory_table(sim, ffi, self.lib, self.firmware, config.build.memory)
-        plant = {"model": ffi.cast("void *", self.model._address),
-                 "data": ffi.cast("void *", self.data._address),
-                 "step": ffi.cast("crs_mj_step_fn", mj_step), "qpos": self._ptr("double *", self.data.qpos),
-                 "qvel": self._ptr("double *", self.data.qvel), "ctrl": self._ptr("double *", self.data.ctrl),
-                 "qfrc_applied": self._ptr("double *", self.data.qfrc_applied)}
-        self.lib.crs_board_attach_plant(sim, ffi.new("crs_board_plant *", plant))
-        settings = board_settings(config, trap_fp=debug is not None and debug.trap_fp, time_lab=time_lab)
-        self.lib.crs_board_configure(sim, ffi.new("crs_board_config *", settings))
+        self._keep += fill_memory_table(sim, c, self.firmware, config.build.memory)
+        c.attach_plant(sim, {
+            "model": c.pointer("void *", self.model._address),
+            "data": c.pointer("void *", self.data._address),
+            "step": c.pointer("crs_mj_step_fn", mj_step), "qpos": self._ptr("double *", self.data.qpos),
+            "qvel": self._ptr("double *", self.data.qvel), "ctrl": self._ptr("double *", self.data.ctrl),
+            "qfrc_applied": self._ptr("double *", self.data.qfrc_applied)})
+        trap_fp = debug is not None and debug.trap_fp
+        c.configure(sim, board_settings(config, trap_fp=trap_fp, time_lab=time_lab))
         self._set_world(config.world)
-        self._counters: object | None = None
-        self._counter_names: list[str] = []
         self.events = list(config.scenario.events)
         self.motor_board_events: list[worker_messages.MotorBoardEvent] = []
         self.observations: list[Observation] = []
-        self.log_blocks: list[dict[str, np.ndarray]] = []
-        self._columns = dict(_LOG_COLUMNS)
-        if sim.world.enabled:
-            self._columns["world"] = (WORLD_ROW_WIDTH, np.float64)
-        if config.log_signals:
-            self._log_arrays = {k: np.zeros((LOG_ROWS, w), dt) for k, (w, dt) in self._columns.items()}
-            log = {k: self._ptr(_C_TYPE[self._columns[k][1]], arr) for k, arr in self._log_arrays.items()}
-            self.lib.crs_board_attach_log(sim, ffi.new("crs_log *", {"capacity": LOG_ROWS, **log}))
 
     def _set_world(self, world: World) -> None:
         """Configure the board's world (csrc/plant/world.h) with the scene's sensors and the egg's
         geom; world ``none`` leaves it off."""
         if world.is_free_air:
             return
-        config, keep = world_config(self.ffi, self.model, self.data, world)
+        config, keep = world_config(self.c, self.model, self.data, world)
         self._keep += keep
-        self.lib.crs_board_attach_world(self.sim, config)
+        self.c.attach_world(self.sim, config)
 
     def board_event(self, fields: dict) -> None:
         """Have the board apply one ``crs_board_event`` (csrc/board/board_config.h) now."""
-        if self.lib.crs_board_apply_event(self.sim, self.ffi.new("crs_board_event *", fields)) != 0:
+        if not self.c.apply_event(self.sim, fields):
             raise ValueError(f"the board knows no event of kind {fields.get('kind')}")
 
     def world_values(self) -> dict[str, float] | None:
@@ -252,17 +210,12 @@ class Board:
                 values[name] = float(value[0])
         return values
 
-    def _new_sim(self, config: RunConfig, block: object) -> object:
-        sim = self.ffi.new("crs_board *")
-        self.lib.crs_board_init(sim, config.build.generation.id, block)
-        return sim
-
     def _load_native(self, config: RunConfig, block: object, keep_fds: Iterable[int],
-                     debug: DebugSetup | None) -> tuple[object, object]:
-        """The native firmware's shared object, loaded (in the run sandbox when asked) and
-        attached to a new board; returns (library, sim)."""
+                     debug: DebugSetup | None) -> object:
+        """The native firmware's shared object (the board linked with the firmware), loaded in the
+        run sandbox when asked."""
         tracer = debug.tracer_pid if debug is not None else None
-        constants = board_constants()  # read from board.h before the sandbox closes every file
+        loading, idle = constants.CRS_PHASE_LOADING, constants.CRS_PHASE_IDLE  # before the sandbox closes
         if config.sandboxed:
             from crslab.sandbox.run_sandbox import enter_run_sandbox
 
@@ -271,68 +224,63 @@ class Board:
                                              sanitizer=config.build.sanitized, tracer_pid=tracer)
         elif tracer is not None:
             os_support.allow_tracer(tracer)
-        block.phase = constants.CRS_PHASE_LOADING  # type: ignore[attr-defined]
+        block.phase = loading  # type: ignore[attr-defined]
         with self.sandbox.loading() if self.sandbox is not None else contextlib.nullcontext():
-            lib = self.ffi.dlopen(str(config.build.image))
-        block.phase = constants.CRS_PHASE_IDLE  # type: ignore[attr-defined]
-        self.lib = lib
-        sim = self._new_sim(config, block)
-        if lib.crs_fw_native_attach(sim) != 0:
-            raise FirmwareStopped(trap_info(self.ffi, sim))
-        return lib, sim
+            lib = native_board_ffi().dlopen(str(config.build.image))
+        block.phase = idle  # type: ignore[attr-defined]
+        return lib
 
     def _load_wasm(self, config: RunConfig, block: object, deadline_s: float | None,
                    image: WasmImage) -> object:
-        """The WebAssembly firmware, loaded into a new board (crslab._core): a store of its own, the
+        """The WebAssembly firmware, loaded into a new board (the C core's): a store of its own, the
         compiled module shared with every instance of the same firmware in this process; raises
         :class:`FirmwareStopped` when it cannot be loaded or stops in a constructor."""
-        sim = self._new_sim(config, block)
+        c = self.c
+        sim = c.new_board(config.build.generation.id, block)
         os.environ.update(ENGINE_ENVIRONMENT)  # (a trap's backtrace names the lab's file and line)
-        library = self.ffi.new("char[]", str(wasmtime_library()).encode())
-        key = self.ffi.new("char[]", image.digest.encode())
+        library, key = c.text(str(wasmtime_library())), c.text(image.digest)
         # the compiled module kept between runs: read (and its seal checked) only when this process
         # does not hold the module already (another instance of the same firmware)
-        kept = None if self.lib.crs_fw_wasm_module_held(key) else image.compiled_path()
+        kept = None if c.wasm_module_held(image.digest) else image.compiled_path()
         sealed_stamp = unsealed_compiled_removed(kept) if kept is not None else None
-        compiled = self.ffi.new("char[]", str(kept).encode()) if kept is not None else self.ffi.NULL
-        wasm = self.ffi.from_buffer("uint8_t[]", image.wasm)
-        options = self.ffi.new("crs_wasm_options *", {
+        compiled = c.text(str(kept)) if kept is not None else c.pointer("char *", 0)
+        wasm = c.bytes_view(image.wasm)
+        self._keep += [library, wasm, compiled, key]
+        block.phase = constants.CRS_PHASE_LOADING  # type: ignore[attr-defined]
+        code = c.wasm_load(sim, {
             "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": MEMORY_BYTES,
             "stack_bytes": NATIVE_STACK_BYTES, "compiled_path": compiled, "module_key": key,
             "deadline_ns": 0 if deadline_s is None else max(1, round(deadline_s * 1e9))})
-        self._keep += [library, wasm, compiled, key, options]
-        block.phase = board_constants().CRS_PHASE_LOADING  # type: ignore[attr-defined]
-        code = self.lib.crs_fw_wasm_load(sim, options)
         if kept is not None:
             seal_compiled(kept, sealed_stamp)
         if code != 0:
-            raise FirmwareStopped(trap_info(self.ffi, sim))
-        block.phase = board_constants().CRS_PHASE_IDLE  # type: ignore[attr-defined]
+            raise FirmwareStopped(trap_info(c, sim))
+        block.phase = constants.CRS_PHASE_IDLE  # type: ignore[attr-defined]
         return sim
 
     def close(self) -> None:
         """Free the firmware (a WebAssembly one: its store, and its compiled module when no other
         instance runs it; a native one stays loaded with the process)."""
         if not self.config.build.native and self.sim is not None:
-            self.lib.crs_fw_wasm_unload(self.sim)
+            self.c.wasm_unload(self.sim)
             self.sim = None
 
     @property
     def module_refs(self) -> int:
         """How many instances of this process share this one's compiled firmware module (0: a
         native firmware)."""
-        return 0 if self.config.build.native else int(self.lib.crs_fw_wasm_module_refs(self.sim))
+        return 0 if self.config.build.native else self.c.wasm_module_refs(self.sim)
 
     def set_friction(self, plant: PlantParams) -> None:
         """Run on with ``plant``'s friction."""
         self.plant = plant
         apply_friction(self.model, plant)
-        self.board_event({"kind": board_constants().CRS_EVENT_FRICTION,
+        self.board_event({"kind": constants.CRS_EVENT_FRICTION,
                           "friction": friction(plant.sliding_units(), plant.friction_transition_rad_s)})
 
     def _ptr(self, ctype: str, arr: np.ndarray) -> object:
         self._keep.append(arr)
-        return self.ffi.cast(ctype, arr.ctypes.data)
+        return self.c.pointer(ctype, arr.ctypes.data)
 
     # -- watched variables -------------------------------------------------------------------
     def _var(self, name: str, index: int | None, *, whole: bool) -> tuple[WatchedVar, object]:
@@ -346,10 +294,10 @@ class Board:
         count = var.length if var.length is not None else 1
         address = None
         if element is not None:
-            address = self.firmware.address(name, count * self.firmware.ffi.sizeof(element))
+            address = self.firmware.address(name, count * self.firmware.size_of(element))
         if address is None:
             raise KeyError(f"{name} cannot be reached in the lab's firmware")
-        return var, self.firmware.ffi.cast(f"{element} *", address)
+        return var, self.firmware.pointer(f"{element} *", address)
 
     def get_var(self, name: str) -> float | list[float]:
         """Current value of a watched variable (a list for arrays)."""
@@ -388,34 +336,26 @@ class Board:
         taken, self.observations = self.observations, []
         return taken
 
-    def _drain_log(self) -> None:
-        n = int(self.lib.crs_board_take_log(self.sim))
-        if n:
-            block = {k: a[:n].copy() for k, a in self._log_arrays.items()}
-            if "world" in block:
-                block.update(split_world_row(block.pop("world")))
-            self.log_blocks.append(block)
-
     def run(self, until_tick: int) -> int:
-        """Run to ``until_tick`` (events applied on their tick); returns a CRS_RUN_* code."""
-        lib, sim = self.lib, self.sim
+        """Run to ``until_tick`` (events applied on their tick); returns a CRS_RUN_* code: done, or
+        why the chunk ended early (the shared block's serial buffer or scope log full: the crslab
+        process takes them and asks for the rest; a trap, a NaN in strict mode, an overflow)."""
+        c, sim = self.c, self.sim
         while True:
             while self.events and self.events[0].tick <= sim.tick:
                 apply_event(self, self.events.pop(0))
             if sim.tick >= until_tick:
-                return lib.CRS_RUN_DONE
+                return constants.CRS_RUN_DONE
             stop_at = min(until_tick, self.events[0].tick) if self.events else until_tick
-            code = lib.crs_board_run(sim, stop_at)
-            if code == lib.CRS_RUN_LOG_FULL or (self.config.log_signals and code != lib.CRS_RUN_DONE):
-                self._drain_log()
-            if code == lib.CRS_RUN_EVENTS_FULL:
+            code = c.run(sim, stop_at)
+            if code == constants.CRS_RUN_EVENTS_FULL:
                 self._drain_motor_board_events()
-            if code not in (lib.CRS_RUN_DONE, lib.CRS_RUN_LOG_FULL, lib.CRS_RUN_EVENTS_FULL):
+            elif code != constants.CRS_RUN_DONE:
                 return code
 
     def _drain_motor_board_events(self) -> None:
         mb = self.sim.motor_board
-        n = int(self.lib.crs_board_take_motor_board_events(self.sim))
+        n = self.c.take_motor_board_events(self.sim)
         self.motor_board_events.extend(
             worker_messages.MotorBoardEvent(int(mb.event_tick[i]), int(mb.event_joint[i]),
                                             bool(mb.event_off[i]))
@@ -423,16 +363,11 @@ class Board:
 
     def debug_break(self) -> None:
         """Stop in the debugger before the next tick (it then stops at the next ``lab()`` call)."""
-        self.lib.crs_tick = self.sim.tick
-        self.lib.crs_debug_break(self.sim.tick)
+        self.c.debug_break(int(self.sim.tick))
 
     def stats(self) -> RunStats:
         """The board's counters (read in one call)."""
-        if self._counters is None:
-            self._counter_names = counter_names(self.ffi)
-            self._counters = self.ffi.new("int64_t[]", len(self._counter_names))
-        self.lib.crs_board_counters(self.sim, self._counters)
-        counters = dict(zip(self._counter_names, self.ffi.unpack(self._counters, len(self._counter_names))))
+        counters = self.c.counters(self.sim)
         over = min(8, counters["over_budget"])
         first_over = tuple(int(self.sim.first_over_tick[i]) for i in range(over))
         return RunStats(**counters, first_over_tick=first_over,
@@ -443,18 +378,3 @@ class Board:
         self._drain_motor_board_events()
         events, self.motor_board_events = self.motor_board_events, []
         return events
-
-    def take_log(self) -> dict[str, np.ndarray] | None:
-        """The scope rows gathered since the last call (None when logging is off)."""
-        if not self.config.log_signals:
-            return None
-        self._drain_log()
-        blocks, self.log_blocks = self.log_blocks, []
-        if not blocks:
-            empty = {k: np.zeros((0, w), dt) for k, (w, dt) in self._columns.items()}
-            if "world" in empty:
-                empty.update(split_world_row(empty.pop("world")))
-            return empty
-        if len(blocks) == 1:  # a chunk's rows, as a rule
-            return blocks[0]
-        return {k: np.concatenate([b[k] for b in blocks]) for k in blocks[0]}

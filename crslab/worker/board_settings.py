@@ -1,5 +1,5 @@
 """A run's settings and a scenario's events as the board takes them: one struct each
-(``crs_board_config``, ``crs_board_event`` of csrc/board/board_config.h), given to the board in one
+(``crs_board_settings``, ``crs_board_event`` of csrc/board/board_config.h), given to the board in one
 call (``crs_board_configure``, ``crs_board_apply_event``). Python never writes the board's fields.
 
 >>> from crslab.plant.plant_params import PlantParams
@@ -44,7 +44,8 @@ def plant_settings(plant: PlantParams) -> dict[str, Any]:
 
 
 def board_settings(config: RunConfig, *, trap_fp: bool = False, time_lab: bool = True) -> dict[str, Any]:
-    """``crs_board_config`` for the run ``config`` (its fields by name)."""
+    """``crs_board_settings`` for the run ``config`` (its fields by name): the scope log every
+    ``config.log_every_ticks`` ticks when the run logs its signals, else none."""
     return {
         "strict_nan": int(config.strict_nan), "motor_board": MOTOR_BOARDS[config.motor_board_model],
         "startup_ticks": config.startup_ticks, "budget_instructions": config.budget_instructions,
@@ -53,7 +54,7 @@ def board_settings(config: RunConfig, *, trap_fp: bool = False, time_lab: bool =
         "hand_kp_nm_per_rad": config.hand.kp, "hand_ki_nm_per_rad_s": config.hand.ki,
         "hand_kd_nm_s_per_rad": config.hand.kd, "hand_max_nm": config.hand.max_nm,
         "break_when": int(config.build.break_when is not None), "trap_fp": int(trap_fp),
-        "time_lab": int(time_lab), "log_every_ticks": config.log_every_ticks,
+        "time_lab": int(time_lab), "log_every_ticks": config.log_every_ticks if config.log_signals else 0,
     }
 
 

@@ -16,6 +16,7 @@ import dataclasses
 from collections.abc import Callable, Iterable
 from typing import TYPE_CHECKING, Any, Protocol, TypeVar
 
+from crslab._bindings import constants
 from crslab.plant.model import set_end_mass
 from crslab.scenario.event import Event
 from crslab.scenario.expect_events import Expect
@@ -24,7 +25,6 @@ from crslab.scenario.hand_events import HandMove, HandRelease
 from crslab.scenario.lab_events import SetVariable, SimulinkInput
 from crslab.scenario.plant_events import EndMass, FrictionScale
 from crslab.scenario.push_events import Push
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.board_settings import event_struct
 
 if TYPE_CHECKING:
@@ -90,7 +90,7 @@ def apply_event(worker: EffectTarget, event: Event) -> None:
 
 def _on_board(worker: EffectTarget, e: Event) -> None:
     # the board carries these out itself (crs_board_apply_event, csrc/board/board_config.c)
-    for fields in event_struct(board_constants(), e, worker.rest_dh):
+    for fields in event_struct(constants, e, worker.rest_dh):
         worker.board_event(fields)
 
 

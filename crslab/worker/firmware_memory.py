@@ -16,7 +16,7 @@ Everything read is data the firmware wrote; nothing here trusts it beyond its bo
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from cffi import FFI
 
@@ -25,6 +25,7 @@ from crslab.lab.variables import HOST_TYPES, wasm_element_type
 from crslab.os_support import loaded_symbol_size
 
 if TYPE_CHECKING:
+    from crslab._bindings import BoardLibrary
     from crslab.lab.build import LabBuild
 
 FRAMEWORK_BYTES = {name: 4 if name == "matlabLock" else 2 for name in FRAMEWORK_VARIABLES}
@@ -41,7 +42,11 @@ def native_element_type(ctype: str, pointer: bool = False) -> str | None:
 class FirmwareMemory(Protocol):
     """The lab's variables in one loaded firmware."""
 
-    ffi: FFI
+    def size_of(self, ctype: str) -> int:
+        """Bytes of one ``ctype`` (an element type of :meth:`element_type`) in this firmware."""
+
+    def pointer(self, ctype: str, address: int) -> Any:
+        """A ``ctype`` (a pointer type) at ``address`` in this process, to read and write through."""
 
     def element_type(self, ctype: str, pointer: bool = False) -> str | None:
         """The cffi type of one element of ``ctype`` in this firmware (None: not readable)."""
@@ -55,22 +60,25 @@ class WasmMemory:
     """A WebAssembly firmware's memory (``crs_fw_wasm_memory``, ``crs_fw_wasm_variable``), for the
     lab ``build`` (what its globals are called in the image, and the size of each)."""
 
-    def __init__(self, ffi: FFI, lib: object, sim: object, build: LabBuild) -> None:
-        self.ffi, self._lib, self._sim, self._image_name = ffi, lib, sim, build.image_name
-        size = ffi.new("uint64_t *")
-        base = lib.crs_fw_wasm_memory(sim, size)  # type: ignore[attr-defined]
-        self.base = int(ffi.cast("uintptr_t", base))
-        self.size = int(size[0])
+    def __init__(self, board: BoardLibrary, sim: object, build: LabBuild) -> None:
+        self._board, self._sim, self._image_name = board, sim, build.image_name
+        self.base, self.size = board.wasm_memory(sim)
         # the size the compiler gave each of the lab's globals (the build's table, read once)
         self._sizes: dict[str, int] = {}
         table = self._offset(SIZES_SYMBOL)
         n = len(build.sized)
         if table and table + 4 * (n + 1) <= self.size:
-            values = ffi.unpack(ffi.cast("uint32_t *", self.base + table), n + 1)
+            values = board.unpack(board.pointer("uint32_t *", self.base + table), n + 1)
             self._sizes = dict(zip(build.sized, values[1:]))
 
     def _offset(self, exported: str) -> int:
-        return int(self._lib.crs_fw_wasm_variable(self._sim, exported.encode()))  # type: ignore[attr-defined]
+        return self._board.wasm_variable(self._sim, exported)
+
+    def size_of(self, ctype: str) -> int:
+        return self._board.size_of(ctype)
+
+    def pointer(self, ctype: str, address: int) -> Any:
+        return self._board.pointer(ctype, address)
 
     def element_type(self, ctype: str, pointer: bool = False) -> str | None:
         return wasm_element_type(ctype, pointer)
@@ -94,6 +102,12 @@ class NativeMemory:
         self.ffi.cdef("\n".join(f"extern char {n};" for n in declared))
         self._lib = self.ffi.dlopen(str(shared_object))  # already loaded: found by its path, never opened
         self._names = set(declared)
+
+    def size_of(self, ctype: str) -> int:
+        return int(self.ffi.sizeof(ctype))
+
+    def pointer(self, ctype: str, address: int) -> Any:
+        return self.ffi.cast(ctype, address)
 
     def element_type(self, ctype: str, pointer: bool = False) -> str | None:
         return native_element_type(ctype, pointer)

@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from crslab._bindings import constants
 from crslab.worker import worker_messages
 from crslab.worker.board import Board, FirmwareStopped, plant_model, trap_info
 from crslab.worker.config import RunConfig
@@ -112,8 +113,8 @@ class BoardInstances:
         if board is None:
             return worker_messages.Error(f"no instance {instance} is open")
         code = board.run(until_tick)
-        trap = trap_info(board.ffi, board.sim) if code == board.lib.CRS_RUN_TRAPPED else None
-        return worker_messages.Ran(instance, code, int(board.sim.tick), board.stats(), board.take_log(),
+        trap = trap_info(board.c, board.sim) if code == constants.CRS_RUN_TRAPPED else None
+        return worker_messages.Ran(instance, code, int(board.sim.tick), board.stats(),
                                    tuple(board.take_motor_board_events()), tuple(board.take_observations()),
                                    trap)
 
@@ -144,7 +145,7 @@ class BoardInstances:
                 board.debug_break()
                 return worker_messages.Value(None)
             case worker_messages.Stop(instance):
-                stopped = worker_messages.Stopped(instance, board.stats(), board.take_log())
+                stopped = worker_messages.Stopped(instance, board.stats())
                 board.close()
                 del self.instances[instance]
                 return stopped

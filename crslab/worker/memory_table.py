@@ -9,33 +9,31 @@ a host can never read or write past it) keeps its place and reads as zero.
 
 from __future__ import annotations
 
-from cffi import FFI
-
+from crslab._bindings import BoardLibrary, constants
 from crslab.lab.c28x_memory import KINDS, MemoryLayout
-from crslab.worker.board_ffi import board_constants
 from crslab.worker.firmware_memory import FirmwareMemory
 
 
-def fill_memory_table(sim: object, board: FFI, lib: object, firmware: FirmwareMemory,
+def fill_memory_table(sim: object, board: BoardLibrary, firmware: FirmwareMemory,
                       mem: MemoryLayout) -> list[object]:
-    """Point the board ``sim`` (a ``crs_board *`` of ``board``, whose functions are ``lib``'s) at a
-    table of ``mem``'s variables in the loaded ``firmware`` (``crs_board_attach_memory``); returns
-    what must stay alive as long as the table is used."""
-    c = board_constants()
+    """Point the board ``sim`` (a ``crs_board *`` of ``board``) at a table of ``mem``'s variables in
+    the loaded ``firmware`` (``crs_board_attach_memory``); returns what must stay alive as long as
+    the table is used."""
+    c = constants
     codes = {kind: getattr(c, f"CRS_MEM_{kind.upper()}") for kind in KINDS}
     table = board.new("crs_mem_var[]", max(1, len(mem.variables)))
     for i, v in enumerate(mem.variables):
         e = table[i]
         e.address, e.count, e.words = v.address, v.count, v.element_words
         e.kind, e.writable = codes[v.kind], int(v.writable)
-        e.host_bytes, e.host = 1, board.NULL
+        e.host_bytes = 1  # host: NULL (as the table was made) until the variable is found
         element = firmware.element_type(v.ctype) if v.is_global and v.kind != "opaque" else None
         if element is None:
             continue
-        size = firmware.ffi.sizeof(element)
+        size = firmware.size_of(element)
         address = firmware.address(v.name, v.count * size)
         if address is not None:
             e.host_bytes = size
-            e.host = board.cast("void *", address)
-    lib.crs_board_attach_memory(sim, table, len(mem.variables))  # type: ignore[attr-defined]
+            e.host = board.pointer("void *", address)
+    board.attach_memory(sim, table, len(mem.variables))
     return [table]

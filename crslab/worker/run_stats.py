@@ -51,6 +51,13 @@ class RunStats:
     """How many times the lab asked for printing()."""
     safety_flag: int = 0
     """The safety envelope's flag as the run ended."""
+    safety_trips: int = 0
+    """How many times the arm went outside the safety envelope: from each, the framework's hold
+    controller's torques replaced the lab's until the arm was back inside."""
+    safety_first_tick: int = -1
+    """The tick of the first (-1: never)."""
+    safety_ticks: int = 0
+    """Ticks outside the envelope in all (the hold's torques applied)."""
     leds: int = 0
     """The LEDs as the run ended (one bit each)."""
     estop_latched: int = 0

@@ -1,5 +1,5 @@
 """wasmtime, which runs a lab's WebAssembly firmware inside the worker: where its C library is (the
-PyPI package ``wasmtime`` ships it; crslab._core loads it by path, csrc/board/wasmtime_api.h), a
+PyPI package ``wasmtime`` ships it; the C core loads it by path, csrc/board/wasmtime_api.h), a
 firmware's bytes and the digest that names its compiled code (shared by the worker's instances of
 one firmware, and kept between runs), and loading the library ahead of forks.
 
@@ -136,18 +136,16 @@ def compile_kept(image: WasmImage, kept: Path) -> None:
     worker's is, freed before this returns: no worker, board or store), keep it at ``kept`` (its
     :meth:`WasmImage.compiled_path`) and seal it: a worker that later loads the firmware only reads
     it. Raises :class:`NotCompiled` saying why it could not."""
-    from crslab._core import ffi, lib
+    from crslab._bindings import compiled_board
 
     os.environ.update(ENGINE_ENVIRONMENT)
-    library = ffi.new("char[]", str(wasmtime_library()).encode())
-    path = ffi.new("char[]", str(kept).encode())
-    wasm = ffi.from_buffer("uint8_t[]", image.wasm)
-    options = ffi.new("crs_wasm_options *", {
+    c = compiled_board()
+    library, path, wasm = c.text(str(wasmtime_library())), c.text(str(kept)), c.bytes_view(image.wasm)
+    error = c.wasm_compile({
         "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": image.memory_bytes,
         "stack_bytes": image.stack_bytes, "compiled_path": path})
-    error = ffi.new("char[]", 512)
-    if lib.crs_fw_wasm_compile(options, error, len(error)) != 0:
-        raise NotCompiled(ffi.string(error).decode(errors="replace"))
+    if error:
+        raise NotCompiled(error)
     seal_compiled(kept)
 
 
@@ -155,9 +153,9 @@ def preload() -> bool:
     """Load wasmtime's library into this process now, so that the processes it forks (a fork
     server's jobs and their lab workers) start with it loaded: about 0.1 s of CPU each saved.
     False when it cannot be loaded (a run then says why)."""
-    from crslab._core import lib
+    from crslab._bindings import preload_wasmtime
 
     try:
-        return lib.crs_fw_wasm_preload(str(wasmtime_library()).encode()) == 0
+        return preload_wasmtime(str(wasmtime_library()))
     except WasmtimeMissing:
         return False

@@ -10,8 +10,8 @@ its tick in one request, :class:`Get` or :class:`Set` a watched variable, :class
 :class:`End` the worker. The worker answers (:data:`Reply`): for an instance opened, :class:`Ready`
 (or :class:`Failed`, :class:`Trapped`: it is not open), then :class:`Ran` for a run (one per
 instance of a :class:`RunMany`, in its order), :class:`Value` or :class:`Error` for the others,
-:class:`Stopped` last. Serial bytes never travel here: each instance's board writes them into its
-own shared block (:mod:`crslab.run.shared_block`).
+:class:`Stopped` last. Serial bytes and scope rows never travel here: each instance's board writes
+them into its own shared block (:mod:`crslab.run.shared_block`), where they outlive the worker.
 
 On the pipe every message is a tuple of plain data, its kind first (:meth:`Message.wire`): the
 crslab process never unpickles a class the worker names. A native lab shares the worker's process
@@ -23,7 +23,7 @@ due, field by field; anything else is :class:`~crslab.worker.worker_reply.Unread
 ('run', 0, 5000)
 >>> read_reply(("value", 1.5), Value, Error)
 Value(value=1.5)
->>> read_reply(("ran", 0, 0, "5000", {}, None, [], [], None), Ran)
+>>> read_reply(("ran", 0, 0, "5000", {}, [], [], None), Ran)
 Traceback (most recent call last):
 ...
 crslab.worker.worker_reply.UnreadableReply: its ran reply holds tick = '5000', not a whole number
@@ -35,8 +35,6 @@ import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple, dataclass_transform
-
-import numpy as np
 
 from crslab.scenario.expect_events import Observation
 from crslab.worker.run_stats import BOARD_COUNTERS, RunStats
@@ -62,14 +60,12 @@ class Message:
         cls.NAMES = tuple(f.name for f in dataclasses.fields(cls))  # type: ignore[arg-type]
 
     def wire(self) -> tuple:
-        """The message as it travels: ``(KIND, field, ...)``, plain data only (a ``log``, the
-        scope rows, packed: :func:`pack_log`)."""
-        return (self.KIND, *[pack_log(getattr(self, name)) if name == "log" else _plain(getattr(self, name))
-                             for name in self.NAMES])
+        """The message as it travels: ``(KIND, field, ...)``, plain data only."""
+        return (self.KIND, *[_plain(getattr(self, name)) for name in self.NAMES])
 
 
 _AS_IS = (int, float, str, bool, type(None), dict)
-"""What travels as it is (a table is the counters' or the scope rows': plain already)."""
+"""What travels as it is (a table is the counters': plain already)."""
 
 
 def _plain(value: object) -> object:
@@ -86,63 +82,6 @@ def _plain(value: object) -> object:
     if isinstance(value, tuple | list):
         return [_plain(v) for v in value]
     return value
-
-
-_LOG_DTYPES = {name: np.dtype(name) for name in ("<i8", "<i4", "<u4", "<f8", "<f4")}
-"""The scope log's column types as they travel (little-endian whole numbers and floats)."""
-
-
-def pack_log(log: dict[str, np.ndarray] | None) -> tuple | None:
-    """Scope rows as they travel: ``(rows, ((name, dtype, width), ...), bytes)``, every column's
-    rows one after the other in one buffer (one object to pickle, not one array per column:
-    a chunk's some dozen arrays cost the pipe more than their bytes).
-
-    >>> log = {"tick": np.arange(3).reshape(3, 1), "plot": np.ones((3, 4))}
-    >>> packed = pack_log(log)
-    >>> packed[:2]
-    (3, (('tick', '<i8', 1), ('plot', '<f8', 4)))
-    >>> {k: v.tolist() for k, v in unpack_log(packed).items()}["tick"]
-    [[0], [1], [2]]
-    """
-    if log is None:
-        return None
-    rows = len(next(iter(log.values()))) if log else 0
-    # (a little-endian machine's arrays: crslab's, x86 and ARM alike)
-    columns = tuple((name, a.dtype.str, a.size // rows if rows else 1) for name, a in log.items())
-    return rows, columns, b"".join([a.tobytes() for a in log.values()])
-
-
-def unpack_log(packed: object) -> dict[str, np.ndarray] | None:
-    """The scope rows :func:`pack_log` packed, each column a ``(rows, width)`` array of its own
-    (writable, aligned: a view at a column's offset in the buffer may be misaligned, and numpy then
-    sums it in another order, so the same run's statistics would differ in their last bits);
-    raises :class:`_Bad` for anything that is not such a packing."""
-    if packed is None:
-        return None
-    if not isinstance(packed, tuple | list) or len(packed) != 3:
-        raise _Bad("log is not packed scope rows")
-    rows, columns, data = packed
-    if type(rows) is not int or rows < 0 or not isinstance(data, bytes | bytearray):
-        raise _Bad("log is not packed scope rows")
-    if not isinstance(columns, tuple | list):
-        raise _Bad("log's columns are not a list")
-    buffer = bytes(data)
-    log, offset = {}, 0
-    for column in columns:
-        if not isinstance(column, tuple | list) or len(column) != 3:
-            raise _Bad("log's column is not (name, type, width)")
-        name, dtype, width = column
-        if not isinstance(name, str) or dtype not in _LOG_DTYPES or type(width) is not int or width < 1:
-            raise _Bad(f"log[{name!r:.40}] is not a column of numbers")
-        dt = _LOG_DTYPES[dtype]
-        size = rows * width * dt.itemsize
-        if offset + size > len(buffer):
-            raise _Bad(f"log[{name!r:.40}] is not a column of numbers")
-        log[name] = np.frombuffer(buffer, dt, rows * width, offset).reshape(rows, width).copy()
-        offset += size
-    if offset != len(buffer):
-        raise _Bad("log's bytes are not its columns'")
-    return log
 
 
 # -- the crslab process asks --------------------------------------------------------------------
@@ -258,15 +197,15 @@ class Trapped(Message):
 
 class Ran(Message):
     """A run request's answer: how the chunk ended (a ``CRS_RUN_*`` code), the next tick, the
-    board's counters, the scope rows (None when the run logs none), the motor board's cut-outs
-    starting or ending and what each expectation reached saw, since the last reply, and how the
-    firmware stopped when ``code`` is ``CRS_RUN_TRAPPED``."""
+    board's counters, the motor board's cut-outs starting or ending and what each expectation
+    reached saw, since the last reply, and how the firmware stopped when ``code`` is
+    ``CRS_RUN_TRAPPED``. The chunk's scope rows are in the instance's shared block
+    (crslab/run/shared_block.py), as what it printed is."""
 
     instance: int
     code: int
     tick: int
     stats: RunStats
-    log: dict | None
     motor_board_events: tuple[MotorBoardEvent, ...]
     observations: tuple[Observation, ...]
     trap: dict | None
@@ -285,11 +224,10 @@ class Error(Message):
 
 
 class Stopped(Message):
-    """The instance's last counters and scope rows; it is gone after this."""
+    """The instance's last counters; it is gone after this."""
 
     instance: int
     stats: RunStats
-    log: dict | None
 
 
 Reply = Ready | Failed | Trapped | Ran | Value | Error | Stopped
@@ -347,11 +285,6 @@ def _stats(value: Any) -> RunStats:
             raise _Bad(f"stats holds {key!r:.40}, which crslab does not count")
         fields[key] = read(v, f"stats[{key!r}]")
     return RunStats(**fields)
-
-
-def _log(value: Any) -> dict | None:
-    """Scope rows: None, or packed columns of numbers (:func:`unpack_log`)."""
-    return unpack_log(value)
 
 
 def _trap(value: Any) -> dict:
@@ -442,12 +375,12 @@ _FIELDS: dict[type[Message], tuple] = {
     Ready: (_instance, lambda v: _whole(v, "symbols")),
     Failed: (_instance, lambda v: _text(v, "message")),
     Trapped: (_instance, _trap),
-    Ran: (_instance, lambda v: _whole(v, "code"), lambda v: _whole(v, "tick"), _stats, _log,
+    Ran: (_instance, lambda v: _whole(v, "code"), lambda v: _whole(v, "tick"), _stats,
           lambda v: tuple(_event(e) for e in _items(v, "motor_board_events")), _observations,
           lambda v: None if v is None else _trap(v)),
     Value: (_value,),
     Error: (lambda v: _text(v, "message"),),
-    Stopped: (_instance, _stats, _log),
+    Stopped: (_instance, _stats),
 }
 """How each reply's fields are read, in order: each raises :class:`_Bad` for what it is not."""
 
@@ -469,10 +402,10 @@ def _trusted_stats(value: dict) -> RunStats:
 
 
 _TYPED: dict[type[Message], dict[int, Any]] = {
-    Ran: {3: _trusted_stats, 4: unpack_log,
-          5: lambda v: tuple(MotorBoardEvent(e[0], e[1], bool(e[2])) for e in v),
-          6: lambda v: tuple(observation(o) for o in v)},
-    Stopped: {1: _trusted_stats, 2: unpack_log},
+    Ran: {3: _trusted_stats,
+          4: lambda v: tuple(MotorBoardEvent(e[0], e[1], bool(e[2])) for e in v),
+          5: lambda v: tuple(observation(o) for o in v)},
+    Stopped: {1: _trusted_stats},
 }
 """A trusted reply's fields that travel as plain data but are read back typed (by position)."""
 

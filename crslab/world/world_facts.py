@@ -1,5 +1,5 @@
 """The world's facts for Python, read through cffi from the C that the board's world is built from
-(``csrc/plant/world_facts.h``, ``csrc/plant/world.h``, compiled into ``crslab._core``): the world
+(``csrc/plant/world_facts.h``, ``csrc/plant/world.h``; called through :mod:`crslab._bindings`): the world
 row's columns, the fixtures' order, how the egg breaks and lies, the contest's rules. Nothing here
 is written twice: this module only names what C says.
 
@@ -15,7 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crslab._core import ffi, lib
+from crslab import _bindings as core
+from crslab._bindings import constants as C
 
 
 @dataclass(frozen=True)
@@ -31,60 +32,47 @@ class WorldColumn:
 
 
 def _columns() -> tuple[WorldColumn, ...]:
-    count = ffi.new("int32_t *")
-    table = lib.crs_world_columns(count)
-    return tuple(
-        WorldColumn(
-            ffi.string(c.name).decode(),
-            ffi.string(c.unit).decode(),
-            ffi.string(c.what).decode(),
-            int(c.offset),
-            int(c.width),
-        )
-        for c in (table[i] for i in range(count[0]))
-    )
+    return tuple(WorldColumn(*column) for column in core.world_columns())
 
 
 COLUMNS: tuple[WorldColumn, ...] = _columns()
 """The world row's quantities, in order (docs/worlds.md's table)."""
 WORLD_COLUMNS: dict[str, int] = {c.name: c.width for c in COLUMNS}
 """The scope log's world columns by name: their widths, in row order."""
-WORLD_ROW_WIDTH: int = lib.CRS_WORLD_ROW
+WORLD_ROW_WIDTH: int = C.CRS_WORLD_ROW
 """Values in one world row."""
 
-FIXTURES: tuple[str, ...] = tuple(
-    ffi.string(lib.crs_world_fixture_name(i)).decode() for i in range(lib.CRS_FIXTURES)
-)
+FIXTURES: tuple[str, ...] = core.world_fixture_names()
 """The bodies with a force sensor, in the scene's sensor order after the peg tip (each
 ``NAME_force`` at ``NAME_site``)."""
 
 OBSTACLE_BODIES: dict[str, str] = {part: FIXTURES[index] for part, index in (
-    ("peg", lib.CRS_FIXTURE_OBSTACLE), ("forearm", lib.CRS_FIXTURE_OBSTACLE_FOREARM),
-    ("upper_arm", lib.CRS_FIXTURE_OBSTACLE_UPPER_ARM))}
+    ("peg", C.CRS_FIXTURE_OBSTACLE), ("forearm", C.CRS_FIXTURE_OBSTACLE_FOREARM),
+    ("upper_arm", C.CRS_FIXTURE_OBSTACLE_UPPER_ARM))}
 """The obstacle's three bodies by the part of the arm each is touched by (``peg``, ``forearm``,
 ``upper_arm``)."""
 
-EGG_FLAT_SHARE: float = lib.CRS_EGG_FLAT_SHARE
+EGG_FLAT_SHARE: float = C.CRS_EGG_FLAT_SHARE
 """A broken egg keeps this share of its height, lying on its scale."""
-EGG_FALL_M_S: float = lib.CRS_EGG_FALL_M_S
+EGG_FALL_M_S: float = C.CRS_EGG_FALL_M_S
 """A tip that came down onto the egg faster than this (m/s) broke it in a fall."""
 EGG_BROKEN_BY: dict[int, str] = {
-    code: ffi.string(lib.crs_egg_broken_by_name(code)).decode()
-    for code in (lib.CRS_EGG_BROKEN_BY_PRESS, lib.CRS_EGG_BROKEN_BY_SIDE, lib.CRS_EGG_BROKEN_BY_FALL)
+    code: core.egg_broken_by_name(code)
+    for code in (C.CRS_EGG_BROKEN_BY_PRESS, C.CRS_EGG_BROKEN_BY_SIDE, C.CRS_EGG_BROKEN_BY_FALL)
 }
 """What broke the egg, by the row's ``egg_broken_by`` code (0, whole, is not in it)."""
 
-SCALE_GRAVITY_M_S2: float = lib.CRS_SCALE_GRAVITY_M_S2
+SCALE_GRAVITY_M_S2: float = C.CRS_SCALE_GRAVITY_M_S2
 """What a scale divides a force by to show grams (m/s^2): scales are calibrated to standard gravity."""
-TOUCH_N: float = lib.CRS_CONTEST_TOUCH_N
+TOUCH_N: float = C.CRS_CONTEST_TOUCH_N
 """A contact force above this (N) is a touch."""
-CONTEST_BAND_G: tuple[float, float] = (lib.CRS_CONTEST_BAND_LOW_G, lib.CRS_CONTEST_BAND_HIGH_G)
-CONTEST_HOLD_S: float = lib.CRS_CONTEST_HOLD_S
-CONTEST_HOLD_TOLERANCE_S: float = lib.CRS_CONTEST_HOLD_TOLERANCE_S
-CONTEST_PEG_MIN_DEPTH_M: float = lib.CRS_CONTEST_PEG_MIN_DEPTH_M
-CONTEST_PEG_HOLD_S: float = lib.CRS_CONTEST_PEG_HOLD_S
-CONTEST_GROOVE_MIN_SHARE: float = lib.CRS_CONTEST_GROOVE_MIN_SHARE
-CONTEST_OBSTACLE_AROUND: bool = bool(lib.CRS_CONTEST_OBSTACLE_AROUND)
+CONTEST_BAND_G: tuple[float, float] = (C.CRS_CONTEST_BAND_LOW_G, C.CRS_CONTEST_BAND_HIGH_G)
+CONTEST_HOLD_S: float = C.CRS_CONTEST_HOLD_S
+CONTEST_HOLD_TOLERANCE_S: float = C.CRS_CONTEST_HOLD_TOLERANCE_S
+CONTEST_PEG_MIN_DEPTH_M: float = C.CRS_CONTEST_PEG_MIN_DEPTH_M
+CONTEST_PEG_HOLD_S: float = C.CRS_CONTEST_PEG_HOLD_S
+CONTEST_GROOVE_MIN_SHARE: float = C.CRS_CONTEST_GROOVE_MIN_SHARE
+CONTEST_OBSTACLE_AROUND: bool = bool(C.CRS_CONTEST_OBSTACLE_AROUND)
 """The contest's rules by default (a world file's ``[contest]`` table overrides each)."""
 
 
@@ -99,11 +87,7 @@ def flatten_egg_geom(size_m: np.ndarray, pos_m: np.ndarray) -> None:
     for a in (size_m, pos_m):
         if a.dtype != np.float64 or a.shape != (3,) or not a.flags.c_contiguous:
             raise ValueError("an egg geom's size and position: 3 contiguous float64 values each")
-    lib.crs_egg_flatten(ffi.cast("double *", size_m.ctypes.data), ffi.cast("double *", pos_m.ctypes.data))
-
-
-def _doubles(ctype: str, a: np.ndarray) -> object:
-    return ffi.cast(ctype, a.ctypes.data)
+    core.egg_flatten(size_m, pos_m)
 
 
 def peg_depths(
@@ -118,14 +102,7 @@ def peg_depths(
     tips = np.ascontiguousarray(tips_m, dtype=np.float64).reshape(-1, 3)
     out = np.zeros(len(tips))
     hole = np.array(hole_xy_m, dtype=np.float64)
-    lib.crs_peg_depths(
-        _doubles("double *", hole),
-        top_z_m,
-        radius_m,
-        _doubles("double *", tips),
-        len(tips),
-        _doubles("double *", out),
-    )
+    core.peg_depths(hole, top_z_m, radius_m, tips, out, len(tips))
     return out
 
 
@@ -144,13 +121,22 @@ def groove_nearest(corners_xy_m: object, points_m: np.ndarray) -> tuple[np.ndarr
     corners = np.ascontiguousarray(corners_xy_m, dtype=np.float64).reshape(8)
     n = len(pts)
     segment, offset, along = np.zeros(n, np.int32), np.zeros(n), np.zeros(n)
-    lib.crs_groove_nearest_many(
-        _doubles("double *", corners),
-        _doubles("double *", pts),
-        n,
-        pts.shape[1],
-        _doubles("int32_t *", segment),
-        _doubles("double *", offset),
-        _doubles("double *", along),
-    )
+    core.groove_nearest(corners, pts, n, pts.shape[1], segment, offset, along)
     return segment, offset, along
+
+
+def split_world_row(row: object) -> dict:
+    """The world's row (:data:`WORLD_ROW_WIDTH` values, or rows of them) split into named columns
+    (:data:`WORLD_COLUMNS`, C's order).
+
+    >>> split_world_row(np.arange(23.0))["scale_g"], split_world_row(np.zeros((2, 23)))["peg_tip"].shape
+    (array([8.]), (2, 3))
+    """
+    a = np.asarray(row, dtype=float)
+    flat = a.ndim == 1
+    a = a.reshape(-1, WORLD_ROW_WIDTH)
+    out, i = {}, 0
+    for name, width in WORLD_COLUMNS.items():
+        out[name] = a[0, i:i + width] if flat else a[:, i:i + width].copy()
+        i += width
+    return out

@@ -73,6 +73,30 @@ typedef struct {
     char out[CRS_HOST_OUT_CAPACITY];
 } crs_host_port;
 
+/* The scope log (rerun, CSV, the contest's card): one row per logged tick (every tick, or every
+ * tick divisible by crs_board_config.log_every_ticks), each column an array of its own, in the
+ * shared block: the board writes a tick's row, then counts it, so the reader has every row of
+ * every tick that ran, even when the worker died after it (crslab/run/shared_block.py takes them
+ * between chunks and sets count back to 0). A chunk that fills it ends early (CRS_RUN_LOG_FULL). */
+enum { CRS_LOG_CAPACITY = 20000 }; /* rows: the longest chunk crslab asks for (crslab/run/pacing.py) */
+typedef struct {
+    int64_t count;                               /* rows written since the reader last took them */
+    int64_t tick[CRS_LOG_CAPACITY];
+    double enc_rad[3 * CRS_LOG_CAPACITY];        /* what lab() received (motor angles, rad) */
+    double tau_lab[3 * CRS_LOG_CAPACITY];        /* the lab's tau variables after lab(), command units */
+    double tau_applied[3 * CRS_LOG_CAPACITY];    /* what reached the motors, command units */
+    double plot[4 * CRS_LOG_CAPACITY];           /* Simulink_PlotVar1..4 after lab() */
+    int32_t safety[CRS_LOG_CAPACITY];            /* the safety flag */
+    uint32_t leds[CRS_LOG_CAPACITY];             /* bit 0: GPIO34 (control card), bit 1: GPIO60 (e-stop box) */
+    int32_t motor_board_off[CRS_LOG_CAPACITY];   /* 1: the motor board has cut every output */
+    int32_t pad;
+    double qpos_dh_rad[3 * CRS_LOG_CAPACITY];    /* the true plant joint angles (DH, rad) */
+    double ee[3 * CRS_LOG_CAPACITY];             /* the end effector x y z by the course's FK, m */
+    double push_force[3 * CRS_LOG_CAPACITY];     /* the push's force, world frame, N */
+    double world[CRS_WORLD_ROW * CRS_LOG_CAPACITY]; /* the world's quantities (world.h), in a world
+                                                      with fixtures */
+} crs_scope_log;
+
 typedef struct {
     int64_t tick;       /* tick being run (or next to run when idle) */
     int32_t phase;      /* CRS_PHASE_*: where the worker is */
@@ -90,26 +114,8 @@ typedef struct {
     crs_serial_line line;   /* what is still on its way out (taken by the reader when a run ends) */
     char serial[CRS_SERIAL_CAPACITY]; /* every byte that left the board, in order */
     crs_host_port host_ports[CRS_HOST_PORTS]; /* SerialB and SerialC */
+    crs_scope_log log;      /* the scope rows of the ticks run since the reader last took them */
 } crs_shared;
-
-/* Per-tick signals for scopes (rerun, CSV): filled when capacity > 0 (rows the arrays hold), one
- * row per tick, or per tick divisible by crs_board.log_every_ticks (crs_board_config). */
-typedef struct {
-    int64_t capacity, count;     /* rows */
-    int64_t *tick;
-    double *enc_rad;             /* 3 per row: what lab() received (motor angles, rad) */
-    double *tau_lab;             /* 3 per row: the lab's tau variables after lab(), command units */
-    double *tau_applied;         /* 3 per row: what reached the motors, command units */
-    double *plot;                /* 4 per row: Simulink_PlotVar1..4 after lab() */
-    int32_t *safety;             /* safety flag */
-    uint32_t *leds;              /* bit 0: GPIO34 (control card), bit 1: GPIO60 (e-stop box) */
-    int32_t *motor_board_off;    /* 1: the motor board has cut every output */
-    double *qpos_dh_rad;         /* 3 per row: the true plant joint angles (DH, rad) */
-    double *ee;                  /* 3 per row: the end effector x y z by the course's FK, m */
-    double *push_force;          /* 3 per row: the push's force, world frame, N */
-    double *world;               /* CRS_WORLD_ROW per row: the world's quantities (world.h); NULL
-                                    in a world without fixtures */
-} crs_log;
 
 /* The framework's hold controller (docs/framework.md section 4), in the DSP's float arithmetic. */
 typedef struct {
@@ -120,15 +126,14 @@ typedef struct {
     float out[3];                /* this tick's output, command units */
 } crs_hold;
 
-/* The motor board between the framework's commands and the amplifiers (framework_facts.h). */
+/* The motor board between the framework's commands and the amplifiers (framework_facts.h): what
+ * it holds (its model, CRS_MOTOR_BOARD_*, is crs_board_config.motor_board). */
 enum { CRS_MB_EVENT_CAPACITY = 64 };
 typedef struct {
-    int32_t model;               /* CRS_MOTOR_BOARD_*: NONE passes commands through */
     int32_t off;                 /* 1: every output is cut this tick */
     int32_t cause_joint;         /* while off: 1..3, the joint over the limit; 0: no command */
     int32_t since_command;       /* ms since the last command arrived */
     int32_t over_ticks[3];       /* consecutive commands over the limit, per joint */
-    int32_t pad;
     double held_units[3];        /* the last command that arrived, command units (whole counts) */
     double out_units[3];         /* what the amplifiers get: held_units, or 0 while off */
     int64_t cutouts;             /* cut-outs so far */
@@ -140,7 +145,7 @@ typedef struct {
 } crs_motor_board;
 
 /* The emulated C28x data memory (csrc/board/c28x_memory.h): the lab's globals at the 16-bit-word
- * addresses the TI linker would give them (crslab/host_tools/c28x_memory.py lays them out), each
+ * addresses the TI linker would give them (crslab/lab/c28x_memory.py lays them out), each
  * read and written in its C28x representation. Filled by the worker once the lab is loaded. */
 enum {
     CRS_MEM_SIGNED = 0,   /* a signed integer: its low 16 * words bits */
@@ -251,19 +256,34 @@ typedef struct {
     double *qfrc_applied;              /* the hand's and the push's forces on j1..j3, N.m */
 } crs_board_plant;
 
+/* What a run is configured with, as MuJoCo's mjModel is: set before the first tick (the
+ * generation by crs_board_init, the cost unit and the row by the firmware's port, the rest by
+ * crs_board_configure, in one assignment) and only read by a tick; a scenario's friction event
+ * changes the friction between chunks, as a scenario edits MuJoCo's model. */
 typedef struct {
-    crs_board_plant plant;       /* MuJoCo's model and data, views of their arrays (owned by Python) */
-
-    /* configuration */
     int32_t generation;          /* the id of a row of generations.c (0 until set: no row) */
-    int32_t pad_generation;
-    const struct crs_generation *gen; /* its row (generations.h), once the firmware's port checked it */
     int32_t strict_nan;          /* 1: a NaN/Inf torque stops the run */
+    const struct crs_generation *gen; /* its row (generations.h), once the firmware's port checked it */
     int64_t startup_ticks;       /* lab() first runs at this tick (CRS_STARTUP_TICKS, or 0) */
     double rest_motor_rad[3];    /* true resting pose the encoders were zeroed at */
     int64_t budget;              /* lab()'s budget per call, in cost_unit, for the overrun count */
     int32_t time_lab;            /* 1: count every lab() call's cost (and let a hang be seen) */
     int32_t cost_unit;           /* CRS_COST_*: set by the firmware's port */
+    int64_t log_every_ticks;     /* the scope log keeps the ticks divisible by this (1: every
+                                    tick; 0: no log) */
+    crs_debug debug;
+    int32_t motor_board;         /* CRS_MOTOR_BOARD_*: NONE passes commands through */
+    int32_t pad;
+    crs_drive_config drive;
+    crs_friction friction;       /* the sliding friction beyond the static band */
+    crs_hand_config hand;
+} crs_board_config;
+
+/* The board: what it is configured with (config), what it steps (plant, world) and what its ticks
+ * change (the rest), as MuJoCo's mjData. */
+typedef struct {
+    crs_board_config config;
+    crs_board_plant plant;       /* MuJoCo's model and data, views of their arrays (owned by Python) */
 
     /* framework state */
     int64_t tick;                /* next tick to run */
@@ -286,6 +306,10 @@ typedef struct {
     int32_t nan_count;
     int64_t printing_runs;
     int64_t print_triggers;      /* ticks whose lab() triggered printing (SWI post, UARTprint) */
+    int64_t safety_trips;        /* ticks the arm went outside the safety envelope (from inside):
+                                    the framework's hold took over the torques from then on */
+    int64_t safety_first_tick;   /* -1 until the first of them */
+    int64_t safety_ticks;        /* ticks outside the envelope, in all (the hold's torques applied) */
     int64_t tx_dropped;          /* characters the transmit ring had no room for */
     int64_t tx_first_drop_tick;  /* -1 until one is dropped */
     int64_t overflow_tick;       /* -1 until a serial_printf overflows the format buffer */
@@ -305,10 +329,6 @@ typedef struct {
     crs_push push;
     crs_motor_board motor_board;
     crs_drive drive;
-    crs_friction friction;
-    crs_log log;
-    int64_t log_every_ticks;     /* the log keeps the ticks divisible by this (1: every tick) */
-    crs_debug debug;
     crs_world world;             /* what the world's fixtures feel (csrc/plant/world.h) */
 
     /* the host ports: the lab's variables in C28x memory, and the two receivers */
@@ -318,8 +338,8 @@ typedef struct {
 } crs_board;
 
 /* Zero everything and set the defaults (startup gate at CRS_STARTUP_TICKS, no motor board, ...;
- * no generation: the caller sets board->generation); the firmware's port then sets the view, the
- * cost unit and the budget. */
+ * no generation: the caller sets board->config.generation); the firmware's port then sets the view
+ * and the cost unit. */
 void crs_board_defaults(crs_board *board);
 /* Run ticks until board->tick == until_tick or an early stop (CRS_RUN_*). */
 int crs_board_run(crs_board *board, int64_t until_tick);

@@ -9,55 +9,42 @@
 void crs_board_init(crs_board *board, int32_t generation, crs_shared *shared)
 {
     crs_board_defaults(board);
-    board->generation = generation;
+    board->config.generation = generation;
     board->shared = shared;
 }
 
-void crs_board_configure(crs_board *board, const crs_board_config *c)
+void crs_board_configure(crs_board *board, const crs_board_settings *s)
 {
-    board->strict_nan = c->strict_nan != 0;
-    board->startup_ticks = c->startup_ticks;
+    crs_board_config c = board->config; /* the generation, its row and the cost unit stay */
+    c.strict_nan = s->strict_nan != 0;
+    c.startup_ticks = s->startup_ticks;
     /* the budget in the firmware's cost unit: instructions, or (native) ns at one instruction per
      * cycle of the F28335 (CRS_CPU_CYCLES_PER_TICK per ms) */
-    board->budget = board->cost_unit == CRS_COST_INSTRUCTIONS
-                      ? c->budget_instructions
-                      : c->budget_instructions * 1000000 / CRS_CPU_CYCLES_PER_TICK;
-    board->time_lab = c->time_lab != 0;
-    board->log_every_ticks = c->log_every_ticks > 1 ? c->log_every_ticks : 1;
-    board->motor_board.model = c->motor_board;
+    c.budget = c.cost_unit == CRS_COST_INSTRUCTIONS ? s->budget_instructions
+                                                    : s->budget_instructions * 1000000 / CRS_CPU_CYCLES_PER_TICK;
+    c.time_lab = s->time_lab != 0;
+    c.log_every_ticks = s->log_every_ticks > 0 ? s->log_every_ticks : 0;
+    c.motor_board = s->motor_board;
     for (int j = 0; j < 3; ++j) {
-        board->rest_motor_rad[j] = c->rest_motor_rad[j];
-        board->faults.noise_counts[j] = c->encoder_noise_counts;
+        c.rest_motor_rad[j] = s->rest_motor_rad[j];
         /* the drive works in the commands' units: the plant's N.m over the motor gain */
-        board->drive.stall_units[j] = c->stall_nm[j] / c->motor_gain_nm_per_unit;
-        board->drive.backemf_units_s_per_rad[j] = c->backemf_nm_s_per_rad[j] / c->motor_gain_nm_per_unit;
+        c.drive.stall_units[j] = s->stall_nm[j] / s->motor_gain_nm_per_unit;
+        c.drive.backemf_units_s_per_rad[j] = s->backemf_nm_s_per_rad[j] / s->motor_gain_nm_per_unit;
     }
-    board->drive.lag_s = c->drive_lag_s;
-    board->friction = c->friction;
-    board->hand.kp_nm_per_rad = c->hand_kp_nm_per_rad;
-    board->hand.ki_nm_per_rad_s = c->hand_ki_nm_per_rad_s;
-    board->hand.kd_nm_s_per_rad = c->hand_kd_nm_s_per_rad;
-    board->hand.max_nm = c->hand_max_nm;
-    board->debug.break_when = c->break_when != 0;
-    board->debug.trap_fp = c->trap_fp != 0;
+    c.drive.lag_s = s->drive_lag_s;
+    c.friction = s->friction;
+    c.hand = (crs_hand_config){s->hand_kp_nm_per_rad, s->hand_ki_nm_per_rad_s, s->hand_kd_nm_s_per_rad,
+                               s->hand_max_nm};
+    c.debug.break_when = s->break_when != 0;
+    c.debug.trap_fp = s->trap_fp != 0;
+    board->config = c;
+    /* the encoders' noise until a scenario's fault changes it */
+    for (int j = 0; j < 3; ++j) board->faults.noise_counts[j] = s->encoder_noise_counts;
 }
 
 void crs_board_attach_plant(crs_board *board, const crs_board_plant *p)
 {
     board->plant = *p;
-}
-
-void crs_board_attach_log(crs_board *board, const crs_log *log)
-{
-    board->log = *log;
-    board->log.count = 0;
-}
-
-int64_t crs_board_take_log(crs_board *board)
-{
-    const int64_t n = board->log.count;
-    board->log.count = 0;
-    return n;
 }
 
 uint32_t crs_board_take_motor_board_events(crs_board *board)
@@ -85,14 +72,17 @@ void crs_board_counters(const crs_board *board, int64_t *out)
     out[CRS_COUNTER_LAB_COST_MAX] = board->lab_cost_max;
     out[CRS_COUNTER_LAB_MAX_TICK] = board->lab_max_tick;
     out[CRS_COUNTER_OVER_BUDGET] = board->over_budget;
-    out[CRS_COUNTER_COST_UNIT] = board->cost_unit;
-    out[CRS_COUNTER_BUDGET] = board->budget;
+    out[CRS_COUNTER_COST_UNIT] = board->config.cost_unit;
+    out[CRS_COUNTER_BUDGET] = board->config.budget;
     out[CRS_COUNTER_NAN_FIRST_TICK] = board->nan_first_tick;
     out[CRS_COUNTER_NAN_FIRST_JOINT] = board->nan_first_joint;
     out[CRS_COUNTER_NAN_COUNT] = board->nan_count;
     out[CRS_COUNTER_PRINTING_RUNS] = board->printing_runs;
     out[CRS_COUNTER_PRINT_TRIGGERS] = board->print_triggers;
     out[CRS_COUNTER_SAFETY_FLAG] = board->safety_flag;
+    out[CRS_COUNTER_SAFETY_TRIPS] = board->safety_trips;
+    out[CRS_COUNTER_SAFETY_FIRST_TICK] = board->safety_first_tick;
+    out[CRS_COUNTER_SAFETY_TICKS] = board->safety_ticks;
     out[CRS_COUNTER_LEDS] = board->leds;
     out[CRS_COUNTER_ESTOP_LATCHED] = board->estop_latched;
     out[CRS_COUNTER_TX_DROPPED] = board->tx_dropped;
@@ -159,7 +149,7 @@ int crs_board_apply_event(crs_board *board, const crs_board_event *e)
         board->estop_latched = 1;
         return 0;
     case CRS_EVENT_FRICTION:
-        board->friction = e->friction;
+        board->config.friction = e->friction;
         return 0;
     case CRS_EVENT_SIMULINK_INPUT:
         if (e->input >= 1 && e->input <= 7 && board->fw.simulink_input[e->input - 1] != NULL) {

@@ -1,6 +1,8 @@
 /* A run's settings and a scenario's events, handed to the board whole: the worker fills one struct
  * and makes one call (crs_board_configure, crs_board_apply_event, ...); nothing outside the board
- * writes crs_board's fields. Read by cffi (after board.h). */
+ * writes crs_board's fields. The settings are in the units a user gives them (N.m, instructions);
+ * the board's configuration (crs_board_config, board.h) is in its own. Read by cffi (after
+ * board.h). */
 #ifndef CRSLAB_BOARD_CONFIG_H
 #define CRSLAB_BOARD_CONFIG_H
 
@@ -26,9 +28,10 @@ typedef struct {
     int32_t break_when;                /* crslab debug --break-when (a native firmware) */
     int32_t trap_fp;                   /* crslab debug: a NaN or Inf in lab() raises SIGFPE */
     int32_t time_lab;                  /* 1: count each lab() call's cost (0: measuring only) */
-    int32_t log_every_ticks;           /* the scope log keeps the ticks divisible by this (0, 1:
-                                          every tick; 5: what Simulink samples, crslab serve's page) */
-} crs_board_config;
+    int32_t log_every_ticks;           /* the scope log (crs_shared.log) keeps the ticks divisible
+                                          by this (1: every tick; 5: what Simulink samples, crslab
+                                          serve's page); 0: no scope log */
+} crs_board_settings;
 
 /* A scenario's event (crslab/scenario), applied before the tick it is at. */
 enum {
@@ -59,7 +62,8 @@ typedef struct {
 } crs_board_event;
 
 /* The board's counters, in the order crs_board_counters writes them (the names, lower case, are
- * crs_board's fields; motor_board_cutouts is the motor board's). */
+ * crs_board's fields; cost_unit and budget its configuration's, motor_board_cutouts the motor
+ * board's). */
 typedef enum {
     CRS_COUNTER_LAB_CALLS = 0,
     CRS_COUNTER_LAB_COST_TOTAL = 1,
@@ -74,31 +78,30 @@ typedef enum {
     CRS_COUNTER_PRINTING_RUNS = 10,
     CRS_COUNTER_PRINT_TRIGGERS = 11,
     CRS_COUNTER_SAFETY_FLAG = 12,
-    CRS_COUNTER_LEDS = 13,
-    CRS_COUNTER_ESTOP_LATCHED = 14,
-    CRS_COUNTER_TX_DROPPED = 15,
-    CRS_COUNTER_TX_FIRST_DROP_TICK = 16,
-    CRS_COUNTER_OVERFLOW_TICK = 17,
-    CRS_COUNTER_OVERFLOW_CHARS = 18,
-    CRS_COUNTER_OVERFLOW_PHASE = 19,
-    CRS_COUNTER_CONSOLE_BYTES = 20,
-    CRS_COUNTER_TICK = 21,
-    CRS_COUNTER_MOTOR_BOARD_CUTOUTS = 22,
-    CRS_COUNTERS = 23
+    CRS_COUNTER_SAFETY_TRIPS = 13,
+    CRS_COUNTER_SAFETY_FIRST_TICK = 14,
+    CRS_COUNTER_SAFETY_TICKS = 15,
+    CRS_COUNTER_LEDS = 16,
+    CRS_COUNTER_ESTOP_LATCHED = 17,
+    CRS_COUNTER_TX_DROPPED = 18,
+    CRS_COUNTER_TX_FIRST_DROP_TICK = 19,
+    CRS_COUNTER_OVERFLOW_TICK = 20,
+    CRS_COUNTER_OVERFLOW_CHARS = 21,
+    CRS_COUNTER_OVERFLOW_PHASE = 22,
+    CRS_COUNTER_CONSOLE_BYTES = 23,
+    CRS_COUNTER_TICK = 24,
+    CRS_COUNTER_MOTOR_BOARD_CUTOUTS = 25,
+    CRS_COUNTERS = 26
 } crs_counter;
 
 /* A new board of framework generation `generation` writing into `shared` (crs_board_defaults, then
  * those two). */
 void crs_board_init(crs_board *board, int32_t generation, crs_shared *shared);
 /* Give the board a run's settings (after its firmware is loaded: the budget is converted into
- * its cost unit). */
-void crs_board_configure(crs_board *board, const crs_board_config *config);
+ * its cost unit): board->config, in one assignment. */
+void crs_board_configure(crs_board *board, const crs_board_settings *settings);
 /* Step `plant` (its model, its data and their arrays). */
 void crs_board_attach_plant(crs_board *board, const crs_board_plant *plant);
-/* Fill `log`'s arrays (capacity rows each) from now on; a capacity of 0 logs nothing. */
-void crs_board_attach_log(crs_board *board, const crs_log *log);
-/* The rows logged since the last call (the reader took them: logging starts again at row 0). */
-int64_t crs_board_take_log(crs_board *board);
 /* The motor board's events since the last call (the reader took them). */
 uint32_t crs_board_take_motor_board_events(crs_board *board);
 /* The lab's variables in C28x memory: `count` entries of `vars` (kept by the caller). */

@@ -22,10 +22,10 @@ int64_t crs_now_ns(void)
 
 int crs_board_check_generation(crs_board *board)
 {
-    const crs_generation *gen = crs_generation_of(board->generation);
+    const crs_generation *gen = crs_generation_of(board->config.generation);
     const char *problem = crs_generation_problem(gen);
     if (problem == NULL) {
-        board->gen = gen; /* the row every serial_printf and host reply reads */
+        board->config.gen = gen; /* the row every serial_printf and host reply reads */
         return 0;
     }
     crs_fw_trap *t = &board->trap;
@@ -37,7 +37,7 @@ int crs_board_check_generation(crs_board *board)
         return CRS_RUN_TRAPPED;
     }
     int n = snprintf(t->text, sizeof t->text, "the board knows no framework generation %d (it knows",
-                     (int)board->generation);
+                     (int)board->config.generation);
     for (int32_t i = 0; i < crs_generation_count() && n > 0 && (size_t)n < sizeof t->text; ++i) {
         const crs_generation *g = crs_generation_at(i);
         n += snprintf(t->text + n, sizeof t->text - (size_t)n, "%s %s (%d)", i == 0 ? "" : ",", g->name,
@@ -54,7 +54,7 @@ void crs_board_lab_cost(crs_board *board, int64_t cost)
         board->lab_cost_max = cost;
         board->lab_max_tick = board->tick;
     }
-    if (cost > board->budget) {
+    if (cost > board->config.budget) {
         const int64_t kept = (int64_t)(sizeof board->first_over_tick / sizeof board->first_over_tick[0]);
         if (board->over_budget < kept) board->first_over_tick[board->over_budget] = board->tick;
         board->over_budget++;
@@ -64,7 +64,7 @@ void crs_board_lab_cost(crs_board *board, int64_t cost)
 int32_t crs_board_serial_out(crs_board *board, const char *chars, uint32_t available, uint32_t formatted)
 {
     if (board == NULL || board->shared == NULL || board->overflow_tick >= 0) return 0;
-    const crs_generation *gen = board->gen; /* looked up when loaded */
+    const crs_generation *gen = board->config.gen; /* looked up when loaded */
     const uint32_t buffer = (uint32_t)gen->printf_buffer_chars;
     crs_shared *sh = board->shared;
     if (formatted >= buffer) {

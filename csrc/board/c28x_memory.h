@@ -1,6 +1,6 @@
 /* The emulated C28x data memory: what the board's MATLAB code reads and writes at a 16-bit-word
  * address (docs/host-tools.md, "SerialC: a MATLAB message"). Every word belongs to one of the
- * lab's globals (laid out by crslab/host_tools/c28x_memory.py, filled in by the worker) or to
+ * lab's globals (laid out by crslab/lab/c28x_memory.py, filled in by the worker) or to
  * nothing; a word is made
  * from the variable's current value in the worker as the C28x holds it: an int is 16 bits, a long
  * and a float two words, low word first. Internal to the board; not read by cffi. */

@@ -19,12 +19,12 @@ extern int crs_debug_condition(int error) __attribute__((weak));
 int crs_debug_tick_begins(crs_board *board)
 {
     crs_tick = board->tick;
-    if (!board->debug.break_when || crs_debug_condition == NULL) return 0;
-    if (board->tick < board->startup_ticks || !(board->fw.symbols & CRS_LAB_HAS_LAB)) {
+    if (!board->config.debug.break_when || crs_debug_condition == NULL) return 0;
+    if (board->tick < board->config.startup_ticks || !(board->fw.symbols & CRS_LAB_HAS_LAB)) {
         return 0; /* no lab() call this tick */
     }
     if (!crs_debug_condition(board->safety_flag)) return 0;
-    board->debug.break_when = 0; /* once: the debugger takes over from here */
+    board->config.debug.break_when = 0; /* once: the debugger takes over from here */
     return 1;
 }
 

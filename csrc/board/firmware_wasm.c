@@ -999,19 +999,19 @@ static int start_firmware(crs_wasm *w)
         load_failed(board, "not a crslab firmware (crs_fw_start, crs_fw_lab or crs_fw_printing is missing)", NULL, 0);
         return CRS_RUN_TRAPPED;
     }
-    board->cost_unit = CRS_COST_INSTRUCTIONS;
+    board->config.cost_unit = CRS_COST_INSTRUCTIONS;
     wasmtime_func_t initialize;
     wasmtime_val_raw_t a[1];
     if (export_func(w, "_initialize", &initialize) == 0) { /* the C library's and the lab's constructors */
         if (call(w, &initialize, a, 0, CRS_PHASE_LOADING) != 0) return CRS_RUN_TRAPPED;
     }
-    a[0].i32 = board->generation;
+    a[0].i32 = board->config.generation;
     if (call(w, &start, a, 1, CRS_PHASE_LOADING) != 0) return CRS_RUN_TRAPPED;
     int64_t cost = 0;
     take_fuel(w, &cost); /* the constructors' cost is not lab()'s */
     if (a[0].i32 == 0) {
         snprintf(error, sizeof error, "the firmware cannot run framework generation %d (its generations.c "
-                 "is not the board's)", (int)board->generation);
+                 "is not the board's)", (int)board->config.generation);
         load_failed(board, error, NULL, 0);
         return CRS_RUN_TRAPPED;
     }

@@ -25,7 +25,7 @@ void crs_read_encoders(crs_board *board, const double motor_rad[3], double enc_r
     };
     for (int j = 0; j < 3; ++j) {
         const int64_t counts = crs_faulty_encoder_counts(&board->faults, board->tick, j,
-                                                         crs_encoder_counts(motor_rad[j], board->rest_motor_rad[j]));
+                                                         crs_encoder_counts(motor_rad[j], board->config.rest_motor_rad[j]));
         /* encoder 2 is mounted reversed: the chip counts down and the framework negates it */
         const int64_t raw = (j == 1) ? -counts : counts;
         const double angle = (double)((j == 1) ? -raw : raw) * RAD_PER_COUNT;

@@ -7,7 +7,7 @@
 /* The transmit ring of a host port in this generation. */
 static uint32_t tx_ring(const crs_board *board, int port)
 {
-    const crs_generation *gen = board->gen; /* looked up when loaded */
+    const crs_generation *gen = board->config.gen; /* looked up when loaded */
     return (uint32_t)(port == CRS_HOST_PORT_B ? gen->scib_tx_ring_chars : gen->scic_tx_ring_chars);
 }
 

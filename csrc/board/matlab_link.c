@@ -102,7 +102,7 @@ static void echo(crs_board *board, int64_t now)
 static void dispatch(crs_board *board, int64_t now)
 {
     const crs_matlab_rx *rx = &board->matlab;
-    const int32_t matlab = board->gen->matlab; /* looked up when loaded */
+    const int32_t matlab = board->config.gen->matlab; /* looked up when loaded */
     const uint8_t *m = rx->message; /* a 2-byte message finds the last one's payload still here */
     switch (m[0]) {
     case '2':

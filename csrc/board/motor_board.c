@@ -5,10 +5,9 @@
 
 #include "framework_facts.h"
 
-void crs_motor_board_init(crs_motor_board *mb, int32_t model)
+void crs_motor_board_init(crs_motor_board *mb)
 {
     memset(mb, 0, sizeof *mb);
-    mb->model = model;
 }
 
 static void record(crs_motor_board *mb, int64_t tick, int32_t off)
@@ -20,9 +19,9 @@ static void record(crs_motor_board *mb, int64_t tick, int32_t off)
     mb->event_count++;
 }
 
-int crs_motor_board_step(crs_motor_board *mb, int64_t tick, const double *command_units)
+int crs_motor_board_step(int32_t model, crs_motor_board *mb, int64_t tick, const double *command_units)
 {
-    if (mb->model != CRS_MOTOR_BOARD_PICCOLO) {
+    if (model != CRS_MOTOR_BOARD_PICCOLO) {
         if (command_units != NULL) {
             for (int j = 0; j < 3; ++j) mb->held_units[j] = mb->out_units[j] = command_units[j];
         }

@@ -15,12 +15,13 @@
 
 #include "board.h"
 
-/* Zero the state and select the model (CRS_MOTOR_BOARD_*). */
-void crs_motor_board_init(crs_motor_board *mb, int32_t model);
+/* Zero the state. */
+void crs_motor_board_init(crs_motor_board *mb);
 
-/* One ms: `command_units` is what the framework sent (NULL: nothing arrived this ms). Updates
+/* One ms of the motor board `model` (CRS_MOTOR_BOARD_*, what the run is configured with):
+ * `command_units` is what the framework sent (NULL: nothing arrived this ms). Updates
  * mb->out_units, mb->off and, when a cut-out starts or ends, records an event at `tick`;
  * returns 1 when the event list is full (the reader should take it), else 0. */
-int crs_motor_board_step(crs_motor_board *mb, int64_t tick, const double *command_units);
+int crs_motor_board_step(int32_t model, crs_motor_board *mb, int64_t tick, const double *command_units);
 
 #endif

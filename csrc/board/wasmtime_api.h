@@ -1,6 +1,6 @@
 /* The part of wasmtime's C API the WebAssembly board uses (firmware_wasm.c), declared as a table
  * of function pointers filled from the wasmtime library the Python package `wasmtime` ships
- * (crslab/lab/wasm_runtime.py finds it; pyproject.toml pins its version, whose C ABI this file
+ * (crslab/worker/wasm_runtime.py finds it; pyproject.toml pins its version, whose C ABI this file
  * follows: the opaque handles' layouts below are those of wasmtime 50's `wasmtime.h`). Nothing is
  * linked against wasmtime at build time, so crslab._core builds without its headers. Internal to
  * the board; not read by cffi. */

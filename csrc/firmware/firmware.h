@@ -70,8 +70,16 @@ int32_t crs_fw_formatter(void);
  * when they fit the generation's format buffer) are at `chars`. The board queues them on the
  * serial line and returns how many its transmit ring took; when they overflow the format buffer it
  * stops the run instead (the real board's memory would be corrupt) and returns 0. */
+#if defined(__wasm__)
 int32_t crs_board_serial_send(int32_t port, const char *chars, uint32_t formatted)
     CRS_FW_IMPORT(serial_send);
+#else
+/* A native firmware reaches the board through the function its port hands it when it attaches
+ * the board (csrc/board/firmware_native.c), as a WebAssembly one through its import: the firmware
+ * calls no name of the board's. NULL until then (serial_port.c: nothing is sent). */
+typedef int32_t (*crs_fw_serial_send_fn)(int32_t port, const char *chars, uint32_t formatted);
+extern crs_fw_serial_send_fn crs_board_serial_send;
+#endif
 
 /* The lab stopped on a check the WebAssembly build compiles into it (crslab/lab/firmware.py:
  * a NULL pointer dereferenced, an integer division by zero): `kind` is CRS_FW_TRAP_NULL,

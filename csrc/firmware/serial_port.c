@@ -13,6 +13,10 @@
 /* Gen A's serial_t and Gen B's serialSCIA_t are both this struct (crslab_serial.h). */
 struct crs_serial_port SerialA = {0};
 
+#if !defined(__wasm__)
+crs_fw_serial_send_fn crs_board_serial_send = NULL; /* the native port sets it (firmware.h) */
+#endif
+
 int serial_printf(struct crs_serial_port *port, char *fmt, ...)
 {
     /* Gen A formats into a buffer on the stack; Gen B's is static, and so is this one (as large as
@@ -20,6 +24,9 @@ int serial_printf(struct crs_serial_port *port, char *fmt, ...)
     static char line[CRS_PRINTF_BUFFER_MAX];
     const crs_format_fn format = crs_format_of(crs_fw_formatter());
     if (format == NULL) return 0; /* before the firmware is started (a constructor): nothing is sent */
+#if !defined(__wasm__)
+    if (crs_board_serial_send == NULL) return 0; /* (the same, natively: no board attached yet) */
+#endif
     va_list ap;
     va_start(ap, fmt);
     const size_t n = format(line, sizeof line, fmt, ap);

@@ -18,8 +18,8 @@ void crs_hand_plan(const crs_hand *h, crs_hand_path *path)
     }
 }
 
-void crs_hand_step_along(crs_hand *h, const crs_hand_path *hand_path, int64_t tick, const double qpos_dh_rad[3],
-                         const double qvel_dh_rad_s[3])
+void crs_hand_step_along(const crs_hand_config *config, crs_hand *h, const crs_hand_path *hand_path, int64_t tick,
+                         const double qpos_dh_rad[3], const double qvel_dh_rad_s[3])
 {
     if (!h->active) {
         for (int j = 0; j < 3; ++j) h->force_nm[j] = 0.0;
@@ -31,12 +31,12 @@ void crs_hand_step_along(crs_hand *h, const crs_hand_path *hand_path, int64_t ti
         if (hand_path->planned) path = traj_eval(&hand_path->move[j], t_s);
         const double err = path.q_rad - qpos_dh_rad[j];
         const double derr = path.qd_rad_s - qvel_dh_rad_s[j];
-        double f = h->kp_nm_per_rad * err + h->ki_nm_per_rad_s * h->integral_rad_s[j]
-                 + h->kd_nm_s_per_rad * derr;
-        if (f > h->max_nm) {
-            f = h->max_nm;
-        } else if (f < -h->max_nm) {
-            f = -h->max_nm;
+        double f = config->kp_nm_per_rad * err + config->ki_nm_per_rad_s * h->integral_rad_s[j]
+                 + config->kd_nm_s_per_rad * derr;
+        if (f > config->max_nm) {
+            f = config->max_nm;
+        } else if (f < -config->max_nm) {
+            f = -config->max_nm;
         } else {
             h->integral_rad_s[j] += err * CRS_TICK_S; /* integrate only when not saturated */
         }

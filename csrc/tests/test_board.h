@@ -38,14 +38,14 @@ static inline crs_board *test_board(int generation, int64_t startup_ticks, const
     crs_board *board = calloc(1, sizeof *board);
     crs_board_defaults(board);
     board->shared = calloc(1, sizeof(crs_shared));
-    board->generation = generation;
+    board->config.generation = generation;
     if (crs_fw_native_attach(board) != 0) { /* the test's lab is this board's firmware */
         printf("FAIL crs_fw_native_attach for generation %d: %s\n", generation, board->trap.text);
         ++failures;
     }
-    board->startup_ticks = startup_ticks;
-    board->time_lab = 0;
-    memcpy(board->rest_motor_rad, TEST_REST_MOTOR_RAD, sizeof TEST_REST_MOTOR_RAD);
+    board->config.startup_ticks = startup_ticks;
+    board->config.time_lab = 0;
+    memcpy(board->config.rest_motor_rad, TEST_REST_MOTOR_RAD, sizeof TEST_REST_MOTOR_RAD);
     crs_motor_to_dh(TEST_REST_MOTOR_RAD, plant->qpos);
     board->plant = (crs_board_plant){.step = plant->step, .qpos = plant->qpos, .qvel = plant->qvel,
                                    .ctrl = plant->ctrl, .qfrc_applied = plant->qfrc};

@@ -210,6 +210,7 @@ static void test_hold_controller_worked_sequence(void)
         if (board->safety_flag) out_tick = board->tick - 1;
     }
     check("joint 1 leaves the envelope", out_tick > 0 && fabs(board->enc_rad[0]) > 0.6667 * PI_D);
+    check("... a safety trip at that tick", board->safety_trips == 1 && board->safety_first_tick == out_tick);
     const long first_call_tick = 50;
     check("error is 0 in the call of the tick that left", lab_state.error_seen[out_tick - first_call_tick] == 0);
     /* outside: the hold output, with the reference one step behind: u1 = -25 step1 - r1 (v settled) */
@@ -234,6 +235,54 @@ static void test_hold_controller_worked_sequence(void)
     check("re-anchored to the arm", board->hold.ref_rad[0] == (float)board->enc_rad[0]);
     tick(board);
     check_close("outside, k = 299: re-anchored", board->applied[0], -25 * step1 - r1, 2e-3);
+    test_board_free(board);
+}
+
+/* ---- the safety envelope's trips and the scope log ---------------------------------------- */
+
+/* Joint 1 outside the envelope (2.2 rad > 0.6667 pi) for the ticks [200, 300) and [500, 520). */
+static void two_trips_script(int64_t k, double motor[3])
+{
+    motor[0] = (k >= 200 && k < 300) || (k >= 500 && k < 520) ? 2.2 : 0.0;
+    motor[1] = TEST_REST_MOTOR_RAD[1];
+    motor[2] = TEST_REST_MOTOR_RAD[2];
+}
+
+static void test_safety_trips_are_counted_and_every_tick_logged(void)
+{
+    crs_board *board = new_sim(CRS_GEN_A, 50, two_trips_script);
+    board->config.log_every_ticks = 1;
+    lab_state.mode = LAB_TORQUE;
+    check("the run is inside the envelope at first", crs_board_run(board, 200) == CRS_RUN_DONE
+                                                        && board->safety_trips == 0 && board->safety_first_tick == -1);
+    check("ticks 0 to 199 are in the scope log, in order", board->shared->log.count == 200
+                                                           && board->shared->log.tick[0] == 0
+                                                           && board->shared->log.tick[199] == 199);
+    crs_board_run(board, 1000);
+    check("two trips: the arm left the envelope twice", board->safety_trips == 2);
+    check("the first at tick 200", board->safety_first_tick == 200);
+    check("120 ticks outside in all", board->safety_ticks == 120);
+    const crs_scope_log *lg = &board->shared->log;
+    int64_t flagged = 0;
+    for (int64_t i = 0; i < lg->count; ++i) flagged += lg->safety[i];
+    check("the log's safety column has those 120 ticks", lg->count == 1000 && flagged == 120
+                                                         && lg->safety[199] == 0 && lg->safety[200] == 1
+                                                         && lg->safety[299] == 1 && lg->safety[300] == 0);
+    /* the scope log fills: the chunk ends before the first tick with no room, and goes on once
+     * the reader took the rows */
+    board->shared->log.count = CRS_LOG_CAPACITY - 3;
+    check("a full log ends the chunk early", crs_board_run(board, 2000) == CRS_RUN_LOG_FULL && board->tick == 1003
+                                                && lg->count == CRS_LOG_CAPACITY);
+    board->shared->log.count = 0;
+    check("taken, it goes on", crs_board_run(board, 2000) == CRS_RUN_DONE && lg->count == 997 && lg->tick[0] == 1003);
+    /* every fifth tick (the page's scopes) */
+    board->shared->log.count = 0;
+    board->config.log_every_ticks = 5;
+    crs_board_run(board, 2013);
+    check("every fifth tick", lg->count == 3 && lg->tick[0] == 2000 && lg->tick[1] == 2005 && lg->tick[2] == 2010);
+    board->config.log_every_ticks = 0;
+    crs_board_run(board, 2100);
+    check("no log: nothing written", lg->count == 3);
     test_board_free(board);
 }
 
@@ -311,8 +360,8 @@ static void test_generation_rows_and_an_unknown_generation(void)
     crs_board *board = calloc(1, sizeof *board);
     crs_board_defaults(board);
     board->shared = calloc(1, sizeof(crs_shared));
-    check("a board is of no generation until told", board->generation == 0);
-    board->generation = 3;
+    check("a board is of no generation until told", board->config.generation == 0);
+    board->config.generation = 3;
     const int code = crs_fw_native_attach(board);
     check("the board refuses to load a firmware for generation 3, and says which it knows",
           code == CRS_RUN_TRAPPED && board->trap.kind == CRS_FW_TRAP_LOAD
@@ -325,7 +374,7 @@ static void test_generation_rows_and_an_unknown_generation(void)
 static void test_motor_board_cuts_out_after_500_ms_over_4_units(void)
 {
     crs_board *board = new_sim(CRS_GEN_B, 100, NULL);
-    board->motor_board.model = CRS_MOTOR_BOARD_PICCOLO;
+    board->config.motor_board = CRS_MOTOR_BOARD_PICCOLO;
     lab_state.mode = LAB_ALTERNATE;
     /* 4.5 units = 1350 counts > 1200: ticks 100 .. 599 (500 ms) reach the motors, 600 on do not */
     crs_board_run(board, 600);
@@ -351,33 +400,35 @@ static void test_motor_board_cuts_out_after_500_ms_over_4_units(void)
 static void test_motor_board_timeout_and_counts(void)
 {
     crs_motor_board mb;
-    crs_motor_board_init(&mb, CRS_MOTOR_BOARD_PICCOLO);
+    int32_t model = CRS_MOTOR_BOARD_PICCOLO;
+    crs_motor_board_init(&mb);
     const double cmd[3] = {1.23456, -4.0, 4.0033};
-    crs_motor_board_step(&mb, 0, cmd);
+    crs_motor_board_step(model, &mb, 0, cmd);
     /* whole PWM counts, truncated toward zero: 370.368 -> 370, -1200, 1200.99 -> 1200 */
     check_close("1.23456 units is sent as 370 counts", mb.out_units[0], 370.0 / 300.0, 1e-12);
     check_close("-4 units is within the limit", mb.out_units[1], -4.0, 1e-12);
     check("4.0033 units is 1200 counts: not over the limit", mb.over_ticks[2] == 0);
-    for (int64_t t = 1; t < 100; ++t) crs_motor_board_step(&mb, t, NULL);
+    for (int64_t t = 1; t < 100; ++t) crs_motor_board_step(model, &mb, t, NULL);
     check_close("without commands the outputs hold for 99 ms", mb.out_units[0], 370.0 / 300.0, 1e-12);
     check("... still on", mb.off == 0);
-    crs_motor_board_step(&mb, 100, NULL);
+    crs_motor_board_step(model, &mb, 100, NULL);
     check("100 ms without a command cuts every output", mb.off == 1 && mb.out_units[0] == 0.0);
     check("reported as a missing command (joint 0)", mb.event_count == 1 && mb.event_joint[0] == 0 && mb.event_tick[0] == 100);
     const double next[3] = {2.0, 0.0, 0.0};
-    crs_motor_board_step(&mb, 150, next);
+    crs_motor_board_step(model, &mb, 150, next);
     check_close("a command brings them back", mb.out_units[0], 2.0, 1e-12);
     check("... reported", mb.off == 0 && mb.event_count == 2 && mb.event_off[1] == 0);
     /* over the limit on joint 2 for 499 ms, then within: no cut-out */
     const double over[3] = {0.0, -4.5, 0.0}, within[3] = {0.0, 4.0, 0.0};
-    for (int64_t t = 0; t < 499; ++t) crs_motor_board_step(&mb, 200 + t, over);
-    crs_motor_board_step(&mb, 699, within);
-    for (int64_t t = 0; t < 499; ++t) crs_motor_board_step(&mb, 700 + t, over);
+    for (int64_t t = 0; t < 499; ++t) crs_motor_board_step(model, &mb, 200 + t, over);
+    crs_motor_board_step(model, &mb, 699, within);
+    for (int64_t t = 0; t < 499; ++t) crs_motor_board_step(model, &mb, 700 + t, over);
     check("499 ms over the limit, twice, is not 500 consecutive", mb.off == 0 && mb.cutouts == 1);
     /* none: a wire */
-    crs_motor_board_init(&mb, CRS_MOTOR_BOARD_NONE);
+    crs_motor_board_init(&mb);
+    model = CRS_MOTOR_BOARD_NONE;
     const double big[3] = {4.9, -4.9, 4.9};
-    for (int64_t t = 0; t < 2000; ++t) crs_motor_board_step(&mb, t, big);
+    for (int64_t t = 0; t < 2000; ++t) crs_motor_board_step(model, &mb, t, big);
     check("no motor board: commands pass unchanged", mb.off == 0 && mb.out_units[1] == -4.9);
 }
 
@@ -458,37 +509,39 @@ static void test_printf_overflow_stops_the_run(void)
 
 static void test_drive_envelope_lag_and_dead_motor(void)
 {
+    crs_drive_config c;
     crs_drive d;
+    memset(&c, 0, sizeof c);
     memset(&d, 0, sizeof d);
     for (int j = 0; j < 3; ++j) {
-        d.stall_units[j] = 3.0;
-        d.backemf_units_s_per_rad[j] = 1.0;
+        c.stall_units[j] = 3.0;
+        c.backemf_units_s_per_rad[j] = 1.0;
     }
     const int32_t alive[3] = {0, 0, 0};
     double out[3];
     /* at 1 rad/s the amplifier gives at most 3 - 1 = 2 forward and -3 - 1 = -4 backward */
     const double command[3] = {1.5, 5.0, -5.0}, speed[3] = {1.0, 1.0, 1.0};
-    crs_drive_step(&d, crs_drive_follow(&d), command, speed, alive, out);
+    crs_drive_step(&c, &d, crs_drive_follow(&c), command, speed, alive, out);
     check_close("drive: inside the envelope the command is delivered", out[0], 1.5, 1e-12);
     check_close("drive: driving at 1 rad/s gets stall - backemf * w", out[1], 2.0, 1e-12);
     check_close("drive: braking at 1 rad/s gets -stall - backemf * w", out[2], -4.0, 1e-12);
     /* beyond the no-load speed (3 rad/s) even a zero command brakes: 3 - 4 = -1 */
     const double zero[3] = {0.0, 0.0, 0.0}, fast[3] = {4.0, -4.0, 0.0};
-    crs_drive_step(&d, crs_drive_follow(&d), zero, fast, alive, out);
+    crs_drive_step(&c, &d, crs_drive_follow(&c), zero, fast, alive, out);
     check_close("drive: past the no-load speed a zero command brakes", out[0], -1.0, 1e-12);
     check_close("drive: ... in either direction", out[1], 1.0, 1e-12);
     check_close("drive: at rest a zero command is zero", out[2], 0.0, 0.0);
 
     /* a 2 ms lag: a step to 1 unit reaches 1 - exp(-1/2), then 1 - exp(-1) */
     memset(d.torque_units, 0, sizeof d.torque_units);
-    d.lag_s = 0.002;
+    c.lag_s = 0.002;
     const double one[3] = {1.0, 1.0, 1.0}, still[3] = {0.0, 0.0, 0.0};
-    crs_drive_step(&d, crs_drive_follow(&d), one, still, alive, out);
+    crs_drive_step(&c, &d, crs_drive_follow(&c), one, still, alive, out);
     check_close("drive lag: first ms", out[0], 1.0 - exp(-0.5), 1e-12);
-    crs_drive_step(&d, crs_drive_follow(&d), one, still, alive, out);
+    crs_drive_step(&c, &d, crs_drive_follow(&c), one, still, alive, out);
     check_close("drive lag: second ms", out[0], 1.0 - exp(-1.0), 1e-12);
     const int32_t dead[3] = {0, 1, 0};
-    crs_drive_step(&d, crs_drive_follow(&d), one, still, dead, out);
+    crs_drive_step(&c, &d, crs_drive_follow(&c), one, still, dead, out);
     check_close("drive: a dead motor delivers nothing at once", out[1], 0.0, 0.0);
     check_close("drive: ... and keeps no torque", d.torque_units[1], 0.0, 0.0);
     check_close("drive lag: third ms on a live motor", out[0], 1.0 - exp(-1.5), 1e-12);
@@ -497,13 +550,13 @@ static void test_drive_envelope_lag_and_dead_motor(void)
 static void test_drive_between_motor_board_and_ctrl(void)
 {
     crs_board *board = new_sim(CRS_GEN_A, 0, NULL);
-    check("drive: ideal until the plant sets it", isinf(board->drive.stall_units[0]));
+    check("drive: ideal until the plant sets it", isinf(board->config.drive.stall_units[0]));
     lab_state.mode = LAB_TORQUE;
     lab_state.torque[0] = 4.5f;
     lab_state.torque[1] = -1.0f;
     for (int j = 0; j < 3; ++j) {
-        board->drive.stall_units[j] = 3.0;
-        board->drive.backemf_units_s_per_rad[j] = 1.0;
+        board->config.drive.stall_units[j] = 3.0;
+        board->config.drive.backemf_units_s_per_rad[j] = 1.0;
     }
     memset(qvel, 0, sizeof qvel);
     tick(board);
@@ -622,9 +675,9 @@ static void test_friction_between_drive_and_ctrl(void)
     lab_state.torque[0] = 2.0f;
     lab_state.torque[1] = 0.0f;
     lab_state.torque[2] = 0.0f;
-    board->friction.transition_rad_s = 0.02;
-    board->friction.viscous_pos_units_s_per_rad[0] = 0.25;
-    board->friction.viscous_neg_units_s_per_rad[2] = 0.2;
+    board->config.friction.transition_rad_s = 0.02;
+    board->config.friction.viscous_pos_units_s_per_rad[0] = 0.25;
+    board->config.friction.viscous_neg_units_s_per_rad[2] = 0.2;
     memset(qvel, 0, sizeof qvel);
     qvel[0] = 2.0;           /* motor 1 at 2 rad/s */
     qvel[1] = 0.5;           /* j2 at 0.5, j3 at -1.5: motor 3 (j2 + j3) at -1 rad/s */
@@ -639,6 +692,7 @@ static void test_friction_between_drive_and_ctrl(void)
 int main(void)
 {
     test_hold_controller_worked_sequence();
+    test_safety_trips_are_counted_and_every_tick_logged();
     test_startup_gate_and_clamp();
     test_print_triggers();
     test_generation_rows_and_an_unknown_generation();

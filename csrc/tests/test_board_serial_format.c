@@ -1,4 +1,4 @@
-/* C-level tests of the two generations' serial_printf formatters (csrc/board/serial_format.c);
+/* C-level tests of the two generations' serial_printf formatters (csrc/firmware/serial_format.c);
  * built with -Werror and under ASan/UBSan by tests/test_c_core.py. Exit status 0 when every
  * check passes.
  *

@@ -23,7 +23,7 @@ from pathlib import Path
 from crslab.lab.build import DEFAULT_LAB, build_lab
 from crslab.run.api import make_config
 from crslab.run.assemble import started
-from crslab.worker.board_ffi import board_ffi, shared_size
+from crslab.worker.board_ffi import native_board_ffi
 
 REPEATS = 5
 TICKS = 100_000
@@ -53,8 +53,8 @@ def load_s(config) -> float:
     pid = os.fork()
     if pid == 0:  # the worker's last steps before its first tick, as crslab.worker.main does them
         os.close(read)
-        ffi = board_ffi()
-        block = ffi.cast("crs_shared *", ffi.from_buffer(mmap.mmap(-1, shared_size())))
+        ffi = native_board_ffi()
+        block = ffi.cast("crs_shared *", ffi.from_buffer(mmap.mmap(-1, ffi.sizeof("crs_shared"))))
         t = time.perf_counter()
         if config.sandboxed:
             from crslab.sandbox.run_sandbox import enter_run_sandbox
