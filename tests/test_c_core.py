@@ -16,12 +16,13 @@ from pathlib import Path
 
 import pytest
 
+from crslab.lab.build import wasm_port_only
 from crslab.os_support import MATH_LIBS
 
 ROOT = Path(__file__).resolve().parents[1]
 CSRC = ROOT / "csrc"
 KIN_SOURCES = sorted((CSRC / "kin").glob("*.c"))
-SIM_SOURCES = (sorted(p for p in (CSRC / "board").glob("*.c") if p.name != "firmware_wasm.c")
+SIM_SOURCES = (sorted(p for p in (CSRC / "board").glob("*.c") if not wasm_port_only(p))
                + sorted((CSRC / "plant").glob("*.c")) + sorted((CSRC / "port").glob("*.c"))
                + sorted((CSRC / "firmware").glob("*.c")))
 C_TESTS = sorted((CSRC / "tests").glob("test_*.c"))

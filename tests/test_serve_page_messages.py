@@ -177,9 +177,13 @@ def test_a_hostile_lab_is_stopped_and_named(alice):
 
 
 def test_a_hung_lab_gets_its_diagnosis(alice):
+    """A call that never returns, in a run host many pages share, ends at its share of the host
+    (docs/serve.md), not at the 2 s deadline of a run with a worker of its own."""
     alice.send(run_message(LABS / "faulty" / "hang_in_lab.c", name="hang.c"))
     ended = alice.until("ended")[-1]
-    assert ended["status"] == "hung" and "did not return within 2 s" in ended["message"]
+    assert ended["status"] == "hung" and ended["message"].startswith(
+        "hang.c is too slow for a shared server: lab() cost more than 15,000,000 instructions in one call "
+        "at tick 5123 (t = 5.123 s); it was at hang.c:")
 
 
 @pytest.mark.parametrize(

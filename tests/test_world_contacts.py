@@ -98,6 +98,44 @@ def test_the_egg_is_a_spring_of_the_worlds_stiffness():
         assert -c.dist == pytest.approx(force / e.stiffness_n_per_m, rel=0.02), force  # r = F / k
 
 
+def test_a_touch_on_the_egg_sinks_the_peg_as_far_as_an_elastic_egg_under_the_arm_would():
+    """The arm comes down on the egg at 15 mm/s, nothing else pushing: the peg sinks as a mass-
+    spring-damper does, the arm's mass at the tip (from MuJoCo's mass matrix and the tip's Jacobian)
+    on the egg's spring k and its damper c = 2 ratio sqrt(k m) (docs/worlds.md): as deep as
+    ``x = v / w_d exp(-zeta w t) sin(w_d t)`` goes, with the force k x + c x' at its largest."""
+    m, d = free_scene()
+    e = CONTEST.egg
+    place_tip(m, d, (*e.center_xy_m, e.top_z_m + 0.0001))
+    site = m.site(PEG_TIP_SITE).id
+    jac = np.zeros((3, m.nv))
+    mujoco.mj_jacSite(m, d, jac, None, site)
+    inertia = np.zeros((m.nv, m.nv))
+    mujoco.mj_fullM(m, d, inertia)
+    # the arm's three joints; the peg's wrist follows minus the forearm's angle (j2 + j3)
+    arm = np.array([[1.0, 0, 0], [0, 1, 0], [0, 0, 1], [0, -1, -1]])
+    jac, inertia = jac @ arm, arm.T @ inertia @ arm
+    mass = 1.0 / (jac @ np.linalg.solve(inertia, jac.T))[2, 2]  # kg, at the tip, vertically
+    assert 3.0 < mass < 7.0  # mostly the rotors (models/crs_arm/README.md)
+    v = 0.015
+    d.qvel[:] = arm @ np.linalg.solve(jac, [0.0, 0.0, -v])
+    k = e.stiffness_n_per_m
+    c = 2 * CONTEST.contact.egg_damping_ratio * np.sqrt(k * mass)  # its ratio of critical for the arm
+    w = np.sqrt(k / mass)
+    zeta = c / (2 * np.sqrt(k * mass))
+    wd = w * np.sqrt(1 - zeta**2)
+    ts = np.linspace(0.0, np.pi / wd, 10001)  # the first half-period: the peg in the egg
+    x = v / wd * np.exp(-zeta * w * ts) * np.sin(wd * ts)
+    x_dot = v * np.exp(-zeta * w * ts) * (np.cos(wd * ts) - zeta * w / wd * np.sin(wd * ts))
+    sunk, force = [], []
+    for _ in range(200):
+        mujoco.mj_step(m, d)
+        sunk.append(e.top_z_m - d.site_xpos[site][2])
+        f = np.zeros(6)
+        force.append(sum(mujoco.mj_contactForce(m, d, i, f) or f[0] for i in range(d.ncon)))
+    assert max(sunk) == pytest.approx(x.max(), rel=0.1)  # 0.1 mm, not 3.5 times as deep
+    assert max(force) == pytest.approx((k * x + c * x_dot).max(), rel=0.1)
+
+
 def test_a_soft_xy_impedance_slides_into_the_chamfered_hole_a_stiff_one_jams():
     def insert(kxy, world=CONTEST, off=0.007):
         """Task-space impedance at the peg's tip (tau = J^T (K (xd - x) - D v)), aiming 4 cm below the
@@ -399,7 +437,7 @@ def test_the_pegs_depth_is_below_the_holes_top_within_its_radius():
 def break_egg(velocity, push, ramp_s=0.0, steps=3000):
     """The peg 1 mm over (or beside) the egg, moving at ``velocity`` (m/s) and pushed by ``push``
     (N; reached over ``ramp_s``) until the egg breaks; returns the C row at the break and the tip's
-    speed down when it first touched the egg (by MuJoCo's positions, not the row)."""
+    speed down when the contact it broke in began (by MuJoCo's positions, not the row)."""
     m, d = free_scene()
     e = CONTEST.egg
     start = np.array([*e.center_xy_m, e.top_z_m + 0.001])
@@ -432,7 +470,9 @@ def break_egg(velocity, push, ramp_s=0.0, steps=3000):
         mujoco.mj_step(m, d)
         z = d.site_xpos[tip][2]  # where this step started from: the row's state
         row, state = world_row(m, d, state=state)
-        if touch_speed is None and row["egg_force"] > 0:
+        if row["egg_force"] <= 0:  # the peg off the egg (it bounces: the egg is lightly damped)
+            touch_speed = None
+        elif touch_speed is None:  # this contact began in this step
             touch_speed = (last_z - z) / m.opt.timestep
         last_z = z
         if row["egg_broken"]:

@@ -156,7 +156,7 @@ def test_each_table_reads_its_keys_with_the_fixtures_defaults_and_checks():
     )
     assert w.peg.gripper_diameter_m == 0.024  # left out: the field's own default
     assert w.contact == Contact(
-        friction=0.7, rigid_timeconst_s=0.004, rigid_impedance=0.99, egg_damping_ratio=1.0
+        friction=0.7, rigid_timeconst_s=0.004, rigid_impedance=0.99, egg_damping_ratio=0.2
     )
     assert w.contest == ContestRules() and w.arm_raised_m == 0.1
     with pytest.raises(

@@ -20,6 +20,7 @@ from crslab.contest.offsets import Rest, contest_rest
 from crslab.contest.run import CONTEST_SCENARIO, CONTEST_WORLD, contest_config, run_contest
 from crslab.contest.scorecard import RunFacts, Scorecard, ScorecardError, score
 from crslab.run.board_run import RunError
+from crslab.run.budget import budget_line
 from crslab.run.status import ExitStatus, RunResult, RunStatus
 from crslab.untrusted_text import for_terminal
 from crslab.worker.config import RunConfig
@@ -120,6 +121,9 @@ def run_contest_command(args: argparse.Namespace) -> int:
     if args.output is not None:
         draw(args.output, result.log, world, card)
     say(args, card)
+    cost = budget_line(result.stats)  # what --budget counted
+    if cost is not None:
+        print(f"crslab contest: {cost}", file=sys.stderr)
     if not result.ok and result.status is not RunStatus.UNMET:
         print(f"crslab contest: the run ended early: {for_terminal(result.message or result.status)}",
               file=sys.stderr)

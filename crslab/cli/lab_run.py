@@ -22,11 +22,12 @@ from crslab.cli import CliError
 from crslab.cli.host_options import HostRun
 from crslab.cli.live_options import LiveRun, live_needs_log
 from crslab.cli.run_options import limits_from_args
-from crslab.cli.run_report import near_budget_warning, print_run_notes, summary, summary_line
+from crslab.cli.run_report import print_run_notes, summary, summary_line
 from crslab.cli.sink_options import check_sinks, open_sinks, preload_sinks, sinks_need_scope_rows
 from crslab.lab.compiler import native_widths_note
 from crslab.run.assemble import started
 from crslab.run.board_run import BoardRun, RunError
+from crslab.run.budget import near_budget_warning
 from crslab.run.running import LiveControl, RunDebugger
 from crslab.run.status import RunResult
 from crslab.scenario.event import seconds_to_tick
@@ -142,7 +143,7 @@ class LabRun:
         self.wall_s = time.monotonic() - self._start
         self.stdout.flush()  # the run's last bytes before what is said of it
         print_run_notes(self.prefix, self.lab_name, result, self.config.build.generation)
-        info = summary(result, self.wall_s, self.args.budget)
+        info = summary(result, self.wall_s)
         if self.args.json:
             print(json.dumps(info), file=sys.stderr)
         elif lab_cost:

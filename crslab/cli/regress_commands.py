@@ -45,6 +45,7 @@ from crslab.regress.transcript import (
     write_golden,
 )
 from crslab.run.api import DEFAULT_REST_MOTOR_RAD
+from crslab.run.budget import budget_line
 from crslab.run.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.scenario.event import seconds_to_tick
 from crslab.untrusted_text import for_terminal, for_text
@@ -167,6 +168,13 @@ def _run(config: RunConfig, args: argparse.Namespace, end_tick: int) -> RunResul
     return result
 
 
+def _say_budget(args: argparse.Namespace, result: RunResult) -> None:
+    """What ``--budget`` counted: lab()'s calls, their cost, those over the budget."""
+    cost = budget_line(result.stats)
+    if cost is not None:
+        print(f"crslab {args.command}: {cost}", file=sys.stderr)
+
+
 def run_record(args: argparse.Namespace) -> int:
     """``crslab record``."""
     config = config_from_args(args)
@@ -187,6 +195,7 @@ def run_record(args: argparse.Namespace) -> int:
     lines = len(split_lines(result.transcript))
     print(f"crslab record: {lines} lines ({end_tick / TICKS_PER_S:.3f} s simulated) written to {args.output}",
           file=sys.stderr)
+    _say_budget(args, result)
     return ExitStatus.OK
 
 
@@ -228,6 +237,7 @@ def run_check(args: argparse.Namespace) -> int:
     end_tick = _end_tick(args, config)
     start = time.monotonic()
     result = _run(config, args, end_tick)
+    _say_budget(args, result)
     comparison = compare(split_lines(golden.body), split_lines(result.transcript, result.calls),
                          abs_tol=args.abs_tol, rel_tol=args.rel_tol)
     report = comparison.report(max_lines=args.max_report)

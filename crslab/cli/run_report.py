@@ -11,36 +11,17 @@ import sys
 from pathlib import Path
 
 from crslab._bindings import constants
-from crslab.framework_facts import CPU_CYCLES_PER_TICK, SCI_TX_FIFO_CHARS, SERIAL_CHARS_PER_MS, TICKS_PER_S
+from crslab.framework_facts import SCI_TX_FIFO_CHARS, SERIAL_CHARS_PER_MS, TICKS_PER_S
 from crslab.generations import Generation
 from crslab.lab.print_trigger import missing_printing_notice
+from crslab.run.budget import cost_text, lab_cost
 from crslab.run.status import RunResult, RunStatus
 from crslab.scenario.expect_events import summary_text
 from crslab.untrusted_text import for_terminal
 from crslab.worker.run_stats import RunStats
 
-NEAR_BUDGET = 0.8  # warn when a lab() call took this share of the budget
 
-
-def lab_cost(stats: RunStats, budget: int) -> dict:
-    """lab()'s cost per call, in the firmware's unit: WebAssembly instructions, or (native) the
-    microseconds it took, with the budget in the same unit (``budget`` is in instructions, one per cycle
-    of the 150 MHz F28335)."""
-    calls = stats.lab_calls
-    instructions = stats.cost_unit == constants.CRS_COST_INSTRUCTIONS
-    scale = 1.0 if instructions else 1e-3  # ns to us
-    return {
-        "lab_cost_unit": "instructions" if instructions else "us",
-        "lab_cost_mean": round(stats.lab_cost_total * scale / calls, 1) if calls else 0.0,
-        "lab_cost_max": round(stats.lab_cost_max * scale, 1),
-        "lab_max_tick": stats.lab_max_tick,
-        "budget": budget if instructions else round(budget * 1000 / CPU_CYCLES_PER_TICK, 1),
-        "over_budget": stats.over_budget,
-        "over_budget_ticks": list(stats.first_over_tick),
-    }
-
-
-def summary(result: RunResult, wall_s: float, budget: int) -> dict:
+def summary(result: RunResult, wall_s: float) -> dict:
     """The end-of-run numbers: time, lab()'s cost, NaN and long-line notices."""
     st = result.stats
     return {
@@ -52,7 +33,7 @@ def summary(result: RunResult, wall_s: float, budget: int) -> dict:
            and "hung: lab() did not return" in result.message else {}),
         "wall_s": round(wall_s, 3),
         "lab_calls": st.lab_calls,
-        **lab_cost(st, budget),
+        **lab_cost(st),
         "nan_first_tick": st.nan_first_tick,
         "nan_first_tau": st.nan_first_joint,
         "nan_count": st.nan_count,
@@ -70,10 +51,6 @@ def summary(result: RunResult, wall_s: float, budget: int) -> dict:
         "expectations_not_reached": sum(not e.reached for e in result.expectations),
         "expectations": [e.as_dict() for e in result.expectations],
     }
-
-
-def _count(value: float) -> str:
-    return f"{value:,.0f}" if value >= 100 else f"{value:.1f}"
 
 
 def summary_line(info: dict) -> str:
@@ -105,17 +82,7 @@ from lab() (once, 9,877 ticks in all)"]
     """
     line = f"{info['simulated_s']:.3f} s simulated in {info['wall_s']:.2f} s"
     if info["lab_calls"]:
-        unit = info["lab_cost_unit"]
-        line += (f"; lab() x{info['lab_calls']}: mean {_count(info['lab_cost_mean'])} {unit}, "
-                 f"max {_count(info['lab_cost_max'])} {unit} (tick {info['lab_max_tick']})")
-        if "hung_tick" in info:  # the lab() call that hung never finished, so was never measured
-            line += f"; the call at tick {info['hung_tick']} did not return (not counted above)"
-        else:
-            budget = info["budget"]
-            budget_text = f"{budget:,.0f}" if float(budget).is_integer() else _count(budget)
-            line += f"; {info['over_budget']} over the budget of {budget_text} {unit}"
-            if info["over_budget"]:
-                line += f" (ticks {', '.join(map(str, info['over_budget_ticks']))})"
+        line += "; " + cost_text(info)
     if info.get("motor_board", "none") != "none":
         n = info.get("motor_board_cutouts", 0)
         line += f"; motor board: {n} cut-out{'' if n == 1 else 's'}"
@@ -143,16 +110,6 @@ def lost_serial_notice(lab_name: str, stats: RunStats) -> str | None:
     return (f"warning: {lab_name}'s serial line carried more within one chunk of ticks than crslab keeps "
             f"({c.CRS_SERIAL_CAPACITY} bytes or {c.CRS_MARK_CAPACITY} ticks); "
             f"the {dropped} bytes after that are missing from the transcript")
-
-
-def near_budget_warning(lab_name: str, info: dict) -> str | None:
-    """A warning when no lab() call went over the budget but the slowest came close."""
-    if info.get("over_budget", 0) or not info.get("lab_calls"):
-        return None
-    if info["lab_cost_max"] <= NEAR_BUDGET * info["budget"]:
-        return None
-    return (f"warning: {lab_name}'s slowest lab() call cost {_count(info['lab_cost_max'])} "
-            f"{info['lab_cost_unit']}, close to the budget of {_count(info['budget'])}")
 
 
 def print_run_notes(prefix: str, lab_name: str, result: RunResult, generation: Generation) -> None:

@@ -77,6 +77,21 @@ def register(sub: argparse._SubParsersAction) -> None:
         "WebAssembly memory)",
     )
     p.add_argument(
+        "--check-cpu-s",
+        type=float,
+        default=60.0,
+        metavar="SECONDS",
+        help="CPU time a page's golden-file check may use (default: %(default)g)",
+    )
+    p.add_argument(
+        "--check-wall-s",
+        type=float,
+        default=120.0,
+        metavar="SECONDS",
+        help="wall time a page's golden-file check may take; past it, it ends where it got to "
+        "(default: %(default)g)",
+    )
+    p.add_argument(
         "--secret-file",
         type=Path,
         metavar="FILE",
@@ -152,8 +167,9 @@ def run_serve(args: argparse.Namespace) -> int:
     for name in ("max_sessions", "max_sessions_per_user", "compiles_per_minute"):
         if getattr(args, name) < 1:
             raise CliError(f"--{name.replace('_', '-')} must be at least 1")
-    if not args.max_run_s > 0:
-        raise CliError("--max-run-s must be > 0")
+    for name in ("max_run_s", "check_cpu_s", "check_wall_s"):
+        if not getattr(args, name) > 0:
+            raise CliError(f"--{name.replace('_', '-')} must be > 0")
     try:
         roster = load_roster(args.users) if args.users is not None else None
         signer = CookieSigner(load_secret(args.secret_file))
@@ -181,7 +197,8 @@ def run_serve(args: argparse.Namespace) -> int:
     sessions = Sessions(
         UserLimits(compiles_per_minute=args.compiles_per_minute, max_sessions=args.max_sessions,
                    max_sessions_per_user=args.max_sessions_per_user),
-        SessionLimits(max_run_s=args.max_run_s, memory_mb=args.mem_limit_mb, sandboxed=not lacking),
+        SessionLimits(max_run_s=args.max_run_s, memory_mb=args.mem_limit_mb, check_cpu_s=args.check_cpu_s,
+                      check_wall_s=args.check_wall_s, sandboxed=not lacking),
     )
     token = secrets.token_urlsafe(16)
     app = make_app(ServeSettings(roster, signer, local_token=token), sessions)

@@ -62,9 +62,19 @@ PLANT = CSRC / "plant"
 PORT = CSRC / "port"
 FIRMWARE = CSRC / "firmware"
 DEFAULT_LAB = CSRC / "labs" / "lab1_kinematics.c"
-WASM_ONLY = {"firmware_wasm.c"}
-"""Board sources of crslab._core alone (the native board is linked with a lab instead)."""
-BOARD_SOURCES = (sorted(p for p in BOARD.glob("*.c") if p.name not in WASM_ONLY) + sorted(PLANT.glob("*.c"))
+
+
+def wasm_port_only(source: Path) -> bool:
+    """Whether a board source is the WebAssembly port's (``firmware_wasm*.c``): crslab._core's
+    alone, the native board is linked with a lab instead.
+
+    >>> wasm_port_only(Path("firmware_wasm_watchdog.c")), wasm_port_only(Path("tick.c"))
+    (True, False)
+    """
+    return source.name.startswith("firmware_wasm")
+
+
+BOARD_SOURCES = (sorted(p for p in BOARD.glob("*.c") if not wasm_port_only(p)) + sorted(PLANT.glob("*.c"))
                  + sorted(PORT.glob("*.c")) + sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c")))
 BOARD_HEADERS = (sorted(BOARD.glob("*.h")) + sorted(PLANT.glob("*.h")) + sorted(PORT.glob("*.h"))
                  + sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h")))

@@ -32,6 +32,7 @@ from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, Comparison,
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.transcript import split_lines
 from crslab.run.board_run import DEFAULT_DEADLINE_S, NO_LIMITS, Limits
+from crslab.run.budget import lab_cost
 from crslab.run.status import ExitStatus, GradeClass, RunResult, RunStatus
 from crslab.untrusted_text import for_csv, for_terminal
 from crslab.worker.config import RunConfig
@@ -446,11 +447,13 @@ def counts_line(grades: Sequence[Grade]) -> str:
 def write_csv(path: Path, grades: Sequence[Grade]) -> None:
     """One row per submission: file, result, detail, lines, first differing line and its time, the
     seconds it took, how many of the scenario's expectations failed, how its run ended (``status``:
-    ok, exited, nan, output-limit, ...) and the exit status ``crslab check`` gives such a run."""
+    ok, exited, nan, output-limit, ...), the exit status ``crslab check`` gives such a run, and
+    how many lab() calls cost more than the budget (``--budget``) and that budget (instructions; a
+    native run's in us)."""
     with path.open("w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["submission", "result", "detail", "lines", "first_diff_line", "first_diff_t_s",
-                    "seconds", "expectations_failed", "status", "exit_status"])
+                    "seconds", "expectations_failed", "status", "exit_status", "over_budget", "budget"])
         for g in grades:
             lines = len(split_lines(g.result.transcript))
             first_line = first_t = ""
@@ -459,9 +462,10 @@ def write_csv(path: Path, grades: Sequence[Grade]) -> None:
                 first_line = str(d.number)
                 if d.got is not None and d.got.tick is not None:
                     first_t = f"{d.got.tick / TICKS_PER_S:.3f}"
+            cost = lab_cost(g.result.stats)
             w.writerow([for_csv(g.label), g.grade, for_csv(g.detail), lines, first_line, first_t,
                         f"{g.result.wall_s:.2f}", len(g.result.failed_expectations), g.result.status,
-                        int(g.exit_status)])
+                        int(g.exit_status), cost["over_budget"], f"{cost['budget']:g}"])
 
 
 def write_junit_grades(path: Path, grades: Sequence[Grade], suite: str) -> None:

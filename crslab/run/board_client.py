@@ -27,11 +27,12 @@ from collections.abc import Callable, Sequence
 from crslab.run.diagnosis import Ending
 from crslab.run.shared_block import SharedBlock
 from crslab.run.status import RunStatus
-from crslab.run.worker_process import NO_LIMITS, READY_TIMEOUT_S, Limits, WorkerProcess
+from crslab.run.worker_process import NO_LIMITS, READY_TIMEOUT_S, Limits, Wake, WorkerProcess
 from crslab.worker import worker_messages
 from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.run_stats import RunStats
+from crslab.worker.share import Share
 
 DEFAULT_DEADLINE_S = 2.0
 """How long one call of a lab's firmware (lab(), printing(), a constructor) may run before it is
@@ -85,19 +86,20 @@ class BoardClient:
     :attr:`first`; required for a native one, which holds only it); None starts a WebAssembly worker
     with no instance. ``limits`` are the worker's (its memory, its CPU time, what its labs may
     print); ``debug`` prepares it for a debugger (``crslab debug``). ``on_started()`` is called once
-    the process exists, while it loads ``first``. Raises :class:`InstanceNotOpened` when ``first``
-    cannot be opened (the worker is ended then).
+    the process exists, while it loads ``first``. ``share``: what each instance may take of a worker
+    many runs share (:mod:`crslab.worker.share`: a server's run host); None, no limit. Raises
+    :class:`InstanceNotOpened` when ``first`` cannot be opened (the worker is ended then).
     """
 
     def __init__(self, first: RunConfig | None = None, *, deadline_s: float | None = DEFAULT_DEADLINE_S,
                  limits: Limits = NO_LIMITS, debug: DebugSetup | None = None,
-                 on_started: Callable[[], None] | None = None) -> None:
+                 on_started: Callable[[], None] | None = None, share: Share | None = None) -> None:
         self.limits = limits
         self.handles: dict[int, BoardHandle] = {}
         self._next_id = 0
         self.native = first is not None and first.build.native
         block = SharedBlock.new() if first is not None else None
-        self.process = WorkerProcess(first, block, limits, debug, deadline_s)
+        self.process = WorkerProcess(first, block, limits, debug, deadline_s, share)
         self.first: BoardHandle | None = None
         if on_started is not None:
             on_started()
@@ -161,13 +163,14 @@ class BoardClient:
 
     def run(self, targets: Sequence[tuple[BoardHandle, int]],
             each: Callable[[int, worker_messages.Ran], None] | None = None,
-            ) -> list[worker_messages.Ran | Ending]:
+            wake: Wake | None = None) -> list[worker_messages.Ran | Ending]:
         """Run each handle of ``targets`` to its tick, in one request: one result per target, in
         order: its :class:`~crslab.worker.worker_messages.Ran` (a faulted firmware's says how it
         stopped), or the :class:`~crslab.run.diagnosis.Ending` of the worker process when it
         ended meanwhile (then of every handle of it). ``each(i, ran)`` is called with each
         target's ``Ran`` as it comes, while the worker runs the next ones (it must not ask this
-        worker anything)."""
+        worker anything); ``wake`` is answered while the worker runs
+        (:class:`~crslab.run.worker_process.Wake`)."""
         if not targets:
             return []
         for handle, _ in targets:
@@ -188,7 +191,7 @@ class BoardClient:
         blocks = [h.block for h, _ in targets]
         for i, (handle, until) in enumerate(targets):
             reply = self.process.reply(worker_messages.Ran, deadline_s=deadline_s, ticks=until - handle.tick,
-                                       instance=handle.id, blocks=blocks[i:])
+                                       instance=handle.id, blocks=blocks[i:], wake=wake)
             if isinstance(reply, Ending):
                 self._ended(reply)
                 results += [reply] * (len(targets) - i)

@@ -374,7 +374,7 @@ class ChunkedRun:
              held: Callable[[], AbstractContextManager[None]] = nullcontext, *,
              serve: bool = True) -> Ending | None:
         """Hand a chunk's reply (or the worker's end) on: None while the run goes on, else how it
-        ended (a trap, the output limit, a strict NaN, a printf overflow, the worker gone). ``held``
+        ended (a trap, the output limit, a stop, a strict NaN, a printf overflow, the worker gone). ``held``
         holds a Ctrl-C back while the sinks take the chunk. ``serve`` False leaves the controls to
         :meth:`serve_controls` (a caller still reading its worker's other replies, whose controls
         must not ask the worker meanwhile)."""
@@ -404,6 +404,8 @@ class ChunkedRun:
             return diagnosis.output_limit(sim.lab_name, sim.tick, self.printed.cap)
         if serve:
             self.serve_controls()
+        if reply.code == constants.CRS_RUN_STOPPED:  # the page's Stop, or the page went
+            return diagnosis.stopped(sim.tick)
         if reply.code == constants.CRS_RUN_NAN_STRICT:
             return diagnosis.nan_strict(sim.lab_name, sim.stats, sim.tick)
         if reply.code == constants.CRS_RUN_PRINTF_OVERFLOW:

@@ -152,6 +152,15 @@ def hung(lab_name: str, func: str, tick: int, deadline_s: float | None) -> Endin
     return Ending(RunStatus.HUNG, tick, f"{lab_name} hung: {func} did not return{within} {at_tick(tick)}")
 
 
+def stopped(tick: int) -> Ending:
+    """The page asked its run to stop (its Stop, or it closed): the run ends at the tick it reached.
+
+    >>> stopped(5123).message
+    'stopped at t = 5.123 s'
+    """
+    return Ending(RunStatus.INTERRUPTED, tick, f"stopped at t = {tick / TICKS_PER_S:.3f} s")
+
+
 def over_memory(lab_name: str, tick: int, phase: int, memory_mb: int | None) -> Ending:
     """A sanitized lab that used more resident memory than its limit (the worker was killed)."""
     return Ending(RunStatus.CRASHED, tick, f"{lab_name} used more than its memory limit ({memory_mb} MB) "

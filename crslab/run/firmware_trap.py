@@ -29,6 +29,7 @@ from crslab.framework_facts import TICKS_PER_S
 from crslab.run.status import RunStatus
 from crslab.run.wasm_lines import line_at
 from crslab.untrusted_text import for_terminal
+from crslab.worker.share import board_ms
 
 _AT = re.compile(r"^\s*at (.+?)(?::(\d+))?(?::\d+)?\s*$", re.MULTILINE)
 _FRAME = re.compile(r"^\s*\d+:\s+0x[0-9a-f]+ - (\S+)", re.MULTILINE)
@@ -85,6 +86,31 @@ def where_stopped(text: str, lab_name: str, image: Path | None = None) -> str:
     return ""
 
 
+def too_slow(kind: int, text: str, lab_name: str, func: str, at: str, stopped: str) -> str:
+    """The line for a call a shared worker ended (``CRS_FW_TRAP_TOO_COSTLY``, ``_TOO_LONG``): the
+    board's first line of ``text`` says the limit it passed (``15000000 instructions``, ``20 ms``).
+
+    >>> line = too_slow(constants.CRS_FW_TRAP_TOO_COSTLY, "5000000 instructions\\n...", "slow.c",
+    ...                 "lab()", "at tick 4100 (t = 4.100 s)", "at slow.c:12 in lab()")
+    >>> line.split(": ", 1)[1].split("; ")[0]
+    'lab() cost more than 5,000,000 instructions in one call at tick 4100 (t = 4.100 s)'
+    >>> line.split("; ")[2].split(",")[0]
+    'the F28335 would need more than 33.3 ms for that call'
+    """
+    limit = re.match(r"\s*(\d+)", text)
+    number = int(limit.group(1)) if limit else 0
+    was = f"; it was {stopped}" if stopped else ""
+    if kind == constants.CRS_FW_TRAP_TOO_COSTLY:
+        board = (f"; the F28335 would need more than {board_ms(number):g} ms for that call, and the board "
+                 f"calls {func} every {1000 / TICKS_PER_S:g} ms")
+        what = f"cost more than {number:,} instructions"
+    else:
+        board = ""
+        what = f"used more than {number} ms of the server's CPU time"
+    return (f"{lab_name} is too slow for a shared server: {func} {what} in one call {at}{was}{board} "
+            "(crslab sim runs it on, slower than real time)")
+
+
 def _phase_words(phase: int) -> tuple[str, str]:
     """(the function it was in, where in the tick) for a phase."""
     c = constants
@@ -112,6 +138,10 @@ def diagnose(trap: dict, lab_name: str, *, deadline_s: float | None,
         stopped = where_stopped(text, lab_name, image)
         was = f"; it was {stopped}" if stopped and stopped != f"in {func} ({lab_name})" else ""
         return RunStatus.HUNG, f"{lab_name} hung: {func} did not return{within} {at}{was}"
+    if kind == c.CRS_FW_TRAP_STOPPED:  # the page's Stop (or the page went) ended the call
+        return RunStatus.INTERRUPTED, f"stopped at t = {tick / TICKS_PER_S:.3f} s"
+    if kind in (c.CRS_FW_TRAP_TOO_COSTLY, c.CRS_FW_TRAP_TOO_LONG):
+        return RunStatus.HUNG, too_slow(kind, text, lab_name, func, at, where_stopped(text, lab_name, image))
     if kind == c.CRS_FW_TRAP_EXIT:
         return RunStatus.EXITED, f"{lab_name} called exit({int(trap.get('exit_code', 0))}) {place} {at}"
     if kind == c.CRS_FW_TRAP_REFUSED:

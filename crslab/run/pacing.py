@@ -114,9 +114,10 @@ class Pacer:
         self.speed = speed
         self.restart(tick)
 
-    def restart(self, tick: int) -> None:
-        """Pace from ``tick``, due now (time the run was held is not made up for)."""
-        self._wall, self._tick = time.monotonic(), tick
+    def restart(self, tick: int, at_s: float | None = None) -> None:
+        """Pace from ``tick``, due now or at ``at_s`` on the monotonic clock (time the run was held
+        is not made up for)."""
+        self._wall, self._tick = time.monotonic() if at_s is None else at_s, tick
 
     def _step(self, tick: int) -> int:
         chunks = self.chunks

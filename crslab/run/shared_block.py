@@ -69,6 +69,13 @@ class SharedBlock:
         """Where the worker is (``CRS_PHASE_*``)."""
         return int(self.view.phase)
 
+    def stop(self) -> None:
+        """Ask the board to stop (a page's Stop, a page that closed): it ends its chunk before the
+        next tick (``CRS_RUN_STOPPED``), a call of its firmware running now at once
+        (``CRS_FW_TRAP_STOPPED``). Safe from any thread, also once the descriptor is closed (the
+        mapping lasts as long as this object)."""
+        self.view.stop = 1
+
     @property
     def refusal(self) -> Any:
         """What the sandbox refused (``crs_refusal``; ``refused`` is 0 when nothing was)."""

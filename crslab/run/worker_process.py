@@ -24,6 +24,7 @@ import signal
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from multiprocessing.reduction import DupFd as _spawn_dup
@@ -40,6 +41,7 @@ from crslab.run.shared_block import SharedBlock
 from crslab.run.status import RunStatus
 from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
+from crslab.worker.share import Share
 from crslab.worker.worker_messages import End, Message, read_reply
 from crslab.worker.worker_reply import UnreadableReply, receive
 
@@ -49,7 +51,7 @@ CPU_S_PER_TICK = 1e-3
 WebAssembly firmware cannot write the phase the board reports, so its deadline alone holds."""
 INTERRUPT_GRACE_S = 2.0
 """How long a WebAssembly worker has to answer once its firmware's call ran past its deadline (its
-watchdog interrupts the call within 10 ms of it)."""
+watchdog interrupts the call within two of its periods of it, ``CRS_WATCH_PERIOD_NS``)."""
 READY_TIMEOUT_S = 60.0
 SANITIZER_REPORT_ENV = "CRSLAB_SANITIZER_REPORT"
 ABORT_ON_ERROR = ":abort_on_error=1"
@@ -58,6 +60,16 @@ POLL_S = 0.05
 call is timed from the first look that sees its tick and phase, so a hang is found between its
 deadline and a deadline plus two polls."""
 CPU_EVERY_POLLS = 20
+
+
+@dataclass(frozen=True)
+class Wake:
+    """What else a wait for the worker answers: ``ready()`` is called when ``fd`` has something to
+    read (a run host's pipe from the server: a page's Stop acts on its run's board while the worker
+    runs), and returns False once ``fd`` has nothing more to give (it closed)."""
+
+    fd: int
+    ready: Callable[[], bool]
 
 
 @dataclass(frozen=True)
@@ -95,7 +107,7 @@ def _same(dup: Any) -> Any:
 
 def _child(conn: Connection, config: RunConfig | None, shared: WorkerFd | None, limits: Limits = NO_LIMITS,
            debug: DebugSetup | None = None, console: WorkerFd | None = None,
-           deadline_s: float | None = None) -> None:
+           deadline_s: float | None = None, share: Share | None = None) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the crslab process's to handle
     if config is not None and config.build.native:
         # a crash is diagnosed by the crslab process, not dumped here (a WebAssembly firmware's faults
@@ -124,17 +136,19 @@ def _child(conn: Connection, config: RunConfig | None, shared: WorkerFd | None, 
     os.environ.setdefault("MUJOCO_GL", "disable")
     from crslab.worker.main import serve
 
-    serve(conn, config, shared.detach() if shared is not None else None, debug, deadline_s)
+    serve(conn, config, shared.detach() if shared is not None else None, debug, deadline_s, share)
     os._exit(0)
 
 
 class WorkerProcess:
     """A worker, started at once; with ``config``, its instance 0 runs it on ``block`` (opened
     while the worker starts; a native worker holds only that one), else (a WebAssembly worker) it
-    starts with no instance. See the module's text."""
+    starts with no instance, each of those it opens taking at most ``share`` of it (None: no
+    limit). See the module's text."""
 
     def __init__(self, config: RunConfig | None, block: SharedBlock | None, limits: Limits = NO_LIMITS,
-                 debug: DebugSetup | None = None, deadline_s: float | None = None) -> None:
+                 debug: DebugSetup | None = None, deadline_s: float | None = None,
+                 share: Share | None = None) -> None:
         self.config = config
         self.block = block
         """The shared block of instance 0 (None: a worker started with no instance)."""
@@ -173,6 +187,7 @@ class WorkerProcess:
         # keeps the terminal); a WebAssembly firmware has no descriptor at all (the board counts)
         self._console = -1
         self._poller: Any = None  # select.poll of the pipe and the console, made once (_ready)
+        self._woken = -1  # the descriptor of a Wake in the poller (-1: none)
         self.console_bytes = 0
         console = None
         if self.native and debug is None:
@@ -184,7 +199,7 @@ class WorkerProcess:
         try:
             self._conn, child_conn = ctx.Pipe()
             shared = WorkerFd(block.fd) if block is not None and config is not None else None
-            args = (child_conn, config, shared, limits, debug, console, deadline_s)
+            args = (child_conn, config, shared, limits, debug, console, deadline_s, share)
             self.process = ctx.Process(target=_child, args=args, daemon=True)
             self.process.start()
         finally:
@@ -215,27 +230,29 @@ class WorkerProcess:
 
     def reply(self, *due: type[Message], deadline_s: float | None, timeout_s: float | None = None,
               during_setup: bool = False, ticks: int | None = None, instance: int | None = None,
-              blocks: list[SharedBlock] | None = None) -> Any:
+              blocks: list[SharedBlock] | None = None, wake: Wake | None = None) -> Any:
         """The worker's next reply, checked to be one of ``due`` (about ``instance`` when given), or
         how the run ended meanwhile (an :class:`~crslab.run.diagnosis.Ending`): the worker died
         (``during_setup``: before it was ready), a lab() or printing() call of the instance of one
         of ``blocks`` (default: instance 0's) ran past ``deadline_s`` and the worker did not answer,
         the worker used more CPU time than a chunk of ``ticks`` may (:data:`CPU_S_PER_TICK` each,
         and a deadline's worth more; a native lab only), stopped answering within ``timeout_s``, or
-        sent what is not a reply."""
+        sent what is not a reply. ``wake``: a descriptor to answer while waiting (a run host's pipe
+        from the server: a page's Stop acts while the worker runs) and what to call when it has
+        something to read."""
         cpu_allowance_s = None
         if ticks is not None and deadline_s is not None and self.native:
             cpu_allowance_s = ticks * CPU_S_PER_TICK + deadline_s
         watched = blocks if blocks is not None else [b for b in (self.block,) if b is not None]
         try:
-            raw = self._watch(deadline_s, timeout_s, during_setup, cpu_allowance_s, watched)
+            raw = self._watch(deadline_s, timeout_s, during_setup, cpu_allowance_s, watched, wake)
             return raw if isinstance(raw, Ending) else read_reply(raw, *due, instance=instance,
                                                                   trusted=self.trusted)
         except UnreadableReply as exc:
             return self.tampered(str(exc))
 
     def _watch(self, deadline_s: float | None, timeout_s: float | None, during_setup: bool,
-               cpu_allowance_s: float | None, blocks: list[SharedBlock]) -> object:
+               cpu_allowance_s: float | None, blocks: list[SharedBlock], wake: Wake | None = None) -> object:
         c = constants
         start = time.monotonic()
         cpu0 = self._cpu_s() if cpu_allowance_s is not None else None
@@ -250,9 +267,11 @@ class WorkerProcess:
         while True:
             try:
                 # a reply already there (the next of a RunMany's) is read at once
-                if self._console < 0 and self._ready(0.0):
+                if self._console < 0 and self._conn.fileno() in self._ready(0.0, wake):
                     return receive(self._conn, self.trusted)
-                ready = self._ready(POLL_S)
+                ready = self._ready(POLL_S, wake)
+                if wake is not None and wake.fd in ready and not wake.ready():
+                    wake = None  # it has nothing more to say (its pipe closed)
                 if self._console in ready and self._drain_console():
                     self.kill()
                     return diagnosis.output_limit(self.lab_name, self.block.tick, self.limits.output_bytes)
@@ -324,15 +343,22 @@ class WorkerProcess:
             return 0.0
         return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
 
-    def _ready(self, timeout_s: float) -> set[int]:
-        """The descriptors (the pipe's, the console's) with something to read within ``timeout_s``
-        (one ``poll`` object for the worker's life: ``multiprocessing``'s ``wait`` makes a selector
-        on every call, a cost on every reply of a server's many)."""
+    def _ready(self, timeout_s: float, wake: Wake | None = None) -> set[int]:
+        """The descriptors (the pipe's, the console's, ``wake``'s) with something to read within
+        ``timeout_s`` (one ``poll`` object for the worker's life: ``multiprocessing``'s ``wait``
+        makes a selector on every call, a cost on every reply of a server's many)."""
         if self._poller is None:
             self._poller = select.poll()
             self._poller.register(self._conn.fileno(), select.POLLIN)
             if self._console >= 0:
                 self._poller.register(self._console, select.POLLIN)
+        woken = wake.fd if wake is not None else -1
+        if woken != self._woken:
+            if self._woken >= 0:
+                self._poller.unregister(self._woken)
+            if woken >= 0:
+                self._poller.register(woken, select.POLLIN)
+            self._woken = woken
         return {fd for fd, _ in self._poller.poll(round(timeout_s * 1000))}
 
     def _drain_console(self) -> bool:

@@ -33,6 +33,7 @@ from crslab import os_support
 from crslab.contest.motion import LONGEST_S
 from crslab.contest.offsets import contest_rest
 from crslab.contest.run import CONTEST_SCENARIO, CONTEST_WORLD, contest_config
+from crslab.framework_facts import TICKS_PER_S
 from crslab.lab.build import LabBuild, LabBuildError, LabForbidden, build_lab
 from crslab.lab.firmware import is_zig_prepared, prepare_zig
 from crslab.plant.plant_params import PlantParamsError
@@ -79,11 +80,15 @@ class PageProgress:
 
 @dataclasses.dataclass(frozen=True)
 class SessionLimits:
-    """What one run may take: simulated seconds, the worker's memory and CPU time, printed bytes."""
+    """What one run may take: simulated seconds, a check's memory, CPU time and wall time (its lab
+    runs in the session's own worker, as fast as it can), printed bytes."""
 
     max_run_s: float = 600.0
     memory_mb: int | None = 1024
-    cpu_s: float | None = None
+    check_cpu_s: float = 60.0
+    """The CPU time a check's worker may use (s): past it, it ends (the kernel's limit)."""
+    check_wall_s: float = 120.0
+    """The wall time a check may take (s): past it, its run ends where it got to."""
     output_mb: float = 16.0
     sandboxed: bool = True
 
@@ -258,13 +263,23 @@ class Session:
             )
             end_tick = seconds_to_tick(run.duration_s) if run.duration_s else config.scenario.end_tick
             end_tick = min(end_tick, seconds_to_tick(self.limits.max_run_s))
-            result = run_kept(config, end_tick, limits=Limits(memory_mb=self.limits.memory_mb))
+            limits = Limits(memory_mb=self.limits.memory_mb, cpu_s=self.limits.check_cpu_s)
+            result = None
+            with WallLimit(self.limits.check_wall_s) as wall:
+                result = run_kept(config, end_tick, limits=limits)
         except (GoldenError, LabBuildError, ScenarioError, ValueError, RunError) as exc:
             self.send(message("checked", ok=False, report=str(exc)), RUN_ENDED)
             return
+        if result is None:  # the time was up before its run began
+            self.send(message("checked", ok=False, report=f"the check took more than this server's "
+                              f"{self.limits.check_wall_s:g} s"), RUN_ENDED)
+            return
         comparison = compare(split_lines(golden.body), split_lines(result.transcript, result.calls))
         report = comparison.report()
-        if not result.ok:
+        if wall.passed:
+            report = (f"the check took more than this server's {self.limits.check_wall_s:g} s: its run was "
+                      f"ended at t = {result.end_tick / TICKS_PER_S:.3f} s\n{report}")
+        elif not result.ok:
             report = f"{result.diagnosis()}\n{report}"
         self.send(message("checked", ok=comparison.ok and result.ok, report=report), RUN_ENDED)
 
@@ -285,6 +300,32 @@ class Session:
             f"{golden}: its scenario is neither a built-in scenario nor the scenario file uploaded into "
             "this page (Run with it first); the page runs no other"
         )
+
+
+class WallLimit:
+    """``with WallLimit(s) as wall:`` a run in the block that takes longer than ``s`` of wall time
+    is ended where it got to (SIGALRM raises ``KeyboardInterrupt`` in this process's main thread,
+    which a run ends on as on a Ctrl-C); ``wall.passed`` says whether it was. The session process
+    is single-threaded: nothing else uses its alarm."""
+
+    def __init__(self, seconds: float) -> None:
+        self.seconds = seconds
+        self.passed = False
+        self._old: object = None
+
+    def _alarm(self, signum: int, frame: object) -> None:
+        self.passed = True
+        raise KeyboardInterrupt
+
+    def __enter__(self) -> WallLimit:
+        self._old = signal.signal(signal.SIGALRM, self._alarm)
+        signal.setitimer(signal.ITIMER_REAL, self.seconds)
+        return self
+
+    def __exit__(self, *exc: object) -> bool:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, self._old)  # type: ignore[arg-type]
+        return exc[0] is KeyboardInterrupt and self.passed  # it came between the run and here
 
 
 def compile_module(config: RunConfig) -> None:

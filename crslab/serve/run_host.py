@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 import gc
+import itertools
 import math
 import os
 import pickle
@@ -32,23 +33,28 @@ import signal
 import socket
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from pathlib import Path
 
 from crslab import os_support
+from crslab._bindings import constants
 from crslab.contest.offsets import Rest
 from crslab.contest.page_card import ContestCardSink
+from crslab.contest.run import CHUNK_TICKS as CONTEST_LOOK_TICKS
 from crslab.contest.run import MotionWatch
 from crslab.framework_facts import TICKS_PER_S
 from crslab.live.console import VarConsole
+from crslab.run import diagnosis
 from crslab.run.assemble import NoLab
 from crslab.run.board_client import BoardClient
 from crslab.run.board_run import DEFAULT_DEADLINE_S, BoardRun, ChunkedRun, Limits, RunError
 from crslab.run.diagnosis import Ending
 from crslab.run.pacing import PAGE_CHUNKS, Pacer
 from crslab.run.status import RunResult, RunStatus
+from crslab.run.worker_process import Wake
 from crslab.serve import wire
 from crslab.serve.page_text import PageText
 from crslab.serve.stream import PageControl, Stopped
@@ -56,12 +62,19 @@ from crslab.sinks.page_stream import SCOPE_EVERY_TICKS, ArmPoses, BrowserStream,
 from crslab.sinks.sink import FanOut, SinkError
 from crslab.sinks.transcript_file import TranscriptSink
 from crslab.worker.config import RunConfig
+from crslab.worker.run_stats import RunStats
+from crslab.worker.share import HOST_SHARE, Share, board_ms
+from crslab.worker.worker_messages import Ran
 from crslab.world import World
 
 SEND_BUFFER_BYTES = 4 << 20
 """The host's side of its pipe to the server buffers this much (as far as the system allows)."""
 BATCH_S = 0.005
 """A wake-up runs every run due within this much of now (s), in one request to the worker."""
+CUT_REST_S = 0.08
+"""A run whose chunk had its share of the host (:mod:`crslab.worker.share`: it ended at 10 ms of the
+worker's CPU) and is behind its pace gets its next chunk this long after (s): a run that costs more
+than real time (x its speed) takes at most a fifth of its host, and goes on slower."""
 FLUSH_S = 0.005
 """A page message waits at most this long (s) for the others of its wake-up before they are written
 to the server together."""
@@ -109,6 +122,15 @@ class HostedSession:
         self.out = FanOut()
         self.notes = list(run.notes)
         self.due_s = 0.0
+        self.cut = False
+        """The last chunk ended at the run's share of the host (``CRS_RUN_CUT``)."""
+        self.before = RunStats()
+        """The run's counters before its last chunk."""
+        self.slowed = False
+        self.behind = False
+        """The last chunk was cut and left the run behind its pace: it goes on slowed."""
+        self.turn = 0
+        """The host's wake-up that last ran it (:func:`in_turn`)."""
         self.motion: MotionWatch | None = None
         """A contest run's watch on the arm's motion (it ends the run once the motion has)."""
 
@@ -173,8 +195,7 @@ class HostedSession:
             self.control.command(self.sim, msg)
             self.control.serve(self.sim)  # the hand's push, at once
         except Stopped:
-            tick = self.sim.tick
-            self.finish(Ending(RunStatus.INTERRUPTED, tick, f"stopped at t = {tick / TICKS_PER_S:.3f} s"))
+            self.finish(diagnosis.stopped(self.sim.tick))
             return False
         except RunError as exc:
             self.finish(Ending(RunStatus.CRASHED, self.sim.tick, str(exc)))
@@ -186,10 +207,23 @@ class HostedSession:
         """Hand a chunk's reply to the sinks (its controls wait for :meth:`after`: the worker may
         still be running the host's other chunks); how the run ended, or None."""
         assert self.chunked is not None and self.sim is not None
+        self.before = self.sim.stats
         ending = self.chunked.took(reply, serve=False)  # type: ignore[arg-type]
-        if ending is None and (self.chunked.done or (self.motion is not None and self.motion.ended)):
+        self.cut = isinstance(reply, Ran) and reply.code == constants.CRS_RUN_CUT
+        still = self.motion is not None and self.motion.ended and self.sim.tick % CONTEST_LOOK_TICKS == 0
+        if ending is None and (self.chunked.done or still):
             ending = Ending(RunStatus.OK, self.sim.tick)  # (a contest run: the arm has come to rest)
         return ending
+
+    def next_target(self) -> int:
+        """Where the run's next chunk ends: its pacer's, but a contest run's never past the next
+        tick ``crslab contest`` looks at the motion at (a chunk cut at the run's share ends
+        anywhere): it ends at the tick ``crslab contest`` ends it at."""
+        assert self.chunked is not None and self.sim is not None
+        target = self.chunked.next_chunk()[0]
+        if self.motion is not None:
+            target = min(target, (self.sim.tick // CONTEST_LOOK_TICKS + 1) * CONTEST_LOOK_TICKS)
+        return target
 
     def after(self, ending: Ending | None) -> bool:
         """After the worker's request: end the run (``ending``), or serve its control and say
@@ -199,8 +233,42 @@ class HostedSession:
             self.finish(ending)
             return False
         self.chunked.serve_controls()
-        self.due_s = self.chunked.pacer.due_s(self.sim.tick) - LEAD_S
+        pacer = self.chunked.pacer
+        self.due_s = pacer.due_s(self.sim.tick) - LEAD_S
+        self.behind = self.cut and pacer.speed is not None and self.due_s <= time.monotonic()
+        if self.behind:
+            # it had its share of the host and is behind its pace: it costs more than real time (x
+            # its speed), so it goes on later, slower (as fast as possible, it just goes on)
+            self.due_s = time.monotonic() + CUT_REST_S
+            pacer.restart(self.sim.tick, at_s=self.due_s + LEAD_S)
+            if not self.slowed:
+                self.slowed = True
+                self.slow_note(self.before, self.sim.stats)
         return True
+
+    @property
+    def background(self) -> bool:
+        """Whether the run goes in the background (:func:`in_turn`): as fast as possible, or slowed."""
+        return self.behind or self.chunked is None or self.chunked.pacer.speed is None
+
+    def slow_note(self, before: RunStats, after: RunStats) -> None:
+        """Tell the page, once, that its run goes slower than real time (x the speed it asked for),
+        and why: its lab (what a tick of it would take the board) or a busy server."""
+        calls = after.lab_calls - before.lab_calls
+        per_call = (after.lab_cost_total - before.lab_cost_total) / calls if calls else 0.0
+        name = self.run.config.build.source.name
+        tick_ms = 1000 / TICKS_PER_S
+        if board_ms(round(per_call)) > tick_ms:
+            why = (f"{name}'s lab() costs {per_call:,.0f} instructions a call: the F28335 would need "
+                   f"{board_ms(round(per_call)):g} ms for each, and it calls lab() every {tick_ms:g} ms, so "
+                   "the board would miss its timer ticks")
+        else:
+            why = "this server is busy"
+        speed = self.chunked.pacer.speed if self.chunked is not None else None
+        pace = "real time" if speed in (None, 1.0) else f"{speed:g}x real time"
+        note = f"{why}; the run goes on slower than {pace}, so that the server's other runs keep theirs"
+        self.notes.append(note)
+        self.send(message("note", tick=self.sim.tick if self.sim is not None else 0, text=note))
 
     def finish(self, ending: Ending) -> None:
         """The run ended: its last bytes to the sinks, the instance closed, ``ended`` sent once
@@ -242,10 +310,15 @@ class HostedSession:
 
 
 class RunHost:
-    """The host's runs by session key, and the loop that paces them (:meth:`serve`)."""
+    """The host's runs by session key, and the loop that paces them (:meth:`serve`). Each run may
+    take ``share`` of the host's worker (:mod:`crslab.worker.share`) and a call of its lab
+    ``deadline_s`` (None: no deadline)."""
 
-    def __init__(self, conn: Connection) -> None:
+    def __init__(self, conn: Connection, share: Share = HOST_SHARE,
+                 deadline_s: float | None = DEFAULT_DEADLINE_S) -> None:
         self.conn = conn
+        self.share = share
+        self.deadline_s = deadline_s
         self.sessions: dict[str, HostedSession] = {}
         self.worker: BoardClient | None = None
         """The board worker every run of this host is an instance of."""
@@ -257,6 +330,12 @@ class RunHost:
         self._loop = threading.get_ident()
         """The thread of :meth:`serve`'s loop: its messages wait for :meth:`flush`."""
         self._aside: list[threading.Thread] = []
+        self._pipe = select.poll()  # one for the host's life (Connection.poll makes a selector every call)
+        self._pipe.register(conn.fileno(), select.POLLIN)
+        self._turns = itertools.count(1)  # each wake-up's number: a session's turn is its last
+        self._arrived: deque[tuple] = deque()
+        """The server's messages that came while the worker ran, not yet carried out."""
+        self._server_gone = False
 
     def send_frame(self, data: bytes) -> None:
         """One page message to the server: written with the others of this wake-up
@@ -312,8 +391,8 @@ class RunHost:
         or it ended); raises ``RunError`` when it cannot start."""
         if self.worker is None or not self.worker.alive:
             self.closed()  # forked now: no other thread of the host runs
-            self.worker = BoardClient()
-        return BoardRun(config, deadline_s=DEFAULT_DEADLINE_S, limits=limits, worker=self.worker)
+            self.worker = BoardClient(share=self.share)
+        return BoardRun(config, deadline_s=self.deadline_s, limits=limits, worker=self.worker)
 
     def arm_in(self, world: World) -> ArmPoses:
         """The arm's poses in ``world``'s scene (one per world, shared by the host's runs)."""
@@ -325,24 +404,25 @@ class RunHost:
     def serve(self) -> None:
         """Pace the runs and carry out the server's messages until it closes the pipe."""
         self._loop = threading.get_ident()
-        pipe = select.poll()  # one for the host's life (Connection.poll makes a selector every call)
-        pipe.register(self.conn.fileno(), select.POLLIN)
+        pipe = self._pipe
         try:
-            while True:
+            while not self._server_gone:
                 self.flush()  # what this wake-up made, before the host waits
                 wait_ms = -1
-                if self.sessions:
+                if self._arrived:
+                    wait_ms = 0
+                elif self.sessions:
                     wait_s = min(s.due_s for s in self.sessions.values()) - time.monotonic()
                     wait_ms = max(0, math.ceil(wait_s * 1000))
-                if pipe.poll(wait_ms):
-                    while True:
+                if pipe.poll(wait_ms) or self._arrived:
+                    while self._arrived:  # what came while the worker ran: in the order it came
+                        self.handle(self._arrived.popleft())
+                    while pipe.poll(0):
                         self.handle(self.conn.recv())
-                        if not pipe.poll(0):
-                            break
                 now = time.monotonic()
                 due = [s for s in self.sessions.values() if s.due_s <= now + BATCH_S]
                 if due:
-                    self.step(due)
+                    self.step(in_turn(due))
         except (EOFError, OSError):
             pass
         finally:
@@ -352,6 +432,25 @@ class RunHost:
             self.closed()
             if self.worker is not None:
                 self.worker.close()
+
+    def _server_wrote(self) -> bool:
+        """While the worker runs the host's chunks: take what the server sent (it waits its turn
+        in :meth:`serve`), and stop at once the run a page's ``stop`` or ``close`` is for (its board
+        ends its chunk before the next tick, a call of its lab now: :meth:`SharedBlock.stop`), so
+        that it holds the worker no longer; False once the server went."""
+        try:
+            while self._pipe.poll(0):
+                msg = self.conn.recv()
+                self._arrived.append(msg)
+                kind, key = msg[0], msg[1]
+                stopping = kind == wire.CLOSE or (kind == wire.PAGE and msg[2].get("type") == "stop")
+                session = self.sessions.get(key) if stopping else None
+                if session is not None and session.sim is not None:
+                    session.sim.block.stop()
+        except (EOFError, OSError):
+            self._server_gone = True
+            return False
+        return True
 
     def handle(self, msg: tuple) -> None:
         """One message of the server's."""
@@ -374,12 +473,16 @@ class RunHost:
                 self._guarded(session, session.close)
 
     def step(self, due: list[HostedSession]) -> None:
+        for session in due:
+            session.turn = next(self._turns)
+        self._step(due)
+
+    def _step(self, due: list[HostedSession]) -> None:
         """Run each due session's next chunk (one request per worker), handing each on to its
         sinks as its reply comes (while the worker runs the next), then serve their controls."""
         targets = []
         for session in due:
-            assert session.chunked is not None
-            targets.append(session.chunked.next_chunk()[0])
+            targets.append(session.next_target())
         taken: dict[int, Ending | None | Exception] = {}
 
         def each(i: int, reply: object) -> None:
@@ -413,7 +516,8 @@ class RunHost:
             worker = targets[runs[0]][0].board_client
             on_reply = None if each is None else (lambda k, ran, runs=runs: each(runs[k], ran))
             pairs = [(targets[i][0].board, targets[i][1]) for i in runs]
-            for i, reply in zip(runs, worker.run(pairs, on_reply)):
+            wake = Wake(self.conn.fileno(), self._server_wrote)
+            for i, reply in zip(runs, worker.run(pairs, on_reply, wake)):
                 replies[i] = reply
         return replies
 
@@ -449,6 +553,24 @@ class RunHost:
         session.send(failed, wire.RUN_ENDED)
 
 
+def in_turn(due: list[HostedSession]) -> list[HostedSession]:
+    """What one wake-up runs of the ``due`` sessions: every one on its pace first (a page at real
+    time, x its speed), then one that runs in the background (as fast as possible, or slowed: it
+    costs more than its pace), the one whose turn was longest ago. A run on its pace then waits at
+    most for one other run's share of the worker (the background chunk running as it fell due),
+    however many runs go as fast as they can.
+
+    >>> from types import SimpleNamespace as S
+    >>> due = [S(name="fast1", background=True, turn=3), S(name="page", background=False, turn=3),
+    ...        S(name="fast2", background=True, turn=2)]
+    >>> [s.name for s in in_turn(due)]  # type: ignore[arg-type]
+    ['page', 'fast2']
+    """
+    paced = [s for s in due if not s.background]
+    background = [s for s in due if s.background]
+    return paced + sorted(background, key=lambda s: s.turn)[:1]
+
+
 def _terminated(signum: int, frame: object) -> None:
     """SIGTERM (the server ending): unwind, so every run's instance and sinks are closed."""
     raise SystemExit(0)
@@ -466,7 +588,7 @@ def serve_host(conn: Connection) -> None:
     finally:
         out.close()
     host = RunHost(conn)
-    host.worker = BoardClient()  # ready before the first run comes
+    host.worker = BoardClient(share=host.share)  # ready before the first run comes
     # what crslab's import made lives as long as the host: out of the collector's way, so that a full
     # collection scans only the runs' own objects (one of all of them held every run some ms)
     gc.freeze()

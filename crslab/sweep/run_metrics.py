@@ -12,7 +12,8 @@ Signals are taken from the tick the startup gate opens (the lab's first call) to
 - ``plotvarK_rms`` / ``plotvarK_maxabs``: RMS and largest magnitude of ``Simulink_PlotVarK``;
 - ``plotvarK_err_rms`` / ``plotvarK_err_maxabs`` (K = 1..3): the same of PlotVarK - PlotVar4, the
   course's usual layout of actual (1-3) against desired (4);
-- ``thetaJmotor_final_rad``: the motor angles the encoders read at the last tick.
+- ``thetaJmotor_final_rad``: the motor angles the encoders read at the last tick;
+- ``over_budget``: lab() calls that cost more than the budget (``--budget``).
 
 >>> log = {"tick": np.arange(4).reshape(-1, 1), "safety": np.array([[0], [1], [0], [1]]),
 ...        "tau_lab": np.array([[0, 0, 0], [5, 0, 0], [0, -6, 0], [1, 1, 1]], float),
@@ -44,9 +45,10 @@ METRIC_NAMES: tuple[str, ...] = (
     *(f"plotvar{k}_{s}" for k in range(1, PLOT_VARS + 1) for s in ("rms", "maxabs")),
     *(f"plotvar{k}_err_{s}" for k in ACTUAL_VS_DESIRED for s in ("rms", "maxabs")),
     *(f"theta{j}motor_final_rad" for j in (1, 2, 3)),
+    "over_budget",
 )
 """Every metric, in table order."""
-INTEGER_METRICS = frozenset({"safety_trips", "motor_board_cutouts", "trips_before_lab"})
+INTEGER_METRICS = frozenset({"safety_trips", "motor_board_cutouts", "trips_before_lab", "over_budget"})
 
 
 def _rms(x: np.ndarray) -> float:
@@ -64,6 +66,7 @@ def run_metrics(log: dict[str, np.ndarray] | None, stats: RunStats, *,
     out: dict[str, float] = {name: math.nan for name in METRIC_NAMES}
     cutouts = [event[0] for event in stats.motor_board_events if event[2]]
     out["motor_board_cutouts"] = len(cutouts)
+    out["over_budget"] = stats.over_budget
     early_cutouts = sum(1 for tick in cutouts if tick <= startup_ticks)
     if log is None or len(log["tick"]) == 0:
         out["safety_trips"] = 0

@@ -44,6 +44,7 @@ from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
 from crslab.worker.run_stats import RunStats
+from crslab.worker.share import Share
 from crslab.worker.wasm_runtime import (
     ENGINE_ENVIRONMENT,
     WasmImage,
@@ -128,11 +129,13 @@ class Board:
     instances that never change theirs); None: its own, loaded here. ``image``: the firmware's bytes
     and digest, when the worker already read them (:class:`crslab.worker.main.Images`).
     ``time_lab`` False counts no lab() call's cost (measuring what timing costs:
-    :mod:`crslab.run.inprocess`)."""
+    :mod:`crslab.run.inprocess`). ``share``: what a WebAssembly firmware may take of a worker it
+    shares with other runs (:mod:`crslab.worker.share`; None: the worker is its own)."""
 
     def __init__(self, config: RunConfig, shared: mmap.mmap, keep_fds: Iterable[int] = (),
                  debug: DebugSetup | None = None, *, deadline_s: float | None = None,
-                 model: object | None = None, image: WasmImage | None = None, time_lab: bool = True) -> None:
+                 model: object | None = None, image: WasmImage | None = None, time_lab: bool = True,
+                 share: Share | None = None) -> None:
         import mujoco
 
         self.config = config
@@ -161,7 +164,8 @@ class Board:
         else:
             self.c = compiled_board()
             block = self.c.shared(shared)
-            sim = self._load_wasm(config, block, deadline_s, image or WasmImage.read(config.build.image))
+            sim = self._load_wasm(config, block, deadline_s, image or WasmImage.read(config.build.image),
+                                  share)
             self.firmware = WasmMemory(self.c, sim, config.build)
         self.sim = sim
         c = self.c
@@ -231,9 +235,10 @@ class Board:
         return lib
 
     def _load_wasm(self, config: RunConfig, block: object, deadline_s: float | None,
-                   image: WasmImage) -> object:
+                   image: WasmImage, share: Share | None) -> object:
         """The WebAssembly firmware, loaded into a new board (the C core's): a store of its own, the
-        compiled module shared with every instance of the same firmware in this process; raises
+        compiled module shared with every instance of the same firmware in this process, with what
+        it may take of a worker it shares (``share``; None: a worker of its own); raises
         :class:`FirmwareStopped` when it cannot be loaded or stops in a constructor."""
         c = self.c
         sim = c.new_board(config.build.generation.id, block)
@@ -250,7 +255,8 @@ class Board:
         code = c.wasm_load(sim, {
             "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": MEMORY_BYTES,
             "stack_bytes": NATIVE_STACK_BYTES, "compiled_path": compiled, "module_key": key,
-            "deadline_ns": 0 if deadline_s is None else max(1, round(deadline_s * 1e9))})
+            "deadline_ns": 0 if deadline_s is None else max(1, round(deadline_s * 1e9)),
+            **(share.options() if share is not None else {})})
         if kept is not None:
             seal_compiled(kept, sealed_stamp)
         if code != 0:
@@ -368,7 +374,7 @@ class Board:
     def stats(self) -> RunStats:
         """The board's counters (read in one call)."""
         counters = self.c.counters(self.sim)
-        over = min(8, counters["over_budget"])
+        over = min(constants.CRS_FIRST_OVER_TICKS, counters["over_budget"])
         first_over = tuple(int(self.sim.first_over_tick[i]) for i in range(over))
         return RunStats(**counters, first_over_tick=first_over,
                         native=self.config.build.native, motor_board=self.config.motor_board_model)

@@ -20,6 +20,7 @@ from __future__ import annotations
 import copy
 import mmap
 import os
+from collections import OrderedDict
 from multiprocessing.connection import Connection
 from multiprocessing.reduction import recv_handle
 from pathlib import Path
@@ -32,6 +33,7 @@ from crslab.worker.board import Board, FirmwareStopped, plant_model, trap_info
 from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import changes_model
+from crslab.worker.share import Share
 from crslab.worker.wasm_runtime import WasmImage
 
 
@@ -55,29 +57,41 @@ class Models:
 
 
 class Images:
-    """The firmware images a worker has read, each read and hashed once (by path, size and
-    modification time)."""
+    """The firmware images a worker has read: the last :data:`IMAGES_KEPT` (by path, size and
+    modification time), each read and hashed once while kept. A firmware's bytes are about 1 MB (its
+    debug information): a worker that ran a thousand labs keeps a few, not every one."""
 
     def __init__(self) -> None:
-        self._read: dict[tuple[Path, int, int], WasmImage] = {}
+        self._read: OrderedDict[tuple[Path, int, int], WasmImage] = OrderedDict()
 
     def image(self, path: Path) -> WasmImage:
         """The firmware at ``path``."""
         stat = path.stat()
         key = (path, stat.st_size, stat.st_mtime_ns)
-        image = self._read.get(key)
+        image = self._read.pop(key, None)
         if image is None:
-            image = self._read[key] = WasmImage.read(path)
+            image = WasmImage.read(path)
+        self._read[key] = image  # the newest last
+        while len(self._read) > IMAGES_KEPT:
+            self._read.popitem(last=False)
         return image
+
+
+IMAGES_KEPT = 8
+"""Firmware images a worker keeps read (:class:`Images`), as many as the compiled modules it keeps
+that no instance uses (``CRS_WASM_IDLE_MODULES``): a lab run again soon is neither read nor
+loaded again."""
 
 
 class BoardInstances:
     """The instances of one worker process, by the number the crslab process gave each."""
 
-    def __init__(self) -> None:
+    def __init__(self, share: Share | None = None) -> None:
         self.instances: dict[int, Board] = {}
         self.models = Models()
         self.images = Images()
+        self.share = share
+        """What each WebAssembly instance may take of this worker (None: one run has it alone)."""
 
     def open(self, instance: int, config: RunConfig, shared: mmap.mmap, deadline_s: float | None,
              keep_fds: list[int], debug: DebugSetup | None = None, *,
@@ -97,7 +111,7 @@ class BoardInstances:
             else:
                 board = Board(config, shared, debug=debug, deadline_s=deadline_s,
                               model=self.models.model_for(config),
-                              image=self.images.image(config.build.image))
+                              image=self.images.image(config.build.image), share=self.share)
         except SandboxError as exc:
             return worker_messages.Failed(instance, str(exc))
         except FirmwareStopped as exc:
@@ -159,10 +173,11 @@ class BoardInstances:
 
 
 def serve(conn: Connection, first: RunConfig | None, shared_fd: int | None, debug: DebugSetup | None = None,
-          deadline_s: float | None = None) -> None:
+          deadline_s: float | None = None, share: Share | None = None) -> None:
     """Worker entry point: open instance 0 of ``first`` on the shared block ``shared_fd`` (when
-    given), then answer requests until ``End`` or the pipe closes."""
-    worker = BoardInstances()
+    given), then answer requests until ``End`` or the pipe closes. ``share``: what each instance may
+    take of this worker (:mod:`crslab.worker.share`; None: its one run has it alone)."""
+    worker = BoardInstances(share)
 
     def send(reply: worker_messages.Message) -> None:
         conn.send(reply.wire())

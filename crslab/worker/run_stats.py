@@ -38,7 +38,9 @@ class RunStats:
     cost_unit: int = 1
     """``CRS_COST_INSTRUCTIONS`` (1: WebAssembly instructions) or ``CRS_COST_NS`` (0: native, ns)."""
     budget: int = 0
-    """What one lab() call may cost (instructions)."""
+    """What one lab() call may cost before it counts over the budget, in :attr:`cost_unit`
+    (``--budget``'s instructions; natively, the ns they take at the F28335's 150 MHz): the one
+    number every report of the budget reads."""
     nan_first_tick: int = -1
     """The first tick lab() returned a NaN or Inf torque (-1: never)."""
     nan_first_joint: int = 0
@@ -77,7 +79,7 @@ class RunStats:
     tick: int = 0
     """The next tick to run."""
     first_over_tick: tuple[int, ...] = ()
-    """The ticks of the first (up to 8) calls over the budget."""
+    """The ticks of the first calls over the budget (up to ``CRS_FIRST_OVER_TICKS`` of them)."""
     native: bool = False
     """The firmware ran natively (its cost is in ns)."""
     motor_board: str = ""

@@ -135,7 +135,7 @@ class Contact:
     friction: float = 0.4
     rigid_timeconst_s: float = 0.004
     rigid_impedance: float = 0.99
-    egg_damping_ratio: float = 1.0
+    egg_damping_ratio: float = 0.2
 
 
 @dataclass(frozen=True)

@@ -58,7 +58,11 @@ OBSTACLE_COPIES = {
 """The obstacle's three bodies, at one place, each touched by one part of the arm: each one's force
 sensor says what that part presses on it (only the first is drawn)."""
 ARM_COLLISION = {"upper_arm_link": UPPER_ARM_TYPE, "forearm_link": FOREARM_TYPE}
-EGG_IMPEDANCE = 0.99
+# The egg's contact is soft (R = (1 - imp) / imp * A, 2.3 times the peg's A; the arm's own inverse mass
+# at the egg is ~0.2 1/kg): its force follows its spring and damper while the arm moves, not a
+# nearly hard constraint's reference motion (at 0.99 that is 35 rad/s whatever the arm weighs, and
+# a touch sank the peg 3.5 times deeper than an elastic egg would; docs/worlds.md, "the egg").
+EGG_IMPEDANCE = 0.3
 
 
 def _f(*values: float) -> str:
@@ -414,25 +418,53 @@ def _world_root(world: World, egg_solref: tuple[float, float]) -> ET.Element:
     return root
 
 
-def egg_solref(world: World, peg_invweight: float) -> tuple[float, float]:
+def egg_solref(world: World, peg_invweight: float, arm_mass_kg: float) -> tuple[float, float]:
     """The egg contact's ``solref`` in MuJoCo's direct form ``(-stiffness, -damping)`` that makes it a
-    spring of ``world.egg.stiffness_n_per_m`` N/m (shell and scale in series) against the peg
-    (docs/worlds.md derives it).
+    spring of ``world.egg.stiffness_n_per_m`` N/m (shell and scale in series) against the peg, with
+    a damper ``egg_damping_ratio`` of critical for the arm pressing it (``arm_mass_kg`` at the tip,
+    vertically, on the egg's top; docs/worlds.md derives it).
 
-    At rest a soft contact's force f and penetration r satisfy ``R f = K imp r`` (MuJoCo's
-    reference acceleration), with ``R = (1 - imp) / imp * A`` (``A``: the contact's approximate
-    inverse mass, here the peg's translational inverse weight) and, for the direct form,
-    ``K = stiffness / imp^2``: so r = f (1 - imp) A / stiffness, and the stiffness in MuJoCo's
-    units is ``k_N_per_m * (1 - imp) * A``. Damping: critical (times the world's ratio) for the
-    same constraint, ``B = 2 ratio sqrt(K imp)``.
+    MuJoCo's contact force is ``f = (a_ref - a0) / (A_arm + R)`` with the reference acceleration
+    ``a_ref = -B v - K imp r`` (r the penetration, v its speed), ``R = (1 - imp) / imp * A``
+    (``A``: the contact's approximate inverse mass, here the peg's translational inverse weight)
+    and, for the direct form, ``K = stiffness / imp^2``, ``B = damping / imp``. At rest
+    (``a0 = -A_arm f``) that is ``R f = K imp r``: r = f (1 - imp) A / stiffness, so the stiffness
+    in MuJoCo's units is ``k * (1 - imp) * A``; moving, with R well above the arm's A_arm, the
+    damper is ``damping / ((1 - imp) A)`` N s/m, so ``damping = c * (1 - imp) * A``.
+
+    >>> from crslab.world.world_file import load_world
+    >>> s, b = egg_solref(load_world("contest"), 1.65, 4.9)
+    >>> round(-s), round(-b)
+    (86625, 280)
     """
     e = world.egg
     assert e is not None
     d = EGG_IMPEDANCE
     stiffness = e.stiffness_n_per_m * (1 - d) * peg_invweight
-    big_k = stiffness / (d * d)
-    damping = 2 * world.contact.egg_damping_ratio * math.sqrt(big_k * d) * d
-    return (-stiffness, -damping)
+    c = 2 * world.contact.egg_damping_ratio * math.sqrt(e.stiffness_n_per_m * arm_mass_kg)  # N s/m
+    return (-stiffness, -c * (1 - d) * peg_invweight)
+
+
+def arm_mass_at_kg(model: mujoco.MjModel, xyz_m: object) -> float:
+    """The arm's mass at the peg's tip, vertically, with the tip at ``xyz_m`` (m): ``1 / (J M^-1
+    J^T)_zz`` over the arm's three joints, the peg's wrist following them.
+
+    >>> from crslab.world.world_file import load_world
+    >>> round(arm_mass_at_kg(load_scene(load_world("contest")), (0.226, 0.184, 0.2975)), 1)
+    5.0
+    """
+    data = mujoco.MjData(model)
+    set_arm_pose(model, data, crs.ik_dh(np.asarray(xyz_m, dtype=float) / crs.M_PER_IN))
+    mujoco.mj_forward(model, data)
+    jac = np.zeros((3, model.nv))
+    mujoco.mj_jacSite(model, data, jac, None, model.site(PEG_TIP_SITE).id)
+    inertia = np.zeros((model.nv, model.nv))
+    mujoco.mj_fullM(model, data, inertia)
+    follow = np.zeros((model.nv, 3))
+    follow[:3, :3] = np.eye(3)
+    follow[model.jnt_dofadr[model.joint(WRIST_JOINT).id]] = (0.0, -1.0, -1.0)
+    jac, inertia = jac @ follow, follow.T @ inertia @ follow
+    return 1.0 / float((jac @ np.linalg.solve(inertia, jac.T))[2, 2])
 
 
 def scene_xml(world: World) -> str:
@@ -440,9 +472,12 @@ def scene_xml(world: World) -> str:
     if world.is_free_air:
         return SCENE_XML.read_text()
     solref = (-1.0, -1.0)
-    if world.egg is not None:  # the peg's inverse weight comes from the compiled scene itself
+    if world.egg is not None:  # the peg's inverse weight and the arm's mass from the compiled scene
         first = mujoco.MjModel.from_xml_string(ET.tostring(_world_root(world, solref), encoding="unicode"))
-        solref = egg_solref(world, float(first.body_invweight0[first.body(PEG_BODY).id][0]))
+        on_top = (*world.egg.center_xy_m, world.egg.top_z_m)
+        solref = egg_solref(
+            world, float(first.body_invweight0[first.body(PEG_BODY).id][0]), arm_mass_at_kg(first, on_top)
+        )
     return ET.tostring(_world_root(world, solref), encoding="unicode")
 
 

@@ -29,6 +29,7 @@ enum { CRS_SERIAL_CAPACITY = 4194304, CRS_MARK_CAPACITY = 65536, CRS_PRINT_CAPAC
 enum { CRS_PHASE_IDLE = 0, CRS_PHASE_LAB = 1, CRS_PHASE_PRINTING = 2, CRS_PHASE_PHYSICS = 3,
        CRS_PHASE_LOADING = 4 /* the firmware is being loaded: its constructors run */ };
 enum { CRS_REFUSAL_TEXT = 256 };
+enum { CRS_FIRST_OVER_TICKS = 8 }; /* the ticks of this many first lab() calls over the budget are kept */
 
 /* A system call the sandbox refused: written by the worker's SIGSYS handler
  * (csrc/sandbox/trap.c) just before it ends the worker, read by the crslab process. */
@@ -100,7 +101,9 @@ typedef struct {
 typedef struct {
     int64_t tick;       /* tick being run (or next to run when idle) */
     int32_t phase;      /* CRS_PHASE_*: where the worker is */
-    int32_t pad;
+    int32_t stop;       /* set by the crslab process (a page's Stop, a page that closed): the board
+                           ends its chunk before the next tick (CRS_RUN_STOPPED), and a call running
+                           now is ended (CRS_FW_TRAP_STOPPED) */
     uint64_t serial_len;    /* bytes in serial[] not yet taken by the reader */
     uint64_t serial_dropped; /* bytes lost: more left the board in one chunk than serial[] or the marks hold */
     uint32_t mark_count;    /* entries in mark_tick/mark_offset */
@@ -232,6 +235,8 @@ enum {
     CRS_RUN_PRINTF_OVERFLOW = 4, /* a serial_printf overflowed the board's format buffer */
     CRS_RUN_EVENTS_FULL = 5, /* motor-board events full: take them and go on */
     CRS_RUN_TRAPPED = 6,     /* the firmware stopped (crs_board.trap says how) */
+    CRS_RUN_CUT = 7,         /* the chunk had its share of a worker its boards share: go on later */
+    CRS_RUN_STOPPED = 8,     /* the crslab process asked the board to stop (crs_shared.stop) */
     CRS_RUN_BREAK = 9        /* crslab debug --break-when: its condition holds before this tick */
 };
 
@@ -300,7 +305,7 @@ typedef struct {
     int64_t lab_calls;
     int64_t lab_cost_total, lab_cost_max, lab_max_tick; /* lab()'s cost, in cost_unit */
     int64_t over_budget;         /* calls that cost more than budget */
-    int64_t first_over_tick[8];  /* first few ticks that overran */
+    int64_t first_over_tick[CRS_FIRST_OVER_TICKS]; /* the ticks of the first calls that overran */
     int64_t nan_first_tick;      /* -1 until a NaN/Inf torque is seen */
     int32_t nan_first_joint;     /* 1..3 */
     int32_t nan_count;

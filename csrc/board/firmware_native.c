@@ -82,6 +82,8 @@ void crs_fw_chunk_begins(crs_board *board) { (void)board; /* the crslab process 
 
 void crs_fw_chunk_ends(crs_board *board) { (void)board; }
 
+int crs_fw_chunk_over(crs_board *board) { (void)board; return 0; /* a native worker holds one board */ }
+
 int crs_fw_call_printing(crs_board *board)
 {
     board->shared->phase = CRS_PHASE_PRINTING;

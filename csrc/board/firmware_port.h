@@ -28,6 +28,9 @@ int crs_fw_tick_begins(crs_board *board);
  * store and its watchdog (interrupts per store); the native port does nothing. */
 void crs_fw_chunk_begins(crs_board *board);
 void crs_fw_chunk_ends(crs_board *board);
+/* After each tick: 1 when the chunk has had its share of a worker its boards share (the
+ * WebAssembly port's crs_wasm_options.chunk_ns; the chunk ends, CRS_RUN_CUT), else 0. */
+int crs_fw_chunk_over(crs_board *board);
 
 /* What the firmware's serial_printf sends (firmware.h: crs_board_serial_send): `formatted`
  * characters, the first of them at `chars` (`available` of them readable). Queues them on SerialA's
@@ -35,7 +38,7 @@ void crs_fw_chunk_ends(crs_board *board);
  * format buffer is noted (board->overflow_tick) instead and nothing is queued. */
 int32_t crs_board_serial_out(crs_board *board, const char *chars, uint32_t available, uint32_t formatted);
 
-/* Count what one lab() call cost (in board->cost_unit) into the run's totals, its maximum and the
+/* Count what one lab() call cost (in board->config.cost_unit) into the run's totals, its maximum and the
  * calls over board->budget (the first few ticks of which are kept). */
 void crs_board_lab_cost(crs_board *board, int64_t cost);
 

@@ -154,6 +154,7 @@ static int run_ticks(crs_board *board, int64_t until_tick)
     crs_hand_plan(&board->hand, &hand_path);
     const int64_t log_every = cfg->log_every_ticks; /* 0: no log */
     while (board->tick < until_tick) {
+        if (sh->stop) return CRS_RUN_STOPPED;
         /* the row of this tick, if it is logged: the rows so far are the reader's (the lab may
          * scribble on the shared block: an index out of range starts it again) */
         int64_t row = -1;
@@ -198,6 +199,7 @@ static int run_ticks(crs_board *board, int64_t until_tick)
             || sh->print_count > CRS_PRINT_CAPACITY / 2 || crs_host_ports_full(sh)) {
             return CRS_RUN_SERIAL_FULL;
         }
+        if (crs_fw_chunk_over(board)) return CRS_RUN_CUT;
     }
     return CRS_RUN_DONE;
 }

@@ -1,9 +1,9 @@
-/* The part of wasmtime's C API the WebAssembly board uses (firmware_wasm.c), declared as a table
- * of function pointers filled from the wasmtime library the Python package `wasmtime` ships
- * (crslab/worker/wasm_runtime.py finds it; pyproject.toml pins its version, whose C ABI this file
- * follows: the opaque handles' layouts below are those of wasmtime 50's `wasmtime.h`). Nothing is
- * linked against wasmtime at build time, so crslab._core builds without its headers. Internal to
- * the board; not read by cffi. */
+/* The part of wasmtime's C API the WebAssembly board uses (the firmware_wasm*.c files), declared
+ * as a table of function pointers filled from the wasmtime library the Python package `wasmtime`
+ * ships (crslab/worker/wasm_runtime.py finds it; pyproject.toml pins its version, whose C ABI this
+ * file follows: the opaque handles' layouts below are those of wasmtime 50's `wasmtime.h`), by
+ * firmware_wasm_api.c. Nothing is linked against wasmtime at build time, so crslab._core builds
+ * without its headers. Internal to the board; not read by cffi. */
 #ifndef CRSLAB_WASMTIME_API_H
 #define CRSLAB_WASMTIME_API_H
 
@@ -96,6 +96,12 @@ _Static_assert(sizeof(wasmtime_func_t) == 16 && sizeof(wasmtime_memory_t) == 24 
                    && sizeof(wasmtime_val_t) == 32 && sizeof(wasmtime_val_raw_t) == 16,
                "the handles' layouts of wasmtime 50's wasmtime.h (x86-64, aarch64)");
 
+/* What a store's epoch-deadline callback asks for (wasmtime_update_deadline_kind_t). */
+enum { WASMTIME_UPDATE_DEADLINE_CONTINUE = 0, WASMTIME_UPDATE_DEADLINE_YIELD = 1 };
+typedef wasmtime_error_t *(*wasmtime_epoch_deadline_callback_t)(wasmtime_context_t *context, void *data,
+                                                                 uint64_t *epoch_deadline_delta,
+                                                                 uint8_t *update_kind);
+
 typedef wasm_trap_t *(*wasmtime_func_unchecked_callback_t)(void *env, wasmtime_caller_t *caller,
                                                             wasmtime_val_raw_t *args_and_results,
                                                             size_t num_args_and_results);
@@ -144,12 +150,13 @@ typedef struct {
     wasmtime_store_t *(*store_new)(wasm_engine_t *, void *, void (*)(void *));
     void (*store_delete)(wasmtime_store_t *);
     wasmtime_context_t *(*store_context)(wasmtime_store_t *);
+    void (*store_epoch_deadline_callback)(wasmtime_store_t *, wasmtime_epoch_deadline_callback_t, void *,
+                                          void (*)(void *));
     void (*store_limiter)(wasmtime_store_t *, int64_t memory_size, int64_t table_elements,
                           int64_t instances, int64_t tables, int64_t memories);
     void *(*context_get_data)(const wasmtime_context_t *);
     wasmtime_error_t *(*context_set_fuel)(wasmtime_context_t *, uint64_t);
     wasmtime_error_t *(*context_get_fuel)(const wasmtime_context_t *, uint64_t *);
-    void (*context_set_epoch_deadline)(wasmtime_context_t *, uint64_t);
     wasmtime_linker_t *(*linker_new)(wasm_engine_t *);
     void (*linker_delete)(wasmtime_linker_t *);
     wasmtime_error_t *(*linker_define_func_unchecked)(wasmtime_linker_t *, const char *, size_t,
@@ -175,14 +182,19 @@ typedef struct {
     void (*frame_vec_delete)(wasm_frame_vec_t *);
     const wasm_byte_vec_t *(*frame_func_name)(const wasm_frame_t *);
     size_t (*frame_module_offset)(const wasm_frame_t *);
+    wasmtime_error_t *(*error_new)(const char *);
     void (*error_message)(const wasmtime_error_t *, wasm_byte_vec_t *);
     void (*error_delete)(wasmtime_error_t *);
     bool (*error_exit_status)(const wasmtime_error_t *, int *);
     void (*byte_vec_delete)(wasm_byte_vec_t *);
 } crs_wasmtime_api;
 
-/* Fill `api` from the wasmtime library at `path` (opened once per process); 0, or -1 with a
+/* wasmtime's functions, once crs_wasmtime_load has filled them (the same for every board of the
+ * process). */
+extern crs_wasmtime_api crs_wasmtime;
+
+/* Fill crs_wasmtime from the wasmtime library at `path` (opened once per process); 0, or -1 with a
  * message in error[cap]. */
-int crs_wasmtime_api_load(crs_wasmtime_api *api, const char *path, char *error, size_t cap);
+int crs_wasmtime_load(const char *path, char *error, size_t cap);
 
 #endif

@@ -36,7 +36,11 @@ enum {
     CRS_FW_TRAP_REFUSED = 10,     /* a call the board does not give a firmware (a file, the clock...) */
     CRS_FW_TRAP_OTHER = 11,       /* anything else wasmtime reports */
     CRS_FW_TRAP_LOAD = 12,        /* the firmware could not be loaded */
-    CRS_FW_TRAP_NULL = 13         /* a NULL pointer dereferenced (a check compiled into the lab) */
+    CRS_FW_TRAP_NULL = 13,        /* a NULL pointer dereferenced (a check compiled into the lab) */
+    /* a worker its boards share (a server's run host) gives one call only so much: */
+    CRS_FW_TRAP_TOO_COSTLY = 14,  /* one call cost more instructions than that */
+    CRS_FW_TRAP_TOO_LONG = 15,    /* one call ran longer than that */
+    CRS_FW_TRAP_STOPPED = 16      /* the crslab process stopped the board (a page's Stop, a closed page) */
 };
 
 #endif

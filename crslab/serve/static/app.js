@@ -109,6 +109,9 @@
         queueNote(m.tick, m.met ? `${at(m.tick)}: expect ${m.what}: met`
           : `${at(m.tick)}: expect ${m.what}: FAILED: ${m.lines.map((l) => l.replace(/^t = [\d.]+ s: /, "")).join("; ")}`);
         break;
+      case "note": // the server's word on the run (it goes on slower than real time)
+        queueNote(m.tick, `${at(m.tick)}: ${m.text}`);
+        break;
       case "motor_board":
         queueNote(m.tick, `${at(m.tick)}: motor board ${m.off ? `cut every output (joint ${m.joint})` : "outputs back"}`);
         break;
