@@ -446,8 +446,8 @@ class BoardLibrary:
         return int(self._lib.crs_fw_wasm_load(board, self._ffi.new("crs_wasm_options *", options)))
 
     def wasm_compile(self, options: dict[str, Any]) -> str:
-        """Compile a WebAssembly firmware with the boards' engine settings and keep it at
-        ``compiled_path`` (``crs_wasm_options`` by field name; no board): empty, or why it could not."""
+        """Compile a WebAssembly firmware with the boards' engine settings and write it to
+        ``compiled_fd`` (``crs_wasm_options`` by field name; no board): empty, or why it could not."""
         error = self._ffi.new("char[]", 512)
         settings = self._ffi.new("crs_wasm_options *", options)
         if self._lib.crs_fw_wasm_compile(settings, error, len(error)) != 0:

@@ -93,11 +93,14 @@ def _wasm() -> Check:
     except (ZigMissing, WasmtimeMissing) as exc:
         return Check("WebAssembly compiler and runtime", False, str(exc), fix)
     from crslab.lab.firmware import is_zig_prepared
+    from crslab.lab.zig import LIBC_ENV
 
     try:
         first = "" if is_zig_prepared() else "; its C library is built next, once per installation"
     except OSError:  # no cache to keep it in: the build cache's own line says so
         first = ""
+    except RuntimeError as exc:  # a prepared C library that may not be linked: its line
+        return Check("WebAssembly compiler and runtime", False, str(exc), f"remove it, or unset {LIBC_ENV}")
     return Check("WebAssembly compiler and runtime", True, f"zig {zig_version()} ({zig}){first}; wasmtime "
                  f"{metadata.version('wasmtime')} ({runtime.name})")
 

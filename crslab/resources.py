@@ -39,7 +39,7 @@ from importlib.resources import files
 from importlib.resources.abc import Traversable
 from pathlib import Path
 
-from crslab.cache import cache_dir
+from crslab.cache import CacheError, cache_dir, read_own, subfolder, unsafe_reason
 
 PACKAGED = "_data"
 """Sub-folder of the installed package that holds ``csrc`` and ``models`` (setup.py puts them there)."""
@@ -117,15 +117,27 @@ def _walk(node: Traversable, prefix: str) -> list[tuple[str, bytes]]:
 
 
 def _store(contents: dict[str, bytes], name: str) -> Path:
-    """Write ``contents`` (relative path -> bytes) under the cache, once; returns its folder."""
+    """Write ``contents`` (relative path -> bytes) under the cache, once; returns its folder. A
+    compiler reads these files (crslab's headers): one kept from before is used only when it is
+    this user's, no link, and holds exactly ``contents``."""
     h = hashlib.sha256()
     for rel in sorted(contents):
         h.update(rel.encode() + b"\0" + len(contents[rel]).to_bytes(8, "little") + contents[rel])
-    target = cache_dir() / "resources" / f"{name.strip('/') or 'root'}-{h.hexdigest()[:20]}"
-    if target.is_dir():
-        return target
-    target.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=".extract-", dir=target.parent))
+    home = subfolder(cache_dir(), "resources")
+    target = home / f"{name.strip('/') or 'root'}-{h.hexdigest()[:20]}"
+    if os.path.lexists(target):
+        if unsafe_reason(target, follow=False) is None and all(
+                read_own(target / rel) == data for rel, data in contents.items()):
+            return target
+        try:  # planted, or changed since: made again
+            if target.is_symlink() or not target.is_dir():
+                target.unlink()
+            else:
+                shutil.rmtree(target)
+        except OSError as exc:
+            raise CacheError(f"{target} cannot be used in crslab's cache and cannot be removed "
+                             f"({exc.strerror}): remove it") from None
+    staging = Path(tempfile.mkdtemp(prefix=".extract-", dir=home))
     for rel, data in contents.items():
         dest = staging / rel
         dest.parent.mkdir(parents=True, exist_ok=True)

@@ -42,6 +42,8 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 MAX_FILE_BYTES = 1_000_000
 """The largest world, scenario, plant, tests, robot or friction-table file crslab reads (the
 largest it ships is under 20 kB)."""
@@ -343,7 +345,7 @@ class _Scan:
         self.i += 1
         path = table + names
         self._nest(path[:-1], line)
-        self.lines.setdefault(path, line)
+        self.lines.setdefault(path, line)  # the key's own line
         self._value(path)
 
     def _value(self, path: KeyPath) -> None:
@@ -504,18 +506,24 @@ class Table:
         return self.file.line_of((*self.path, key))
 
     def fail(self, key: str, why: str) -> Exception:
-        """The error for ``key`` (several keys joined by ``|``: at the first one's line)."""
-        return self.file.fail((*self.path, key.split("|")[0]), why, self.name(key))
+        """The error for ``key`` (several keys joined by ``|``: at the first one's line; a dotted
+        key ``contact.egg``: in the table ``contact``)."""
+        first = key.split("|")[0]
+        path = (*self.path, first)
+        if path not in self.file.lines:
+            path = (*self.path, *first.split("."))
+        return self.file.fail(path, why, self.name(key))
 
     def __contains__(self, key: str) -> bool:
         return key in self.table
 
     def check_keys(self, allowed: Iterable[str], required: Iterable[str] = ()) -> None:
-        """Refuse a key not in ``allowed`` (in the file's order) and a missing one of ``required``."""
-        allowed = list(allowed)
+        """Refuse a key not in ``allowed`` (named in the error in its order; a set's sorted) and a
+        missing one of ``required`` (the first of the file's keys, then of ``required``, is named)."""
+        named = sorted(allowed) if isinstance(allowed, set | frozenset) else list(allowed)
         for key in self.table:
-            if key not in allowed:
-                raise self.fail(key, f"unknown key (allowed: {', '.join(sorted(allowed))})")
+            if key not in named:
+                raise self.fail(key, f"unknown key (allowed: {', '.join(named)})")
         for key in required:
             if key not in self.table:
                 raise self.fail(key, "missing")
@@ -574,24 +582,29 @@ class Table:
                                       positive=positive, got=value))
         return tuple(out)
 
-    def triple(self, key: str) -> tuple[float, float, float]:
-        """``key`` as a list of three numbers."""
+    def triple(self, key: str) -> np.ndarray:
+        """``key`` as a list of three finite numbers (an array of 3 floats)."""
         if key not in self.table:
             raise self.fail(key, "missing")
         value = self.table[key]
         if (not isinstance(value, list) or len(value) != 3
                 or not all(isinstance(x, int | float) and not isinstance(x, bool) for x in value)):
             raise self.fail(key, f"must be a list of three numbers, got {shown(value)}")
-        return self.numbers(key, 3)  # type: ignore[return-value]
+        return np.asarray(self.numbers(key, 3), dtype=float)
 
-    def points(self, key: str, n: int) -> tuple[tuple[float, float], ...]:
-        """``key`` as a list of ``n`` [x, y] points of finite numbers."""
+    def points(self, key: str, n: int, *, minimum: float | None = None,
+               maximum: float | None = None) -> tuple[tuple[float, float], ...]:
+        """``key`` as a list of ``n`` [x, y] points of finite numbers, each coordinate from
+        ``minimum`` to ``maximum``."""
         value = self.value(key)
         if (not isinstance(value, list) or len(value) != n
                 or not all(isinstance(p, list) and len(p) == 2
                            and all(isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x)
                                    for x in p) for p in value)):
             raise self.fail(key, f"must be a list of {n} [x, y] points, got {shown(value)}")
+        for p in value:
+            for x in p:
+                checked_number(x, lambda why: self.fail(key, why), minimum=minimum, maximum=maximum, got=p)
         return tuple((float(p[0]), float(p[1])) for p in value)
 
     def sub(self, key: str, prefix: str | None = None) -> Table:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-from crslab.cache import seal
+from crslab.cache import SEAL_SUFFIX, write_sealed
 from crslab.run.assemble import make_config
 from crslab.run.board_run import BoardRun
 from crslab.worker.config import RunConfig
@@ -72,18 +72,17 @@ class DistinctLabs:
         """The ``i``-th variant's run (0 < ``i`` < 1,000,000)."""
         marker = b"variant %06d" % i
         image = self.folder / f"variant{i}.wasm"
-        image.write_bytes(self.wasm.replace(MARKER, marker))
+        write_sealed(image, self.wasm.replace(MARKER, marker))  # sealed as a build seals its firmware
         kept = WasmImage.read(image).compiled_path()
         assert kept is not None
-        kept.write_bytes(self.cwasm.replace(MARKER, marker))
-        seal(kept)
+        write_sealed(kept, self.cwasm.replace(MARKER, marker))
         return dataclasses.replace(self.config, build=dataclasses.replace(self.config.build, image=image))
 
     @staticmethod
     def remove(config: RunConfig) -> None:
         """Remove a variant's firmware and its compiled module."""
         kept = WasmImage.read(config.build.image).compiled_path()
-        config.build.image.unlink()
-        if kept is not None:
-            kept.unlink(missing_ok=True)
-            kept.with_name(kept.name + ".seal").unlink(missing_ok=True)
+        for path in (config.build.image, kept):
+            if path is not None:
+                path.unlink(missing_ok=True)
+                path.with_name(path.name + SEAL_SUFFIX).unlink(missing_ok=True)

@@ -60,8 +60,8 @@ def test_doctor_reports_an_unusable_cache(tmp_path):
     r, items = doctor(env={"CRSLAB_CACHE_DIR": str(blocker / "cache")})
     assert r.returncode == 1
     assert items["build cache"] == (f"FAILED   build cache: CRSLAB_CACHE_DIR={blocker / 'cache'} cannot be "
-                                    "used as crslab's cache: Not a directory; fix: set CRSLAB_CACHE_DIR to a "
-                                    "folder you can write")
+                                    "used as crslab's cache: it cannot be made (Not a directory); fix: set "
+                                    "CRSLAB_CACHE_DIR to a folder you can write")
 
 
 @pytest.mark.requires("clang")

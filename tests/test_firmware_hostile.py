@@ -163,7 +163,7 @@ def wasm32_firmware(lab: Path, folder: Path):  # noqa: ANN201 - a LabBuild
     and use WebAssembly's builtins, which no lab file crslab compiles can."""
     import hashlib
 
-    from crslab.cache import cache_dir
+    from crslab.cache import cache_dir, seal_file
     from crslab.generations import detect
     from crslab.lab import firmware, zig
     from crslab.lab.build import LabBuild, content_digest, text_memory
@@ -174,13 +174,14 @@ def wasm32_firmware(lab: Path, folder: Path):  # noqa: ANN201 - a LabBuild
     unit.write_text(f'#include "{lab}"\n{entry_calls(text)}')
     libc = firmware.prepare_zig()
     objects = firmware.firmware_objects(cache_dir(), content_digest)
-    image = folder / "lab.wasm"
+    made, image = folder / "made.wasm", folder / "lab.wasm"
     r = subprocess.run([*zig.zig_cc(), f"--target={firmware.TARGET}", "-std=c11", "-O2", "-g",
                         *firmware.INCLUDES, *libc.compile_flags(), "-x", "c", str(unit), "-x", "none",
-                        *map(str, objects), *map(str, libc.link), *firmware.LINK_FLAGS, "-o", str(image)],
+                        *map(str, objects), *map(str, libc.link), *firmware.LINK_FLAGS, "-o", str(made)],
                        capture_output=True, text=True, timeout=300, cwd=folder,
                        env=zig.zig_environment(folder / "zig-cache"))
     assert r.returncode == 0, r.stderr
+    seal_file(made, image)  # as crslab's build keeps a module: the board opens only what this user sealed
     return LabBuild(source=lab, image=image, generation=detect(text), sanitized=False,
                     digest="wasm32-" + hashlib.sha256(image.read_bytes()).hexdigest()[:20],
                     memory=text_memory(text, lab.stem))

@@ -108,5 +108,5 @@ def test_a_malformed_golden_header_fails_the_test_in_one_line(tmp_path):
     (tmp_path / "test_lab1.py").write_text(TEST_FILE)
     r = pytest_in(tmp_path)
     assert r.returncode == 1
-    assert "lab1_tour.txt: header rest_motor_rad must be three numbers, got '0 -0.42'" in r.stdout
+    assert "lab1_tour.txt:2: rest_motor_rad: must be three angles within +-pi rad, got '0 -0.42'" in r.stdout
     assert "Traceback" not in r.stdout

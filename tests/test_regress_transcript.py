@@ -2,7 +2,14 @@
 
 import pytest
 
-from crslab.regress.transcript import GoldenError, read_golden, split_lines, write_golden
+from crslab.regress.transcript import (
+    GOLDEN_MAX_BYTES,
+    GoldenError,
+    read_golden,
+    recorded_run,
+    split_lines,
+    write_golden,
+)
 
 
 def test_line_ends_of_both_generations_and_a_partial_last_line():
@@ -46,3 +53,40 @@ def test_bad_golden_files_name_the_file_and_line(tmp_path):
     path.write_bytes(b"# crslab transcript\n# scenario: tour\nbroken\n# ----\n1.00\n\r")
     with pytest.raises(GoldenError, match=r"g.txt:3: header line must read '# key: value', got 'broken'"):
         read_golden(path)
+
+
+@pytest.mark.parametrize("field, value, problem", [
+    ("end_s", "1e300", "must be a number of seconds above 0, at most 86400, got '1e300'"),
+    ("end_s", "86400.5", "must be a number of seconds above 0, at most 86400, got '86400.5'"),
+    ("end_s", "9" * 400, "must be a number of seconds above 0, at most 86400, got '9999999999"),
+    ("end_s", "nan", "must be a number of seconds above 0, at most 86400, got 'nan'"),
+    ("rest_motor_rad", "0 -0.42 1e-300x", "must be three angles within +-pi rad, got '0 -0.42 1e-300x'"),
+    ("rest_motor_rad", "0 -0.42 inf", "must be three angles within +-pi rad, got '0 -0.42 inf'"),
+    ("rest_motor_rad", "0 -0.42 3.2", "must be three angles within +-pi rad, got '0 -0.42 3.2'"),
+    ("startup_delay", "maybe", "must be yes or no, got 'maybe'"),
+])
+def test_each_header_field_is_checked_and_named_with_its_line(tmp_path, field, value, problem):
+    path = tmp_path / "g.txt"
+    fields = {"scenario": "tour", "end_s": "6.000", "rest_motor_rad": "0 -0.42 0.24", "startup_delay": "no"}
+    write_golden(path, {**fields, field: value}, b"1.00\n\r")
+    line = 2 + list(fields).index(field)
+    with pytest.raises(GoldenError) as caught:
+        recorded_run(read_golden(path))
+    assert str(caught.value).startswith(f"{path}:{line}: {field}: {problem}")
+    assert len(str(caught.value)) < len(f"{path}") + 200
+    fine = {"end_s": "86400", "rest_motor_rad": "0 -0.42 3.14", "startup_delay": "yes"}.get(field)
+    write_golden(path, {**fields, field: fine}, b"1.00\n\r")
+    recorded_run(read_golden(path))  # the edge itself is a run
+
+
+def test_a_golden_file_past_its_size_is_refused_unread(tmp_path):
+    path = tmp_path / "huge.txt"
+    with open(path, "wb") as f:
+        f.write(b"# crslab transcript: x\n# ----\n")
+        f.truncate(GOLDEN_MAX_BYTES + 1)
+    with pytest.raises(GoldenError, match=rf"huge.txt: is larger than a golden file may be "
+                                          rf"\({GOLDEN_MAX_BYTES:,} "):
+        read_golden(path)
+    with open(path, "r+b") as f:
+        f.truncate(GOLDEN_MAX_BYTES)
+    assert len(read_golden(path).body) == GOLDEN_MAX_BYTES - len(b"# crslab transcript: x\n# ----\n")

@@ -273,6 +273,22 @@ def test_a_malformed_scenario_file_is_one_line_and_nothing_runs(alice):
     assert got[-1]["bad_input"] and "bad.toml" in got[-1]["message"] and "\n" not in got[-1]["message"]
 
 
+@pytest.mark.parametrize("text, line", [
+    ("end = 30\nseed = " + "9" * 400 + "\n", "bad.toml:2: seed: a whole number of 400 digits is too large"),
+    ("end = 30\n[[event]]\nat = 1\nkind = \"hand\"\nmotor_deg = " + "[" * 5000 + "\n",
+     "bad.toml:5: event.motor_deg: nested too deep"),
+    ("end = 1e300\n", "bad.toml:1: end: 1e300 is too large a number"),
+    ("end = 30\n[[event]]\nat = 1e-300\nkind = \"estop\"\n",
+     "bad.toml:3: event.at: 1e-300 is too small a number"),
+])
+def test_a_hostile_scenario_file_is_its_line_and_nothing_runs(alice, text, line):
+    """Issue 38: a 400-digit integer and deep nesting showed "crslab failed: RecursionError"."""
+    alice.send(run_message(LAB_A, scenario={"file": {"name": "bad.toml", "text": text}}))
+    got = alice.until("ended")
+    assert [m["type"] for m in got] == ["built", "ended"]
+    assert got[-1]["bad_input"] and got[-1]["message"].startswith(line), got[-1]["message"]
+
+
 def test_the_csv_and_the_rrd_of_a_run_can_be_downloaded(server, alice):
     from crslab.scopes.signals import csv_header
 

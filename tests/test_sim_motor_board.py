@@ -101,7 +101,8 @@ def test_a_golden_file_records_the_motor_board_and_check_uses_it(tmp_path):
     r = subprocess.run([*crslab, "check", "--lab", str(SATURATING), "--golden", str(golden)],
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2
-    assert r.stderr.strip() == (f"crslab check: {golden}: header motor_board must be one of none, piccolo, "
+    line = golden.read_text().splitlines().index("# motor_board: turbo") + 1
+    assert r.stderr.strip() == (f"crslab check: {golden}:{line}: motor_board: must be one of none, piccolo, "
                                 "got 'turbo'")
 
 

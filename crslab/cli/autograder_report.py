@@ -130,8 +130,6 @@ def _tests(args: argparse.Namespace) -> list[ag.PlatformTest]:
         scenario = args.scenario or DEFAULT_SCENARIO
         return [ag.PlatformTest(Path(scenario).stem, scenario, args.duration, args.points)]
     try:
-        return ag.parse_tests(args.tests.read_text(), args.tests)
-    except OSError as exc:
-        raise CliError(f"{args.tests}: cannot be read ({exc.strerror})") from None
+        return ag.load_tests(args.tests)
     except ag.BadTestsFile as exc:
         raise CliError(str(exc)) from None

@@ -126,7 +126,7 @@ class LabRun:
                 result = sim.run(self.end_tick, self.out, speed=speed,
                                  controls=[*controls, *self.live.controls, *host_controls], debugger=debugger)
         except RunError as exc:
-            raise CliError(str(exc), status=exc.status.exit_status) from None
+            raise CliError(str(exc), status=exc.exit_status) from None
         finally:
             if self.host is not None:
                 self.host.close()

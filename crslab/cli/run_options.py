@@ -166,7 +166,7 @@ def run_to_end(config: RunConfig, end_tick: int, args: argparse.Namespace) -> Ru
     try:
         result = run_kept(config, end_tick, deadline_s=args.deadline, limits=limits_from_args(args))
     except RunError as exc:
-        raise CliError(str(exc), status=exc.status.exit_status) from None
+        raise CliError(str(exc), status=exc.exit_status) from None
     if result.status is RunStatus.NO_LAB:
         raise CliError(result.message, status=result.exit_status)
     return result

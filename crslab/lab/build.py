@@ -24,13 +24,22 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import shutil
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from crslab import os_support, resources
-from crslab.cache import CacheError, cache_dir, is_sealed, seal
+from crslab.cache import (
+    CacheError,
+    cache_dir,
+    is_sealed,
+    private_file,
+    read_sealed,
+    seal_into_place,
+    subfolder,
+    unsafe_reason,
+    write_sealed,
+)
 from crslab.framework_facts import DATA_RAM_END, DATA_RAM_START
 from crslab.generations import Generation, detect
 from crslab.lab import firmware, zig
@@ -202,6 +211,15 @@ def _cache() -> Path:
         raise LabBuildError(str(exc)) from None
 
 
+def _subfolder(cache: Path, *names: str) -> Path:
+    """A folder of the cache, checked as it is used (:func:`crslab.cache.subfolder`); one that
+    cannot be used is one line (:class:`LabBuildError`)."""
+    try:
+        return subfolder(cache, *names)
+    except CacheError as exc:
+        raise LabBuildError(str(exc)) from None
+
+
 def check_board_memory(memory: MemoryLayout, source: Path) -> None:
     """Refuse a lab whose globals, laid out as the TI linker would (16-bit words, the framework's
     sections: ``memory``), run past the F28335's data memory (``DATA_RAM_START`` to
@@ -218,15 +236,18 @@ def check_board_memory(memory: MemoryLayout, source: Path) -> None:
 
 
 def _compiled(out: Path, argv: list[str], what: str) -> Path:
-    """``out``, compiled by ``argv`` (without its ``-o``) unless this user's build sealed it there
-    already (:func:`crslab.cache.seal`): through a temporary name, so a build cut short or run
-    beside another never leaves half a file."""
+    """``out`` (in a folder of the cache, :func:`crslab.cache.subfolder`), compiled by ``argv``
+    (without its ``-o``) unless this user's build sealed it there already: into a private file of
+    its own, then sealed and renamed into place (:func:`crslab.cache.seal_into_place`), so a build
+    cut short or run beside another never leaves half a file, and what is sealed is what it wrote."""
     if not is_sealed(out):
-        out.parent.mkdir(parents=True, exist_ok=True)
-        tmp = out.with_suffix(f".{os.getpid()}.tmp")
-        run_compiler([*argv, "-o", str(tmp)], what)
-        tmp.replace(out)
-        seal(out)
+        fd, part = private_file(out.parent, out.name)
+        os.close(fd)
+        try:
+            run_compiler([*argv, "-o", str(part)], what)
+            seal_into_place(part, out, part.read_bytes())
+        finally:
+            part.unlink(missing_ok=True)
     return out
 
 
@@ -235,7 +256,7 @@ def _own_c_dir(cache: Path, name: str, cc: Compiler, flags: list[str], inputs: l
     and the content of every input."""
     digest = content_digest([cc.identity.encode(), " ".join(flags).encode()]
                             + [p.read_bytes() for p in inputs])
-    return cache / f"{name}-{digest}"
+    return _subfolder(cache, f"{name}-{digest}")
 
 
 def _board_objects(cc: Compiler, sanitize: bool, cache: Path, debug: bool = False) -> list[Path]:
@@ -279,6 +300,8 @@ def break_when_source(lab: Path, condition: str) -> str:
             f"{condition}\n) != 0; }}\n")
 
 
+COMPILED_FOLDER = "compiled"
+"""The cache's folder of wasmtime's compiled firmware (:mod:`crslab.worker.wasm_runtime`)."""
 READS_FILE = "reads.json"
 """A cached build's record of the files of the lab's folder its compiler read (their digests), and
 of the names in the folder (``__has_include`` reads no file but sees a name)."""
@@ -295,18 +318,21 @@ def _variant(home: Path, lab: Path, image: str) -> Path | None:
     """The cached build in ``home`` (the folder of builds of one lab text) whose compiler read what
     the lab's folder holds now: the same names in the folder, the same bytes in each file it read;
     only what this user's build sealed counts. None when there is none."""
-    if not home.is_dir():
-        return None
     files = allowed_files(lab.absolute().parent, [home.parent])  # the cache is no part of the lab
     listing = folder_listing(files)
     paths = {name: path for name, path, _ in files}
     for variant in sorted(home.iterdir()):
-        record = variant / READS_FILE
-        if not (is_sealed(record) and is_sealed(variant / image)):
+        try:
+            if unsafe_reason(variant, follow=False) is not None:
+                continue
+        except OSError:
+            continue
+        record = read_sealed(variant / READS_FILE)
+        if record is None or not is_sealed(variant / image):
             continue
         try:
-            kept = json.loads(record.read_text())
-        except (OSError, ValueError):
+            kept = json.loads(record)
+        except ValueError:
             continue
         reads = kept.get("reads", {})
         if kept.get("listing") == listing and all(
@@ -322,17 +348,10 @@ def _keep(home: Path, private: PrivateBuild, reads: list[str], outputs: dict[str
     record = {"listing": folder_listing(private.files),
               "reads": {name: _sha(private.source / name) for name in reads}}
     text = json.dumps(record, sort_keys=True)
-    variant = home / f"v-{content_digest([text.encode()])}"
-    variant.mkdir(parents=True, exist_ok=True)
+    variant = _subfolder(home, f"v-{content_digest([text.encode()])}")
     for name, made in outputs.items():
-        target = variant / name
-        tmp = variant / f"{name}.{os.getpid()}.tmp"
-        shutil.copyfile(made, tmp)
-        tmp.replace(target)
-        seal(target)
-    (variant / f"{READS_FILE}.{os.getpid()}.tmp").write_text(text)
-    (variant / f"{READS_FILE}.{os.getpid()}.tmp").replace(variant / READS_FILE)
-    seal(variant / READS_FILE)
+        write_sealed(variant / name, made.read_bytes())
+    write_sealed(variant / READS_FILE, text.encode())
     return variant
 
 
@@ -342,6 +361,7 @@ def _cached_or_built(home: Path, src: Path, text: bytes, image: str,
     folder holds now (cheap: the folder's names and a digest of each file it read), else one
     ``build`` makes in a private build (:class:`crslab.lab.compile_process.PrivateBuild`, outside
     the cache: a build killed on its time leaves no text of the lab anywhere) and that is kept."""
+    home = _subfolder(home.parent, home.name)
     found = _variant(home, src, image)
     if found is not None:
         return found
@@ -355,9 +375,12 @@ def _build_wasm(src: Path, text: bytes, variables: list[LabVariable], calls: str
     """The WebAssembly firmware of ``src`` (its bytes ``text``; cached, named by the text and by
     what the compiler read of the lab's folder), its globals placed as ``memory`` says; returns
     (image, digest)."""
+    _subfolder(cache, COMPILED_FOLDER)  # where the board's compilation is kept: said now if it cannot be
     try:
         libc = firmware.prepare_zig()
         objects = firmware.firmware_objects(cache, content_digest)
+    except CacheError as exc:
+        raise LabBuildError(str(exc)) from None
     except (RuntimeError, zig.ZigMissing, OSError) as exc:
         raise LabBuildError(f"the WebAssembly compiler cannot be used: {exc}") from None
     globals_ = [v.name for v in variables if not v.static]
@@ -463,8 +486,8 @@ def _build_native(src: Path, text: bytes, flags: list[str], calls: str, break_wh
 
     variant = _cached_or_built(cache / f"lab-{digest}", src, text, "lab.so", build)
     try:
-        habits = tuple(json.loads((variant / "habits.json").read_text()))
-    except (OSError, ValueError):
+        habits = tuple(json.loads(read_sealed(variant / "habits.json") or b"[]"))
+    except ValueError:
         habits = ()
     return variant / "lab.so", f"{digest}-{variant.name}", cc, habits
 

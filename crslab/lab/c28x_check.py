@@ -32,7 +32,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from crslab import resources
-from crslab.cache import CacheError, cache_dir
+from crslab.cache import CacheError, cache_dir, subfolder
 from crslab.lab.c89_habits import lab_flags
 from crslab.lab.compile_process import (
     LabBuildError,
@@ -284,8 +284,7 @@ def first_run_check(lab: Path, *, sandboxed: bool = True) -> C28xCheck | None:
 def remember(lab: Path, report: C28xReport) -> None:
     """Record that ``lab``'s report was given (or that the check cannot run on it)."""
     try:
-        folder = cache_dir() / "c28x"
-        folder.mkdir(parents=True, exist_ok=True)
+        folder = subfolder(cache_dir(), "c28x")
         kept = {"skipped": report.skipped, "findings": [asdict(f) for f in report.findings]}
         (folder / f"{_key(lab)}.json").write_text(json.dumps(kept))
     except (CacheError, OSError):

@@ -36,6 +36,7 @@ from pathlib import Path
 from typing import TextIO
 
 from crslab import resources
+from crslab.cache import is_sealed, read_sealed, seal_file, subfolder
 from crslab.lab import c28x_ir, zig
 from crslab.lab.c28x_memory import MemoryLayout
 from crslab.lab.c89_habits import habit_warnings, lab_flags
@@ -188,16 +189,17 @@ def csrc_debug_map(compiler_option: list[str] | None = None) -> list[str]:
 
 def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - build.content_digest
     """The stand-ins compiled for wasm32 and the kinematics compiled with the lab's widths and moved to
-    wasm32 (:mod:`crslab.lab.c28x_ir`), once per content, flags and zig."""
+    wasm32 (:mod:`crslab.lab.c28x_ir`), once per content, flags and zig: each object sealed
+    (:func:`crslab.cache.seal_file`) and linked into a lab only while its seal holds (a folder or file
+    of the cache that cannot be used raises :class:`crslab.cache.CacheError`)."""
     digest = digest_of([zig.zig_version().encode(), " ".join(FIRMWARE_FLAGS + KIN_FLAGS + IR_FLAGS).encode()]
                        + [p.read_bytes() for p in [*FIRMWARE_SOURCES, *KIN_SOURCES, *FIRMWARE_HEADERS]]
                        + [ir_mover_text()])
-    out_dir = cache / f"firmware-{digest}"
+    out_dir = subfolder(cache, f"firmware-{digest}")
     sources = [*FIRMWARE_SOURCES, *KIN_SOURCES]
     objects = [out_dir / f"{p.parent.name}_{p.stem}.o" for p in sources]
-    if all(o.exists() for o in objects):
+    if all(is_sealed(o) for o in objects):
         return objects
-    out_dir.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
         work = Path(tmp)
         env = zig.zig_environment(work / "cache")
@@ -229,7 +231,7 @@ def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - bu
         compile_all([([*wasm, *IR_FLAGS, "-c", str(ir[src].with_suffix(".wasm32.ll"))], src,
                       work / f"{src.parent.name}_{src.stem}.o") for src in KIN_SOURCES], "moved to wasm32")
         for obj in objects:
-            (work / obj.name).replace(obj)
+            seal_file(work / obj.name, obj)
     return objects
 
 
@@ -366,13 +368,13 @@ class WasmImage:
 
     @staticmethod
     def load(folder: Path) -> WasmImage | None:
-        """The image cached in ``folder``, or None."""
+        """The image cached in ``folder`` (both files as this user's build sealed them), or None."""
         try:
-            names = json.loads((folder / "names.json").read_text())
-        except (OSError, ValueError):
+            names = json.loads(read_sealed(folder / "names.json") or b"")
+        except ValueError:
             return None
         image = folder / "lab.wasm"
-        if not image.exists():
+        if not is_sealed(image):
             return None
         return WasmImage(image, tuple(names["renamed"]), tuple(names["sized"]),
                          tuple(names.get("habits", ())))

@@ -22,6 +22,7 @@ import json
 import os
 import re
 import shutil
+import stat
 import sys
 import tempfile
 import threading
@@ -31,7 +32,7 @@ from functools import cache
 from pathlib import Path
 from typing import TextIO
 
-from crslab.cache import cache_dir
+from crslab.cache import CacheError, cache_dir, read_own, subfolder, usable_problem
 from crslab.sandbox.compile_sandbox import include_search_dirs
 
 FIRST_USE_TIMEOUT_S = 1800.0
@@ -90,7 +91,8 @@ ZIG_CACHE_ENV = "ZIG_GLOBAL_CACHE_DIR"
 
 def zig_cache() -> Path:
     """zig's global cache (the C libraries it builds once per target): ``$ZIG_GLOBAL_CACHE_DIR``
-    when set, else ``zig/`` in crslab's build cache.
+    when set, else ``zig/`` in crslab's build cache; either checked as it is used (this user's, not
+    written by others: :class:`crslab.cache.CacheError` says why not).
 
     >>> import os, tempfile
     >>> os.environ[ZIG_CACHE_ENV] = tempfile.mkdtemp()
@@ -98,7 +100,12 @@ def zig_cache() -> Path:
     True
     """
     own = os.environ.get(ZIG_CACHE_ENV)
-    return Path(own) if own else cache_dir() / "zig"
+    if not own:
+        return subfolder(cache_dir(), "zig")
+    why = usable_problem(Path(own))
+    if why is not None:
+        raise CacheError(f"{ZIG_CACHE_ENV}={own} cannot be used as zig's cache: {why}")
+    return Path(own)
 
 
 def zig_environment(local_cache: Path | None = None) -> dict[str, str]:
@@ -145,10 +152,120 @@ def libc_homes() -> list[Path]:
         return [Path(os.environ[LIBC_ENV])]
     homes = [Path(sys.prefix) / "share" / "crslab" / LIBC_FOLDER]
     try:
-        homes.append(cache_dir() / LIBC_FOLDER)
-    except Exception:  # noqa: BLE001 - no cache: the environment's alone
+        homes.append(subfolder(cache_dir(), LIBC_FOLDER))
+    except OSError:  # no cache: the environment's alone
         pass
     return homes
+
+
+class LibcRefused(RuntimeError):
+    """A prepared C library that must not be linked into a lab; the message says whose or why."""
+
+
+def trusted_owners() -> tuple[int, ...]:
+    """Who may own a prepared C library crslab links into a lab: this user, root, and whoever owns
+    zig itself (the installation: they could change the compiler as well)."""
+    try:
+        installer = zig_dir().stat().st_uid
+    except (OSError, ZigMissing):
+        installer = 0
+    return tuple(dict.fromkeys((os.getuid(), 0, installer)))
+
+
+def _folder_problem(folder: Path, owners: tuple[int, ...], *, follow: bool = False) -> str | None:
+    """Why ``folder`` may not hold code crslab links (a link, not a folder, another owner, writable
+    by its group or others), else None."""
+    try:
+        st = os.stat(folder) if follow else os.lstat(folder)
+    except OSError as exc:
+        return exc.strerror or str(exc)
+    if stat.S_ISLNK(st.st_mode):
+        return "it is a symbolic link"
+    if not stat.S_ISDIR(st.st_mode):
+        return "it is not a folder"
+    if st.st_uid not in owners:
+        return f"it belongs to another user (uid {st.st_uid})"
+    if st.st_mode & 0o022:
+        return "its group or others may write it"
+    return None
+
+
+_checked_libc: dict[tuple, bool] = {}
+"""The libraries whose files' digests this process checked, by the files' identities."""
+
+
+def _identity(path: Path) -> tuple[int, ...]:
+    try:
+        st = os.lstat(path)
+    except OSError:
+        return ()
+    return (st.st_ino, st.st_dev, st.st_size, st.st_mtime_ns, st.st_ctime_ns, st.st_uid, st.st_mode)
+
+
+def _file_digests(folder: Path, names: list[str], owners: tuple[int, ...]) -> dict[str, str] | str:
+    """The sha256 of each file ``names`` of ``folder`` (read through one checked descriptor each:
+    regular, not a link, of ``owners``, written by nobody else), or why one cannot be used."""
+    digests = {}
+    for name in names:
+        data = read_own(folder / name, owners=owners)
+        if data is None:
+            return f"{name} is missing, a link, another user's or writable by others"
+        digests[name] = hashlib.sha256(data).hexdigest()
+    return digests
+
+
+def _libc_at(folder: Path, home_named: bool) -> LibC | None:
+    """The prepared C library in ``folder`` when it may be linked: the folder and every file of it
+    owned by :func:`trusted_owners`, written by nobody else, not links, each file's sha256 the one
+    its manifest recorded when it was built. None when there is none; :class:`LibcRefused` (one
+    line) when there is one that may not be used in a folder the user named (``home_named``:
+    ``$CRSLAB_ZIG_LIBC_DIR``), else None too (another home is tried, or it is built anew)."""
+    owners = trusted_owners()
+
+    def refused(why: str) -> None:
+        if home_named:
+            raise LibcRefused(f"{LIBC_ENV}: {folder} cannot be linked into a lab: {why}")
+
+    if not os.path.lexists(folder):
+        return None
+    problem = _folder_problem(folder, owners)
+    if problem is not None:
+        return refused(problem)
+    raw = read_own(folder / "manifest.json", owners=owners)
+    try:
+        manifest = json.loads(raw) if raw is not None else None
+        names = [str(n) for n in manifest["link"]] if manifest else None
+    except (ValueError, KeyError, TypeError):
+        names = None
+    if not manifest or not names or any("/" in n or n.startswith(".") for n in names):
+        return refused("its manifest.json is missing, damaged, another user's or writable by others")
+    stamp = (str(folder), *(_identity(folder / n) for n in ["manifest.json", *names]))
+    if not _checked_libc.get(stamp):
+        digests = _file_digests(folder, names, owners)
+        if isinstance(digests, str):
+            return refused(digests)
+        recorded = manifest.get("sha256")
+        if recorded is None:  # kept before digests were recorded: recorded now, when it is this user's
+            _record_digests(folder, manifest, digests)
+        elif recorded != digests:
+            changed = sorted(n for n in names if recorded.get(n) != digests[n])
+            return refused(f"{', '.join(changed)} changed since it was built")
+        _checked_libc[stamp] = True
+    lib = zig_dir() / "lib"
+    return LibC(folder, tuple(lib / p for p in manifest["includes"]), tuple(folder / n for n in names))
+
+
+def _record_digests(folder: Path, manifest: dict, digests: dict[str, str]) -> None:
+    """Write ``digests`` into the manifest of a library kept without them (when this user may)."""
+    if os.lstat(folder).st_uid != os.getuid():
+        return
+    try:
+        part = folder / f".manifest.{os.getpid()}.part"
+        part.write_text(json.dumps({**manifest, "sha256": digests}, indent=1))
+        part.chmod(0o644)
+        part.replace(folder / "manifest.json")
+    except OSError:
+        pass
 
 
 def libc_name(target: str, flags: list[str]) -> str:
@@ -162,17 +279,18 @@ def libc_name(target: str, flags: list[str]) -> str:
 
 
 def prepared(target: str, flags: list[str]) -> LibC | None:
-    """The C library for ``target`` and ``flags`` when it is already built, else None."""
+    """The C library for ``target`` and ``flags`` when it is already built (and may be linked: see
+    :func:`_libc_at`), else None."""
+    named = bool(os.environ.get(LIBC_ENV))
     for home in libc_homes():
-        folder = home / libc_name(target, flags)
-        try:
-            manifest = json.loads((folder / "manifest.json").read_text())
-        except (OSError, ValueError):
+        problem = _folder_problem(home, trusted_owners(), follow=True)
+        if problem is not None:
+            if named and os.path.exists(home):
+                raise LibcRefused(f"{LIBC_ENV}={home} cannot hold the C library crslab links into a lab: "
+                                  f"{problem}")
             continue
-        lib = zig_dir() / "lib"
-        libc = LibC(folder, tuple(lib / p for p in manifest["includes"]),
-                    tuple(folder / n for n in manifest["link"]))
-        if all(p.exists() for p in libc.link):
+        libc = _libc_at(home / libc_name(target, flags), named)
+        if libc is not None:
             return libc
     return None
 
@@ -285,13 +403,18 @@ def _keep(target: str, flags: list[str], includes: list[str], link: list[Path]) 
             part = Path(tempfile.mkdtemp(prefix=".part-", dir=home))
             part.chmod(0o755)  # every user of the installation reads it
             names = []
+            digests = {}
             for i, path in enumerate(link):
                 name = f"{i:02d}-{path.name}"
-                shutil.copyfile(path, part / name)
+                data = path.read_bytes()
+                (part / name).write_bytes(data)
+                (part / name).chmod(0o644)
                 names.append(name)
+                digests[name] = hashlib.sha256(data).hexdigest()
             (part / "manifest.json").write_text(json.dumps({"zig": zig_version(), "target": target,
                                                             "flags": flags, "includes": includes,
-                                                            "link": names}, indent=1))
+                                                            "link": names, "sha256": digests}, indent=1))
+            (part / "manifest.json").chmod(0o644)
             try:
                 part.rename(folder)
             except OSError:  # another process kept one first

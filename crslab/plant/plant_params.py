@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from crslab.plant.model_files import PARAMS
-from crslab.toml_file import read_toml
+from crslab.toml_file import KeyPath, TomlFile, key_name, shown
 
 Triple = tuple[float, float, float]
 MOTORS = (1, 2, 3)
@@ -58,36 +58,40 @@ def _per_motor(stem: str, field: str, doc: str, low: float = 0.0, high: float = 
     return {f"{stem}{m}": Name(field, m - 1, f"{doc}, motor {m}", low, high, infinite_ok) for m in MOTORS}
 
 
+MAX_TORQUE_NM = 1000.0
+"""The bound of every torque-like plant value (N.m, N.m s/rad): some 30 times the arm's own."""
+
 NAMES: dict[str, Name] = {
-    "motor_gain": Name("motor_gain", None, "joint torque of one command unit, N.m per unit", 0.0),
+    "motor_gain": Name("motor_gain", None, "joint torque of one command unit, N.m per unit", 0.0, 1000.0),
     **_per_motor("stall_nm", "stall_nm", "torque the drive delivers at standstill, at most, N.m (inf: no "
-                 "limit)", infinite_ok=True),
+                 "limit)", high=MAX_TORQUE_NM, infinite_ok=True),
     **_per_motor("backemf", "backemf_nm_s_per_rad",
-                 "what each rad/s of motor speed takes off the drive's torque, N.m s/rad"),
+                 "what each rad/s of motor speed takes off the drive's torque, N.m s/rad",
+                 high=MAX_TORQUE_NM),
     "drive_lag_s": Name("drive_lag_s", None, "first-order lag of the delivered torque, s", 0.0, 1.0),
     **_per_motor("coulomb_pos", "coulomb_pos_nm", "sliding friction against positive motion, where its line "
-                 "meets zero speed (Cpos), N.m"),
+                 "meets zero speed (Cpos), N.m", high=MAX_TORQUE_NM),
     **_per_motor("coulomb_neg", "coulomb_neg_nm", "sliding friction against negative motion, where its line "
-                 "meets zero speed (Cneg, a negative number), N.m", -math.inf, 0.0),
+                 "meets zero speed (Cneg, a negative number), N.m", -MAX_TORQUE_NM, 0.0),
     **_per_motor("viscous_pos", "viscous_pos_nm_s_per_rad", "slope of the sliding friction moving positive "
-                 "(Vpos), N.m s/rad"),
+                 "(Vpos), N.m s/rad", high=MAX_TORQUE_NM),
     **_per_motor("viscous_neg", "viscous_neg_nm_s_per_rad", "slope of the sliding friction moving negative "
-                 "(Vneg), N.m s/rad"),
+                 "(Vneg), N.m s/rad", high=MAX_TORQUE_NM),
     **_per_motor("static_pos", "static_pos_nm", "static friction: the most torque a stuck joint resists "
-                 "pushed positive (Spos), N.m"),
+                 "pushed positive (Spos), N.m", high=MAX_TORQUE_NM),
     **_per_motor("static_neg", "static_neg_nm", "static friction: the most torque a stuck joint resists "
-                 "pushed negative (Sneg, a negative number), N.m", -math.inf, 0.0),
+                 "pushed negative (Sneg, a negative number), N.m", -MAX_TORQUE_NM, 0.0),
     **_per_motor("rotor_inertia", "rotor_inertia_kg_m2", "reflected rotor inertia (the motor, its "
-                 "drive) about the motor angle, added to the links', kg.m^2"),
+                 "drive) about the motor angle, added to the links', kg.m^2", high=10.0),
     "friction_transition_rad_s": Name("friction_transition_rad_s", None, "motor speed over which sliding "
                                       "friction goes from the static band to its lines, rad/s", 0.005, 1.0),
-    "friction": Name("friction_scale", 0, "scale of every motor's friction (dry and viscous)"),
-    **_per_motor("friction", "friction_scale", "scale of all friction (dry and viscous)"),
-    "payload_kg": Name("payload_kg", None, "mass clamped at the end effector, kg"),
+    "friction": Name("friction_scale", 0, "scale of every motor's friction (dry and viscous)", 0.0, 100.0),
+    **_per_motor("friction", "friction_scale", "scale of all friction (dry and viscous)", high=100.0),
+    "payload_kg": Name("payload_kg", None, "mass clamped at the end effector, kg", 0.0, 10.0),
     "mass": Name("mass_scale", None, "scale of every link's mass and inertia (not the payload, not the "
-                 "rotors)"),
+                 "rotors)", 0.01, 100.0),
     "encoder_noise_counts": Name("encoder_noise_counts", None,
-                                 "encoder noise, standard deviation in counts, every joint"),
+                                 "encoder noise, standard deviation in counts, every joint", 0.0, 1e6),
 }
 """Every plant value by its flat name. ``friction`` (no number) scales every motor's friction."""
 
@@ -140,9 +144,8 @@ class PlantParams:
     def load(cls, path: str | Path, base: PlantParams | None = None) -> PlantParams:
         """A plant file's values over ``base`` (default: :meth:`defaults`). Raises
         :class:`PlantParamsError` naming the file for anything unreadable or unknown."""
-        path = Path(path)
-        tables = read_toml(path, "plant file", PlantParamsError)
-        return _from_tables(tables, str(path), base or cls.defaults())
+        doc = TomlFile.read(Path(path), "plant file", PlantParamsError)
+        return _from_tables(doc.data, str(path), base or cls.defaults(), doc=doc)
 
     def value(self, name: str) -> float:
         """The value called ``name`` (:data:`NAMES`); ``friction`` is motor 1's friction scale."""
@@ -300,15 +303,26 @@ def _name(name: str) -> Name:
         raise PlantParamsError(f"no plant value called {name!r}; the names are {', '.join(NAMES)}") from None
 
 
-def _checked(name: str, raw: object, spec: Name) -> float:
+def _problem(raw: object, spec: Name) -> str | None:
+    """What is wrong with ``raw`` as the value ``spec`` names (None: nothing)."""
+    if isinstance(raw, bool | str | list | dict):
+        return f"must be a number, got {shown(raw)}"
     try:
         v = float(raw)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise PlantParamsError(f"{name} must be a number, got {raw!r}") from None
-    if math.isnan(v) or (math.isinf(v) and not spec.infinite_ok) or not spec.low <= v <= spec.high:
-        bounds = f"{spec.low:g} .. {spec.high:g}"
-        raise PlantParamsError(f"{name} = {raw!r} is outside {bounds} ({spec.doc})")
-    return v
+    except (TypeError, ValueError, OverflowError):
+        return f"must be a number, got {shown(raw)}"
+    if math.isinf(v) and v > 0 and spec.infinite_ok:
+        return None
+    if math.isnan(v) or not spec.low <= v <= spec.high:
+        return f"{shown(raw)} is outside {spec.low:g} .. {spec.high:g} ({spec.doc})"
+    return None
+
+
+def _checked(name: str, raw: object, spec: Name) -> float:
+    problem = _problem(raw, spec)
+    if problem is not None:
+        raise PlantParamsError(f"{name} {problem}" if problem.startswith("must") else f"{name} = {problem}")
+    return float(raw)  # type: ignore[arg-type]
 
 
 # The tables a plant file may hold: section -> key -> flat name pattern ("{m}" is the motor).
@@ -326,59 +340,70 @@ _TABLE_KEYS: dict[str, dict[str, str]] = {
 }
 
 
-def _from_tables(tables: Mapping, where: str, base: PlantParams, whole_model: bool = False) -> PlantParams:
+def _from_tables(tables: Mapping, where: str, base: PlantParams, whole_model: bool = False,
+                 doc: TomlFile | None = None) -> PlantParams:
     """``base`` with every value ``tables`` gives (in params.toml's layout) set by name; with
-    ``whole_model`` (params.toml itself) the tables that describe the model are passed over."""
+    ``whole_model`` (params.toml itself) the tables that describe the model are passed over. Each
+    error names the file (``where``), and with ``doc`` (the checked file) the line, and the key."""
     values: dict[str, object] = {}
+    origin: dict[str, KeyPath] = {}
 
-    def bad(what: str) -> PlantParamsError:
-        return PlantParamsError(f"{where}: {what}")
+    def bad(path: KeyPath, what: str) -> PlantParamsError:
+        if doc is not None:
+            return doc.fail(path, what)  # type: ignore[return-value]
+        return PlantParamsError(f"{where}: {key_name(path)}: {what}")
+
+    def given(name: str, value: object, path: KeyPath) -> None:
+        values[name], origin[name] = value, path
 
     for section, body in tables.items():
         if section == "friction" and isinstance(body, Mapping):
             for motor, row in body.items():
                 if motor in _TABLE_KEYS["friction"]:
-                    values[_TABLE_KEYS["friction"][motor]] = row
+                    given(_TABLE_KEYS["friction"][motor], row, ("friction", motor))
                     continue
                 if not isinstance(row, Mapping):
-                    raise bad(f"unknown key {motor} in [friction] ({', '.join(_TABLE_KEYS['friction'])}, "
-                              "and the tables [friction.motor1..3])")
+                    holds = ", ".join(_TABLE_KEYS["friction"])
+                    raise bad(("friction", motor), f"unknown key ([friction] holds {holds}, and the tables "
+                                                   "[friction.motor1..3])")
                 if motor not in ("motor1", "motor2", "motor3"):
-                    raise bad(f"unknown table [friction.{motor}] (motor1, motor2 or motor3)")
+                    raise bad(("friction", motor), "unknown table (motor1, motor2 or motor3)")
                 for key, v in row.items():
                     if key not in _TABLE_KEYS["friction.motor"]:
                         known = ", ".join(_TABLE_KEYS["friction.motor"])
-                        raise bad(f"unknown key {key} in [friction.{motor}] ({known})")
+                        raise bad(("friction", motor, key), f"unknown key ({known})")
                     for name in _TABLE_KEYS["friction.motor"][key].split():
-                        values[name.format(m=motor[-1])] = v
+                        given(name.format(m=motor[-1]), v, ("friction", motor, key))
                 # an older plant file (or one that leaves it out) has no static band: the joint
                 # sticks within [Cneg, Cpos], as plain dry friction does
                 for side in ("pos", "neg"):
                     if f"C{side}_nm" in row and f"S{side}_nm" not in row:
-                        values[f"static_{side}{motor[-1]}"] = row[f"C{side}_nm"]
+                        given(f"static_{side}{motor[-1]}", row[f"C{side}_nm"],
+                              ("friction", motor, f"C{side}_nm"))
             continue
         keys = _TABLE_KEYS.get(section)
         if keys is None:
             if whole_model:
                 continue
-            raise bad(f"unknown table [{section}]; a plant file holds {', '.join(_PLANT_TABLES)}")
+            raise bad((section,), f"unknown table (a plant file holds {', '.join(_PLANT_TABLES)})")
         if not isinstance(body, Mapping):
-            raise bad(f"{section} must be a table")
+            raise bad((section,), "must be a table")
         for key, v in body.items():
             if key not in keys:
-                raise bad(f"unknown key {key} in [{section}] ({', '.join(keys)})")
+                raise bad((section, key), f"unknown key ([{section}] holds {', '.join(keys)})")
             pattern = keys[key]
             if "{m}" in pattern:
                 if not isinstance(v, list) or len(v) != 3:
-                    raise bad(f"{section}.{key} must be three numbers (motors 1, 2, 3), got {v!r}")
+                    raise bad((section, key), f"must be three numbers (motors 1, 2, 3), got {shown(v)}")
                 for m, x in zip(MOTORS, v):
-                    values[pattern.format(m=m)] = x
+                    given(pattern.format(m=m), x, (section, key, m - 1))
             else:
-                values[pattern] = v
-    try:
-        return base.with_values(values)  # type: ignore[arg-type]
-    except PlantParamsError as exc:
-        raise bad(str(exc)) from None
+                given(pattern, v, (section, key))
+    for name, raw in values.items():
+        problem = _problem(raw, NAMES[name])
+        if problem is not None:
+            raise bad(origin[name], problem)
+    return base.with_values(values)  # type: ignore[arg-type]
 
 
 _PLANT_TABLES = ("[command]", "[drive]", "[rotor]", "[friction]", "[friction.motor1..3]", "[variations]")

@@ -25,7 +25,6 @@ A tests file (``--tests``) lists the tests::
 from __future__ import annotations
 
 import json
-import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,8 +32,10 @@ from pathlib import Path
 from crslab.output_paths import with_parent
 from crslab.regress.grade import Grade
 from crslab.run.status import GradeClass
-from crslab.scenario.file_table import ScenarioError, TableReader
+from crslab.scenario.event import LONGEST_S
+from crslab.scenario.file_table import ScenarioError
 from crslab.scenario.load import resolve
+from crslab.toml_file import TomlFile
 from crslab.untrusted_text import for_terminal, for_text
 
 PLATFORMS = ("gradescope", "prairielearn")
@@ -95,30 +96,32 @@ class BadTestsFile(ValueError):
 def parse_tests(text: str, path: Path) -> list[PlatformTest]:
     """The tests of a tests file's ``text`` (read from ``path``); scenario files are resolved
     relative to the tests file."""
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise BadTestsFile(f"{path}: not valid TOML: {exc}") from None
-    lines = text.splitlines()
-    tables = doc.get("test")
-    if set(doc) - {"test"} or not isinstance(tables, list) or not tables:
+    return _tests(TomlFile.parse(text, str(path), BadTestsFile), path)
+
+
+def load_tests(path: Path) -> list[PlatformTest]:
+    """The tests of the tests file ``path``, read through the checked reader."""
+    return _tests(TomlFile.read(path, "tests file", BadTestsFile), path)
+
+
+def _tests(doc: TomlFile, path: Path) -> list[PlatformTest]:
+    tables = doc.data.get("test")
+    if set(doc.data) - {"test"} or not isinstance(tables, list) or not tables:
         raise BadTestsFile(
             f"{path}: expected one or more [[test]] tables (scenario, points, optional name "
             "and duration) and nothing else"
         )
-    headers = [i for i, line in enumerate(lines) if line.strip().startswith("[[test]]")]
     out = []
     try:
-        for i, table in enumerate(tables):
-            r = TableReader(path, table, lines, headers[i] if i < len(headers) else None)
+        for r in doc.tables("test"):
             r.check_keys({"name", "scenario", "duration", "points"})
             scenario = r.text("scenario")
             local = path.parent / scenario
             if local.is_file():
                 scenario = str(local)
             resolve(scenario)  # a missing scenario is said now, naming it
-            duration = r.number("duration", minimum=0.001) if "duration" in table else None
-            name = r.text("name") if "name" in table else Path(scenario).stem
+            duration = r.number("duration", minimum=0.001, maximum=LONGEST_S) if "duration" in r else None
+            name = r.text("name") if "name" in r else Path(scenario).stem
             out.append(PlatformTest(name, scenario, duration, r.number("points", minimum=0.0)))
     except ScenarioError as exc:
         raise BadTestsFile(str(exc)) from None

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import bisect
 import hashlib
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,6 +39,8 @@ from pathlib import Path
 from crslab import serial_lines
 from crslab.framework_facts import MOTOR_BOARDS, TICKS_PER_S
 from crslab.output_paths import with_parent
+from crslab.scenario.event import LONGEST_S
+from crslab.toml_file import read_input, shown
 
 MAGIC = b"# crslab transcript"
 DEFAULT_PLANT = "default"
@@ -45,6 +48,9 @@ DEFAULT_PLANT = "default"
 DEFAULT_WORLD = "none"
 """A golden header's ``world`` for free air (world ``none``)."""
 HEADER_END = b"# ----\n"
+GOLDEN_MAX_BYTES = 64_000_000
+"""The largest golden file crslab reads: four times what a run prints at most by default
+(``--max-output-mb 16``)."""
 
 
 class GoldenError(ValueError):
@@ -77,6 +83,13 @@ class Golden:
     path: Path
     header: dict[str, str] = field(default_factory=dict)
     body: bytes = b""
+    lines: dict[str, int] = field(default_factory=dict, compare=False, repr=False)
+    """The line of each header field (for errors naming it)."""
+
+    def fail(self, key: str, why: str) -> GoldenError:
+        """The error ``FILE:LINE: KEY: why`` for the header field ``key``."""
+        line = self.lines.get(key)
+        return GoldenError(f"{self.path}:{line}: {key}: {why}" if line else f"{self.path}: {key}: {why}")
 
 
 def sha256_of(data: bytes) -> str:
@@ -169,10 +182,10 @@ def recorded_run(golden: Golden, scenario_folders: Sequence[Path] = ()) -> Recor
     >>> recorded_run(g)
     RecordedRun(scenario='tour', duration_s=6.0, rest_motor_rad=(0.0, -0.35, 0.3), startup_delay=False, \
 motor_board='piccolo', plant=None, world='contest')
-    >>> recorded_run(Golden(Path("g.txt"), {"end_s": "soon"}))
+    >>> recorded_run(Golden(Path("g.txt"), {"startup_delay": "maybe"}, lines={"startup_delay": 7}))
     Traceback (most recent call last):
     ...
-    crslab.regress.transcript.GoldenError: g.txt: header end_s must be a number of seconds, got 'soon'
+    crslab.regress.transcript.GoldenError: g.txt:7: startup_delay: must be yes or no, got 'maybe'
     """
     h, path = golden.header, golden.path
     scenario = h.get("scenario") or None
@@ -180,29 +193,23 @@ motor_board='piccolo', plant=None, world='contest')
         scenario = find_scenario(scenario, [*scenario_folders, path.parent])
     duration = None
     if h.get("end_s"):
-        try:
-            duration = float(h["end_s"])
-        except ValueError:
-            duration = -1.0
-        if not duration > 0:
-            raise GoldenError(f"{path}: header end_s must be a number of seconds, got {h['end_s']!r}")
+        duration = _header_number(h["end_s"])
+        if duration is None or not 0 < duration <= LONGEST_S:
+            raise golden.fail("end_s", f"must be a number of seconds above 0, at most {LONGEST_S:g}, "
+                                       f"got {shown(h['end_s'])}")
     rest = None
     if "rest_motor_rad" in h:
-        try:
-            values = tuple(float(v) for v in h["rest_motor_rad"].split())
-        except ValueError:
-            values = ()
-        if len(values) != 3:
-            raise GoldenError(f"{path}: header rest_motor_rad must be three numbers, "
-                              f"got {h['rest_motor_rad']!r}")
+        values = tuple(_header_number(v) for v in h["rest_motor_rad"].split())
+        if len(values) != 3 or not all(v is not None and abs(v) <= math.pi for v in values):
+            raise golden.fail("rest_motor_rad", f"must be three angles within +-pi rad, "
+                                                f"got {shown(h['rest_motor_rad'])}")
         rest = values
     delay = {"yes": True, "no": False, None: None}.get(h.get("startup_delay"), "bad")
     if delay == "bad":
-        raise GoldenError(f"{path}: header startup_delay must be yes or no, got {h['startup_delay']!r}")
+        raise golden.fail("startup_delay", f"must be yes or no, got {shown(h['startup_delay'])}")
     board = h.get("motor_board") or None
     if board is not None and board not in MOTOR_BOARDS:
-        raise GoldenError(f"{path}: header motor_board must be one of {', '.join(MOTOR_BOARDS)}, "
-                          f"got {board!r}")
+        raise golden.fail("motor_board", f"must be one of {', '.join(MOTOR_BOARDS)}, got {shown(board)}")
     plant = h.get("plant") or None
     if plant == DEFAULT_PLANT:
         plant = None
@@ -214,6 +221,21 @@ motor_board='piccolo', plant=None, world='contest')
     if world is not None:
         world = find_scenario(world, [*scenario_folders, path.parent])
     return RecordedRun(scenario, duration, rest, delay, board, plant, world)  # type: ignore[arg-type]
+
+
+def _header_number(text: str) -> float | None:
+    """A header field's number: a finite one of at most 40 characters, else None.
+
+    >>> _header_number("6.000"), _header_number("1e999"), _header_number("nan"), _header_number("9" * 400)
+    (6.0, None, None, None)
+    """
+    if len(text) > 40:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    return value if math.isfinite(value) else None
 
 
 def make_header(fields: dict[str, str]) -> bytes:
@@ -244,22 +266,19 @@ def read_golden(path: Path) -> Golden:
         raise GoldenError(f"{path}: is a C file (a lab), not a golden transcript: record the lab's "
                           f"transcript with crslab record --lab {path} -o golden.txt, then check "
                           "against golden.txt")
-    try:
-        data = path.read_bytes()
-    except FileNotFoundError:
-        raise GoldenError(f"{path}: no such golden file") from None
-    except OSError as exc:
-        raise GoldenError(f"{path}: cannot be read ({exc.strerror})") from None
+    data = read_input(path, "golden file", GoldenError, max_bytes=GOLDEN_MAX_BYTES)
     if not data.startswith(MAGIC):
         return Golden(path, {}, data)
     end = data.find(b"\n" + HEADER_END)
     if end < 0:
         raise GoldenError(f"{path}: the crslab header has no end line ('# ----')")
     header: dict[str, str] = {}
+    lines: dict[str, int] = {}
     for number, raw in enumerate(data[:end].split(b"\n")[1:], start=2):
         text = raw.decode("utf-8", "replace")
         key, sep, value = text[2:].partition(": ")
         if not text.startswith("# ") or not sep:
-            raise GoldenError(f"{path}:{number}: header line must read '# key: value', got {text!r}")
+            raise GoldenError(f"{path}:{number}: header line must read '# key: value', got {shown(text)}")
         header[key.strip()] = value.strip()
-    return Golden(path, header, data[end + 1 + len(HEADER_END):])
+        lines[key.strip()] = number
+    return Golden(path, header, data[end + 1 + len(HEADER_END):], lines)

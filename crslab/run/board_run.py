@@ -34,7 +34,7 @@ from crslab.run.firmware_trap import diagnose
 from crslab.run.host_ports import PortExchange
 from crslab.run.pacing import Pacer
 from crslab.run.running import LiveControl, PacedControl, RunDebugger
-from crslab.run.status import RunResult, RunStatus
+from crslab.run.status import ExitStatus, RunResult, RunStatus
 from crslab.run.worker_process import NO_LIMITS, Limits
 from crslab.scenario.expect_events import Judge
 from crslab.sinks.sink import FanOut, Sink
@@ -50,9 +50,27 @@ class RunError(Exception):
     """The run could not start (the worker failed before the first tick); ``status`` says how
     (crashed, or forbidden when a constructor tried what the sandbox refuses)."""
 
-    def __init__(self, message: str, status: RunStatus = RunStatus.CRASHED) -> None:
+    def __init__(self, message: str, status: RunStatus = RunStatus.CRASHED,
+                 exit_status: ExitStatus | None = None) -> None:
         super().__init__(message)
         self.status = status
+        self.exit_status = exit_status if exit_status is not None else status.exit_status
+        """The command's exit status: the status's, or bad input (2) when an input file is to blame."""
+
+
+def _world_refused(config: RunConfig) -> bool:
+    """Whether MuJoCo refuses the scene of ``config``'s world, as a worker said: a WebAssembly
+    worker runs no lab code before it says so; a native one may have (a constructor), so this
+    process asks MuJoCo itself before it blames the world file rather than the lab."""
+    if not config.build.native:
+        return True
+    from crslab.world.scene import load_scene
+
+    try:
+        load_scene(config.world)
+    except ValueError:
+        return True
+    return False
 
 
 class CtrlC:
@@ -182,6 +200,8 @@ class BoardRun:
             if isinstance(reply, worker_messages.Trapped):
                 reply = _trapped(reply.trap, self.lab_name, deadline_s, 0)
             elif isinstance(reply, worker_messages.Failed):
+                if reply.file and _world_refused(config):  # the world file's fault, not the lab's
+                    raise RunError(reply.message, RunStatus.CRASHED, ExitStatus.BAD_INPUT) from None
                 reply = Ending(RunStatus.CRASHED, 0, f"{self.lab_name}: {reply.message}")
             assert isinstance(reply, Ending)
             raise RunError(reply.message, reply.status) from None

@@ -20,9 +20,13 @@ from typing import TYPE_CHECKING, ClassVar
 from crslab.framework_facts import TICKS_PER_S
 
 if TYPE_CHECKING:
-    from crslab.scenario.file_table import TableReader
+    from crslab.toml_file import Table
 
 _MASK64 = (1 << 64) - 1
+
+
+LONGEST_S = 86_400.0
+"""The longest a scenario (or a golden file's recorded run) may last, simulated seconds: a day."""
 
 
 def seconds_to_tick(seconds: float) -> int:
@@ -34,11 +38,11 @@ def seconds_to_tick(seconds: float) -> int:
     return int(round(seconds * TICKS_PER_S))
 
 
-def until_tick(r: TableReader, at: int) -> int | None:
+def until_tick(r: Table, at: int) -> int | None:
     """The tick of the table's ``until`` (seconds; None without one), which must be after ``at``."""
     if "until" not in r.table:
         return None
-    until = seconds_to_tick(r.number("until", minimum=0.0))
+    until = seconds_to_tick(r.number("until", minimum=0.0, maximum=LONGEST_S))
     if until <= at:
         raise r.fail("until", "must be later than at")
     return until
@@ -88,7 +92,7 @@ class Event:
         return self.kinds[0]
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         """The events one ``[[event]]`` table of this kind gives (at tick ``at``, from ``line``)."""
         raise NotImplementedError
 

@@ -32,8 +32,9 @@ import numpy as np
 
 from crslab import crs
 from crslab.framework_facts import TICKS_PER_S
-from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
-from crslab.scenario.file_table import TableReader, joint_numbers
+from crslab.scenario.event import LONGEST_S, Event, RandomFaults, seconds_to_tick
+from crslab.scenario.file_table import joint_numbers
+from crslab.toml_file import Table
 
 DEFAULT_TOL_DEG = 1.0
 """How close an expected angle must be when the file gives no ``tol_deg`` or ``tol_rad``."""
@@ -332,7 +333,7 @@ class Contact(Condition):
         return f"expected {self.describe()}, the force on it was {got:.4g} N"
 
 
-def _world(r: TableReader) -> list[Condition]:
+def _world(r: Table) -> list[Condition]:
     """``egg_force``/``scale_g``/``peg_depth`` = [low, high], ``egg_broken``, ``contact.NAME``."""
     out: list[Condition] = []
     for key in WORLD_RANGES:
@@ -379,7 +380,7 @@ class Expect(Event):
         return next((c for c in self.conditions if isinstance(c, Variable)), None)
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "message", *CONDITION_KEYS, "tol_deg", "tol_rad", "since", "joint",
                       "joints", "index", "value", "tol"})
         conditions: list[Condition] = []
@@ -408,7 +409,7 @@ class Expect(Event):
         return "expect " + ", ".join(c.describe() for c in self.conditions)
 
 
-def _angles(r: TableReader) -> list[Condition]:
+def _angles(r: Table) -> list[Condition]:
     """``motor_deg``, ``motor_rad`` or ``dh_deg`` with ``tol_deg`` or ``tol_rad``."""
     given = [k for k in _ANGLE_KEYS if k in r.table]
     for key in ("tol_deg", "tol_rad"):
@@ -428,7 +429,7 @@ def _angles(r: TableReader) -> list[Condition]:
     return [Angles("motor" if key.startswith("motor") else "DH", rad, joints, tol, key[-3:])]
 
 
-def _per_joint_values(r: TableReader, key: str) -> tuple[tuple[float, ...], tuple[int, ...]]:
+def _per_joint_values(r: Table, key: str) -> tuple[tuple[float, ...], tuple[int, ...]]:
     """A list of three (every joint) or one number for ``joint``/``joints``."""
     value = r.table[key]
     if isinstance(value, list):
@@ -444,7 +445,7 @@ def _per_joint_values(r: TableReader, key: str) -> tuple[tuple[float, ...], tupl
     return (r.number(key),) * len(joints), joints
 
 
-def _moved(r: TableReader, at: int, line: int) -> tuple[list[Condition], list[Event]]:
+def _moved(r: Table, at: int, line: int) -> tuple[list[Condition], list[Event]]:
     """``moved_deg`` since ``since``: the condition, and the event that notes the angles then."""
     if "moved_deg" not in r.table:
         if "since" in r.table:
@@ -461,14 +462,14 @@ def _moved(r: TableReader, at: int, line: int) -> tuple[list[Condition], list[Ev
         raise r.fail("moved_deg", "must not be 0: its sign says which way the angle must move")
     if "since" not in r.table:
         raise r.fail("since", "missing (moved_deg counts from the motor angles at this time, in seconds)")
-    since = seconds_to_tick(r.number("since", minimum=0.0))
+    since = seconds_to_tick(r.number("since", minimum=0.0, maximum=LONGEST_S))
     if since >= at:
         raise r.fail("since", "must be earlier than at")
     note = Expect(tick=since, conditions=(), note_for=at, line=line)
     return [Moved(math.radians(by), joint_numbers(r), since)], [note]
 
 
-def _variable(r: TableReader) -> list[Condition]:
+def _variable(r: Table) -> list[Condition]:
     """``var`` with ``value``, optional ``index`` and ``tol``."""
     if "var" not in r.table:
         for key in ("value", "index", "tol"):

@@ -11,7 +11,8 @@ import numpy as np
 
 from crslab.framework_facts import WRIST_ESTOP_RAD
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick, until_tick
-from crslab.scenario.file_table import TableReader, joint_numbers, per_joint
+from crslab.scenario.file_table import joint_numbers, per_joint
+from crslab.toml_file import Table
 
 MAX_GLITCHES = 100_000
 """Most glitches one ``glitches`` event may draw."""
@@ -37,7 +38,7 @@ class EncoderNoise(Event):
     kinds = ("noise",)
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "counts", "joint", "joints", "until"})
         c = per_joint(r, "counts", whole=False, minimum=0.0)
         counts = (c[0], c[1], c[2])
@@ -64,7 +65,7 @@ class EncoderGlitch(Event):
     kinds = ("glitch", "glitches")
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         if r.table.get("kind") == "glitches":
             return cls._random(r, at, line, faults)
         r.check_keys({"at", "kind", "counts", "joint", "joints"})
@@ -72,7 +73,7 @@ class EncoderGlitch(Event):
         return [cls(tick=at, counts=(int(c[0]), int(c[1]), int(c[2])), line=line)]
 
     @classmethod
-    def _random(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def _random(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "until", "rate_hz", "counts", "joint", "joints"})
         if "until" not in r.table:
             raise r.fail("until", "missing (random glitches need an end)")
@@ -128,7 +129,7 @@ class JointFault(Event):
         return self.fault
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "joint", "joints", "until"})
         fault, joints, until = str(r.table["kind"]), joint_numbers(r), until_tick(r, at)
         out: list[Event] = [cls(tick=at, fault=fault, joints=joints, line=line)]
@@ -159,7 +160,7 @@ class WristEstop(Event):
         return abs(self.wrist_rad) > WRIST_ESTOP_RAD
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "wrist_rad"})
         return [cls(tick=at, wrist_rad=r.number("wrist_rad", default=0.2), line=line)]
 

@@ -1,94 +1,28 @@
-"""Reading one table of a scenario file (the top level, ``[plant]`` or one ``[[event]]``) with
-errors that name the file, the line and the key; and the fields several event kinds share."""
+"""The fields several tables of a scenario file share (a hand's target, joints, per-joint values,
+an end mass), each read from one table of the file (the top level, ``[plant]`` or one
+``[[event]]``: a :class:`crslab.toml_file.Table`, whose errors name the file, the line and the key)."""
 
 from __future__ import annotations
-
-import re
-from pathlib import Path
 
 import numpy as np
 
 from crslab import crs
 from crslab.plant.model_files import COURSE_END_MASS_KG
+from crslab.toml_file import Table
 
-_HEADER = re.compile(r"^\s*\[")
+MAX_END_MASS_KG = 10.0
+"""The most mass a scenario may clamp at the end effector, kg (the course's is 1.54 kg)."""
+MAX_FRICTION_SCALE = 100.0
+"""The most a scenario may scale the arm's friction."""
+MAX_PUSH_N = 1000.0
+"""The largest component of a push, N."""
 
 
 class ScenarioError(ValueError):
     """A scenario that cannot be used; the message names file, line and key."""
 
 
-class TableReader:
-    """One TOML table (the top level, ``[plant]`` or one ``[[event]]``) and where it sits."""
-
-    def __init__(self, path: Path, table: dict, lines: list[str], header: int | None) -> None:
-        self.path, self.table, self.lines, self.header = path, table, lines, header
-
-    def line_of(self, key: str) -> int | None:
-        """1-based line where ``key`` is set in this table (else its header's line)."""
-        if self.header is None and not self.lines:
-            return None
-        start = 0 if self.header is None else self.header
-        pattern = re.compile(rf'^\s*"?{re.escape(key)}"?\s*=')
-        for i in range(start, len(self.lines)):
-            if i > start and _HEADER.match(self.lines[i]):
-                break
-            if pattern.match(self.lines[i]):
-                return i + 1
-        return self.header + 1 if self.header is not None else None
-
-    def fail(self, key: str, why: str) -> ScenarioError:
-        line = self.line_of(key.split("|")[0])
-        where = f"{self.path}:{line}" if line else str(self.path)
-        return ScenarioError(f"{where}: {key}: {why}")
-
-    def number(self, key: str, *, default: float | None = None, minimum: float | None = None,
-               maximum: float | None = None) -> float:
-        if key not in self.table:
-            if default is None:
-                raise self.fail(key, "missing")
-            return default
-        value = self.table[key]
-        if isinstance(value, bool) or not isinstance(value, int | float) or not np.isfinite(value):
-            raise self.fail(key, f"must be a number, got {value!r}")
-        if minimum is not None and value < minimum:
-            raise self.fail(key, f"must be at least {minimum:g}, got {value!r}")
-        if maximum is not None and value > maximum:
-            raise self.fail(key, f"must be at most {maximum:g}, got {value!r}")
-        return float(value)
-
-    def integer(self, key: str, *, minimum: int | None = None, maximum: int | None = None) -> int:
-        value = self.table.get(key)
-        if value is None:
-            raise self.fail(key, "missing")
-        if isinstance(value, bool) or not isinstance(value, int):
-            raise self.fail(key, f"must be a whole number, got {value!r}")
-        if (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
-            raise self.fail(key, f"must be from {minimum} to {maximum}, got {value!r}")
-        return value
-
-    def text(self, key: str) -> str:
-        value = self.table.get(key)
-        if value is None:
-            raise self.fail(key, "missing")
-        if not isinstance(value, str):
-            raise self.fail(key, f"must be a string, got {value!r}")
-        return value
-
-    def triple(self, key: str) -> np.ndarray:
-        value = self.table[key]
-        if (not isinstance(value, list) or len(value) != 3
-                or not all(isinstance(v, int | float) and not isinstance(v, bool) for v in value)):
-            raise self.fail(key, f"must be a list of three numbers, got {value!r}")
-        return np.asarray(value, dtype=float)
-
-    def check_keys(self, allowed: set[str]) -> None:
-        for key in self.table:
-            if key not in allowed:
-                raise self.fail(key, f"unknown key (allowed: {', '.join(sorted(allowed))})")
-
-
-def hand_target(r: TableReader) -> tuple[float, float, float] | None:
+def hand_target(r: Table) -> tuple[float, float, float] | None:
     given = [k for k in ("motor_deg", "dh_deg", "xyz_in", "pose") if k in r.table]
     if len(given) != 1:
         raise r.fail("motor_deg|dh_deg|xyz_in|pose", "give exactly one target")
@@ -110,7 +44,7 @@ def hand_target(r: TableReader) -> tuple[float, float, float] | None:
     return (float(dh[0]), float(dh[1]), float(dh[2]))
 
 
-def joint_numbers(r: TableReader) -> tuple[int, ...]:
+def joint_numbers(r: Table) -> tuple[int, ...]:
     """``joint = N`` or ``joints = [..]`` (numbers 1..3); all three when neither is given."""
     if "joint" in r.table and "joints" in r.table:
         raise r.fail("joints", "give joint or joints, not both")
@@ -125,7 +59,7 @@ def joint_numbers(r: TableReader) -> tuple[int, ...]:
     return tuple(sorted(set(value)))
 
 
-def per_joint(r: TableReader, key: str, *, whole: bool, minimum: float | None = None) -> tuple[float, ...]:
+def per_joint(r: Table, key: str, *, whole: bool, minimum: float | None = None) -> tuple[float, ...]:
     """``key`` as three values: a list of three, or one number for ``joint``/``joints``."""
     if key not in r.table:
         raise r.fail(key, "missing")
@@ -147,10 +81,10 @@ def per_joint(r: TableReader, key: str, *, whole: bool, minimum: float | None = 
     return tuple(values)
 
 
-def end_mass_kg(r: TableReader, key: str) -> float:
+def end_mass_kg(r: Table, key: str) -> float:
     value = r.table.get(key)
     if value == "course":
         return COURSE_END_MASS_KG
     if isinstance(value, str):
         raise r.fail(key, f"must be a number of kg or \"course\", got {value!r}")
-    return r.number(key, minimum=0.0)
+    return r.number(key, minimum=0.0, maximum=MAX_END_MASS_KG)

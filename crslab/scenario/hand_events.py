@@ -7,8 +7,9 @@ from dataclasses import dataclass
 
 from crslab import crs
 from crslab.framework_facts import TICKS_PER_S
-from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
-from crslab.scenario.file_table import TableReader, hand_target
+from crslab.scenario.event import LONGEST_S, Event, RandomFaults, seconds_to_tick
+from crslab.scenario.file_table import hand_target
+from crslab.toml_file import Table
 
 
 @dataclass(frozen=True)
@@ -31,12 +32,12 @@ class HandMove(Event):
     kinds = ("hand",)
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "motor_deg", "dh_deg", "xyz_in", "pose", "duration", "hold"})
-        duration = seconds_to_tick(r.number("duration", default=1.0, minimum=0.0))
+        duration = seconds_to_tick(r.number("duration", default=1.0, minimum=0.0, maximum=LONGEST_S))
         out: list[Event] = [cls(tick=at, target_dh_rad=hand_target(r), duration_ticks=duration, line=line)]
         if "hold" in r.table:
-            hold = seconds_to_tick(r.number("hold", minimum=0.0))
+            hold = seconds_to_tick(r.number("hold", minimum=0.0, maximum=LONGEST_S))
             out.append(HandRelease(tick=at + duration + hold, line=line))
         return out
 
@@ -62,7 +63,7 @@ class HandRelease(Event):
     kinds = ("release",)
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind"})
         return [cls(tick=at, line=line)]
 

@@ -12,14 +12,14 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
+from crslab.scenario.event import LONGEST_S, Event, RandomFaults, seconds_to_tick
 from crslab.scenario.expect_events import Expect
 from crslab.scenario.fault_events import EncoderGlitch, EncoderNoise, JointFault, WristEstop
-from crslab.scenario.file_table import TableReader
 from crslab.scenario.hand_events import HandMove, HandRelease
 from crslab.scenario.lab_events import SetVariable, SimulinkInput
 from crslab.scenario.plant_events import EndMass, FrictionScale
 from crslab.scenario.push_events import Push
+from crslab.toml_file import Table
 
 EVENT_CLASSES: tuple[type[Event], ...] = (
     HandMove, HandRelease,  # the hand
@@ -52,7 +52,7 @@ EVENT_KINDS = kinds_of(EVENT_CLASSES)
 """Each kind a scenario file may name, and the event class that parses it."""
 
 
-def parse_event(r: TableReader, faults: RandomFaults) -> list[Event]:
+def parse_event(r: Table, faults: RandomFaults) -> list[Event]:
     """The events of one ``[[event]]`` table (one, or several: a move and its release, a fault and
     its end, random glitches)."""
     kind = r.table.get("kind")
@@ -60,5 +60,5 @@ def parse_event(r: TableReader, faults: RandomFaults) -> list[Event]:
         raise r.fail("kind", f"missing (one of: {', '.join(EVENT_KINDS)})")
     if kind not in EVENT_KINDS:
         raise r.fail("kind", f"unknown event kind {kind!r} (known: {', '.join(EVENT_KINDS)})")
-    at = seconds_to_tick(r.number("at", minimum=0.0))
+    at = seconds_to_tick(r.number("at", minimum=0.0, maximum=LONGEST_S))
     return EVENT_KINDS[kind].parse(r, at, r.line_of("kind") or 0, faults)

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from crslab.framework_facts import SIMULINK_INPUTS
 from crslab.scenario.event import Event, RandomFaults
-from crslab.scenario.file_table import TableReader
+from crslab.toml_file import Table
 
 INT16_MIN, INT16_MAX = -32768, 32767
 _IDENTIFIER = re.compile(r"[A-Za-z_]\w*\Z")
@@ -29,7 +29,7 @@ class SetVariable(Event):
     kinds = ("set",)
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "var", "value", "index"})
         name = r.text("var")
         if not _IDENTIFIER.match(name):
@@ -53,7 +53,7 @@ class SimulinkInput(Event):
     kinds = ("simulink",)
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "values", "input", "value"})
         if "values" in r.table:
             if "input" in r.table or "value" in r.table:

@@ -10,8 +10,6 @@ Every error names the file, the line and the key, and nothing runs.
 
 from __future__ import annotations
 
-import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -19,12 +17,13 @@ from crslab import resources
 from crslab.framework_facts import TICKS_PER_S
 from crslab.lab.build import LabBuild
 from crslab.lab.watched import WatchedError, watched_var
-from crslab.scenario.event import Event, RandomFaults, seconds_to_tick
+from crslab.scenario.event import LONGEST_S, Event, RandomFaults, seconds_to_tick
 from crslab.scenario.expect_events import Expect
-from crslab.scenario.file_table import ScenarioError, TableReader
+from crslab.scenario.file_table import ScenarioError
 from crslab.scenario.kinds import parse_event
 from crslab.scenario.lab_events import SetVariable
 from crslab.scenario.plant_events import parse_plant
+from crslab.toml_file import TomlFile
 
 BUILTIN_DIR = resources.path("scenarios")
 DEFAULT_SCENARIO = "tour"
@@ -68,14 +67,9 @@ def resolve(name_or_path: str | None) -> Path:
     return path
 
 
-def _header_lines(lines: list[str], name: str) -> list[int]:
-    """0-based indexes of each ``[[name]]`` (or ``[name]``) header, in order."""
-    pattern = re.compile(rf"^\s*\[\[?\s*{re.escape(name)}\s*\]\]?\s*(#.*)?$")
-    return [i for i, line in enumerate(lines) if pattern.match(line)]
-
-
 def parse_scenario(text: str, path: Path) -> Scenario:
-    """Check and parse scenario ``text`` read from ``path`` (named in errors).
+    """Check and parse scenario ``text`` read from ``path`` (named in errors), through the checked
+    reader (:class:`crslab.toml_file.TomlFile`: a size limit, bounded nesting and numbers).
 
     >>> parse_scenario('end = 2.0\\n[[event]]\\nat = 1\\nkind = "estop"\\n', Path("x.toml")).events
     (WristEstop(tick=1000, line=4, wrist_rad=0.2),)
@@ -84,44 +78,32 @@ def parse_scenario(text: str, path: Path) -> Scenario:
     ...
     crslab.scenario.file_table.ScenarioError: x.toml:4: kind: unknown event kind 'nap' (known: ...)
     """
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        m = re.search(r"\(at line (\d+)", str(exc))
-        where = f"{path}:{m.group(1)}" if m else str(path)
-        raise ScenarioError(f"{where}: not valid TOML: {exc}") from None
-    lines = text.splitlines()
-    top = TableReader(path, doc, lines, None)
+    return _scenario(TomlFile.parse(text, str(path), ScenarioError), path)
+
+
+def _scenario(doc: TomlFile, path: Path) -> Scenario:
+    """The scenario of the checked file ``doc`` (read from ``path``)."""
+    top = doc.table()
     top.check_keys({"name", "description", "end", "seed", "plant", "event"})
     for key in ("name", "description"):
-        if key in doc:
+        if key in top:
             top.text(key)
-    seed = top.integer("seed", minimum=0, maximum=2**63 - 1) if "seed" in doc else DEFAULT_SEED
-    end_tick = seconds_to_tick(top.number("end", minimum=0.001))
+    seed = top.integer("seed", minimum=0, maximum=2**63 - 1) if "seed" in top else DEFAULT_SEED
+    end_tick = seconds_to_tick(top.number("end", minimum=0.001, maximum=LONGEST_S))
     rest, events = None, []
-    if "plant" in doc:
-        if not isinstance(doc["plant"], dict):
-            raise top.fail("plant", "must be a table ([plant])")
-        plant_at = _header_lines(lines, "plant")
-        rest, events = parse_plant(TableReader(path, doc["plant"], lines, plant_at[0] if plant_at else None))
-    raw_events = doc.get("event", [])
-    if not isinstance(raw_events, list):
-        raise top.fail("event", "must be an array of tables ([[event]])")
-    headers = _header_lines(lines, "event")
+    if "plant" in top:
+        rest, events = parse_plant(doc.table(("plant",)))
     faults = RandomFaults(seed)
-    for i, table in enumerate(raw_events):
-        if not isinstance(table, dict):
-            raise top.fail("event", "must be an array of tables ([[event]])")
-        r = TableReader(path, table, lines, headers[i] if i < len(headers) else None)
+    for r in doc.tables("event"):
         parsed = parse_event(r, faults)
         if parsed and parsed[0].tick > end_tick:
-            at_s, end_s = parsed[0].tick / TICKS_PER_S, end_tick / TICKS_PER_S
-            raise r.fail("at", f"{at_s:g} s is after the end ({end_s:g} s)")
+            raise r.fail("at", f"{parsed[0].tick / TICKS_PER_S:g} s is after the end "
+                               f"({end_tick / TICKS_PER_S:g} s)")
         events.extend(parsed)
     events.sort(key=lambda e: e.tick)  # stable: events at the same tick keep their file order
     return Scenario(
-        name=str(doc.get("name", path.stem)),
-        description=str(doc.get("description", "")),
+        name=str(doc.data.get("name", path.stem)),
+        description=str(doc.data.get("description", "")),
         end_tick=end_tick,
         events=tuple(events),
         source=str(path),
@@ -138,11 +120,7 @@ def load_scenario(name_or_path: str | None = None) -> Scenario:
     ('tour', True, 'hand')
     """
     path = resolve(name_or_path)
-    try:
-        text = path.read_text()
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(f"{path}: cannot be read ({getattr(exc, 'strerror', None) or exc})") from None
-    return parse_scenario(text, path)
+    return _scenario(TomlFile.read(path, "scenario file", ScenarioError), path)
 
 
 def check_lab(scenario: Scenario, build: LabBuild) -> None:

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from crslab.scenario.event import Event, RandomFaults
-from crslab.scenario.file_table import TableReader, end_mass_kg
+from crslab.scenario.file_table import MAX_FRICTION_SCALE, end_mass_kg
+from crslab.toml_file import Table
 
 
 @dataclass(frozen=True)
@@ -23,7 +24,7 @@ class EndMass(Event):
     kinds = ("end_mass",)
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "kg"})
         if "kg" not in r.table:
             raise r.fail("kg", "missing (a number of kg, or \"course\")")
@@ -42,15 +43,15 @@ class FrictionScale(Event):
     kinds = ("friction",)
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "scale"})
-        return [cls(tick=at, scale=r.number("scale", minimum=0.0), line=line)]
+        return [cls(tick=at, scale=r.number("scale", minimum=0.0, maximum=MAX_FRICTION_SCALE), line=line)]
 
     def describe(self) -> str:
         return f"friction x{self.scale:g}"
 
 
-def parse_plant(r: TableReader) -> tuple[tuple[float, float, float] | None, list[Event]]:
+def parse_plant(r: Table) -> tuple[tuple[float, float, float] | None, list[Event]]:
     """The ``[plant]`` table: the arm's true resting pose (rad), and its payload and friction from
     tick 0."""
     r.check_keys({"rest_motor_rad", "rest_motor_deg", "end_mass_kg", "friction_scale"})
@@ -68,6 +69,6 @@ def parse_plant(r: TableReader) -> tuple[tuple[float, float, float] | None, list
     if "end_mass_kg" in r.table:
         events.append(EndMass(tick=0, kg=end_mass_kg(r, "end_mass_kg"), line=r.line_of("end_mass_kg") or 0))
     if "friction_scale" in r.table:
-        events.append(FrictionScale(tick=0, scale=r.number("friction_scale", minimum=0.0),
-                                    line=r.line_of("friction_scale") or 0))
+        scale = r.number("friction_scale", minimum=0.0, maximum=MAX_FRICTION_SCALE)
+        events.append(FrictionScale(tick=0, scale=scale, line=r.line_of("friction_scale") or 0))
     return rest, events

@@ -17,8 +17,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from crslab.framework_facts import TICKS_PER_S
-from crslab.scenario.event import Event, RandomFaults, until_tick
-from crslab.scenario.file_table import TableReader
+from crslab.scenario.event import LONGEST_S, Event, RandomFaults, until_tick
+from crslab.scenario.file_table import MAX_PUSH_N
+from crslab.toml_file import Table
 
 FRAME_ANGLES = ("thz", "thx", "thy")
 """The angles of a push's frame, in the order the rotation applies them: R = Rz Rx Ry."""
@@ -67,16 +68,18 @@ class Push(Event):
     kinds = ("push",)
 
     @classmethod
-    def parse(cls, r: TableReader, at: int, line: int, faults: RandomFaults) -> list[Event]:
+    def parse(cls, r: Table, at: int, line: int, faults: RandomFaults) -> list[Event]:
         r.check_keys({"at", "kind", "force_n", "frame_rad", "frame_deg", "period", "until"})
         if "force_n" not in r.table:
             raise r.fail("force_n", "missing (the force, N: a list of three numbers)")
         given = r.triple("force_n")
+        if np.any(np.abs(given) > MAX_PUSH_N):
+            raise r.fail("force_n", f"each component must be within +-{MAX_PUSH_N:g} N, got {given.tolist()}")
         frame = _frame(r)
         world = given if frame is None else lab4_frame_matrix(*frame) @ given
         half = 0
         if "period" in r.table:
-            period_s = r.number("period", minimum=0.0)
+            period_s = r.number("period", minimum=0.0, maximum=LONGEST_S)
             half_ms = period_s * 500.0
             half = int(round(half_ms))
             if half < 1 or abs(half_ms - half) > 1e-6:
@@ -108,7 +111,7 @@ def _triple(v: np.ndarray) -> tuple[float, float, float]:
     return (float(v[0]), float(v[1]), float(v[2]))
 
 
-def _frame(r: TableReader) -> tuple[float, float, float] | None:
+def _frame(r: Table) -> tuple[float, float, float] | None:
     """The push's frame: ``frame_rad`` or ``frame_deg``, an inline table of thz, thx, thy (each
     optional, default 0); None when neither is given (the world frame)."""
     given = [k for k in ("frame_rad", "frame_deg") if k in r.table]

@@ -37,7 +37,7 @@ from crslab.framework_facts import TICKS_PER_S
 from crslab.generations import GENERATIONS, NEWEST
 from crslab.run.status import RunStatus
 from crslab.serve import wire
-from crslab.serve.auth import Backoff, CookieSigner, User, verify_secret
+from crslab.serve.auth import CookieSigner, LoginLimits, User, verify_secret
 from crslab.serve.page_messages import ProtocolError, parse_message
 from crslab.serve.page_sessions import LimitError, PageSession, Sessions
 from crslab.serve.run_host import DOWNLOADS
@@ -70,14 +70,6 @@ class ServeSettings:
     local_token: str = ""
 
 
-NAME_BACKOFF = dict(free=5, base_s=1.0, max_s=30.0)
-"""Wrong passwords for one name: 5 free, then 1 s, 2 s, 4 s, ... at most 30 s (never a lock
-that shuts the right password out for longer)."""
-ADDRESS_BACKOFF = dict(free=20, base_s=1.0, max_s=30.0)
-"""Wrong passwords and tokens from one client address, whatever the name: 20 free (a class behind
-one campus address mistypes), then the same back-off."""
-
-
 class CrsServer:
     """The server's state and its request handlers (``clock``: seconds, for the login limits)."""
 
@@ -86,8 +78,7 @@ class CrsServer:
         self.settings = settings
         self.sessions = sessions
         self.clock = clock
-        self._by_name = Backoff(**NAME_BACKOFF)
-        self._by_address = Backoff(**ADDRESS_BACKOFF)
+        self._limits = LoginLimits()
         self._scenarios: list[dict] | None = None
         self._arm: dict[str, dict] = {}
 
@@ -122,14 +113,14 @@ class CrsServer:
         token = request.query_params.get("token")
         if token is not None:  # the URL crslab serve printed, or a roster user's token link
             address, now = _address(request), self.clock()
-            wait = self._by_address.wait_s(address, now)
+            wait = self._limits.by_address.wait_s(address, now)
             if wait > 0:
                 return _too_many(f"too many wrong tokens or passwords from your address; try again in "
                                  f"{_seconds(wait)}", wait, html_page=True)
-            self._by_address.tried(address, now)  # a wrong token until it proves right
+            self._limits.by_address.tried(address, now)  # a wrong token until it proves right
             user = self._token_user(token)
             if user is not None:
-                self._by_address.forgiven(address, entirely=False)
+                self._limits.by_address.forgiven(address, entirely=False)
                 return self._logged_in(RedirectResponse("/", status_code=303), request, user)
         response = FileResponse(
             STATIC / "index.html", headers={"Content-Security-Policy": CSP, "Cache-Control": "no-store"}
@@ -162,15 +153,13 @@ class CrsServer:
                 {"error": "this server has no logins: open the URL crslab serve printed"}, status_code=400
             )
         # the limits, checked before the slow hash: per client address (whatever the names it
-        # tries) and per name (from whatever addresses), each an exponential back-off
+        # tries) and per name and address pair (guesses from elsewhere never hold the name's owner
+        # back), each an exponential back-off
         address, now = _address(request), self.clock()
-        for limit, key, whose in ((self._by_address, address, "from your address"),
-                                  (self._by_name, name, "for this name")):
-            wait = limit.wait_s(key, now)
-            if wait > 0:
-                return _too_many(f"too many wrong passwords {whose}; try again in {_seconds(wait)}", wait)
-        self._by_address.tried(address, now)  # counted as wrong now: tries at once cannot slip past
-        self._by_name.tried(name, now)
+        wait, whose = self._limits.wait(name, address, now)
+        if wait > 0:
+            return _too_many(f"too many wrong passwords {whose}; try again in {_seconds(wait)}", wait)
+        self._limits.tried(name, address, now)  # counted as wrong now: tries at once cannot slip past
         user = roster.get(name)
         # the hash is checked even for an unknown name, so the time taken does not tell names apart
         secret = user.secret if user is not None else "pbkdf2_sha256$600000$00$00"
@@ -178,8 +167,7 @@ class CrsServer:
         # the relay of every running session goes on meanwhile
         if not await asyncio.to_thread(verify_secret, secret, password) or user is None:
             return JSONResponse({"error": "wrong name or password"}, status_code=401)
-        self._by_name.forgiven(name)
-        self._by_address.forgiven(address, entirely=False)
+        self._limits.right(name, address)
         return self._logged_in(JSONResponse({"user": name}), request, name)
 
     async def logout(self, request: Request) -> Response:

@@ -35,6 +35,7 @@ import hmac
 import secrets
 import time
 from collections import deque
+from collections.abc import Hashable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -216,7 +217,7 @@ class Backoff:
         self.base_s = base_s
         self.max_s = max_s
         self.forget_s = forget_s
-        self._keys: dict[str, tuple[int, float, float]] = {}
+        self._keys: dict[Hashable, tuple[int, float, float]] = {}
         """key: (wrong tries, when the last one came, until when the key is shut out)."""
 
     def delay_s(self, wrong: int) -> float:
@@ -229,24 +230,24 @@ class Backoff:
             return 0.0
         return min(self.max_s, self.base_s * 2.0 ** min(wrong - self.free - 1, 64))
 
-    def _state(self, key: str, now: float) -> tuple[int, float, float]:
+    def _state(self, key: Hashable, now: float) -> tuple[int, float, float]:
         state = self._keys.get(key)
         if state is None or now - state[1] >= self.forget_s:
             return (0, now, now)
         return state
 
-    def wait_s(self, key: str, now: float) -> float:
+    def wait_s(self, key: Hashable, now: float) -> float:
         """How long ``key`` is still shut out (0: it may try now)."""
         return max(0.0, self._state(key, now)[2] - now)
 
-    def tried(self, key: str, now: float) -> None:
+    def tried(self, key: Hashable, now: float) -> None:
         """Count a try of ``key`` as wrong (call it once :meth:`wait_s` let the try in)."""
         wrong = self._state(key, now)[0] + 1
         self._keys[key] = (wrong, now, now + self.delay_s(wrong))
         if len(self._keys) > 100_000:  # an address-spraying client: drop the keys it has forgotten
             self._keys = {k: s for k, s in self._keys.items() if now - s[1] < self.forget_s}
 
-    def forgiven(self, key: str, *, entirely: bool = True) -> None:
+    def forgiven(self, key: Hashable, *, entirely: bool = True) -> None:
         """The try was right: ``key`` starts afresh (``entirely``) or loses the one try counted."""
         state = self._keys.get(key)
         if state is None:
@@ -255,3 +256,50 @@ class Backoff:
             del self._keys[key]
         else:
             self._keys[key] = (state[0] - 1, state[1], state[2])
+
+
+PAIR_BACKOFF = dict(free=5, base_s=1.0, max_s=30.0)
+"""Wrong passwords for one name from one client address: 5 free, then 1 s, 2 s, 4 s, ... at most
+30 s. Another address's guesses at that name never hold its owner back."""
+ADDRESS_BACKOFF = dict(free=20, base_s=1.0, max_s=30.0)
+"""Wrong passwords and tokens from one client address, whatever the name: 20 free (a class behind
+one campus address mistypes), then the same back-off."""
+
+
+class LoginLimits:
+    """The back-offs a login passes: per client address (whatever names it tries) and per name and
+    address pair. Wrong tries at a name from elsewhere never shut out the right password from an
+    address that has not been guessing (a back-off per name did: 14 wrong tries from elsewhere kept
+    a user's right password refused for 114 s).
+
+    >>> limits, t = LoginLimits(), 0.0
+    >>> for i in range(14): limits.tried("alice", "10.6.6.6", t)
+    >>> limits.wait("alice", "10.6.6.6", t)
+    (30.0, 'for this name from your address')
+    >>> limits.wait("alice", "10.1.1.1", t)
+    (0.0, '')
+    """
+
+    def __init__(self, pair: dict | None = None, address: dict | None = None) -> None:
+        self.by_pair = Backoff(**(pair or PAIR_BACKOFF))
+        self.by_address = Backoff(**(address or ADDRESS_BACKOFF))
+
+    def wait(self, name: str, address: str, now: float) -> tuple[float, str]:
+        """How long a login of ``name`` from ``address`` must still wait (0: it may try now), and
+        whose limit holds it ("from your address", "for this name from your address")."""
+        for wait, whose in ((self.by_address.wait_s(address, now), "from your address"),
+                            (self.by_pair.wait_s((name, address), now), "for this name from your address")):
+            if wait > 0:
+                return wait, whose
+        return 0.0, ""
+
+    def tried(self, name: str, address: str, now: float) -> None:
+        """Count a try (once :meth:`wait` let it in) as wrong until the slow hash proves it right:
+        many tries at once cannot all slip past the count."""
+        self.by_address.tried(address, now)
+        self.by_pair.tried((name, address), now)
+
+    def right(self, name: str, address: str) -> None:
+        """The try was right: the pair starts afresh; the address loses the one try counted."""
+        self.by_pair.forgiven((name, address))
+        self.by_address.forgiven(address, entirely=False)

@@ -332,14 +332,17 @@ def compile_module(config: RunConfig) -> None:
     """Have wasmtime compile the run's firmware into the build cache now, unless it is there
     already (a lab's first run): here, in this session's own process, the 0.1 s it takes costs the
     run host's other runs nothing; the host's worker then only loads it."""
-    from crslab.worker.wasm_runtime import NotCompiled, WasmImage, compile_kept, unsealed_compiled_removed
+    from crslab.worker.wasm_runtime import NotCompiled, WasmImage, compile_kept
 
     if config.build.native:
         return
-    image = WasmImage.read(config.build.image)
+    try:
+        image = WasmImage.read(config.build.image)
+    except OSError:
+        return  # a firmware whose seal does not hold: the run host opens it and says why
     kept = image.compiled_path()
-    if kept is None or unsealed_compiled_removed(kept) is not None:
-        return  # no cache to keep it in (the worker compiles it), or this user's board kept it already
+    if kept is None:
+        return  # no cache to keep it in: the worker compiles it
     try:
         compile_kept(image, kept)
     except (NotCompiled, OSError):

@@ -21,14 +21,17 @@ from __future__ import annotations
 
 import contextlib
 import copy
+import errno
 import mmap
 import os
+import re
 from collections.abc import Iterable
 
 import numpy as np
 
 from crslab import crs, os_support
 from crslab._bindings import BoardLibrary, compiled_board, constants
+from crslab.cache import is_sealed
 from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
 from crslab.lab.watched import WatchedError, WatchedVar, watched_var
 from crslab.plant.model import apply_friction, apply_plant, motor_to_qpos
@@ -47,9 +50,9 @@ from crslab.worker.run_stats import RunStats
 from crslab.worker.share import Share
 from crslab.worker.wasm_runtime import (
     ENGINE_ENVIRONMENT,
+    KeptModule,
     WasmImage,
-    seal_compiled,
-    unsealed_compiled_removed,
+    WasmImageError,
     wasmtime_library,
 )
 from crslab.world import World
@@ -96,10 +99,37 @@ def world_config(c: BoardLibrary, model: object, data: object, world: World) -> 
     return config, keep
 
 
+class ModelRefused(Exception):
+    """MuJoCo refuses the model a run's world file makes: the message names the file (``file``)."""
+
+    def __init__(self, file: str, message: str) -> None:
+        super().__init__(message)
+        self.file = file
+
+
+def refusal_text(error: str) -> str:
+    """MuJoCo's refusal of a model, in one line: what it refused and in which part.
+
+    >>> refusal_text("Error: error 'inertia must have positive eigenvalues' in fullinertia\\n"
+    ...              "Element name 'peg', id 5, line 35")
+    'inertia must have positive eigenvalues (the peg)'
+    """
+    what = re.search(r"error '([^']*)'", error)
+    part = re.search(r"Element name '([^']*)'", error)
+    text = what.group(1) if what else (error.strip().splitlines() or ["no reason given"])[0]
+    return f"{text} (the {part.group(1)})" if part and part.group(1) else text
+
+
 def plant_model(config: RunConfig) -> object:
     """The MuJoCo model of ``config``'s world with its plant parameters applied (loaded from the
-    MJCF once)."""
-    model = load_scene(config.world)
+    MJCF once). A world MuJoCo refuses (its values each in range, together not a body MuJoCo can
+    simulate: a peg 1e-9 m across) raises :class:`ModelRefused` naming the world's file."""
+    try:
+        model = load_scene(config.world)
+    except ValueError as exc:
+        source = config.world.source or "the world"
+        why = refusal_text(str(exc))
+        raise ModelRefused(source, f"{source}: MuJoCo refuses the world it describes: {why}") from None
     apply_plant(model, config.plant, loaded=copy.copy(model))
     return model
 
@@ -219,6 +249,11 @@ class Board:
         """The native firmware's shared object (the board linked with the firmware), loaded in the
         run sandbox when asked."""
         tracer = debug.tracer_pid if debug is not None else None
+        for library in (config.build.image, config.build.trap_library):
+            # loaded by its path: this user's build sealed it, in a folder only this user writes
+            if library is not None and not is_sealed(library):
+                raise WasmImageError(errno.EACCES, f"{library.name} is not what crslab built (its seal "
+                                                   "does not hold): build it again")
         loading, idle = constants.CRS_PHASE_LOADING, constants.CRS_PHASE_IDLE  # before the sandbox closes
         if config.sandboxed:
             from crslab.sandbox.run_sandbox import enter_run_sandbox
@@ -244,21 +279,25 @@ class Board:
         sim = c.new_board(config.build.generation.id, block)
         os.environ.update(ENGINE_ENVIRONMENT)  # (a trap's backtrace names the lab's file and line)
         library, key = c.text(str(wasmtime_library())), c.text(image.digest)
-        # the compiled module kept between runs: read (and its seal checked) only when this process
-        # does not hold the module already (another instance of the same firmware)
-        kept = None if c.wasm_module_held(image.digest) else image.compiled_path()
-        sealed_stamp = unsealed_compiled_removed(kept) if kept is not None else None
-        compiled = c.text(str(kept)) if kept is not None else c.pointer("char *", 0)
+        # the compiled module kept between runs: read (its seal checked on the bytes the board then
+        # loads) only when this process does not hold the module already (another instance of the
+        # same firmware); compiled anew, the board writes it to a private file crslab then seals
+        path = None if c.wasm_module_held(image.digest) else image.compiled_path()
+        kept = KeptModule(path) if path is not None else None
+        bytes_ = kept.bytes if kept is not None else None
+        compiled = c.bytes_view(bytes_) if bytes_ else c.pointer("uint8_t *", 0)
         wasm = c.bytes_view(image.wasm)
-        self._keep += [library, wasm, compiled, key]
+        self._keep += [library, wasm, key]
         block.phase = constants.CRS_PHASE_LOADING  # type: ignore[attr-defined]
         code = c.wasm_load(sim, {
             "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": MEMORY_BYTES,
-            "stack_bytes": NATIVE_STACK_BYTES, "compiled_path": compiled, "module_key": key,
+            "stack_bytes": NATIVE_STACK_BYTES, "compiled": compiled, "compiled_len": len(bytes_ or b""),
+            "compiled_fd": kept.fd if kept is not None else -1, "module_key": key,
             "deadline_ns": 0 if deadline_s is None else max(1, round(deadline_s * 1e9)),
             **(share.options() if share is not None else {})})
+        del compiled  # wasmtime copied what it loaded
         if kept is not None:
-            seal_compiled(kept, sealed_stamp)
+            kept.keep()
         if code != 0:
             raise FirmwareStopped(trap_info(c, sim))
         block.phase = constants.CRS_PHASE_IDLE  # type: ignore[attr-defined]

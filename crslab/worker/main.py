@@ -29,7 +29,7 @@ import numpy as np
 
 from crslab._bindings import constants
 from crslab.worker import worker_messages
-from crslab.worker.board import Board, FirmwareStopped, plant_model, trap_info
+from crslab.worker.board import Board, FirmwareStopped, ModelRefused, plant_model, trap_info
 from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import changes_model
@@ -114,6 +114,8 @@ class BoardInstances:
                               image=self.images.image(config.build.image), share=self.share)
         except SandboxError as exc:
             return worker_messages.Failed(instance, str(exc))
+        except ModelRefused as exc:
+            return worker_messages.Failed(instance, str(exc), file=exc.file)
         except FirmwareStopped as exc:
             return worker_messages.Trapped(instance, exc.trap)
         except OSError as exc:

@@ -9,6 +9,7 @@ one firmware, and kept between runs), and loading the library ahead of forks.
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import importlib.util
 import os
@@ -17,7 +18,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from crslab.cache import CacheError, cache_dir, is_sealed, seal
+from crslab.cache import CacheError, cache_dir, private_file, read_sealed, seal_into_place, subfolder
 
 ENGINE_ENVIRONMENT = {"WASMTIME_BACKTRACE_DETAILS": "1"}
 """What wasmtime reads from the environment when it makes an engine, as every engine of crslab's
@@ -57,19 +58,26 @@ def module_digest(wasm: bytes, memory_bytes: int, stack_bytes: int) -> str:
     return h.hexdigest()[:32]
 
 
+COMPILED_FOLDER = "compiled"
+"""The cache's folder of compiled firmware (the build checks it too: crslab.lab.build)."""
+
+
 def compiled_module_path(wasm: bytes, memory_bytes: int, stack_bytes: int,
                          digest: str | None = None) -> Path | None:
     """Where wasmtime's compilation of the firmware ``wasm`` for a board with this memory and stack
-    is kept between runs (``compiled/`` of crslab's build cache; written by the board, see
-    ``keep_compiled`` in csrc/board/firmware_wasm.c), named by its :func:`module_digest` (``digest``
-    when already computed). None when the cache cannot be used (each run compiles the module then,
+    is kept between runs (``compiled/`` of crslab's build cache, checked now: this user's, not a
+    link, :func:`crslab.cache.subfolder`), named by its :func:`module_digest` (``digest`` when
+    already computed). None when the cache cannot be used (each run compiles the module then,
     about 0.06 s)."""
     try:
-        folder = cache_dir() / "compiled"
-        folder.mkdir(parents=True, exist_ok=True)
+        folder = subfolder(cache_dir(), COMPILED_FOLDER)
     except (CacheError, OSError):
         return None
     return folder / f"{digest or module_digest(wasm, memory_bytes, stack_bytes)}.cwasm"
+
+
+class WasmImageError(OSError):
+    """A firmware that is not the one this user's build sealed (the message says so)."""
 
 
 @dataclass(frozen=True)
@@ -84,10 +92,15 @@ class WasmImage:
 
     @classmethod
     def read(cls, path: Path) -> WasmImage:
-        """The firmware at ``path``, for a board with crslab's memory and stack limits."""
+        """The firmware at ``path``, for a board with crslab's memory and stack limits: the bytes
+        this user's build sealed there (read once, their seal checked on those very bytes), else
+        :class:`WasmImageError`."""
         from crslab.lab.firmware import MEMORY_BYTES, NATIVE_STACK_BYTES
 
-        wasm = path.read_bytes()
+        wasm = read_sealed(path)
+        if wasm is None:
+            raise WasmImageError(errno.EACCES, f"{path.name} is not the firmware crslab built (its seal does "
+                                               "not hold): build it again")
         digest = module_digest(wasm, MEMORY_BYTES, NATIVE_STACK_BYTES)
         return cls(wasm, digest, MEMORY_BYTES, NATIVE_STACK_BYTES)
 
@@ -96,35 +109,58 @@ class WasmImage:
         return compiled_module_path(self.wasm, self.memory_bytes, self.stack_bytes, self.digest)
 
 
-def unsealed_compiled_removed(kept: Path) -> int | None:
-    """Remove the compiled firmware at ``kept`` unless this user's board wrote it (its keyed digest,
-    :func:`crslab.cache.is_sealed`): wasmtime loads such a file as machine code without checking it,
-    so one planted under its name must never be loaded (the board compiles the module anew).
-    Returns the sealed file's modification time (ns), or None when none is kept there now."""
-    try:
-        stamp = kept.stat().st_mtime_ns
-    except OSError:
-        return None
-    if is_sealed(kept):
-        return stamp
-    kept.unlink(missing_ok=True)
-    kept.with_name(kept.name + ".seal").unlink(missing_ok=True)
-    return None
+class KeptModule:
+    """wasmtime's compilation of one firmware in the cache (``path``, :func:`compiled_module_path`):
+    :attr:`bytes`, the kept module as this user's board wrote it (read once, its seal checked on
+    those very bytes; None when there is none or it is not sealed: the board compiles anew), and a
+    private file (:attr:`fd`, 0600, made here) the board writes a new compilation to, which
+    :meth:`keep` seals and renames into place. The board never opens a file of the cache.
 
+    >>> import tempfile
+    >>> kept = KeptModule(Path(tempfile.mkdtemp()) / "m.cwasm")
+    >>> kept.bytes is None, os.write(kept.fd, b"machine code"), kept.keep(), KeptModule(kept.path).bytes
+    (True, 12, True, b'machine code')
+    """
 
-def seal_compiled(kept: Path, sealed_stamp: int | None = None) -> None:
-    """Seal the compiled firmware the board has just written at ``kept`` (if it did: a file still
-    with the modification time ``sealed_stamp`` it had when its seal was checked is the one sealed,
-    and is not read again)."""
-    try:
-        stamp = kept.stat().st_mtime_ns
-    except OSError:
-        return
-    try:
-        if stamp != sealed_stamp and not is_sealed(kept):
-            seal(kept)
-    except (CacheError, OSError):
-        kept.unlink(missing_ok=True)
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.bytes = read_sealed(path)
+        if self.bytes is None:  # a planted or damaged file is never loaded: removed
+            path.unlink(missing_ok=True)
+        self.fd, self._part = -1, None
+        if self.bytes is None:
+            try:
+                self.fd, self._part = private_file(path.parent, path.name)
+            except OSError:
+                pass
+
+    def discard(self) -> bool:
+        """Close and remove the private file, keeping nothing; False."""
+        if self.fd >= 0:
+            os.close(self.fd)
+            self.fd = -1
+        if self._part is not None:
+            self._part.unlink(missing_ok=True)
+        return False
+
+    def keep(self) -> bool:
+        """Seal what the board wrote to :attr:`fd` (if anything) and rename it into place; the
+        private file is closed and gone either way. Whether a module was kept."""
+        if self.fd < 0 or self._part is None:
+            return False
+        try:
+            size = os.fstat(self.fd).st_size
+            data = os.pread(self.fd, size, 0) if size else b""
+            if len(data) == size > 0:
+                seal_into_place(self._part, self.path, data)
+                return True
+            return False
+        except OSError:
+            return False
+        finally:
+            os.close(self.fd)
+            self.fd = -1
+            self._part.unlink(missing_ok=True)
 
 
 class NotCompiled(Exception):
@@ -133,20 +169,28 @@ class NotCompiled(Exception):
 
 def compile_kept(image: WasmImage, kept: Path) -> None:
     """Have wasmtime compile ``image`` now, in this process (an engine of its own, made as a
-    worker's is, freed before this returns: no worker, board or store), keep it at ``kept`` (its
-    :meth:`WasmImage.compiled_path`) and seal it: a worker that later loads the firmware only reads
-    it. Raises :class:`NotCompiled` saying why it could not."""
+    worker's is, freed before this returns: no worker, board or store), unless this user's board
+    kept it at ``kept`` already (its :meth:`WasmImage.compiled_path`), and keep it there, sealed
+    (:class:`KeptModule`: written to a private file, sealed, renamed into place): a worker that
+    later loads the firmware only reads it. Raises :class:`NotCompiled` saying why it could not."""
     from crslab._bindings import compiled_board
 
+    module = KeptModule(kept)
+    if module.bytes is not None:
+        return
+    if module.fd < 0:
+        raise NotCompiled(f"the compiled module cannot be kept in {kept.parent}")
     os.environ.update(ENGINE_ENVIRONMENT)
     c = compiled_board()
-    library, path, wasm = c.text(str(wasmtime_library())), c.text(str(kept)), c.bytes_view(image.wasm)
+    library, wasm = c.text(str(wasmtime_library())), c.bytes_view(image.wasm)
     error = c.wasm_compile({
         "libwasmtime": library, "wasm": wasm, "wasm_len": len(image.wasm), "memory_bytes": image.memory_bytes,
-        "stack_bytes": image.stack_bytes, "compiled_path": path})
+        "stack_bytes": image.stack_bytes, "compiled": c.pointer("uint8_t *", 0), "compiled_fd": module.fd})
+    kept_now = module.discard() if error else module.keep()
     if error:
         raise NotCompiled(error)
-    seal_compiled(kept)
+    if not kept_now:
+        raise NotCompiled(f"the compiled module could not be kept at {kept}")
 
 
 def preload() -> bool:

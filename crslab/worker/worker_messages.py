@@ -181,10 +181,12 @@ class Ready(Message):
 
 
 class Failed(Message):
-    """The worker could not enter the run sandbox, or open the instance."""
+    """The worker could not enter the run sandbox, or open the instance; ``file``: the input file
+    to blame (MuJoCo refused the model a world file makes), when it is not the lab."""
 
     instance: int
     message: str
+    file: str = ""
 
 
 class Trapped(Message):
@@ -373,7 +375,7 @@ _STATS = {
 
 _FIELDS: dict[type[Message], tuple] = {
     Ready: (_instance, lambda v: _whole(v, "symbols")),
-    Failed: (_instance, lambda v: _text(v, "message")),
+    Failed: (_instance, lambda v: _text(v, "message"), lambda v: _text(v, "file")),
     Trapped: (_instance, _trap),
     Ran: (_instance, lambda v: _whole(v, "code"), lambda v: _whole(v, "tick"), _stats,
           lambda v: tuple(_event(e) for e in _items(v, "motor_board_events")), _observations,

@@ -16,6 +16,7 @@ from dataclasses import MISSING, dataclass, fields, replace
 from pathlib import Path
 
 from crslab import resources
+from crslab.contest.motion import LONGEST_S as LONGEST_RUN_S
 from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.toml_file import Table, TomlFile
 from crslab.world.fixtures import (
@@ -63,7 +64,7 @@ class _Kind:
         if self.boolean:
             return t.boolean(key) if key in t else default
         if self.points:
-            return t.points(key, self.count)
+            return t.points(key, self.count, minimum=self.minimum, maximum=self.maximum)
         kw = {"minimum": self.minimum, "maximum": self.maximum, "positive": self.positive}
         if self.count:
             return t.numbers(key, self.count, default=default, **kw)  # type: ignore[arg-type]
@@ -74,6 +75,7 @@ _Z = _Kind(minimum=-1.0, maximum=2.0)  # a height, m
 _LENGTH = _Kind(positive=True, maximum=1.0)  # a size, m
 _XY = _Kind(2, minimum=-1.0, maximum=1.0)  # a place on the table, m
 _STIFFNESS = _Kind(minimum=100.0, maximum=1e8)  # N/m
+_HOLD = _Kind(positive=True, maximum=LONGEST_RUN_S)  # s: a hold within the longest contest run
 _FIELDS: dict[str, tuple[type, dict[str, _Kind]]] = {
     "table": (TableFixture, {"top_z_m": _Z, "size_m": _Kind(3, positive=True, maximum=10.0)}),
     "peg": (
@@ -104,7 +106,7 @@ _FIELDS: dict[str, tuple[type, dict[str, _Kind]]] = {
     "groove": (
         Groove,
         {
-            "corners_xy_m": _Kind(4, points=True),
+            "corners_xy_m": _Kind(4, points=True, minimum=-1.0, maximum=1.0),
             "top_z_m": _Z,
             "width_m": _LENGTH,
             "depth_m": _LENGTH,
@@ -139,10 +141,10 @@ _FIELDS: dict[str, tuple[type, dict[str, _Kind]]] = {
         ContestRules,
         {
             "band_g": _Kind(2, positive=True, maximum=1e5),
-            "hold_s": _Kind(positive=True),
-            "hold_tolerance_s": _Kind(minimum=0.0),
-            "peg_min_depth_m": _Kind(minimum=0.0),
-            "peg_hold_s": _Kind(positive=True),
+            "hold_s": _HOLD,
+            "hold_tolerance_s": _Kind(minimum=0.0, maximum=LONGEST_RUN_S),
+            "peg_min_depth_m": _Kind(minimum=0.0, maximum=1.0),
+            "peg_hold_s": _HOLD,
             "groove_min_share": _Kind(positive=True, maximum=1.0),
             "obstacle_around": _Kind(boolean=True),
         },
@@ -221,7 +223,7 @@ def _world(doc: TomlFile) -> World:
         optional = {
             f.name for f in fields(cls) if f.default is not MISSING or f.default_factory is not MISSING
         }
-        t.check_keys(kinds, required=[k for k in kinds if k not in optional])
+        t.check_keys(set(kinds), required=[k for k in kinds if k not in optional])
         defaults = {f.name: f.default for f in fields(cls) if f.default is not MISSING}
         world = replace(
             world, **{key: cls(**{k: kind.read(t, k, defaults.get(k)) for k, kind in kinds.items()})}
@@ -329,6 +331,12 @@ def _check_fit(world: World, doc: TomlFile) -> None:
     ru = world.contest
     if ru.band_g[0] >= ru.band_g[1]:
         raise fail("contest", "band_g", f"must be [low, high] with low < high, got {list(ru.band_g)}")
+    if world.hole is not None and ru.peg_min_depth_m >= world.hole.depth_m:
+        raise fail(
+            "contest",
+            "peg_min_depth_m",
+            f"{ru.peg_min_depth_m:g} m is not shallower than the hole ({world.hole.depth_m:g} m deep)",
+        )
     if ru.hold_tolerance_s >= ru.hold_s:
         raise fail(
             "contest",

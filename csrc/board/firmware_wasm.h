@@ -18,8 +18,12 @@ typedef struct {
     uint64_t wasm_len;
     uint64_t memory_bytes;        /* the most memory the firmware may have, bytes */
     uint64_t stack_bytes;         /* the most native stack its calls may use, bytes */
-    const char *compiled_path;    /* where wasmtime's compilation of this module for this board is
-                                     kept between runs (crslab's build cache); NULL: compile anew */
+    const uint8_t *compiled;      /* wasmtime's compilation of this module for this board, kept
+                                     between runs in crslab's build cache (read and its seal checked
+                                     by crslab); NULL: compile anew */
+    uint64_t compiled_len;
+    int32_t compiled_fd;          /* a module compiled anew is written here (a private file crslab
+                                     seals and renames into the cache); -1: kept nowhere */
     const char *module_key;       /* the module's digest (at most 95 characters): boards loading the
                                      same key share one compiled module; NULL or "": not shared */
     uint64_t deadline_ns;         /* a firmware call (a constructor, lab(), printing()) running
@@ -48,9 +52,9 @@ int crs_fw_wasm_load(crs_board *board, const crs_wasm_options *options);
  * it forks later start with it loaded (crslab's fork servers); 0, or -1 when it cannot be loaded. */
 int crs_fw_wasm_preload(const char *libwasmtime);
 /* Compile the firmware `options->wasm` for boards with `options->memory_bytes` and `stack_bytes` (as
- * crs_fw_wasm_load's engine would) and keep it at `options->compiled_path` (crslab's build cache),
- * where a later load finds it: a lab's first run then compiles nothing in the worker its neighbours
- * share. No board, store or watchdog: an engine of its own, deleted before it returns (the process
+ * crs_fw_wasm_load's engine would) and write it to `options->compiled_fd` (a private file crslab
+ * then seals and renames into its build cache, where a later load finds it): a lab's first run
+ * then compiles nothing in the worker its neighbours share. No board, store or watchdog: an engine of its own, deleted before it returns (the process
  * holds nothing of wasmtime's afterwards but its loaded library). Returns 0; else -1 with `error`
  * (`error_size` bytes) saying why. */
 int crs_fw_wasm_compile(const crs_wasm_options *options, char *error, size_t error_size);

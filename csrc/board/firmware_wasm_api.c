@@ -45,7 +45,7 @@ int crs_wasmtime_load(const char *path, char *error, size_t cap)
     LOAD_SYMBOL(module_new, wasmtime_module_new);
     LOAD_SYMBOL(module_delete, wasmtime_module_delete);
     LOAD_SYMBOL(module_serialize, wasmtime_module_serialize);
-    LOAD_SYMBOL(module_deserialize_file, wasmtime_module_deserialize_file);
+    LOAD_SYMBOL(module_deserialize, wasmtime_module_deserialize);
     LOAD_SYMBOL(module_imports, wasmtime_module_imports);
     LOAD_SYMBOL(importtype_vec_delete, wasm_importtype_vec_delete);
     LOAD_SYMBOL(importtype_module, wasm_importtype_module);

@@ -6,11 +6,14 @@
  * board running it and counted; a module no board uses is kept (a page that runs its lab again
  * loads nothing) while fewer than CRS_WASM_IDLE_MODULES others no board uses were used since, and
  * freed after that: a worker that ran a thousand labs holds the modules of the labs it runs now
- * and of the last few, not of every one. A module is read from its compiled file in crslab's
- * build cache when there is one (written by the first board that compiled it, or by
- * crs_fw_wasm_compile: a lab's first compile, with an engine of its own made alike), else compiled. */
+ * and of the last few, not of every one. A module is loaded from its compilation kept in crslab's
+ * build cache when there is one (the bytes crslab read and checked the seal of: the board opens no
+ * file of the cache; written by the first board that compiled it, or by crs_fw_wasm_compile: a
+ * lab's first compile, with an engine of its own made alike, to a private file crslab made, which
+ * crslab seals and renames into place), else compiled. */
 #define _POSIX_C_SOURCE 200809L
 
+#include <errno.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -91,48 +94,48 @@ int crs_wasm_engine_for(crs_board *board, const crs_wasm_options *o)
     return 0;
 }
 
-/* The module as wasmtime compiled it for this engine, from `path` (crslab's build cache, written by
- * keep_compiled from this firmware's bytes), or NULL when there is none or wasmtime refuses it
- * (another wasmtime or another configuration: its header says so), and it is compiled anew. */
-static wasmtime_module_t *load_compiled(const char *path)
+/* The module as wasmtime compiled it for this engine, from `bytes` (kept in crslab's build cache
+ * from this firmware's compilation, read and its seal checked by crslab: these very bytes), or NULL
+ * when there are none or wasmtime refuses them (another wasmtime or another configuration: their
+ * header says so), and it is compiled anew. */
+static wasmtime_module_t *load_compiled(const uint8_t *bytes, uint64_t len)
 {
-    if (access(path, R_OK) != 0) return NULL;
+    if (bytes == NULL || len == 0) return NULL;
     wasmtime_module_t *module = NULL;
-    wasmtime_error_t *err = crs_wasmtime.module_deserialize_file(engine, path, &module);
+    wasmtime_error_t *err = crs_wasmtime.module_deserialize(engine, bytes, (size_t)len, &module);
     if (err == NULL) return module;
     crs_wasmtime.error_delete(err);
     return NULL;
 }
 
-/* Keep the compiled module at `path` for the next run of the same firmware (written whole to a
- * file of its own, then renamed into place: a run reading it never sees half of it). A cache:
- * when it cannot be written, the next run compiles again. */
-static void keep_compiled(const wasmtime_module_t *module, const char *path)
+/* Write the compiled module to `fd` (a private file crslab made, which it then seals and renames
+ * into place for the next run of the same firmware); the board opens no file of the cache. 0, or -1
+ * when it was not written whole (a cache: crslab keeps nothing and the next run compiles again). */
+static int keep_compiled(const wasmtime_module_t *module, int fd)
 {
     wasm_byte_vec_t bytes = {0, NULL};
     wasmtime_error_t *err = crs_wasmtime.module_serialize((wasmtime_module_t *)module, &bytes);
     if (err != NULL) {
         crs_wasmtime.error_delete(err);
-        return;
+        return -1;
     }
-    char partial[4096];
-    const int n = snprintf(partial, sizeof partial, "%s.%ld.partial", path, (long)getpid());
-    if (n > 0 && (size_t)n < sizeof partial) {
-        FILE *f = fopen(partial, "wb");
-        if (f != NULL) {
-            const int whole = fwrite(bytes.data, 1, bytes.size, f) == bytes.size;
-            if (fclose(f) == 0 && whole && rename(partial, path) == 0) partial[0] = '\0';
-            if (partial[0] != '\0') remove(partial);
-        }
+    size_t done = 0;
+    while (done < bytes.size) {
+        const ssize_t n = write(fd, (const char *)bytes.data + done, bytes.size - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        done += (size_t)n;
     }
+    const int whole = done == bytes.size ? 0 : -1;
     crs_wasmtime.byte_vec_delete(&bytes);
+    return whole;
 }
 
 int crs_fw_wasm_compile(const crs_wasm_options *o, char *error, size_t error_size)
 {
     const crs_wasmtime_api *api = &crs_wasmtime;
     if (crs_wasmtime_load(o->libwasmtime, error, error_size) != 0) return -1;
-    if (o->compiled_path == NULL) {
+    if (o->compiled_fd < 0) {
         snprintf(error, error_size, "there is no place to keep the compiled module");
         return -1;
     }
@@ -153,12 +156,11 @@ int crs_fw_wasm_compile(const crs_wasm_options *o, char *error, size_t error_siz
         api->error_delete(err);
         code = -1;
     } else {
-        keep_compiled(module, o->compiled_path);
-        api->module_delete(module);
-        if (access(o->compiled_path, R_OK) != 0) {
-            snprintf(error, error_size, "the compiled module could not be kept at %s", o->compiled_path);
+        if (keep_compiled(module, o->compiled_fd) != 0) {
+            snprintf(error, error_size, "the compiled module could not be written");
             code = -1;
         }
+        api->module_delete(module);
     }
     api->engine_delete(own);
     return code;
@@ -192,7 +194,7 @@ crs_wasm_module *crs_wasm_module_for(crs_board *board, const crs_wasm_options *o
         return NULL;
     }
     snprintf(m->key, sizeof m->key, "%s", key);
-    if (o->compiled_path != NULL) m->module = load_compiled(o->compiled_path);
+    m->module = load_compiled(o->compiled, o->compiled_len);
     if (m->module == NULL) {
         if (o->wasm == NULL) {
             crs_wasm_load_failed(board, "the firmware's bytes were not given", NULL, 0);
@@ -205,7 +207,7 @@ crs_wasm_module *crs_wasm_module_for(crs_board *board, const crs_wasm_options *o
             free(m);
             return NULL;
         }
-        if (o->compiled_path != NULL) keep_compiled(m->module, o->compiled_path);
+        if (o->compiled_fd >= 0) (void)keep_compiled(m->module, o->compiled_fd);
     }
     m->users = 1;
     m->used = ++uses;

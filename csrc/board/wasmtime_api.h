@@ -139,7 +139,7 @@ typedef struct {
     wasmtime_error_t *(*module_new)(wasm_engine_t *, const uint8_t *, size_t, wasmtime_module_t **);
     void (*module_delete)(wasmtime_module_t *);
     wasmtime_error_t *(*module_serialize)(wasmtime_module_t *, wasm_byte_vec_t *);
-    wasmtime_error_t *(*module_deserialize_file)(wasm_engine_t *, const char *, wasmtime_module_t **);
+    wasmtime_error_t *(*module_deserialize)(wasm_engine_t *, const uint8_t *, size_t, wasmtime_module_t **);
     void (*module_imports)(const wasmtime_module_t *, wasm_importtype_vec_t *);
     void (*importtype_vec_delete)(wasm_importtype_vec_t *);
     const wasm_byte_vec_t *(*importtype_module)(const wasm_importtype_t *);
