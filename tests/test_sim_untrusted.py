@@ -233,3 +233,10 @@ def test_memory_limit_stops_a_leaking_native_lab(tmp_path):
     assert last_line(r).startswith("crslab sim: memory_hog.c crashed (SIG")
     assert " in lab() at tick " in last_line(r) and last_line(r).endswith("its memory limit was 600 MB")
     assert no_process_left(tmp_path / "memory_hog.c")
+
+
+def test_isolation_does_not_change_a_native_transcript():
+    """The same with the lab built natively (the benchmarks' recording): the in-process run loads a
+    sealed private copy of the lab's shared object (the board loads nothing this user did not seal)."""
+    config = make_config(native=True)
+    assert run_in_process(config, 12_000) == simulate(duration_s=12.0, native=True).transcript

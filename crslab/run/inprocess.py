@@ -5,10 +5,10 @@ here takes the calling process down; `crslab sim` never uses this."""
 from __future__ import annotations
 
 import dataclasses
-import shutil
 import tempfile
 from pathlib import Path
 
+from crslab.cache import read_sealed, write_sealed
 from crslab.run.shared_block import SharedBlock
 from crslab.worker.config import RunConfig
 
@@ -25,7 +25,10 @@ class InProcessRun:
         self._dir = tempfile.TemporaryDirectory(prefix="crslab-inprocess-")
         if config.build.native:
             private = Path(self._dir.name) / "lab.so"
-            shutil.copyfile(config.build.image, private)
+            data = read_sealed(config.build.image)
+            if data is None:
+                raise OSError(f"{config.build.image.name} is not what crslab built (its seal does not hold)")
+            write_sealed(private, data)  # the copy sealed too: the board loads only what this user sealed
             config = dataclasses.replace(config, build=dataclasses.replace(config.build, image=private))
         # never sandboxed: the sandbox would close this very process
         config = dataclasses.replace(config, sandboxed=False)
