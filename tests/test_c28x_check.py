@@ -42,8 +42,11 @@ def test_a_lab_that_overflows_16_bits_is_reported_line_by_line():
     assert "changes value from 16777217 to 16777216" in by_line[counts]  # 2**24 + 1: 24 bits of mantissa
     assert "comparison of constant 40000" in by_line[bound] and "always false" in by_line[bound]
     lines = report.lines()
-    assert lines[0].startswith("warning: 4 places where the board's arithmetic gives another result")
+    assert lines[0].startswith("warning: 4 places where the C28x's widths change a result")
     assert lines[1] == f"  c28x_overflow_gen_b.c:{product}: {by_line[product]}"
+    native = report.lines(native=True)  # a native build computes with the host's widths
+    assert native[0].startswith("warning: 4 places where the board's arithmetic gives another result than "
+                                "this native build") and native[1:] == lines[1:]
 
 
 @pytest.mark.parametrize("lab", CLEAN, ids=lambda p: p.name)
@@ -58,17 +61,17 @@ def test_the_first_sim_of_a_lab_says_it_later_ones_do_not_and_the_option_turns_i
     lab.write_text(OVERFLOW.read_text())
     run = ["sim", "--lab", lab, "--fast", "--quiet", "--no-stdin", "--duration", "4.2"]
     r = crslab(*run, "--no-c28x-check", env=env)
-    assert r.returncode == 0 and "board's arithmetic" not in r.stderr
+    assert r.returncode == 0 and "C28x's widths change" not in r.stderr
     r = crslab(*run, env=env)
     assert r.returncode == 0, r.stderr
     assert r.stdout.splitlines() == ["24464 90000"]  # crslab prints what the host computes ...
     said = [line for line in r.stderr.splitlines() if line.startswith("crslab sim:   lab.c:")]
     assert [int(line.split(":")[2]) for line in said] == marked_lines(OVERFLOW)  # ... and the board differs
-    assert "crslab sim: warning: 4 places where the board's arithmetic gives another result" in r.stderr
+    assert "crslab sim: warning: 4 places where the C28x's widths change a result" in r.stderr
     r = crslab(*run, env=env)
-    assert r.returncode == 0 and "board's arithmetic" not in r.stderr  # said once per lab content
+    assert r.returncode == 0 and "C28x's widths change" not in r.stderr  # said once per lab content
     lab.write_text(OVERFLOW.read_text() + "\n/* changed */\n")
-    assert "board's arithmetic" in crslab(*run, env=env).stderr  # a changed file is checked again
+    assert "C28x's widths change" in crslab(*run, env=env).stderr  # a changed file is checked again
 
 
 def test_grade_reports_say_it_for_each_submission(tmp_path):
@@ -79,10 +82,10 @@ def test_grade_reports_say_it_for_each_submission(tmp_path):
     r = crslab("grade", subs, "--reference", LABS / "lab1_own_ik.c", "--duration", "4.2", "--jobs", "1",
                "-o", tmp_path / "out")
     assert r.returncode == 1, r.stderr  # bob's transcript differs
-    assert "1 of 2 submissions have places where the board's arithmetic gives another result" in r.stderr
+    assert "1 of 2 submissions have places where the C28x's widths change a result" in r.stderr
     report = (tmp_path / "out" / "reports" / "bob.c.txt").read_text()
     assert f"bob.c:{marked_lines(OVERFLOW)[0]}: overflow in expression; result is 24464" in report
     assert not (tmp_path / "out" / "reports" / "alice.c.txt").exists()  # passed, nothing to say
     r = crslab("grade", subs, "--reference", LABS / "lab1_own_ik.c", "--duration", "4.2", "--jobs", "1",
                "-o", tmp_path / "quiet", "--no-c28x-check")
-    assert "board's arithmetic" not in (tmp_path / "quiet" / "reports" / "bob.c.txt").read_text()
+    assert "C28x's widths change" not in (tmp_path / "quiet" / "reports" / "bob.c.txt").read_text()

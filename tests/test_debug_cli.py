@@ -119,6 +119,8 @@ def test_quitting_gdb_at_the_first_stop_lets_the_run_finish_alone(tmp_path):
     term = Terminal([sys.executable, "-m", "crslab", "debug", *RUN, "--transcript", str(debugged)])
     term.wait_for("(gdb) ")  # stopped in the first lab() call
     assert "crslab: tick 4100 (t = 4.100 s)" in term.text
+    # said before the first tick: where the host's build differs from the board's
+    assert "crslab debug: note: built natively: int is 32 bits here, 16 on the board" in term.text
     term.type("quit\n")
     term.wait_for("crslab debug: gdb has let go of the lab; it runs on to the end of the run "
                   "(Ctrl-C ends it)")

@@ -9,6 +9,11 @@ pipe to crslab, a file, the clock or the environment (refused, named), cannot ca
 does not have (it does not link), and its memory errors, runaway recursion, NULL pointers and
 divisions by zero stop it at its line. Every hostile lab prints like the faulty labs and does its
 deed on its 1024th call (tick 5123); a secret sits outside every lab folder (SECRET_PATH).
+
+crslab compiles a lab with the C28x's widths (clang's AVR front end, crslab/lab/c28x_ir.py), where
+C cannot name a WebAssembly import or builtin: the two attacks written with them do not build from a
+lab file. The board's defences against such a module are tested with the module built for them by
+zig's wasm32 front end (:func:`wasm32_firmware`).
 """
 
 import csv
@@ -43,7 +48,7 @@ EXPECTED = {
     "pipe_pickle.c": (3, "forbidden", REFUSED + "use a file (fd_filestat_get) at pipe_pickle.c:41", AT_5123),
     "system_call.c": (2, "does not compile", "does not compile: it calls system(), which neither the file "
                       "nor the board's framework defines", ""),
-    "ptrace_self.c": (2, "does not compile", "does not compile: it calls ptrace()", ""),
+    "ptrace_self.c": (2, "does not compile", "does not compile", ""),  # no <sys/ptrace.h> on the board
     "fork_child.c": (2, "does not compile", "does not compile", ""),
     "fork_bomb.c": (2, "does not compile", "does not compile", ""),
     "execve_shell.c": (2, "does not compile", "does not compile", ""),
@@ -61,7 +66,8 @@ EXPECTED = {
                           "reads_the_clock.c:24", AT_5123),
     "escape_sequences.c": (3, "forbidden", REFUSED + "open /tmp/\\x1b[2K\\x0d\\x1b[32mpass\\x1b[0m"
                            "\\u202e\\ufffe for reading at escape_sequences.c:25", AT_5123),
-    "serial_send_out_of_range.c": (3, "crashed", "", "overflows it and corrupts the board's memory"),
+    "serial_send_out_of_range.c": (2, "does not compile", "does not compile: it calls board_send(), "
+                                   "__builtin_wasm_memory_size()", ""),
     "wild_pointer.c": (3, "crashed", "read or wrote outside its memory (a wild pointer or an index far out "
                        "of an array) at wild_pointer.c:23", AT_5123),
     "console_flood.c": (6, "crashed", "printed more than 1 MB; the run was cut off at tick", ""),
@@ -73,8 +79,11 @@ EXPECTED = {
     # these run to their end: what they print is all a grade sees
     "big_allocation.c": (0, "mismatch", "", ""),
     "exists_oracle.c": (0, "mismatch", "", ""),
-    "scribble_memory.c": (0, "mismatch", "", ""),
+    "scribble_memory.c": (2, "does not compile", "does not compile: it calls __builtin_wasm_memory_size()",
+                          ""),
 }
+WASM32_ONLY = ("serial_send_out_of_range.c", "scribble_memory.c")
+"""Attacks that name WebAssembly's builtins or the board's import: run as :func:`wasm32_firmware`."""
 
 
 class Place:
@@ -143,14 +152,59 @@ def test_sim_names_and_classes_each_lab(place, lab):
     if lab == "console_flood.c":
         assert len(r.stdout) < 1000 and b"xxxx" not in r.stdout + r.stderr  # its 20 MB were never shown
         assert b"honest.c: pass" not in r.stderr
-    if lab == "serial_send_out_of_range.c":  # the board read nothing outside the firmware's memory:
-        # 0 characters from past its end and from a "negative" pointer, the 4 of 40 inside it
-        assert data == BEFORE_FAULT + b"END!|0 0 4\n\r"
-        assert last.startswith(f"crslab sim: {lab}: a serial_printf {AT_5123} formatted "
-                               "4294967295 characters; "), last  # a length of -1: 4 GB, refused whole
     if lab == "exists_oracle.c":  # the compiler sees nothing outside: the secret "does not exist" either
         assert data.startswith(b"count 1 theta1 0.00 exists 0 0\n\r")
     place.assert_untouched(r.stdout, r.stderr, data)
+
+
+def wasm32_firmware(lab: Path, folder: Path):  # noqa: ANN201 - a LabBuild
+    """The firmware of ``lab`` built by zig's wasm32 front end (the C library's own headers), linked
+    with the framework's stand-ins as crslab links a lab: a module that may call the board's imports
+    and use WebAssembly's builtins, which no lab file crslab compiles can."""
+    import hashlib
+
+    from crslab.cache import cache_dir, seal_file
+    from crslab.generations import detect
+    from crslab.lab import firmware, zig
+    from crslab.lab.build import LabBuild, content_digest, text_memory
+    from crslab.lab.entry_points import entry_calls
+
+    text = lab.read_text()
+    unit = folder / "unit.c"
+    unit.write_text(f'#include "{lab}"\n{entry_calls(text)}')
+    libc = firmware.prepare_zig()
+    objects = firmware.firmware_objects(cache_dir(), content_digest)
+    made, image = folder / "made.wasm", folder / "lab.wasm"
+    r = subprocess.run([*zig.zig_cc(), f"--target={firmware.TARGET}", "-std=c11", "-O2", "-g",
+                        *firmware.INCLUDES, *libc.compile_flags(), "-x", "c", str(unit), "-x", "none",
+                        *map(str, objects), *map(str, libc.link), *firmware.LINK_FLAGS, "-o", str(made)],
+                       capture_output=True, text=True, timeout=300, cwd=folder,
+                       env=zig.zig_environment(folder / "zig-cache"))
+    assert r.returncode == 0, r.stderr
+    seal_file(made, image)  # as crslab's build keeps a module: the board opens only what this user sealed
+    return LabBuild(source=lab, image=image, generation=detect(text), sanitized=False,
+                    digest="wasm32-" + hashlib.sha256(image.read_bytes()).hexdigest()[:20],
+                    memory=text_memory(text, lab.stem))
+
+
+def test_a_module_built_for_wasm32_reaches_nothing_past_its_memory(place, tmp_path):
+    """What the board does with a module that passes its import pointers past its memory, or that
+    overwrites every byte of its memory: the two attacks, built for wasm32 (:func:`wasm32_firmware`)."""
+    from crslab.run.api import simulate
+
+    sent = simulate(build=wasm32_firmware(place.labs / "serial_send_out_of_range.c", tmp_path),
+                    scenario="tour", duration_s=5.2)
+    # the board read nothing outside the firmware's memory: 0 characters from past its end and from a
+    # "negative" pointer, the 4 of 40 inside it; a length of -1 (4 GB) is refused whole
+    assert sent.transcript == BEFORE_FAULT + b"END!|0 0 4\n\r"
+    assert sent.status == "crashed" and sent.message.startswith(
+        f"serial_send_out_of_range.c: a serial_printf {AT_5123} formatted 4294967295 characters; "), \
+        sent.message
+    scribbled = simulate(build=wasm32_firmware(place.labs / "scribble_memory.c", tmp_path), scenario="tour",
+                         duration_s=5.2)
+    assert scribbled.status == "ok", scribbled.message  # its own memory, nothing of the board's
+    assert scribbled.transcript.startswith(BEFORE_FAULT)
+    place.assert_untouched(sent.transcript, scribbled.transcript)
 
 
 def test_a_lab_deep_in_folders_is_still_named_at_its_line(place, tmp_path):

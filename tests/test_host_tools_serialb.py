@@ -45,8 +45,8 @@ def test_a_simulink_host_every_5_ms_gets_each_answer_and_its_values_reach_the_la
         assert len(replies[k]) == 16, k  # one reply per packet, within the 5 ms
         plots = plot_values(replies[k])
         tick = 5 * k  # the sync arrived during this tick: the PlotVars after its lab()
-        # the lab computes mycount * 0.001 in double and stores a float
-        assert plots[0] == sent_as(np.float32(tick * 0.001)) / 10000, k
+        # the lab computes mycount * 0.001 in double, a float on the board, and stores it
+        assert plots[0] == sent_as(np.float32(tick) * np.float32(0.001)) / 10000, k
         assert plots[1] == sent_as(12.5) / 10000 and plots[3] == sent_as(-2.0 / 3.0) / 10000
         # PlotVar3 is SIMU_Var1 as lab() saw it: packet k's values are stored after tick 5k + 1's
         # lab(), so lab() of tick 5k still shows packet k - 1's (and nothing before packet 1's)

@@ -53,9 +53,8 @@ def board_includes(source: Path, search: list[Path]) -> list[tuple[int, str, str
     return found
 
 
-FIRMWARE_FILES = sorted(p for p in (CSRC / "firmware").rglob("*") if p.suffix in (".c", ".h")
-                        and "c28x_check" not in p.parts)
-CHECK_FILES = sorted((CSRC / "firmware" / "c28x_check").glob("*.h"))
+FIRMWARE_FILES = sorted(p for p in (CSRC / "firmware").rglob("*") if p.suffix in (".c", ".h"))
+CHECK_FILES = sorted((CSRC / "firmware" / "c28x").rglob("*.h"))
 BUILDS = {"wasm": folders(firmware.INCLUDES), "native": folders(build.INCLUDES)}
 
 

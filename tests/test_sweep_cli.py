@@ -52,7 +52,7 @@ def rows_of(path):
         (["--vary", "friction=1"], "--vary friction=1: expected NAME=LO:HI (e.g. friction=0.5:1.5)"),
         (
             ["--vary", "var:steps=0:1e10"],
-            "--vary var:steps: 1e+10 does not fit steps, int in sweep_pd.c (-2147483648 to 2147483647)",
+            "--vary var:steps: 1e+10 does not fit steps, int in sweep_pd.c (-32768 to 32767)",
         ),
     ],
 )

@@ -86,7 +86,7 @@ def test_console_reads_and_writes_a_running_lab_between_ticks():
                             "limits[2] = 30   (t = 0.150 s)", "limits[0] = -5   (from t = 0.150 s on)",
                             "limits = [-5 20 30]   (t = 0.150 s)"]
     # the same words as a scenario file's or a sweep's mistakes (crslab.lab.watched)
-    assert replies[6] == "vars: 1e+12 does not fit mode, int in watched_types.c (-2147483648 to 2147483647)"
+    assert replies[6] == "vars: 1e+12 does not fit mode, int in watched_types.c (-32768 to 32767)"  # 16 bits
     assert replies[7] == "vars: -1 does not fit flags, Uint16 in watched_types.c (0 to 65535)"
     assert replies[8] == "vars: gain is not an array in watched_types.c"
     assert replies[9] == "vars: call_log has 8 elements in watched_types.c: give an index 0..7"

@@ -79,17 +79,15 @@ class LabRun:
 
     def say_build_notes(self) -> None:
         """What the build found that the board does otherwise, one line each (also with --quiet): the
-        C89 habits it built, and in a native build of a lab using ``long`` that its width differs."""
+        C89 habits it built, and in a native build where the host's widths and layout differ."""
         build = self.config.build
         for line in build.habits:
             self.say(f"warning: {line}")
         if build.native:
             try:
-                note = native_widths_note(build.source.read_text(errors="replace"))
+                self.say(f"note: {native_widths_note(build.source.read_text(errors='replace'))}")
             except OSError:
-                note = None
-            if note is not None:
-                self.say(f"note: {note}")
+                pass
 
     def _worker_started(self) -> None:
         self.live.worker_started()

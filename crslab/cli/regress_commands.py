@@ -366,8 +366,9 @@ def _write_grades(args: argparse.Namespace, subs: list[Path], grades: dict, refe
               file=sys.stderr)
     differ = sum(1 for r in c28x.values() if r.findings)
     if differ:
-        print(f"crslab grade: {differ} of {len(subs)} submissions have places where the board's arithmetic "
-              "gives another result (int 16 bits, double 32): in their reports", file=sys.stderr)
+        print(f"crslab grade: {differ} of {len(subs)} submissions have places where the C28x's widths change "
+              "a result (int 16 bits, double 32), on the board as in crslab's runs: in their reports",
+              file=sys.stderr)
     print(f"crslab grade: reports in {out}/ (summary.txt, grades.csv, junit.xml, transcripts/, reports/)",
           file=sys.stderr)
     return ExitStatus.OK if all(x.grade == GradeClass.PASS for x in ordered) else ExitStatus.MISMATCH

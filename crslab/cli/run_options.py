@@ -99,9 +99,10 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
 def add_c28x_option(p: argparse.ArgumentParser) -> None:
     """--no-c28x-check (sim, grade)."""
     p.add_argument("--no-c28x-check", action="store_true",
-                   help="do not compile the lab a second time with the C28x's widths (int 16 bits, long 32, "
-                   "double 32) to report where the board's arithmetic gives another result (sim: on a "
-                   "lab's first run; grade: in each report)")
+                   help="do not compile the lab a second time, for analysis, to report where the C28x's "
+                   "widths (int 16 bits, long 32, double 32) change a result (an overflow, a rounding), as "
+                   "they do on the board and crslab's WebAssembly board (sim: on a lab's first run; grade: "
+                   "in each report)")
 
 
 def limits_from_args(args: argparse.Namespace) -> Limits:

@@ -58,14 +58,15 @@ def run_sim(args: argparse.Namespace) -> int:
             c28x.close()
 
 
-def say_c28x_report(check: C28xCheck | None, lab: Path) -> None:
-    """The C28x arithmetic check's findings (it compiled while the lab ran), on a lab's first run;
-    nothing when it could not run (a header it lacks: it is an extra, not the run)."""
+def say_c28x_report(check: C28xCheck | None, lab: Path, native: bool = False) -> None:
+    """The C28x arithmetic check's findings (it compiled while the lab ran), on a lab's first run
+    (``native``: of a native build); nothing when it could not run (a header it lacks: it is an
+    extra, not the run)."""
     if check is None:
         return
     report = check.report()
     if not report.skipped:
-        for line in report.lines():
+        for line in report.lines(native):
             print(f"crslab sim: {line}", file=sys.stderr)
     remember(lab, report)
 
@@ -86,7 +87,7 @@ def _run_sim(args: argparse.Namespace, config: RunConfig, tracking: TrackingRun,
             console=any(isinstance(c, VarConsole) for c in run.live.controls), waypoints=args.waypoints)
 
     said_at_end = [AtEnd(lambda result: tracking.finish()),
-                   AtEnd(lambda result: say_c28x_report(c28x, config.build.source))]
+                   AtEnd(lambda result: say_c28x_report(c28x, config.build.source, config.build.native))]
     rows = [tracking.rows] if tracking.active else []
     result = run.run(intro, speed=speed, extra_sinks=[*rows, *said_at_end], prepare=follow_waypoints)
     return result.exit_status

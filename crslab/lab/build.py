@@ -93,8 +93,10 @@ BOARD_FOLDERS = [BOARD, PLANT, PORT]
 INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN),
             *(arg for folder in BOARD_FOLDERS for arg in ("-I", str(folder)))]
 ERROR_LIMIT = ["-fmax-errors=50"]
-LAB_FLAGS = ["-std=c11", "-O2", "-fPIC", "-fno-common"]
-"""The lab's flags; the C89 habits' (:func:`crslab.lab.c89_habits.lab_flags`) follow them."""
+LAB_FLAGS = ["-std=c11", "-O0", "-fPIC", "-fno-common", "-fno-finite-loops", "-ffp-contract=off"]
+"""The lab's flags: the optimisation off, as the board's builds (crslab.lab.firmware.OPTIMISATION;
+``--sanitize`` needs ``-O1``, where a loop that waits for a global must still spin); the C89
+habits' (:func:`crslab.lab.c89_habits.lab_flags`) follow them."""
 BOARD_FLAGS = ["-std=c11", "-O2", "-fPIC", "-Wall", "-Wextra", "-Werror", "-fno-math-errno"]
 # ASan finds out-of-bounds reads and writes (and says which); UBSan the rest (overflow,
 # misalignment, bad shifts), so UBSan's own array-bounds and object-size checks are left to ASan.
@@ -369,9 +371,10 @@ def _cached_or_built(home: Path, src: Path, text: bytes, image: str,
 
 
 def _build_wasm(src: Path, text: bytes, variables: list[LabVariable], calls: str, cache: Path,
-                sandboxed: bool) -> tuple[firmware.WasmImage, str]:
+                sandboxed: bool, memory: MemoryLayout) -> tuple[firmware.WasmImage, str]:
     """The WebAssembly firmware of ``src`` (its bytes ``text``; cached, named by the text and by
-    what the compiler read of the lab's folder); returns (image, digest)."""
+    what the compiler read of the lab's folder), its globals placed as ``memory`` says; returns
+    (image, digest)."""
     _subfolder(cache, COMPILED_FOLDER)  # where the board's compilation is kept: said now if it cannot be
     try:
         libc = firmware.prepare_zig()
@@ -384,14 +387,15 @@ def _build_wasm(src: Path, text: bytes, variables: list[LabVariable], calls: str
     # the path as given, not the folder: the module names the lab as given (prefix maps), so a lab
     # given by the same relative path builds the same module in any folder (crslab serve's sessions)
     digest = content_digest([text, src.suffix.encode(), str(src).encode(),
-                             " ".join(firmware.LAB_FLAGS + firmware.LINK_FLAGS).encode(),
+                             " ".join([*firmware.C28X_TARGET, *firmware.LAB_FLAGS, *firmware.IR_FLAGS,
+                                       *firmware.LINK_FLAGS]).encode(),
                              objects[0].parent.name.encode(), " ".join(globals_).encode()])
 
     def build(private: PrivateBuild) -> tuple[dict[str, Path], list[str]]:
         readable = [SHIM_INCLUDE, FIRMWARE, KIN, *BOARD_FOLDERS, objects[0].parent, libc.folder]
         sandbox = compiler_sandbox([], private.folder, readable, compiler=(), run_dirs=[zig.zig_dir()],
                                    cache_dirs=[zig.zig_cache()]) if sandboxed else None
-        built, reads = firmware.build_module(private, globals_, objects, sandbox, calls, libc)
+        built, reads = firmware.build_module(private, globals_, objects, sandbox, calls, libc, memory)
         built.save(private.folder)
         return {"lab.wasm": built.path, "names.json": private.folder / "names.json"}, reads
 
@@ -529,7 +533,7 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
                                                   cache, sandboxed)
         trap = trap_library(cc, cache)
     else:
-        wasm, digest = _build_wasm(src, text_bytes, variables, calls, cache, sandboxed)
+        wasm, digest = _build_wasm(src, text_bytes, variables, calls, cache, sandboxed, memory)
         image, renamed, sized, habits = wasm.path, wasm.renamed, wasm.sized, wasm.habits
     return LabBuild(source=src, image=image, generation=generation, sanitized=sanitize, digest=digest,
                     native=native, watched=tuple(watched_of(variables)), compiler=cc, debug=debug,

@@ -1,7 +1,10 @@
-"""What the board's arithmetic would have said: the C28x (COFF ABI) has a 16-bit ``int``, a 32-bit
-``long`` and a 32-bit ``double``; crslab runs labs with a 32-bit ``int`` and a 64-bit ``double``.
-So ``300*300`` in an ``int``, a constant past 32767 stored in an ``int`` or compared with one, or
-a constant a 32-bit ``double`` cannot hold, gives another result on the board.
+"""Where the board's widths change a result: the C28x (COFF ABI) has a 16-bit ``int``, a 32-bit
+``long`` and a 32-bit ``double``, so ``300*300`` in an ``int``, a constant past 32767 stored in an
+``int`` or compared with one, or a constant a 32-bit ``double`` cannot hold, gives another result
+than a host's 32-bit ``int`` and 64-bit ``double`` would. crslab's WebAssembly board computes with
+the C28x's widths (:mod:`crslab.lab.c28x_ir`), so there the check says where a lab's arithmetic
+overflows or rounds on the board; a native build computes with the host's, so there it says where
+its results differ from the board's.
 
 For analysis only, the lab is compiled twice more with zig's clang (``crslab.lab.zig``), with the
 same headers, the same diagnostics and no C library (an object file, then thrown away): once for
@@ -49,7 +52,7 @@ DIAGNOSTICS = ["integer-overflow", "constant-conversion", "implicit-const-int-fl
                "shift-count-overflow", "bitfield-constant-conversion", "implicit-int-float-conversion"]
 """The diagnostics that say a value changes (overflow, truncation, precision)."""
 POINTER_DIAGNOSTICS = ["implicit-function-declaration", "int-conversion"]
-"""What tells that an undeclared function's result lands in a pointer (:func:`cut_pointers`)."""
+"""What tells that an undeclared function's result lands in a pointer (:func:`lost_pointers`)."""
 FLAGS = ["-std=c11", "-c", "-nostdlib", "-ffreestanding", "-x", "c", "-Wno-everything",
          *(f"-W{d}" for d in DIAGNOSTICS + POINTER_DIAGNOSTICS), *lab_flags("clang")[1:],
          "-fno-color-diagnostics", "-fno-caret-diagnostics", "-Wno-unused-command-line-argument"]
@@ -87,14 +90,24 @@ class C28xReport:
     findings: tuple[Finding, ...] = ()
     skipped: str = ""
 
-    def lines(self) -> list[str]:
-        """What is said about it, one line each (nothing when all is well)."""
+    def lines(self, native: bool = False) -> list[str]:
+        """What is said about it, one line each (nothing when all is well); ``native``: about a native
+        build, which computes with the host's widths.
+
+        >>> r = C28xReport((Finding("lab.c", 3, "overflow", "integer-overflow"),))
+        >>> r.lines()[0]
+        "warning: 1 place where the C28x's widths change a result (on the C28x int is 16 bits, long 32 \
+and double 32; crslab's WebAssembly board computes with them too):"
+        """
         if self.skipped:
             return [f"note: the C28x arithmetic check did not run: {self.skipped}"]
         if not self.findings:
             return []
-        head = (f"warning: {len(self.findings)} place{'s' if len(self.findings) != 1 else ''} where the "
-                f"board's arithmetic gives another result ({WIDTHS}; crslab's host: 32, 64, 64):")
+        places = f"{len(self.findings)} place{'s' if len(self.findings) != 1 else ''}"
+        head = (f"warning: {places} where the board's arithmetic gives another result than this native build "
+                f"({WIDTHS}; here 32, 64, 64):" if native else
+                f"warning: {places} where the C28x's widths change a result ({WIDTHS}; crslab's WebAssembly "
+                "board computes with them too):")
         return [head, *(f"  {f.describe()}" for f in self.findings)]
 
 
@@ -125,19 +138,21 @@ def board_only(board: Sequence[Finding], host: Sequence[Finding]) -> list[Findin
 _CALLED = re.compile(r"call to undeclared function '(\w+)'")
 
 
-def cut_pointers(board: Sequence[Finding]) -> list[Finding]:
+def lost_pointers(board: Sequence[Finding]) -> list[Finding]:
     """The places where the board compile stores the result of a function it has no declaration of
-    (so C89 makes it an ``int``, 16 bits on the C28x) in a pointer: there the board's pointer is cut
-    to 16 bits (an undeclared ``malloc`` without ``<stdlib.h>``).
+    in a pointer (an undeclared ``malloc`` without ``<stdlib.h>``): C89 makes the result an ``int``,
+    which the C28x returns in AL, the accumulator's low 16 bits, while the function returns its
+    pointer in XAR4 (SPRU514's calling convention, docs/framework.md section 9); so the caller
+    stores whatever AL held, not the pointer.
 
-    >>> [f] = cut_pointers([Finding("l.c", 7, "call to undeclared function 'malloc'; ISO C99 ...",
+    >>> [f] = lost_pointers([Finding("l.c", 7, "call to undeclared function 'malloc'; ISO C99 ...",
     ...                             "implicit-function-declaration"),
     ...                     Finding("l.c", 7, "incompatible integer to pointer conversion ...",
     ...                             "int-conversion")])
-    >>> f.describe()  # doctest: +NORMALIZE_WHITESPACE
-    'l.c:7: malloc() has no declaration before this line, so the board takes it to return a 16-bit int:
-    the pointer stored here is cut to 16 bits on the board (crslab runs it with the whole pointer);
-    declare it (its header)'
+    >>> print(f.describe())  # doctest: +NORMALIZE_WHITESPACE
+    l.c:7: malloc() has no declaration before this line, so the board takes it to return an int and
+    reads AL, where the C28x returns an int, while malloc() returns its pointer in XAR4: the pointer
+    stored here is whatever AL held, not malloc()'s; declare it (its header)
     """
     called: dict[tuple[str, int], str] = {}
     for f in board:
@@ -149,18 +164,19 @@ def cut_pointers(board: Sequence[Finding]) -> list[Finding]:
         name = called.get((f.file, f.line))
         if f.flag == "int-conversion" and "integer to pointer" in f.message and name is not None:
             cut = Finding(f.file, f.line, f"{name}() has no declaration before this line, so the board "
-                          "takes it to return a 16-bit int: the pointer stored here is cut to 16 bits on the "
-                          "board (crslab runs it with the whole pointer); declare it (its header)",
-                          "pointer-cut")
+                          "takes it to return an int and reads AL, where the C28x returns an int, while "
+                          f"{name}() returns its pointer in XAR4: the pointer stored here is whatever AL "
+                          f"held, not {name}()'s; declare it (its header)", "pointer-lost")
             if cut not in out:
                 out.append(cut)
     return out
 
 
 def include_dirs() -> list[str]:
-    """The check's own headers (a math.h: no C library), then those a lab is built with."""
+    """The C library's headers as the lab's build with the C28x's widths sees them (no C library
+    behind them: nothing is linked), then those a lab is built with."""
     csrc = resources.path("csrc")
-    return ["-I", str(csrc / "firmware" / "c28x_check"), "-I", str(csrc / "firmware" / "include"),
+    return ["-I", str(csrc / "firmware" / "c28x"), "-I", str(csrc / "firmware" / "include"),
             "-I", str(csrc / "kin")]
 
 
@@ -224,7 +240,7 @@ class C28xCheck:
                                               f"{first.split('error:', 1)[1].strip()}")
             board, host = (parse_diagnostics(o) for o in outputs)
             widths = [f for f in board if f.flag in DIAGNOSTICS]
-            return C28xReport(tuple(cut_pointers(board) + board_only(widths, host)))
+            return C28xReport(tuple(lost_pointers(board) + board_only(widths, host)))
         finally:
             self.close()
 
@@ -247,7 +263,7 @@ def check_lab(lab: Path, *, sandboxed: bool = True, text: bytes | None = None,
 
 def _key(lab: Path) -> str:
     h = hashlib.sha256(Path(lab).read_bytes())
-    for header in [*sorted((resources.path("csrc") / "firmware" / "c28x_check").glob("*.h")),
+    for header in [*sorted((resources.path("csrc") / "firmware" / "c28x").rglob("*.h")),
                    *sorted((resources.path("csrc") / "firmware" / "include").glob("*.h"))]:
         h.update(header.read_bytes())
     h.update(" ".join([*BOARD_TARGET, *FLAGS]).encode())

@@ -7,19 +7,21 @@ pointer of another type. clang 16 and gcc 14 made each an error; crslab builds t
 translation unit with each turned back into a warning (:func:`lab_flags`), for the WebAssembly and
 the native builds alike, and says for each what the board does (:func:`habit_warnings`).
 
-What such a call returns on the board is another matter: an undeclared function returns an ``int``
-there, 16 bits, so an undeclared ``malloc``'s pointer is cut to 16 bits where the lab stores it.
-clang and gcc know ``malloc``'s real type and build the call right, so crslab runs such a lab with
-the real pointer; the C28x check (:mod:`crslab.lab.c28x_check`, with the board's widths and no
-built-in C library) says where the board's pointer would be cut.
+What such a call returns on the board is another matter: the caller takes an undeclared function to
+return an ``int``, which the C28x returns in the accumulator's low half AL, while ``malloc`` returns
+its pointer in XAR4 (TI's calling convention: docs/framework.md section 9), so the caller stores
+whatever AL held, not the pointer. crslab's WebAssembly build, compiled with the board's widths,
+takes the same 16-bit int and stops the run where the lab uses it as a pointer; a native build
+(the host's compiler knows ``malloc``'s real type) runs the lab with the real pointer. The C28x
+check (:mod:`crslab.lab.c28x_check`) says where the board's pointer is lost.
 
 >>> text = ("lab.c:5:25: warning: call to undeclared library function 'malloc' with type 'void *(unsigned "
 ...         "long)'; ISO C99 and later do not support implicit function declarations "
 ...         "[-Wimplicit-function-declaration]\\n")
 >>> print(habit_warnings(text)[0])  # doctest: +NORMALIZE_WHITESPACE
 lab.c:5: malloc() is called with no declaration before it (C89 allows it: the board's compiler warns
-and builds); on the C28x an undeclared function returns a 16-bit int, so the pointer malloc() returns
-is cut to 16 bits there: #include <stdlib.h>
+and builds); the board then reads a 16-bit int from AL, where the C28x returns an int, while malloc()
+returns its pointer in XAR4: the pointer is lost: #include <stdlib.h>
 """
 
 from __future__ import annotations
@@ -68,12 +70,13 @@ def _what(flag: str, message: str) -> str | None:
         said = (f"{fn}() is called with no declaration before it (C89 allows it: the board's compiler warns "
                 "and builds)")
         if fn in POINTER_RETURNING:
-            return (f"{said}; on the C28x an undeclared function returns a 16-bit int, so the pointer {fn}() "
-                    f"returns is cut to 16 bits there: #include {POINTER_RETURNING[fn]}")
+            return (f"{said}; the board then reads a 16-bit int from AL, where the C28x returns an int, "
+                    f"while {fn}() returns its pointer in XAR4: the pointer is lost: "
+                    f"#include {POINTER_RETURNING[fn]}")
         return f"{said}; it is taken to return an int: declare it before the call"
     if flag == "implicit-int":
-        return ("a declaration without a type, which C89 makes an int (16 bits on the board, 32 in "
-                "crslab's builds): the board's compiler warns and builds")
+        return ("a declaration without a type, which C89 makes an int (16 bits on the board and in crslab's "
+                "WebAssembly build, 32 in a native one): the board's compiler warns and builds")
     if flag == "int-conversion":
         return ("an integer and a pointer converted into each other without a cast (the board's compiler "
                 "warns and builds; on the C28x an int is 16 bits and a pointer 32)")

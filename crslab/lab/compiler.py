@@ -138,25 +138,28 @@ def _probe_once(command: tuple[str, ...], program: str, resolved: str, mtime_ns:
                     version=version_of(text), identity=f"{resolved}\n{text}")
 
 
-_LONG = re.compile(r"(?<!long\s)\blong\b(?!\s+(?:long|double)\b)")
+_WIDTH_WORDS = ((re.compile(r"\b(?:int|unsigned|short)\b"), "int is 32 bits here, 16 on the board"),
+                (re.compile(r"(?<!long\s)\blong\b(?!\s+(?:long|double)\b)"), "long 64 bits, 32 there"),
+                (re.compile(r"(?<!long\s)\bdouble\b"), "double 64 bits, 32 there"))
 
 
-def native_widths_note(lab_text: str) -> str | None:
-    """What a native build of a lab that uses ``long`` is told before its run: ``long`` (and a
-    pointer) is 64 bits on a 64-bit host and 32 on the board and in the WebAssembly build, and no
-    flag of gcc or clang gives an x86-64 shared object a 32-bit ``long`` (``-m32`` builds another
-    process's code). None when the lab never says ``long`` (``long long`` and ``long double`` are the
-    same here as in the WebAssembly build).
+def native_widths_note(lab_text: str) -> str:
+    """What a native build of a lab is told before its run: where the host's compiler makes it
+    differ from the board (and from crslab's WebAssembly build, which has the board's widths and
+    layout): ``int``, ``long`` and ``double`` are wider on a 64-bit host, for those the lab uses (no
+    flag of gcc or clang gives an x86-64 shared object a 16-bit ``int`` or a 32-bit ``double``), and
+    its globals lie where the host's compiler puts them, not where the TI linker does.
 
-    >>> native_widths_note("long long n; long double x;") is None
-    True
-    >>> native_widths_note("long mycount = 0; /* ... */")[:45]
-    'built natively: long is 64 bits here, 32 on t'
+    >>> native_widths_note("long long n; long double x;")[:64]
+    'built natively: its globals lie where the host compiler puts the'
+    >>> native_widths_note("int mode; long mycount = 0; /* double */")[:80]
+    'built natively: int is 32 bits here, 16 on the board, long 64 bits, 32 there, an'
     """
     from crslab.lab.variables import _without_preprocessor, strip_comments
 
-    if _LONG.search(_without_preprocessor(strip_comments(lab_text, literals=True))) is None:
-        return None
-    return ("built natively: long is 64 bits here, 32 on the board and in the WebAssembly build; long "
-            "arithmetic that passes 32 bits (2147483647) prints differently here (crslab sim without "
-            "--native runs the board's widths)")
+    code = _without_preprocessor(strip_comments(lab_text, literals=True))
+    widths = [said for pattern, said in _WIDTH_WORDS if pattern.search(code)]
+    return ("built natively: " + (", ".join(widths) + ", and " if widths else "")
+            + "its globals lie where the host compiler puts them, not where the TI linker does (a store past "
+              "an array's end meets another neighbour); crslab sim without --native runs the board's widths "
+              "and layout")

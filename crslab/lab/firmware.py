@@ -2,9 +2,16 @@
 stand-ins (``csrc/firmware``) and crslab's kinematics (``csrc/kin``, for labs that call it) into
 one WebAssembly module, as the real lab is linked with the framework into the F28335's image.
 
-zig's clang compiles it for wasm32 (:mod:`crslab.lab.zig`), with wasi-libc as its C library, in
-the compile sandbox. The module's memory is fixed when it is linked (:data:`MEMORY_BYTES`, the
-call stack first, so that a runaway recursion runs off its bottom and traps), and it imports only
+The lab is compiled as the board compiles it: with the C28x's widths (``int`` 16 bits, ``long``
+32, ``double`` 32) and the optimisation off, as every lab project of the course is built
+(:data:`C28X_FLAGS`): zig's clang compiles it with its AVR front end, whose widths are the C28x's,
+to LLVM IR, which :mod:`crslab.lab.c28x_ir` moves to wasm32 (its globals placed as the TI linker
+places them, :mod:`crslab.lab.c28x_memory`), and zig compiles that for wasm32 and links it with
+the framework's stand-ins (``csrc/firmware``, compiled for wasm32: :mod:`crslab.lab.zig`) and
+wasi-libc, in the compile sandbox. The lab sees the C library through the headers of
+``csrc/firmware/c28x``, which give it the C28x's widths too. The module's memory is fixed when it
+is linked (:data:`MEMORY_BYTES`, the call stack first, so that a runaway recursion runs off its
+bottom and traps), and it imports only
 the board's functions and the WASI calls the C library makes, which the board answers or refuses
 (``csrc/board/firmware_wasm.c``). Every global variable of the lab file that has a symbol is
 exported by name, so the board finds its address (watched variables, the MATLAB tools).
@@ -20,6 +27,7 @@ whose data does not fit the memory says how much it needs.
 
 from __future__ import annotations
 
+import importlib.resources
 import json
 import re
 import tempfile
@@ -29,7 +37,8 @@ from typing import TextIO
 
 from crslab import resources
 from crslab.cache import is_sealed, read_sealed, seal_file, subfolder
-from crslab.lab import zig
+from crslab.lab import c28x_ir, zig
+from crslab.lab.c28x_memory import MemoryLayout
 from crslab.lab.c89_habits import habit_warnings, lab_flags
 from crslab.lab.compile_process import (
     CompilerStopped,
@@ -37,7 +46,6 @@ from crslab.lab.compile_process import (
     LabForbidden,
     PrivateBuild,
     check_image,
-    dependencies,
     run_compiler,
     start_compile,
     visible_files,
@@ -61,21 +69,47 @@ INCLUDES = ["-I", str(SHIM_INCLUDE), "-I", str(FIRMWARE), "-I", str(KIN), "-I", 
 """The firmware's include folders: its stand-ins, the kinematics and the port it shares with the
 board (nothing of the board's: tests/test_layout.py)."""
 COMPILE_FLAGS = ["-std=c11", "-O2", "-mexec-model=reactor", "-fno-common", "-g"]
+"""The framework's stand-ins' flags (crslab's emulation of the framework, not the board's code)."""
+C28X_TARGET = ["--target=avr-freestanding", "-mmcu=atmega2560"]
+"""The front end whose C widths are the C28x's: int 16 bits, long 32, long long 64, float and
+double 32 (docs/framework.md section 9)."""
+C28X_INCLUDE = resources.path("csrc", "firmware", "c28x")
+"""The C library's headers as a lab compiled with the C28x's widths sees them."""
+OPTIMISATION = ["-O0", "-ffp-contract=off"]
+"""The course's CCS projects build every lab with the optimisation off (docs/framework.md section
+12): each statement is executed as written, every global read from memory each time, so a loop
+waiting for a global nothing changes spins, and nothing is assumed of signed overflow, aliasing or
+uninitialised reads. ``-O0`` does the same; no multiply and add is fused (the F28335 has no fused
+multiply-add)."""
+C28X_FLAGS = ["-std=c11", *OPTIMISATION, "-ffreestanding", "-fno-common", "-g", "-fno-sanitize=all"]
+"""How the lab and the kinematics are compiled to IR with the C28x's widths (no C library but the
+headers of :data:`C28X_INCLUDE`; zig's own checks off: the lab's are :data:`LAB_CHECKS`)."""
 LAB_CHECKS = "null,integer-divide-by-zero"
-LAB_FLAGS = [*COMPILE_FLAGS, *lab_flags("clang"), f"-fsanitize={LAB_CHECKS}",
+LAB_FLAGS = [*C28X_FLAGS, *lab_flags("clang"), f"-fsanitize={LAB_CHECKS}",
              f"-fno-sanitize-recover={LAB_CHECKS}"]
 """The lab's flags: a NULL pointer dereferenced or an integer divided by zero stops the run at its
 line (the handlers are the firmware's, csrc/firmware/firmware.c). On the F28335 neither stops the
 board (address 0 is RAM; the division's result is undefined); a native build stops too. The C89
 habits the board's compiler builds build here too, as warnings (:mod:`crslab.lab.c89_habits`); no
 other warning is shown."""
+KIN_FLAGS = [*C28X_FLAGS, "-Wall", "-Wextra", "-Werror", "-Wno-unused-command-line-argument"]
+"""crslab's kinematics, which crslab's own labs call, compiled with the lab's widths too (zig passes
+``-c`` beside ``-S``, unused)."""
+IR_FLAGS = ["-O0", "-fno-sanitize=all"]
+"""How the lab's IR, moved to wasm32 (:mod:`crslab.lab.c28x_ir`), is compiled: as it is."""
 FIRMWARE_FLAGS = [*COMPILE_FLAGS, "-Wall", "-Wextra", "-Werror"]
 LINK_FLAGS = ["-mexec-model=reactor", f"-Wl,-z,stack-size={STACK_BYTES}", f"-Wl,--max-memory={MEMORY_BYTES}"]
 """zig's linker puts the stack first (tests/test_wasm_firmware.py checks it), then the data, then the heap."""
-FIRMWARE_SOURCES = sorted(FIRMWARE.glob("*.c")) + sorted(KIN.glob("*.c")) + sorted(PORT.glob("*.c"))
-"""The stand-ins, the kinematics and the generations' rows (the board compiles the same rows)."""
+FIRMWARE_SOURCES = sorted(FIRMWARE.glob("*.c")) + sorted(PORT.glob("*.c"))
+"""The stand-ins and the generations' rows (the board compiles the same rows), compiled for wasm32."""
+KIN_SOURCES = sorted(KIN.glob("*.c"))
+"""The kinematics, compiled with the lab's widths (:data:`KIN_FLAGS`)."""
 FIRMWARE_HEADERS = (sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h"))
-                    + sorted(PORT.glob("*.h")))
+                    + sorted(PORT.glob("*.h")) + sorted(C28X_INCLUDE.rglob("*.h")))
+def ir_mover_text() -> bytes:
+    """The text of the module that moves the lab's IR to wasm32 (:mod:`crslab.lab.c28x_ir`), part of
+    every build's name (read as a resource: crslab may be imported from a zip)."""
+    return importlib.resources.files("crslab.lab").joinpath("c28x_ir.py").read_bytes()
 
 FRAMEWORK_VARIABLES = ("matlabLock", *(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, 8)))
 """The framework's globals in the firmware that the board's memory map holds (firmware.c)."""
@@ -83,7 +117,7 @@ FRAMEWORK_VARIABLES = ("matlabLock", *(f"SIMU_Var{i}_fromSIMU_16bit" for i in ra
 _UNDEFINED = re.compile(r"undefined symbol: (\w+)")
 _NOT_EXPORTED = re.compile(r"symbol exported via --export not found: (\w+)")
 _CLASH = re.compile(r"(?:symbol type mismatch|duplicate symbol): (\w+)")
-RENAMED_PREFIX = "crs_lab_"
+RENAMED_PREFIX = c28x_ir.RENAMED_PREFIX
 """A lab global whose name the C library also defines is compiled under this prefix (see
 :func:`clashing_symbols`); the board finds it by the new name."""
 _MEMORY = re.compile(r"(?:initial|maximum) memory too small, (\d+) bytes needed")
@@ -154,37 +188,50 @@ def csrc_debug_map(compiler_option: list[str] | None = None) -> list[str]:
 
 
 def firmware_objects(cache: Path, digest_of) -> list[Path]:  # noqa: ANN001 - build.content_digest
-    """The stand-ins and the kinematics compiled for wasm32, once per content, flags and zig: each
-    object sealed (:func:`crslab.cache.seal_file`) and linked into a lab only while its seal holds
-    (a folder or file of the cache that cannot be used raises :class:`crslab.cache.CacheError`)."""
-    digest = digest_of([zig.zig_version().encode(), " ".join(FIRMWARE_FLAGS).encode()]
-                       + [p.read_bytes() for p in FIRMWARE_SOURCES + FIRMWARE_HEADERS])
+    """The stand-ins compiled for wasm32 and the kinematics compiled with the lab's widths and moved to
+    wasm32 (:mod:`crslab.lab.c28x_ir`), once per content, flags and zig: each object sealed
+    (:func:`crslab.cache.seal_file`) and linked into a lab only while its seal holds (a folder or file
+    of the cache that cannot be used raises :class:`crslab.cache.CacheError`)."""
+    digest = digest_of([zig.zig_version().encode(), " ".join(FIRMWARE_FLAGS + KIN_FLAGS + IR_FLAGS).encode()]
+                       + [p.read_bytes() for p in [*FIRMWARE_SOURCES, *KIN_SOURCES, *FIRMWARE_HEADERS]]
+                       + [ir_mover_text()])
     out_dir = subfolder(cache, f"firmware-{digest}")
-    objects = [out_dir / f"{p.parent.name}_{p.stem}.o" for p in FIRMWARE_SOURCES]
+    sources = [*FIRMWARE_SOURCES, *KIN_SOURCES]
+    objects = [out_dir / f"{p.parent.name}_{p.stem}.o" for p in sources]
     if all(is_sealed(o) for o in objects):
         return objects
     with tempfile.TemporaryDirectory(dir=out_dir) as tmp:
-        procs = []
-        try:
-            for src, obj in zip(FIRMWARE_SOURCES, objects):
-                part = Path(tmp) / obj.name
-                mapped = csrc_debug_map(["-Xclang"])  # debug information names no checkout
-                procs.append((start_compile([*zig.zig_cc(), f"--target={TARGET}", *FIRMWARE_FLAGS, *mapped,
-                                             *INCLUDES, "-c", str(src), "-o", str(part)], cwd=Path(tmp),
-                                            env=zig.zig_environment(Path(tmp) / "cache")), src, part, obj))
-            failed = []
-            for proc, src, part, obj in procs:
-                r = proc.wait()
-                if r.returncode != 0:
-                    failed.append(f"crslab's firmware source {src.name} does not compile for wasm32:\n"
-                                  f"{r.stderr}")
-                else:
-                    seal_file(part, obj)
-        finally:
-            for proc, *_ in procs:
-                proc.kill()
-        if failed:
-            raise RuntimeError("\n".join(failed))
+        work = Path(tmp)
+        env = zig.zig_environment(work / "cache")
+        mapped = csrc_debug_map(["-Xclang"])  # debug information names no checkout
+
+        def compile_all(jobs: list[tuple[list[str], Path, Path]], what: str) -> None:
+            procs = []
+            try:
+                for argv, src, part in jobs:
+                    procs.append((start_compile([*argv, "-o", str(part)], cwd=work, env=env), src))
+                failed = [f"crslab's firmware source {src.name} does not compile {what}:\n{r.stderr}"
+                          for proc, src in procs if (r := proc.wait()).returncode != 0]
+            finally:
+                for proc, _ in procs:
+                    proc.kill()
+            if failed:
+                raise RuntimeError("\n".join(failed))
+
+        wasm = [*zig.zig_cc(), f"--target={TARGET}"]
+        ir = {src: work / f"{src.stem}.avr.ll" for src in KIN_SOURCES}
+        compile_all([([*wasm, *FIRMWARE_FLAGS, *mapped, *INCLUDES, "-c", str(src)], src, work / obj.name)
+                     for src, obj in zip(FIRMWARE_SOURCES, objects)]
+                    + [([*zig.zig_cc(), *C28X_TARGET, *KIN_FLAGS, *mapped, "-isystem", str(C28X_INCLUDE),
+                         "-I", str(KIN), "-S", "-emit-llvm", str(src)], src, ir[src]) for src in KIN_SOURCES],
+                    "for wasm32 (or with the C28x's widths)")
+        for src in KIN_SOURCES:
+            moved, _ = c28x_ir.to_wasm32(ir[src].read_text())
+            ir[src].with_suffix(".wasm32.ll").write_text(moved)
+        compile_all([([*wasm, *IR_FLAGS, "-c", str(ir[src].with_suffix(".wasm32.ll"))], src,
+                      work / f"{src.parent.name}_{src.stem}.o") for src in KIN_SOURCES], "moved to wasm32")
+        for obj in objects:
+            seal_file(work / obj.name, obj)
     return objects
 
 
@@ -204,21 +251,22 @@ one the C library also defines."""
 
 def unit_text(lab: Path, sized: list[str], calls: str = "") -> str:
     """The translation unit the firmware is compiled from: the lab file itself, then the size in
-    bytes of each of its globals ``sized`` as the compiler laid it out, so the board never reads or
+    bytes of each of its globals ``sized`` as the compiler laid it out (32-bit numbers, the board reads
+    them so, whatever the lab's widths), so the board never reads or
     writes a variable past its end (the source's reading of a size may be wrong), then ``calls``,
     the framework's calls of the lab's functions (:mod:`crslab.lab.entry_points`).
 
     >>> print(unit_text(Path("/labs/lab1.c"), ["mycount", "theta1array"]))
     #include "/labs/lab1.c"
     #line 1 "crslab-globals"
-    const unsigned int crs_fw_global_sizes[] = {0
+    const unsigned long crs_fw_global_sizes[] = {0
     , sizeof(mycount)
     , sizeof(theta1array)
     };
     <BLANKLINE>
     """
     lines = [f'#include "{lab.absolute()}"', f'#line 1 "{GLOBALS_UNIT}"',
-             f"const unsigned int {SIZES_SYMBOL}[] = {{0"]
+             f"const unsigned long {SIZES_SYMBOL}[] = {{0"]
     lines += [f", sizeof({name})" for name in sized]
     return "\n".join([*lines, "};", ""]) + calls
 
@@ -260,26 +308,46 @@ def given_prefix(lab: Path) -> str:
     return "" if str(lab.parent) == "." else f"{lab.parent}/"
 
 
-def compile_command(unit: Path, lab: Path, copy: Path, objects: list[Path], out: Path, exported: list[str],
-                    renamed: list[str], libc: zig.LibC) -> list[str]:
+def ir_command(unit: Path, lab: Path, copy: Path, renamed: list[str]) -> list[str]:
     """zig's command that compiles ``unit`` (including ``copy``, the private copy of the lab file
-    ``lab``, and its size table; the lab's globals ``renamed`` under :data:`RENAMED_PREFIX`) and
-    links it into ``out``, exporting ``exported`` (as they are named in the image), and writes the
-    files it read to ``unit``'s folder's ``reads.d`` (``-MD``: the build is named by them). The
-    compiler sees the build's folder (the copy of the lab's folder in it), crslab's headers and
-    zig's C library, nothing else. A lab's ``main()`` is never called (the board runs the
-    framework's loop), so it is compiled as an ordinary function: the course's ``void main(void)``
-    is fine on the C28x. ``__FILE__`` names the lab as it was given. ``libc`` is zig's C library,
-    built once (:func:`prepare_zig`): linked as objects, so zig never builds it."""
+    ``lab``, and its size table; the lab's globals ``renamed`` under :data:`RENAMED_PREFIX`) with the
+    C28x's widths (:data:`LAB_FLAGS`) to LLVM IR, ``lab.avr.ll`` beside it, and writes the files it
+    read on its stderr (``-H``, :func:`included_files`: the build is named by them; zig's ``-MD``
+    writes no IR beside its dependency file). The compiler sees
+    the build's folder (the copy of the lab's folder in it), crslab's headers and zig's own,
+    nothing else. A lab's ``main()`` is never called (the board runs the framework's loop), so it is
+    compiled as an ordinary function: the course's ``void main(void)`` is fine on the C28x.
+    ``__FILE__`` names the lab as it was given."""
     renames = [f"-D{n}={RENAMED_PREFIX}{n}" for n in renamed]
     folders = [unit.parent, SHIM_INCLUDE, FIRMWARE, KIN, PORT, zig.zig_dir() / "lib"]
     overlay = visible_files(unit.parent, [f.absolute() for f in folders])
-    return [*zig.zig_cc(), f"--target={TARGET}", *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,
+    return [*zig.zig_cc(), *C28X_TARGET, *LAB_FLAGS, f"-Dmain={RENAMED_PREFIX}main", *renames,
             *prefix_maps([copy.parent], given_prefix(lab)),
-            "-ivfsoverlay", str(overlay), "-MD", "-MF", str(unit.parent / "reads.d"),
-            "-iquote", str(copy.parent), *INCLUDES, *libc.compile_flags(),
-            "-x", "c", str(unit), "-x", "none", *map(str, objects), *map(str, libc.link), *LINK_FLAGS,
-            *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
+            "-ivfsoverlay", str(overlay), "-H", "-iquote", str(copy.parent), "-isystem", str(C28X_INCLUDE),
+            *INCLUDES,
+            "-S", "-emit-llvm", "-x", "c", str(unit), "-o", str(unit.parent / "lab.avr.ll")]
+
+
+_INCLUDED = re.compile(r"^\.+ (.+)\n?", re.MULTILINE)
+
+
+def included_files(messages: str) -> tuple[list[str], str]:
+    """The files a compile with ``-H`` included (each line: dots, one per level, and the path), and
+    its other messages.
+
+    >>> included_files(". /b/lab.c\\n.. /b/gains.h\\nlab.c:3:1: warning: w\\n")
+    (['/b/lab.c', '/b/gains.h'], 'lab.c:3:1: warning: w\\n')
+    """
+    return _INCLUDED.findall(messages), _INCLUDED.sub("", messages)
+
+
+def link_command(ir: Path, objects: list[Path], out: Path, exported: list[str], libc: zig.LibC) -> list[str]:
+    """zig's command that compiles the lab's IR moved to wasm32 (``ir``) and links it with the
+    firmware's ``objects`` and zig's C library ``libc`` (built once, :func:`prepare_zig`: linked as
+    objects, so zig never builds it) into ``out``, exporting ``exported`` (as they are named in the
+    image)."""
+    return [*zig.zig_cc(), f"--target={TARGET}", *IR_FLAGS, "-nostdlib", str(ir), *map(str, objects),
+            *map(str, libc.link), *LINK_FLAGS, *exported_variables([*exported, SIZES_SYMBOL]), "-o", str(out)]
 
 
 @dataclass(frozen=True)
@@ -313,34 +381,44 @@ class WasmImage:
 
 
 def build_module(private: PrivateBuild, globals_: list[str], objects: list[Path],
-                 sandbox: CompilerSandbox | None, calls: str = "",
-                 libc: zig.LibC | None = None) -> tuple[WasmImage, list[str]]:
+                 sandbox: CompilerSandbox | None, calls: str = "", libc: zig.LibC | None = None,
+                 memory: MemoryLayout | None = None) -> tuple[WasmImage, list[str]]:
     """Compile and link the lab of ``private`` (its private copy) into ``lab.wasm`` in the build's
     folder, exporting and sizing ``globals_`` (its globals as the source reads them) and the
     framework's variables, with ``calls`` (the framework's calls of its functions,
-    :func:`crslab.lab.entry_points.entry_calls`); returns the image and the files of the lab's folder
-    the compiler read (names from the folder). Raises LabBuildError (one line naming the problem)."""
+    :func:`crslab.lab.entry_points.entry_calls`), its globals placed as ``memory`` (the TI linker's
+    layout of them) says; returns the image and the files of the lab's folder the compiler read
+    (names from the folder). Raises LabBuildError (one line naming the problem)."""
     lab, build_dir, included = private.lab, private.folder, private.copy
     libc = libc if libc is not None else prepare_zig()
     sized = list(globals_)
     exported = sorted(set(globals_) | set(FRAMEWORK_VARIABLES))
     renamed: list[str] = []
     unit = build_dir / "firmware.c"
+    ir = build_dir / "lab.wasm32.ll"
     out = build_dir / "lab.wasm"
+    env = compile_environment(build_dir)
     for _ in range(MAX_ROUNDS):
         unit.write_text(unit_text(included, sized, calls))
         names = [RENAMED_PREFIX + n if n in renamed else n for n in exported]
         try:
-            command = compile_command(unit, lab, included, objects, out, names, renamed, libc)
             # run from the build's folder: the compiler's own folder names no folder of the user's
-            messages = run_compiler(command, lab.name, sandbox, env=compile_environment(build_dir),
-                                    cwd=build_dir, reaper=private.reaper)
+            command = ir_command(unit, lab, included, renamed)
+            reads, messages = included_files(run_compiler(command, lab.name, sandbox, env=env, cwd=build_dir,
+                                                          reaper=private.reaper))
+            placement = c28x_ir.placement(memory, renamed) if memory is not None else None
+            moved, _ = c28x_ir.to_wasm32((build_dir / "lab.avr.ll").read_text("utf-8", "replace"), placement)
+            ir.write_text(moved)
+            run_compiler(link_command(ir, objects, out, names, libc), lab.name, sandbox, env=env,
+                         cwd=build_dir, reaper=private.reaper)
             break
         except (LabForbidden, CompilerStopped) as exc:
-            exc.diagnostics = shown_diagnostics(exc.diagnostics, unit, lab, included)
+            exc.diagnostics = shown_diagnostics(included_files(exc.diagnostics)[1], unit, lab, included)
             raise
+        except c28x_ir.IRError as exc:
+            raise LabBuildError(f"{lab.name} cannot be built with the C28x's widths: {exc}") from None
         except LabBuildError as exc:
-            text = shown_diagnostics(exc.diagnostics, unit, lab, included)
+            text = shown_diagnostics(included_files(exc.diagnostics)[1], unit, lab, included)
             absent = {n.removeprefix(RENAMED_PREFIX) for n in not_exported(text)}
             absent |= set(failed_sizes(text, sized))
             clashes = [n for n in clashing_symbols(text) if n not in renamed]
@@ -353,9 +431,8 @@ def build_module(private: PrivateBuild, globals_: list[str], objects: list[Path]
     else:
         raise LabBuildError(f"{lab.name} does not link: too many of its names clash with the C library's")
     check_image(out, lab.name)
-    reads = private.read_from_folder(dependencies((build_dir / "reads.d").read_text("utf-8", "replace")))
     habits = habit_warnings(shown_diagnostics(messages, unit, lab, included))
-    return WasmImage(out, tuple(renamed), tuple(sized), tuple(habits)), reads
+    return WasmImage(out, tuple(renamed), tuple(sized), tuple(habits)), private.read_from_folder(reads)
 
 
 def shown_diagnostics(diagnostics: str, unit: Path, lab: Path, copy: Path | None = None) -> str:

@@ -64,23 +64,23 @@ HOST_TYPES = {
 
 WASM32_TYPES = {
     "char": "int8_t", "signed char": "int8_t", "unsigned char": "uint8_t", "short": "int16_t",
-    "unsigned short": "uint16_t", "int": "int32_t", "unsigned int": "uint32_t", "long": "int32_t",
+    "unsigned short": "uint16_t", "int": "int16_t", "unsigned int": "uint16_t", "long": "int32_t",
     "unsigned long": "uint32_t", "long long": "int64_t", "unsigned long long": "uint64_t",
-    "float": "float", "double": "double", "_Bool": "uint8_t", "bool": "uint8_t",
+    "float": "float", "double": "float", "long double": "float", "_Bool": "uint8_t", "bool": "uint8_t",
     "int8_t": "int8_t", "uint8_t": "uint8_t", "int16_t": "int16_t", "uint16_t": "uint16_t",
     "int32_t": "int32_t", "uint32_t": "uint32_t", "int64_t": "int64_t", "uint64_t": "uint64_t",
 }
-"""A C type (qualifiers dropped) to the fixed-width type wasm32 gives it; ``long double`` (128-bit
-in wasm32) and pointers have none crslab reads."""
+"""A C type (qualifiers dropped) to the fixed-width type it has in a WebAssembly firmware, whose lab
+is compiled with the C28x's widths (crslab/lab/c28x_ir.py): ``int`` 16 bits, ``long`` 32, ``double``
+and ``long double`` a 32-bit float, ``char`` 8 bits (16 on the C28x); pointers have none crslab
+reads."""
 
 
 def wasm_element_type(ctype: str, pointer: bool = False) -> str | None:
     """The cffi type of one element of a variable of ``ctype`` in a WebAssembly firmware.
 
-    >>> wasm_element_type("long"), wasm_element_type("Uint16"), wasm_element_type("double")
-    ('int32_t', 'uint16_t', 'double')
-    >>> wasm_element_type("long double") is None
-    True
+    >>> [wasm_element_type(t) for t in ("int", "long", "Uint16", "double")]
+    ['int16_t', 'int32_t', 'uint16_t', 'float']
     """
     if pointer:
         return None

@@ -46,8 +46,9 @@ class WatchedVar:
 
     @property
     def integer_range(self) -> tuple[int, int] | None:
-        """The values its integer type holds in the lab's firmware, None for a floating-point type.
-        The widths are WebAssembly's (``int`` and ``long`` 32 bits), which a native build's hold too.
+        """The values its integer type holds on the board, None for a floating-point type. The widths
+        are the C28x's, which the WebAssembly firmware compiles the lab with (``int`` 16 bits,
+        ``long`` 32); a native build's ``int`` holds them too.
 
         >>> [WatchedVar(n, t, None, None, ".my_vars", 1).integer_range for n, t in
         ...  [("a", "long"), ("b", "Uint16"), ("c", "_Bool"), ("d", "float")]]
@@ -69,7 +70,7 @@ class WatchedVar:
         >>> WatchedVar("mode", "int", None, None, ".my_vars", 1).check_value(3e9, "lab.c")
         Traceback (most recent call last):
         ...
-        crslab.lab.watched.WatchedError: 3e+09 does not fit mode, int in lab.c (-2147483648 to 2147483647)
+        crslab.lab.watched.WatchedError: 3e+09 does not fit mode, int in lab.c (-32768 to 32767)
         """
         limits = self.integer_range
         if limits is not None and not (math.isfinite(value) and limits[0] <= round(value) <= limits[1]):

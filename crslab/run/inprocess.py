@@ -25,10 +25,10 @@ class InProcessRun:
         self._dir = tempfile.TemporaryDirectory(prefix="crslab-inprocess-")
         if config.build.native:
             private = Path(self._dir.name) / "lab.so"
-            data = read_sealed(Path(config.build.image))
+            data = read_sealed(config.build.image)
             if data is None:
-                raise RuntimeError(f"{config.build.image} is not what crslab built (its seal does not hold)")
-            write_sealed(private, data)  # sealed again under its new name: the board loads no other
+                raise OSError(f"{config.build.image.name} is not what crslab built (its seal does not hold)")
+            write_sealed(private, data)  # the copy sealed too: the board loads only what this user sealed
             config = dataclasses.replace(config, build=dataclasses.replace(config.build, image=private))
         # never sandboxed: the sandbox would close this very process
         config = dataclasses.replace(config, sandboxed=False)

@@ -3,9 +3,9 @@ firmware: the watched variables' ``get``/``set``, the expectations' reads, the s
 and the emulated C28x memory the course's MATLAB tools read and write (``crs_board.memory``).
 
 - WebAssembly: a variable lives in the firmware's linear memory, at the address its export holds
-  (the build exports every global of the lab file); its types are wasm32's (``int`` and ``long``
-  32 bits, ``double`` 64, pointers 32). The memory's size is fixed, so an address and a size are
-  checked once against it.
+  (the build exports every global of the lab file); its types are the C28x's widths, which the lab
+  is compiled with (``int`` 16 bits, ``long`` 32, ``double`` 32; crslab/lab/c28x_ir.py). The
+  memory's size is fixed, so an address and a size are checked once against it.
 - native: a variable is the loaded shared object's symbol; its types are the host's; its size is
   the symbol's, as the dynamic loader knows it.
 
@@ -27,6 +27,9 @@ from crslab.os_support import loaded_symbol_size
 if TYPE_CHECKING:
     from crslab._bindings import BoardLibrary
     from crslab.lab.build import LabBuild
+
+FRAMEWORK_BYTES = {name: 4 if name == "matlabLock" else 2 for name in FRAMEWORK_VARIABLES}
+"""The framework's own variables' bytes in a WebAssembly firmware: Simulink's inputs are ints."""
 
 def native_element_type(ctype: str, pointer: bool = False) -> str | None:
     """The cffi type of one element of a variable of ``ctype`` in a native firmware."""
@@ -85,8 +88,8 @@ class WasmMemory:
         if offset == 0 or offset + nbytes > self.size:
             return None
         # never trust the source's parse beyond the object the compiler laid out (the framework's own
-        # variables, an int or a float each, are not in the lab's table)
-        size = self._sizes.get(name, 4 if name in FRAMEWORK_VARIABLES else 0)
+        # variables, a 16-bit int or a float each, are not in the lab's table)
+        size = self._sizes.get(name, FRAMEWORK_BYTES.get(name, 0))
         return self.base + offset if size >= nbytes else None
 
 

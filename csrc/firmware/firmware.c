@@ -5,12 +5,21 @@
 #include "firmware.h"
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "DSP2833x_Device.h"
 #include "coecsl.h"
 #include "firmware_board.h"
 #include "framework_facts.h"
 #include "generations.h"
+
+/* The lab's int. The WebAssembly firmware compiles the lab with the C28x's widths, where an int is
+ * 16 bits (crslab/lab/c28x_ir.py); a native build compiles it with the host's. */
+#if defined(__wasm__)
+typedef int16_t crs_lab_int;
+#else
+typedef int crs_lab_int;
+#endif
 
 /* ---- the lab file's symbols (weak: a lab may lack some) ----------------------------------- */
 /* lab() and printing() are called through these, compiled into the lab's own translation unit
@@ -21,7 +30,7 @@
 extern void crs_lab_call_lab(float theta1motor, float theta2motor, float theta3motor, float *tau1,
                              float *tau2, float *tau3, int error) __attribute__((weak));
 extern void crs_lab_call_printing(void) __attribute__((weak));
-extern int UARTprint __attribute__((weak));
+extern crs_lab_int UARTprint __attribute__((weak));
 extern float offset_Enc2_rad __attribute__((weak));
 extern float offset_Enc3_rad __attribute__((weak));
 extern float Simulink_PlotVar1 __attribute__((weak));
@@ -36,16 +45,21 @@ volatile unsigned int IFR, IER; /* named by labs (IER |= M_INT1); nothing reads 
 
 /* What Simulink sends down to the board: seven int16 values, which the course framework keeps in
  * these globals (the names of its Gen B serial code). A lab reads them by declaring
- * `extern int SIMU_Var1_fromSIMU_16bit;`; the board writes them when a Simulink packet arrives
- * (csrc/board/simulink_link.c) and a scenario between ticks. On the DSP `int` is 16 bits, so the
- * values stay in int16 range. Weak, so a lab file that defines one of these names keeps its own. */
-__attribute__((weak)) int SIMU_Var1_fromSIMU_16bit = 0;
-__attribute__((weak)) int SIMU_Var2_fromSIMU_16bit = 0;
-__attribute__((weak)) int SIMU_Var3_fromSIMU_16bit = 0;
-__attribute__((weak)) int SIMU_Var4_fromSIMU_16bit = 0;
-__attribute__((weak)) int SIMU_Var5_fromSIMU_16bit = 0;
-__attribute__((weak)) int SIMU_Var6_fromSIMU_16bit = 0;
-__attribute__((weak)) int SIMU_Var7_fromSIMU_16bit = 0;
+ * `extern int SIMU_Var1_fromSIMU_16bit;`. On the DSP `int` is 16 bits, so the values stay in int16
+ * range. Weak, so a lab file that defines one of these names keeps its own (in the WebAssembly
+ * firmware the lab's unit defines them all, in their place in .ebss: crslab/lab/c28x_ir.py).
+ * The board writes 32-bit numbers (csrc/board/simulink_link.c, when a Simulink packet arrives, and
+ * a scenario between ticks) into `simulink_written`; before each lab() call a value written since
+ * the last call is stored into the lab's int, as the board's serial interrupt stores it. */
+__attribute__((weak)) crs_lab_int SIMU_Var1_fromSIMU_16bit = 0;
+__attribute__((weak)) crs_lab_int SIMU_Var2_fromSIMU_16bit = 0;
+__attribute__((weak)) crs_lab_int SIMU_Var3_fromSIMU_16bit = 0;
+__attribute__((weak)) crs_lab_int SIMU_Var4_fromSIMU_16bit = 0;
+__attribute__((weak)) crs_lab_int SIMU_Var5_fromSIMU_16bit = 0;
+__attribute__((weak)) crs_lab_int SIMU_Var6_fromSIMU_16bit = 0;
+__attribute__((weak)) crs_lab_int SIMU_Var7_fromSIMU_16bit = 0;
+static int32_t simulink_written[CRS_FW_SIMULINK_INPUTS]; /* what the board wrote */
+static int32_t simulink_stored[CRS_FW_SIMULINK_INPUTS];  /* what was last stored into the lab's */
 
 /* Gen A's framework variable in .my_vars, set to 1.0 by every MATLAB read (csrc/board/matlab_link.c)
  * and used by nothing else. Weak: a lab that defines the name keeps its own. */
@@ -104,17 +118,32 @@ const crs_fw_table *crs_fw_start(int32_t gen)
     table.offset_enc3 = address(&offset_Enc3_rad);
     for (int i = 0; i < CRS_FW_PLOTS; ++i) table.plot[i] = address(plots[i]);
     table.gpio = address(&GpioDataRegs);
-    const int *inputs[CRS_FW_SIMULINK_INPUTS] = {
-        &SIMU_Var1_fromSIMU_16bit, &SIMU_Var2_fromSIMU_16bit, &SIMU_Var3_fromSIMU_16bit,
-        &SIMU_Var4_fromSIMU_16bit, &SIMU_Var5_fromSIMU_16bit, &SIMU_Var6_fromSIMU_16bit,
-        &SIMU_Var7_fromSIMU_16bit};
-    for (int i = 0; i < CRS_FW_SIMULINK_INPUTS; ++i) table.simulink_input[i] = address(inputs[i]);
+    for (int i = 0; i < CRS_FW_SIMULINK_INPUTS; ++i) {
+        simulink_written[i] = simulink_stored[i] = 0;
+        table.simulink_input[i] = address(&simulink_written[i]);
+    }
     table.matlab_lock = address(&matlabLock);
     return &table;
 }
 
+/* The values the board wrote since the last call, stored into the lab's ints. */
+static void store_simulink_inputs(void)
+{
+    static crs_lab_int *const inputs[CRS_FW_SIMULINK_INPUTS] = {
+        &SIMU_Var1_fromSIMU_16bit, &SIMU_Var2_fromSIMU_16bit, &SIMU_Var3_fromSIMU_16bit,
+        &SIMU_Var4_fromSIMU_16bit, &SIMU_Var5_fromSIMU_16bit, &SIMU_Var6_fromSIMU_16bit,
+        &SIMU_Var7_fromSIMU_16bit};
+    for (int i = 0; i < CRS_FW_SIMULINK_INPUTS; ++i) {
+        if (simulink_written[i] != simulink_stored[i]) {
+            simulink_stored[i] = simulink_written[i];
+            *inputs[i] = (crs_lab_int)simulink_written[i];
+        }
+    }
+}
+
 int32_t crs_fw_lab(float theta1motor, float theta2motor, float theta3motor, int32_t error)
 {
+    store_simulink_inputs();
     if (crs_lab_call_lab == NULL) return 0;
     crs_lab_call_lab(theta1motor, theta2motor, theta3motor, &tau[0], &tau[1], &tau[2], (int)error);
     /* after lab() returns: Gen A's SWI runs printing() once however often it was posted; Gen B's
@@ -161,11 +190,31 @@ void __ubsan_handle_type_mismatch_v1_abort(const crs_ubsan_location *where, uint
     __builtin_trap();
 }
 
-void __ubsan_handle_divrem_overflow_abort(const crs_ubsan_location *where, uintptr_t lhs, uintptr_t rhs);
-void __ubsan_handle_divrem_overflow_abort(const crs_ubsan_location *where, uintptr_t lhs, uintptr_t rhs)
+/* The lab is compiled with the C28x's widths (crslab/lab/c28x_ir.py), whose pointers are 16 bits:
+ * an operand of up to 16 bits comes in the handle's low 16 bits, a wider one (a long) through a
+ * pointer to it. The operation's type says which: its bit width is 1 << (info >> 1). */
+typedef struct {
+    uint16_t kind, info;
+} crs_ubsan_type;
+typedef struct {
+    crs_ubsan_location where;
+    const crs_ubsan_type *type;
+} crs_ubsan_operation;
+
+static int operand_is_zero(const crs_ubsan_type *type, uintptr_t handle)
+{
+    const unsigned bits = 1u << (type->info >> 1);
+    if (bits <= 16) return (uint16_t)handle == 0;
+    if (bits <= 32) return *(const uint32_t *)handle == 0;
+    return *(const uint64_t *)handle == 0;
+}
+
+void __ubsan_handle_divrem_overflow_abort(const crs_ubsan_operation *op, uintptr_t lhs, uintptr_t rhs);
+void __ubsan_handle_divrem_overflow_abort(const crs_ubsan_operation *op, uintptr_t lhs, uintptr_t rhs)
 {
     (void)lhs;
-    crs_board_fault(rhs == 0 ? CRS_FW_TRAP_DIVIDE : CRS_FW_TRAP_OVERFLOW, (int32_t)where->line);
+    crs_board_fault(operand_is_zero(op->type, rhs) ? CRS_FW_TRAP_DIVIDE : CRS_FW_TRAP_OVERFLOW,
+                    (int32_t)op->where.line);
     __builtin_trap();
 }
 #endif

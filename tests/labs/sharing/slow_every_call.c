@@ -8,7 +8,7 @@
 float offset_Enc2_rad = -0.42;
 float offset_Enc3_rad = 0.24;
 long mycount = 0;
-long sum_each_call = 1000000;
+long sum_each_call = 360000;
 volatile long series = 0;
 
 void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, float *tau2,
