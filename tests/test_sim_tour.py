@@ -12,13 +12,19 @@ def tour():
     return simulate(log=True)
 
 
+NO_SOLUTION = b"IK: no solution\n\r"
+
+
 def printed_blocks(run):
-    """(tick, motor_deg, xyz_in, ik_motor_deg) for every three-line print."""
+    """(tick, motor_deg, xyz_in, ik_motor_deg) for every three-line print; ik_motor_deg None where
+    the lab printed that its IK has no solution."""
     out = []
     calls = run.calls
     for i in range(0, len(calls) - 2, 3):
-        rows = [np.array([float(v) for v in calls[i + k][1].split()]) for k in range(3)]
-        out.append((calls[i][0], *rows))
+        rows = [np.array([float(v) for v in calls[i + k][1].split()]) for k in range(2)]
+        third = calls[i + 2][1]
+        ik = None if third == NO_SOLUTION else np.array([float(v) for v in third.split()])
+        out.append((calls[i][0], *rows, ik))
     return out
 
 
@@ -70,6 +76,21 @@ def test_straight_up_prints_0_0_30(tour):
     # straight up is on the base axis, where every joint-1 angle is a solution: the lab's float
     # angles leave x a hair below zero and its IK may answer 180 deg; it must still land there
     np.testing.assert_allclose(crs.fk(np.radians(ik)), xyz, atol=0.02)
+
+
+def test_the_elbow_straight_at_full_reach_is_a_hair_outside_it_in_the_board_s_float(tour):
+    # on the way up the hand holds the elbow straight (motor 3 - motor 2 = -90 deg) and tilts the
+    # shoulder: the tip is at full reach, where the law of cosines gives cos = 1 exactly; in the
+    # board's 32-bit double the lab's FK and IK round it a hair past 1, and its IK says so
+    _, motor, xyz, ik = block_at(tour, 15.6)
+    assert motor[2] - motor[1] == pytest.approx(-90.0, abs=0.011)
+    assert np.hypot(xyz[0], xyz[2] - 10.0) == pytest.approx(20.0, abs=0.02)  # upper arm + forearm, in
+    assert ik is None
+    # every other block of the tour has a solution, and it lands where the lab's FK put the tip
+    solved = [b for b in printed_blocks(tour) if b[3] is not None]
+    assert len(solved) == len(printed_blocks(tour)) - 1
+    for _, _, xyz_b, ik_b in solved:
+        np.testing.assert_allclose(crs.fk(np.radians(ik_b)), xyz_b, atol=0.02)
 
 
 def test_back_at_rest_after_release(tour):
