@@ -175,13 +175,18 @@ void crs_fk_dh_batch(const double *dh_rad, double *xyz_in, size_t n)
     }
 }
 
+/* The arrays never overlap (restrict; crs_arm.h): without it gcc checks at run time whether they
+ * do and takes a scalar loop when they lie close together in memory, whose libm atan2 differs in
+ * its last bits from the vector one: the same points would get other angles by where they lie. */
 CRS_VECTOR_CLONES
-void crs_ik_dh_batch(const double *xyz_in, int elbow_up, double *dh_rad, int *status, size_t n)
+void crs_ik_dh_batch(const double *restrict xyz_in, int elbow_up, double *restrict dh_rad, int *restrict status,
+                     size_t n)
 {
     for (size_t i = 0; i < n; ++i) status[i] = ik_dh_core(xyz_in + 3 * i, elbow_up, dh_rad + 3 * i);
 }
 
-void crs_ik_motor_batch(const double *xyz_in, int elbow_up, double *motor_rad, int *status, size_t n)
+void crs_ik_motor_batch(const double *restrict xyz_in, int elbow_up, double *restrict motor_rad,
+                        int *restrict status, size_t n)
 {
     crs_ik_dh_batch(xyz_in, elbow_up, motor_rad, status, n);
     for (size_t i = 0; i < n; ++i) {

@@ -57,7 +57,7 @@ void crs_outside_envelope_motor_batch(const double *motor_rad, int *outside, siz
 /* d(xyz_in)/d(motor_rad), row-major 3x3, inches per radian. */
 void crs_jacobian_motor(const double motor_rad[3], double jac_in_per_rad[9]);
 
-/* Batch forms over n rows of 3 (row-major), for the numpy API. */
+/* Batch forms over n rows of 3 (row-major), for the numpy API; an output never overlaps an input. */
 void crs_motor_to_dh_batch(const double *motor_rad, double *dh_rad, size_t n);
 void crs_dh_to_motor_batch(const double *dh_rad, double *motor_rad, size_t n);
 void crs_fk_motor_batch(const double *motor_rad, double *xyz_in, size_t n);
