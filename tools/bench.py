@@ -22,6 +22,10 @@ sys.path.insert(0, str(HERE / "benchmarks"))  # the benchmarks' helper modules
 
 def main() -> int:
     args = sys.argv[1:]
+    if args in (["-h"], ["--help"]):
+        names = " ".join(sorted(p.stem.removeprefix("bench_") for p in HERE.glob("benchmarks/bench_*.py")))
+        print(f"usage: tools/bench.py [NAME ...] [OPTIONS]\n\n{__doc__.strip()}\n\nbenchmarks: {names}")
+        return 0
     first_option = next((i for i, a in enumerate(args) if a.startswith("-")), len(args))
     only, options = args[:first_option], args[first_option:]
     if options and not only:
