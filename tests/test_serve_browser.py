@@ -130,6 +130,7 @@ def test_dragging_a_link_moves_the_arm(alice):
     page.get_by_test_id("editor").fill(starter_text("lab1", "A"))
     page.get_by_test_id("scenario").select_option("hands_off")  # nothing else moves the arm
     page.get_by_test_id("speed").select_option("1")
+    page.get_by_test_id("duration").fill("600")  # the drag below may take longer than hands_off's 30 s
     page.get_by_test_id("run").click()
     expect(page.get_by_test_id("joint-angles")).to_contain_text("deg")
     angles = page.get_by_test_id("joint-angles")
@@ -154,6 +155,7 @@ def test_dragging_a_link_moves_the_arm(alice):
     page.mouse.up()
     page.get_by_test_id("stop").click()
     expect(page.get_by_test_id("diagnosis")).to_contain_text("interrupted: stopped at t = ")
+    page.get_by_test_id("duration").fill("")  # the scenario's again, for the tests after
 
 
 def test_check_against_a_golden_file_from_the_page(alice, tmp_path):
