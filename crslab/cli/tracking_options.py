@@ -70,7 +70,7 @@ class TrackingRun:
         self.path_start_tick = sim.config.startup_ticks + int(round(path_start_s * TICKS_PER_S))
         if duration_given:
             return end_tick
-        return self.path_start_tick + int(round((self.plan.trajectory.end_s + END_MARGIN_S) * 1000))
+        return self.path_start_tick + int(round((self.plan.trajectory.end_s + END_MARGIN_S) * TICKS_PER_S))
 
     def finish(self) -> None:
         """Print the tracking report (stderr) and draw the plot."""

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from crslab.contest.scorecard import Scorecard, column
+from crslab.framework_facts import TICKS_PER_S
 
 
 def draw_card(log: Mapping[str, np.ndarray], world: Any, card: Scorecard, path: Path) -> None:
@@ -23,7 +24,7 @@ def draw_card(log: Mapping[str, np.ndarray], world: Any, card: Scorecard, path: 
     import matplotlib.pyplot as plt
     from matplotlib.patches import Circle, Polygon, Rectangle
 
-    t = column(log, "tick") / 1000.0
+    t = column(log, "tick") / TICKS_PER_S
     tip = column(log, "peg_tip", 3)
     fig, (top, force) = plt.subplots(1, 2, figsize=(12, 5.6), gridspec_kw={"width_ratios": [1, 1.2]})
 

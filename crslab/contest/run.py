@@ -30,7 +30,7 @@ from crslab.worker.config import RunConfig
 CONTEST_WORLD = "contest"
 CONTEST_SCENARIO = "hands_off"
 """Nobody touches the arm during a contest run."""
-CHUNK_TICKS = 1000
+CHUNK_TICKS = TICKS_PER_S
 """How often (ticks) the run looks whether the motion has ended."""
 
 

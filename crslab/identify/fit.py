@@ -328,18 +328,18 @@ class Problem:
         for src in self.sources:
             rec = src.recording
             search = min(rec.duration_s, 10.0) + 1.0
-            end = int((WARMUP_S + search + rec.duration_s * (1 + al.MAX_DRIFT)) * 1000) + 20
+            end = int((WARMUP_S + search + rec.duration_s * (1 + al.MAX_DRIFT)) * TICKS_PER_S) + 20
             runs.append(IdentifyRun(src.config, self.start, src.lab_offsets, end))
         plots = self.runner.run_all(runs)
         for src, plot, run in zip(self.sources, plots, runs):
             rec = src.recording
-            latest = run.end_tick - int(rec.duration_s * 1000 * (1 + al.MAX_DRIFT)) - 15
+            latest = run.end_tick - int(rec.duration_s * TICKS_PER_S * (1 + al.MAX_DRIFT)) - 15
             start = al.coarse_start(plot, rec.plotvars, rec.t_s, int(WARMUP_S * TICKS_PER_S), latest)
             alignment = al.fine_bounds(plot, rec.plotvars, rec.t_s, start, rec.map.motor_columns,
                                        rec.period_s * 1000.0)
             self.alignments.append(alignment)
-            self.lengths.append(start + int(math.ceil(5 + 2 * rec.period_s * 1000
-                                                      + rec.duration_s * 1000 * (1 + al.MAX_DRIFT))) + 5)
+            ticks = 5 + 2 * rec.period_s * TICKS_PER_S + rec.duration_s * TICKS_PER_S * (1 + al.MAX_DRIFT)
+            self.lengths.append(start + int(math.ceil(ticks)) + 5)
         rest = 2 if self.fit_rest else 0
         for a in self.alignments:
             self.x0 += [a.phase_ms, a.drift] + [0.0] * rest

@@ -405,7 +405,7 @@ class Expect(Event):
 
     def describe(self) -> str:
         if self.note_for is not None:
-            return f"expect: note the motor angles (for the expectation at {self.note_for / 1000:g} s)"
+            return f"expect: note the motor angles (for the expectation at {self.note_for / TICKS_PER_S:g} s)"
         return "expect " + ", ".join(c.describe() for c in self.conditions)
 
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from crslab.framework_facts import WRIST_ESTOP_RAD
+from crslab.framework_facts import TICKS_PER_S, WRIST_ESTOP_RAD
 from crslab.scenario.event import Event, RandomFaults, seconds_to_tick, until_tick
 from crslab.scenario.file_table import joint_numbers, per_joint
 from crslab.toml_file import Table
@@ -84,12 +84,12 @@ class EncoderGlitch(Event):
             raise r.fail("rate_hz", "must be more than 0")
         size = r.integer("counts", minimum=1, maximum=2**31 - 1)
         joints = joint_numbers(r)
-        if rate * (until - at) / 1000.0 > MAX_GLITCHES:
+        if rate * (until - at) / TICKS_PER_S > MAX_GLITCHES:
             raise r.fail("rate_hz", f"gives more than {MAX_GLITCHES} glitches")
         # Python's random() sequence for an int seed is stable across Python versions
         rng = random.Random(faults.next_state())
         out: list[Event] = []
-        t = at / 1000.0
+        t = at / TICKS_PER_S
         while True:
             t += -np.log(1.0 - rng.random()) / rate
             tick = seconds_to_tick(t)

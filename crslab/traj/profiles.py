@@ -36,6 +36,7 @@ import numpy as np
 
 from crslab import _bindings
 from crslab._bindings import constants
+from crslab.framework_facts import TICKS_PER_S
 
 PROFILES: dict[str, int] = {
     "li": constants.TRAJ_LI,
@@ -154,7 +155,7 @@ class Trajectory:
         _bindings.traj_evaluate(self._segments, self.start_s, self.n_joints, t, *out)
         return Samples(*out)
 
-    def sample(self, rate_hz: int = 1000) -> tuple[np.ndarray, Samples]:
+    def sample(self, rate_hz: int = TICKS_PER_S) -> tuple[np.ndarray, Samples]:
         """The trajectory at tick ``k`` = ``k / rate_hz`` seconds, from 0 to the first tick at or
         after the end (times from integer ticks, never accumulated).
 

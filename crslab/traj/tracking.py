@@ -83,7 +83,7 @@ def tracking_report(log: dict[str, np.ndarray], plan: WaypointPlan, path_start_t
     which the lab asked for more than the +-5 clamp allows.
     """
     ticks = log["tick"][:, 0]
-    end_tick = path_start_tick + int(round(plan.trajectory.end_s * 1000))
+    end_tick = path_start_tick + int(round(plan.trajectory.end_s * TICKS_PER_S))
     rows = (ticks >= path_start_tick) & (ticks <= end_tick)
     if not rows.any():
         raise TrackingError("the run ended before the waypoint path began: give a longer --duration")
@@ -91,7 +91,7 @@ def tracking_report(log: dict[str, np.ndarray], plan: WaypointPlan, path_start_t
     desired = plan.trajectory.evaluate(t).q
     actual = log["enc_rad"][rows]
     err = desired - actual
-    saturated = (np.abs(log["tau_lab"]) > CLAMP_UNITS).sum(axis=0) / 1000.0
+    saturated = (np.abs(log["tau_lab"]) > CLAMP_UNITS).sum(axis=0) / TICKS_PER_S
     return TrackingReport(np.abs(err).max(axis=0), np.sqrt((err ** 2).mean(axis=0)), saturated,
                           t, desired, actual)
 
