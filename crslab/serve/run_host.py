@@ -69,8 +69,12 @@ from crslab.world import World
 
 SEND_BUFFER_BYTES = 4 << 20
 """The host's side of its pipe to the server buffers this much (as far as the system allows)."""
-BATCH_S = 0.005
-"""A wake-up runs every run due within this much of now (s), in one request to the worker."""
+BATCH_S = 0.03
+"""A wake-up runs every run due within this much of now (s), in one request to the worker, the one
+due first first: a run's chunk is then made up to this much earlier than it is due (its ticks and
+the page's messages are the same), and a host with 50 runs at real time wakes some 30 times a
+second for 6 chunks, not 100 times for 2 (each wake-up's first chunk finds the host's and the
+worker's caches cold: on two cores, the hosts' and workers' CPU per session fell by a fifth)."""
 CUT_REST_S = 0.08
 """A run whose chunk had its share of the host (:mod:`crslab.worker.share`: it ended at 10 ms of the
 worker's CPU) and is behind its pace gets its next chunk this long after (s): a run that costs more
@@ -420,7 +424,8 @@ class RunHost:
                     while pipe.poll(0):
                         self.handle(self.conn.recv())
                 now = time.monotonic()
-                due = [s for s in self.sessions.values() if s.due_s <= now + BATCH_S]
+                due = sorted((s for s in self.sessions.values() if s.due_s <= now + BATCH_S),
+                             key=lambda s: s.due_s)
                 if due:
                     self.step(in_turn(due))
         except (EOFError, OSError):
