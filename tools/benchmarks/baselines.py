@@ -108,11 +108,14 @@ class BareRun:
     cpu_s: list[float]        # the process's CPU time during each pass's loop
 
 
-def run_bare_loop(exe: Path, controls: Path, passes: int = 2, model_xml: Path = MODEL_XML) -> BareRun:
+def run_bare_loop(exe: Path, controls: Path, passes: int = 2, model_xml: Path = MODEL_XML,
+                  cpu: int | None = None) -> BareRun:
     """Run the bare loop over a saved recording ``passes`` times in one process, on ``model_xml``
-    (default: the arm's own scene; a world's scene for a run in that world)."""
+    (default: the arm's own scene; a world's scene for a run in that world), on core ``cpu`` only
+    when given (None: wherever the system puts it)."""
+    pin = None if cpu is None else (lambda: os.sched_setaffinity(0, {cpu}))
     r = subprocess.run([str(exe), str(model_xml), str(controls), str(passes)], capture_output=True,
-                       text=True, check=False)
+                       text=True, check=False, preexec_fn=pin)
     if r.returncode != 0:
         raise RuntimeError(f"bare_mj_step failed: {r.stderr.strip()}")
     rows = [line.split() for line in r.stdout.splitlines()]
