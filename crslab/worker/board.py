@@ -412,11 +412,12 @@ class Board:
 
     def stats(self) -> RunStats:
         """The board's counters (read in one call)."""
-        counters = self.c.counters(self.sim)
-        over = min(constants.CRS_FIRST_OVER_TICKS, counters["over_budget"])
-        first_over = tuple(int(self.sim.first_over_tick[i]) for i in range(over))
-        return RunStats(**counters, first_over_tick=first_over,
-                        native=self.config.build.native, motor_board=self.config.motor_board_model)
+        fields: dict = self.c.counters(self.sim)  # (a table of its own: filled in here)
+        over = min(constants.CRS_FIRST_OVER_TICKS, fields["over_budget"])
+        fields["first_over_tick"] = tuple(int(self.sim.first_over_tick[i]) for i in range(over))
+        fields["native"] = self.config.build.native
+        fields["motor_board"] = self.config.motor_board_model
+        return RunStats.of(fields)
 
     def take_motor_board_events(self) -> list[worker_messages.MotorBoardEvent]:
         """The motor board's cut-outs starting or ending since the last call."""

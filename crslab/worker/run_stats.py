@@ -93,6 +93,28 @@ class RunStats:
     motor_board_events: tuple[tuple[int, int, bool], ...] = ()
     """The motor board's cut-outs and returns: ``(tick, joint, off)``."""
 
+    @classmethod
+    def of(cls, fields: dict[str, Any]) -> RunStats:
+        """``RunStats(**fields)``, made without ``__init__``'s keywords (a frozen dataclass sets
+        each of its 33 fields through ``object.__setattr__``: the worker makes one for every
+        chunk's reply, some 400 a second in a server), every field not in ``fields`` its default;
+        a name that is no field raises ``TypeError``, as ``__init__`` would.
+
+        >>> RunStats.of({"lab_calls": 3, "native": True}) == RunStats(lab_calls=3, native=True)
+        True
+        >>> RunStats.of({"lab_cals": 3})
+        Traceback (most recent call last):
+        ...
+        TypeError: RunStats has no field lab_cals
+        """
+        unknown = fields.keys() - _DEFAULTS.keys()
+        if unknown:
+            raise TypeError(f"RunStats has no field {', '.join(sorted(unknown))}")
+        stats = object.__new__(cls)
+        stats.__dict__.update(_DEFAULTS)
+        stats.__dict__.update(fields)
+        return stats
+
     def wire(self) -> dict[str, Any]:
         """The statistics as plain data (names to ints, a flag, a name, lists of ticks), every field
         in order (a dataclass's ``__dict__`` holds its fields as ``__init__`` set them: a copy of
@@ -105,6 +127,8 @@ class RunStats:
 
 _NAMES = tuple(f.name for f in dataclasses.fields(RunStats))
 """RunStats's fields in order (read once: every chunk's reply sends them)."""
+_DEFAULTS: dict[str, Any] = {f.name: f.default for f in dataclasses.fields(RunStats)}
+"""Each field's default, in order (every one a plain value: :meth:`RunStats.of`)."""
 
 
 BOARD_COUNTERS: tuple[str, ...] = tuple(
