@@ -137,15 +137,15 @@ class BrowserStream(Sink):
             return
         # the message as message("chunk", ...) writes it, its packed fields put in as they are (JSON
         # would copy and scan their base64 for characters to escape, of which base64 has none)
-        parts = [b'{"type": "chunk", "serial": ', json.dumps(self.serial).encode()]
+        parts = [b'{"type": "chunk", "serial": ', json.dumps(self.serial).encode() if self.serial else b"[]"]
         log = _scope_rows(self.blocks) if self.blocks else None
         if log is not None:
             self.pose.on_log(log)
             parts += [b', "frames": ', self._frames(log), b', "scope": ',
                       self._scope(log, self.world and "scale_g" in log)]
         sent = round(time.monotonic(), 4)  # the machine's monotonic clock: where lag arises
-        parts.append(b', "first": %d, "tick": %d, "sent": %s}' % (self.first_tick, tick,
-                                                                  json.dumps(sent).encode()))
+        # (a finite float's JSON is its repr: json.dumps writes float.__repr__)
+        parts.append(b', "first": %d, "tick": %d, "sent": %s}' % (self.first_tick, tick, repr(sent).encode()))
         self.send(b"".join(parts))
         self.first_tick = tick
         self.serial, self.blocks = [], []
