@@ -331,7 +331,9 @@ class BoardRun:
               controls: Sequence[LiveControl] = ()) -> ChunkedRun:
         """A run to ``end_tick`` taken chunk by chunk by its caller (:meth:`run` is one such caller,
         a server that runs many labs in one worker another: crslab/serve/run_host.py)."""
-        return ChunkedRun(self, end_tick, FanOut([sink or Sink()]), pacer, controls)
+        # a caller's FanOut as it is (one wrapping it would forward each of a chunk's calls twice)
+        out = sink if isinstance(sink, FanOut) else FanOut([sink or Sink()])
+        return ChunkedRun(self, end_tick, out, pacer, controls)
 
     def _chunks(self, run: ChunkedRun, ctrl_c: CtrlC) -> Ending:
         """Run chunk after chunk to the run's end; how the run ended."""
