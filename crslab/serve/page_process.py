@@ -398,6 +398,9 @@ def serve_session(conn: Connection, folder: str, limits: SessionLimits) -> None:
                 else:
                     session.send(message("error", message=text))
     finally:
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)  # the server's SIGTERM may come now: finish
+        try:
+            signal.signal(signal.SIGTERM, signal.SIG_IGN)  # the server's SIGTERM may come now: finish
+        except (OSError, SystemExit):
+            pass  # one already pending: CPython says "Signal 15 ignored due to race condition" (or runs it)
         shutil.rmtree(folder, ignore_errors=True)
         os._exit(0)
