@@ -16,6 +16,7 @@ import fcntl
 import os
 import pickle
 import shutil
+import signal
 import sys
 from pathlib import Path
 
@@ -89,6 +90,12 @@ SLOW_FIRST = (
 def pytest_configure(config: pytest.Config) -> None:
     if hasattr(config.option, "loadscopereorder"):  # pytest-xdist: keep the order below
         config.option.loadscopereorder = False
+    # A shell without job control starts a command put in the background (`pytest ... &`) with
+    # SIGINT ignored, and an ignored signal stays ignored across exec: every crslab the tests
+    # start would then ignore the Ctrl-C they send it. A handler of this process's own is reset
+    # to the default at exec, so the children get Ctrl-C as from a terminal.
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
