@@ -68,6 +68,14 @@ def attackers_folder(where: Path) -> Path:
     return folder
 
 
+def assert_refused_as_a_link(module_cache: Path, link: Path) -> None:
+    """``crslab sim`` with ``link`` in the cache exits 2 with the one line that names it."""
+    r = sim(module_cache)
+    assert r.returncode == 2
+    assert last_line(r) == (f"crslab sim: {link} cannot be used in crslab's cache: it is a symbolic "
+                            "link (remove it)")
+
+
 # -- compiled/ -----------------------------------------------------------------------------------
 
 def test_a_compiled_folder_that_is_a_link_is_refused_with_its_line(module_cache, tmp_path):
@@ -77,10 +85,7 @@ def test_a_compiled_folder_that_is_a_link_is_refused_with_its_line(module_cache,
     theirs = attackers_folder(tmp_path)
     compiled.symlink_to(theirs)
     try:
-        r = sim(module_cache)
-        assert r.returncode == 2
-        assert last_line(r) == (f"crslab sim: {compiled} cannot be used in crslab's cache: it is a symbolic "
-                                "link (remove it)")
+        assert_refused_as_a_link(module_cache, compiled)
         assert list(theirs.iterdir()) == []  # nothing written into it, nothing of it sealed
     finally:
         compiled.unlink()
@@ -238,10 +243,7 @@ def test_a_build_folder_planted_as_a_link_is_refused_with_its_line(module_cache,
     shutil.rmtree(objects)
     objects.symlink_to(copy)
     try:
-        r = sim(module_cache)
-        assert r.returncode == 2
-        assert last_line(r) == (f"crslab sim: {objects} cannot be used in crslab's cache: it is a symbolic "
-                                "link (remove it)")
+        assert_refused_as_a_link(module_cache, objects)
     finally:
         objects.unlink()
 
