@@ -3,8 +3,9 @@
     tools/egg_presses.py mass      the arm's mass at the tip, vertically, at the egg's pose; the
                                    drives' stiffness there
     tools/egg_presses.py drive     a two-mass model of a press: a rigid drive against a compliant one
-    tools/egg_presses.py presses   the contest's style labs and variants of the position press, each
-                                   on its bench: the touch's speed and the force held
+    tools/egg_presses.py presses   the contest's style labs' presses and their variants, each on its
+                                   bench: the touch's speed and the force held; --scale N/m puts
+                                   another scale (what the egg stands in and on) under the egg
 
 ``presses`` runs whole contest runs (about 2 s of CPU each); the others take a second.
 """
@@ -26,7 +27,7 @@ CONTEST = ROOT / "tests" / "labs" / "contest"
 EGG_POSE_M = (0.226, 0.184, 0.30)  # the median team's egg top (the force feedforward's bench)
 COURSE_ROTORS = (0.075, 0.0375)  # the course's motor 2 and 3 rotor inertias, kg.m^2
 DRIVE_NM_PER_RAD = (0.9e4, 1.0e4, 1.5e4)  # the drives' stiffness (models/crs_arm/README.md)
-EGG_N_PER_M = 7.5e4  # the egg's shell and scale in series (docs/worlds.md)
+EGG_N_PER_M = 1.0 / (1.0 / 3e5 + 1.0 / 1.5e4)  # the egg's shell and scale in series (docs/worlds.md)
 STATIC_N = 16.9  # the joints' static friction at the tip, down (models/crs_arm/README.md)
 
 
@@ -72,16 +73,20 @@ def mass() -> None:
     course.tendon_armature[0] = COURSE_ROTORS[1]
     with_course, _ = tip_mass_kg(course, q)
     print(f"egg's pose {EGG_POSE_M} m: joints {np.round(q, 4)} rad")
-    print(f"mass at the tip, vertically: {full:.2f} kg; links alone {links:.2f} kg, "
-          f"rotors {full - links:.2f} kg; with the course's rotor values {with_course:.2f} kg")
+    print(
+        f"mass at the tip, vertically: {full:.2f} kg; links alone {links:.2f} kg, "
+        f"rotors {full - links:.2f} kg; with the course's rotor values {with_course:.2f} kg"
+    )
     # motor 2 is joint j2 (plus a constant), motor 3 the tendon j2 + j3: dz/dm2 = dz/dj2 - dz/dj3
     dz = (jz[1] - jz[2], jz[2])
     print(f"the tip's vertical motion per motor angle: motor 2 {dz[0]:.3f}, motor 3 {dz[1]:.3f} m/rad")
     for k in DRIVE_NM_PER_RAD:
         tip = k / (dz[0] ** 2 + dz[1] ** 2)
         series = 1.0 / (1.0 / tip + 1.0 / EGG_N_PER_M)
-        print(f"drives of {k:.1e} N.m/rad: {tip:.3g} N/m at the tip; with the egg {series:.3g} N/m "
-              f"({series / EGG_N_PER_M:.2f} of it)")
+        print(
+            f"drives of {k:.1e} N.m/rad: {tip:.3g} N/m at the tip; with the egg {series:.3g} N/m "
+            f"({series / EGG_N_PER_M:.2f} of it)"
+        )
 
 
 def two_mass(v: float, drive: float | None, egg_ratio: float, depth: float = 0.005) -> tuple[float, float]:
@@ -133,27 +138,47 @@ def drive() -> None:
         for v in (0.010, 0.015, 0.020, 0.035):
             rigid = two_mass(v, None, ratio)
             soft = two_mass(v, 2.2e5, ratio)
-            print(f"  touch at {v * 1000:.0f} mm/s: rigid drive peak {rigid[0]:.1f} N held {rigid[1]:.1f} N; "
-                  f"drive of 2.2e5 N/m peak {soft[0]:.1f} N held {soft[1]:.1f} N")
+            print(
+                f"  touch at {v * 1000:.0f} mm/s: rigid drive peak {rigid[0]:.1f} N held {rigid[1]:.1f} N; "
+                f"drive of 2.2e5 N/m peak {soft[0]:.1f} N held {soft[1]:.1f} N"
+            )
 
 
-# The position press as first written (15 mm/s, 1.5 mm deep, friction compensation on) and the
-# one shipped at other speeds: (name, swaps of the lab's text).
-PRESS_WITH_COMPENSATION = (
-    ("#define PRESS_DEPTH 0.005", "#define PRESS_DEPTH 0.0015"),
-    ("    *fc = 0;", "    /* compensation on */"),
+# The presses the teams used, as the style labs write them, and variants: (name, (style, swaps of
+# the lab's text)).
+NO_COMPENSATION = (("(void)fc;   /* the friction compensation stays as it is */", "*fc = 0;"),)
+FROM_REST = (
+    (
+        "{EGG_X, EGG_Y, EGG_TOP + 0.003, 0.03, STIFF, 0.0},",
+        "{EGG_X, EGG_Y, EGG_TOP + 0.003, 0.03, STIFF, 0.5},",
+    ),
 )
 VARIANTS: dict[str, tuple[str, tuple[tuple[str, str], ...]]] = {
-    "position_press": ("position_press", ()),
-    "position_press as first written (compensation on, 1.5 mm)": ("position_press", PRESS_WITH_COMPENSATION),
+    "position_press (15 mm/s, 5 mm deep, compensation on)": ("position_press", ()),
+    "position_press 1.5 mm deep": (
+        "position_press",
+        (("#define PRESS_DEPTH 0.005", "#define PRESS_DEPTH 0.0015"),),
+    ),
     "position_press at 10 mm/s": ("position_press", (("0.015, PRESS", "0.010, PRESS"),)),
     "position_press at 20 mm/s": ("position_press", (("0.015, PRESS", "0.020, PRESS"),)),
-    "soft_z_press": ("soft_z_press", ()),
-    "force_feedforward": ("force_feedforward", ()),
+    "position_press, no compensation while pressing": ("position_press", NO_COMPENSATION),
+    "position_press, no compensation, at 10 mm/s": (
+        "position_press",
+        NO_COMPENSATION + (("0.015, PRESS", "0.010, PRESS"),),
+    ),
+    "soft_z_press (begun moving)": ("soft_z_press", ()),
+    "soft_z_press begun from rest": ("soft_z_press", FROM_REST),
+    "force_feedforward (7.8 N)": ("force_feedforward", ()),
+    "force_feedforward with twice the force": (
+        "force_feedforward",
+        (("float Fpress = 1.3", "float Fpress = 2.6"),),
+    ),
 }
 
 
-def presses() -> None:
+def presses(scale_n_per_m: float | None) -> None:
+    import dataclasses
+
     from crslab.contest.scorecard import score
     from crslab.run.api import simulate
     from crslab.world import load_world
@@ -169,6 +194,9 @@ def presses() -> None:
             lab = Path(folder) / f"{style}_{abs(hash(name))}.c"
             lab.write_text(text)
             world = load_world(CONTEST / f"{style}.toml")
+            if scale_n_per_m is not None:
+                egg = dataclasses.replace(world.egg, scale_stiffness_n_per_m=scale_n_per_m)
+                world = dataclasses.replace(world, egg=egg)
             result = simulate(lab, "hands_off", world=world, log=True, duration_s=26.0)
             if not result.ok:
                 sys.exit(f"egg_presses: {name}: {result.diagnosis()}")
@@ -189,8 +217,17 @@ def presses() -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="tools/egg_presses.py", description=__doc__.split("\n\n")[0])
     parser.add_argument("what", choices=("mass", "drive", "presses"), help="which experiment")
+    parser.add_argument(
+        "--scale",
+        type=float,
+        metavar="N_PER_M",
+        help="presses: the scale's stiffness instead of each bench's (N/m)",
+    )
     args = parser.parse_args(argv)
-    {"mass": mass, "drive": drive, "presses": presses}[args.what]()
+    if args.what == "presses":
+        presses(args.scale)
+    else:
+        {"mass": mass, "drive": drive}[args.what]()
     return 0
 
 

@@ -435,7 +435,7 @@ def egg_solref(world: World, peg_invweight: float, arm_mass_kg: float) -> tuple[
     >>> from crslab.world.world_file import load_world
     >>> s, b = egg_solref(load_world("contest"), 1.65, 4.9)
     >>> round(-s), round(-b)
-    (86625, 280)
+    (16500, 122)
     """
     e = world.egg
     assert e is not None
