@@ -43,14 +43,15 @@ INCLUDE_DIRS = (KIN, BOARD, PLANT, PORT)
 """Where the core's sources find their headers."""
 C_FLAGS = ["-std=c11", "-O3", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-fno-trapping-math",
            "-fno-semantic-interposition", "-flto"]
-LINK_FLAGS = ["-flto", "-Wall", "-Wextra", "-Werror"]
+LINK_FLAGS = ["-flto=auto", "-Wall", "-Wextra", "-Werror"]
 """Link-time optimization: the tick's calls from one source into another (tick.c into the
 framework, the drive, friction, the hand, the serial lines and host ports: some twenty a tick)
 are inlined or made direct, as calls within one file are; ``-fno-semantic-interposition`` lets
 the compiler do so for the functions the core exports. The code link-time optimization writes is
 checked with the same warnings. No floating-point option changes: the same operations, the same
 bits (the transcripts are byte-identical); about 0.2-0.3 us less of a tick's 6.3 us of worker CPU
-(tools/bench.py sim)."""
+(tools/bench.py sim). The link (``-flto=auto``) runs its jobs in parallel, as many as the machine
+has (with a bare ``-flto`` gcc runs them one after another and says so on every build)."""
 # glibc's vector math (libmvec) backs the vectorized batch loops on x86-64 Linux.
 # pthread: the WebAssembly port's watchdog thread (interrupts per store)
 LIBRARIES = (["m", "mvec"] if platform.machine() == "x86_64" and sys.platform == "linux" else ["m"]) + ["dl",
