@@ -300,6 +300,11 @@ def read_bytes(cdata: Any, n: int) -> bytes:
     return bytes(ffi.buffer(cdata, n))
 
 
+def read_ints(cdata: Any, n: int) -> list[int]:
+    """The first ``n`` integers of ``cdata`` (an integer array of the core's), in one call."""
+    return ffi.unpack(cdata, n) if n > 0 else []
+
+
 def write_bytes(cdata: Any, data: bytes) -> None:
     """Copy ``data`` to ``cdata`` (an array or pointer of the core's, with room for it)."""
     ffi.memmove(cdata, data, len(data))

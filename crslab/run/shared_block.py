@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from crslab import os_support
-from crslab._bindings import constants, read_bytes, scope_log_columns, shared_view, size_of
+from crslab._bindings import constants, read_bytes, read_ints, scope_log_columns, shared_view, size_of
 from crslab.run.host_ports import PortExchange, exchange, port_index
 from crslab.world.world_facts import split_world_row
 
@@ -93,8 +93,9 @@ class SharedBlock:
         be kept since then (more in one chunk than the block holds: ``CRS_SERIAL_CAPACITY`` bytes,
         ``CRS_MARK_CAPACITY`` ticks)."""
         sh = self.view
-        for i in range(min(int(sh.print_count), len(sh.print_tick))):
-            on_print(int(sh.print_tick[i]), int(sh.print_chars[i]))
+        n_prints = min(int(sh.print_count), len(sh.print_tick))
+        for tick, chars in zip(read_ints(sh.print_tick, n_prints), read_ints(sh.print_chars, n_prints)):
+            on_print(tick, chars)
         sh.print_count = 0
         dropped = max(0, int(sh.serial_dropped))
         sh.serial_dropped = 0
@@ -102,9 +103,9 @@ class SharedBlock:
         n_marks = min(int(sh.mark_count), len(sh.mark_offset))
         if n_bytes:
             raw = read_bytes(sh.serial, n_bytes)
-            offsets = [min(int(sh.mark_offset[i]), n_bytes) for i in range(n_marks)] + [n_bytes]
-            for i in range(n_marks):
-                on_serial(int(sh.mark_tick[i]), raw[offsets[i]:max(offsets[i], offsets[i + 1])])
+            offsets = [min(offset, n_bytes) for offset in read_ints(sh.mark_offset, n_marks)] + [n_bytes]
+            for i, tick in enumerate(read_ints(sh.mark_tick, n_marks)):
+                on_serial(tick, raw[offsets[i]:max(offsets[i], offsets[i + 1])])
         sh.serial_len = 0
         sh.mark_count = 0
         return dropped
