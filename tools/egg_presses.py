@@ -21,13 +21,15 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from crslab.world import load_world
+
 ROOT = Path(__file__).resolve().parents[1]
 ARM_XML = ROOT / "models" / "crs_arm" / "crs_arm.xml"
 CONTEST = ROOT / "tests" / "labs" / "contest"
 EGG_POSE_M = (0.226, 0.184, 0.30)  # the median team's egg top (the force feedforward's bench)
 COURSE_ROTORS = (0.075, 0.0375)  # the course's motor 2 and 3 rotor inertias, kg.m^2
 DRIVE_NM_PER_RAD = (0.9e4, 1.0e4, 1.5e4)  # the drives' stiffness (models/crs_arm/README.md)
-EGG_N_PER_M = 1.0 / (1.0 / 3e5 + 1.0 / 1.5e4)  # the egg's shell and scale in series (docs/worlds.md)
+EGG_N_PER_M = load_world("contest").egg.stiffness_n_per_m  # shell and scale in series (docs/worlds.md)
 STATIC_N = 16.9  # the joints' static friction at the tip, down (models/crs_arm/README.md)
 
 
@@ -181,7 +183,6 @@ def presses(scale_n_per_m: float | None) -> None:
 
     from crslab.contest.scorecard import score
     from crslab.run.api import simulate
-    from crslab.world import load_world
     from crslab.world.world_facts import TOUCH_N
 
     with tempfile.TemporaryDirectory() as folder:
