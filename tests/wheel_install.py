@@ -73,6 +73,22 @@ minute of CPU; a run imports a few hundred of them, compiled when first imported
 installed, and how a student's commands run it, is the same."""
 
 
+def kept_zig_libc(dest: Path) -> dict[str, str]:
+    """zig's C library as this checkout's installation prepared it, copied to ``dest``, as
+    ``CRSLAB_ZIG_LIBC_DIR`` for the wheel's environment: its ``crslab doctor`` then finds the
+    library prepared, as a second installation of the same zig would need it built, and does not
+    spend one to two minutes of both cores building it again. Building it from nothing, with its
+    progress lines, is tests/test_zig_first_use.py's. Nothing when this installation has none (no
+    zig): the wheel's doctor then builds its own."""
+    from crslab.lab.zig import LIBC_ENV, libc_homes
+
+    for home in libc_homes():
+        if any(home.glob("*/manifest.json")):
+            shutil.copytree(home, dest)
+            return {LIBC_ENV: str(dest)}
+    return {}
+
+
 def install_wheel(base: Path) -> Installed:
     """Build the wheel from a clean copy of the checkout and install it as first-lab.md says."""
     source = clean_copy(base / "crslab-src")
@@ -92,7 +108,7 @@ def install_wheel(base: Path) -> Installed:
     env = {k: v for k, v in os.environ.items()
            if k not in ("PYTHONPATH", "VIRTUAL_ENV", "CRSLAB_CACHE_DIR", "PYTHONDONTWRITEBYTECODE")}
     env.update(PATH=f"{tools}{os.pathsep}{os.environ['PATH']}", CRSLAB_CACHE_DIR=str(base / "cache"),
-               PYTHONNOUSERSITE="1", **NO_BYTECODE)
+               PYTHONNOUSERSITE="1", **NO_BYTECODE, **kept_zig_libc(base / "zig-libc"))
     [install, *_] = code_blocks(DOCS / "first-lab.md", "sh")
     assert install.startswith("python3 -m venv .venv"), install
     r = run("bash", "-c", "set -euo pipefail\n" + install, cwd=work, env=env)
