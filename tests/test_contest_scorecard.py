@@ -288,6 +288,37 @@ def test_an_egg_never_touched_says_how_high_the_peg_stayed():
     assert card.lines()[3].endswith("never touched: the tip's lowest over it 14.0 mm above its top")
 
 
+def test_an_arm_at_rest_over_the_egg_says_the_push_its_static_friction_holds():
+    """Down to 14 mm over the egg at t = 1 s, still there to 3 s: the card says when it rested and
+    the push down at the tip the joints' static friction holds there, computed here from two inverse
+    kinematics 0.1 mm apart (the scorecard solves the Jacobian) and the plant's static bands."""
+    from crslab import crs
+    from crslab.plant.plant_params import PlantParams
+
+    tip_m = np.array([0.2, 0.2, 0.314])
+    log = trace([(0, 0.2, 0.2, 0.35), (1, *tip_m), (3, *tip_m)])
+    log["qpos_dh_rad"] = crs.ik_dh(log["peg_tip"] / 0.0254)
+    card = score(log, layout())
+    dz_m = 1e-4
+    turn = (crs.ik((tip_m - [0, 0, dz_m]) / 0.0254) - crs.ik(tip_m / 0.0254)) / dz_m  # rad per m down
+    plant = PlantParams.defaults()
+    expected = sum((plant.static_band_nm(m)[1] if w > 0 else -plant.static_band_nm(m)[0]) * abs(w)
+                   for m, w in zip((1, 2, 3), turn))
+    e = card.egg
+    assert not e.done and e.done_at_s is None
+    assert e.breakaway_n == pytest.approx(expected, rel=1e-3)
+    # within 0.5 mm of where it stopped from 0.5 mm before it, coming down 36 mm in the second
+    assert e.rested_from_s == pytest.approx(1 - 0.5 / 36, abs=0.002)
+    assert e.rested_for_s == pytest.approx(2 + 0.5 / 36, abs=0.002)
+    assert card.lines()[3].endswith(
+        f"14.0 mm above its top; the arm rested there from t = 0.99 s for 2.0 s: from rest at that pose its "
+        f"joints' static friction holds it against a push down at the tip under about {expected:.0f} N")
+    # still for less than half a second: no rest, no figure
+    moving = trace([(0, 0.2, 0.2, 0.35), (1, *tip_m), (1.4, *tip_m), (2, 0.2, 0.2, 0.35)])
+    moving["qpos_dh_rad"] = crs.ik_dh(moving["peg_tip"] / 0.0254)
+    assert score(moving, layout()).egg.breakaway_n is None
+
+
 # -- the whole card -----------------------------------------------------------------------------
 
 def full_run(end=13.0):
@@ -370,3 +401,18 @@ def test_a_log_without_the_worlds_signals_is_one_line():
     with pytest.raises(ScorecardError) as err:
         score(log, layout())
     assert "\n" not in str(err.value) and "'scale_g'" in str(err.value)
+
+
+def test_the_card_s_json_in_docs_has_the_keys_the_card_writes():
+    """docs/contest.md's example card.json: the same keys, task by task, as :meth:`Scorecard.as_dict`."""
+    import json
+    import re
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "contest.md").read_text()
+    shown = json.loads(re.search(r'^(\{"complete".*?\}\})\n```', text, re.MULTILINE | re.DOTALL).group(1))
+    written = score(full_run(), layout()).as_dict()
+    assert list(shown) == list(written)
+    for task in written["tasks"]:
+        assert list(shown["tasks"][task]) == list(written["tasks"][task]), task
+    assert list(shown["run"]) == list(written["run"])

@@ -185,6 +185,9 @@ def test_a_soft_z_press_begun_from_rest_does_not_move_the_stuck_arm(runs):
     log, card = runs["soft_z_from_rest"]
     assert not card.egg.done and log["egg_force"].max() < TOUCH_N, "\n".join(card.lines())
     assert "never touched" in next(line for line in card.lines() if line.startswith("egg"))
+    # the card says why: at rest there the joints hold the arm against more than the spring's push
+    assert card.egg.rested_from_s is not None and 10.0 < card.egg.breakaway_n < 25.0, card.egg
+    assert "static friction holds it against a push down at the tip under about" in card.lines()[3]
 
 
 def test_a_target_that_jumps_into_the_hole_fails_the_peg(runs):

@@ -237,6 +237,10 @@ def _egg_line(e: Egg, ru: Any) -> str:
         if e.lowest_above_top_m is not None:
             text += (f"; never touched: the tip's lowest over it {1000 * e.lowest_above_top_m:.1f} mm above "
                      "its top")
+            if e.breakaway_n is not None:
+                text += (f"; the arm rested there from t = {e.rested_from_s:.2f} s for "
+                         f"{e.rested_for_s:.1f} s: from rest at that pose its joints' static friction holds "
+                         f"it against a push down at the tip under about {e.breakaway_n:.0f} N")
         else:
             text += "; never touched: the tip never came over it"
     else:
@@ -313,7 +317,9 @@ def card_dict(card: Scorecard) -> dict:
                        "stuck_at": pt(g.stuck_at), "lowest_above_top_m": r(g.lowest_above_top_m)},
             "egg": {"done": e.done, "done_at_s": r(e.done_at_s, 3), "peak_g": r(e.peak_g, 1),
                     "in_band_s": r(e.in_band_s, 3), "broken": e.broken, "broken_by": e.broken_by,
-                    "peak_before_break_g": r(e.peak_before_break_g, 1)},
+                    "peak_before_break_g": r(e.peak_before_break_g, 1),
+                    "lowest_above_top_m": r(e.lowest_above_top_m), "rested_from_s": r(e.rested_from_s, 3),
+                    "breakaway_n": r(e.breakaway_n, 1)},
         },
         "time_s": r(card.time_s, 3),
         "rest": None if card.rest is None else {"motor_rad": [r(v, 6) for v in card.rest.motor_rad],

@@ -32,6 +32,9 @@ NEAR_HOLE_M = 0.03
 STUCK_S = 1.0
 """A peg in the groove that moves less than :data:`STUCK_M` for this long (s) is stuck there."""
 STUCK_M = 0.002
+AT_REST_M = 0.0005
+"""A tip that stays within this (m) of a point for :data:`AT_REST_S` (s) came to rest there."""
+AT_REST_S = 0.5
 OBSTACLE_PARTS = (("peg", "obstacle_peg_force"), ("forearm", "obstacle_forearm_force"),
                   ("upper arm", "obstacle_upper_arm_force"))
 """The parts of the arm the world tells apart on the obstacle, and their log columns."""
@@ -290,7 +293,38 @@ class Egg:
     peak_before_break_g: float | None = None
     touched: bool = True
     lowest_above_top_m: float | None = None   # never touched: the tip's lowest over the egg, above its top
+    rested_from_s: float | None = None        # ... when the arm came to rest there (for at least AT_REST_S)
+    rested_for_s: float | None = None
+    breakaway_n: float | None = None
+    """... the push down at the tip (N) that moves the arm from rest at that pose with x and y held:
+    :func:`breakaway_down_n`."""
     note: str = ""
+
+
+def breakaway_down_n(dh_rad: np.ndarray) -> float:
+    """The push straight down at the tip (N) under which the arm, at rest at the DH angles
+    ``dh_rad`` (rad) with x and y held, stays put: each motor's static band edge (crslab's plant,
+    N.m) times how far that motor turns (rad) per metre the tip goes down, summed (virtual work;
+    docs/worlds.md, "What presses do on it"). The push is what the lab's torques and the arm's
+    weight leave together.
+
+    At the egg of docs/worlds.md (motor angles 0.68, 0.47, 0.80 rad), 3.0 rad of motor 2 and 3.7 of
+    motor 3 per metre down, both positive: 3.0 Spos2 + 3.7 Spos3.
+
+    >>> from crslab import crs
+    >>> round(breakaway_down_n(crs.motor_to_dh([0.68, 0.47, 0.80])), 1)
+    16.9
+    """
+    from crslab import crs
+    from crslab.plant.plant_params import PlantParams
+
+    motor = crs.dh_to_motor(dh_rad)
+    down_in = np.linalg.solve(crs.jacobian(motor), [0.0, 0.0, -1.0])  # rad per inch down
+    per_m = down_in / 0.0254
+    plant = PlantParams.defaults()
+    edges = [plant.static_band_nm(m)[1] if turn > 0 else -plant.static_band_nm(m)[0]
+             for m, turn in zip((1, 2, 3), per_m)]
+    return float(sum(edge * abs(turn) for edge, turn in zip(edges, per_m)))
 
 
 def judge_egg(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Egg:
@@ -314,12 +348,24 @@ def judge_egg(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Egg:
         code = int(round(column(log, "egg_broken_by")[at]))
         by = EGG_BROKEN_BY.get(code, f"code {code}")
     touched = bool((force > TOUCH_N).any())
-    lowest = None
+    lowest = rested_from = rested_for = breakaway = None
     if not touched:
         over = _across(tr, egg.center_xy_m) <= egg.diameter_m / 2
-        lowest = float(tr.tip[over, 2].min() - egg.top_z_m) if over.any() else None
+        if over.any():
+            low = int(np.flatnonzero(over)[np.argmin(tr.tip[over, 2])])
+            lowest = float(tr.tip[low, 2] - egg.top_z_m)
+            near = np.linalg.norm(tr.tip - tr.tip[low], axis=1) <= AT_REST_M
+            start, end = low, low + 1
+            while start > 0 and near[start - 1]:
+                start -= 1
+            while end < len(near) and near[end]:
+                end += 1
+            if (end - start) * tr.dt >= AT_REST_S - 1e-9 and "qpos_dh_rad" in log:  # the arm's true DH angles
+                rested_from, rested_for = float(tr.t[start]), (end - start) * tr.dt
+                breakaway = breakaway_down_n(column(log, "qpos_dh_rad", 3)[low])
     return Egg(k >= 0 and not broken, float(grams.max()), rows * tr.dt, broken,
                float(tr.t[at]) if broken else None, float(tr.t[k]) if k >= 0 and not broken else None,
                broken_by=by,
                peak_before_break_g=float(grams[:at].max()) if at > 0 else (0.0 if broken else None),
-               touched=touched, lowest_above_top_m=lowest)
+               touched=touched, lowest_above_top_m=lowest, rested_from_s=rested_from, rested_for_s=rested_for,
+               breakaway_n=breakaway)
