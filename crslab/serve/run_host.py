@@ -169,7 +169,8 @@ class HostedSession:
         if run.contest is not None:
             self.out.add(ContestCardSink(self.send, config.world, run.contest, config.startup_ticks,
                                          config.budget_instructions))
-        if run.record_csv or run.record_rrd:
+        recording = run.record_csv or run.record_rrd
+        if recording:
             from crslab.sinks.rerun_writer import RecorderSink
 
             self.host.closed()  # forked now: no other thread of the host runs (a recorder closing)
@@ -179,6 +180,10 @@ class HostedSession:
         pacer = Pacer(run.speed, 0, chunks=PAGE_CHUNKS, phase=run.phase)
         self.control = PageControl(self.send, stream, VarConsole(config.build.watched), pacer, self._busy)
         self.chunked = self.sim.start(run.end_tick, self.out, pacer, [self.control])
+        if config.log_signals and self.motion is None and run.contest is None and not recording:
+            # the page's stream is the only sink that takes rows: it packs them from the block
+            self.chunked.rows_in_block = True
+            stream.rows_from(self.sim.block)
         events = [{"tick": e.tick, "text": e.describe()} for e in config.scenario.events]
         contest = None if run.contest is None else {"band_g": list(config.world.contest.band_g),
                                                     "rest_motor_rad": list(run.contest.motor_rad),
