@@ -5,8 +5,9 @@ The Python-visible declarations are read from the public headers listed in ``HEA
 and every prototype is written once, in its header. Every ``*.c`` file under ``csrc/kin`` is
 compiled in, and so are the board (``csrc/board``) with the WebAssembly firmware's port
 (``firmware_wasm.c``; the native port is linked with a lab instead, crslab/lab/build.py), the
-plant's C (``csrc/plant``) and what the board shares with the firmware (``csrc/port``): the
-worker runs a lab's WebAssembly firmware on this board. The course framework's numbers
+plant's C (``csrc/plant``), what the board shares with the firmware (``csrc/port``) and the
+page's rows packed from the shared block (``csrc/page``: a run host's): the worker runs a lab's
+WebAssembly firmware on this board. The course framework's numbers
 (``csrc/port/framework_facts.h``, declarations only) and its generations' rows (``generations.h``,
 the rows in ``generations.c``) come along so that Python reads them from the same C the emulated
 board is built with.
