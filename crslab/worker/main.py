@@ -179,7 +179,9 @@ class BoardInstances:
 class Replies:
     """A :class:`~crslab.worker.worker_messages.RunMany`'s replies, written to ``conn`` together: one
     write (and one wake-up of the crslab process) for many, not one each, once the request is done
-    or its first reply has waited :data:`REPLY_HOLD_S`. Each is the frame ``conn.send`` writes."""
+    or its first reply has waited :data:`REPLY_HOLD_S`. Each is the frame ``conn.send`` writes.
+    The hold is looked at as each reply comes: a firmware call that runs to its deadline (a hang
+    the watchdog ends) holds the replies before it as long as it holds the runs after it."""
 
     def __init__(self, conn: Connection) -> None:
         self.conn = conn
