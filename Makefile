@@ -7,7 +7,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.crslab-installed
 # Anything that changes what the install builds or pulls in.
-DEPS   := pyproject.toml setup.py crslab/cheaders.py $(wildcard csrc/*.py csrc/kin/*.c csrc/kin/*.h csrc/board/*.c csrc/board/*.h csrc/plant/*.c csrc/plant/*.h csrc/port/*.c csrc/port/*.h)
+DEPS   := pyproject.toml setup.py crslab/cheaders.py $(wildcard csrc/*.py csrc/kin/*.c csrc/kin/*.h csrc/board/*.c csrc/board/*.h csrc/plant/*.c csrc/plant/*.h csrc/port/*.c csrc/port/*.h csrc/page/*.c csrc/page/*.h)
 
 .DEFAULT_GOAL := help
 .PHONY: help sim test bench mutants lint clean venv

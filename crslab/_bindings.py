@@ -336,6 +336,43 @@ def scope_log_columns() -> list[tuple[str, int, str, int]]:
             for name, field in ffi.typeof("crs_scope_log").fields if field.type.kind == "array"]
 
 
+class PageRows:
+    """The page's packed rows of a chunk straight from a shared block's scope log
+    (``crs_page_rows``, csrc/page/page_rows.h): one per run (it keeps the frame of the last frame
+    sent, and a buffer it reuses). ``world``: where the egg's force, the scale's grams and the egg
+    broken start in a world row (a world with fixtures), or None."""
+
+    def __init__(self, every: int, world: tuple[int, int, int] | None) -> None:
+        self.every = every
+        self.world = ffi.new("crs_page_world *", world) if world is not None else ffi.NULL
+        self.state = ffi.new("crs_page_state *", {"frame": -1})
+        self._out: Any = None
+        self._capacity = 0
+
+    def take(self, shared: Any) -> bytes:
+        """The chunk message's ``frames`` and ``scope`` fields (``, "frames": ..., "scope": ...``)
+        of the rows ``shared`` (a ``crs_shared *``) holds, which are taken off it (its count back to
+        0); b"" when none is of a tick divisible by ``every``."""
+        n = min(max(0, int(shared.log.count)), lib.CRS_LOG_CAPACITY)
+        need = lib.crs_page_rows_capacity(n)
+        if need > self._capacity:
+            self._out, self._capacity = ffi.new("char[]", need), need
+        size = lib.crs_page_rows(ffi.addressof(shared.log), n, self.every, self.world, self.state, self._out,
+                                 self._capacity)
+        shared.log.count = 0
+        return ffi.buffer(self._out, size)[:] if size > 0 else b""
+
+    @property
+    def qpos_dh_rad(self) -> np.ndarray:
+        """The last row's DH angles (of the last :meth:`take` that had rows)."""
+        return np.array(ffi.unpack(self.state.qpos_dh_rad, 3))
+
+    @property
+    def egg_broken(self) -> bool:
+        """Whether the last row's egg was broken."""
+        return bool(self.state.egg_broken)
+
+
 def shared_view(memory: Any) -> Any:
     """The ``crs_shared *`` (csrc/board/board.h) over ``memory`` (a writable buffer of
     ``size_of("crs_shared")`` bytes: the shared block's mapping)."""

@@ -5,8 +5,9 @@ The Python-visible declarations are read from the public headers listed in ``HEA
 and every prototype is written once, in its header. Every ``*.c`` file under ``csrc/kin`` is
 compiled in, and so are the board (``csrc/board``) with the WebAssembly firmware's port
 (``firmware_wasm.c``; the native port is linked with a lab instead, crslab/lab/build.py), the
-plant's C (``csrc/plant``) and what the board shares with the firmware (``csrc/port``): the
-worker runs a lab's WebAssembly firmware on this board. The course framework's numbers
+plant's C (``csrc/plant``), what the board shares with the firmware (``csrc/port``) and the
+page's rows packed from the shared block (``csrc/page``: a run host's): the worker runs a lab's
+WebAssembly firmware on this board. The course framework's numbers
 (``csrc/port/framework_facts.h``, declarations only) and its generations' rows (``generations.h``,
 the rows in ``generations.c``) come along so that Python reads them from the same C the emulated
 board is built with.
@@ -26,6 +27,7 @@ KIN = HERE / "kin"
 BOARD = HERE / "board"
 PLANT = HERE / "plant"
 PORT = HERE / "port"
+PAGE = HERE / "page"
 # The plant's headers, whose types the board's struct holds (board.h includes them; cffi reads no
 # #include, so they come before it).
 PLANT_TYPES = [PLANT / "drive.h", PLANT / "friction.h", PLANT / "hand.h", PLANT / "plant_faults.h",
@@ -33,13 +35,13 @@ PLANT_TYPES = [PLANT / "drive.h", PLANT / "friction.h", PLANT / "hand.h", PLANT 
 # vector_math.h is internal (attributes, no API); every other header is the Python-visible API.
 HEADERS = sorted(h for h in KIN.glob("*.h") if h.name != "vector_math.h") + [
     PORT / "framework_facts.h", PORT / "generations.h", PORT / "firmware_board.h", *PLANT_TYPES,
-    BOARD / "board.h", BOARD / "board_config.h", BOARD / "firmware_wasm.h"]
+    BOARD / "board.h", BOARD / "board_config.h", BOARD / "firmware_wasm.h", PAGE / "page_rows.h"]
 NATIVE_ONLY = {"firmware_native.c", "debug.c"}
 """Board sources linked only with a native lab (crslab/lab/build.py), never into the core: the
 native port and what a debugger reads (a second ``crs_tick`` here would be the one gdb finds)."""
 SOURCES = (sorted(KIN.glob("*.c")) + sorted(p for p in BOARD.glob("*.c") if p.name not in NATIVE_ONLY)
-           + sorted(PLANT.glob("*.c")) + sorted(PORT.glob("*.c")))
-INCLUDE_DIRS = (KIN, BOARD, PLANT, PORT)
+           + sorted(PLANT.glob("*.c")) + sorted(PORT.glob("*.c")) + sorted(PAGE.glob("*.c")))
+INCLUDE_DIRS = (KIN, BOARD, PLANT, PORT, PAGE)
 """Where the core's sources find their headers."""
 C_FLAGS = ["-std=c11", "-O3", "-Wall", "-Wextra", "-Werror", "-fno-math-errno", "-fno-trapping-math",
            "-fno-semantic-interposition", "-flto"]

@@ -382,6 +382,10 @@ class ChunkedRun:
         self.printed = _Printed(sink, sim.limits.output_bytes)
         self._logs = sim.config.log_signals
         self._world = not sim.config.world.is_free_air
+        self.rows_in_block = False
+        """The scope rows stay in the shared block, for a sink that takes them there (a run host's
+        page stream: :meth:`crslab.sinks.page_stream.BrowserStream.rows_from`), and no sink gets
+        them through ``on_log``."""
 
     @property
     def done(self) -> bool:
@@ -471,7 +475,7 @@ class ChunkedRun:
         """Hand the scope rows the board wrote since the last time to the sink (when the run logs
         them): after a chunk, as many as it left (none, perhaps); ``only_rows``: only if there
         are any (a run that ended after its last chunk was handed on has none)."""
-        if self._logs:
+        if self._logs and not self.rows_in_block:
             rows = self.sim.block.take_log(world=self._world)
             if len(rows["tick"]) or not only_rows:
                 self.sink.on_log(rows)

@@ -9,8 +9,9 @@ shared :class:`~crslab.run.board_client.BoardClient`), paces it with the one pac
 sinks (the page's stream, the transcript, the recorder) as ``crslab sim`` does
 (:class:`~crslab.run.board_run.ChunkedRun`). A chunk is due :data:`LEAD_S` before the wall clock
 reaches its first tick (the page plays it from then on), and one wake-up runs every run of the
-worker that is due (within :data:`BATCH_S`) in one request. The page's commands (stop, speed,
-vars, hand, release) reach the run between two chunks, as they arrive.
+worker that is due (within :data:`BATCH_S`, :data:`ACTING_BATCH_S` while its page acts) in one
+request. The page's commands (stop, speed, vars, hand, release) reach the run between two chunks,
+as they arrive.
 
 The pipe to the server (:mod:`crslab.serve.wire`): in, the server's requests (a run, a page's
 command, a page gone); out, one frame per page message (:func:`~crslab.serve.wire.host_frame`).
@@ -69,12 +70,17 @@ from crslab.world import World
 
 SEND_BUFFER_BYTES = 4 << 20
 """The host's side of its pipe to the server buffers this much (as far as the system allows)."""
-BATCH_S = 0.03
+BATCH_S = 0.06
 """A wake-up runs every run due within this much of now (s), in one request to the worker, the one
 due first first: a run's chunk is then made up to this much earlier than it is due (its ticks and
-the page's messages are the same), and a host with 50 runs at real time wakes some 30 times a
-second for 6 chunks, not 100 times for 2 (each wake-up's first chunk finds the host's and the
-worker's caches cold: on two cores, the hosts' and workers' CPU per session fell by a fifth)."""
+the page's messages are the same), and a host with 50 runs at real time wakes some 15 times a
+second for 13 chunks, not 100 times for 2 (each wake-up costs the host and the worker a few system
+calls and cold caches: on two cores, 30 ms instead of none took a fifth off the hosts' and workers'
+CPU per session, 60 ms instead of 30 another 5 %). A run whose page acts (its chunks are 20 ms:
+:class:`~crslab.serve.stream.PageControl`) waits for :data:`ACTING_BATCH_S` only, so that the
+hand's push is not made further ahead of what the page shows."""
+ACTING_BATCH_S = 0.03
+"""A wake-up's window (s) for a run whose page acts (:data:`BATCH_S`)."""
 CUT_REST_S = 0.08
 """A run whose chunk had its share of the host (:mod:`crslab.worker.share`: it ended at 10 ms of the
 worker's CPU) and is behind its pace gets its next chunk this long after (s): a run that costs more
@@ -135,6 +141,8 @@ class HostedSession:
         """The last chunk was cut and left the run behind its pace: it goes on slowed."""
         self.turn = 0
         """The host's wake-up that last ran it (:func:`in_turn`)."""
+        self.window_s = BATCH_S
+        """How early a wake-up runs its next chunk (:data:`BATCH_S`, :data:`ACTING_BATCH_S`)."""
         self.motion: MotionWatch | None = None
         """A contest run's watch on the arm's motion (it ends the run once the motion has)."""
 
@@ -169,7 +177,8 @@ class HostedSession:
         if run.contest is not None:
             self.out.add(ContestCardSink(self.send, config.world, run.contest, config.startup_ticks,
                                          config.budget_instructions))
-        if run.record_csv or run.record_rrd:
+        recording = run.record_csv or run.record_rrd
+        if recording:
             from crslab.sinks.rerun_writer import RecorderSink
 
             self.host.closed()  # forked now: no other thread of the host runs (a recorder closing)
@@ -179,6 +188,10 @@ class HostedSession:
         pacer = Pacer(run.speed, 0, chunks=PAGE_CHUNKS, phase=run.phase)
         self.control = PageControl(self.send, stream, VarConsole(config.build.watched), pacer, self._busy)
         self.chunked = self.sim.start(run.end_tick, self.out, pacer, [self.control])
+        if config.log_signals and self.motion is None and run.contest is None and not recording:
+            # the page's stream is the only sink that takes rows: it packs them from the block
+            self.chunked.rows_in_block = True
+            stream.rows_from(self.sim.block)
         events = [{"tick": e.tick, "text": e.describe()} for e in config.scenario.events]
         contest = None if run.contest is None else {"band_g": list(config.world.contest.band_g),
                                                     "rest_motor_rad": list(run.contest.motor_rad),
@@ -205,7 +218,14 @@ class HostedSession:
             self.finish(Ending(RunStatus.CRASHED, self.sim.tick, str(exc)))
             return False
         self.due_s = self.chunked.pacer.due_s(self.sim.tick) - LEAD_S  # a new speed paces from now
+        self.window_s = self._window_s()
         return True
+
+    def _window_s(self) -> float:
+        """The run's :attr:`window_s`: short while its page acts (its chunks are short)."""
+        control = self.control
+        acting = control is not None and control.chunk_ticks(control.speed) is not None
+        return ACTING_BATCH_S if acting else BATCH_S
 
     def take(self, reply: object) -> Ending | None:
         """Hand a chunk's reply to the sinks (its controls wait for :meth:`after`: the worker may
@@ -239,6 +259,7 @@ class HostedSession:
         self.chunked.serve_controls()
         pacer = self.chunked.pacer
         self.due_s = pacer.due_s(self.sim.tick) - LEAD_S
+        self.window_s = self._window_s()
         self.behind = self.cut and pacer.speed is not None and self.due_s <= time.monotonic()
         if self.behind:
             # it had its share of the host and is behind its pace: it costs more than real time (x
@@ -424,7 +445,7 @@ class RunHost:
                     while pipe.poll(0):
                         self.handle(self.conn.recv())
                 now = time.monotonic()
-                due = sorted((s for s in self.sessions.values() if s.due_s <= now + BATCH_S),
+                due = sorted((s for s in self.sessions.values() if s.due_s <= now + s.window_s),
                              key=lambda s: s.due_s)
                 if due:
                     self.step(in_turn(due))

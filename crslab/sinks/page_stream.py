@@ -19,12 +19,17 @@ import base64
 import json
 import time
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from crslab.scenario.expect_events import ExpectOutcome
 from crslab.sinks.latest_pose import LatestPose
 from crslab.sinks.sink import Ended, Sink
+
+if TYPE_CHECKING:
+    from crslab._bindings import PageRows
+    from crslab.run.shared_block import SharedBlock
 
 FRAME_HZ = 60
 """Poses of the arm per simulated second sent to the page (the 3D view)."""
@@ -106,6 +111,23 @@ class BrowserStream(Sink):
         """The arm's latest pose (its DH angles: the hand pulls from there)."""
         self.first_tick = 0
         self._frame = -1  # the 1/60 s frame of simulated time the last frame sent was in
+        self._block: SharedBlock | None = None
+        self._rows: PageRows | None = None
+
+    def rows_from(self, block: SharedBlock) -> None:
+        """Take each message's scope rows straight from the run's shared block, packed there in C
+        (:class:`~crslab._bindings.PageRows`: the same bytes), not from :meth:`on_log`: a run host's
+        page runs, whose other sinks take no rows (the run leaves them in the block:
+        ``ChunkedRun.rows_in_block``)."""
+        from crslab._bindings import PageRows
+        from crslab.world.world_facts import WORLD_COLUMNS
+
+        starts, at = {}, 0
+        for name, width in WORLD_COLUMNS.items():
+            starts[name] = at
+            at += width
+        world = (starts["egg_force"], starts["scale_g"], starts["egg_broken"]) if self.world else None
+        self._block, self._rows = block, PageRows(SCOPE_EVERY_TICKS, world)
 
     @property
     def last_qpos(self) -> np.ndarray | None:
@@ -126,13 +148,18 @@ class BrowserStream(Sink):
         self.blocks.append(columns)
 
     def on_reached(self, tick: int) -> None:
-        self._send(tick)
+        self._send(tick, logged=self._block is not None)
 
     def on_end(self, result: Ended) -> None:
-        self._send(result.end_tick)  # the bytes still on the serial line as the run ended
+        # the bytes still on the serial line as the run ended, and the rows the block still holds
+        self._send(result.end_tick, logged=self._block is not None and self._block.view.log.count > 0)
 
-    def _send(self, tick: int) -> None:
-        """The chunk up to ``tick`` (what came since the last), as one ``chunk`` message."""
+    def _send(self, tick: int, logged: bool = False) -> None:
+        """The chunk up to ``tick`` (what came since the last), as one ``chunk`` message; ``logged``:
+        the block holds the chunk's rows (:meth:`rows_from`), and a message goes whatever they are."""
+        if self._rows is not None and self._block is not None:
+            self._send_packed(tick, logged)
+            return
         if not self.blocks and not self.serial:
             return
         # the message as message("chunk", ...) writes it, its packed fields put in as they are (JSON
@@ -149,6 +176,22 @@ class BrowserStream(Sink):
         self.send(b"".join(parts))
         self.first_tick = tick
         self.serial, self.blocks = [], []
+
+    def _send_packed(self, tick: int, logged: bool) -> None:
+        """:meth:`_send` for rows taken from the block (:meth:`rows_from`): the same message."""
+        assert self._rows is not None and self._block is not None
+        if not logged and not self.serial:
+            return
+        packed = self._rows.take(self._block.view) if logged else b""
+        if packed:
+            self.pose.qpos_dh_rad = self._rows.qpos_dh_rad
+            self.pose.egg_broken = self.pose.egg_broken or self._rows.egg_broken
+        sent = round(time.monotonic(), 4)
+        self.send(b'{"type": "chunk", "serial": %s%s, "first": %d, "tick": %d, "sent": %s}' % (
+            json.dumps(self.serial).encode() if self.serial else b"[]", packed, self.first_tick, tick,
+            repr(sent).encode()))
+        self.first_tick = tick
+        self.serial = []
 
     def _frames(self, log: dict[str, np.ndarray]) -> bytes:
         """The chunk's ``frames`` field, as JSON: the rows that start a new 1/60 s frame of

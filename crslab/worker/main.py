@@ -20,9 +20,11 @@ from __future__ import annotations
 import copy
 import mmap
 import os
+import struct
+import time
 from collections import OrderedDict
 from multiprocessing.connection import Connection
-from multiprocessing.reduction import recv_handle
+from multiprocessing.reduction import ForkingPickler, recv_handle
 from pathlib import Path
 
 import numpy as np
@@ -174,6 +176,42 @@ class BoardInstances:
         self.instances.clear()
 
 
+class Replies:
+    """A :class:`~crslab.worker.worker_messages.RunMany`'s replies, written to ``conn`` together: one
+    write (and one wake-up of the crslab process) for many, not one each, once the request is done
+    or its first reply has waited :data:`REPLY_HOLD_S`. Each is the frame ``conn.send`` writes.
+    The hold is looked at as each reply comes: a firmware call that runs to its deadline (a hang
+    the watchdog ends) holds the replies before it as long as it holds the runs after it."""
+
+    def __init__(self, conn: Connection) -> None:
+        self.conn = conn
+        self.frames: list[bytes] = []
+        self.since = 0.0
+
+    def add(self, reply: worker_messages.Message) -> None:
+        """Hold ``reply`` (written now when the first held one has waited long enough)."""
+        data = ForkingPickler.dumps(reply.wire())
+        now = time.monotonic()
+        if not self.frames:
+            self.since = now
+        self.frames += [struct.pack("!i", len(data)) if len(data) <= 0x7FFFFFFF
+                        else struct.pack("!iQ", -1, len(data)), data]
+        if now - self.since >= REPLY_HOLD_S:
+            self.write()
+
+    def write(self) -> None:
+        """Write the held replies, in one write (as much as the pipe takes each time)."""
+        if self.frames:
+            data, self.frames = memoryview(b"".join(self.frames)), []
+            while data:
+                data = data[os.write(self.conn.fileno(), data):]
+
+
+REPLY_HOLD_S = 0.005
+"""How long a RunMany's reply waits for the next ones to be written with them (s): a chunk's page
+message waits for its host's wake-up anyway (crslab/serve/run_host.py's ``FLUSH_S``)."""
+
+
 def serve(conn: Connection, first: RunConfig | None, shared_fd: int | None, debug: DebugSetup | None = None,
           deadline_s: float | None = None, share: Share | None = None) -> None:
     """Worker entry point: open instance 0 of ``first`` on the shared block ``shared_fd`` (when
@@ -206,8 +244,10 @@ def serve(conn: Connection, first: RunConfig | None, shared_fd: int | None, debu
                 case worker_messages.End():
                     return
                 case worker_messages.RunMany(targets):
+                    replies = Replies(conn)
                     for instance, until_tick in targets:
-                        send(worker.ran(instance, until_tick))
+                        replies.add(worker.ran(instance, until_tick))
+                    replies.write()
                 case _:
                     send(worker.answer(request))
     finally:
