@@ -19,7 +19,7 @@ import base64
 import json
 import time
 from collections.abc import Callable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -29,7 +29,15 @@ from crslab.sinks.sink import Ended, Sink
 
 if TYPE_CHECKING:
     from crslab._bindings import PageRows
-    from crslab.run.shared_block import SharedBlock
+
+
+class LoggedBlock(Protocol):
+    """What :meth:`BrowserStream.rows_from` reads: a run's shared block (crslab/run/shared_block.py's
+    ``SharedBlock``), whose ``view.log`` is the board's scope log of the chunk."""
+
+    @property
+    def view(self) -> Any: ...
+
 
 FRAME_HZ = 60
 """Poses of the arm per simulated second sent to the page (the 3D view)."""
@@ -111,10 +119,10 @@ class BrowserStream(Sink):
         """The arm's latest pose (its DH angles: the hand pulls from there)."""
         self.first_tick = 0
         self._frame = -1  # the 1/60 s frame of simulated time the last frame sent was in
-        self._block: SharedBlock | None = None
+        self._block: LoggedBlock | None = None
         self._rows: PageRows | None = None
 
-    def rows_from(self, block: SharedBlock) -> None:
+    def rows_from(self, block: LoggedBlock) -> None:
         """Take each message's scope rows straight from the run's shared block, packed there in C
         (:class:`~crslab._bindings.PageRows`: the same bytes), not from :meth:`on_log`: a run host's
         page runs, whose other sinks take no rows (the run leaves them in the block:

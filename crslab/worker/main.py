@@ -179,7 +179,7 @@ class BoardInstances:
 class Replies:
     """A :class:`~crslab.worker.worker_messages.RunMany`'s replies, written to ``conn`` together: one
     write (and one wake-up of the crslab process) for many, not one each, once the request is done
-    or its first reply has waited :data:`REPLY_HOLD_S`. Each is the frame ``conn.send`` writes.
+    or its first reply has waited :data:`REPLY_WAIT_S`. Each is the frame ``conn.send`` writes.
     The hold is looked at as each reply comes: a firmware call that runs to its deadline (a hang
     the watchdog ends) holds the replies before it as long as it holds the runs after it."""
 
@@ -196,7 +196,7 @@ class Replies:
             self.since = now
         self.frames += [struct.pack("!i", len(data)) if len(data) <= 0x7FFFFFFF
                         else struct.pack("!iQ", -1, len(data)), data]
-        if now - self.since >= REPLY_HOLD_S:
+        if now - self.since >= REPLY_WAIT_S:
             self.write()
 
     def write(self) -> None:
@@ -207,7 +207,7 @@ class Replies:
                 data = data[os.write(self.conn.fileno(), data):]
 
 
-REPLY_HOLD_S = 0.005
+REPLY_WAIT_S = 0.005
 """How long a RunMany's reply waits for the next ones to be written with them (s): a chunk's page
 message waits for its host's wake-up anyway (crslab/serve/run_host.py's ``FLUSH_S``)."""
 
