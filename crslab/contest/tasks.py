@@ -354,12 +354,10 @@ def judge_egg(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Egg:
         if over.any():
             low = int(np.flatnonzero(over)[np.argmin(tr.tip[over, 2])])
             lowest = float(tr.tip[low, 2] - egg.top_z_m)
-            near = np.linalg.norm(tr.tip - tr.tip[low], axis=1) <= AT_REST_M
-            start, end = low, low + 1
-            while start > 0 and near[start - 1]:
-                start -= 1
-            while end < len(near) and near[end]:
-                end += 1
+            # the stretch of rows around the lowest one within AT_REST_M of it
+            away = np.flatnonzero(np.linalg.norm(tr.tip - tr.tip[low], axis=1) > AT_REST_M)
+            start = int(away[away < low].max()) + 1 if (away < low).any() else 0
+            end = int(away[away > low].min()) if (away > low).any() else len(tr.tip)
             if (end - start) * tr.dt >= AT_REST_S - 1e-9 and "qpos_dh_rad" in log:  # the arm's true DH angles
                 rested_from, rested_for = float(tr.t[start]), (end - start) * tr.dt
                 breakaway = breakaway_down_n(column(log, "qpos_dh_rad", 3)[low])

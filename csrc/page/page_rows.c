@@ -30,28 +30,22 @@ static int64_t base64(const unsigned char *in, int64_t n, char *out) {
     return o - out;
 }
 
-/* A value's bytes, little-endian (the page's DataView reads them so). */
-static unsigned char *put_f8(unsigned char *p, double v) {
-    unsigned char b[8];
-    memcpy(b, &v, 8);
+/* The `n` bytes of the value at `v`, little-endian (the page's DataView reads them so). */
+static unsigned char *put_le(unsigned char *p, const void *v, int n) {
+    const unsigned char *b = (const unsigned char *)v;
+    for (int k = 0; k < n; k++) {
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-    for (int k = 0; k < 8; k++) p[k] = b[7 - k];
+        p[k] = b[n - 1 - k];
 #else
-    memcpy(p, b, 8);
+        p[k] = b[k];
 #endif
-    return p + 8;
+    }
+    return p + n;
 }
 
-static unsigned char *put_f4(unsigned char *p, float v) {
-    unsigned char b[4];
-    memcpy(b, &v, 4);
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
-    for (int k = 0; k < 4; k++) p[k] = b[3 - k];
-#else
-    memcpy(p, b, 4);
-#endif
-    return p + 4;
-}
+static unsigned char *put_f8(unsigned char *p, double v) { return put_le(p, &v, 8); }
+
+static unsigned char *put_f4(unsigned char *p, float v) { return put_le(p, &v, 4); }
 
 static int64_t frame_of(int64_t tick) {
     /* numpy's floor division, for any tick */
