@@ -207,6 +207,23 @@ def test_groove_left_sideways_halfway_is_named_where():
                                       "(0.350, 0.010) m")
 
 
+def test_a_brush_of_the_channel_s_edge_on_the_plate_before_dropping_in_is_not_the_stay():
+    """A slanted entry slides on the plate's top (its z, 0.20) along the entrance's edge, within
+    half the width of the centre line for 7 ms, out again (11 mm off), then drops in 10 mm along and
+    follows the Z to the exit: the stay that covers the Z is the one scored."""
+    keys = [(0, 0.43, 0.1, 0.25), (0.5, 0.415, 0.1, 0.2), (0.7, 0.4099, 0.1, 0.2), (0.702, 0.4099, 0.1, 0.2),
+            (0.72, 0.412, 0.1, 0.2), (0.8, 0.411, 0.09, 0.2), (1, 0.4, 0.09, GROOVE_Z), (1.9, 0.4, 0.0, GROOVE_Z),
+            (2.9, 0.3, 0.0, GROOVE_Z), (3.9, 0.3, -0.1, GROOVE_Z), (4.4, 0.3, -0.1, 0.25)]
+    log = trace(keys)
+    inside = (log["groove_offset"][:, 0] <= 0.01) & (log["peg_tip"][:, 2] <= 0.2)
+    brush = np.flatnonzero(inside[:800])
+    assert 1 <= len(brush) <= 10 and not inside[750]  # in for a few ms at the edge, then out again
+    g = score(log, layout()).groove
+    assert g.done and g.reached_exit and g.left_at is None
+    assert g.share == pytest.approx(0.29 / 0.3, abs=0.002)  # from 10 mm along to the exit
+    assert g.entered_at_s > 0.8
+
+
 def test_a_peg_stuck_in_the_groove_says_where_it_stayed():
     # in at the entrance at t 1 s, 5 cm along by 1.5 s, then still there to 3 s
     keys = [(0, 0.4, 0.1, 0.25), (1, 0.4, 0.1, GROOVE_Z), (1.5, 0.4, 0.05, GROOVE_Z),

@@ -213,7 +213,7 @@ def judge_obstacle(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Obst
 @dataclass(frozen=True)
 class Groove:
     done: bool
-    share: float            # of the Z's centre line covered in the first stay inside (0..1)
+    share: float            # of the Z's centre line covered in the stay inside that covers most (0..1)
     max_side_force_n: float
     entered_at_s: float | None
     done_at_s: float | None
@@ -228,8 +228,10 @@ class Groove:
 
 def judge_groove(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Groove:
     """Inside while the tip is within half the groove's width of the Z's centre line and below the
-    plate's top (down to its floor, with :data:`DEPTH_SLACK_M`). From the first row inside, the
-    share of the Z's length covered before it first leaves; done when that reaches the rules'."""
+    plate's top (down to its floor, with :data:`DEPTH_SLACK_M`). Of the stays inside, the one that
+    covers the most of the Z's length (a tip that slides along the plate's top at the mouth and
+    brushes the channel's edge for a moment before it drops in has not followed the groove for that
+    moment, nor left it); done when its share reaches the rules'."""
     gr, rules = world.groove, world.contest
     if gr is None:
         return Groove(False, 0.0, 0.0, None, None, note=f"world {world.name!r} has no groove")
@@ -246,9 +248,7 @@ def judge_groove(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Groove
             return Groove(False, 0.0, float(side.max()), None, None,
                           lowest_above_top_m=float(z[k] - gr.top_z_m))
         return Groove(False, 0.0, float(side.max()), None, None, nearest_m=float(offset.min()))
-    k0 = int(np.argmax(inside))
-    outside_after = np.flatnonzero(~inside[k0:])
-    k1 = k0 + int(outside_after[0]) if len(outside_after) else len(inside)   # the first row out again
+    k0, k1 = _longest_stay(inside, along)
     stay = along[k0:k1]
     share = float(np.clip((stay.max() - along[k0]) / total, 0.0, 1.0))
     reached_exit = bool(stay.max() >= total - gr.width_m / 2)
@@ -264,6 +264,21 @@ def judge_groove(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Groove
     return Groove(done, share, float(side[k0:k1].max()), float(tr.t[k0]), done_at,
                   left_at=(float(tr.tip[k1, 0]), float(tr.tip[k1, 1])) if left else None,
                   reached_exit=reached_exit, stuck_at=stuck_at, stuck_from_s=stuck_from)
+
+
+def _longest_stay(inside: np.ndarray, along: np.ndarray) -> tuple[int, int]:
+    """The rows ``[k0, k1)`` of the stay inside (a run of ``inside`` rows) over which the tip went
+    furthest along the Z from where it entered; the first such stay when several go as far.
+
+    >>> inside = np.array([0, 1, 0, 0, 1, 1, 1, 0], bool)
+    >>> _longest_stay(inside, np.array([0, 0.01, 0, 0, 0.01, 0.05, 0.09, 0.1]))
+    (4, 7)
+    """
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], inside.astype(np.int8), [0]))))
+    starts, ends = edges[::2], edges[1::2]
+    covered = [along[a:b].max() - along[a] for a, b in zip(starts, ends, strict=True)]
+    best = int(np.argmax(covered))
+    return int(starts[best]), int(ends[best])
 
 
 def _stuck(tr: Trace, k0: int, k1: int) -> tuple[tuple[float, float] | None, float | None]:
