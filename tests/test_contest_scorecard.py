@@ -212,8 +212,9 @@ def test_a_brush_of_the_channel_s_edge_on_the_plate_before_dropping_in_is_not_th
     half the width of the centre line for 7 ms, out again (11 mm off), then drops in 10 mm along and
     follows the Z to the exit: the stay that covers the Z is the one scored."""
     keys = [(0, 0.43, 0.1, 0.25), (0.5, 0.415, 0.1, 0.2), (0.7, 0.4099, 0.1, 0.2), (0.702, 0.4099, 0.1, 0.2),
-            (0.72, 0.412, 0.1, 0.2), (0.8, 0.411, 0.09, 0.2), (1, 0.4, 0.09, GROOVE_Z), (1.9, 0.4, 0.0, GROOVE_Z),
-            (2.9, 0.3, 0.0, GROOVE_Z), (3.9, 0.3, -0.1, GROOVE_Z), (4.4, 0.3, -0.1, 0.25)]
+            (0.72, 0.412, 0.1, 0.2), (0.8, 0.411, 0.09, 0.2), (1, 0.4, 0.09, GROOVE_Z),
+            (1.9, 0.4, 0.0, GROOVE_Z), (2.9, 0.3, 0.0, GROOVE_Z), (3.9, 0.3, -0.1, GROOVE_Z),
+            (4.4, 0.3, -0.1, 0.25)]
     log = trace(keys)
     inside = (log["groove_offset"][:, 0] <= 0.01) & (log["peg_tip"][:, 2] <= 0.2)
     brush = np.flatnonzero(inside[:800])
@@ -394,7 +395,8 @@ def test_the_run_s_lines_say_where_it_rested_and_what_cut_it_short():
     assert lines[6] == ("run       crashed at t = 13.000 s: final.c used a NULL pointer at final.c:99 in "
                         "lab() at tick 13000; the card covers the run up to t = 13.000 s")
     assert lines[7] == ("safety    the arm left the safety envelope at t = 7.00 s: the framework's hold took "
-                        "over from the lab")
+                        "over from the lab and kept the arm to the end of the run: the lab's torques were "
+                        "not used again")
     assert lines[8] == ("motors    the motor board cut every output at t = 9.50 s (joint 2 commanded over "
                         "its limit)")
     assert lines[9] == ("budget    3 lab() calls over the budget (the first at t = 5.123 s): on the board "
@@ -403,6 +405,25 @@ def test_the_run_s_lines_say_where_it_rested_and_what_cut_it_short():
     log["safety"][:] = 0.0
     log["safety"][1000:2000] = 1.0
     assert not any(x.startswith("safety") for x in score(log, layout(), run).lines())
+
+
+def test_the_safety_line_names_the_limit_crossed_and_whether_the_arm_came_back():
+    """The lab's own angles at the trip: the elbow (th3 DH = motor 3 - motor 2 + 90 deg) 0.5 deg
+    past its 2.3 rad; the flag clear again 1 s later."""
+    log = full_run()
+    n = len(log["tick"])
+    rest = np.array([0.0, -0.42, 0.24])
+    enc = np.tile(rest, (n, 1))
+    over = 2.3 + np.radians(0.5) - np.pi / 2 + rest[1]  # motor 3 that puts th3 DH 0.5 deg past 2.3 rad
+    enc[7000:8000, 2] = over
+    log["enc_rad"] = enc
+    log["safety"][7000:8000] = 1.0
+    line = next(x for x in score(log, layout()).lines() if x.startswith("safety"))
+    assert line == ("safety    the arm left the safety envelope at t = 7.00 s (th3 DH = "
+                    f"{np.degrees(2.3) + 0.5:.2f} deg is outside [8.59, 131.78] deg): the framework's hold "
+                    "took over from the lab; the arm back inside at t = 8.00 s")
+    run = score(log, layout()).as_dict()["run"]
+    assert run["safety_back_s"] == 8.0 and run["safety_why"].startswith("th3 DH = 132.28 deg")
 
 
 def test_a_world_without_fixtures_scores_nothing_and_says_why():

@@ -66,7 +66,8 @@ def test_an_unreachable_row_is_named():
 def test_a_row_outside_the_safety_envelope_is_named():
     err = error_of("x_in,y_in,z_in\n10,0,20\n20,0,10\n")  # DH zero: the forearm is level (th3 = 0)
     assert err.line == 3
-    assert "outside the crs arm's safety envelope: th3 DH = 0 deg is outside [8.59, 131.78] deg" in str(err)
+    assert ("outside the crs arm's safety envelope: th3 DH = 0.00 deg is outside [8.59, 131.78] deg"
+            in str(err))
 
 
 def test_elbow_down_puts_the_crs_arm_outside_its_envelope():

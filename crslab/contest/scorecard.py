@@ -34,6 +34,7 @@ from crslab.contest.tasks import (
 )
 from crslab.framework_facts import TICKS_PER_S
 from crslab.run.status import RunStatus
+from crslab.traj.joint_space import crs_outside_envelope, crs_why_outside
 from crslab.worker.run_stats import RunStats
 
 __all__ = ["RunFacts", "Scorecard", "ScorecardError", "score"]
@@ -68,6 +69,8 @@ class Ended:
     still_since_s: float | None     # the arm came to rest for good then (s)
     moved: bool                     # the arm moved at all (the first motion)
     safety_at_s: float | None       # the framework's safety envelope first tripped (s)
+    safety_why: str | None          # ... which of its limits the lab's angles crossed then
+    safety_back_s: float | None     # ... when the arm was first back inside (None: never again)
     motor_board_off_at_s: float | None
     motor_board_joint: int | None   # which joint's command cut it (0: no command came)
     over_budget: int                # lab() calls over the budget
@@ -147,10 +150,33 @@ def _ended(log: Mapping[str, np.ndarray], t: np.ndarray, tr: Trace, first: float
         logged_s=float(t[-1]), status=run.status, message=run.message,
         still_since_s=still_since(t, tr.tip, first), moved=first is not None,
         safety_at_s=float(t[np.argmax(safety)]) if safety.any() else None,
+        safety_why=_why_outside(log, safety), safety_back_s=_back_inside_s(t, safety),
         motor_board_off_at_s=float(t[np.argmax(off)]) if off.any() else None,
         motor_board_joint=int(cuts[0][1]) if cuts else None,
         over_budget=st.over_budget,
         first_over_s=st.first_over_tick[0] / TICKS_PER_S if st.first_over_tick else None)
+
+
+def _why_outside(log: Mapping[str, np.ndarray], safety: np.ndarray) -> str | None:
+    """Which limit of the envelope the lab's angles (``enc_rad``) crossed on the first row the
+    framework's flag is set (or the row before: the flag is the check after that tick's lab())."""
+    if not safety.any() or "enc_rad" not in log:
+        return None
+    k = int(np.argmax(safety))
+    enc = column(log, "enc_rad", 3)
+    for row in (k, k - 1):
+        if row >= 0 and crs_outside_envelope(enc[row])[0]:
+            return crs_why_outside(enc[row])
+    return None
+
+
+def _back_inside_s(t: np.ndarray, safety: np.ndarray) -> float | None:
+    """The first time after the envelope first tripped that the framework's flag is clear again."""
+    if not safety.any():
+        return None
+    k = int(np.argmax(safety))
+    clear = np.flatnonzero(~safety[k:])
+    return float(t[k + clear[0]]) if len(clear) else None
 
 
 # -- the card's text and JSON ------------------------------------------------------------------
@@ -283,8 +309,11 @@ def _run_lines(e: Ended) -> list[str]:
     else:
         out.append(f"run       ended at t = {e.end_s:.2f} s")
     if e.safety_at_s is not None:
-        out.append(f"safety    the arm left the safety envelope at t = {e.safety_at_s:.2f} s: the "
-                   "framework's hold took over from the lab")
+        why = f" ({e.safety_why})" if e.safety_why else ""
+        back = (f"; the arm back inside at t = {e.safety_back_s:.2f} s" if e.safety_back_s is not None
+                else " and kept the arm to the end of the run: the lab's torques were not used again")
+        out.append(f"safety    the arm left the safety envelope at t = {e.safety_at_s:.2f} s{why}: the "
+                   f"framework's hold took over from the lab{back}")
     if e.motor_board_off_at_s is not None:
         why = {None: "", 0: " (no command came)"}.get(
             e.motor_board_joint, f" (joint {e.motor_board_joint} commanded over its limit)")
@@ -326,5 +355,6 @@ def card_dict(card: Scorecard) -> dict:
                                                 "source": card.rest.source},
         "run": {"status": str(end.status), "end_s": r(end.end_s, 3), "message": end.message,
                 "still_since_s": r(end.still_since_s, 3), "safety_at_s": r(end.safety_at_s, 3),
+                "safety_why": end.safety_why, "safety_back_s": r(end.safety_back_s, 3),
                 "motor_board_off_at_s": r(end.motor_board_off_at_s, 3), "over_budget": end.over_budget},
     }

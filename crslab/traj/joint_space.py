@@ -66,7 +66,7 @@ def crs_why_outside(motor_rad: object) -> str:
     """Which part of the safety envelope a pose (motor angles, rad) violates, in words.
 
     >>> crs_why_outside(np.radians([0, 90, 0]))
-    'th3 DH = 0 deg is outside [8.59, 131.78] deg'
+    'th3 DH = 0.00 deg is outside [8.59, 131.78] deg'
     """
     q = np.asarray(motor_rad, dtype=float).reshape(3)
     dh, z = crs.motor_to_dh(q), float(crs.fk(q)[2])
@@ -76,7 +76,7 @@ def crs_why_outside(motor_rad: object) -> str:
                        f"+-{math.degrees(crs.ENVELOPE_TH1_MAX_RAD):.2f} deg")
     for name, value, (lo, hi) in (("th2", dh[1], crs.ENVELOPE_TH2_RAD), ("th3", dh[2], crs.ENVELOPE_TH3_RAD)):
         if not lo <= value <= hi:
-            reasons.append(f"{name} DH = {math.degrees(value) + 0.0:.4g} deg is outside "
+            reasons.append(f"{name} DH = {math.degrees(value) + 0.0:.2f} deg is outside "
                            f"[{math.degrees(lo):.2f}, {math.degrees(hi):.2f}] deg")
     if z < crs.ENVELOPE_Z_MIN_IN:
         reasons.append(f"z = {z:.4g} in is below {crs.ENVELOPE_Z_MIN_IN:g} in")
