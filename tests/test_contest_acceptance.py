@@ -200,6 +200,29 @@ def test_the_card_s_lines_and_picture(tmp_path):
     assert (tmp_path / "pics" / "card.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_the_run_it_says_to_watch_is_the_run_it_scored(tmp_path):
+    """``crslab sim`` rests the arm at crslab's pose unless told: the command the contest prints
+    rests it where the contest did (this lab's offsets, 0.01 rad from crslab's) and runs as long, so
+    the scale reads in it, tick for tick, what the card scored."""
+    lab = tmp_path / "final.c"
+    lab.write_text(variant(STARTER, ("float offset_Enc2_rad = -0.42;", "float offset_Enc2_rad = -0.41;")))
+    r = crslab("contest", "--lab", lab, "--json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    card = json.loads(r.stdout)
+    said = "crslab contest: to watch this run: "
+    [watch] = [line[len(said):] for line in r.stderr.splitlines() if line.startswith(said)]
+    cmd = watch.split()
+    assert cmd[:4] == ["crslab", "sim", "--lab", str(lab)] and "--offsets" in cmd
+    rows = tmp_path / "watched.csv"
+    r = crslab(*cmd[1:], "--fast", "--quiet", "--no-stdin", "--csv", rows, cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    with rows.open() as f:
+        table = list(csv.reader(f))
+    grams = [float(v) for v in (row[table[0].index("scale_g [g]")] for row in table[1:])]
+    assert round(max(grams), 1) == card["tasks"]["egg"]["peak_g"]
+    assert float(table[-1][table[0].index("t [s]")]) == pytest.approx(card["run"]["end_s"], abs=0.0011)
+
+
 @pytest.mark.parametrize("args, said", [
     (["--lab", "nowhere.c"], "nowhere.c: no such lab file"),
     (["--lab", LABS / "does_not_compile.c"], "does not compile"),

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import shlex
 import sys
 from pathlib import Path
 
@@ -121,6 +122,8 @@ def run_contest_command(args: argparse.Namespace) -> int:
     if args.output is not None:
         draw(args.output, result.log, world, card)
     say(args, card)
+    print(f"crslab contest: to watch this run: {watch_command(args, rest, card.ended.end_s)}",
+          file=sys.stderr)
     cost = budget_line(result.stats)  # what --budget counted
     if cost is not None:
         print(f"crslab contest: {cost}", file=sys.stderr)
@@ -129,6 +132,29 @@ def run_contest_command(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return result.exit_status
     return ExitStatus.OK if card.complete else ExitStatus.MISMATCH
+
+
+def watch_command(args: argparse.Namespace, rest: Rest, end_s: float) -> str:
+    """The ``crslab sim`` command that runs this contest run again, at real time: the same lab,
+    world, scenario and plant, the arm resting where the contest rested it (``crslab sim`` rests it
+    at crslab's arm's pose unless told) and the run's length.
+
+    >>> ns = argparse.Namespace(lab=Path("my final.c"), world="contest", scenario="hands_off", plant=None,
+    ...                         motor_board=None, no_startup_delay=False)
+    >>> watch_command(ns, Rest((0.0, -0.4321, 0.2087), "lab"), 22.0)
+    "crslab sim --lab 'my final.c' --world contest --offsets -0.4321 0.2087 --duration 22"
+    """
+    cmd = ["crslab", "sim", "--lab", str(args.lab), "--world", str(args.world)]
+    if args.scenario != CONTEST_SCENARIO:
+        cmd += ["--scenario", str(args.scenario)]
+    if args.plant is not None:
+        cmd += ["--plant", str(args.plant)]
+    if args.motor_board is not None:
+        cmd += ["--motor-board", args.motor_board]
+    if args.no_startup_delay:
+        cmd.append("--no-startup-delay")
+    cmd += ["--offsets", repr(rest.motor_rad[1]), repr(rest.motor_rad[2]), "--duration", f"{end_s:g}"]
+    return shlex.join(cmd)
 
 
 def say(args: argparse.Namespace, card: Scorecard) -> None:
