@@ -465,8 +465,18 @@ class BoardLibrary:
 
     def counters(self, board: Any) -> dict[str, int]:
         """The board's counters (``crs_counter``'s, by their names in lower case), in one call."""
+        return dict(zip(self._counters, self.counter_values(board)))
+
+    @property
+    def counter_names(self) -> list[str]:
+        """The counters' names (``crs_counter``'s, in lower case), in the order
+        :meth:`counter_values` gives them."""
+        return self._counters
+
+    def counter_values(self, board: Any) -> list[int]:
+        """The board's counters, in :attr:`counter_names`' order, in one call."""
         self._lib.crs_board_counters(board, self._counts)
-        return dict(zip(self._counters, self._ffi.unpack(self._counts, len(self._counters))))
+        return self._ffi.unpack(self._counts, len(self._counters))
 
     def take_motor_board_events(self, board: Any) -> int:
         """How many motor-board events ``board`` noted since the last call (the reader took them)."""
