@@ -242,6 +242,12 @@ class WorkerProcess:
         sent what is not a reply. ``wake``: a descriptor to answer while waiting (a run host's pipe
         from the server: a page's Stop acts while the worker runs) and what to call when it has
         something to read."""
+        data = self._replies.next()
+        if data is not None:  # read with the one before it (a RunMany's replies come together)
+            try:
+                return read_reply(read(data, self.trusted), *due, instance=instance, trusted=self.trusted)
+            except UnreadableReply as exc:
+                return self.tampered(str(exc))
         cpu_allowance_s = None
         if ticks is not None and deadline_s is not None and self.native:
             cpu_allowance_s = ticks * CPU_S_PER_TICK + deadline_s

@@ -413,8 +413,10 @@ class Board:
                 return code
 
     def _drain_motor_board_events(self) -> None:
-        mb = self.sim.motor_board
         n = self.c.take_motor_board_events(self.sim)
+        if n <= 0:
+            return  # (nearly every chunk)
+        mb = self.sim.motor_board
         self.motor_board_events.extend(
             worker_messages.MotorBoardEvent(int(mb.event_tick[i]), int(mb.event_joint[i]),
                                             bool(mb.event_off[i]))
