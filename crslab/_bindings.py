@@ -348,18 +348,24 @@ class PageRows:
         self.state = ffi.new("crs_page_state *", {"frame": -1})
         self._out: Any = None
         self._capacity = 0
+        self._rows = -1
+        """The most rows :attr:`_out` holds the fields of (its ``_capacity`` bytes)."""
+        self._shared: Any = None
+        self._log: Any = None
 
     def take(self, shared: Any) -> bytes:
         """The chunk message's ``frames`` and ``scope`` fields (``, "frames": ..., "scope": ...``)
         of the rows ``shared`` (a ``crs_shared *``) holds, which are taken off it (its count back to
         0); b"" when none is of a tick divisible by ``every``."""
-        n = min(max(0, int(shared.log.count)), lib.CRS_LOG_CAPACITY)
-        need = lib.crs_page_rows_capacity(n)
-        if need > self._capacity:
-            self._out, self._capacity = ffi.new("char[]", need), need
-        size = lib.crs_page_rows(ffi.addressof(shared.log), n, self.every, self.world, self.state, self._out,
-                                 self._capacity)
-        shared.log.count = 0
+        if shared is not self._shared:
+            self._shared, self._log = shared, ffi.addressof(shared.log)
+        log = self._log
+        n = min(max(0, int(log.count)), lib.CRS_LOG_CAPACITY)
+        if n > self._rows:  # (grown once or twice in a run: its chunks are alike)
+            self._capacity = lib.crs_page_rows_capacity(n)
+            self._out, self._rows = ffi.new("char[]", self._capacity), n
+        size = lib.crs_page_rows(log, n, self.every, self.world, self.state, self._out, self._capacity)
+        log.count = 0
         return ffi.buffer(self._out, size)[:] if size > 0 else b""
 
     @property
@@ -465,8 +471,18 @@ class BoardLibrary:
 
     def counters(self, board: Any) -> dict[str, int]:
         """The board's counters (``crs_counter``'s, by their names in lower case), in one call."""
+        return dict(zip(self._counters, self.counter_values(board)))
+
+    @property
+    def counter_names(self) -> list[str]:
+        """The counters' names (``crs_counter``'s, in lower case), in the order
+        :meth:`counter_values` gives them."""
+        return self._counters
+
+    def counter_values(self, board: Any) -> list[int]:
+        """The board's counters, in :attr:`counter_names`' order, in one call."""
         self._lib.crs_board_counters(board, self._counts)
-        return dict(zip(self._counters, self._ffi.unpack(self._counts, len(self._counters))))
+        return self._ffi.unpack(self._counts, len(self._counters))
 
     def take_motor_board_events(self, board: Any) -> int:
         """How many motor-board events ``board`` noted since the last call (the reader took them)."""

@@ -361,6 +361,11 @@ class BoardRun:
         return self.board_client.run([(self.board, target)])[0]
 
 
+_NOTHING_HELD = nullcontext()
+"""What :meth:`ChunkedRun.took` holds a chunk's hand-over in when no Ctrl-C is held back (a run
+host's: made once, not once a chunk)."""
+
+
 class ChunkedRun:
     """One run of a :class:`BoardRun`, taken chunk by chunk: where the next chunk ends
     (:meth:`next_chunk`), what a chunk's reply hands to the sink and the controls (:meth:`took`),
@@ -420,7 +425,7 @@ class ChunkedRun:
         for outcome in judged:
             if outcome is not None:
                 sink.on_expectation(outcome)
-        with held():  # every sink gets all of the chunk, or none of it
+        with held() if held is not nullcontext else _NOTHING_HELD:  # every sink gets all of it, or none
             self._take_log()
             self._take_printed()
             if not self.printed.over:

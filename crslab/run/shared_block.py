@@ -93,6 +93,8 @@ class SharedBlock:
         be kept since then (more in one chunk than the block holds: ``CRS_SERIAL_CAPACITY`` bytes,
         ``CRS_MARK_CAPACITY`` ticks)."""
         sh = self.view
+        if not (sh.print_count or sh.serial_len or sh.mark_count or sh.serial_dropped):
+            return 0  # (a chunk in which the lab printed nothing: half of a page's)
         n_prints = min(int(sh.print_count), len(sh.print_tick))
         for tick, chars in zip(read_ints(sh.print_tick, n_prints), read_ints(sh.print_chars, n_prints)):
             on_print(tick, chars)

@@ -43,7 +43,7 @@ from crslab.worker.config import RunConfig
 from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.share import Share
 from crslab.worker.worker_messages import End, Message, read_reply
-from crslab.worker.worker_reply import UnreadableReply, receive
+from crslab.worker.worker_reply import Replies, UnreadableReply, read
 
 CPU_S_PER_TICK = 1e-3
 """The CPU time a chunk may use per tick before a native worker counts as hung whatever it reports
@@ -211,6 +211,8 @@ class WorkerProcess:
                 else:
                     os.environ[k] = v
         child_conn.close()
+        self._replies = Replies(self._conn.fileno())
+        """The worker's replies, read off the pipe (every read of it goes through this)."""
 
     @property
     def pid(self) -> int:
@@ -240,6 +242,12 @@ class WorkerProcess:
         sent what is not a reply. ``wake``: a descriptor to answer while waiting (a run host's pipe
         from the server: a page's Stop acts while the worker runs) and what to call when it has
         something to read."""
+        data = self._replies.next()
+        if data is not None:  # read with the one before it (a RunMany's replies come together)
+            try:
+                return read_reply(read(data, self.trusted), *due, instance=instance, trusted=self.trusted)
+            except UnreadableReply as exc:
+                return self.tampered(str(exc))
         cpu_allowance_s = None
         if ticks is not None and deadline_s is not None and self.native:
             cpu_allowance_s = ticks * CPU_S_PER_TICK + deadline_s
@@ -264,19 +272,28 @@ class WorkerProcess:
         # grace to answer after it
         allowed_s = None if deadline_s is None else deadline_s + (0.0 if self.native else INTERRUPT_GRACE_S)
         polls = 0
+        pipe, replies = self._conn.fileno(), self._replies
         while True:
             try:
-                # a reply already there (the next of a RunMany's) is read at once
-                if self._console < 0 and self._conn.fileno() in self._ready(0.0, wake):
-                    return receive(self._conn, self.trusted)
+                # a reply already read (the next of a RunMany's, written with it) or already there is
+                # taken at once
+                data = replies.next()
+                if data is None and self._console < 0 and pipe in self._ready(0.0, wake):
+                    replies.fill()
+                    data = replies.next()
+                if data is not None:
+                    return read(data, self.trusted)
                 ready = self._ready(POLL_S, wake)
                 if wake is not None and wake.fd in ready and not wake.ready():
                     wake = None  # it has nothing more to say (its pipe closed)
                 if self._console in ready and self._drain_console():
                     self.kill()
                     return diagnosis.output_limit(self.lab_name, self.block.tick, self.limits.output_bytes)
-                if self._conn.fileno() in ready:
-                    return receive(self._conn, self.trusted)
+                if pipe in ready:
+                    replies.fill()
+                    data = replies.next()
+                    if data is not None:
+                        return read(data, self.trusted)
             except (EOFError, ConnectionResetError):
                 pass
             if not self.process.is_alive():

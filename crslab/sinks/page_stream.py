@@ -136,6 +136,7 @@ class BrowserStream(Sink):
             at += width
         world = (starts["egg_force"], starts["scale_g"], starts["egg_broken"]) if self.world else None
         self._block, self._rows = block, PageRows(SCOPE_EVERY_TICKS, world)
+        self.pose = _PackedPose(self._rows, self.pose)
 
     @property
     def last_qpos(self) -> np.ndarray | None:
@@ -192,12 +193,10 @@ class BrowserStream(Sink):
             return
         packed = self._rows.take(self._block.view) if logged else b""
         if packed:
-            self.pose.qpos_dh_rad = self._rows.qpos_dh_rad
-            self.pose.egg_broken = self.pose.egg_broken or self._rows.egg_broken
+            self.pose.taken()
         sent = round(time.monotonic(), 4)
         self.send(b'{"type": "chunk", "serial": %s%s, "first": %d, "tick": %d, "sent": %s}' % (
-            json.dumps(self.serial).encode() if self.serial else b"[]", packed, self.first_tick, tick,
-            repr(sent).encode()))
+            serial_json(self.serial), packed, self.first_tick, tick, repr(sent).encode()))
         self.first_tick = tick
         self.serial = []
 
@@ -230,6 +229,47 @@ class BrowserStream(Sink):
         data = base64.b64encode(rows.astype("<f4").tobytes())
         return b'{"tick0": %d, "every": %d, "rows": %d, "columns": %d, "data": "%s"}' % (
             int(log["tick"][0, 0]), SCOPE_EVERY_TICKS, len(rows), rows.shape[1], data)
+
+
+class _PackedPose(LatestPose):
+    """The arm's latest pose for a stream whose rows are packed in C (:meth:`BrowserStream.rows_from`):
+    the last packed row's, read off its :class:`~crslab._bindings.PageRows` when asked (only a page
+    whose hand holds the arm asks), not after every chunk."""
+
+    def __init__(self, rows: PageRows, was: LatestPose) -> None:
+        self._rows = rows
+        self._stale = False
+        super().__init__()
+        self.qpos_dh_rad, self.egg_broken = was.qpos_dh_rad, was.egg_broken
+
+    def taken(self) -> None:
+        """The rows of a chunk were packed: the pose is its last row's."""
+        self._stale = True
+        self.egg_broken = self.egg_broken or self._rows.egg_broken
+
+    @property  # type: ignore[override]
+    def qpos_dh_rad(self) -> np.ndarray | None:
+        if self._stale:
+            self._qpos, self._stale = self._rows.qpos_dh_rad, False
+        return self._qpos
+
+    @qpos_dh_rad.setter
+    def qpos_dh_rad(self, value: np.ndarray | None) -> None:
+        self._qpos, self._stale = value, False
+
+
+def serial_json(serial: list[tuple[int, str]]) -> bytes:
+    """A chunk's ``serial`` field: ``json.dumps(serial)``'s bytes, each text escaped by the
+    function ``json.dumps`` escapes it with, without making a JSON encoder for every chunk.
+
+    >>> serial = [(4100, "0.00 -24.06\\n\\r"), (4101, '"\\x7f\\xe9')]
+    >>> serial_json(serial) == json.dumps(serial).encode(), serial_json([])
+    (True, b'[]')
+    """
+    return b"[%s]" % b", ".join(b"[%d, %s]" % (tick, _escaped(text).encode()) for tick, text in serial)
+
+
+_escaped = json.encoder.encode_basestring_ascii  # what json.dumps escapes a text with (ensure_ascii)
 
 
 def packed_rows(rows: np.ndarray) -> bytes:

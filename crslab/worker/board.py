@@ -46,7 +46,7 @@ from crslab.worker.debug_setup import DebugSetup
 from crslab.worker.event_effects import apply_event
 from crslab.worker.firmware_memory import FirmwareMemory, NativeMemory, WasmMemory
 from crslab.worker.memory_table import fill_memory_table
-from crslab.worker.run_stats import RunStats
+from crslab.worker.run_stats import CounterRow, RunStats
 from crslab.worker.share import Share
 from crslab.worker.wasm_runtime import (
     ENGINE_ENVIRONMENT,
@@ -151,6 +151,17 @@ def trap_info(c: BoardLibrary, sim: object) -> dict:
             "line": int(t.line), "text": c.string(t.text)}
 
 
+_ROWS: dict[tuple[str, ...], CounterRow] = {}
+
+
+def _counter_row(c: BoardLibrary) -> CounterRow:
+    """The :class:`CounterRow` of ``c``'s counters (made once per board build)."""
+    names = tuple(c.counter_names)
+    if names not in _ROWS:
+        _ROWS[names] = CounterRow(list(names))
+    return _ROWS[names]
+
+
 class Board:
     """One board instance: its plant's data, the board and the lab, stepped in chunks.
 
@@ -211,6 +222,9 @@ class Board:
         c.configure(sim, board_settings(config, trap_fp=trap_fp, time_lab=time_lab))
         self._set_world(config.world)
         self.events = list(config.scenario.events)
+        self._row = _counter_row(c)
+        self._over_slot = c.counter_names.index("over_budget")
+        self._motor_board = config.motor_board_model
         self.motor_board_events: list[worker_messages.MotorBoardEvent] = []
         self.observations: list[Observation] = []
 
@@ -399,8 +413,10 @@ class Board:
                 return code
 
     def _drain_motor_board_events(self) -> None:
-        mb = self.sim.motor_board
         n = self.c.take_motor_board_events(self.sim)
+        if n <= 0:
+            return  # (nearly every chunk)
+        mb = self.sim.motor_board
         self.motor_board_events.extend(
             worker_messages.MotorBoardEvent(int(mb.event_tick[i]), int(mb.event_joint[i]),
                                             bool(mb.event_off[i]))
@@ -418,6 +434,15 @@ class Board:
         fields["native"] = self.config.build.native
         fields["motor_board"] = self.config.motor_board_model
         return RunStats.of(fields)
+
+    def stats_row(self) -> tuple:
+        """:meth:`stats` as :meth:`RunStats.row` gives them, made with no :class:`RunStats` (a
+        WebAssembly worker's reply for every chunk)."""
+        counts = self.c.counter_values(self.sim)
+        over = min(constants.CRS_FIRST_OVER_TICKS, counts[self._over_slot])
+        first = tuple(int(self.sim.first_over_tick[i]) for i in range(over)) if over > 0 else ()
+        return self._row(counts, first_over_tick=first, native=self.config.build.native,
+                         motor_board=self._motor_board)
 
     def take_motor_board_events(self) -> list[worker_messages.MotorBoardEvent]:
         """The motor board's cut-outs starting or ending since the last call."""

@@ -20,11 +20,12 @@ from __future__ import annotations
 import copy
 import mmap
 import os
+import pickle
 import struct
 import time
 from collections import OrderedDict
 from multiprocessing.connection import Connection
-from multiprocessing.reduction import ForkingPickler, recv_handle
+from multiprocessing.reduction import recv_handle
 from pathlib import Path
 
 import numpy as np
@@ -136,6 +137,22 @@ class BoardInstances:
                                    tuple(board.take_motor_board_events()), tuple(board.take_observations()),
                                    trap)
 
+    def ran_wire(self, instance: int, until_tick: int) -> tuple:
+        """:meth:`ran`'s reply as it travels (``Ran.wire()``); a WebAssembly instance's made straight
+        from its board, its counters as a row (:meth:`~crslab.worker.run_stats.RunStats.row`: what
+        a trusted reply carries), with no :class:`~crslab.worker.worker_messages.Ran` and no
+        :class:`~crslab.worker.run_stats.RunStats` in between: the reply of every chunk."""
+        board = self.instances.get(instance)
+        if board is None or board.config.build.native:
+            return self.ran(instance, until_tick).wire()
+        code = board.run(until_tick)
+        trap = trap_info(board.c, board.sim) if code == constants.CRS_RUN_TRAPPED else None
+        events = board.take_motor_board_events()
+        seen = board.take_observations()
+        return ("ran", instance, code, int(board.sim.tick), board.stats_row(),
+                worker_messages.plain(events) if events else (), worker_messages.plain(seen) if seen else (),
+                trap)
+
     def answer(self, request: worker_messages.Request) -> worker_messages.Message:
         """The reply to a request about one open instance (not Open, RunMany)."""
         board = self.instances.get(getattr(request, "instance", -1))
@@ -188,9 +205,11 @@ class Replies:
         self.frames: list[bytes] = []
         self.since = 0.0
 
-    def add(self, reply: worker_messages.Message) -> None:
-        """Hold ``reply`` (written now when the first held one has waited long enough)."""
-        data = ForkingPickler.dumps(reply.wire())
+    def add(self, wire: tuple) -> None:
+        """Hold the reply ``wire`` (as it travels: ``Message.wire()``), written now when the first
+        held one has waited long enough. Pickled as ``conn.send`` would (plain data: no
+        ``ForkingPickler`` needed, and its set-up costs a reply more than the pickling)."""
+        data = pickle.dumps(wire, pickle.HIGHEST_PROTOCOL)
         now = time.monotonic()
         if not self.frames:
             self.since = now
@@ -246,8 +265,10 @@ def serve(conn: Connection, first: RunConfig | None, shared_fd: int | None, debu
                 case worker_messages.RunMany(targets):
                     replies = Replies(conn)
                     for instance, until_tick in targets:
-                        replies.add(worker.ran(instance, until_tick))
+                        replies.add(worker.ran_wire(instance, until_tick))
                     replies.write()
+                case worker_messages.Run(instance, until_tick):
+                    conn.send(worker.ran_wire(instance, until_tick))
                 case _:
                     send(worker.answer(request))
     finally:

@@ -124,11 +124,58 @@ class RunStats:
         plain["motor_board_events"] = [[t, j, int(off)] for t, j, off in self.motor_board_events]
         return plain
 
+    def row(self) -> tuple:
+        """The statistics as a WebAssembly worker sends them (a trusted reply): every field's value
+        in order, typed as it is (:meth:`from_row` reads it back). A tenth of :meth:`wire`'s table to
+        pickle and unpickle, for some 400 replies a second.
+
+        >>> stats = RunStats(lab_calls=3, first_over_tick=(4100,), motor_board_events=((4600, 1, True),))
+        >>> RunStats.from_row(stats.row()) == stats
+        True
+        """
+        return tuple(self.__dict__.values())
+
+    @classmethod
+    def from_row(cls, row: tuple) -> RunStats:
+        """The statistics :meth:`row` (or a board's :class:`CounterRow`) made, taken as they are."""
+        stats = object.__new__(cls)
+        stats.__dict__.update(zip(_NAMES, row, strict=True))
+        return stats
+
 
 _NAMES = tuple(f.name for f in dataclasses.fields(RunStats))
 """RunStats's fields in order (read once: every chunk's reply sends them)."""
 _DEFAULTS: dict[str, Any] = {f.name: f.default for f in dataclasses.fields(RunStats)}
 """Each field's default, in order (every one a plain value: :meth:`RunStats.of`)."""
+
+
+class CounterRow:
+    """Makes :meth:`RunStats.row` straight from a board's counters (their C names in the order the
+    board reports them: :meth:`crslab._bindings.BoardLibrary.counter_values`), with no
+    :class:`RunStats` in between: a WebAssembly worker's reply for every chunk.
+
+    >>> make = CounterRow(["lab_calls", "tick"])
+    >>> stats = RunStats.from_row(make([7, 250], first_over_tick=(), native=False, motor_board="none"))
+    >>> stats == RunStats(lab_calls=7, tick=250, motor_board="none")
+    True
+    """
+
+    def __init__(self, counters: list[str]) -> None:
+        unknown = set(counters) - _DEFAULTS.keys()
+        if unknown:
+            raise TypeError(f"RunStats has no field {', '.join(sorted(unknown))}")
+        self._slots = [_NAMES.index(name) for name in counters]
+        self._defaults = list(_DEFAULTS.values())
+        self._first_over, self._native, self._board = (_NAMES.index(n) for n in
+                                                       ("first_over_tick", "native", "motor_board"))
+
+    def __call__(self, counts: list[int], *, first_over_tick: tuple[int, ...], native: bool,
+                 motor_board: str) -> tuple:
+        row = self._defaults.copy()
+        for slot, value in zip(self._slots, counts):
+            row[slot] = value
+        row[self._first_over], row[self._native], row[self._board] = first_over_tick, native, motor_board
+        return tuple(row)
 
 
 BOARD_COUNTERS: tuple[str, ...] = tuple(

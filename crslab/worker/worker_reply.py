@@ -20,7 +20,9 @@ crslab.worker.worker_reply.UnreadableReply: the worker's reply names builtins.pr
 from __future__ import annotations
 
 import io
+import os
 import pickle
+import struct
 from multiprocessing.connection import Connection
 
 import numpy as np
@@ -80,4 +82,69 @@ def receive(conn: Connection, trusted: bool = False) -> object:
         data = conn.recv_bytes(MAX_REPLY_BYTES)
     except OSError as exc:
         raise UnreadableReply(f"the worker's reply cannot be read ({exc})") from None
+    return pickle.loads(data) if trusted else decode(data)
+
+
+READ_BYTES = 1 << 20
+"""The most one read of the pipe takes (:class:`Replies`)."""
+_HEADER = struct.Struct("!i")
+_LONG_HEADER = struct.Struct("!Q")
+
+
+class Replies:
+    """The worker's replies off its end of the pipe (``fd``), framed as ``Connection.send_bytes``
+    frames them, every byte there taken in one read: a worker writes a request's replies together
+    (crslab/worker/main.py), so a run host reads them with one system call, not two for each (its
+    length, its bytes) and a poll between. :meth:`next` gives the next whole reply's bytes, or
+    None until one has come (:meth:`fill` reads what came).
+
+    >>> r, w = os.pipe()
+    >>> _ = os.write(w, _HEADER.pack(2) + b"ab" + _HEADER.pack(3) + b"c")
+    >>> replies = Replies(r); replies.fill(); replies.next(), replies.next()
+    (b'ab', None)
+    >>> _ = os.write(w, b"de"); replies.fill(); replies.next()
+    b'cde'
+    >>> os.close(w); replies.fill()
+    Traceback (most recent call last):
+    ...
+    EOFError
+    """
+
+    def __init__(self, fd: int) -> None:
+        self.fd = fd
+        self._buffer = bytearray()
+        self._at = 0
+
+    def fill(self) -> None:
+        """Read what the pipe holds (it has something: a poll said so, or this waits); raises
+        ``EOFError`` when the worker's end is closed."""
+        data = os.read(self.fd, READ_BYTES)
+        if not data:
+            raise EOFError
+        if self._at:
+            del self._buffer[:self._at]
+            self._at = 0
+        self._buffer += data
+
+    def next(self) -> bytes | None:
+        """The next whole reply's bytes (None: it has not all come); raises :class:`UnreadableReply`
+        for a length no reply has."""
+        buffer, at = self._buffer, self._at
+        if len(buffer) - at < 4:
+            return None
+        (size,), start = _HEADER.unpack_from(buffer, at), at + 4
+        if size == -1:
+            if len(buffer) - at < 12:
+                return None
+            (size,), start = _LONG_HEADER.unpack_from(buffer, start), start + 8
+        if size < 0 or size > MAX_REPLY_BYTES:
+            raise UnreadableReply(f"the worker's reply cannot be read (a reply of {size} bytes)")
+        if len(buffer) - start < size:
+            return None
+        self._at = start + size
+        return bytes(buffer[start:self._at])
+
+
+def read(data: bytes, trusted: bool = False) -> object:
+    """A reply from its bytes (:func:`receive`'s, for bytes :class:`Replies` read)."""
     return pickle.loads(data) if trusted else decode(data)
