@@ -224,7 +224,6 @@ class Board:
         self.events = list(config.scenario.events)
         self._row = _counter_row(c)
         self._over_slot = c.counter_names.index("over_budget")
-        self._motor_board = config.motor_board_model
         self.motor_board_events: list[worker_messages.MotorBoardEvent] = []
         self.observations: list[Observation] = []
 
@@ -427,13 +426,8 @@ class Board:
         self.c.debug_break(int(self.sim.tick))
 
     def stats(self) -> RunStats:
-        """The board's counters (read in one call)."""
-        fields: dict = self.c.counters(self.sim)  # (a table of its own: filled in here)
-        over = min(constants.CRS_FIRST_OVER_TICKS, fields["over_budget"])
-        fields["first_over_tick"] = tuple(int(self.sim.first_over_tick[i]) for i in range(over))
-        fields["native"] = self.config.build.native
-        fields["motor_board"] = self.config.motor_board_model
-        return RunStats.of(fields)
+        """The board's counters (read in one call), as :meth:`stats_row` reads them."""
+        return RunStats.from_row(self.stats_row())
 
     def stats_row(self) -> tuple:
         """:meth:`stats` as :meth:`RunStats.row` gives them, made with no :class:`RunStats` (a
@@ -442,7 +436,7 @@ class Board:
         over = min(constants.CRS_FIRST_OVER_TICKS, counts[self._over_slot])
         first = tuple(int(self.sim.first_over_tick[i]) for i in range(over)) if over > 0 else ()
         return self._row(counts, first_over_tick=first, native=self.config.build.native,
-                         motor_board=self._motor_board)
+                         motor_board=self.config.motor_board_model)
 
     def take_motor_board_events(self) -> list[worker_messages.MotorBoardEvent]:
         """The motor board's cut-outs starting or ending since the last call."""

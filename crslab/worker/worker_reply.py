@@ -23,7 +23,6 @@ import io
 import os
 import pickle
 import struct
-from multiprocessing.connection import Connection
 
 import numpy as np
 
@@ -73,16 +72,6 @@ def decode(data: bytes) -> object:
         raise UnreadableReply(f"the worker's reply cannot be read ({type(exc).__name__})") from None
     _check(value)
     return value
-
-
-def receive(conn: Connection, trusted: bool = False) -> object:
-    """The next reply on ``conn`` (raises ``EOFError`` when the worker is gone). ``trusted``: a
-    WebAssembly worker's (no lab code runs in its address space), unpickled as it is."""
-    try:
-        data = conn.recv_bytes(MAX_REPLY_BYTES)
-    except OSError as exc:
-        raise UnreadableReply(f"the worker's reply cannot be read ({exc})") from None
-    return pickle.loads(data) if trusted else decode(data)
 
 
 READ_BYTES = 1 << 20
@@ -146,5 +135,6 @@ class Replies:
 
 
 def read(data: bytes, trusted: bool = False) -> object:
-    """A reply from its bytes (:func:`receive`'s, for bytes :class:`Replies` read)."""
+    """A reply from the bytes :class:`Replies` read (raises ``UnreadableReply``). ``trusted``: a
+    WebAssembly worker's (no lab code runs in its address space), unpickled as it is."""
     return pickle.loads(data) if trusted else decode(data)
