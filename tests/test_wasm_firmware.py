@@ -122,15 +122,3 @@ def test_the_stack_comes_first_so_a_runaway_recursion_runs_off_the_memory(tmp_pa
     assert run.message.startswith("deep.c overflowed its call stack (runaway recursion) at deep.c:")
 
 
-@pytest.mark.parametrize("name", ["divide.c", "divide by zero.c"])
-def test_a_division_by_zero_is_named_with_its_line_and_what_the_board_would_have_done(tmp_path, name):
-    lab = tmp_path / name  # (a name with spaces keeps its line: the build's copy has the same name)
-    lab.write_text("#include <coecsl.h>\nint counts = 0, zero = 0, ratio;\n"
-                   "void lab(float a, float b, float c, float *t1, float *t2, float *t3, int e)\n{\n"
-                   "    *t1 = 0;\n    counts++;\n    if (counts == 3) zero = 0;\n"
-                   "    ratio = counts / zero;\n}\nvoid printing(void) {}\n")
-    run = simulate(lab, "hands_off", duration_s=0.01, startup_delay=False)
-    assert run.status == "crashed"
-    assert run.message == (f"{name} divided an integer by zero at {name}:8 in lab() at tick 0 "
-                           "(t = 0.000 s); on the C28x an integer division by zero does not stop the board: "
-                           "it goes on with an undefined result")

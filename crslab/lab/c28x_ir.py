@@ -16,6 +16,8 @@ zig's clang compiles it as any other (:mod:`crslab.lab.firmware`):
   framework and the C library read what they are given (:func:`widen_variadic_calls`);
 - a pointer made from an integer (16 bits wide here) that is not NULL points far past the
   firmware's memory, so a store through it stops the run at its line (:func:`wild_pointers`);
+- an integer division by zero (or of the most negative integer by -1), which WebAssembly traps on,
+  and a float converted to 16 bits give what the C28x's give (:mod:`crslab.lab.c28x_arithmetic`);
 - the lab's globals placed as the TI linker places them (:func:`place_globals`): one block stands
   for the F28335's data memory, each variable an alias into it at twice its word offset, so a store
   past an array's end meets the neighbour it meets on the board.
@@ -52,6 +54,7 @@ import re
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from crslab.lab.c28x_arithmetic import c28x_arithmetic
 from crslab.lab.c28x_memory import MemoryLayout
 
 WASM32_DATALAYOUT = "e-m:e-p:32:32-p10:8:8-p20:8:8-i64:64-i128:128-n32:64-S128-ni:1:10:20"
@@ -424,6 +427,7 @@ def to_wasm32(text: str, placement: Placement | None = None) -> tuple[str, list[
         moved.append(line)
     counter = [0]
     lines = wild_pointers(widen_variadic_calls(pack_structs(moved), defined, counter), counter)
+    lines = c28x_arithmetic(lines)
     if placement is None:
         return "\n".join(lines), []
     lines, placed = place_globals(lines, placement)
