@@ -113,14 +113,14 @@ static int32_t break_egg(double mm_per_tick, const double force[3])
 }
 
 /* What broke it: a side hit when its horizontal force outweighs the downward one; a fall when the
- * tip came down faster than CRS_EGG_FALL_M_S (0.1 m/s = 0.1 mm per 1 ms tick); else the press. */
+ * tip came down faster than CRS_EGG_FALL_M_S (0.2 m/s = 0.2 mm per 1 ms tick); else the press. */
 static void test_what_broke_the_egg(void)
 {
     const double down[3] = {0.0, 0.0, 25.0}, side[3] = {18.0, -12.0, 15.0}, steep[3] = {12.0, 9.0, 20.0};
     check("slow, from above: the press", break_egg(0.02, down) == CRS_EGG_BROKEN_BY_PRESS);
     check("fast, from above: a fall", break_egg(0.5, down) == CRS_EGG_BROKEN_BY_FALL);
-    check("just over the fall's speed", break_egg(0.1001, down) == CRS_EGG_BROKEN_BY_FALL);
-    check("at the fall's speed: the press", break_egg(0.0999, down) == CRS_EGG_BROKEN_BY_PRESS);
+    check("just over the fall's speed", break_egg(0.2001, down) == CRS_EGG_BROKEN_BY_FALL);
+    check("at the fall's speed: the press", break_egg(0.1999, down) == CRS_EGG_BROKEN_BY_PRESS);
     /* |(18, -12)| = 21.6 > 15: sideways, however slow */
     check("from the side: a side hit", break_egg(0.02, side) == CRS_EGG_BROKEN_BY_SIDE);
     /* |(12, 9)| = 15 < 20 down */
