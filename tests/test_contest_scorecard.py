@@ -426,6 +426,37 @@ def test_the_safety_line_names_the_limit_crossed_and_whether_the_arm_came_back()
     assert run["safety_back_s"] == 8.0 and run["safety_why"].startswith("th3 DH = 132.28 deg")
 
 
+def test_the_safety_line_names_the_motors_the_lab_drove_at_the_clamp_just_before():
+    """A kick: the lab's first calls command motor 2 at -40 (beyond the clamp) and motor 3 at +5
+    (the clamp) for 15 ms from t = 4.1 s, the elbow past 2.3 rad 25 ms later; motor 1 at 4.99,
+    under the clamp. A clamp 0.2 s before the trip, out of the card's 0.1 s, is not named, and a
+    trip with no command at the clamp (a path that grazes the limit) names no motor."""
+    log = full_run()
+    n = len(log["tick"])
+    rest = np.array([0.0, -0.42, 0.24])
+    enc = np.tile(rest, (n, 1))
+    enc[4140:, 2] = 2.3 + np.radians(0.1) - np.pi / 2 + rest[1]
+    log["enc_rad"] = enc
+    log["safety"][4140:] = 1.0
+    tau = np.zeros((n, 3))
+    tau[3900:3910, 0] = 5.0  # 0.24 s before the trip: out of the window
+    tau[4100:4115] = [4.99, -40.0, 5.0]
+    log["tau_lab"] = tau
+    card = score(log, layout())
+    line = next(x for x in card.lines() if x.startswith("safety"))
+    assert "deg); before it the lab commanded motors 2 and 3 at the clamp (5 units) from t = 4.100 s: the " \
+           "framework's hold took over" in line, line
+    run = card.as_dict()["run"]
+    assert run["safety_clamped"] == [2, 3] and run["safety_clamped_from_s"] == 4.1
+    tau[4100:4115, 2] = 0.0  # motor 2 alone
+    assert "the lab commanded motor 2 at the clamp" in next(x for x in score(log, layout()).lines()
+                                                            if x.startswith("safety"))
+    tau[4100:4115] = 1.0  # a graze: nothing at the clamp
+    graze = score(log, layout())
+    assert "clamp" not in next(x for x in graze.lines() if x.startswith("safety"))
+    assert graze.as_dict()["run"]["safety_clamped"] == []
+
+
 def test_a_world_without_fixtures_scores_nothing_and_says_why():
     card = score(full_run(), layout("hole", "obstacle", "groove", "egg"))
     assert card.done == 0

@@ -32,7 +32,7 @@ from crslab.contest.tasks import (
     judge_obstacle,
     judge_peg,
 )
-from crslab.framework_facts import TICKS_PER_S
+from crslab.framework_facts import CLAMP_UNITS, TICKS_PER_S
 from crslab.run.status import RunStatus
 from crslab.traj.joint_space import crs_outside_envelope, crs_why_outside
 from crslab.worker.run_stats import RunStats
@@ -71,6 +71,8 @@ class Ended:
     safety_at_s: float | None       # the framework's safety envelope first tripped (s)
     safety_why: str | None          # ... which of its limits the lab's angles crossed then
     safety_back_s: float | None     # ... when the arm was first back inside (None: never again)
+    safety_clamped: tuple[int, ...]  # ... the motors (1-3) the lab held at the clamp just before it
+    safety_clamped_from_s: float | None  # ... since when (within CLAMPED_BEFORE_S of the trip)
     motor_board_off_at_s: float | None
     motor_board_joint: int | None   # which joint's command cut it (0: no command came)
     over_budget: int                # lab() calls over the budget
@@ -151,6 +153,7 @@ def _ended(log: Mapping[str, np.ndarray], t: np.ndarray, tr: Trace, first: float
         still_since_s=still_since(t, tr.tip, first), moved=first is not None,
         safety_at_s=float(t[np.argmax(safety)]) if safety.any() else None,
         safety_why=_why_outside(log, safety), safety_back_s=_back_inside_s(t, safety),
+        **_clamped_before(log, t, safety),
         motor_board_off_at_s=float(t[np.argmax(off)]) if off.any() else None,
         motor_board_joint=int(cuts[0][1]) if cuts else None,
         over_budget=st.over_budget,
@@ -168,6 +171,31 @@ def _why_outside(log: Mapping[str, np.ndarray], safety: np.ndarray) -> str | Non
         if row >= 0 and crs_outside_envelope(enc[row])[0]:
             return crs_why_outside(enc[row])
     return None
+
+
+CLAMPED_BEFORE_S = 0.1
+"""How long before the envelope tripped the card looks for the lab's commands at the clamp (s)."""
+
+
+def _clamped_before(log: Mapping[str, np.ndarray], t: np.ndarray, safety: np.ndarray) -> dict:
+    """The motors whose command from the lab (``tau_lab``, before the framework clamps it) was at
+    the clamp or beyond in the :data:`CLAMPED_BEFORE_S` up to the envelope's first trip, and since
+    when: a controller driving the arm as hard as the board lets it out of the envelope (a gain too
+    high, a speed estimate that starts from zero and sees the offsets as a jump).
+
+    >>> t = np.arange(6) / 1000
+    >>> tau = np.array([[0, 1, 1], [0, 6, 5], [0, -40, 5], [0, 5, 1], [0, 0, 0], [0, 0, 0]], float)
+    >>> _clamped_before({"tau_lab": tau}, t, np.array([0, 0, 0, 0, 1, 1], bool))
+    {'safety_clamped': (2, 3), 'safety_clamped_from_s': 0.001}
+    """
+    if not safety.any() or "tau_lab" not in log:
+        return {"safety_clamped": (), "safety_clamped_from_s": None}
+    k = int(np.argmax(safety))
+    window = (t >= t[k] - CLAMPED_BEFORE_S) & (np.arange(len(t)) <= k)
+    at_clamp = (np.abs(column(log, "tau_lab", 3)) >= CLAMP_UNITS) & window[:, None]
+    motors = tuple(int(j) + 1 for j in np.flatnonzero(at_clamp.any(axis=0)))
+    rows = np.flatnonzero(at_clamp.any(axis=1))
+    return {"safety_clamped": motors, "safety_clamped_from_s": float(t[rows[0]]) if len(rows) else None}
 
 
 def _back_inside_s(t: np.ndarray, safety: np.ndarray) -> float | None:
@@ -312,8 +340,14 @@ def _run_lines(e: Ended) -> list[str]:
         why = f" ({e.safety_why})" if e.safety_why else ""
         back = (f"; the arm back inside at t = {e.safety_back_s:.2f} s" if e.safety_back_s is not None
                 else " and kept the arm to the end of the run: the lab's torques were not used again")
-        out.append(f"safety    the arm left the safety envelope at t = {e.safety_at_s:.2f} s{why}: the "
-                   f"framework's hold took over from the lab{back}")
+        clamped = ""
+        if e.safety_clamped:
+            names = " and ".join(", ".join(map(str, e.safety_clamped)).rsplit(", ", 1))
+            plural = "s" if len(e.safety_clamped) > 1 else ""
+            clamped = (f"; before it the lab commanded motor{plural} {names} at the clamp ({CLAMP_UNITS:g} "
+                       f"units) from t = {e.safety_clamped_from_s:.3f} s")
+        out.append(f"safety    the arm left the safety envelope at t = {e.safety_at_s:.2f} s{why}{clamped}: "
+                   f"the framework's hold took over from the lab{back}")
     if e.motor_board_off_at_s is not None:
         why = {None: "", 0: " (no command came)"}.get(
             e.motor_board_joint, f" (joint {e.motor_board_joint} commanded over its limit)")
@@ -356,5 +390,7 @@ def card_dict(card: Scorecard) -> dict:
         "run": {"status": str(end.status), "end_s": r(end.end_s, 3), "message": end.message,
                 "still_since_s": r(end.still_since_s, 3), "safety_at_s": r(end.safety_at_s, 3),
                 "safety_why": end.safety_why, "safety_back_s": r(end.safety_back_s, 3),
+                "safety_clamped": list(end.safety_clamped),
+                "safety_clamped_from_s": r(end.safety_clamped_from_s, 3),
                 "motor_board_off_at_s": r(end.motor_board_off_at_s, 3), "over_budget": end.over_budget},
     }
