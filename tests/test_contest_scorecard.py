@@ -300,6 +300,26 @@ def test_a_broken_egg_says_what_broke_it_and_the_press_s_peak_before():
     assert score(side, layout()).egg.broken_by == "a side hit"
 
 
+def test_the_egg_line_says_when_it_was_first_touched_and_how_fast():
+    """The egg's force passes the touch's threshold at t = 2 s, the world row's touch speed (held
+    from the contact's start) 36 mm/s then; a log without the touch-speed column gives the time
+    alone; an egg never touched has neither."""
+    def force(t):
+        return 0.0 if t < 2.0 else 6.0
+
+    log = trace(OVER_THE_EGG, scale_g=lambda t: force(t) / 9.80665 * 1000, egg_force=force)
+    log["egg_touch_speed"] = np.where(log["egg_force"] > 0, 0.036, 0.0)
+    card = score(log, layout())
+    assert card.egg.touched_at_s == pytest.approx(2.0) and card.egg.touch_speed_m_s == pytest.approx(0.036)
+    assert card.lines()[3].endswith("; not broken; first touched at t = 2.00 s coming down at 36 mm/s")
+    egg = card.as_dict()["tasks"]["egg"]
+    assert egg["touched_at_s"] == 2.0 and egg["touch_speed_m_s"] == 0.036
+    del log["egg_touch_speed"]
+    assert score(log, layout()).lines()[3].endswith("; first touched at t = 2.00 s")
+    never = score(trace([(0, 0.2, 0.2, 0.35), (1, 0.2, 0.2, 0.314)]), layout())
+    assert never.egg.touched_at_s is None and "first touched" not in never.lines()[3]
+
+
 def test_an_egg_never_touched_says_how_high_the_peg_stayed():
     card = score(trace([(0, 0.2, 0.2, 0.35), (1, 0.2, 0.2, 0.314)]), layout())
     assert not card.egg.touched and card.egg.lowest_above_top_m == pytest.approx(0.014)

@@ -299,6 +299,10 @@ def _egg_line(e: Egg, ru: Any) -> str:
             text += "; never touched: the tip never came over it"
     else:
         text += "; not broken"
+    if e.touched_at_s is not None:
+        speed = (f" coming down at {1000 * e.touch_speed_m_s:.0f} mm/s" if e.touch_speed_m_s is not None
+                 else "")
+        text += f"; first touched at t = {e.touched_at_s:.2f} s{speed}"
     return text
 
 
@@ -382,7 +386,8 @@ def card_dict(card: Scorecard) -> dict:
                     "in_band_s": r(e.in_band_s, 3), "broken": e.broken, "broken_by": e.broken_by,
                     "peak_before_break_g": r(e.peak_before_break_g, 1),
                     "lowest_above_top_m": r(e.lowest_above_top_m), "rested_from_s": r(e.rested_from_s, 3),
-                    "breakaway_n": r(e.breakaway_n, 1)},
+                    "breakaway_n": r(e.breakaway_n, 1), "touched_at_s": r(e.touched_at_s, 3),
+                    "touch_speed_m_s": r(e.touch_speed_m_s, 4)},
         },
         "time_s": r(card.time_s, 3),
         "rest": None if card.rest is None else {"motor_rad": [r(v, 6) for v in card.rest.motor_rad],

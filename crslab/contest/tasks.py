@@ -313,6 +313,10 @@ class Egg:
     breakaway_n: float | None = None
     """... the push down at the tip (N) that moves the arm from rest at that pose with x and y held:
     :func:`breakaway_down_n`."""
+    touched_at_s: float | None = None         # touched: when the peg first pressed it
+    touch_speed_m_s: float | None = None
+    """... how fast the tip came down onto it then (m/s): a touch alone presses the egg about
+    ``v sqrt(k m)`` and the joints' static friction can hold that (docs/worlds.md)."""
     note: str = ""
 
 
@@ -363,7 +367,12 @@ def judge_egg(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Egg:
         code = int(round(column(log, "egg_broken_by")[at]))
         by = EGG_BROKEN_BY.get(code, f"code {code}")
     touched = bool((force > TOUCH_N).any())
-    lowest = rested_from = rested_for = breakaway = None
+    lowest = rested_from = rested_for = breakaway = touched_at = touch_speed = None
+    if touched:
+        first = int(np.argmax(force > TOUCH_N))
+        touched_at = float(tr.t[first])
+        if "egg_touch_speed" in log:  # the world row's: the tip's speed down as this contact began
+            touch_speed = float(column(log, "egg_touch_speed")[first])
     if not touched:
         over = _across(tr, egg.center_xy_m) <= egg.diameter_m / 2
         if over.any():
@@ -381,4 +390,4 @@ def judge_egg(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Egg:
                broken_by=by,
                peak_before_break_g=float(grams[:at].max()) if at > 0 else (0.0 if broken else None),
                touched=touched, lowest_above_top_m=lowest, rested_from_s=rested_from, rested_for_s=rested_for,
-               breakaway_n=breakaway)
+               breakaway_n=breakaway, touched_at_s=touched_at, touch_speed_m_s=touch_speed)
