@@ -228,14 +228,14 @@ unsigned int uzero = 0;
 unsigned long ulzero = 0;
 float fzero = 0.0, huge = 1e20, over = 40000.0;
 int q[6], r[4], flags[3], to16[5];
-long lq[3], lr[2], to32;
+long lq[4], lr[2], to32;
 void lab(float a, float b, float c, float *t1, float *t2, float *t3, int e)
 {
     if (done) return;
     q[0] = seven / zero;  q[1] = -seven / zero;  q[2] = most / minus1;
     q[3] = seven / 2;     q[4] = -seven / 2;     q[5] = seven / 0;
     r[0] = seven % zero;  r[1] = -seven % zero;  r[2] = most % minus1;  r[3] = -seven % 2;
-    lq[0] = big / lzero;  lq[1] = -big / lzero;  lq[2] = lmost / lminus1;
+    lq[0] = big / lzero;  lq[1] = -big / lzero;  lq[2] = lmost / lminus1;  lq[3] = lmost / -1L;
     lr[0] = big % lzero;  lr[1] = lmost % lminus1;
     flags[0] = (7u / uzero == 65535u) + 2 * (7u % uzero == 7u);
     flags[1] = (5UL / ulzero == 4294967295UL) + 2 * (5UL % ulzero == 5UL);
@@ -250,7 +250,7 @@ void printing(void)
 {
     serial_printf(&SerialA, "%d %d %d %d %d %d\\n\\r", q[0], q[1], q[2], q[3], q[4], q[5]);
     serial_printf(&SerialA, "%d %d %d %d\\n\\r", r[0], r[1], r[2], r[3]);
-    serial_printf(&SerialA, "%ld %ld %ld %ld %ld\\n\\r", lq[0], lq[1], lq[2], lr[0], lr[1]);
+    serial_printf(&SerialA, "%ld %ld %ld %ld %ld %ld\\n\\r", lq[0], lq[1], lq[2], lq[3], lr[0], lr[1]);
     serial_printf(&SerialA, "%d %d %d\\n\\r", flags[0], flags[1], flags[2]);
     serial_printf(&SerialA, "%d %d %d %d %d %ld\\n\\r", to16[0], to16[1], to16[2], to16[3], to16[4], to32);
 }
@@ -260,7 +260,8 @@ void printing(void)
 def test_integer_division_by_zero_and_16_bit_conversions_give_what_the_c28x_computes(tmp_path):
     """The C28x's division is a SUBCU loop on the magnitudes (crslab/lab/c28x_arithmetic.py): by zero
     the quotient is all ones (-1, negated to 1 for a negative dividend; 65535 and 4294967295
-    unsigned) and the remainder the dividend; the most negative integer by -1 is itself, remainder 0.
+    unsigned) and the remainder the dividend; the most negative integer by -1 (a variable or a
+    literal) is itself, remainder 0.
     WebAssembly would trap on each (the long ones included); ordinary divisions truncate as before.
     A float to an int saturates at 16 bits (F32TOI16; NaN 0), to a long at 32 (F32TOI32); keeping
     the low 16 bits of a 32-bit conversion would give -1, 0 and -25536 for the first three."""
@@ -269,7 +270,7 @@ def test_integer_division_by_zero_and_16_bit_conversions_give_what_the_c28x_comp
     run = simulate(lab, SCENARIO, duration_s=4.101)
     assert run.status == "ok", run.message
     assert run.transcript == (b"-1 1 -32768 3 -3 -1\n\r" b"7 -7 0 -1\n\r"
-                              b"-1 1 -2147483648 100000 0\n\r" b"3 3 3\n\r"
+                              b"-1 1 -2147483648 -2147483648 100000 0\n\r" b"3 3 3\n\r"
                               b"32767 -32768 32767 0 -2 2147483647\n\r")
 
 

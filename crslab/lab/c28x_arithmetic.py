@@ -47,7 +47,8 @@ _TO_SHORT = re.compile(r"^(\s*%[-\w.$]+ = )(fptosi|fptoui) float (\S+) to i16((?
 
 def _needs_call(op: str, divisor: str) -> bool:
     """Whether a division by ``divisor`` (an IR operand) can differ from the C28x's in WebAssembly:
-    any divisor but a literal other than 0 (and, signed, other than -1)."""
+    any divisor but a literal other than 0 (and, signed, other than -1: clang's WebAssembly back
+    end makes a division by a literal -1 a negation, which cannot trap, but nothing promises it)."""
     if not _CONSTANT.fullmatch(divisor):
         return True
     d = int(divisor)
