@@ -5,6 +5,7 @@ encoder count apart where float and double round to two sides of a count's edge)
 but the board's functions and the C library's WASI calls; its memory is the board's and no more;
 what it costs is counted in instructions, the same on every machine."""
 
+import ast
 import json
 import math
 import subprocess
@@ -15,7 +16,7 @@ import pytest
 
 from crslab.framework_facts import ENCODER_COUNTS_PER_REV
 from crslab.lab.build import build_lab
-from crslab.lab.firmware import MEMORY_BYTES, STACK_BYTES
+from crslab.lab.firmware import IR_MOVER_MODULES, MEMORY_BYTES, STACK_BYTES, ir_mover_text
 from crslab.regress.compare import compare_lines
 from crslab.run.api import simulate
 
@@ -122,3 +123,19 @@ def test_the_stack_comes_first_so_a_runaway_recursion_runs_off_the_memory(tmp_pa
     assert run.message.startswith("deep.c overflowed its call stack (runaway recursion) at deep.c:")
 
 
+
+
+def test_every_module_that_moves_the_ir_is_part_of_the_builds_name():
+    """A build's name holds the text of the modules that make its IR (a cached build from an older
+    crslab is not reused): crslab/lab/c28x_ir.py and every module of crslab.lab it imports,
+    directly or not, read here from their import lines; each one's text is in the name's part."""
+    folder = Path(__file__).resolve().parents[1] / "crslab" / "lab"
+    found, todo = set(), ["c28x_ir.py"]
+    while todo:
+        name = todo.pop()
+        found.add(name)
+        for node in ast.walk(ast.parse((folder / name).read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("crslab.lab."):
+                todo.append(node.module.removeprefix("crslab.lab.") + ".py")
+    assert found == set(IR_MOVER_MODULES)
+    assert all((folder / name).read_bytes() in ir_mover_text() for name in found)

@@ -30,7 +30,7 @@ saturates as WebAssembly's does.
 
 >>> ir = ["  %3 = sdiv i16 %1, %2, !dbg !7", "  %4 = udiv i16 %1, 8", "  %5 = fptosi float %0 to i16"]
 >>> print("\\n".join(c28x_arithmetic(ir)[:3]))
-  %3 = call i16 @__crs_c28x_sdiv_i16(i16 %1, i16 %2), !dbg !7
+  %3 = call i16 @crs.c28x.sdiv.i16(i16 %1, i16 %2), !dbg !7
   %4 = udiv i16 %1, 8
   %5 = call i16 @llvm.fptosi.sat.i16.f32(float %0)
 """
@@ -57,7 +57,7 @@ def _needs_call(op: str, divisor: str) -> bool:
 
 def _helper(op: str, ty: str) -> str:
     """The IR of the function that does ``op`` on ``ty`` as the C28x does (see the module)."""
-    name = f"@__crs_c28x_{op}_{ty}"
+    name = f"@crs.c28x.{op}.{ty}"  # a dot: no C name, so no name of the lab's, is the same
     on_zero = {"sdiv": f"%n = icmp slt {ty} %a, 0\n  %q = select i1 %n, {ty} 1, {ty} -1\n  ret {ty} %q",
                "udiv": f"ret {ty} -1", "srem": f"ret {ty} %a", "urem": f"ret {ty} %a"}[op]
     body = [f"define internal {ty} {name}({ty} %a, {ty} %b) {{",
@@ -92,5 +92,5 @@ def c28x_arithmetic(lines: list[str]) -> list[str]:
         start, op, ty, a, b, rest = m.groups()
         if (op, ty) not in used:
             used.append((op, ty))
-        out.append(f"{start}call {ty} @__crs_c28x_{op}_{ty}({ty} {a.strip()}, {ty} {b.strip()}){rest}")
+        out.append(f"{start}call {ty} @crs.c28x.{op}.{ty}({ty} {a.strip()}, {ty} {b.strip()}){rest}")
     return [*out, *(_helper(op, ty) for op, ty in used), *(f"declare i16 {n}(float)" for n in converts)]

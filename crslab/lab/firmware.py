@@ -106,10 +106,17 @@ KIN_SOURCES = sorted(KIN.glob("*.c"))
 """The kinematics, compiled with the lab's widths (:data:`KIN_FLAGS`)."""
 FIRMWARE_HEADERS = (sorted(FIRMWARE.glob("*.h")) + sorted(KIN.glob("*.h")) + sorted(SHIM_INCLUDE.glob("*.h"))
                     + sorted(PORT.glob("*.h")) + sorted(C28X_INCLUDE.rglob("*.h")))
+IR_MOVER_MODULES = ("c28x_ir.py", "c28x_arithmetic.py", "c28x_memory.py", "variables.py")
+"""The modules that move the lab's IR to wasm32 and place its globals (:mod:`crslab.lab.c28x_ir`
+and every module of crslab.lab it imports, directly or not): a change to any of them changes what
+a build makes."""
+
+
 def ir_mover_text() -> bytes:
-    """The text of the module that moves the lab's IR to wasm32 (:mod:`crslab.lab.c28x_ir`), part of
-    every build's name (read as a resource: crslab may be imported from a zip)."""
-    return importlib.resources.files("crslab.lab").joinpath("c28x_ir.py").read_bytes()
+    """The text of :data:`IR_MOVER_MODULES`, part of every build's name (read as resources: crslab
+    may be imported from a zip)."""
+    folder = importlib.resources.files("crslab.lab")
+    return b"".join(folder.joinpath(name).read_bytes() for name in IR_MOVER_MODULES)
 
 FRAMEWORK_VARIABLES = ("matlabLock", *(f"SIMU_Var{i}_fromSIMU_16bit" for i in range(1, 8)))
 """The framework's globals in the firmware that the board's memory map holds (firmware.c)."""
