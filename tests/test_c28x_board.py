@@ -229,7 +229,8 @@ unsigned long ulzero = 0;
 float fzero = 0.0, huge = 1e20, over = 40000.0;
 int q[6], r[4], flags[3], to16[5];
 long lq[4], lr[2], to32;
-int __crs_c28x_sdiv_i16(int a, int b) { return 42; } /* a lab's own name cannot take the division's */
+int __crs_c28x_sdiv_i16(int a, int b) { return 42; } /* a lab's own names cannot take crslab's */
+int __crs_c28x_ram = 5;
 void lab(float a, float b, float c, float *t1, float *t2, float *t3, int e)
 {
     if (done) return;

@@ -39,9 +39,9 @@ memory here but ``sizeof`` says 2, so a lab that allocates or copies pointers by
 >>> out, placed = to_wasm32(ir, Placement((("count", 2),), 8))
 >>> print("\\n".join(line for line in out.splitlines() if "struct" in line or "crs" in line))
 %struct.S = type <{ i16, float }>
-@__crs_c28x_ram = hidden global <{ [2 x i8], i16, [4 x i8] }> <{ [2 x i8] zeroinitializer, i16 0, [4 x i8] \
+@crs.c28x.ram = hidden global <{ [2 x i8], i16, [4 x i8] }> <{ [2 x i8] zeroinitializer, i16 0, [4 x i8] \
 zeroinitializer }>, align 4
-@count = dso_local alias i16, getelementptr (i8, ptr @__crs_c28x_ram, i32 2)
+@count = dso_local alias i16, getelementptr (i8, ptr @crs.c28x.ram, i32 2)
   %crs.va1 = sext i16 %1 to i32
   %2 = call i16 (ptr, ptr, ...) @serial_printf(ptr null, ptr null, i32 noundef %crs.va1)
 >>> placed
@@ -60,8 +60,8 @@ from crslab.lab.c28x_memory import MemoryLayout
 WASM32_DATALAYOUT = "e-m:e-p:32:32-p10:8:8-p20:8:8-i64:64-i128:128-n32:64-S128-ni:1:10:20"
 WASM32_TRIPLE = "wasm32-unknown-wasip1-unknown"
 """What zig's clang writes for ``--target=wasm32-wasi`` (the IR must say exactly this)."""
-RAM_SYMBOL = "__crs_c28x_ram"
-"""The block that stands for the F28335's data memory (a name a lab cannot define: C reserves it)."""
+RAM_SYMBOL = "crs.c28x.ram"
+"""The block that stands for the F28335's data memory (a dot: no C name, so none of the lab's, is it)."""
 WILD_BASE = 0x80000000
 """Where a pointer made from a non-zero integer points: past any firmware's memory (a store traps)."""
 
