@@ -56,3 +56,29 @@ def test_the_json_summary_is_found_among_announcements_and_warnings():
     assert json_summary(stderr) == {"status": "ok", "wall_s": 0.61, "lab_calls": 3}
     with pytest.raises(ValueError, match="no --json summary"):
         json_summary("crslab sim: {not json}\n[1, 2]\n")
+
+
+def test_the_paced_loop_steps_each_run_by_whole_chunks_as_due_and_does_the_runs_physics(recording, tmp_path):
+    """Two runs on one core, 0.33 s paced as a run host paces (250-tick chunks, wake-ups 60 ms
+    apart from the start): wake-ups at 0, 60, ..., 300 ms each run every chunk due before the next
+    one (360 ms). Run 0's chunks are due at 0 and 250 ms (two); run 1's at 0.618 x 250 = 155 ms and
+    405 ms (one). Run 0 started at the recording's first tick: after its 500 steps it is where
+    MuJoCo stepping the same 500 ticks of controls and forces puts it, bit for bit."""
+    import mujoco
+
+    from crslab.run.pacing import PAGE_CHUNKS
+    from crslab.serve.run_host import BATCH_S
+
+    assert (PAGE_CHUNKS.realtime_ticks, BATCH_S) == (250, 0.06)  # the counts below are for these
+    exe = baselines.build_bare_loop(tmp_path, source=baselines.PACED_C)
+    run = baselines.run_paced_loops(exe, recording.save(tmp_path / "controls.bin"), {0: 2}, 0.33)
+    assert run.steps == 3 * 250 and run.cpu_s > 0 and run.us_per_step > 0
+    model = mujoco.MjModel.from_xml_path(str(baselines.MODEL_XML))
+    data = mujoco.MjData(model)
+    data.qpos[:] = recording.qpos0
+    mujoco.mj_forward(model, data)
+    for k in range(500):
+        data.ctrl[:] = recording.ctrl[k]
+        data.qfrc_applied[:] = recording.qfrc_applied[k]
+        mujoco.mj_step(model, data)
+    assert np.array_equal(run.qpos_first[0], data.qpos)

@@ -35,6 +35,7 @@ from crslab.run.inprocess import InProcessRun
 from crslab.worker.config import RunConfig
 
 HARNESS_C = Path(__file__).resolve().parent / "bare_mj_step.c"
+PACED_C = Path(__file__).resolve().parent / "paced_mj_step.c"
 MODEL_XML = SCENE_XML
 
 
@@ -81,16 +82,17 @@ def mujoco_dir() -> Path:
     return Path(mujoco.__file__).resolve().parent
 
 
-def build_bare_loop(out_dir: Path, cc: str | None = None) -> Path:
-    """Compile ``bare_mj_step.c`` against the installed package's MuJoCo; returns the program."""
+def build_bare_loop(out_dir: Path, cc: str | None = None, source: Path = HARNESS_C) -> Path:
+    """Compile ``bare_mj_step.c`` (or ``source``: ``paced_mj_step.c``) against the installed
+    package's MuJoCo; returns the program."""
     pkg = mujoco_dir()
     include = pkg / "include"
     libs = sorted(pkg.glob("libmujoco.so*"))
     if not (include / "mujoco" / "mujoco.h").is_file() or not libs:
         raise RuntimeError(f"the mujoco package at {pkg} ships no C headers or no libmujoco")
-    exe = Path(out_dir) / "bare_mj_step"
+    exe = Path(out_dir) / source.stem
     cmd = [cc or os.environ.get("CC", "gcc"), "-std=c11", "-O2", "-Wall", "-Wextra", "-Werror",
-           f"-I{include}", str(HARNESS_C), str(libs[0]), f"-Wl,-rpath,{pkg}", "-o", str(exe)]
+           f"-I{include}", str(source), str(libs[0]), f"-Wl,-rpath,{pkg}", "-lm", "-o", str(exe)]
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         raise RuntimeError(f"building the bare mj_step loop failed:\n{' '.join(cmd)}\n{r.stderr}")
@@ -124,6 +126,43 @@ def run_bare_loop(exe: Path, controls: Path, passes: int = 2, model_xml: Path = 
     cpu = [float(row[3]) for row in rows if row[0] == "pass"]
     vec = {row[0]: np.array([float(v) for v in row[1:]]) for row in rows if row[0] in ("qpos", "qvel")}
     return BareRun(times, ticks.pop(), vec["qpos"], vec["qvel"], cpu)
+
+
+@dataclass(frozen=True)
+class PacedRun:
+    """What the ``paced_mj_step`` processes of :func:`run_paced_loops` measured together."""
+
+    steps: int
+    cpu_s: float
+    qpos_first: list[np.ndarray]  # each process's first run's final qpos (it started at tick 0)
+
+    @property
+    def us_per_step(self) -> float:
+        return self.cpu_s / self.steps * 1e6
+
+
+def run_paced_loops(exe: Path, controls: Path, runs_by_cpu: dict[int, int], seconds: float,
+                    model_xml: Path = MODEL_XML) -> PacedRun:
+    """Run ``paced_mj_step`` at once on each core of ``runs_by_cpu`` (pinned there) with that many
+    runs, for ``seconds``, paced as a run host paces a page's runs (its chunks' length at real
+    time, its wake-ups' window)."""
+    from crslab.run.pacing import PAGE_CHUNKS
+    from crslab.serve.run_host import BATCH_S
+
+    pace = [str(PAGE_CHUNKS.realtime_ticks), str(BATCH_S * 1000)]
+    procs = [subprocess.Popen([str(exe), str(model_xml), str(controls), str(runs), str(seconds), *pace],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                              preexec_fn=lambda cpu=cpu: os.sched_setaffinity(0, {cpu}))
+             for cpu, runs in runs_by_cpu.items() if runs > 0]
+    steps, cpu_s, qpos = 0, 0.0, []
+    for p in procs:
+        out, err = p.communicate()
+        if p.returncode != 0:
+            raise RuntimeError(f"paced_mj_step failed: {err.strip()}")
+        rows = {line.split()[0]: line.split()[1:] for line in out.splitlines()}
+        steps, cpu_s = steps + int(rows["paced"][0]), cpu_s + float(rows["paced"][1])
+        qpos.append(np.array([float(v) for v in rows["qpos"]]))
+    return PacedRun(steps, cpu_s, qpos)
 
 
 def rollout_run(rec: Recording) -> tuple[float, np.ndarray, np.ndarray]:

@@ -10,7 +10,9 @@ Each N is tried ``--runs`` times (default 5, one line each: the tail depends on 
 one good run says little; issue 38: within 50 ms in every run), each with where the CPU time went
 (the server, the session processes, the run hosts, their board workers, this generator) and the
 hosts' and workers' CPU per session against MuJoCo's step alone, measured beside each run (issue
-38: at most 1.5x). ``--replicas 2`` runs the sessions through nginx with the shipped configuration
+38: at most 1.5x), and beside it the same steps alone paced as the hosts pace them
+(``paced_mj_step.c``: on a machine whose idle cores wake slower, pacing alone costs the step
+something, which is the machine's part of the ratio, not crslab's). ``--replicas 2`` runs the sessions through nginx with the shipped configuration
 in front of two replicas (crslab/serve/deploy/replicas.py), TLS included.
 
 Page: the time from navigating to the page to the editor holding the lab (target <= 1 s), and
@@ -36,6 +38,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from crslab.serve.run_host import BATCH_S
 from crslab.starters import starter_text
 
 LAB = starter_text("lab1", "A")  # what the page starts from
@@ -356,7 +359,8 @@ def cpu_ratio(n: int, trial: Trial, floor_us: float) -> float:
     return per_session / (floor_us * 1e-3)
 
 
-def trial_line(n: int, trial: Trial, how: str, floor_us: float | None = None, floor_cores: str = "") -> str:
+def trial_line(n: int, trial: Trial, how: str, floor_us: float | None = None, floor_cores: str = "",
+               paced_us: float | None = None) -> str:
     every, worst = trial.everything(), trial.worst_p99()
     p50, p99 = every[len(every) // 2], every[int(len(every) * 0.99)]
     sent99 = trial.sent[int(len(trial.sent) * 0.99)]
@@ -369,6 +373,11 @@ def trial_line(n: int, trial: Trial, how: str, floor_us: float | None = None, fl
                  f"MuJoCo's step alone {floor_us:.2f} us beside this run"
                  f"{f' (by core, before / after: {floor_cores})' if floor_cores else ''}: {r:.2f}x "
                  f"({'within' if r <= TARGET_CPU_RATIO else 'over'} {TARGET_CPU_RATIO}x)")
+    if floor_us is not None and paced_us is not None:
+        ratio += (f"; the same steps alone paced as the hosts pace them (250-tick chunks, a wake-up every "
+                  f"{int(BATCH_S * 1000)} ms, the cores idle between): {paced_us:.2f} us a step, "
+                  f"{paced_us / floor_us:.2f}x the loop's: crslab's own work "
+                  f"{cpu_ratio(n, trial, paced_us):.2f}x that")
     return (
         f"{n} sessions at real time ({how}), once all run: lag p50 {p50 * 1000:.1f} ms, "
         f"p99 {p99 * 1000:.1f} ms "
@@ -392,12 +401,13 @@ class PhysicsFloor:
     PASSES = 6
 
     def __init__(self, folder: Path) -> None:
-        from baselines import build_bare_loop, record_run
+        from baselines import PACED_C, build_bare_loop, record_run
 
         from crslab.run.api import make_config
 
         config = make_config(native=True)  # the same physics as the WebAssembly lab's (bench_sim.py)
         self.exe = build_bare_loop(folder)
+        self.paced_exe = build_bare_loop(folder, source=PACED_C)
         self.controls = record_run(config, config.scenario.end_tick).save(folder / "controls.bin")
         self.by_core: dict[int, float] = {}
         """The last measurement's median CPU microseconds per ``mj_step`` on each core."""
@@ -415,6 +425,20 @@ class PhysicsFloor:
             self.by_core[cpu] = statistics.median(per_step)
             fastest = min(fastest, per_step[0])
         return statistics.fmean(self.by_core.values()), fastest
+
+    PACED_S = 4.0
+
+    def paced_us_per_step(self, n: int) -> float:
+        """CPU microseconds per ``mj_step`` of ``n`` runs' physics alone paced as the run hosts pace
+        them (``paced_mj_step.c``: 250-tick chunks at real time, a wake-up every 60 ms, the cores idle
+        in between), the runs split over the cores as the hosts split them, for :data:`PACED_S`:
+        what pacing costs the step itself on this machine, crslab's code aside. Not the criterion
+        (that is the bare loop's step); it tells the machine's part of the ratio from crslab's."""
+        from baselines import run_paced_loops
+
+        cpus = sorted(os.sched_getaffinity(0))
+        runs = {cpu: n // len(cpus) + (i < n % len(cpus)) for i, cpu in enumerate(cpus)}
+        return run_paced_loops(self.paced_exe, self.controls, runs, self.PACED_S).us_per_step
 
     def cores_text(self) -> str:
         """Each core's median of the last measurement (``core 0 9.34, core 1 5.61``)."""
@@ -475,7 +499,8 @@ def capacity_lines(ladder: tuple[int, ...] = LADDER, default_priority: bool = Tr
                 floor_after = floor.us_per_step()
                 floor_us = (floor_before[0] + floor_after[0]) / 2
                 cores = f"{cores_before} / {floor.cores_text()}"
-                line = f"run {run} of {runs}: " + trial_line(n, trial, how, floor_us, cores)
+                paced_us = floor.paced_us_per_step(n)
+                line = f"run {run} of {runs}: " + trial_line(n, trial, how, floor_us, cores, paced_us)
                 print(f"bench serve: {line}", file=sys.stderr, flush=True)  # progress: a run takes 20-40 s
                 lines.append(line)
                 held += trial.worst_p99() <= TARGET_LAG_S
