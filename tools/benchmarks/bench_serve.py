@@ -12,8 +12,9 @@ one good run says little; issue 38: within 50 ms in every run), each with where 
 hosts' and workers' CPU per session against MuJoCo's step alone, measured beside each run (issue
 38: at most 1.5x), and beside it the same steps alone paced as the hosts pace them
 (``paced_mj_step.c``: on a machine whose idle cores wake slower, pacing alone costs the step
-something, which is the machine's part of the ratio, not crslab's). ``--replicas 2`` runs the sessions through nginx with the shipped configuration
-in front of two replicas (crslab/serve/deploy/replicas.py), TLS included.
+something, which is the machine's part of the ratio, not crslab's). ``--replicas 2`` runs the
+sessions through nginx with the shipped configuration in front of two replicas
+(crslab/serve/deploy/replicas.py), TLS included.
 
 Page: the time from navigating to the page to the editor holding the lab (target <= 1 s), and
 from clicking Run on a lab already built to the first Tera Term line (target <= 1 s), in Debian's
