@@ -235,6 +235,32 @@ def test_memory_limit_stops_a_leaking_native_lab(tmp_path):
     assert no_process_left(tmp_path / "memory_hog.c")
 
 
+@pytest.mark.parametrize("leak_kb, status, ending", [
+    # 32 MB a call, some 1 GB a second: past its CPU allowance (its chunk of 300 ticks may use 0.3 s
+    # and its 0.5 s deadline, 0.8 s, where it uses 9 s) it is watched on while it grows (looks 1 s
+    # apart), and its memory limit ends it, some 100 calls in
+    (32768, 3, "crashed (SIGSEGV) in lab() at tick "),
+    # 1 MB a call, some 33 MB a second, under the 64 MB a look that lets it go on: stuck
+    (1024, 4, "hung: lab() did not return within 0.5 s at tick "),
+])
+def test_a_native_lab_past_its_cpu_allowance_is_hung_unless_it_fills_its_memory(leak_kb, status, ending,
+                                                                                  tmp_path):
+    """A native lab's chunk may use 1 ms of CPU a tick and a deadline more (it could hide a stuck
+    lab() by writing the board's phase); a leak's page faults are CPU time too, so a leaking lab on
+    a machine whose page faults are slow ran past that allowance and was called hung at random,
+    where its memory limit ends it. Each lab() call here spins 30 ms and leaks ``leak_kb``."""
+    lab = tmp_path / "slow_leak.c"
+    lab.write_text((FAULTY / "slow_leak.c").read_text().replace("#define LEAK_KB 32768L",
+                                                                 f"#define LEAK_KB {leak_kb}L"))
+    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(lab), "--native",
+                        "--no-startup-delay", "--duration", "0.3", "--mem-limit-mb", "4096",
+                        "--deadline", "0.5"],
+                       capture_output=True, timeout=120)
+    assert r.returncode == status and f"slow_leak.c {ending}" in last_line(r)
+    assert last_line(r).endswith("its memory limit was 4096 MB") == (leak_kb == 32768)
+    assert no_process_left(lab)
+
+
 def test_isolation_does_not_change_a_native_transcript():
     """The same with the lab built natively (the benchmarks' recording): the in-process run loads a
     sealed private copy of the lab's shared object (the board loads nothing this user did not seal)."""

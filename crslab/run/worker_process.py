@@ -60,6 +60,23 @@ POLL_S = 0.05
 call is timed from the first look that sees its tick and phase, so a hang is found between its
 deadline and a deadline plus two polls."""
 CPU_EVERY_POLLS = 20
+GROWING_MB = 64
+"""A native worker over its chunk's CPU allowance whose address space grew by at least this much
+(MB) since the watcher last let it go on is filling its memory, not stuck: its memory limit will end
+it (a leak's page faults are CPU time, up to 3 s a GB on a virtual machine whose memory is backed
+lazily), so it is watched on, and it is hung only at a look that finds it grown less. Each look that
+lets it go on needs this much more, so a worker under a limit of L MB gets at most L / this many."""
+
+
+def still_growing(grown_mb: float, memory_mb: int | None) -> bool:
+    """Whether a native worker over its CPU allowance is let go on: its address space grew by
+    :data:`GROWING_MB` or more since the last look and a memory limit bounds it (without one,
+    nothing bounds how long it could grow).
+
+    >>> still_growing(64.0, 2048), still_growing(63.9, 2048), still_growing(640.0, None)
+    (True, False, False)
+    """
+    return memory_mb is not None and grown_mb >= GROWING_MB
 
 
 @dataclass(frozen=True)
@@ -182,6 +199,9 @@ class WorkerProcess:
         else:
             ctx = mp.get_context(os_support.WORKER_START_METHOD)
             env = {}
+        self._space_limit_mb = limits.memory_mb
+        """The address-space limit the worker runs under (None under ASan: its resident memory is
+        watched instead, and growth of its address space says nothing)."""
         # a native lab may write to its standard streams (printf, a flood, fake progress lines): a pipe
         # the crslab process drains, counts toward the output limit and never shows (a debugged one
         # keeps the terminal); a WebAssembly firmware has no descriptor at all (the board counts)
@@ -264,6 +284,7 @@ class WorkerProcess:
         c = constants
         start = time.monotonic()
         cpu0 = self._cpu_s() if cpu_allowance_s is not None else None
+        vm_seen = self._vm_mb() if cpu_allowance_s is not None else 0.0
         # when this poll first saw the lab() or printing() call now running, per block: the tick
         # and the phase, and the wall time (the board keeps no clock of its own for it)
         call_seen: list[tuple[int, int] | None] = [None] * len(blocks)
@@ -318,7 +339,10 @@ class WorkerProcess:
             if cpu0 is not None and polls % CPU_EVERY_POLLS == 0 and blocks:
                 cpu = self._cpu_s()
                 if cpu is not None and cpu - cpu0 > cpu_allowance_s:  # type: ignore[operator]
-                    return self._hung(blocks[0], c.CRS_PHASE_LAB, deadline_s)
+                    vm = self._vm_mb()
+                    if not still_growing(vm - vm_seen, self._space_limit_mb):
+                        return self._hung(blocks[0], c.CRS_PHASE_LAB, deadline_s)
+                    vm_seen = vm
             if timeout_s is not None and time.monotonic() - start > timeout_s:
                 self.process.kill()
                 return Ending(RunStatus.CRASHED, blocks[0].tick if blocks else 0,
@@ -351,6 +375,15 @@ class WorkerProcess:
             return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
         except (OSError, IndexError, ValueError):
             return None
+
+    def _vm_mb(self) -> float:
+        """The worker's address space (the kernel's count, what its memory limit bounds), MB; 0
+        when it cannot be read."""
+        try:
+            pages = int(Path(f"/proc/{self.pid}/statm").read_text().split()[0])
+        except (OSError, IndexError, ValueError):
+            return 0.0
+        return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
 
     def _rss_mb(self) -> float:
         """The worker's resident memory (the kernel's count), MB; 0 when it cannot be read."""
