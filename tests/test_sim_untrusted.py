@@ -236,12 +236,13 @@ def test_memory_limit_stops_a_leaking_native_lab(tmp_path):
 
 
 @pytest.mark.parametrize("leak_kb, status, ending", [
-    # 32 MB a call, some 1 GB a second: past its CPU allowance (its chunk of 300 ticks may use 0.3 s
-    # and its 0.5 s deadline, 0.8 s, where it uses 9 s) it is watched on while it grows (looks 1 s
-    # apart), and its memory limit ends it, some 100 calls in
+    # 32 MB a call, some 1 GB a second of its CPU: past its CPU allowance (its chunk of 300 ticks may
+    # use 0.3 s and its 0.5 s deadline, 0.8 s, where it would use 9 s) it is watched on while it grows,
+    # and its memory limit ends it, some 100 calls in
     (32768, 3, "crashed (SIGSEGV) in lab() at tick "),
-    # 1 MB a call, some 33 MB a second, under the 64 MB a look that lets it go on: stuck
-    (1024, 4, "hung: lab() did not return within 0.5 s at tick "),
+    # 0.5 MB a call, some 17 MB a second of its CPU (at most 30 MB by the first look past 0.8 s, the
+    # looks a second of the wall clock apart), under the 64 MB that lets it go on: stuck
+    (512, 4, "hung: lab() did not return within 0.5 s at tick "),
 ])
 def test_a_native_lab_past_its_cpu_allowance_is_hung_unless_it_fills_its_memory(leak_kb, status, ending,
                                                                                   tmp_path):

@@ -62,16 +62,20 @@ deadline and a deadline plus two polls."""
 CPU_EVERY_POLLS = 20
 GROWING_MB = 64
 """A native worker over its chunk's CPU allowance whose address space grew by at least this much
-(MB) since the watcher last let it go on is filling its memory, not stuck: its memory limit will end
-it (a leak's page faults are CPU time, up to 3 s a GB on a virtual machine whose memory is backed
-lazily), so it is watched on, and it is hung only at a look that finds it grown less. Each look that
-lets it go on needs this much more, so a worker under a limit of L MB gets at most L / this many."""
+(MB) in the last :data:`GROWING_CPU_S` of its CPU is filling its memory, not stuck: its memory limit
+will end it (a leak's page faults are CPU time, up to 3 s a GB on a virtual machine whose memory is
+backed lazily), so it is watched on, and it is hung at the first such second of its CPU that finds
+it grown less. Each second that lets it go on needs this much more, so a worker under a limit of L
+MB gets at most L / this many."""
+GROWING_CPU_S = 1.0
+"""How much of its CPU a native worker past its allowance has to grow by :data:`GROWING_MB` (s).
+Counted in its CPU, not the wall clock's: a loaded machine gives it less of each second."""
 
 
 def still_growing(grown_mb: float, memory_mb: int | None) -> bool:
     """Whether a native worker over its CPU allowance is let go on: its address space grew by
-    :data:`GROWING_MB` or more since the last look and a memory limit bounds it (without one,
-    nothing bounds how long it could grow).
+    :data:`GROWING_MB` or more in its last :data:`GROWING_CPU_S` of CPU (or, the first time, since its
+    chunk began) and a memory limit bounds it (without one, nothing bounds how long it could grow).
 
     >>> still_growing(64.0, 2048), still_growing(63.9, 2048), still_growing(640.0, None)
     (True, False, False)
@@ -285,6 +289,7 @@ class WorkerProcess:
         start = time.monotonic()
         cpu0 = self._cpu_s() if cpu_allowance_s is not None else None
         vm_seen = self._vm_mb() if cpu_allowance_s is not None else 0.0
+        cpu_seen: float | None = None  # its CPU when it was last let go on past its allowance
         # when this poll first saw the lab() or printing() call now running, per block: the tick
         # and the phase, and the wall time (the board keeps no clock of its own for it)
         call_seen: list[tuple[int, int] | None] = [None] * len(blocks)
@@ -338,11 +343,12 @@ class WorkerProcess:
             polls += 1
             if cpu0 is not None and polls % CPU_EVERY_POLLS == 0 and blocks:
                 cpu = self._cpu_s()
-                if cpu is not None and cpu - cpu0 > cpu_allowance_s:  # type: ignore[operator]
+                over = cpu is not None and cpu - cpu0 > cpu_allowance_s  # type: ignore[operator]
+                if over and (cpu_seen is None or cpu - cpu_seen >= GROWING_CPU_S):  # type: ignore[operator]
                     vm = self._vm_mb()
                     if not still_growing(vm - vm_seen, self._space_limit_mb):
                         return self._hung(blocks[0], c.CRS_PHASE_LAB, deadline_s)
-                    vm_seen = vm
+                    vm_seen, cpu_seen = vm, cpu
             if timeout_s is not None and time.monotonic() - start > timeout_s:
                 self.process.kill()
                 return Ending(RunStatus.CRASHED, blocks[0].tick if blocks else 0,
