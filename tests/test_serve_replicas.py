@@ -27,9 +27,9 @@ TLS.verify_mode = ssl.CERT_NONE  # nginx's throwaway certificate
 # TLS 1.2 for this test's own client: websockets' synchronous client reads its socket in a thread
 # while it sends from another, and under TLS 1.3 the server's session tickets, sent just after the
 # handshake, wake that reader while the opening request is written; an SSL socket is not safe for
-# both at once, and about one page in 30 lost its request (nginx: "client timed out while waiting
-# for request"; a single-threaded client through the same nginx lost none in 200). nginx's TLS and
-# the replicas are the same either way.
+# both at once, and about one run of this test in 27 lost a page's request (nginx: "client timed
+# out while waiting for request"; a single-threaded client through the same nginx lost none in
+# 200 pages). nginx's TLS and the replicas are the same either way.
 TLS.maximum_version = ssl.TLSVersion.TLSv1_2
 
 
