@@ -22,29 +22,7 @@
 #include <string.h>
 #include <time.h>
 
-static double clock_s(clockid_t clock)
-{
-    struct timespec ts;
-    clock_gettime(clock, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static double *read_doubles(const char *path, long *count)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    const long bytes = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    double *values = malloc(bytes > 0 ? (size_t)bytes : 1);
-    *count = bytes / (long)sizeof(double);
-    if (values && fread(values, sizeof(double), (size_t)*count, f) != (size_t)*count) {
-        free(values);
-        values = NULL;
-    }
-    fclose(f);
-    return values;
-}
+#include "controls_file.h"
 
 static void print_vector(const char *name, const mjtNum *v, long n)
 {
@@ -59,22 +37,11 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: %s MODEL.xml CONTROLS.bin PASSES\n", argv[0]);
         return 2;
     }
-    char error[1000] = "";
-    mjModel *m = mj_loadXML(argv[1], NULL, error, sizeof error);
-    if (!m) {
-        fprintf(stderr, "%s: %s\n", argv[1], error);
-        return 2;
-    }
-    long count = 0;
-    double *rec = read_doubles(argv[2], &count);
-    /* (sizes are int in MuJoCo 3, mjtSize in 4: use long here) */
+    double *rec = NULL;
+    long ticks = 0;
+    mjModel *m = load_replay(argv[1], argv[2], &rec, &ticks);
+    if (!m) return 2;
     const long nq = (long)m->nq, nu = (long)m->nu, nv = (long)m->nv, per_tick = nu + nv;
-    if (!rec || count < nq || (count - nq) % per_tick != 0) {
-        fprintf(stderr, "%s: not a controls file for this model (nq %ld, nu %ld, nv %ld)\n", argv[2],
-                nq, nu, nv);
-        return 2;
-    }
-    const long ticks = (count - nq) / per_tick;
     const int passes = atoi(argv[3]);
     mjData *d = mj_makeData(m);
     for (int pass = 0; pass < passes; ++pass) {

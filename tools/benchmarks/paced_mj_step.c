@@ -25,14 +25,9 @@
 #include <string.h>
 #include <time.h>
 
-static const double GOLDEN = 0.6180339887498949; /* runs' phases: the host's golden-ratio spread */
+#include "controls_file.h"
 
-static double clock_s(clockid_t clock)
-{
-    struct timespec ts;
-    clock_gettime(clock, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+static const double GOLDEN = 0.6180339887498949; /* runs' phases: the host's golden-ratio spread */
 
 static void sleep_until(double when_s)
 {
@@ -43,51 +38,25 @@ static void sleep_until(double when_s)
     }
 }
 
-static double *read_doubles(const char *path, long *count)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f) return NULL;
-    fseek(f, 0, SEEK_END);
-    const long bytes = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    double *values = malloc(bytes > 0 ? (size_t)bytes : 1);
-    *count = bytes / (long)sizeof(double);
-    if (values && fread(values, sizeof(double), (size_t)*count, f) != (size_t)*count) {
-        free(values);
-        values = NULL;
-    }
-    fclose(f);
-    return values;
-}
-
 int main(int argc, char **argv)
 {
     if (argc != 7) {
         fprintf(stderr, "usage: %s MODEL.xml CONTROLS.bin RUNS SECONDS CHUNK_TICKS BATCH_MS\n", argv[0]);
         return 2;
     }
-    char error[1000] = "";
-    mjModel *m = mj_loadXML(argv[1], NULL, error, sizeof error);
-    if (!m) {
-        fprintf(stderr, "%s: %s\n", argv[1], error);
-        return 2;
-    }
-    long count = 0;
-    double *rec = read_doubles(argv[2], &count);
+    double *rec = NULL;
+    long ticks = 0;
+    mjModel *m = load_replay(argv[1], argv[2], &rec, &ticks);
+    if (!m) return 2;
     const long nq = (long)m->nq, nu = (long)m->nu, nv = (long)m->nv, per_tick = nu + nv;
     const int runs = atoi(argv[3]);
     const double seconds = atof(argv[4]);
     const int chunk_ticks = atoi(argv[5]);         /* a chunk at real time (ticks of 1 ms) */
     const double batch_s = atof(argv[6]) * 1e-3;    /* a wake-up runs every chunk due this soon */
-    if (!rec || count < nq || (count - nq) % per_tick != 0 || count == nq) {
-        fprintf(stderr, "%s: not a controls file for this model\n", argv[2]);
-        return 2;
-    }
     if (runs < 1 || !(seconds > 0) || chunk_ticks < 1 || !(batch_s > 0)) {
         fprintf(stderr, "RUNS, SECONDS, CHUNK_TICKS and BATCH_MS must be positive\n");
         return 2;
     }
-    const long ticks = (count - nq) / per_tick;
     mjData **data = malloc(sizeof *data * (size_t)runs);
     long *at = calloc((size_t)runs, sizeof *at);      /* each run's tick in the recording */
     double *due = malloc(sizeof *due * (size_t)runs); /* when each run's next chunk is due (s) */
