@@ -9,10 +9,12 @@ import html
 import http.client
 import json
 import re
+import socket
 import ssl
 
 import pytest
 from serve_server import USERS, run_message, write_roster
+from websockets.typing import Origin
 
 from crslab.serve.auth import hash_password
 from crslab.serve.deploy.replicas import Replicas
@@ -24,13 +26,6 @@ STUDENTS = [f"student{i:02d}" for i in range(16)]
 TLS = ssl.create_default_context()
 TLS.check_hostname = False
 TLS.verify_mode = ssl.CERT_NONE  # nginx's throwaway certificate
-# TLS 1.2 for this test's own client: websockets' synchronous client reads its socket in a thread
-# while it sends from another, and under TLS 1.3 the server's session tickets, sent just after the
-# handshake, wake that reader while the opening request is written; an SSL socket is not safe for
-# both at once, and about one run of this test in 27 lost a page's request (nginx: "client timed
-# out while waiting for request"; a single-threaded client through the same nginx lost none in
-# 200 pages). nginx's TLS and the replicas are the same either way.
-TLS.maximum_version = ssl.TLSVersion.TLSv1_2
 
 
 @pytest.fixture(scope="module")
@@ -74,24 +69,74 @@ def login(host: str, name: str, tls: bool = True) -> str:
 
 
 class Page:
-    """A page's WebSocket through nginx (wss)."""
+    """A page's WebSocket through nginx (wss), read and written from this one thread: websockets'
+    sans-I/O protocol on a blocking TLS socket. (websockets' synchronous client reads its socket in a
+    thread while it writes from another; under TLS 1.3 the session tickets nginx sends just after
+    the handshake woke that reader while the opening request was written, an SSL socket is not safe
+    for both at once, and about one run of this test in 27 lost a page's request: nginx logged
+    "client timed out while waiting for request". With one thread, 0 in 200 pages.)"""
 
     def __init__(self, replicas: Replicas, cookie: str) -> None:
-        from websockets.sync.client import connect
+        from websockets.client import ClientProtocol
+        from websockets.uri import parse_uri
 
-        self.ws = connect(f"wss://{replicas.https}/ws", ssl=TLS, open_timeout=60, max_size=None,
-                          additional_headers={"Cookie": cookie, "Origin": f"https://{replicas.https}"}).__enter__()
+        host, port = replicas.https.rsplit(":", 1)
+        raw = socket.create_connection((host, int(port)), timeout=60)
+        self.sock = TLS.wrap_socket(raw, server_hostname=host)
+        self.sock.settimeout(120)
+        self.protocol = ClientProtocol(parse_uri(f"wss://{replicas.https}/ws"),
+                                       origin=Origin(f"https://{replicas.https}"), max_size=None)
+        self.request = self.protocol.connect()
+        self.request.headers["Cookie"] = cookie
+        self.protocol.send_request(self.request)
+        self._flush()
+        self.messages: list[str] = []
+        self._parts: list[bytes] = []  # a text message's frames so far
         self.hello = self.next()
         assert self.hello["type"] == "hello", self.hello
 
+    def _flush(self) -> None:
+        for data in self.protocol.data_to_send():
+            if data:
+                self.sock.sendall(data)
+
+    def _text(self) -> str:
+        """The next text message (the opening handshake's response and control frames in between
+        are the protocol's)."""
+        from websockets.frames import Opcode
+        from websockets.http11 import Response
+
+        while not self.messages:
+            data = self.sock.recv(65536)
+            if data:
+                self.protocol.receive_data(data)
+            else:
+                self.protocol.receive_eof()
+            self._flush()
+            for event in self.protocol.events_received():
+                if isinstance(event, Response):
+                    assert event.status_code == 101, (event.status_code, event.body)
+                elif event.opcode in (Opcode.TEXT, Opcode.CONT):
+                    self._parts.append(event.data)
+                    if event.fin:
+                        self.messages.append(b"".join(self._parts).decode())
+                        self._parts.clear()
+            if not data:
+                assert self.messages, f"the server closed the page's WebSocket ({self.protocol.close_exc})"
+        return self.messages.pop(0)
+
     def next(self) -> dict:
-        msg = json.loads(self.ws.recv(timeout=120))
+        msg = json.loads(self._text())
         if msg.get("type") == "chunk":
             msg["frames"] = unpacked_rows(msg["frames"])
         return msg
 
+    def send(self, text: str) -> None:
+        self.protocol.send_text(text.encode())
+        self._flush()
+
     def run(self, seconds: float) -> list[dict]:
-        self.ws.send(json.dumps(run_message(starter_text("lab1", "A"), "lab1.c", duration=seconds,
+        self.send(json.dumps(run_message(starter_text("lab1", "A"), "lab1.c", duration=seconds,
                                                   no_startup_delay=True)))
         got = [self.next()]
         while got[-1]["type"] != "ended":
@@ -100,7 +145,9 @@ class Page:
         return got
 
     def close(self) -> None:
-        self.ws.close()
+        self.protocol.send_close()
+        self._flush()
+        self.sock.close()
 
 
 def sessions_on(replicas: Replicas, admin: str) -> list[list[str]]:
