@@ -383,18 +383,18 @@ class WorkerProcess:
             return None
 
     def _vm_mb(self) -> float:
-        """The worker's address space (the kernel's count, what its memory limit bounds), MB; 0
-        when it cannot be read."""
-        try:
-            pages = int(Path(f"/proc/{self.pid}/statm").read_text().split()[0])
-        except (OSError, IndexError, ValueError):
-            return 0.0
-        return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
+        """The worker's address space (what its memory limit bounds), MB; 0 when it cannot be read."""
+        return self._statm_mb(0)
 
     def _rss_mb(self) -> float:
-        """The worker's resident memory (the kernel's count), MB; 0 when it cannot be read."""
+        """The worker's resident memory, MB; 0 when it cannot be read."""
+        return self._statm_mb(1)
+
+    def _statm_mb(self, field: int) -> float:
+        """Field ``field`` of the worker's ``/proc/PID/statm`` (the kernel's count, in pages), MB; 0
+        when it cannot be read."""
         try:
-            pages = int(Path(f"/proc/{self.pid}/statm").read_text().split()[1])
+            pages = int(Path(f"/proc/{self.pid}/statm").read_text().split()[field])
         except (OSError, IndexError, ValueError):
             return 0.0
         return pages * os.sysconf("SC_PAGE_SIZE") / 2**20
