@@ -164,7 +164,8 @@ def test_each_variant_fails_the_task_it_breaks(cards, name, task):
     evidence = card["tasks"][task]
     if task == "peg":
         # on the block beside the hole (1 cm off): where it stopped, said
-        assert evidence["held_s"] < RULES["peg_hold_s"] and evidence["stopped_at"] is not None
+        assert evidence["held_s"] < RULES["peg_hold_s"] - RULES["hold_tolerance_s"]
+        assert evidence["stopped_at"] is not None
         assert 0.003 < evidence["off_axis_m"] < 0.03
     elif task == "groove":
         # never below the plate's top: how high it stayed, the 1 cm it was told less what the tip

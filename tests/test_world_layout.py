@@ -108,7 +108,12 @@ def test_an_unknown_key_a_wrong_type_and_a_missing_key_each_name_file_line_and_k
         (
             "hold_tolerance_s = 0.2",
             "hold_tolerance_s = 2.5",
-            "contest.hold_tolerance_s: 2.5 s is not shorter",
+            "contest.hold_tolerance_s: 2.5 s is not shorter than the hold (2 s)",
+        ),
+        (
+            "peg_hold_s = 0.5",
+            "peg_hold_s = 0.2",
+            "contest.peg_hold_s: 0.2 s is not longer than hold_tolerance_s (0.2 s)",
         ),
         (
             "obstacle_around = true",

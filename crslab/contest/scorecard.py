@@ -224,7 +224,8 @@ def _mark(done: bool) -> str:
 def _peg_line(p: Peg, ru: Any) -> str:
     if p.note:
         return p.note
-    need = f"(needs {1000 * ru.peg_min_depth_m:.0f} mm for {ru.peg_hold_s:.2f} s)"
+    need = (f"(needs {1000 * ru.peg_min_depth_m:.0f} mm for {ru.peg_hold_s:.2f} s; a TA allows "
+            f"{ru.peg_hold_s - ru.hold_tolerance_s:.2f} s)")
     text = f"{1000 * p.depth_m:.1f} mm deep at most, held {p.held_s:.2f} s {need}"
     if not p.done and p.stopped_at is not None and not p.came_near:
         text += (f"; it never came within {1000 * NEAR_HOLE_M:.0f} mm of the hole's axis (nearest "

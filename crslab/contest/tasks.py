@@ -125,7 +125,7 @@ def judge_peg(log: Mapping[str, np.ndarray], world: Any, tr: Trace) -> Peg:
     depth = column(log, "peg_depth")
     deep = depth >= rules.peg_min_depth_m
     rows, _ = longest_run(deep)
-    k = first_run_reaching(deep, tr.rows(rules.peg_hold_s))
+    k = first_run_reaching(deep, tr.rows(rules.peg_hold_s - rules.hold_tolerance_s))
     if k >= 0:
         return Peg(True, float(depth.max()), rows * tr.dt, float(tr.t[k]))
     off = _across(tr, hole.center_xy_m)

@@ -147,8 +147,8 @@ last at most this long."""
 @dataclass(frozen=True)
 class ContestRules:
     """The final project's contest (``crslab contest``): the egg's force band (grams on the scale)
-    held ``hold_s`` (a TA lets ``hold_tolerance_s`` short of it pass); the peg at least
-    ``peg_min_depth_m`` in the hole for ``peg_hold_s``; the share of the groove's path the peg must
+    held ``hold_s``; the peg at least ``peg_min_depth_m`` in the hole for ``peg_hold_s`` (of each
+    hold a TA times, ``hold_tolerance_s`` short of it passes); the share of the groove's path the peg must
     stay inside; whether passing beside the obstacle avoids it too (``obstacle_around``). The
     defaults are C's (``csrc/plant/world_facts.h``)."""
 

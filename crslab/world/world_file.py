@@ -343,3 +343,10 @@ def _check_fit(world: World, doc: TomlFile) -> None:
             "hold_tolerance_s",
             f"{ru.hold_tolerance_s:g} s is not shorter than the hold ({ru.hold_s:g} s)",
         )
+    if ru.peg_hold_s <= ru.hold_tolerance_s:
+        raise fail(
+            "contest",
+            "peg_hold_s",
+            f"{ru.peg_hold_s:g} s is not longer than hold_tolerance_s ({ru.hold_tolerance_s:g} s), what a "
+            "TA lets pass short of each hold",
+        )

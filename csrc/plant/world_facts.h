@@ -34,9 +34,9 @@ static const double CRS_CONTEST_BAND_LOW_G = 500.0;    /* the egg's band on the 
 static const double CRS_CONTEST_BAND_HIGH_G = 1000.0;  /* on egg varies from 500 gram to 1000 gram" */
 static const double CRS_CONTEST_HOLD_S = 2.0;          /* pushes "held for 2 seconds" */
 static const double CRS_CONTEST_HOLD_TOLERANCE_S = 0.2; /* what a TA with a stopwatch lets pass short
-                                                         of the hold (a human's reaction time is
-                                                         about 0.2 s; one team's 2 s press was in
-                                                         the band 1.91 s) */
+                                                         of each hold, the egg's and the peg's (a
+                                                         human's reaction time is about 0.2 s; one
+                                                         team's 2 s press was in the band 1.91 s) */
 static const double CRS_CONTEST_PEG_MIN_DEPTH_M = 0.005; /* half the shallowest insertion teams
                                                             designed (10 mm) */
 static const double CRS_CONTEST_PEG_HOLD_S = 0.5;      /* the peg "stays there a moment" */
