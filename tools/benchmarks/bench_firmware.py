@@ -34,6 +34,7 @@ def run() -> list[str]:
     with tempfile.TemporaryDirectory(prefix="crslab-bench-build-") as tmp:
         tmp = Path(tmp)
         cache = tmp / "cache"
+        cache.mkdir(mode=0o700)  # a build cache's root is the caller's to make (crslab.cache checks it)
         lab = tmp / "lab1.c"
         lab.write_text(text)
         build_lab(lab, cache=cache)  # the framework's objects, once (every later build reuses them)
