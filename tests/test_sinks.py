@@ -87,6 +87,41 @@ def test_a_threaded_sink_keeps_the_order_of_calls_and_works_off_the_callers_thre
     assert set(seen) == {"crslab-sink"}
 
 
+def test_a_threaded_sink_s_queue_holds_only_the_calls_its_sink_takes():
+    # a CSV-like sink busy with a chunk's rows: the run's other calls of a chunk (which the sink
+    # does not take) must not fill the queue and hold the run until the rows are written (the run
+    # then asked the worker for its next chunk only after the CSV was written: no overlap)
+    writing = threading.Event()
+
+    class Rows(Sink):
+        def __init__(self):
+            self.rows = []
+
+        def on_log(self, columns):
+            writing.wait()
+            self.rows.append(int(columns["tick"][-1, 0]))
+
+    inner = Rows()
+    sink = ThreadedSink(inner, depth=2)
+
+    def run_two_chunks():
+        for end in (20_000, 40_000):
+            sink.on_print(end, 1)
+            sink.on_serial(end, b"x")
+            sink.on_log({"tick": np.array([[end]])})
+            sink.flush()
+            sink.on_reached(end)
+
+    run = threading.Thread(target=run_two_chunks)
+    run.start()
+    run.join(timeout=10)   # blocked on a full queue it would wait for `writing`, which comes after
+    done = not run.is_alive()
+    writing.set()
+    run.join()
+    sink.close()
+    assert done and inner.rows == [20_000, 40_000]
+
+
 def test_stdout_and_transcript_see_the_same_bytes_split_anywhere(tmp_path):
     import io
 

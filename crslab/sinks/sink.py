@@ -107,6 +107,16 @@ class SinkError(Exception):
 S = TypeVar("S", bound=type[Sink])
 
 
+def takes(sink: Sink, name: str) -> bool:
+    """Whether ``sink`` does something with the call ``name`` (:class:`Sink`'s own do nothing).
+
+    >>> from crslab.sinks.memory import MemorySink
+    >>> takes(Sink(), "on_serial"), takes(MemorySink(), "on_serial")
+    (False, True)
+    """
+    return getattr(getattr(sink, name), "__func__", None) is not getattr(Sink, name)
+
+
 def forwarding(cls: S) -> S:
     """Class decorator: each call of :data:`CALLS` the class does not define itself goes to its
     ``forward(name, args)``."""
@@ -151,9 +161,7 @@ class FanOut(Sink):
         """
         takers = self._takers.get(name)
         if takers is None:
-            takers = self._takers[name] = [
-                method for method in (getattr(s, name) for s in self.sinks)
-                if getattr(method, "__func__", None) is not getattr(Sink, name)]
+            takers = self._takers[name] = [getattr(s, name) for s in self.sinks if takes(s, name)]
         for method in takers:
             method(*args)
 

@@ -2,8 +2,9 @@
 
 The crslab process asks the worker for the next chunk of ticks only after every sink has taken
 the last one. Writing a rerun recording or a CSV takes a while per chunk; in a thread, that work
-overlaps the worker's next chunk. Calls reach the wrapped sink in the order they were made; at
-most ``depth`` chunks wait, after which the simulation waits for the sink (memory stays bounded).
+overlaps the worker's next chunk. Calls reach the wrapped sink in the order they were made, only
+those it takes (a CSV's sink: each chunk's rows and a flush, of a chunk's some seven calls); at
+most ``depth`` of them wait, after which the simulation waits for the sink (memory stays bounded).
 
 >>> from crslab.sinks.memory import MemorySink
 >>> inner = MemorySink()
@@ -18,7 +19,7 @@ from __future__ import annotations
 import queue
 import threading
 
-from crslab.sinks.sink import Sink, forwarding
+from crslab.sinks.sink import Sink, forwarding, takes
 
 _STOP = object()
 
@@ -53,8 +54,11 @@ class ThreadedSink(Sink):
         self._queue.put((method, args))
 
     def forward(self, name: str, args: tuple) -> None:
-        """Queue the call ``name`` for the thread (a flush too: the simulation does not wait for it)."""
-        self._put(getattr(self.inner, name), *args)
+        """Queue the call ``name`` for the thread (a flush too: the simulation does not wait for it),
+        when the wrapped sink does something with it: a chunk makes some seven calls, and the
+        queue's places are for the ones that take time (a CSV sink's rows, not its no-op calls)."""
+        if takes(self.inner, name):
+            self._put(getattr(self.inner, name), *args)
 
     def close(self) -> None:
         """Wait for the queued work, close the wrapped sink, and raise what went wrong in the thread."""
