@@ -2,6 +2,8 @@
 
 #include <math.h>
 
+#include "vector_math.h" /* atan2 declared as libmvec has it in every file that calls it (see there) */
+
 static const double PI = 3.14159265358979323846;
 /* Relative slack on the reach boundary: a target this close outside still counts as reached. */
 static const double REACH_SLACK = 1e-12;

@@ -2,6 +2,8 @@
 
 #include <math.h>
 
+#include "vector_math.h" /* atan2 declared as libmvec has it in every file that calls it (see there) */
+
 /* |v|, and v / |v| in unit (when |v| > 0), scaled first so that neither the squares nor the
  * quotient underflow or overflow (tiny angles give tiny, even subnormal, skew parts). */
 static double normalize3(const double v[3], double unit[3])
