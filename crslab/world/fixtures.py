@@ -148,8 +148,8 @@ last at most this long."""
 class ContestRules:
     """The final project's contest (``crslab contest``): the egg's force band (grams on the scale)
     held ``hold_s``; the peg at least ``peg_min_depth_m`` in the hole for ``peg_hold_s`` (of each
-    hold a TA times, ``hold_tolerance_s`` short of it passes); the share of the groove's path the peg must
-    stay inside; whether passing beside the obstacle avoids it too (``obstacle_around``). The
+    hold a TA times, ``hold_tolerance_s`` short of it passes); the share of the groove's path the
+    peg must stay inside; whether passing beside the obstacle avoids it too (``obstacle_around``). The
     defaults are C's (``csrc/plant/world_facts.h``)."""
 
     band_g: Pair = world_facts.CONTEST_BAND_G

@@ -1,6 +1,11 @@
 /* Internal: lets gcc vectorize loops that call libm (glibc's libmvec on x86-64), and build one
  * copy of a hot batch loop per instruction set, picked at load time. Elsewhere both are no-ops
- * and the loops stay plain scalar C. Not part of the Python-visible API (no declarations). */
+ * and the loops stay plain scalar C. Not part of the Python-visible API (no declarations).
+ * The core is linked with link-time optimization, which merges the files' declarations of a
+ * function: where the merged one lacks the simd attribute, every loop calling it stays scalar.
+ * So every file of the core that calls atan2 includes this header (two that did not left the
+ * batch IK scalar); tests/test_kin_batch_placement.py checks that the core calls libmvec's
+ * atan2, sin and cos. */
 #ifndef CRSLAB_VECTOR_MATH_H
 #define CRSLAB_VECTOR_MATH_H
 
