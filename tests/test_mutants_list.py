@@ -40,6 +40,13 @@ def test_a_stale_mutation_is_named_with_why(tmp_path):
     assert m.problem(ROOT) == (
         "x.toml: 'gone': 'no such text' occurs 0 times in crslab/regress/compare.py (must be once)"
     )
+    # a test renamed since: its mutation would stop make mutants before the first mutant
+    (tmp_path / "x.toml").write_text(
+        '[[mutation]]\nname = "renamed"\nfile = "tools/mutants.py"\nfind = "def load("\n'
+        'replace = "def loaded("\ntests = ["tests/test_mutants_list.py::test_no_such_test"]\n'
+    )
+    (m,) = tool.load(tmp_path)
+    assert m.problem(ROOT) == "x.toml: 'renamed': no test_no_such_test in tests/test_mutants_list.py"
 
 
 def test_a_failed_test_kills_a_mutant_and_an_error_elsewhere_is_said_apart(tmp_path):

@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -84,8 +85,14 @@ class Mutation:
         if not self.tests:
             return f"{where}: no tests named"
         for test in self.tests:
-            if not (root / test.split("::")[0]).exists():
-                return f"{where}: no test file {test.split('::')[0]}"
+            file, _, name = test.partition("::")
+            if not (root / file).exists():
+                return f"{where}: no test file {file}"
+            # a test function (tests/x.py::test_y[param]) or a doctest's (crslab/x.py::crslab.x.f)
+            defined = name.split("[")[0].rsplit(".", 1)[-1]
+            if name and not re.search(rf"^\s*(async\s+)?def {re.escape(defined)}\b",
+                                      (root / file).read_text(), re.M):
+                return f"{where}: no {defined} in {file}"
         return None
 
 
