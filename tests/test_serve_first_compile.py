@@ -11,7 +11,7 @@ from crslab.run.api import make_config
 from crslab.run.board_run import BoardRun
 from crslab.serve.page_process import compile_module
 from crslab.starters import starter_text
-from crslab.worker.wasm_runtime import NotCompiled, WasmImage, compile_kept
+from crslab.worker.wasm_runtime import ENGINE_ENVIRONMENT, NotCompiled, WasmImage, compile_kept
 
 
 @pytest.fixture
@@ -34,6 +34,10 @@ def test_the_first_compile_starts_no_process_and_the_run_loads_what_it_kept(conf
         m.setattr(multiprocessing.process.BaseProcess, "start", no_process)
         compile_module(config)
     assert kept.stat().st_size > 10_000 and kept.with_name(kept.name + ".seal").exists()
+    # its engine was made with the workers' environment (unset before it): a worker started apart,
+    # as a run host's is, would refuse a module compiled otherwise and compile it on every run (this
+    # test's worker is forked from here, engine and all, so its run alone cannot tell)
+    assert {k: os.environ.get(k) for k in ENGINE_ENVIRONMENT} == ENGINE_ENVIRONMENT
     written = (kept.stat().st_ino, kept.stat().st_mtime_ns)
     with BoardRun(config) as sim:
         result = sim.run(5000)
