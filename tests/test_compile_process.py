@@ -6,6 +6,7 @@ cache. Both boards: the WebAssembly build (zig) and the native one (the host's c
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -62,6 +63,24 @@ def test_a_compiler_out_of_time_is_killed_with_every_process_it_started(tmp_path
     assert r.timed_out and r.returncode < 0
     grandchild, started = (int(x) for x in pid_file.read_text().split())
     state = process_state(grandchild, started)
+    assert state in ("gone", "Z"), f"the compiler's child {grandchild} outlived it ({state})"
+
+
+def test_a_compiler_that_ends_leaves_no_process_of_its_group_behind(tmp_path):
+    """A compiler that exits while a child of its group runs on (its output elsewhere, so the wait
+    for the compiler's output ends): the child is killed with the group when the wait ends, not
+    left to run beside crslab (a serve session or a grade job lives on after its build)."""
+    pid_file = tmp_path / "grandchild.pid"
+    script = f"sleep 600 >/dev/null 2>&1 & echo $! $(cut -d ' ' -f 22 /proc/$!/stat) > {pid_file}; exit 0"
+    r = run_compile(["sh", "-c", script], env={"PATH": os.environ["PATH"]}, timeout_s=20.0)
+    assert not r.timed_out and r.returncode == 0
+    grandchild, started = (int(x) for x in pid_file.read_text().split())
+    # SIGKILL was sent to the group: the child ends as soon as the kernel delivers it (a sleeper
+    # left alone would still run for 600 s)
+    for _ in range(100):
+        if (state := process_state(grandchild, started)) in ("gone", "Z"):
+            break
+        time.sleep(0.05)
     assert state in ("gone", "Z"), f"the compiler's child {grandchild} outlived it ({state})"
 
 
