@@ -6,10 +6,10 @@ cache. Both boards: the WebAssembly build (zig) and the native one (the host's c
 import os
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
+from waiting import wait_until
 
 from crslab.lab.compile_process import IMAGE_CAP_BYTES, run_compile
 from crslab.lab.includes import local_includes
@@ -77,11 +77,8 @@ def test_a_compiler_that_ends_leaves_no_process_of_its_group_behind(tmp_path):
     grandchild, started = (int(x) for x in pid_file.read_text().split())
     # SIGKILL was sent to the group: the child ends as soon as the kernel delivers it (a sleeper
     # left alone would still run for 600 s)
-    for _ in range(100):
-        if (state := process_state(grandchild, started)) in ("gone", "Z"):
-            break
-        time.sleep(0.05)
-    assert state in ("gone", "Z"), f"the compiler's child {grandchild} outlived it ({state})"
+    wait_until(lambda: process_state(grandchild, started) in ("gone", "Z"),
+               f"the end of the compiler's child {grandchild}", timeout_s=10.0)
 
 
 def process_state(pid: int, started: int) -> str:

@@ -88,7 +88,8 @@ class Mutation:
             file, _, name = test.partition("::")
             if not (root / file).exists():
                 return f"{where}: no test file {file}"
-            # a test function (tests/x.py::test_y[param]) or a doctest's (crslab/x.py::crslab.x.f)
+            # a test function (its name, a parameter in brackets after it) or a doctest (the dotted
+            # name of the function it documents): either is a def in the file
             defined = name.split("[")[0].rsplit(".", 1)[-1]
             if name and not re.search(rf"^\s*(async\s+)?def {re.escape(defined)}\b",
                                       (root / file).read_text(), re.M):
