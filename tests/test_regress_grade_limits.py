@@ -27,7 +27,7 @@ def test_grade_limits_memory_by_default(tmp_path, board):
                        capture_output=True, text=True, timeout=300)
     rows = {row["submission"]: row for row in csv.DictReader((out / "grades.csv").open())}
     assert rows["good.c"]["result"] == "pass"
-    assert rows["leaky.c"]["result"] == "crashed"
+    assert rows["leaky.c"]["result"] == "crashed", rows["leaky.c"]["detail"]  # the detail says why if not
     if board == "native":
         assert rows["leaky.c"]["detail"].endswith("its memory limit was 2048 MB")
     else:  # malloc found no room and returned NULL, which memset ran through
