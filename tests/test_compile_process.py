@@ -56,14 +56,10 @@ def test_a_fifo_is_found_through_the_headers_the_lab_includes(tmp_path):
 def test_a_compiler_out_of_time_is_killed_with_every_process_it_started(tmp_path):
     """A compiler driver's children (cc1, as) are in its process group: all of it is killed."""
     pid_file = tmp_path / "grandchild.pid"
-    # its id and its start time (field 22 of /proc/PID/stat): ids wrap, and a new process may have
-    # this one's id by the time it is looked at; the pair names one process
-    script = f"sleep 600 & echo $! $(cut -d ' ' -f 22 /proc/$!/stat) > {pid_file}; wait"
-    r = run_compile(["sh", "-c", script], env={"PATH": os.environ["PATH"]}, timeout_s=2.0)
+    r = run_compile(["sh", "-c", f"{sleeper(pid_file)}; wait"], env={"PATH": os.environ["PATH"]},
+                    timeout_s=2.0)
     assert r.timed_out and r.returncode < 0
-    grandchild, started = (int(x) for x in pid_file.read_text().split())
-    state = process_state(grandchild, started)
-    assert state in ("gone", "Z"), f"the compiler's child {grandchild} outlived it ({state})"
+    wait_gone_child(pid_file)
 
 
 def test_a_compiler_that_ends_leaves_no_process_of_its_group_behind(tmp_path):
@@ -71,14 +67,27 @@ def test_a_compiler_that_ends_leaves_no_process_of_its_group_behind(tmp_path):
     for the compiler's output ends): the child is killed with the group when the wait ends, not
     left to run beside crslab (a serve session or a grade job lives on after its build)."""
     pid_file = tmp_path / "grandchild.pid"
-    script = f"sleep 600 >/dev/null 2>&1 & echo $! $(cut -d ' ' -f 22 /proc/$!/stat) > {pid_file}; exit 0"
+    script = f"{sleeper(pid_file, quiet=True)}; exit 0"
     r = run_compile(["sh", "-c", script], env={"PATH": os.environ["PATH"]}, timeout_s=20.0)
     assert not r.timed_out and r.returncode == 0
-    grandchild, started = (int(x) for x in pid_file.read_text().split())
-    # SIGKILL was sent to the group: the child ends as soon as the kernel delivers it (a sleeper
-    # left alone would still run for 600 s)
-    wait_until(lambda: process_state(grandchild, started) in ("gone", "Z"),
-               f"the end of the compiler's child {grandchild}", timeout_s=10.0)
+    wait_gone_child(pid_file)
+
+
+def sleeper(pid_file: Path, quiet: bool = False) -> str:
+    """A shell line that starts a child sleeping 600 s and writes its id and its start time (field
+    22 of /proc/PID/stat: ids wrap, and a new process may have this one's id by the time it is
+    looked at; the pair names one process) to ``pid_file``; ``quiet``: the child's output goes
+    elsewhere, so waiting for the compiler's output does not wait for it."""
+    out = " >/dev/null 2>&1" if quiet else ""
+    return f"sleep 600{out} & echo $! $(cut -d ' ' -f 22 /proc/$!/stat) > {pid_file}"
+
+
+def wait_gone_child(pid_file: Path) -> None:
+    """The child :func:`sleeper` wrote down ends: SIGKILL was sent to its group, and it ends as soon
+    as the kernel delivers it (left alone, it would still sleep for 600 s)."""
+    child, started = (int(x) for x in pid_file.read_text().split())
+    wait_until(lambda: process_state(child, started) in ("gone", "Z"),
+               f"the end of the compiler's child {child} (it outlived the compiler)", timeout_s=10.0)
 
 
 def process_state(pid: int, started: int) -> str:
