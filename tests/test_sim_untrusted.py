@@ -262,6 +262,32 @@ def test_a_native_lab_past_its_cpu_allowance_is_hung_unless_it_fills_its_memory(
     assert no_process_left(lab)
 
 
+@pytest.mark.parametrize("leak_kb, status, ending", [
+    # 64 MB each 100 ms of its CPU, some 320 MB by each look past its 0.5 s deadline: it is filling
+    # its memory, so it is watched on until its 1024 MB limit ends it (malloc finds no room)
+    (65536, 3, "crashed (SIGSEGV) in lab() at tick "),
+    # 8 MB each 100 ms, some 40 MB by the first look past the deadline, under the 64 MB that lets it
+    # go on: stuck
+    (8192, 4, "hung: lab() did not return within 0.5 s at tick "),
+])
+def test_a_native_lab_call_past_its_deadline_is_hung_unless_it_fills_its_memory(leak_kb, status, ending,
+                                                                               tmp_path):
+    """One native lab() call that never returns is hung at its wall-clock deadline, unless it is
+    filling its memory: then its memory limit ends it, as a chunk past its CPU allowance is watched
+    on (a leak's page faults on a loaded machine took one call of a leaking lab past 0.5 s, which was
+    called hung at random)."""
+    lab = tmp_path / "stuck_leak.c"
+    lab.write_text((FAULTY / "stuck_leak.c").read_text().replace("#define LEAK_KB 65536L",
+                                                                 f"#define LEAK_KB {leak_kb}L"))
+    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(lab), "--native",
+                        "--no-startup-delay", "--duration", "0.3", "--mem-limit-mb", "1024",
+                        "--deadline", "0.5"],
+                       capture_output=True, timeout=120)
+    assert r.returncode == status and f"stuck_leak.c {ending}9" in last_line(r), last_line(r)
+    assert last_line(r).endswith("its memory limit was 1024 MB") == (leak_kb == 65536)
+    assert no_process_left(lab)
+
+
 def test_isolation_does_not_change_a_native_transcript():
     """The same with the lab built natively (the benchmarks' recording): the in-process run loads a
     sealed private copy of the lab's shared object (the board loads nothing this user did not seal)."""

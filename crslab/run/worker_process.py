@@ -58,7 +58,8 @@ ABORT_ON_ERROR = ":abort_on_error=1"
 POLL_S = 0.05
 """How often the watcher looks at the worker while it waits for a reply: a lab() or printing()
 call is timed from the first look that sees its tick and phase, so a hang is found between its
-deadline and a deadline plus two polls."""
+deadline and a deadline plus two polls (a native call filling its memory is watched on: see
+:data:`GROWING_MB`)."""
 CPU_EVERY_POLLS = 20
 GROWING_MB = 64
 """A native worker over its chunk's CPU allowance whose address space grew by at least this much
@@ -66,16 +67,19 @@ GROWING_MB = 64
 will end it (a leak's page faults are CPU time, up to 3 s a GB on a virtual machine whose memory is
 backed lazily), so it is watched on, and it is hung at the first such second of its CPU that finds
 it grown less. Each second that lets it go on needs this much more, so a worker under a limit of L
-MB gets at most L / this many."""
+MB gets at most L / this many. One lab() or printing() call past its wall-clock deadline is
+watched on the same way, a deadline at a time: a leak's page faults on a loaded machine can take one
+call of a leaking lab past a short deadline."""
 GROWING_CPU_S = 1.0
 """How much of its CPU a native worker past its allowance has to grow by :data:`GROWING_MB` (s).
 Counted in its CPU, not the wall clock's: a loaded machine gives it less of each second."""
 
 
 def still_growing(grown_mb: float, memory_mb: int | None) -> bool:
-    """Whether a native worker over its CPU allowance is let go on: its address space grew by
-    :data:`GROWING_MB` or more in its last :data:`GROWING_CPU_S` of CPU (or, the first time, since its
-    chunk began) and a memory limit bounds it (without one, nothing bounds how long it could grow).
+    """Whether a native worker over its CPU allowance (or in a call past its deadline) is let go on:
+    its address space grew by :data:`GROWING_MB` or more in its last :data:`GROWING_CPU_S` of CPU (in
+    its last deadline) or, the first time, since its chunk began, and a memory limit bounds it
+    (without one, nothing bounds how long it could grow).
 
     >>> still_growing(64.0, 2048), still_growing(63.9, 2048), still_growing(640.0, None)
     (True, False, False)
@@ -290,6 +294,9 @@ class WorkerProcess:
         cpu0 = self._cpu_s() if cpu_allowance_s is not None else None
         vm_seen = self._vm_mb() if cpu_allowance_s is not None else 0.0
         cpu_seen: float | None = None  # its CPU when it was last let go on past its allowance
+        # a native worker's call past its deadline is watched on while it fills its memory too: its
+        # address space when it was last let go on so, or when the chunk began
+        call_vm_seen = self._vm_mb() if self.native else 0.0
         # when this poll first saw the lab() or printing() call now running, per block: the tick
         # and the phase, and the wall time (the board keeps no clock of its own for it)
         call_seen: list[tuple[int, int] | None] = [None] * len(blocks)
@@ -334,7 +341,10 @@ class WorkerProcess:
                 if call != call_seen[i]:
                     call_seen[i], call_seen_at[i] = call, time.monotonic()
                 if time.monotonic() - call_seen_at[i] > allowed_s:  # type: ignore[operator]
-                    return self._hung(block, phase, deadline_s)
+                    vm = self._vm_mb() if self.native else 0.0
+                    if not (self.native and still_growing(vm - call_vm_seen, self._space_limit_mb)):
+                        return self._hung(block, phase, deadline_s)
+                    call_vm_seen, call_seen_at[i] = vm, time.monotonic()
             over_memory = self._rss_limit_mb is not None and self._rss_mb() > self._rss_limit_mb
             if over_memory and self.block is not None:
                 tick, phase = self.block.tick, self.block.phase
