@@ -6,6 +6,7 @@ The WebAssembly firmware names the lab's line (its trap's backtrace, or the chec
 with); a native one dies by a signal, which names only the function."""
 
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -285,6 +286,40 @@ def test_a_native_lab_call_past_its_deadline_is_hung_unless_it_fills_its_memory(
                        capture_output=True, timeout=120)
     assert r.returncode == status and f"stuck_leak.c {ending}9" in last_line(r), last_line(r)
     assert last_line(r).endswith("its memory limit was 1024 MB") == (leak_kb == 65536)
+    assert no_process_left(lab)
+
+
+@pytest.mark.parametrize("spin_s, sleep_s, status", [
+    (0.4, 0.0, 0),  # 0.4 s of its own CPU, some 1.2 s of the wall clock beside two others: not hung
+    (0.0, 1.5, 4),  # asleep 1.5 s, waiting on nothing: hung at its 1 s deadline
+])
+def test_a_native_call_is_timed_without_the_cores_others_took(spin_s, sleep_s, status, tmp_path):
+    """A native lab's call is hung for the time it takes itself, not for the time its worker
+    waited for a core: on one core with two busy programs its first call, 0.4 s of CPU, takes some
+    1.2 s of the wall clock and is not hung at a 1 s deadline (a TA's grade beside its own jobs);
+    a call that sleeps past the deadline still is."""
+    lab = tmp_path / "slow_first_call.c"
+    lab.write_text((FAULTY / "slow_first_call.c").read_text()
+                   .replace("#define SPIN_FIRST_S 0.4", f"#define SPIN_FIRST_S {spin_s}")
+                   .replace("#define SLEEP_FIRST_S 0.0", f"#define SLEEP_FIRST_S {sleep_s}"))
+    core = min(os.sched_getaffinity(0))
+
+    def one_core() -> None:
+        os.sched_setaffinity(0, {core})
+
+    hogs = [subprocess.Popen([sys.executable, "-c", "while True: pass"], preexec_fn=one_core)
+            for _ in range(2)]
+    try:
+        r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(lab), "--native",
+                            "--no-startup-delay", "--duration", "0.1", "--deadline", "1"],
+                           capture_output=True, timeout=120, preexec_fn=one_core)
+    finally:
+        for hog in hogs:
+            hog.kill()
+            hog.wait()
+    assert r.returncode == status, last_line(r)
+    if status == 4:
+        assert "slow_first_call.c hung: lab() did not return within 1 s at tick 0" in last_line(r)
     assert no_process_left(lab)
 
 

@@ -75,7 +75,8 @@ def add_run_options(p: argparse.ArgumentParser) -> None:
                    "peg, hole, obstacle, groove and egg) or a world file (docs/worlds.md); default: none")
     p.add_argument("--deadline", type=positive, default=DEFAULT_DEADLINE_S, metavar="SECONDS",
                    help="wall-clock time one lab() or printing() call may take before it counts as hung "
-                   "(default: %(default)s)")
+                   "(with --native, less the time it waited for a core on a busy machine; "
+                   "default: %(default)s)")
     p.add_argument("--budget", type=positive_int, default=LAB_BUDGET_INSTRUCTIONS, metavar="INSTRUCTIONS",
                    help="what one lab() call may cost, in WebAssembly instructions (about one per cycle of "
                    "the 150 MHz F28335; a --native run compares the time its lab() takes at that rate; "

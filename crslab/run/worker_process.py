@@ -301,6 +301,9 @@ class WorkerProcess:
         # and the phase, and the wall time (the board keeps no clock of its own for it)
         call_seen: list[tuple[int, int] | None] = [None] * len(blocks)
         call_seen_at = [start] * len(blocks)
+        # a native call's time leaves out what its worker waited for a core meanwhile (a loaded
+        # machine's, not the lab's): its wait when the call was first seen
+        call_wait_s = [0.0] * len(blocks)
         # a native worker is killed at the deadline; a WebAssembly one has its watchdog, and a
         # grace to answer after it
         allowed_s = None if deadline_s is None else deadline_s + (0.0 if self.native else INTERRUPT_GRACE_S)
@@ -339,12 +342,13 @@ class WorkerProcess:
                     continue
                 call = (block.tick, phase)
                 if call != call_seen[i]:
-                    call_seen[i], call_seen_at[i] = call, time.monotonic()
-                if time.monotonic() - call_seen_at[i] > allowed_s:  # type: ignore[operator]
+                    call_seen[i], call_seen_at[i], call_wait_s[i] = call, time.monotonic(), self._wait_s()
+                past = time.monotonic() - call_seen_at[i] > allowed_s  # type: ignore[operator]
+                if past and self._call_s(call_seen_at[i], call_wait_s[i]) > allowed_s:  # type: ignore[operator]
                     vm = self._vm_mb() if self.native else 0.0
                     if not (self.native and still_growing(vm - call_vm_seen, self._space_limit_mb)):
                         return self._hung(block, phase, deadline_s)
-                    call_vm_seen, call_seen_at[i] = vm, time.monotonic()
+                    call_vm_seen, call_seen_at[i], call_wait_s[i] = vm, time.monotonic(), self._wait_s()
             over_memory = self._rss_limit_mb is not None and self._rss_mb() > self._rss_limit_mb
             if over_memory and self.block is not None:
                 tick, phase = self.block.tick, self.block.phase
@@ -391,6 +395,23 @@ class WorkerProcess:
             return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
         except (OSError, IndexError, ValueError):
             return None
+
+    def _wait_s(self) -> float:
+        """How long a native worker has waited for a core so far (the kernel's count of its time
+        runnable but not running, s); 0 for a WebAssembly worker (its own watchdog times its calls
+        on the wall clock) or when it cannot be read."""
+        if not self.native:
+            return 0.0
+        try:
+            return int(Path(f"/proc/{self.pid}/schedstat").read_text().split()[1]) / 1e9
+        except (OSError, IndexError, ValueError):
+            return 0.0
+
+    def _call_s(self, seen_at: float, wait_s: float) -> float:
+        """How long the call first seen at ``seen_at`` (the worker's wait then ``wait_s``) has taken,
+        less the time the worker waited for a core meanwhile: on a loaded machine a native lab's
+        call is not hung for the cores others took (it is for sleeping, or for spinning)."""
+        return time.monotonic() - seen_at - (self._wait_s() - wait_s)
 
     def _vm_mb(self) -> float:
         """The worker's address space (what its memory limit bounds), MB; 0 when it cannot be read."""
