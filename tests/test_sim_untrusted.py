@@ -8,7 +8,6 @@ with); a native one dies by a signal, which names only the function."""
 import json
 import os
 import re
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -23,13 +22,18 @@ FAULTY = Path(__file__).parent / "labs" / "faulty"
 BEFORE_FAULT = b"count 1 theta1 0.00\n\rcount 501 theta1 0.00\n\rcount 1001 theta1 0.00\n\r"
 
 
-def sim(lab, tmp_path, *extra, timeout=120):
-    """``crslab sim`` on a copy of the faulty lab in ``tmp_path`` (a path no other test runs)."""
+def sim(lab, tmp_path, *extra, timeout=120, defines=None, preexec_fn=None):
+    """``crslab sim`` on a copy of the faulty lab in ``tmp_path`` (a path no other test runs), each
+    of its ``#define NAME`` lines named in ``defines`` given that value."""
     transcript = tmp_path / "transcript.txt"
-    shutil.copy(FAULTY / lab, tmp_path / lab)
+    text = (FAULTY / lab).read_text()
+    for name, value in (defines or {}).items():
+        text, found = re.subn(rf"^#define {name} .*$", f"#define {name} {value}", text, flags=re.M)
+        assert found == 1, f"{lab} has no #define {name}"
+    (tmp_path / lab).write_text(text)
     r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(tmp_path / lab),
                         "--duration", "8", "--transcript", str(transcript), *extra],
-                       capture_output=True, timeout=timeout)
+                       capture_output=True, timeout=timeout, preexec_fn=preexec_fn)
     return r, transcript.read_bytes()
 
 
@@ -236,57 +240,33 @@ def test_memory_limit_stops_a_leaking_native_lab(tmp_path):
     assert no_process_left(tmp_path / "memory_hog.c")
 
 
-@pytest.mark.parametrize("leak_kb, status, ending", [
-    # 32 MB a call, some 1 GB a second of its CPU: past its CPU allowance (its chunk of 300 ticks may
-    # use 0.3 s and its 0.5 s deadline, 0.8 s, where it would use 9 s) it is watched on while it grows,
-    # and its memory limit ends it, some 100 calls in
-    (32768, 3, "crashed (SIGSEGV) in lab() at tick "),
+@pytest.mark.parametrize("stuck, leak_kb, status, ending", [
+    # Every call returns, spinning 30 ms (a chunk of 300 ticks may use 0.3 s of CPU and its 0.5 s
+    # deadline, 0.8 s, where it would use 9 s). 32 MB a call, some 1 GB a second of its CPU: past its
+    # CPU allowance it is watched on while it grows, and its 4096 MB limit ends it, some 100 calls in
+    (False, 32768, 3, "crashed (SIGSEGV) in lab() at tick "),
     # 0.5 MB a call, some 17 MB a second of its CPU (at most 30 MB by the first look past 0.8 s, the
     # looks a second of the wall clock apart), under the 64 MB that lets it go on: stuck
-    (512, 4, "hung: lab() did not return within 0.5 s at tick "),
+    (False, 512, 4, "hung: lab() did not return within 0.5 s at tick "),
+    # The first call never returns, leaking 64 MB each 100 ms of its CPU, some 320 MB by each look past
+    # its 0.5 s deadline: it is filling its memory, watched on until its 1024 MB limit ends it
+    (True, 65536, 3, "crashed (SIGSEGV) in lab() at tick 0"),
+    # 8 MB each 100 ms, some 40 MB by the first look past the deadline, under 64 MB: stuck
+    (True, 8192, 4, "hung: lab() did not return within 0.5 s at tick 0"),
 ])
-def test_a_native_lab_past_its_cpu_allowance_is_hung_unless_it_fills_its_memory(leak_kb, status, ending,
-                                                                                  tmp_path):
+def test_a_native_lab_past_its_limits_is_hung_unless_it_fills_its_memory(stuck, leak_kb, status, ending,
+                                                                         tmp_path):
     """A native lab's chunk may use 1 ms of CPU a tick and a deadline more (it could hide a stuck
-    lab() by writing the board's phase); a leak's page faults are CPU time too, so a leaking lab on
-    a machine whose page faults are slow ran past that allowance and was called hung at random,
-    where its memory limit ends it. Each lab() call here spins 30 ms and leaks ``leak_kb``."""
-    lab = tmp_path / "slow_leak.c"
-    lab.write_text((FAULTY / "slow_leak.c").read_text().replace("#define LEAK_KB 32768L",
-                                                                 f"#define LEAK_KB {leak_kb}L"))
-    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(lab), "--native",
-                        "--no-startup-delay", "--duration", "0.3", "--mem-limit-mb", "4096",
-                        "--deadline", "0.5"],
-                       capture_output=True, timeout=120)
-    assert r.returncode == status and f"slow_leak.c {ending}" in last_line(r)
-    assert last_line(r).endswith("its memory limit was 4096 MB") == (leak_kb == 32768)
-    assert no_process_left(lab)
-
-
-@pytest.mark.parametrize("leak_kb, status, ending", [
-    # 64 MB each 100 ms of its CPU, some 320 MB by each look past its 0.5 s deadline: it is filling
-    # its memory, so it is watched on until its 1024 MB limit ends it (malloc finds no room)
-    (65536, 3, "crashed (SIGSEGV) in lab() at tick "),
-    # 8 MB each 100 ms, some 40 MB by the first look past the deadline, under the 64 MB that lets it
-    # go on: stuck
-    (8192, 4, "hung: lab() did not return within 0.5 s at tick "),
-])
-def test_a_native_lab_call_past_its_deadline_is_hung_unless_it_fills_its_memory(leak_kb, status, ending,
-                                                                               tmp_path):
-    """One native lab() call that never returns is hung at its wall-clock deadline, unless it is
-    filling its memory: then its memory limit ends it, as a chunk past its CPU allowance is watched
-    on (a leak's page faults on a loaded machine took one call of a leaking lab past 0.5 s, which was
-    called hung at random)."""
-    lab = tmp_path / "stuck_leak.c"
-    lab.write_text((FAULTY / "stuck_leak.c").read_text().replace("#define LEAK_KB 65536L",
-                                                                 f"#define LEAK_KB {leak_kb}L"))
-    r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(lab), "--native",
-                        "--no-startup-delay", "--duration", "0.3", "--mem-limit-mb", "1024",
-                        "--deadline", "0.5"],
-                       capture_output=True, timeout=120)
-    assert r.returncode == status and f"stuck_leak.c {ending}9" in last_line(r), last_line(r)
-    assert last_line(r).endswith("its memory limit was 1024 MB") == (leak_kb == 65536)
-    assert no_process_left(lab)
+    lab() by writing the board's phase), and one call its deadline; a leak's page faults are CPU and
+    wall time too, so a leaking lab on a machine whose page faults are slow ran past both and was
+    called hung at random, where its memory limit ends it."""
+    memory_mb = 1024 if stuck else 4096
+    defines = {"LEAK_KB": f"{leak_kb}L"} | ({"SPIN_PER_S": 10, "STUCK_FROM": 1} if stuck else {})
+    r, _ = sim("slow_leak.c", tmp_path, "--native", "--no-startup-delay", "--duration", "0.3",
+               "--mem-limit-mb", str(memory_mb), "--deadline", "0.5", defines=defines)
+    assert r.returncode == status and f"slow_leak.c {ending}" in last_line(r), last_line(r)
+    assert last_line(r).endswith(f"its memory limit was {memory_mb} MB") == (status == 3)
+    assert no_process_left(tmp_path / "slow_leak.c")
 
 
 @pytest.mark.parametrize("spin_s, sleep_s, status", [
@@ -298,10 +278,6 @@ def test_a_native_call_is_timed_without_the_cores_others_took(spin_s, sleep_s, s
     waited for a core: on one core with two busy programs its first call, 0.4 s of CPU, takes some
     1.2 s of the wall clock and is not hung at a 1 s deadline (a TA's grade beside its own jobs);
     a call that sleeps past the deadline still is."""
-    lab = tmp_path / "slow_first_call.c"
-    lab.write_text((FAULTY / "slow_first_call.c").read_text()
-                   .replace("#define SPIN_FIRST_S 0.4", f"#define SPIN_FIRST_S {spin_s}")
-                   .replace("#define SLEEP_FIRST_S 0.0", f"#define SLEEP_FIRST_S {sleep_s}"))
     core = min(os.sched_getaffinity(0))
 
     def one_core() -> None:
@@ -310,9 +286,9 @@ def test_a_native_call_is_timed_without_the_cores_others_took(spin_s, sleep_s, s
     hogs = [subprocess.Popen([sys.executable, "-c", "while True: pass"], preexec_fn=one_core)
             for _ in range(2)]
     try:
-        r = subprocess.run([sys.executable, "-m", "crslab", "sim", "--fast", "--lab", str(lab), "--native",
-                            "--no-startup-delay", "--duration", "0.1", "--deadline", "1"],
-                           capture_output=True, timeout=120, preexec_fn=one_core)
+        r, _ = sim("slow_first_call.c", tmp_path, "--native", "--no-startup-delay", "--duration", "0.1",
+                   "--deadline", "1", defines={"SPIN_FIRST_S": spin_s, "SLEEP_FIRST_S": sleep_s},
+                   preexec_fn=one_core)
     finally:
         for hog in hogs:
             hog.kill()
@@ -320,7 +296,7 @@ def test_a_native_call_is_timed_without_the_cores_others_took(spin_s, sleep_s, s
     assert r.returncode == status, last_line(r)
     if status == 4:
         assert "slow_first_call.c hung: lab() did not return within 1 s at tick 0" in last_line(r)
-    assert no_process_left(lab)
+    assert no_process_left(tmp_path / "slow_first_call.c")
 
 
 def test_isolation_does_not_change_a_native_transcript():

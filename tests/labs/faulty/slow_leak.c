@@ -1,5 +1,6 @@
-/* Test lab: every lab() call spins for about 30 ms of CPU and leaks LEAK_KB more of memory, writing
- * the first byte of each block (no NULL check, as a lab that copies one has none). Fast or slow, a
+/* Test lab: every lab() call spins for 1 / SPIN_PER_S of a second of CPU and leaks LEAK_KB more of
+ * memory, writing the first byte of each block (no NULL check, as a lab that copies one has none).
+ * From call STUCK_FROM on (0: never) a call never returns: it spins and leaks on. Fast or slow, a
  * growing lab is ended by its memory limit; one that grows too little is stuck, whatever it grows. */
 #include <tistdtypes.h>
 #include <coecsl.h>
@@ -9,10 +10,13 @@
 #include <time.h>
 
 #define LEAK_KB 32768L
+#define SPIN_PER_S 33
+#define STUCK_FROM 0
 
 float offset_Enc2_rad = -0.42;
 float offset_Enc3_rad = 0.24;
 long mycount = 0;
+long leaks = 0;
 volatile double sink = 0;
 char *blocks[4096]; /* kept, so nothing is freed */
 
@@ -23,14 +27,17 @@ void lab(float theta1motor, float theta2motor, float theta3motor, float *tau1, f
     *tau1 = 0;
     *tau2 = 0;
     *tau3 = 0;
-    clock_t start = clock();
-    while (clock() - start < CLOCKS_PER_SEC / 33) {
-        sink += sin(theta1motor + sink);
-    }
-    char *block = malloc(LEAK_KB * 1024);
-    block[0] = 1;
-    blocks[mycount % 4096] = block;
     mycount++;
+    do {
+        clock_t start = clock();
+        while (clock() - start < CLOCKS_PER_SEC / SPIN_PER_S) {
+            sink += sin(theta1motor + sink);
+        }
+        char *block = malloc(LEAK_KB * 1024);
+        block[0] = 1;
+        blocks[leaks % 4096] = block;
+        leaks++;
+    } while (STUCK_FROM > 0 && mycount >= STUCK_FROM);
 }
 
 void printing(void) {}
