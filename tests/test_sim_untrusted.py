@@ -269,6 +269,38 @@ def test_a_native_lab_past_its_limits_is_hung_unless_it_fills_its_memory(stuck, 
     assert no_process_left(tmp_path / "slow_leak.c")
 
 
+@pytest.mark.parametrize("limit", ["deadline", "cpu"])
+def test_a_worker_that_dies_as_its_limits_are_looked_at_is_not_called_hung(limit, monkeypatch):
+    """A leaking lab's worker that died at its memory limit just as the watcher read its memory (a
+    dead process's reads 0: not grown) was called hung, at random, under load; its death is what
+    the run reports. Here the worker dies as the watcher finds it not growing: past its one call's
+    deadline, or past its chunk's CPU allowance (at real time, 20-tick chunks: 0.52 s of CPU; its
+    call's own time not looked at, as a lab that overwrites the board's phase hides it)."""
+    from crslab.run import worker_process
+    from crslab.run.status import RunStatus
+
+    workers: list[worker_process.WorkerProcess] = []
+    opened = worker_process.WorkerProcess.__init__
+
+    def kept(self: worker_process.WorkerProcess, *args: object, **kwargs: object) -> None:
+        opened(self, *args, **kwargs)
+        workers.append(self)
+
+    def dies_as_looked_at(grown_mb: float, memory_mb: int | None) -> bool:
+        for worker in workers:
+            os.kill(worker.pid, 9)
+            worker.process.join(10)
+        return False
+
+    monkeypatch.setattr(worker_process.WorkerProcess, "__init__", kept)
+    monkeypatch.setattr(worker_process, "still_growing", dies_as_looked_at)
+    if limit == "cpu":
+        monkeypatch.setattr(worker_process.WorkerProcess, "_call_s", lambda worker, seen_at, wait_s: 0.0)
+    r = simulate(FAULTY / "hang_in_lab.c", duration_s=6.0, native=True, deadline_s=0.5,
+                 limits=worker_process.Limits(memory_mb=2048), speed=1.0 if limit == "cpu" else None)
+    assert r.status == RunStatus.CRASHED and r.end_tick == 5123, (r.status, r.message)
+
+
 @pytest.mark.parametrize("spin_s, sleep_s, status", [
     (0.4, 0.0, 0),  # 0.4 s of its own CPU, some 1.2 s of the wall clock beside two others: not hung
     (0.0, 1.5, 4),  # asleep 1.5 s, waiting on nothing: hung at its 1 s deadline

@@ -347,6 +347,8 @@ class WorkerProcess:
                 if past and self._call_s(call_seen_at[i], call_wait_s[i]) > allowed_s:  # type: ignore[operator]
                     vm = self._vm_mb() if self.native else 0.0
                     if not (self.native and still_growing(vm - call_vm_seen, self._space_limit_mb)):
+                        if self._just_died():
+                            break
                         return self._hung(block, phase, deadline_s)
                     call_vm_seen, call_seen_at[i], call_wait_s[i] = vm, time.monotonic(), self._wait_s()
             over_memory = self._rss_limit_mb is not None and self._rss_mb() > self._rss_limit_mb
@@ -361,6 +363,8 @@ class WorkerProcess:
                 if over and (cpu_seen is None or cpu - cpu_seen >= GROWING_CPU_S):  # type: ignore[operator]
                     vm = self._vm_mb()
                     if not still_growing(vm - vm_seen, self._space_limit_mb):
+                        if self._just_died():
+                            continue
                         return self._hung(blocks[0], c.CRS_PHASE_LAB, deadline_s)
                     vm_seen, cpu_seen = vm, cpu
             if timeout_s is not None and time.monotonic() - start > timeout_s:
@@ -395,6 +399,12 @@ class WorkerProcess:
             return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
         except (OSError, IndexError, ValueError):
             return None
+
+    def _just_died(self) -> bool:
+        """Whether the worker died while a limit was being looked at: a dead worker's memory reads
+        0, not grown, so its end (a crash at its memory limit, as a leak's is) is reported by the
+        watcher's next look, not called a hang. Asked after the reading it explains."""
+        return not self.process.is_alive()
 
     def _wait_s(self) -> float:
         """How long a native worker has waited for a core so far (the kernel's count of its time
