@@ -272,8 +272,9 @@ def test_a_native_lab_past_its_limits_is_hung_unless_it_fills_its_memory(stuck, 
 @pytest.mark.parametrize("limit", ["deadline", "cpu"])
 def test_a_worker_that_dies_as_its_limits_are_looked_at_is_not_called_hung(limit, monkeypatch):
     """A leaking lab's worker that died at its memory limit just as the watcher read its memory (a
-    dead process's reads 0: not grown) was called hung, at random, under load; its death is what
-    the run reports. Here the worker dies as the watcher finds it not growing: past its one call's
+    dying process's reads 0 before it is gone: not grown) was called hung, at random, under load;
+    its death is what the run reports. Here the worker is killed as the watcher finds it not
+    growing, and its memory then reads 0, as a dying one's does: past its one call's
     deadline, or past its chunk's CPU allowance (at real time, 20-tick chunks: 0.52 s of CPU; its
     call's own time not looked at, as a lab that overwrites the board's phase hides it)."""
     from crslab.run import worker_process
@@ -286,14 +287,21 @@ def test_a_worker_that_dies_as_its_limits_are_looked_at_is_not_called_hung(limit
         opened(self, *args, **kwargs)
         workers.append(self)
 
+    read_memory = worker_process.WorkerProcess._vm_mb
+    dying: list[bool] = []
+
     def dies_as_looked_at(grown_mb: float, memory_mb: int | None) -> bool:
-        for worker in workers:
+        for worker in workers:  # killed, not waited for: it is dying as the watcher decides
             os.kill(worker.pid, 9)
-            worker.process.join(10)
+        dying.append(True)
         return False
+
+    def torn_down(worker: worker_process.WorkerProcess) -> float:
+        return 0.0 if dying else read_memory(worker)  # a dying process's memory is freed first
 
     monkeypatch.setattr(worker_process.WorkerProcess, "__init__", kept)
     monkeypatch.setattr(worker_process, "still_growing", dies_as_looked_at)
+    monkeypatch.setattr(worker_process.WorkerProcess, "_vm_mb", torn_down)
     if limit == "cpu":
         monkeypatch.setattr(worker_process.WorkerProcess, "_call_s", lambda worker, seen_at, wait_s: 0.0)
     r = simulate(FAULTY / "hang_in_lab.c", duration_s=6.0, native=True, deadline_s=0.5,

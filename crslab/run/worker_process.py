@@ -70,6 +70,9 @@ it grown less. Each second that lets it go on needs this much more, so a worker 
 MB gets at most L / this many. One lab() or printing() call past its wall-clock deadline is
 watched on the same way, a deadline at a time: a leak's page faults on a loaded machine can take one
 call of a leaking lab past a short deadline."""
+DYING_S = 0.2
+"""How long a worker whose memory reads 0 (being torn down: it is dying) is given to end before the
+watcher decides on it (s)."""
 GROWING_CPU_S = 1.0
 """How much of its CPU a native worker past its allowance has to grow by :data:`GROWING_MB` (s).
 Counted in its CPU, not the wall clock's: a loaded machine gives it less of each second."""
@@ -401,9 +404,12 @@ class WorkerProcess:
             return None
 
     def _just_died(self) -> bool:
-        """Whether the worker died while a limit was being looked at: a dead worker's memory reads
-        0, not grown, so its end (a crash at its memory limit, as a leak's is) is reported by the
-        watcher's next look, not called a hang. Asked after the reading it explains."""
+        """Whether the worker died while a limit was being looked at: a dying worker's memory reads
+        0, not grown, before it is gone (the kernel frees it first), so it is given
+        :data:`DYING_S` to end, and its end (a crash at its memory limit, as a leak's is) is
+        reported by the watcher's next look, not called a hang. Asked after the reading it explains."""
+        if self.process.is_alive() and self._vm_mb() <= 0.0:
+            self.process.join(DYING_S)
         return not self.process.is_alive()
 
     def _wait_s(self) -> float:
