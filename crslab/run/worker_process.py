@@ -70,12 +70,12 @@ it grown less. Each second that lets it go on needs this much more, so a worker 
 MB gets at most L / this many. One lab() or printing() call past its wall-clock deadline is
 watched on the same way, a deadline at a time: a leak's page faults on a loaded machine can take one
 call of a leaking lab past a short deadline."""
-DYING_S = 0.2
-"""How long a worker whose memory reads 0 (being torn down: it is dying) is given to end before the
-watcher decides on it (s)."""
 GROWING_CPU_S = 1.0
 """How much of its CPU a native worker past its allowance has to grow by :data:`GROWING_MB` (s).
 Counted in its CPU, not the wall clock's: a loaded machine gives it less of each second."""
+DYING_S = 0.2
+"""How long a worker whose memory reads 0 (being torn down: it is dying) is given to end before the
+watcher decides on it (s)."""
 
 
 def still_growing(grown_mb: float, memory_mb: int | None) -> bool:
