@@ -110,11 +110,12 @@ def missing_program(*names: str) -> str | None:
     return next((n for n in names if shutil.which(n) is None), None)
 
 
-@pytest.fixture(autouse=True)
-def _required_programs(request: pytest.FixtureRequest) -> None:
+@pytest.hookimpl(tryfirst=True)
+def pytest_runtest_setup(item: pytest.Item) -> None:
     """Skip a test marked ``requires(...)`` when a program is missing; fail it under
-    ``CRSLAB_REQUIRE_ALL=1``."""
-    marker = request.node.get_closest_marker("requires")
+    ``CRSLAB_REQUIRE_ALL=1``. Before any of its fixtures is set up: a module's browser or nginx,
+    started once for all its tests, would otherwise fail on the missing program first."""
+    marker = item.get_closest_marker("requires")
     if marker is None:
         return
     missing = missing_program(*marker.args)
