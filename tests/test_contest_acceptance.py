@@ -268,20 +268,22 @@ def test_grade_contest_grades_a_class_as_grade_does(tmp_path):
     (subs / "bob.c").write_text(STARTER)           # the same run as alice's: ranked equal
     (subs / "carol.c").write_text((LABS / "does_not_compile.c").read_text())
     (subs / "dave.c").write_text(CRASHING)
-    # erin's bench rests elsewhere: her own offsets are where her arm rests
-    (subs / "erin.c").write_text(variant(VARIANTS["egg_deep"][0], ("float offset_Enc2_rad = -0.42;",
-                                                                   "float offset_Enc2_rad = -0.41;")))
+    # erin's bench rests elsewhere: her own offsets, kept in a header of hers, are where her arm rests
+    (subs / "erin").mkdir()
+    (subs / "erin" / "bench.h").write_text("float offset_Enc2_rad = -0.41;\n")
+    (subs / "erin" / "final.c").write_text(variant(VARIANTS["egg_deep"][0], ("float offset_Enc2_rad = -0.42;",
+                                                                             '#include "bench.h"')))
     out = tmp_path / "out"
     r = crslab("grade", subs, "--contest", "-o", out, "--jobs", "2")
     assert r.returncode == 1, r.stderr
     rows = {row["submission"]: row for row in csv.DictReader(open(out / "grades.csv"))}
-    assert set(rows) == {"alice/final.c", "bob.c", "carol.c", "dave.c", "erin.c"}
+    assert set(rows) == {"alice/final.c", "bob.c", "carol.c", "dave.c", "erin/final.c"}
     a, b = rows["alice/final.c"], rows["bob.c"]
     assert a["result"] == b["result"] == "complete" and a["tasks_done"] == "4"
     assert all(a[f"{t}_done"] == "1" for t in ("peg", "obstacle", "groove", "egg"))
     assert float(a["time_s"]) > 0 and a["time_s"] == b["time_s"] and a["rank"] == b["rank"] == "1"
     assert (a["rest_motor2_rad"], a["rest_motor3_rad"], a["rest_from"]) == ("-0.420000", "0.240000", "lab")
-    erin = rows["erin.c"]
+    erin = rows["erin/final.c"]
     assert (erin["rest_motor2_rad"], erin["rest_motor3_rad"], erin["rest_from"]) == ("-0.410000", "0.240000",
                                                                                    "lab")
     assert erin["result"] == f"{erin['tasks_done']} of 4" and erin["egg_done"] == "0"
@@ -305,7 +307,7 @@ def test_grade_contest_grades_a_class_as_grade_does(tmp_path):
     assert len(cases) == 20
     tasks = ("peg", "obstacle", "groove", "egg")
     assert all(len(list(cases["crslab.contest.alice/final.c", t])) == 0 for t in tasks)
-    assert "BROKEN" in cases["crslab.contest.erin.c", "egg"].find("failure").get("message")
+    assert "BROKEN" in cases["crslab.contest.erin/final.c", "egg"].find("failure").get("message")
     assert cases["crslab.contest.carol.c", "egg"].find("error") is not None
     board = r.stdout.splitlines()
     assert [line.split()[:3] for line in board[1:3]] == [["1", "alice/final.c", "complete"],

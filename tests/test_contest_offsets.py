@@ -5,11 +5,14 @@ encoder readings (tick 0, the arm at rest: the reading is the offset itself) say
 made of them. The values are worked out by hand in the comments."""
 
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 from crslab.contest.offsets import contest_rest, evaluate, lab_offsets
+from crslab.lab.includes import with_own_headers
 from crslab.plant.model_files import REST_MOTOR_RAD
 from crslab.run.api import simulate
 
@@ -72,3 +75,27 @@ def test_the_contest_s_rest_is_the_lab_s_own_unless_offsets_are_given():
     unread = contest_rest(GEN_B + LAB)
     assert unread.source == "default" and unread.motor_rad == tuple(REST_MOTOR_RAD)
     assert unread.line().endswith("it defines no offset_Enc2_rad")
+
+
+def test_offsets_kept_in_the_lab_s_own_headers_are_its_own(tmp_path):
+    """A team that keeps its globals in a header of its own (its bench's offsets among them, one
+    through a header that header includes) rests where they say: the board's first readings are
+    them, and so is the contest's rest, for ``crslab contest`` as for ``grade --contest``."""
+    (tmp_path / "bench.h").write_text('#define OFF2 (-0.41f)\nfloat offset_Enc2_rad = OFF2;\n'
+                                      '#include "rest.h"\n')
+    # a header's tentative definition of offset 3 (no value): the lab's, with its value, is the one
+    (tmp_path / "rest.h").write_text("float offset_Enc3_rad;\n")
+    text = GEN_B + '#include "bench.h"\nfloat offset_Enc3_rad = 0.25;\n' + LAB
+    lab = tmp_path / "final.c"
+    lab.write_text(text)
+    assert lab_offsets(text).why == "it defines no offset_Enc2_rad"      # the lab's text alone
+    rest = contest_rest(with_own_headers(lab, text))
+    assert rest.source == "lab"
+    assert rest.motor_rad[1:] == pytest.approx((-0.41, 0.25), abs=1e-7)
+    run = simulate(lab, "hands_off", duration_s=0.002, log=True)
+    assert run.status == "ok", run.message
+    assert np.asarray(run.log["enc_rad"][0], float)[1:] == pytest.approx(rest.motor_rad[1:], abs=1e-6)
+    r = subprocess.run([sys.executable, "-m", "crslab", "contest", "--lab", str(lab), "--duration", "4.2"],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 1, r.stderr                      # four tasks not done by a lab that does nothing
+    assert "rest      -0.4100 0.2500 rad: the lab's own offset_Enc2_rad, offset_Enc3_rad" in r.stdout

@@ -127,6 +127,9 @@ def test_every_global_is_parsed_with_its_type_dimensions_and_qualifiers():
                    ("big", "unsigned long long", (), False, False, False),
                    ("wide", "long double", (), False, False, False), ("Kp", "float", (), False, False, False),
                    ("table", "int", (3,), False, False, False), ("kept", "float", (), False, False, False)]
+    # a tentative definition first (a header's), then the one with its value: that value, once
+    again = find_variables("float offset_Enc3_rad;\nfloat offset_Enc3_rad = 0.25;\nfloat offset_Enc3_rad;\n")
+    assert [(v.name, v.initial, v.line) for v in again] == [("offset_Enc3_rad", "0.25", 2)]
 
 
 def test_gen_a_layout_puts_the_sections_at_the_2019_maps_origins():

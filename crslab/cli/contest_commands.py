@@ -20,6 +20,7 @@ from crslab.contest.motion import LONGEST_S, STILL_M, STILL_S
 from crslab.contest.offsets import Rest, contest_rest
 from crslab.contest.run import CONTEST_SCENARIO, CONTEST_WORLD, contest_config, run_contest
 from crslab.contest.scorecard import RunFacts, Scorecard, ScorecardError, score
+from crslab.lab.includes import with_own_headers
 from crslab.run.board_run import RunError
 from crslab.run.budget import budget_line
 from crslab.run.status import ExitStatus, RunResult, RunStatus
@@ -71,11 +72,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def read_lab_text(path: Path) -> str:
-    """The lab file's text (for its offsets); a missing one is a one-line error."""
+    """The lab file's text with its own headers' (for its offsets); a missing one is a one-line
+    error."""
     if not path.is_file():
         raise CliError(f"{path}: no such lab file")
     try:
-        return path.read_text(errors="replace")
+        return with_own_headers(path, path.read_text(errors="replace"))
     except OSError as exc:
         raise CliError(f"{path}: cannot read it ({exc.strerror})") from None
 

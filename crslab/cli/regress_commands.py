@@ -32,6 +32,7 @@ from crslab.executors.job import Executor
 from crslab.framework_facts import TICKS_PER_S
 from crslab.lab.c28x_check import C28xReport, check_lab
 from crslab.lab.compile_process import LabBuildError
+from crslab.lab.includes import with_own_headers
 from crslab.output_paths import folder as made_folder
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, compare
 from crslab.regress.junit import Case, write_junit
@@ -436,7 +437,10 @@ def run_grade_contest(args: argparse.Namespace) -> int:
         path = result.lab_file or Path("?")
         name = g.submission_name(path, found.folders.get(path))
         try:
-            rest: Rest | None = runner.rest(g.read_submission(path).decode("utf-8", "replace"))
+            text = g.read_submission(path).decode("utf-8", "replace")
+            if found.folders.get(path) is not None:  # a student's folder: her own headers are in her build
+                text = with_own_headers(path, text)
+            rest: Rest | None = runner.rest(text)
         except OSError:
             rest = None
         grade = cg.grade_contest(result, world, config, rest, name)

@@ -1,5 +1,5 @@
-"""A lab's own encoder offsets, read from its text: the arm's resting pose on the lab's bench
-(:func:`contest_rest`, :class:`Rest`).
+"""A lab's own encoder offsets, read from its text and its own headers': the arm's resting pose
+on the lab's bench (:func:`contest_rest`, :class:`Rest`).
 
 On the real bench a lab's ``offset_Enc2_rad`` and ``offset_Enc3_rad`` are what its arm's motors 2
 and 3 read at rest (Lab 1 calibrates them: docs/first-lab.md), so a contest judged as a TA judges
@@ -193,7 +193,8 @@ def header_defines(text: str) -> dict[str, str]:
 def lab_offsets(text: str) -> LabOffsets:
     """The lab's ``offset_Enc2_rad`` and ``offset_Enc3_rad`` as the board holds them (C floats),
     its own ``#define`` names first, then those of the headers it includes
-    (:func:`header_defines`)."""
+    (:func:`header_defines`). ``text`` is the lab's with its own headers' before it
+    (:func:`crslab.lab.includes.with_own_headers`), where a team may keep its offsets."""
     from crslab.lab.variables import find_variables
 
     found = {v.name: v for v in find_variables(text) if v.name in NAMES and not v.dims}

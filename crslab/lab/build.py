@@ -57,7 +57,7 @@ from crslab.lab.compile_process import (
 )
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.entry_points import EntryPointError, entry_calls
-from crslab.lab.includes import local_includes
+from crslab.lab.includes import header_text, local_includes
 from crslab.lab.lab_file import read_lab_file
 from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, watched_of
@@ -177,13 +177,6 @@ def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
     """:attr:`LabBuild.memory` from a lab file's text alone: the layout depends on nothing else, so
     ``crslab map`` and ``crslab vars`` need no build."""
     return layout(find_variables(source_text), detect(source_text), lab_name)
-
-
-def _header_text(header: Path) -> str:
-    try:
-        return header.read_text(errors="replace")
-    except OSError:
-        return ""
 
 
 def content_digest(parts: list[bytes]) -> str:
@@ -513,7 +506,7 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     if special is not None:
         raise LabBuildError(f"{src.name} does not compile: {special}")
     try:  # how the framework calls lab() and printing(), as the file (and its own headers) define them
-        calls = entry_calls("\n".join([text, *(_header_text(h) for h in headers)]))
+        calls = entry_calls("\n".join([text, *(header_text(h) for h in headers)]))
     except EntryPointError as exc:
         raise LabBuildError(f"{src.name} cannot run on the board: {exc}") from None
     generation = detect(text)

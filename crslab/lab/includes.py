@@ -96,3 +96,33 @@ def local_includes(lab: Path) -> tuple[str | None, list[Path]]:
                     todo.append(resolved)
                     break
     return None, sorted(seen - {start})
+
+
+def header_text(header: Path) -> str:
+    """The text of one of the lab's own headers (its first :data:`MAX_BYTES`; empty when it cannot
+    be read: the compiler then says so)."""
+    try:
+        with open(header, "rb") as f:
+            return f.read(MAX_BYTES).decode("utf-8", "replace")
+    except OSError:
+        return ""
+
+
+def with_own_headers(lab: Path, text: str) -> str:
+    """The text of the files of the lab's folder that ``lab`` includes (its own headers,
+    :func:`local_includes`), then ``text`` (the lab's own): all its file-scope definitions, where a
+    team keeps some in a header of its own (its encoder offsets, :mod:`crslab.contest.offsets`).
+
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> _ = (folder / "bench.h").write_text("float offset_Enc2_rad = -0.41;\\n")
+    >>> text = '#include "bench.h"\\nlong mycount = 0;\\n'
+    >>> _ = (folder / "final.c").write_text(text)
+    >>> print(with_own_headers(folder / "final.c", text))
+    float offset_Enc2_rad = -0.41;
+    <BLANKLINE>
+    #include "bench.h"
+    long mycount = 0;
+    <BLANKLINE>
+    """
+    return "\n".join([*(header_text(h) for h in local_includes(lab)[1]), text])

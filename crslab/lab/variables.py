@@ -329,9 +329,12 @@ def find_variables(source_text: str) -> list[LabVariable]:
                     break
                 dims.append(n)
             else:
-                if any(v.name == m.group("name") for v in out):  # a tentative definition repeated
-                    continue
-                out.append(LabVariable(m.group("name"), base[0], tuple(dims), pointer, "static" in words,
-                                       "const" in words, sections.get(m.group("name")),
-                                       " ".join(init.split()) if init else None, line))
+                found = LabVariable(m.group("name"), base[0], tuple(dims), pointer, "static" in words,
+                                    "const" in words, sections.get(m.group("name")),
+                                    " ".join(init.split()) if init else None, line)
+                before = next((i for i, v in enumerate(out) if v.name == found.name), None)
+                if before is None:
+                    out.append(found)
+                elif init and out[before].initial is None:  # a tentative definition, then one with a value
+                    out[before] = found
     return out

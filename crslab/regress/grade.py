@@ -28,6 +28,7 @@ from typing import Protocol, TextIO
 from crslab.executors.job import Executor
 from crslab.executors.local import DEFAULT_TIMEOUT_S
 from crslab.framework_facts import TICKS_PER_S
+from crslab.lab.includes import with_own_headers
 from crslab.regress.compare import DEFAULT_ABS_TOL, DEFAULT_REL_TOL, Comparison, compare
 from crslab.regress.junit import Case, write_junit
 from crslab.regress.transcript import split_lines
@@ -314,7 +315,8 @@ def _build_and_run(path: Path, source: Path, config: RunConfig, end_tick: int, d
         if runner is None:
             result = run_kept(built, end_tick, deadline_s=deadline_s, limits=limits)
         else:
-            result = runner(built, source.read_text(errors="replace"), deadline_s, limits)
+            result = runner(built, with_own_headers(source, source.read_text(errors="replace")), deadline_s,
+                            limits)
     except RunError as exc:
         return ended(exc.status, str(exc))
     return dataclasses.replace(result, lab_file=path, wall_s=time.monotonic() - start, habits=habits)
