@@ -358,3 +358,35 @@ def test_every_event_class_has_its_effect_on_the_simulator_side():
     from crslab.worker.event_effects import EFFECTS
 
     assert set(EVENT_KINDS.values()) <= set(EFFECTS)
+
+
+def test_watched_variables_in_the_lab_s_own_header_are_written_and_listed(tmp_path_factory):
+    """A team that keeps its watched variables in a header of its own (``#pragma DATA_SECTION``
+    there too) has them watched as the board's MATLAB tools see them: a scenario writes them,
+    ``crslab vars`` lists them at their header's line, the map places them in their sections."""
+    import json
+    import subprocess
+    import sys
+
+    folder = tmp_path_factory.mktemp("own_header")
+    text = (LABS / "watch_inputs.c").read_text()
+    watched = text[text.index("#pragma DATA_SECTION(gain"):text.index("long mycount")]
+    (folder / "globals.h").write_text("/* the lab's watched variables */\n" + watched)
+    (folder / "watch_inputs.c").write_text(text.replace(watched, '#include "globals.h"\n'))
+    path = write(tmp_path_factory, 'end = 4.25\n[[event]]\nat = 4.15\nkind = "set"\nvar = "mode"\nvalue = 2\n'
+                 '[[event]]\nat = 4.15\nkind = "set"\nvar = "table"\nindex = 2\nvalue = 0.5\n')
+    run = simulate(folder / "watch_inputs.c", str(path))
+    assert run.lines() == ["gain 1.50 mode 0 table2 0.00 simu 0 0 0",
+                           "gain 1.50 mode 2 table2 0.50 simu 0 0 0"]
+
+    def listed(lab):
+        r = subprocess.run([sys.executable, "-m", "crslab", "vars", "--lab", str(lab), "--json"],
+                           capture_output=True, text=True, timeout=120)
+        return {row["name"]: row for row in json.loads(r.stdout)}
+
+    rows = listed(folder / "watch_inputs.c")
+    assert [(rows[n]["file"], rows[n]["line"], rows[n]["section"]) for n in ("gain", "mode", "table")] == \
+        [("globals.h", 3, ".my_vars"), ("globals.h", 5, ".my_vars"), ("globals.h", 7, ".my_arrs")]
+    # the same addresses as when the lab defines them itself: each first in its section in both
+    alone = listed(LABS / "watch_inputs.c")
+    assert {n: row["address"] for n, row in rows.items()} == {n: row["address"] for n, row in alone.items()}

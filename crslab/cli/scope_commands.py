@@ -48,11 +48,11 @@ def watched_rows(lab: Path | None, every: bool = False) -> list[dict]:
     """The watched variables of ``lab`` (default: crslab's Lab 1) as rows for the listing, with
     their C28x addresses (``every``: all its globals)."""
     from crslab.cli.serial_commands import lab_layout
-    from crslab.lab.variables import find_variables
+    from crslab.lab.variables import own_variables
 
-    _, text, mem = lab_layout(lab)
+    path, text, mem = lab_layout(lab)
     rows = []
-    for v in find_variables(text):
+    for v in own_variables(path, text):
         if not every and (v.section is None or v.pointer or v.const):
             continue
         if v.initial is not None:
@@ -63,7 +63,7 @@ def watched_rows(lab: Path | None, every: bool = False) -> list[dict]:
         rows.append({"name": v.name, "address": f"{placed.address:08x}" if placed else None,
                      "type": v.ctype + (" *" if v.pointer else ""), "length": v.length, "initial": initial,
                      "section": placed.section if placed else v.section, "static": v.static,
-                     "line": v.line})
+                     "line": v.line, "file": v.file})  # file: a header of the lab's own, or empty
     return rows
 
 
@@ -80,7 +80,7 @@ def run_vars(args: argparse.Namespace) -> int:
         return 0
     table = [("name", "address", "type", "length", "initial", "line")]
     table += [(r["name"], r["address"] or "-", r["type"], "-" if r["length"] is None else str(r["length"]),
-               r["initial"], str(r["line"])) for r in rows]
+               r["initial"], f"{r['file']}:{r['line']}" if r["file"] else str(r["line"])) for r in rows]
     if args.all:
         table = [row[:2] + (section,) + row[2:] for row, section in
                  zip(table, ["section"] + [r["section"] + (" static" if r["static"] else "") for r in rows])]

@@ -13,7 +13,7 @@ from crslab.generations import GENERATIONS
 from crslab.host_tools.client import MATLAB_TIMEOUT_S, LinkError, SerialLink, read_floats, write_float
 from crslab.host_tools.linker_map import MapError, read_map_file, write_map
 from crslab.host_tools.serial_protocols import ADDRESS_MASK, MAX_FLOATS
-from crslab.lab.build import text_memory
+from crslab.lab.build import lab_memory
 from crslab.lab.c28x_memory import MemoryLayout
 from crslab.output_paths import with_parent
 
@@ -29,7 +29,7 @@ def lab_layout(lab: Path | None) -> tuple[Path, str, MemoryLayout]:
         text = read_lab_file(path).decode("utf-8", "replace")
     except LabBuildError as exc:
         raise CliError(str(exc)) from None
-    return path, text, text_memory(text, path.stem)
+    return path, text, lab_memory(path, text)
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -59,7 +59,7 @@ from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.entry_points import EntryPointError, entry_calls
 from crslab.lab.includes import header_text, local_includes
 from crslab.lab.lab_file import read_lab_file
-from crslab.lab.variables import LabVariable, find_variables
+from crslab.lab.variables import LabVariable, find_variables, own_variables
 from crslab.lab.watched import WatchedVar, watched_of
 from crslab.sandbox.compile_sandbox import compiler_sandbox
 
@@ -174,9 +174,14 @@ class LabBuild:
 
 
 def text_memory(source_text: str, lab_name: str) -> MemoryLayout:
-    """:attr:`LabBuild.memory` from a lab file's text alone: the layout depends on nothing else, so
-    ``crslab map`` and ``crslab vars`` need no build."""
+    """:attr:`LabBuild.memory` of a lab file that includes no header of its own, from its text."""
     return layout(find_variables(source_text), detect(source_text), lab_name)
+
+
+def lab_memory(lab: Path, source_text: str) -> MemoryLayout:
+    """:attr:`LabBuild.memory` from a lab file's text (``source_text``) and its own headers' alone:
+    the layout depends on nothing else, so ``crslab map`` and ``crslab vars`` need no build."""
+    return layout(own_variables(lab, source_text), detect(source_text), lab.stem)
 
 
 def content_digest(parts: list[bytes]) -> str:
@@ -510,7 +515,7 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     except EntryPointError as exc:
         raise LabBuildError(f"{src.name} cannot run on the board: {exc}") from None
     generation = detect(text)
-    variables = find_variables(text)  # parsed once: the layout, the watched ones and the WebAssembly unit
+    variables = own_variables(src, text)  # parsed once: the layout, the watched ones, the WebAssembly unit
     memory = layout(variables, generation, src.stem)
     check_board_memory(memory, src)
     debug = debug or break_when is not None

@@ -28,9 +28,14 @@ function pointers, ``struct``/``union``/``enum`` variables, and declarations ins
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
+
+from crslab.lab.includes import header_text, local_includes
 
 _PRAGMA = re.compile(r'^\s*#\s*pragma\s+DATA_SECTION\s*\(\s*(\w+)\s*,\s*"([^"]*)"\s*\)', re.MULTILINE)
 _DEFINE = re.compile(r"^\s*#\s*define\s+(\w+)\s+\(?\s*(\d+)\s*\)?\s*$", re.MULTILINE)
@@ -95,7 +100,9 @@ class LabVariable:
     ``ctype`` is its type as written, qualifiers dropped and spaces normalised (``float``,
     ``unsigned long``, ``Uint16``, or a typedef of the lab's own resolved to one of those);
     ``dims`` its array dimensions (``()`` for a scalar); ``section`` the ``DATA_SECTION`` it is
-    placed in (None: the compiler's own, ``.ebss``); ``line`` where it is declared (1-based).
+    placed in (None: the compiler's own, ``.ebss``); ``line`` where it is declared (1-based), in
+    ``file``: empty for the lab file itself, else the name of its own header it is in
+    (:func:`own_variables`).
     """
 
     name: str
@@ -107,6 +114,7 @@ class LabVariable:
     section: str | None
     initial: str | None
     line: int
+    file: str = ""
 
     @property
     def length(self) -> int | None:
@@ -338,3 +346,46 @@ def find_variables(source_text: str) -> list[LabVariable]:
                 elif init and out[before].initial is None:  # a tentative definition, then one with a value
                     out[before] = found
     return out
+
+
+def variables_of_files(files: Sequence[tuple[str, str]]) -> list[LabVariable]:
+    """:func:`find_variables` of several files (name, text) read as one, in order, as the compiler
+    reads a lab and the headers it includes (a header's ``typedef``, ``#define`` or ``DATA_SECTION``
+    counts for the lab's variables, a tentative definition and one with a value are one variable),
+    each variable with the name of the file it is in and its line there.
+
+    >>> vs = variables_of_files([("gains.h", '#pragma DATA_SECTION(Kp, ".my_vars")\\nfloat Kp;\\n'),
+    ...                          ("", "int mode;\\nfloat Kp = 2.5;\\n")])
+    >>> [(v.name, v.file, v.line, v.section, v.initial) for v in vs]
+    [('Kp', '', 2, '.my_vars', '2.5'), ('mode', '', 1, None, None)]
+    """
+    texts, starts, line = [], [], 1
+    for name, text in files:
+        text = text if text.endswith("\n") else text + "\n"
+        starts.append((line, name))
+        texts.append(text)
+        line += text.count("\n")
+    out = []
+    for v in find_variables("".join(texts)):
+        first, name = max(s for s in starts if s[0] <= v.line)
+        out.append(dataclasses.replace(v, file=name, line=v.line - first + 1))
+    return out
+
+
+def own_variables(lab: Path, text: str) -> list[LabVariable]:
+    """The variables of the lab file ``lab`` (its ``text``) and of the headers of its folder it
+    includes (:func:`crslab.lab.includes.local_includes`), the headers read first: a team may keep
+    its globals, watched ones and its encoder offsets among them, in a header of its own
+    (``file`` names it, from the lab's folder).
+
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> _ = (folder / "globals.h").write_text('#pragma DATA_SECTION(mode, ".my_vars")\\nint mode = 1;\\n')
+    >>> text = '#include "globals.h"\\nfloat gain = 2;\\n'
+    >>> _ = (folder / "lab.c").write_text(text)
+    >>> [(v.name, v.file, v.line, v.section) for v in own_variables(folder / "lab.c", text)]
+    [('mode', 'globals.h', 2, '.my_vars'), ('gain', '', 2, None)]
+    """
+    folder = lab.resolve().parent
+    headers = [(h.relative_to(folder).as_posix(), header_text(h)) for h in local_includes(lab)[1]]
+    return variables_of_files([*headers, ("", text)])
