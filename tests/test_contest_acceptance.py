@@ -273,11 +273,18 @@ def test_grade_contest_grades_a_class_as_grade_does(tmp_path):
     (subs / "erin" / "bench.h").write_text("float offset_Enc2_rad = -0.41;\n")
     (subs / "erin" / "final.c").write_text(variant(VARIANTS["egg_deep"][0], ("float offset_Enc2_rad = -0.42;",
                                                                              '#include "bench.h"')))
+    # frank's header rests his peg in the groove plate: his run is refused, not run where crslab's arm rests
+    (subs / "frank").mkdir()
+    (subs / "frank" / "bench.h").write_text("float offset_Enc2_rad = 0.9827;\n"
+                                            "float offset_Enc3_rad = 0.8446;\n")
+    (subs / "frank" / "final.c").write_text(variant(STARTER, ("float offset_Enc2_rad = -0.42;",
+                                                              '#include "bench.h"'),
+                                                    ("float offset_Enc3_rad = 0.24;", "")))
     out = tmp_path / "out"
     r = crslab("grade", subs, "--contest", "-o", out, "--jobs", "2")
     assert r.returncode == 1, r.stderr
     rows = {row["submission"]: row for row in csv.DictReader(open(out / "grades.csv"))}
-    assert set(rows) == {"alice/final.c", "bob.c", "carol.c", "dave.c", "erin/final.c"}
+    assert set(rows) == {"alice/final.c", "bob.c", "carol.c", "dave.c", "erin/final.c", "frank/final.c"}
     a, b = rows["alice/final.c"], rows["bob.c"]
     assert a["result"] == b["result"] == "complete" and a["tasks_done"] == "4"
     assert all(a[f"{t}_done"] == "1" for t in ("peg", "obstacle", "groove", "egg"))
@@ -289,6 +296,10 @@ def test_grade_contest_grades_a_class_as_grade_does(tmp_path):
     assert erin["result"] == f"{erin['tasks_done']} of 4" and erin["egg_done"] == "0"
     assert erin["egg_broken_by"] == "the_press" and erin["time_s"] == "" and erin["rank"] == "3"
     assert "BROKEN" in erin["detail"] and "by the press" in erin["detail"]
+    frank = rows["frank/final.c"]
+    assert (frank["result"], frank["status"], frank["rest_motor2_rad"], frank["rest_from"]) == \
+        ("unfit", "unfit", "0.982700", "lab")
+    assert "the groove plate" in frank["detail"] and frank["peg_done"] == ""
     assert rows["carol.c"]["result"] == "does not compile" and rows["carol.c"]["peg_done"] == ""
     assert "error:" in rows["carol.c"]["detail"]
     dave = rows["dave.c"]
@@ -298,13 +309,13 @@ def test_grade_contest_grades_a_class_as_grade_does(tmp_path):
     for name in rows:
         assert (out / "cards" / f"{name}.txt").read_text().strip(), name
         assert (out / "transcripts" / f"{name}.txt").is_file(), name
-        if name != "carol.c":
+        if name not in ("carol.c", "frank/final.c"):     # neither ran
             assert (out / "cards" / f"{name}.png").read_bytes()[:4] == b"\x89PNG", name
     dave_card = (out / "cards" / "dave.c.txt").read_text().splitlines()
     assert dave_card[6].startswith("run       crashed at t = 12.100 s")
     suite = ET.parse(out / "junit.xml").getroot()
     cases = {(c.get("classname"), c.get("name")): c for c in suite.iter("testcase")}
-    assert len(cases) == 20
+    assert len(cases) == 24
     tasks = ("peg", "obstacle", "groove", "egg")
     assert all(len(list(cases["crslab.contest.alice/final.c", t])) == 0 for t in tasks)
     assert "BROKEN" in cases["crslab.contest.erin/final.c", "egg"].find("failure").get("message")

@@ -379,14 +379,19 @@ def test_watched_variables_in_the_lab_s_own_header_are_written_and_listed(tmp_pa
     assert run.lines() == ["gain 1.50 mode 0 table2 0.00 simu 0 0 0",
                            "gain 1.50 mode 2 table2 0.50 simu 0 0 0"]
 
-    def listed(lab):
-        r = subprocess.run([sys.executable, "-m", "crslab", "vars", "--lab", str(lab), "--json"],
+    def listed(lab, *more):
+        r = subprocess.run([sys.executable, "-m", "crslab", "vars", "--lab", str(lab), "--json", *more],
                            capture_output=True, text=True, timeout=120)
         return {row["name"]: row for row in json.loads(r.stdout)}
 
     rows = listed(folder / "watch_inputs.c")
     assert [(rows[n]["file"], rows[n]["line"], rows[n]["section"]) for n in ("gain", "mode", "table")] == \
         [("globals.h", 3, ".my_vars"), ("globals.h", 5, ".my_vars"), ("globals.h", 7, ".my_arrs")]
+    # the lab's own globals keep their lines in the lab file
+    lab_text = (folder / "watch_inputs.c").read_text()
+    mycount = listed(folder / "watch_inputs.c", "--all")["mycount"]
+    line = lab_text[:lab_text.index("long mycount")].count("\n") + 1
+    assert (mycount["file"], mycount["line"]) == ("", line)
     # the same addresses as when the lab defines them itself: each first in its section in both
     alone = listed(LABS / "watch_inputs.c")
     assert {n: row["address"] for n, row in rows.items()} == {n: row["address"] for n, row in alone.items()}

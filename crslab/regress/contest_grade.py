@@ -73,10 +73,12 @@ class ContestGrade:
 
     @property
     def result_word(self) -> str:
-        """``complete`` (all four tasks), ``N of 4``, or how the run failed (``does not compile``, ...)."""
+        """``complete`` (all four tasks), ``N of 4``, or how the run failed (``does not compile``, ...;
+        ``unfit``: its offsets rest the arm in a fixture, the detail says which)."""
         if self.card is None:
-            return str(self.result.status.graded(matched=False)) if self.result.status is not RunStatus.OK \
-                else "no log"
+            if self.result.status in (RunStatus.OK, RunStatus.UNFIT):  # no reference to mismatch here
+                return "no log" if self.result.status is RunStatus.OK else "unfit"
+            return str(self.result.status.graded(matched=False))
         return "complete" if self.card.complete else f"{self.card.done} of 4"
 
     @property
