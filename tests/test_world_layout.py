@@ -200,6 +200,13 @@ def test_a_fixture_in_the_arms_way_at_rest_is_refused_with_what_and_where(tmp_pa
     assert "overlaps the arm's forearm at its resting pose (near (" in message
     # the same post is fine when the arm rests elsewhere (its resting pose is a run option)
     assert load_world(path, rest_motor_rad=(np.pi / 2, -0.42, 0.24)).obstacle is not None
+    # a rest that puts the peg's tip into the table (FK: z = 0.254 (1 + cos 1.2 - sin 1.5) = 0.093 m,
+    # under its top at 0.10) is refused at the table's line; 1.0 instead of 1.2 puts it at 0.138 m
+    contest = world_file("contest")[0]
+    into = r"holds the arm's peg at its resting pose \(near \(0.255, 0.000, 0.093\) m\)"
+    with pytest.raises(WorldError, match=r"contest.toml:\d+: table: the table \(top at z 0.100 m\) " + into):
+        load_world(contest, rest_motor_rad=(0.0, 1.2, 1.5))
+    assert load_world(contest, rest_motor_rad=(0.0, 1.0, 1.5)).table is not None
 
 
 def test_a_fixture_out_of_reach_is_refused_with_what_and_where(tmp_path):

@@ -208,6 +208,17 @@ def check_layout(world: World, rest_motor_rad: Triple, fail: Fail) -> None:
                     f"{what(solid)} ({solid.where()}) overlaps the arm's {link} at its resting "
                     f"pose (near ({near[0]:.3f}, {near[1]:.3f}, {near[2]:.3f}) m)",
                 )
+    if world.table is not None:  # the arm stands on it; nothing of the arm above the base lies in it
+        top = world.table.top_z_m
+        for link, points, _ in arm_links_m(world, rest_motor_rad):
+            k = int(np.argmin(points[:, 2]))
+            if link not in ("pedestal", "waist") and points[k, 2] < top:
+                near = points[k]
+                raise fail(
+                    "table",
+                    f"the table (top at z {top:.3f} m) holds the arm's {link} at its resting pose (near "
+                    f"({near[0]:.3f}, {near[1]:.3f}, {near[2]:.3f}) m)",
+                )
     for name, table, point in reach_points(world):
         q, status = crs.ik_with_status(point / crs.M_PER_IN, elbow="up")
         where = f"({point[0]:.3f}, {point[1]:.3f}, {point[2]:.3f}) m"
