@@ -48,7 +48,7 @@ def watched_rows(lab: Path | None, every: bool = False) -> list[dict]:
     """The watched variables of ``lab`` (default: crslab's Lab 1) as rows for the listing, with
     their C28x addresses (``every``: all its globals)."""
     from crslab.cli.serial_commands import lab_layout
-    from crslab.lab.variables import own_variables
+    from crslab.lab.includes import own_variables
 
     path, text, mem = lab_layout(lab)
     rows = []

@@ -57,9 +57,9 @@ from crslab.lab.compile_process import (
 )
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.entry_points import EntryPointError, entry_calls
-from crslab.lab.includes import header_text, local_includes
+from crslab.lab.includes import header_text, local_includes, own_variables
 from crslab.lab.lab_file import read_lab_file
-from crslab.lab.variables import LabVariable, find_variables, own_variables
+from crslab.lab.variables import LabVariable, find_variables
 from crslab.lab.watched import WatchedVar, watched_of
 from crslab.sandbox.compile_sandbox import compiler_sandbox
 

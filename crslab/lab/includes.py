@@ -9,6 +9,9 @@ the build with its line. Names outside the folder are left to the compiler and i
 refuses them without saying what they are), and an include whose name a macro builds still meets
 the compiler's time limit (:mod:`crslab.lab.compile_process`).
 
+The same headers hold what a team keeps out of its lab file: its globals, watched ones and its
+encoder offsets among them (:func:`own_variables`, :func:`with_own_headers`).
+
 >>> import tempfile
 >>> folder = Path(tempfile.mkdtemp())
 >>> os.mkfifo(folder / "gains.h")
@@ -26,6 +29,8 @@ import os
 import re
 import stat
 from pathlib import Path
+
+from crslab.lab.variables import LabVariable, variables_of_files
 
 INCLUDE = re.compile(rb'^[ \t]*#[ \t]*include[ \t]*(?:"([^"\n]+)"|<([^>\n]+)>)', re.MULTILINE)
 MAX_FILES = 200
@@ -126,3 +131,22 @@ def with_own_headers(lab: Path, text: str) -> str:
     <BLANKLINE>
     """
     return "\n".join([*(header_text(h) for h in local_includes(lab)[1]), text])
+
+
+def own_variables(lab: Path, text: str) -> list[LabVariable]:
+    """The variables of the lab file ``lab`` (its ``text``) and of the headers of its folder it
+    includes (:func:`local_includes`), the headers read first: a team may keep
+    its globals, watched ones and its encoder offsets among them, in a header of its own
+    (``file`` names it, from the lab's folder).
+
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> _ = (folder / "globals.h").write_text('#pragma DATA_SECTION(mode, ".my_vars")\\nint mode = 1;\\n')
+    >>> text = '#include "globals.h"\\nfloat gain = 2;\\n'
+    >>> _ = (folder / "lab.c").write_text(text)
+    >>> [(v.name, v.file, v.line, v.section) for v in own_variables(folder / "lab.c", text)]
+    [('mode', 'globals.h', 2, '.my_vars'), ('gain', '', 2, None)]
+    """
+    folder = lab.resolve().parent
+    headers = [(h.relative_to(folder).as_posix(), header_text(h)) for h in local_includes(lab)[1]]
+    return variables_of_files([*headers, ("", text)])

@@ -33,9 +33,6 @@ import math
 import re
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
-
-from crslab.lab.includes import header_text, local_includes
 
 _PRAGMA = re.compile(r'^\s*#\s*pragma\s+DATA_SECTION\s*\(\s*(\w+)\s*,\s*"([^"]*)"\s*\)', re.MULTILINE)
 _DEFINE = re.compile(r"^\s*#\s*define\s+(\w+)\s+\(?\s*(\d+)\s*\)?\s*$", re.MULTILINE)
@@ -102,7 +99,7 @@ class LabVariable:
     ``dims`` its array dimensions (``()`` for a scalar); ``section`` the ``DATA_SECTION`` it is
     placed in (None: the compiler's own, ``.ebss``); ``line`` where it is declared (1-based), in
     ``file``: empty for the lab file itself, else the name of its own header it is in
-    (:func:`own_variables`).
+    (:func:`crslab.lab.includes.own_variables`).
     """
 
     name: str
@@ -371,21 +368,3 @@ def variables_of_files(files: Sequence[tuple[str, str]]) -> list[LabVariable]:
         out.append(dataclasses.replace(v, file=name, line=v.line - first + 1))
     return out
 
-
-def own_variables(lab: Path, text: str) -> list[LabVariable]:
-    """The variables of the lab file ``lab`` (its ``text``) and of the headers of its folder it
-    includes (:func:`crslab.lab.includes.local_includes`), the headers read first: a team may keep
-    its globals, watched ones and its encoder offsets among them, in a header of its own
-    (``file`` names it, from the lab's folder).
-
-    >>> import tempfile
-    >>> folder = Path(tempfile.mkdtemp())
-    >>> _ = (folder / "globals.h").write_text('#pragma DATA_SECTION(mode, ".my_vars")\\nint mode = 1;\\n')
-    >>> text = '#include "globals.h"\\nfloat gain = 2;\\n'
-    >>> _ = (folder / "lab.c").write_text(text)
-    >>> [(v.name, v.file, v.line, v.section) for v in own_variables(folder / "lab.c", text)]
-    [('mode', 'globals.h', 2, '.my_vars'), ('gain', '', 2, None)]
-    """
-    folder = lab.resolve().parent
-    headers = [(h.relative_to(folder).as_posix(), header_text(h)) for h in local_includes(lab)[1]]
-    return variables_of_files([*headers, ("", text)])
