@@ -99,3 +99,19 @@ def test_offsets_kept_in_the_lab_s_own_headers_are_its_own(tmp_path):
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 1, r.stderr                      # four tasks not done by a lab that does nothing
     assert "rest      -0.4100 0.2500 rad: the lab's own offset_Enc2_rad, offset_Enc3_rad" in r.stdout
+
+
+def test_a_lab_s_own_headers_are_read_up_to_what_a_build_s_copy_holds(tmp_path, monkeypatch):
+    """A folder of huge headers is not read whole into crslab's own process: each up to
+    MAX_BYTES, all up to MAX_TOTAL_BYTES (here made 40 bytes), the rest read as empty."""
+    from crslab.lab import includes
+
+    monkeypatch.setattr(includes, "MAX_TOTAL_BYTES", 40)
+    (tmp_path / "a.h").write_text("float offset_Enc2_rad = -0.41;\n")       # 31 bytes
+    (tmp_path / "b.h").write_text("float offset_Enc3_rad = 0.25;\n")        # 9 of its 30 fit
+    (tmp_path / "c.h").write_text("int c;\n")                              # none fits
+    lab = tmp_path / "final.c"
+    lab.write_text('#include "a.h"\n#include "b.h"\n#include "c.h"\n')
+    assert includes.header_texts(lab) == [("a.h", "float offset_Enc2_rad = -0.41;\n"), ("b.h", "float off"),
+                                          ("c.h", "")]
+    assert lab_offsets(with_own_headers(lab, lab.read_text())).why == "it defines no offset_Enc3_rad"

@@ -57,9 +57,9 @@ from crslab.lab.compile_process import (
 )
 from crslab.lab.compiler import Compiler, CompilerMissing, find_compiler
 from crslab.lab.entry_points import EntryPointError, entry_calls
-from crslab.lab.includes import header_text, local_includes, own_variables
+from crslab.lab.includes import header_texts, local_includes, own_variables
 from crslab.lab.lab_file import read_lab_file
-from crslab.lab.variables import LabVariable, find_variables
+from crslab.lab.variables import LabVariable, find_variables, variables_of_files
 from crslab.lab.watched import WatchedVar, watched_of
 from crslab.sandbox.compile_sandbox import compiler_sandbox
 
@@ -511,11 +511,12 @@ def build_lab(source: Path | None = None, *, native: bool = False, sanitize: boo
     if special is not None:
         raise LabBuildError(f"{src.name} does not compile: {special}")
     try:  # how the framework calls lab() and printing(), as the file (and its own headers) define them
-        calls = entry_calls("\n".join([text, *(header_text(h) for h in headers)]))
+        own = header_texts(src, headers)
+        calls = entry_calls("\n".join([text, *(t for _, t in own)]))
     except EntryPointError as exc:
         raise LabBuildError(f"{src.name} cannot run on the board: {exc}") from None
     generation = detect(text)
-    variables = own_variables(src, text)  # parsed once: the layout, the watched ones, the WebAssembly unit
+    variables = variables_of_files([*own, ("", text)])  # once: the layout, the watched ones, the unit
     memory = layout(variables, generation, src.stem)
     check_board_memory(memory, src)
     debug = debug or break_when is not None

@@ -37,6 +37,8 @@ MAX_FILES = 200
 """How many files of the lab's folder are followed (a lab includes a few headers at most)."""
 MAX_BYTES = 4 * 1024 * 1024
 """How much of each is read."""
+MAX_TOTAL_BYTES = 32 * 1024 * 1024
+"""How much of them is read in all (:func:`header_texts`)."""
 
 _KINDS = ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISSOCK, "a socket"), (stat.S_ISCHR, "a character device"),
           (stat.S_ISBLK, "a block device"))
@@ -103,19 +105,35 @@ def local_includes(lab: Path) -> tuple[str | None, list[Path]]:
     return None, sorted(seen - {start})
 
 
-def header_text(header: Path) -> str:
-    """The text of one of the lab's own headers (its first :data:`MAX_BYTES`; empty when it cannot
-    be read: the compiler then says so)."""
-    try:
-        with open(header, "rb") as f:
-            return f.read(MAX_BYTES).decode("utf-8", "replace")
-    except OSError:
-        return ""
+def header_texts(lab: Path, headers: list[Path] | None = None) -> list[tuple[str, str]]:
+    """The lab's own headers (``headers``, default :func:`local_includes`'s) as (name from the
+    lab's folder, text), each read up to :data:`MAX_BYTES` and all up to :data:`MAX_TOTAL_BYTES`,
+    as much as a build's private copy holds (a folder of huge headers is not read whole); one that
+    cannot be read is empty (the compiler then says so).
+
+    >>> import tempfile
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> _ = (folder / "gains.h").write_text("#define KP 10\\n")
+    >>> _ = (folder / "lab.c").write_text('#include "gains.h"\\n')
+    >>> header_texts(folder / "lab.c")
+    [('gains.h', '#define KP 10\\n')]
+    """
+    folder = lab.resolve().parent
+    left, out = MAX_TOTAL_BYTES, []
+    for header in local_includes(lab)[1] if headers is None else headers:
+        try:
+            with open(header, "rb") as f:
+                data = f.read(min(MAX_BYTES, left))
+        except OSError:
+            data = b""
+        left -= len(data)
+        out.append((header.relative_to(folder).as_posix(), data.decode("utf-8", "replace")))
+    return out
 
 
 def with_own_headers(lab: Path, text: str) -> str:
     """The text of the files of the lab's folder that ``lab`` includes (its own headers,
-    :func:`local_includes`), then ``text`` (the lab's own): all its file-scope definitions, where a
+    :func:`header_texts`), then ``text`` (the lab's own): all its file-scope definitions, where a
     team keeps some in a header of its own (its encoder offsets, :mod:`crslab.contest.offsets`).
 
     >>> import tempfile
@@ -130,14 +148,14 @@ def with_own_headers(lab: Path, text: str) -> str:
     long mycount = 0;
     <BLANKLINE>
     """
-    return "\n".join([*(header_text(h) for h in local_includes(lab)[1]), text])
+    return "\n".join([*(t for _, t in header_texts(lab)), text])
 
 
-def own_variables(lab: Path, text: str) -> list[LabVariable]:
+def own_variables(lab: Path, text: str, headers: list[Path] | None = None) -> list[LabVariable]:
     """The variables of the lab file ``lab`` (its ``text``) and of the headers of its folder it
-    includes (:func:`local_includes`), the headers read first: a team may keep
-    its globals, watched ones and its encoder offsets among them, in a header of its own
-    (``file`` names it, from the lab's folder).
+    includes (:func:`header_texts`; ``headers`` when its caller found them already), the headers
+    read first: a team may keep its globals, watched ones and its encoder offsets among them, in a
+    header of its own (``file`` names it, from the lab's folder).
 
     >>> import tempfile
     >>> folder = Path(tempfile.mkdtemp())
@@ -147,6 +165,4 @@ def own_variables(lab: Path, text: str) -> list[LabVariable]:
     >>> [(v.name, v.file, v.line, v.section) for v in own_variables(folder / "lab.c", text)]
     [('mode', 'globals.h', 2, '.my_vars'), ('gain', '', 2, None)]
     """
-    folder = lab.resolve().parent
-    headers = [(h.relative_to(folder).as_posix(), header_text(h)) for h in local_includes(lab)[1]]
-    return variables_of_files([*headers, ("", text)])
+    return variables_of_files([*header_texts(lab, headers), ("", text)])
